@@ -1,0 +1,510 @@
+//! The reader: HIERARCHY with an explicit stack, then MOTION with a tight value loop.
+
+use std::num::NonZeroUsize;
+
+use crate::document::{Bvh, Channel, Joint};
+use crate::error::{ParseError, ParseErrorKind};
+use crate::options::{FrameCountPolicy, ReadOptions};
+use crate::scan::{Scanner, Token, is_space, parse_count, parse_fast, parse_number, shorten};
+
+/// The deepest nesting of joints (the root is at depth 1) the reader accepts and the
+/// writer produces.
+pub const MAX_DEPTH: usize = 1024;
+
+/// What a joint body may contain, for error messages.
+const BODY: &str = "OFFSET, CHANNELS, JOINT, End Site or `}`";
+
+/// Parses `text` (a leading byte order mark is skipped).
+pub(crate) fn parse_str(text: &str, options: &ReadOptions) -> Result<Bvh, ParseError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut parser = Parser {
+        scanner: Scanner::new(text),
+        joints: Vec::new(),
+        channel_count: 0,
+    };
+    parser.hierarchy()?;
+    parser.motion(options)
+}
+
+/// Parses UTF-8 `bytes`, reporting the position of the first invalid byte otherwise.
+pub(crate) fn parse_bytes(bytes: &[u8], options: &ReadOptions) -> Result<Bvh, ParseError> {
+    match std::str::from_utf8(bytes) {
+        Ok(text) => parse_str(text, options),
+        Err(e) => {
+            let valid = bytes.get(..e.valid_up_to()).unwrap_or_default();
+            // The prefix is valid UTF-8 by construction.
+            let text = std::str::from_utf8(valid).unwrap_or_default();
+            let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+            let line_start = text.rfind('\n').map_or(0, |i| i.saturating_add(1));
+            Err(ParseError {
+                line: text.matches('\n').count().saturating_add(1),
+                column: text
+                    .get(line_start..)
+                    .map_or(1, |s| s.chars().count().saturating_add(1)),
+                kind: ParseErrorKind::InvalidUtf8,
+            })
+        }
+    }
+}
+
+/// A joint whose `}` has not been read yet.
+#[derive(Clone, Copy)]
+struct Open {
+    joint: usize,
+    end_site: bool,
+    has_offset: bool,
+    has_channels: bool,
+    has_children: bool,
+}
+
+struct Parser<'a> {
+    scanner: Scanner<'a>,
+    joints: Vec<Joint>,
+    /// Channels of the joints read so far.
+    channel_count: usize,
+}
+
+impl<'a> Parser<'a> {
+    fn expected(&self, token: &Token<'_>, expected: &'static str) -> ParseError {
+        self.scanner.error_at(
+            token,
+            ParseErrorKind::Expected {
+                expected,
+                found: token.found(),
+            },
+        )
+    }
+
+    /// The next token, or `UnexpectedEof { expected }`.
+    fn require(&mut self, expected: &'static str) -> Result<Token<'a>, ParseError> {
+        self.scanner
+            .next_token()
+            .ok_or_else(|| self.scanner.error_here(ParseErrorKind::UnexpectedEof { expected }))
+    }
+
+    fn hierarchy(&mut self) -> Result<(), ParseError> {
+        let token = self.require("HIERARCHY")?;
+        if !token.is("HIERARCHY") {
+            return Err(self.expected(&token, "HIERARCHY"));
+        }
+        let token = self.require("ROOT")?;
+        if token.is("HIERARCHY") {
+            return Err(self
+                .scanner
+                .error_at(&token, ParseErrorKind::DuplicateHierarchy));
+        }
+        if !token.is("ROOT") {
+            return Err(self.expected(&token, "ROOT"));
+        }
+        let root = self.named_joint(&token, "ROOT", None)?;
+        let mut stack = vec![Open::new(root, false)];
+
+        while let Some(&top) = stack.last() {
+            let Some(token) = self.scanner.next_token() else {
+                return Err(self.scanner.error_here(ParseErrorKind::UnbalancedBraces {
+                    unclosed: stack.len(),
+                }));
+            };
+            if token.is("OFFSET") {
+                if top.has_offset {
+                    return Err(self.scanner.error_at(
+                        &token,
+                        ParseErrorKind::Repeated { keyword: "OFFSET" },
+                    ));
+                }
+                let offset = self.offset()?;
+                if let Some(joint) = self.joints.get_mut(top.joint) {
+                    joint.offset = offset;
+                }
+                set_top(&mut stack, |open| open.has_offset = true);
+            } else if token.is("CHANNELS") {
+                let kind = if top.end_site {
+                    Some(ParseErrorKind::EndSiteChannels)
+                } else if top.has_channels {
+                    Some(ParseErrorKind::Repeated {
+                        keyword: "CHANNELS",
+                    })
+                } else if top.has_children {
+                    Some(ParseErrorKind::ChannelsAfterChild)
+                } else {
+                    None
+                };
+                if let Some(kind) = kind {
+                    return Err(self.scanner.error_at(&token, kind));
+                }
+                let channels = self.channels(&token)?;
+                self.channel_count = self
+                    .channel_count
+                    .checked_add(channels.len())
+                    .ok_or_else(|| {
+                        self.scanner.error_at(
+                            &token,
+                            ParseErrorKind::BadChannelCount {
+                                found: channels.len().to_string(),
+                            },
+                        )
+                    })?;
+                if let Some(joint) = self.joints.get_mut(top.joint) {
+                    joint.channels = channels;
+                }
+                set_top(&mut stack, |open| open.has_channels = true);
+            } else if token.is("JOINT") || token.is("End") {
+                if top.end_site {
+                    return Err(self
+                        .scanner
+                        .error_at(&token, ParseErrorKind::EndSiteChildren));
+                }
+                if stack.len() >= MAX_DEPTH {
+                    return Err(self
+                        .scanner
+                        .error_at(&token, ParseErrorKind::TooDeep { max: MAX_DEPTH }));
+                }
+                set_top(&mut stack, |open| open.has_children = true);
+                let end_site = token.is("End");
+                let index = if end_site {
+                    self.end_site(&token, top.joint)?
+                } else {
+                    self.named_joint(&token, "JOINT", Some(top.joint))?
+                };
+                stack.push(Open::new(index, end_site));
+            } else if token.text == "}" {
+                if !top.has_offset {
+                    let joint = self
+                        .joints
+                        .get(top.joint)
+                        .map(|j| shorten(j.display_name()))
+                        .unwrap_or_default();
+                    return Err(self
+                        .scanner
+                        .error_at(&token, ParseErrorKind::MissingOffset { joint }));
+                }
+                stack.pop();
+            } else if token.is("HIERARCHY") {
+                return Err(self
+                    .scanner
+                    .error_at(&token, ParseErrorKind::DuplicateHierarchy));
+            } else if token.is("MOTION") {
+                return Err(self.scanner.error_at(
+                    &token,
+                    ParseErrorKind::UnbalancedBraces {
+                        unclosed: stack.len(),
+                    },
+                ));
+            } else {
+                return Err(self.expected(&token, BODY));
+            }
+        }
+
+        let token = self.require("MOTION")?;
+        if token.is("MOTION") {
+            Ok(())
+        } else if token.text == "}" {
+            Err(self
+                .scanner
+                .error_at(&token, ParseErrorKind::UnbalancedBraces { unclosed: 0 }))
+        } else if token.is("ROOT") {
+            Err(self.scanner.error_at(&token, ParseErrorKind::MultipleRoots))
+        } else if token.is("HIERARCHY") {
+            Err(self
+                .scanner
+                .error_at(&token, ParseErrorKind::DuplicateHierarchy))
+        } else {
+            Err(self.expected(&token, "MOTION"))
+        }
+    }
+
+    /// After `ROOT` or `JOINT`: the name on the same line, then `{`.
+    fn named_joint(
+        &mut self,
+        keyword: &Token<'_>,
+        keyword_name: &'static str,
+        parent: Option<usize>,
+    ) -> Result<usize, ParseError> {
+        let name = match self.scanner.next_token_inline() {
+            Some(name) if name.text != "{" && name.text != "}" => name,
+            _ => {
+                return Err(self.scanner.error_at(
+                    keyword,
+                    ParseErrorKind::MissingName {
+                        keyword: keyword_name,
+                    },
+                ));
+            }
+        };
+        if !crate::document::is_valid_name(name.text) {
+            return Err(self.scanner.error_at(
+                &name,
+                ParseErrorKind::InvalidName { name: name.found() },
+            ));
+        }
+        self.push_joint(keyword, Some(name.text.to_owned()), parent)
+    }
+
+    /// After `End`: `Site`, then `{`.
+    fn end_site(&mut self, keyword: &Token<'_>, parent: usize) -> Result<usize, ParseError> {
+        match self.scanner.next_token_inline() {
+            Some(site) if site.is("Site") => {}
+            Some(other) => return Err(self.expected(&other, "`Site` after `End`")),
+            None => {
+                return Err(self.scanner.error_here(ParseErrorKind::Expected {
+                    expected: "`Site` after `End`",
+                    found: String::new(),
+                }));
+            }
+        }
+        self.push_joint(keyword, None, Some(parent))
+    }
+
+    fn push_joint(
+        &mut self,
+        keyword: &Token<'_>,
+        name: Option<String>,
+        parent: Option<usize>,
+    ) -> Result<usize, ParseError> {
+        let token = self.require("`{`")?;
+        if token.text != "{" {
+            return Err(self.expected(&token, "`{`"));
+        }
+        let index = self.joints.len();
+        self.joints.push(Joint {
+            end_site: name.is_none(),
+            name,
+            parent,
+            offset: [0.0; 3],
+            channels: Vec::new(),
+            first_channel: self.channel_count,
+            line: keyword.line,
+        });
+        Ok(index)
+    }
+
+    /// Three finite numbers after `OFFSET`.
+    fn offset(&mut self) -> Result<[f64; 3], ParseError> {
+        let mut offset = [0.0; 3];
+        for slot in &mut offset {
+            *slot = self.finite_number("a number after OFFSET")?;
+        }
+        Ok(offset)
+    }
+
+    fn finite_number(&mut self, expected: &'static str) -> Result<f64, ParseError> {
+        let token = self.require(expected)?;
+        match parse_number(token.text) {
+            Some(value) if value.is_finite() => Ok(value),
+            Some(_) => Err(self.scanner.error_at(
+                &token,
+                ParseErrorKind::NonFinite {
+                    value: token.found(),
+                },
+            )),
+            None => Err(self.expected(&token, expected)),
+        }
+    }
+
+    /// After `CHANNELS`: a count in `0..=6` and that many distinct names, all on its line.
+    fn channels(&mut self, keyword: &Token<'_>) -> Result<Vec<Channel>, ParseError> {
+        let declared = match self.scanner.next_token_inline() {
+            Some(count) => match parse_count(count.text) {
+                Some(n) if n <= 6 => n,
+                _ => {
+                    return Err(self.scanner.error_at(
+                        &count,
+                        ParseErrorKind::BadChannelCount {
+                            found: count.found(),
+                        },
+                    ));
+                }
+            },
+            None => {
+                return Err(self.scanner.error_here(ParseErrorKind::BadChannelCount {
+                    found: String::new(),
+                }));
+            }
+        };
+        let mut channels = Vec::with_capacity(declared);
+        let mut listed = 0usize;
+        while let Some(name) = self.scanner.next_token_inline() {
+            let Some(channel) = Channel::from_name(name.text) else {
+                return Err(self
+                    .scanner
+                    .error_at(&name, ParseErrorKind::UnknownChannel(name.found())));
+            };
+            if channels.contains(&channel) {
+                return Err(self
+                    .scanner
+                    .error_at(&name, ParseErrorKind::DuplicateChannel(channel)));
+            }
+            channels.push(channel);
+            listed = listed.saturating_add(1);
+        }
+        if listed != declared {
+            return Err(self.scanner.error_at(
+                keyword,
+                ParseErrorKind::ChannelCountMismatch { declared, listed },
+            ));
+        }
+        Ok(channels)
+    }
+
+    fn motion(mut self, options: &ReadOptions) -> Result<Bvh, ParseError> {
+        self.scanner.label(&["Frames"], "`Frames:`")?;
+        let frames_token = self.require("a frame count")?;
+        let declared = parse_count(frames_token.text).ok_or_else(|| {
+            self.scanner.error_at(
+                &frames_token,
+                ParseErrorKind::BadFrameCount {
+                    found: frames_token.found(),
+                },
+            )
+        })?;
+
+        self.scanner.label(&["Frame", "Time"], "`Frame Time:`")?;
+        let time_token = self.require("a frame time")?;
+        let frame_time = match parse_number(time_token.text) {
+            Some(t) if t.is_finite() && t > 0.0 => t,
+            _ => {
+                return Err(self.scanner.error_at(
+                    &time_token,
+                    ParseErrorKind::BadFrameTime {
+                        found: time_token.found(),
+                    },
+                ));
+            }
+        };
+
+        let Some(channels) = NonZeroUsize::new(self.channel_count) else {
+            // No values to read: the header's count stands.
+            if let Some(token) = self.scanner.next_token() {
+                return Err(self.scanner.error_at(
+                    &token,
+                    ParseErrorKind::TrailingGarbage {
+                        found: token.found(),
+                    },
+                ));
+            }
+            return Ok(Bvh {
+                joints: self.joints,
+                frame_time,
+                frame_count: declared,
+                motion: Vec::new(),
+            });
+        };
+
+        // Every value is preceded by at least one separator, so the rest of the text holds
+        // at most half its length in values. Never allocate more than that.
+        let max_values = self.scanner.rest().len() / 2;
+        let max_frames = max_values / channels;
+        let strict = options.frame_count == FrameCountPolicy::Strict;
+        if strict && declared > max_frames {
+            return Err(self.scanner.error_at(
+                &frames_token,
+                ParseErrorKind::TooManyFrames {
+                    declared,
+                    max_possible: max_frames,
+                },
+            ));
+        }
+        let expected_values = declared.saturating_mul(channels.get());
+        let mut motion = Vec::with_capacity(expected_values.min(max_values));
+
+        let start = self.scanner.pos();
+        let rest = self.scanner.rest();
+        let mut i = 0usize;
+        let mut last_value = start;
+        loop {
+            while let Some(&b) = rest.get(i) {
+                if !is_space(b) {
+                    break;
+                }
+                i = i.saturating_add(1);
+            }
+            let Some(tail) = rest.get(i..).filter(|t| !t.is_empty()) else {
+                break;
+            };
+            let token_pos = start.saturating_add(i);
+            let value = match parse_fast(tail) {
+                Some((value, len)) if tail.get(len).is_none_or(|&b| is_space(b)) => {
+                    i = i.saturating_add(len);
+                    value
+                }
+                _ => {
+                    let text = self.scanner.token_text_at(token_pos);
+                    i = i.saturating_add(text.len());
+                    match text.parse::<f64>() {
+                        Ok(value) if value.is_finite() => value,
+                        Ok(_) => {
+                            return Err(self.scanner.error_at_pos(
+                                token_pos,
+                                ParseErrorKind::NonFinite {
+                                    value: shorten(text),
+                                },
+                            ));
+                        }
+                        Err(_) => {
+                            let at_frame_end = motion.len() % channels == 0;
+                            let kind = if text.eq_ignore_ascii_case("HIERARCHY") {
+                                ParseErrorKind::DuplicateHierarchy
+                            } else if at_frame_end && (!strict || motion.len() >= expected_values)
+                            {
+                                ParseErrorKind::TrailingGarbage {
+                                    found: shorten(text),
+                                }
+                            } else {
+                                ParseErrorKind::Expected {
+                                    expected: "a number (motion value)",
+                                    found: shorten(text),
+                                }
+                            };
+                            return Err(self.scanner.error_at_pos(token_pos, kind));
+                        }
+                    }
+                }
+            };
+            motion.push(value);
+            last_value = token_pos;
+        }
+        self.scanner.set_pos_untracked(start.saturating_add(i));
+
+        let partial = motion.len() % channels;
+        if partial != 0 {
+            return Err(self.scanner.error_at_pos(
+                last_value,
+                ParseErrorKind::PartialFrame {
+                    values: partial,
+                    channels: channels.get(),
+                },
+            ));
+        }
+        let found = motion.len() / channels;
+        if strict && found != declared {
+            return Err(self.scanner.error_at(
+                &frames_token,
+                ParseErrorKind::FrameCountMismatch { declared, found },
+            ));
+        }
+        Ok(Bvh {
+            joints: self.joints,
+            frame_time,
+            frame_count: found,
+            motion,
+        })
+    }
+}
+
+impl Open {
+    fn new(joint: usize, end_site: bool) -> Self {
+        Open {
+            joint,
+            end_site,
+            has_offset: false,
+            has_channels: false,
+            has_children: false,
+        }
+    }
+}
+
+fn set_top(stack: &mut [Open], f: impl FnOnce(&mut Open)) {
+    if let Some(top) = stack.last_mut() {
+        f(top);
+    }
+}

@@ -1,0 +1,275 @@
+//! `kinergy inspect`: what a capture holds.
+
+use std::path::PathBuf;
+
+use kinergy_motion::{ArmJoints, Clip, ImportReport, PositionReading, Side};
+use serde::Serialize;
+
+use std::fmt::Write as _;
+
+use crate::common::{Failure, ReadArgs, emit, print_json};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The BVH file.
+    file: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    read: ReadArgs,
+    /// The arm's joints by name (clavicle,shoulder,elbow,wrist), when the search fails.
+    #[arg(long, value_delimiter = ',', value_name = "JOINTS")]
+    chain: Option<Vec<String>>,
+}
+
+#[derive(Debug, Serialize)]
+struct Report {
+    file: String,
+    joints: Vec<JointInfo>,
+    joint_count: usize,
+    end_site_count: usize,
+    channel_count: usize,
+    frame_count: usize,
+    frame_time: f64,
+    frame_rate: f64,
+    duration: f64,
+    unit: String,
+    unit_guessed: bool,
+    meters_per_unit: f64,
+    extent_in_file_units: f64,
+    root_reading: Option<&'static str>,
+    position_readings: Vec<(String, &'static str)>,
+    arms: Vec<ArmInfo>,
+}
+
+#[derive(Debug, Serialize)]
+struct JointInfo {
+    name: String,
+    parent: Option<String>,
+    end_site: bool,
+    depth: usize,
+    channels: Vec<&'static str>,
+    offset_m: [f64; 3],
+}
+
+#[derive(Debug, Serialize)]
+struct ArmInfo {
+    side: String,
+    found: bool,
+    joints: Vec<String>,
+    message: Option<String>,
+    upper_arm_m: Option<f64>,
+    forearm_m: Option<f64>,
+    hand_m: Option<f64>,
+    peak_hand_speed_m_s: Option<f64>,
+    peak_hand_speed_time_s: Option<f64>,
+}
+
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let (clip, import) = args.read.read(&args.file)?;
+    let arms = match &args.chain {
+        Some(names) => {
+            let names: Vec<&str> = names.iter().map(String::as_str).collect();
+            let arm = ArmJoints::from_names(clip.skeleton(), &names)
+                .map_err(|e| Failure::input(&args.file, e))?;
+            let side = arm
+                .side
+                .map_or_else(|| "given".to_string(), |s| s.to_string());
+            vec![arm_info(&clip, Ok(arm), side)]
+        }
+        None => [Side::Right, Side::Left]
+            .into_iter()
+            .map(|side| {
+                arm_info(
+                    &clip,
+                    ArmJoints::find(clip.skeleton(), side),
+                    side.to_string(),
+                )
+            })
+            .collect(),
+    };
+    let report = report(args, &clip, &import, arms);
+    if args.json {
+        print_json(&report)
+    } else {
+        emit(&text(&report))
+    }
+}
+
+fn arm_info(clip: &Clip, found: kinergy_motion::Result<ArmJoints>, side: String) -> ArmInfo {
+    let arm = match found {
+        Ok(arm) => arm,
+        Err(e) => {
+            return ArmInfo {
+                side,
+                found: false,
+                joints: vec![],
+                message: Some(e.to_string()),
+                upper_arm_m: None,
+                forearm_m: None,
+                hand_m: None,
+                peak_hand_speed_m_s: None,
+                peak_hand_speed_time_s: None,
+            };
+        }
+    };
+    let lengths = arm.lengths(clip).ok();
+    let peak = clip
+        .trajectory(&[arm.end_effector()])
+        .ok()
+        .map(|t| t.speed(0))
+        .and_then(|v| {
+            v.iter()
+                .copied()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(&b.1))
+        });
+    ArmInfo {
+        side,
+        found: true,
+        joints: arm
+            .names(clip.skeleton())
+            .into_iter()
+            .map(String::from)
+            .collect(),
+        message: None,
+        upper_arm_m: lengths.map(|l| l.upper_arm),
+        forearm_m: lengths.map(|l| l.forearm),
+        hand_m: lengths.map(|l| l.hand),
+        peak_hand_speed_m_s: peak.map(|(_, v)| v),
+        peak_hand_speed_time_s: peak.map(|(i, _)| i as f64 * clip.frame_time()),
+    }
+}
+
+fn report(args: &Args, clip: &Clip, import: &ImportReport, arms: Vec<ArmInfo>) -> Report {
+    let s = clip.skeleton();
+    let reading = |r: PositionReading| match r {
+        PositionReading::AddToOffset => "add",
+        PositionReading::ReplaceOffset => "replace",
+    };
+    let root_has_positions = s
+        .joint(0)
+        .dofs
+        .iter()
+        .any(|d| matches!(d, kinergy_motion::Dof::Translation(_)));
+    Report {
+        file: args.file.display().to_string(),
+        joints: s
+            .joints()
+            .iter()
+            .enumerate()
+            .map(|(i, j)| JointInfo {
+                name: j.name.clone(),
+                parent: j.parent.map(|p| s.joint(p).name.clone()),
+                end_site: j.end_site,
+                depth: s.path(0, i).map_or(0, |p| p.len() - 1),
+                channels: j.dofs.iter().map(|d| d.channel_name()).collect(),
+                offset_m: j.offset.into(),
+            })
+            .collect(),
+        joint_count: s.joints().iter().filter(|j| !j.end_site).count(),
+        end_site_count: s.joints().iter().filter(|j| j.end_site).count(),
+        channel_count: s.dof_count(),
+        frame_count: clip.frame_count(),
+        frame_time: clip.frame_time(),
+        frame_rate: clip.frame_rate(),
+        duration: clip.duration(),
+        unit: import.unit.name().to_string(),
+        unit_guessed: import.unit_guessed,
+        meters_per_unit: import.unit.meters(),
+        extent_in_file_units: import.extent_in_file_units,
+        root_reading: root_has_positions.then(|| reading(s.joint(0).position_reading)),
+        position_readings: import
+            .position_readings
+            .iter()
+            .map(|(n, r)| (n.clone(), reading(*r)))
+            .collect(),
+        arms,
+    }
+}
+
+fn text(r: &Report) -> String {
+    let mut out = String::new();
+    let o = &mut out;
+    let _ = writeln!(o, "{}", r.file);
+    let _ = writeln!(
+        o,
+        "  joints     {} (+{} End Sites), {} channels",
+        r.joint_count, r.end_site_count, r.channel_count
+    );
+    let _ = writeln!(
+        o,
+        "  frames     {} at {:.3} fps (frame time {} s), {:.3} s",
+        r.frame_count, r.frame_rate, r.frame_time, r.duration
+    );
+    let _ = writeln!(
+        o,
+        "  unit       {} ({}; 1 unit = {:.6} m; first-frame extent {:.2} units = {:.3} m)",
+        r.unit,
+        if r.unit_guessed { "guessed" } else { "given" },
+        r.meters_per_unit,
+        r.extent_in_file_units,
+        r.extent_in_file_units * r.meters_per_unit
+    );
+    let _ = match r.root_reading {
+        Some(reading) => writeln!(
+            o,
+            "  root       position channels {} the OFFSET (--positions to choose)",
+            if reading == "add" {
+                "add to"
+            } else {
+                "replace"
+            }
+        ),
+        None => writeln!(o, "  root       no position channels"),
+    };
+    let others: Vec<_> = r.position_readings.iter().skip(1).collect();
+    if !others.is_empty() {
+        let replaced = others.iter().filter(|(_, x)| *x == "replace").count();
+        let _ = writeln!(
+            o,
+            "             {} other joints have position channels ({} replace, {} add to their OFFSET)",
+            others.len(),
+            replaced,
+            others.len() - replaced
+        );
+    }
+    for arm in &r.arms {
+        if !arm.found {
+            let _ = writeln!(
+                o,
+                "  {} arm  not found: {}",
+                arm.side,
+                arm.message.as_deref().unwrap_or("")
+            );
+            continue;
+        }
+        let _ = writeln!(o, "  {} arm  {}", arm.side, arm.joints.join(" → "));
+        if let (Some(u), Some(f), Some(h)) = (arm.upper_arm_m, arm.forearm_m, arm.hand_m) {
+            let _ = writeln!(
+                o,
+                "             upper arm {u:.3} m, forearm {f:.3} m, hand {h:.3} m"
+            );
+        }
+        if let (Some(v), Some(t)) = (arm.peak_hand_speed_m_s, arm.peak_hand_speed_time_s) {
+            let _ = writeln!(o, "             peak hand speed {v:.3} m/s at {t:.3} s");
+            if t < 1.5 * r.frame_time && v > 5.0 {
+                let _ = writeln!(
+                    o,
+                    "             (a jump at the first frames: the clip may start with a rest pose, as cgspeed conversions do)"
+                );
+            }
+        }
+    }
+    let _ = writeln!(o, "  hierarchy");
+    for j in &r.joints {
+        let pad = "  ".repeat(j.depth);
+        if j.end_site {
+            let _ = writeln!(o, "    {pad}End Site");
+        } else {
+            let _ = writeln!(o, "    {pad}{} [{}]", j.name, j.channels.join(" "));
+        }
+    }
+    out
+}

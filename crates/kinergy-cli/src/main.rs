@@ -1,0 +1,45 @@
+//! The `kinergy` command line. Exit codes: 0 done, 1 the task failed, 2 bad input.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod common;
+mod convert;
+mod inspect;
+
+/// Learn and synthesize human reaching motion from BVH captures.
+#[derive(Debug, Parser)]
+#[command(name = "kinergy", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Show a capture's skeleton, units, frame rate, root reading and arm chains.
+    #[command(after_help = "Example:\n  kinergy inspect tests/data/cmu_12_01_walk.bvh --json")]
+    Inspect(inspect::Args),
+    /// Read a BVH file and write it back (optionally in another unit), atomically.
+    #[command(after_help = "Example:\n  kinergy convert in.bvh -o out.bvh --unit m")]
+    Convert(convert::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Inspect(args) => inspect::run(&args),
+        Command::Convert(args) => convert::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(failure) => {
+            #[allow(clippy::print_stderr)]
+            {
+                eprintln!("error: {failure}");
+            }
+            ExitCode::from(failure.exit_code())
+        }
+    }
+}

@@ -1,0 +1,479 @@
+//! Finding a skeleton's arm chain by joint role (clavicle → shoulder → elbow → wrist → hand).
+//!
+//! Names are split into lowercase tokens (at `_`, `:`, `.`, `-`, spaces and camelCase
+//! boundaries; a `namespace:` prefix such as `mixamorig:` and Character Creator's `CC_Base_`
+//! are dropped), a side token (`right`/`r`, `left`/`l`) is looked for, and the remaining
+//! tokens give the role. The chain is found from the hand upward, skipping twist, roll and
+//! share bones, so the conventions below all work, including the ambiguity of `Shoulder`
+//! (the clavicle in CMU's naming, the upper arm in the Collar style):
+//!
+//! | convention | clavicle | shoulder | elbow | wrist |
+//! |---|---|---|---|---|
+//! | CMU, Mixamo | `RightShoulder` | `RightArm` | `RightForeArm` | `RightHand` |
+//! | Bandai Namco | `Shoulder_R` | `UpperArm_R` | `LowerArm_R` | `Hand_R` |
+//! | Character Creator | `CC_Base_R_Clavicle` | `CC_Base_R_Upperarm` | `CC_Base_R_Forearm` | `CC_Base_R_Hand` |
+//! | Collar style | `RightCollar` | `RightShoulder` | `RightElbow` | `RightWrist` |
+
+use std::fmt;
+use std::str::FromStr;
+
+use crate::clip::Clip;
+use crate::error::{MotionError, Result};
+use crate::skeleton::Skeleton;
+
+/// Which arm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// The right arm.
+    Right,
+    /// The left arm.
+    Left,
+}
+
+impl fmt::Display for Side {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Side::Right => "right",
+            Side::Left => "left",
+        })
+    }
+}
+
+impl FromStr for Side {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "right" | "r" => Ok(Side::Right),
+            "left" | "l" => Ok(Side::Left),
+            _ => Err(format!("unknown side `{s}`: expected right or left")),
+        }
+    }
+}
+
+/// The joints of one arm, by role. Indices are into the skeleton's joints.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ArmJoints {
+    /// Which arm (`None` when given by explicit names whose side is unclear).
+    pub side: Option<Side>,
+    /// The clavicle (collar), if the skeleton has one.
+    pub clavicle: Option<usize>,
+    /// The shoulder joint (the upper arm bone starts here).
+    pub shoulder: usize,
+    /// The elbow (the forearm bone starts here).
+    pub elbow: usize,
+    /// The wrist (the hand bone starts here).
+    pub wrist: usize,
+    /// A point on the hand beyond the wrist, used as the end effector: the middle finger's
+    /// base, an End Site, the index finger's base or a finger-base joint, in that order of
+    /// preference; `None` when the wrist has no child.
+    pub hand: Option<usize>,
+}
+
+/// Lengths of an arm's bones in one pose, meters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArmLengths {
+    /// Shoulder to elbow.
+    pub upper_arm: f64,
+    /// Elbow to wrist.
+    pub forearm: f64,
+    /// Wrist to the hand point (0 without one).
+    pub hand: f64,
+}
+
+impl ArmLengths {
+    /// Upper arm + forearm + hand.
+    pub fn total(&self) -> f64 {
+        self.upper_arm + self.forearm + self.hand
+    }
+}
+
+impl ArmJoints {
+    /// The joints the motion distance compares, in order: shoulder, elbow, wrist and, when
+    /// there is one, the hand point (the end effector).
+    pub fn metric_joints(&self) -> Vec<usize> {
+        let mut j = vec![self.shoulder, self.elbow, self.wrist];
+        j.extend(self.hand);
+        j
+    }
+
+    /// The end effector: the hand point, or the wrist without one.
+    pub fn end_effector(&self) -> usize {
+        self.hand.unwrap_or(self.wrist)
+    }
+
+    /// Bone lengths measured in the clip's first frame (position channels on non-root
+    /// joints can change bone lengths, so the offsets alone are not enough).
+    pub fn lengths(&self, clip: &Clip) -> Result<ArmLengths> {
+        let pose = clip.frame(0).ok_or(MotionError::EmptyClip)?;
+        let p = clip.skeleton().world_positions(pose)?;
+        let d = |a: usize, b: usize| (p[a] - p[b]).norm();
+        Ok(ArmLengths {
+            upper_arm: d(self.shoulder, self.elbow),
+            forearm: d(self.elbow, self.wrist),
+            hand: self.hand.map_or(0.0, |h| d(self.wrist, h)),
+        })
+    }
+
+    /// Names of the chain's joints, clavicle (if any) to hand point (if any).
+    pub fn names<'a>(&self, skeleton: &'a Skeleton) -> Vec<&'a str> {
+        self.clavicle
+            .into_iter()
+            .chain([self.shoulder, self.elbow, self.wrist])
+            .chain(self.hand)
+            .map(|j| skeleton.joint(j).name.as_str())
+            .collect()
+    }
+}
+
+/// Lowercase role tokens of a joint name.
+fn tokens(name: &str) -> Vec<String> {
+    let name = name.rsplit(':').next().unwrap_or(name);
+    let chars: Vec<char> = name.chars().collect();
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    for (i, &c) in chars.iter().enumerate() {
+        if !c.is_ascii_alphanumeric() {
+            if !cur.is_empty() {
+                out.push(std::mem::take(&mut cur));
+            }
+            continue;
+        }
+        let prev = i.checked_sub(1).map(|k| chars[k]);
+        let next = chars.get(i + 1).copied();
+        let boundary = c.is_ascii_uppercase()
+            && prev.is_some_and(|p| {
+                p.is_ascii_lowercase()
+                    || p.is_ascii_digit()
+                    || (p.is_ascii_uppercase() && next.is_some_and(|n| n.is_ascii_lowercase()))
+            });
+        if boundary && !cur.is_empty() {
+            out.push(std::mem::take(&mut cur));
+        }
+        cur.push(c.to_ascii_lowercase());
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    // Character Creator's prefix.
+    if out.len() > 2 && out[0] == "cc" && out[1] == "base" {
+        out.drain(..2);
+    }
+    out
+}
+
+fn side_of(tokens: &[String]) -> Option<Side> {
+    tokens.iter().find_map(|t| match t.as_str() {
+        "right" | "r" => Some(Side::Right),
+        "left" | "l" => Some(Side::Left),
+        _ => None,
+    })
+}
+
+/// The name without its side tokens, joined: `Shoulder_R` → `shoulder`.
+fn role_word(tokens: &[String]) -> String {
+    tokens
+        .iter()
+        .filter(|t| !matches!(t.as_str(), "right" | "r" | "left" | "l"))
+        .map(String::as_str)
+        .collect()
+}
+
+fn is_helper(word: &str) -> bool {
+    ["twist", "roll", "share", "helper", "bend", "adjust"]
+        .iter()
+        .any(|k| word.contains(k))
+}
+
+fn is_hand(word: &str) -> bool {
+    matches!(word, "hand" | "wrist")
+}
+
+fn is_forearm(word: &str) -> bool {
+    matches!(word, "forearm" | "lowerarm" | "elbow" | "lowarm")
+}
+
+fn is_clavicle(word: &str) -> bool {
+    matches!(word, "shoulder" | "collar" | "clavicle" | "collarbone")
+}
+
+fn is_arm_like(word: &str) -> bool {
+    [
+        "arm", "hand", "wrist", "elbow", "shoulder", "clavicle", "collar", "humerus",
+    ]
+    .iter()
+    .any(|k| word.contains(k))
+}
+
+impl ArmJoints {
+    /// Finds the `side` arm by joint names (see the [module docs](self)); the error lists
+    /// the arm-like joints it saw.
+    pub fn find(skeleton: &Skeleton, side: Side) -> Result<ArmJoints> {
+        let info: Vec<(Option<Side>, String)> = skeleton
+            .joints()
+            .iter()
+            .map(|j| {
+                let t = tokens(&j.name);
+                (side_of(&t), role_word(&t))
+            })
+            .collect();
+        let non_helper_parent = |mut j: usize| -> Option<usize> {
+            loop {
+                j = skeleton.joint(j).parent?;
+                if !is_helper(&info[j].1) {
+                    return Some(j);
+                }
+            }
+        };
+        let mut hands: Vec<usize> = (0..skeleton.joint_count())
+            .filter(|&j| {
+                !skeleton.joint(j).end_site && info[j].0 == Some(side) && is_hand(&info[j].1)
+            })
+            .collect();
+        hands.sort_by_key(|&j| depth(skeleton, j));
+        for wrist in hands {
+            let Some(elbow) = non_helper_parent(wrist).filter(|&e| is_forearm(&info[e].1)) else {
+                continue;
+            };
+            let Some(shoulder) = non_helper_parent(elbow) else {
+                continue;
+            };
+            let clavicle = non_helper_parent(shoulder)
+                .filter(|&c| is_clavicle(&info[c].1) && info[c].0 == Some(side));
+            return Ok(ArmJoints {
+                side: Some(side),
+                clavicle,
+                shoulder,
+                elbow,
+                wrist,
+                hand: hand_point(skeleton, wrist, &info),
+            });
+        }
+        Err(MotionError::ArmNotFound {
+            side,
+            candidates: skeleton
+                .joints()
+                .iter()
+                .zip(&info)
+                .filter(|(j, (_, w))| !j.end_site && is_arm_like(w))
+                .map(|(j, _)| j.name.clone())
+                .collect(),
+        })
+    }
+
+    /// The arm given by joint names: `[shoulder, elbow, wrist]` or
+    /// `[clavicle, shoulder, elbow, wrist]`, each the parent-side ancestor of the next.
+    pub fn from_names(skeleton: &Skeleton, names: &[&str]) -> Result<ArmJoints> {
+        let idx: Vec<usize> = names
+            .iter()
+            .map(|n| skeleton.require_joint(n.trim()))
+            .collect::<Result<_>>()?;
+        if !(3..=4).contains(&idx.len()) {
+            return Err(MotionError::Invalid {
+                what: "arm chain",
+                why: format!(
+                    "expected 3 or 4 joint names (clavicle,shoulder,elbow,wrist), got {}",
+                    idx.len()
+                ),
+            });
+        }
+        for w in idx.windows(2) {
+            if w[0] == w[1] || !skeleton.is_ancestor_or_self(w[0], w[1]) {
+                return Err(MotionError::NotAChain {
+                    ancestor: skeleton.joint(w[0]).name.clone(),
+                    child: skeleton.joint(w[1]).name.clone(),
+                });
+            }
+        }
+        let (clavicle, rest) = if idx.len() == 4 {
+            (Some(idx[0]), &idx[1..])
+        } else {
+            (None, &idx[..])
+        };
+        let info: Vec<(Option<Side>, String)> = skeleton
+            .joints()
+            .iter()
+            .map(|j| {
+                let t = tokens(&j.name);
+                (side_of(&t), role_word(&t))
+            })
+            .collect();
+        Ok(ArmJoints {
+            side: info[rest[2]].0,
+            clavicle,
+            shoulder: rest[0],
+            elbow: rest[1],
+            wrist: rest[2],
+            hand: hand_point(skeleton, rest[2], &info),
+        })
+    }
+}
+
+fn depth(skeleton: &Skeleton, mut j: usize) -> usize {
+    let mut d = 0;
+    while let Some(p) = skeleton.joint(j).parent {
+        j = p;
+        d += 1;
+    }
+    d
+}
+
+/// The best end-effector point below the wrist. Zero-length joints (CMU's `RightFingerBase`)
+/// are looked through to their children; thumbs and helper bones are never chosen.
+fn hand_point(skeleton: &Skeleton, wrist: usize, info: &[(Option<Side>, String)]) -> Option<usize> {
+    let has = |j: usize, keys: &[&str]| keys.iter().any(|k| info[j].1.contains(k));
+    let mut candidates = Vec::new();
+    let mut stack: Vec<(usize, usize)> = skeleton.children(wrist).map(|c| (c, 0)).collect();
+    while let Some((j, depth)) = stack.pop() {
+        if has(j, &["thumb", "twist", "share", "roll"]) {
+            continue;
+        }
+        if skeleton.joint(j).offset.norm() > 0.0 {
+            candidates.push(j);
+        } else if depth < 3 {
+            stack.extend(skeleton.children(j).map(|c| (c, depth + 1)));
+        }
+    }
+    let rank = |j: usize| -> u8 {
+        if has(j, &["mid", "middle"]) {
+            0
+        } else if skeleton.joint(j).end_site {
+            1
+        } else if has(j, &["index"]) {
+            2
+        } else if has(j, &["fingerbase", "finger", "palm"]) {
+            3
+        } else {
+            4
+        }
+    };
+    candidates
+        .into_iter()
+        .map(|c| (rank(c), c))
+        .min()
+        .map(|(_, c)| c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::skeleton::{Joint, PositionReading};
+    use nalgebra::Vector3;
+
+    fn chain_skeleton(names: &[&str]) -> Skeleton {
+        let mut joints = vec![Joint {
+            name: "Hips".into(),
+            parent: None,
+            offset: Vector3::zeros(),
+            dofs: vec![],
+            end_site: false,
+            position_reading: PositionReading::AddToOffset,
+        }];
+        for (i, n) in names.iter().enumerate() {
+            joints.push(Joint {
+                name: (*n).into(),
+                parent: Some(i),
+                offset: Vector3::new(-0.1, 0.0, 0.0),
+                dofs: vec![],
+                end_site: false,
+                position_reading: PositionReading::AddToOffset,
+            });
+        }
+        Skeleton::new(joints).expect("valid")
+    }
+
+    fn found(names: &[&str], side: Side) -> Vec<String> {
+        let s = chain_skeleton(names);
+        let arm = ArmJoints::find(&s, side).expect("arm");
+        arm.names(&s).into_iter().map(String::from).collect()
+    }
+
+    #[test]
+    fn tokenizes_the_conventions() {
+        assert_eq!(tokens("mixamorig:RightForeArm"), ["right", "fore", "arm"]);
+        assert_eq!(tokens("CC_Base_R_Upperarm"), ["r", "upperarm"]);
+        assert_eq!(tokens("RHipJoint"), ["r", "hip", "joint"]);
+        assert_eq!(tokens("LowerArm_R"), ["lower", "arm", "r"]);
+    }
+
+    #[test]
+    fn finds_every_naming_convention() {
+        let cmu = [
+            "Spine",
+            "RightShoulder",
+            "RightArm",
+            "RightForeArm",
+            "RightHand",
+            "RightFingerBase",
+        ];
+        assert_eq!(found(&cmu, Side::Right), &cmu[1..]);
+        let bandai = ["Chest", "Shoulder_L", "UpperArm_L", "LowerArm_L", "Hand_L"];
+        assert_eq!(found(&bandai, Side::Left), &bandai[1..]);
+        let mixamo = [
+            "mixamorig:Spine2",
+            "mixamorig:RightShoulder",
+            "mixamorig:RightArm",
+            "mixamorig:RightForeArm",
+            "mixamorig:RightHand",
+            "mixamorig:RightHandMiddle1",
+        ];
+        assert_eq!(found(&mixamo, Side::Right), &mixamo[1..]);
+        let collar = [
+            "Chest",
+            "RightCollar",
+            "RightShoulder",
+            "RightElbow",
+            "RightWrist",
+        ];
+        assert_eq!(found(&collar, Side::Right), &collar[1..]);
+        let cc = [
+            "CC_Base_Spine02",
+            "CC_Base_R_Clavicle",
+            "CC_Base_R_Upperarm",
+            "CC_Base_R_UpperarmTwist01",
+            "CC_Base_R_Forearm",
+            "CC_Base_R_ForearmTwist01",
+            "CC_Base_R_Hand",
+        ];
+        assert_eq!(
+            found(&cc, Side::Right),
+            [
+                "CC_Base_R_Clavicle",
+                "CC_Base_R_Upperarm",
+                "CC_Base_R_Forearm",
+                "CC_Base_R_Hand"
+            ]
+        );
+    }
+
+    #[test]
+    fn missing_arm_lists_candidates() {
+        let s = chain_skeleton(&[
+            "Spine",
+            "RightShoulder",
+            "RightArm",
+            "RightForeArm",
+            "RightHand",
+        ]);
+        let e = ArmJoints::find(&s, Side::Left).expect_err("no left arm");
+        let msg = e.to_string();
+        assert!(
+            msg.contains("RightForeArm") && msg.contains("--chain"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn explicit_names_must_form_a_chain() {
+        let s = chain_skeleton(&["Spine", "A", "B", "C", "D"]);
+        let arm = ArmJoints::from_names(&s, &["A", "B", "C", "D"]).expect("chain");
+        assert_eq!((arm.clavicle, arm.shoulder, arm.wrist), (Some(2), 3, 5));
+        assert!(matches!(
+            ArmJoints::from_names(&s, &["B", "A", "C"]),
+            Err(MotionError::NotAChain { .. })
+        ));
+        assert!(matches!(
+            ArmJoints::from_names(&s, &["A", "Nope", "C"]),
+            Err(MotionError::UnknownJoint { .. })
+        ));
+    }
+}

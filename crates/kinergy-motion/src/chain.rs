@@ -1,0 +1,442 @@
+//! Serial kinematic chains for IK: joints made of revolute and swing motions, with joint
+//! limits, forward kinematics and the positional Jacobian.
+//!
+//! The 7-DoF arm of Kallmann (2005) and Huang et al. is [`Chain::arm`]: shoulder swing (2) +
+//! twist (1), elbow flexion (1) + twist (1), wrist swing (2). Each bone lies along its joint's
+//! local +z; a swing is the rotation `exp([(sx, sy, 0)]×)` about an axis in the x–y plane, a
+//! twist rotates about z (DESIGN §1.2–1.3).
+
+use nalgebra::{IsometryMatrix3, Matrix3, Matrix3xX, Point3, Rotation3, Translation3, Vector3};
+
+use crate::error::{MotionError, Result};
+use crate::rotation::{Axis, axis_rotation, left_jacobian, swing_rotation};
+
+/// One elementary motion of a chain joint.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Motion {
+    /// Rotation about a principal axis of the joint's frame; one DoF with limits `[min, max]`
+    /// radians.
+    Revolute {
+        /// The axis.
+        axis: Axis,
+        /// Lower limit, radians.
+        min: f64,
+        /// Upper limit, radians.
+        max: f64,
+    },
+    /// Swing: two DoFs `(sx, sy)`, the rotation `exp([(sx, sy, 0)]×)`, limited by the
+    /// spherical ellipse `(sx/rx)² + (sy/ry)² ≤ 1` (Kallmann 2005, "Joint limits").
+    Swing {
+        /// Largest swing about x, radians.
+        rx: f64,
+        /// Largest swing about y, radians.
+        ry: f64,
+    },
+}
+
+impl Motion {
+    /// DoFs of this motion: 1 or 2.
+    pub fn dof_count(&self) -> usize {
+        match self {
+            Motion::Revolute { .. } => 1,
+            Motion::Swing { .. } => 2,
+        }
+    }
+}
+
+/// One joint of a [`Chain`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainJoint {
+    /// Name, used in DoF names (`shoulder` gives `shoulder_swing_x`, …).
+    pub name: String,
+    /// Position of this joint in the previous joint's frame (the base frame for the first).
+    pub offset: Vector3<f64>,
+    /// A fixed rotation applied before the joint's motions.
+    pub rest: Rotation3<f64>,
+    /// The motions, applied in order.
+    pub motions: Vec<Motion>,
+    /// The names of the motions' DoFs, one per DoF.
+    pub dof_names: Vec<String>,
+}
+
+impl ChainJoint {
+    /// A joint whose DoF names derive from its name and motions: a revolute about z is a
+    /// `twist`, about x a `flexion`, about y an `abduction`; a swing gives `swing_x`, `swing_y`.
+    pub fn new(name: &str, offset: Vector3<f64>, motions: Vec<Motion>) -> ChainJoint {
+        let dof_names = motions
+            .iter()
+            .flat_map(|m| match m {
+                Motion::Revolute { axis, .. } => vec![format!(
+                    "{name}_{}",
+                    match axis {
+                        Axis::X => "flexion",
+                        Axis::Y => "abduction",
+                        Axis::Z => "twist",
+                    }
+                )],
+                Motion::Swing { .. } => vec![format!("{name}_swing_x"), format!("{name}_swing_y")],
+            })
+            .collect();
+        ChainJoint {
+            name: name.to_string(),
+            offset,
+            rest: Rotation3::identity(),
+            motions,
+            dof_names,
+        }
+    }
+}
+
+/// A serial chain: joints from a base frame outward, and an end effector fixed in the last
+/// joint's frame. Immutable; configurations are `&[f64]` of [`Chain::dof_count`] values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chain {
+    joints: Vec<ChainJoint>,
+    end_effector: Vector3<f64>,
+    dof_count: usize,
+}
+
+/// The world frames of a chain's joints and its end effector in one configuration.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ChainPose {
+    /// World frame of each joint after its motions.
+    pub frames: Vec<IsometryMatrix3<f64>>,
+    /// World position of the end effector.
+    pub end: Point3<f64>,
+}
+
+impl ChainPose {
+    /// World position of joint `i`.
+    pub fn joint_position(&self, i: usize) -> Point3<f64> {
+        Point3::from(self.frames[i].translation.vector)
+    }
+}
+
+impl Chain {
+    /// A chain from joints and the end effector's offset in the last joint's frame.
+    pub fn new(joints: Vec<ChainJoint>, end_effector: Vector3<f64>) -> Result<Chain> {
+        if joints.is_empty() {
+            return Err(MotionError::Invalid {
+                what: "chain",
+                why: "it has no joints".into(),
+            });
+        }
+        for j in &joints {
+            let finite = j.offset.iter().all(|v| v.is_finite());
+            let limits_ok = j.motions.iter().all(|m| match *m {
+                Motion::Revolute { min, max, .. } => min <= max && !min.is_nan() && !max.is_nan(),
+                Motion::Swing { rx, ry } => rx > 0.0 && ry > 0.0,
+            });
+            let names_ok =
+                j.dof_names.len() == j.motions.iter().map(Motion::dof_count).sum::<usize>();
+            if !(finite && limits_ok && names_ok) {
+                return Err(MotionError::Invalid {
+                    what: "chain joint",
+                    why: format!(
+                        "`{}` has a non-finite offset, inverted or non-positive limits, or a DoF name count that does not match its motions",
+                        j.name
+                    ),
+                });
+            }
+        }
+        if !end_effector.iter().all(|v| v.is_finite()) {
+            return Err(MotionError::NonFinite {
+                what: "the end effector offset".into(),
+            });
+        }
+        let dof_count = joints
+            .iter()
+            .flat_map(|j| &j.motions)
+            .map(Motion::dof_count)
+            .sum();
+        Ok(Chain {
+            joints,
+            end_effector,
+            dof_count,
+        })
+    }
+
+    /// The 7-DoF human arm with the given bone lengths (meters), straight along the base
+    /// frame's +z at zero, with default limits: shoulder swing within an ellipse of 130°
+    /// about x and 100° about y, twist ±90°; elbow flexion 0–150° (positive bends the forearm
+    /// toward −y), pronation ±90°; wrist swing 70° about x and 30° about y.
+    pub fn arm(upper_arm: f64, forearm: f64, hand: f64) -> Result<Chain> {
+        let d = f64::to_radians;
+        let rev = |axis, lo: f64, hi: f64| Motion::Revolute {
+            axis,
+            min: d(lo),
+            max: d(hi),
+        };
+        Chain::new(
+            vec![
+                ChainJoint::new(
+                    "shoulder",
+                    Vector3::zeros(),
+                    vec![
+                        Motion::Swing {
+                            rx: d(130.0),
+                            ry: d(100.0),
+                        },
+                        rev(Axis::Z, -90.0, 90.0),
+                    ],
+                ),
+                ChainJoint::new(
+                    "elbow",
+                    Vector3::new(0.0, 0.0, upper_arm),
+                    vec![rev(Axis::X, 0.0, 150.0), rev(Axis::Z, -90.0, 90.0)],
+                ),
+                ChainJoint::new(
+                    "wrist",
+                    Vector3::new(0.0, 0.0, forearm),
+                    vec![Motion::Swing {
+                        rx: d(70.0),
+                        ry: d(30.0),
+                    }],
+                ),
+            ],
+            Vector3::new(0.0, 0.0, hand),
+        )
+    }
+
+    /// The joints.
+    pub fn joints(&self) -> &[ChainJoint] {
+        &self.joints
+    }
+
+    /// The end effector's offset in the last joint's frame.
+    pub fn end_effector(&self) -> Vector3<f64> {
+        self.end_effector
+    }
+
+    /// The number of DoFs.
+    pub fn dof_count(&self) -> usize {
+        self.dof_count
+    }
+
+    /// Every DoF's name, in configuration order.
+    pub fn dof_names(&self) -> impl Iterator<Item = &str> + '_ {
+        self.joints
+            .iter()
+            .flat_map(|j| j.dof_names.iter().map(String::as_str))
+    }
+
+    fn check(&self, q: &[f64]) -> Result<()> {
+        if q.len() != self.dof_count {
+            return Err(MotionError::PoseLength {
+                expected: self.dof_count,
+                found: q.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Forward kinematics from a world `base` frame into `out` (reused between calls).
+    pub fn fk_into(
+        &self,
+        base: &IsometryMatrix3<f64>,
+        q: &[f64],
+        out: &mut ChainPose,
+    ) -> Result<()> {
+        self.check(q)?;
+        out.frames.clear();
+        let mut frame = *base;
+        let mut k = 0;
+        for j in &self.joints {
+            frame *= IsometryMatrix3::from_parts(Translation3::from(j.offset), j.rest);
+            for m in &j.motions {
+                frame.rotation *= motion_rotation(m, &q[k..]);
+                k += m.dof_count();
+            }
+            out.frames.push(frame);
+        }
+        out.end = frame * Point3::from(self.end_effector);
+        Ok(())
+    }
+
+    /// Forward kinematics from a world `base` frame.
+    pub fn fk(&self, base: &IsometryMatrix3<f64>, q: &[f64]) -> Result<ChainPose> {
+        let mut out = ChainPose {
+            frames: Vec::with_capacity(self.joints.len()),
+            end: Point3::origin(),
+        };
+        self.fk_into(base, q, &mut out)?;
+        Ok(out)
+    }
+
+    /// World position of the end effector.
+    pub fn end_position(&self, base: &IsometryMatrix3<f64>, q: &[f64]) -> Result<Point3<f64>> {
+        Ok(self.fk(base, q)?.end)
+    }
+
+    /// The positional Jacobian (3 × DoFs) of the end effector at `q`, into `out`.
+    ///
+    /// A revolute DoF about world axis ω through joint origin p_i gives ω × (p_e − p_i); a
+    /// swing `v = (sx, sy, 0)` whose frame before the swing has world rotation R gives the
+    /// columns (R J_l(v) e_x) × (p_e − p_i) and (R J_l(v) e_y) × (p_e − p_i), with J_l the
+    /// left Jacobian of SO(3) ([`crate::rotation::left_jacobian`]).
+    pub fn jacobian_into(
+        &self,
+        base: &IsometryMatrix3<f64>,
+        q: &[f64],
+        out: &mut Matrix3xX<f64>,
+    ) -> Result<()> {
+        self.check(q)?;
+        if out.ncols() != self.dof_count {
+            *out = Matrix3xX::zeros(self.dof_count);
+        }
+        // One pass to find the end effector, one to fill columns.
+        let end = self.end_position(base, q)?.coords;
+        let mut frame = *base;
+        let mut k = 0;
+        for j in &self.joints {
+            frame *= IsometryMatrix3::from_parts(Translation3::from(j.offset), j.rest);
+            let r = frame.translation.vector;
+            let lever = end - r;
+            for m in &j.motions {
+                let rot: Matrix3<f64> = *frame.rotation.matrix();
+                match *m {
+                    Motion::Revolute { axis, .. } => {
+                        let w = rot.column(axis.index()).into_owned();
+                        out.set_column(k, &w.cross(&lever));
+                    }
+                    Motion::Swing { .. } => {
+                        let jl = rot * left_jacobian(&Vector3::new(q[k], q[k + 1], 0.0));
+                        out.set_column(k, &jl.column(0).cross(&lever));
+                        out.set_column(k + 1, &jl.column(1).cross(&lever));
+                    }
+                }
+                frame.rotation *= motion_rotation(m, &q[k..]);
+                k += m.dof_count();
+            }
+        }
+        Ok(())
+    }
+
+    /// The positional Jacobian of the end effector at `q`.
+    pub fn jacobian(&self, base: &IsometryMatrix3<f64>, q: &[f64]) -> Result<Matrix3xX<f64>> {
+        let mut j = Matrix3xX::zeros(self.dof_count);
+        self.jacobian_into(base, q, &mut j)?;
+        Ok(j)
+    }
+
+    /// True when every DoF of `q` is within its limits (swings inside their ellipse).
+    pub fn within_limits(&self, q: &[f64]) -> bool {
+        let mut k = 0;
+        self.joints.iter().flat_map(|j| &j.motions).all(|m| {
+            let ok = match *m {
+                Motion::Revolute { min, max, .. } => (min..=max).contains(&q[k]),
+                Motion::Swing { rx, ry } => {
+                    (q[k] / rx).powi(2) + (q[k + 1] / ry).powi(2) <= 1.0 + 1e-12
+                }
+            };
+            k += m.dof_count();
+            ok
+        })
+    }
+
+    /// Brings `q` within the limits: revolute DoFs are clamped; a swing outside its ellipse
+    /// is scaled toward zero onto the ellipse (keeping the swing axis's direction).
+    pub fn clamp(&self, q: &mut [f64]) {
+        let mut k = 0;
+        for m in self.joints.iter().flat_map(|j| &j.motions) {
+            match *m {
+                Motion::Revolute { min, max, .. } => q[k] = q[k].clamp(min, max),
+                Motion::Swing { rx, ry } => {
+                    let e = (q[k] / rx).powi(2) + (q[k + 1] / ry).powi(2);
+                    if e > 1.0 {
+                        let s = 1.0 / e.sqrt();
+                        q[k] *= s;
+                        q[k + 1] *= s;
+                    }
+                }
+            }
+            k += m.dof_count();
+        }
+    }
+}
+
+#[inline]
+fn motion_rotation(m: &Motion, q: &[f64]) -> Rotation3<f64> {
+    match *m {
+        Motion::Revolute { axis, .. } => axis_rotation(axis, q[0]),
+        Motion::Swing { .. } => swing_rotation(q[0], q[1]),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+    use nalgebra::UnitQuaternion;
+    use proptest::prelude::*;
+
+    fn base() -> IsometryMatrix3<f64> {
+        IsometryMatrix3::from_parts(
+            Translation3::new(0.2, 1.4, -0.1),
+            UnitQuaternion::from_euler_angles(0.3, -1.2, 0.5).to_rotation_matrix(),
+        )
+    }
+
+    #[test]
+    fn straight_arm_reaches_full_length_along_base_z() {
+        let arm = Chain::arm(0.3, 0.25, 0.08).expect("arm");
+        assert_eq!(arm.dof_count(), 7);
+        let end = arm.end_position(&base(), &[0.0; 7]).expect("fk");
+        let expected = base() * Point3::new(0.0, 0.0, 0.63);
+        assert_relative_eq!(end, expected, epsilon = 1e-12);
+        let names: Vec<_> = arm.dof_names().collect();
+        assert_eq!(
+            names,
+            [
+                "shoulder_swing_x",
+                "shoulder_swing_y",
+                "shoulder_twist",
+                "elbow_flexion",
+                "elbow_twist",
+                "wrist_swing_x",
+                "wrist_swing_y"
+            ]
+        );
+    }
+
+    #[test]
+    fn elbow_flexion_closes_the_arm_by_the_law_of_cosines() {
+        let arm = Chain::arm(0.3, 0.25, 0.0).expect("arm");
+        let flex = 1.1;
+        let q = [0.0, 0.0, 0.0, flex, 0.0, 0.0, 0.0];
+        let end = arm
+            .end_position(&IsometryMatrix3::identity(), &q)
+            .expect("fk");
+        let expected = (0.3f64.powi(2) + 0.25f64.powi(2) + 2.0 * 0.3 * 0.25 * flex.cos()).sqrt();
+        assert_relative_eq!(end.coords.norm(), expected, epsilon = 1e-12);
+        assert!(end.y < 0.0, "positive flexion bends toward -y");
+    }
+
+    #[test]
+    fn clamp_lands_inside_limits() {
+        let arm = Chain::arm(0.3, 0.25, 0.08).expect("arm");
+        let mut q = [3.0, -3.0, 2.0, -1.0, 5.0, 2.0, 2.0];
+        assert!(!arm.within_limits(&q));
+        arm.clamp(&mut q);
+        assert!(arm.within_limits(&q));
+        assert_relative_eq!(q[3], 0.0);
+    }
+
+    proptest! {
+        #[test]
+        fn jacobian_matches_finite_differences(q in proptest::collection::vec(-2.0f64..2.0, 7)) {
+            let arm = Chain::arm(0.31, 0.27, 0.09).expect("arm");
+            let b = base();
+            let jac = arm.jacobian(&b, &q).expect("jacobian");
+            let h = 1e-6;
+            for d in 0..7 {
+                let mut plus = q.clone();
+                let mut minus = q.clone();
+                plus[d] += h;
+                minus[d] -= h;
+                let fd = (arm.end_position(&b, &plus).expect("fk") - arm.end_position(&b, &minus).expect("fk")) / (2.0 * h);
+                assert_relative_eq!(jac.column(d).into_owned(), fd, epsilon = 1e-7);
+            }
+        }
+    }
+}

@@ -1,0 +1,75 @@
+//! The error type of `kinergy-motion`.
+
+use crate::arm::Side;
+
+/// Everything that can go wrong in `kinergy-motion`.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MotionError {
+    /// A BVH file could not be read or written.
+    #[error(transparent)]
+    Bvh(#[from] kinergy_bvh::Error),
+    /// A pose or frame has the wrong number of values for its skeleton or chain.
+    #[error("a pose needs {expected} values, got {found}")]
+    PoseLength {
+        /// Values the skeleton or chain expects.
+        expected: usize,
+        /// Values given.
+        found: usize,
+    },
+    /// No joint has this name.
+    #[error("no joint named `{name}`; joints are: {}", .available.join(", "))]
+    UnknownJoint {
+        /// The name asked for.
+        name: String,
+        /// Every joint name of the skeleton.
+        available: Vec<String>,
+    },
+    /// The joints given for an arm chain do not form a parent-to-child chain.
+    #[error("`{child}` is not a descendant of `{ancestor}`, so they cannot form an arm chain")]
+    NotAChain {
+        /// The joint expected higher up.
+        ancestor: String,
+        /// The joint expected below it.
+        child: String,
+    },
+    /// No arm chain with the usual joint names was found.
+    #[error(
+        "no {side} arm chain found (clavicle → upper arm → forearm → hand); arm-like joints: {}; name the joints with --chain clavicle,shoulder,elbow,wrist",
+        if .candidates.is_empty() { "none".to_string() } else { .candidates.join(", ") }
+    )]
+    ArmNotFound {
+        /// Which arm was looked for.
+        side: Side,
+        /// Joints whose names look like arm joints.
+        candidates: Vec<String>,
+    },
+    /// A value that must be finite is NaN or infinite.
+    #[error("{what} is not finite")]
+    NonFinite {
+        /// What held the value.
+        what: String,
+    },
+    /// An argument is outside what the function accepts.
+    #[error("invalid {what}: {why}")]
+    Invalid {
+        /// Which argument.
+        what: &'static str,
+        /// Why it was refused.
+        why: String,
+    },
+    /// A clip has no frames where frames are needed.
+    #[error("the clip has no frames")]
+    EmptyClip,
+    /// Two motions compared by the distance track a different number of joints.
+    #[error("motions track different joints: {left} vs {right} per frame")]
+    JointCountMismatch {
+        /// Joints per frame in the first motion.
+        left: usize,
+        /// Joints per frame in the second motion.
+        right: usize,
+    },
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T, E = MotionError> = std::result::Result<T, E>;

@@ -1,0 +1,247 @@
+//! Rotations: principal axes, Euler sequences in any channel order, and the swing
+//! (exponential-map) parameterization with its derivative.
+
+use nalgebra::{Matrix3, Rotation3, Unit, UnitQuaternion, Vector3};
+
+/// A principal axis of a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Axis {
+    /// The X axis.
+    X,
+    /// The Y axis.
+    Y,
+    /// The Z axis.
+    Z,
+}
+
+impl Axis {
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+
+    /// The axis with index 0, 1 or 2 (other values give Z).
+    pub fn from_index(i: usize) -> Axis {
+        match i {
+            0 => Axis::X,
+            1 => Axis::Y,
+            _ => Axis::Z,
+        }
+    }
+
+    /// The unit vector along this axis.
+    pub fn unit(self) -> Unit<Vector3<f64>> {
+        match self {
+            Axis::X => Vector3::x_axis(),
+            Axis::Y => Vector3::y_axis(),
+            Axis::Z => Vector3::z_axis(),
+        }
+    }
+
+    /// The letter, `'X'`, `'Y'` or `'Z'`.
+    pub fn letter(self) -> char {
+        ['X', 'Y', 'Z'][self.index()]
+    }
+}
+
+/// The rotation by `angle` radians about a principal axis, built from one `sin_cos`.
+#[inline]
+pub fn axis_rotation(axis: Axis, angle: f64) -> Rotation3<f64> {
+    let (s, c) = angle.sin_cos();
+    let m = match axis {
+        Axis::X => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
+        Axis::Y => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
+        Axis::Z => Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0),
+    };
+    Rotation3::from_matrix_unchecked(m)
+}
+
+/// The rotation of an Euler sequence as BVH reads it: `R = R_a0(θ0) · R_a1(θ1) · …`,
+/// the first listed channel outermost (intrinsic rotations in listed order).
+pub fn euler_rotation(axes: &[Axis], angles: &[f64]) -> Rotation3<f64> {
+    axes.iter()
+        .zip(angles)
+        .fold(Rotation3::identity(), |r, (&a, &t)| r * axis_rotation(a, t))
+}
+
+/// Angles `(θ0, θ1, θ2)` with `R = R_i(θ0) R_j(θ1) R_k(θ2)` for three distinct axes.
+///
+/// With ε = +1 when (i, j, k) is a cyclic permutation of (X, Y, Z) and −1 otherwise:
+/// θ1 = asin(ε R_ik), θ0 = atan2(−ε R_jk, R_kk), θ2 = atan2(−ε R_ij, R_ii). At gimbal lock
+/// (|cos θ1| ≈ 0) θ2 is set to 0 and θ0 takes the whole remaining rotation. Returns `None`
+/// when the axes are not three distinct ones.
+pub fn euler_angles(axes: [Axis; 3], r: &Rotation3<f64>) -> Option<[f64; 3]> {
+    let [i, j, k] = axes.map(Axis::index);
+    if i == j || j == k || i == k {
+        return None;
+    }
+    let eps = if (j + 3 - i) % 3 == 1 { 1.0 } else { -1.0 };
+    let m = r.matrix();
+    let s1 = (eps * m[(i, k)]).clamp(-1.0, 1.0);
+    let t1 = s1.asin();
+    let c1 = (1.0 - s1 * s1).sqrt();
+    if c1 > 1e-9 {
+        let t0 = (-eps * m[(j, k)]).atan2(m[(k, k)]);
+        let t2 = (-eps * m[(i, j)]).atan2(m[(i, i)]);
+        Some([t0, t1, t2])
+    } else {
+        // Gimbal lock: R_i(θ0) R_j(±π/2) fixes only θ0 ± θ2; put it all in θ0.
+        // With θ2 = 0, R = R_i(θ0) R_j(θ1), whose column j is R_i(θ0) e_j.
+        let t0 = (eps * m[(k, j)]).atan2(m[(j, j)]);
+        Some([t0, t1, 0.0])
+    }
+}
+
+/// The swing rotation `exp([v]×)` for a swing vector `v = (sx, sy, 0)`: angle |v| about the
+/// axis v/|v| lying in the x–y plane (DESIGN §1.2: twist about z, swing about an axis in x–y).
+#[inline]
+pub fn swing_rotation(sx: f64, sy: f64) -> Rotation3<f64> {
+    Rotation3::new(Vector3::new(sx, sy, 0.0))
+}
+
+/// The swing vector `(sx, sy)` and twist angle `τ` with `R = swing(sx, sy) · R_z(τ)`.
+///
+/// The swing takes the z axis to R·z by the shortest arc; the twist is what remains about z.
+/// Undefined (returns the swing of angle π about x) when R·z = −z.
+pub fn swing_twist(r: &Rotation3<f64>) -> (f64, f64, f64) {
+    let z = r * Vector3::z();
+    let (sx, sy) = swing_to(&z);
+    let swing = swing_rotation(sx, sy);
+    let twist = swing.inverse() * r;
+    let m = twist.matrix();
+    let tau = m[(1, 0)].atan2(m[(0, 0)]);
+    (sx, sy, tau)
+}
+
+/// The swing vector `(sx, sy)` whose rotation takes `+z` to the unit direction `d` by the
+/// shortest arc.
+pub fn swing_to(d: &Vector3<f64>) -> (f64, f64) {
+    let d = d.normalize();
+    let axis = Vector3::z().cross(&d); // = (-d.y, d.x, 0)
+    let s = axis.norm();
+    let angle = s.atan2(d.z);
+    if s < 1e-12 {
+        if d.z > 0.0 {
+            (0.0, 0.0)
+        } else {
+            (std::f64::consts::PI, 0.0)
+        }
+    } else {
+        (axis.x / s * angle, axis.y / s * angle)
+    }
+}
+
+/// The left Jacobian of SO(3) at `v`: `d/dt exp([v]×) = [J_l(v) v̇]× exp([v]×)`.
+///
+/// `J_l(v) = I + (1 − cos θ)/θ² [v]× + (θ − sin θ)/θ³ [v]×²` with θ = |v| (series near 0).
+pub fn left_jacobian(v: &Vector3<f64>) -> Matrix3<f64> {
+    let t2 = v.norm_squared();
+    let k = v.cross_matrix();
+    let (a, b) = if t2 < 1e-8 {
+        (0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0)
+    } else {
+        let t = t2.sqrt();
+        ((1.0 - t.cos()) / t2, (t - t.sin()) / (t2 * t))
+    };
+    Matrix3::identity() + k * a + k * k * b
+}
+
+/// Spherical interpolation between two rotations, `t ∈ [0, 1]`, the short way round.
+pub fn slerp(a: &Rotation3<f64>, b: &Rotation3<f64>, t: f64) -> Rotation3<f64> {
+    let qa = UnitQuaternion::from_rotation_matrix(a);
+    let qb = UnitQuaternion::from_rotation_matrix(b);
+    // nalgebra's slerp takes the shortest path; it fails only for opposite quaternions,
+    // which the sign flip below rules out.
+    let qb = if qa.coords.dot(&qb.coords) < 0.0 {
+        UnitQuaternion::new_unchecked(-qb.into_inner())
+    } else {
+        qb
+    };
+    qa.try_slerp(&qb, t, 1e-12)
+        .unwrap_or_else(|| qa.nlerp(&qb, t))
+        .to_rotation_matrix()
+}
+
+/// `angle` moved by a multiple of 2π to lie within π of `reference`.
+pub fn unwrap_near(angle: f64, reference: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    angle - ((angle - reference) / tau).round() * tau
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+    use proptest::prelude::*;
+
+    const ORDERS: [[Axis; 3]; 6] = [
+        [Axis::X, Axis::Y, Axis::Z],
+        [Axis::X, Axis::Z, Axis::Y],
+        [Axis::Y, Axis::X, Axis::Z],
+        [Axis::Y, Axis::Z, Axis::X],
+        [Axis::Z, Axis::X, Axis::Y],
+        [Axis::Z, Axis::Y, Axis::X],
+    ];
+
+    #[test]
+    fn axis_rotation_matches_nalgebra() {
+        for axis in [Axis::X, Axis::Y, Axis::Z] {
+            let ours = axis_rotation(axis, 0.7);
+            let theirs = Rotation3::from_axis_angle(&axis.unit(), 0.7);
+            assert_relative_eq!(ours, theirs, epsilon = 1e-15);
+        }
+    }
+
+    #[test]
+    fn gimbal_lock_still_round_trips() {
+        for order in ORDERS {
+            let angles = [0.3, std::f64::consts::FRAC_PI_2, -0.4];
+            let r = euler_rotation(&order, &angles);
+            let back = euler_angles(order, &r).expect("distinct axes");
+            assert_relative_eq!(euler_rotation(&order, &back), r, epsilon = 1e-9);
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn euler_round_trip(order in 0usize..6, a in -3.1f64..3.1, b in -1.5f64..1.5, c in -3.1f64..3.1) {
+            let order = ORDERS[order];
+            let r = euler_rotation(&order, &[a, b, c]);
+            let back = euler_angles(order, &r).expect("distinct axes");
+            assert_relative_eq!(back[0], a, epsilon = 1e-9);
+            assert_relative_eq!(back[1], b, epsilon = 1e-9);
+            assert_relative_eq!(back[2], c, epsilon = 1e-9);
+        }
+
+        #[test]
+        fn swing_twist_round_trip(sx in -2.0f64..2.0, sy in -2.0f64..2.0, tau in -3.1f64..3.1) {
+            prop_assume!((sx * sx + sy * sy).sqrt() < 3.0);
+            let r = swing_rotation(sx, sy) * axis_rotation(Axis::Z, tau);
+            let (bx, by, bt) = swing_twist(&r);
+            assert_relative_eq!(bx, sx, epsilon = 1e-9);
+            assert_relative_eq!(by, sy, epsilon = 1e-9);
+            assert_relative_eq!(bt, tau, epsilon = 1e-9);
+        }
+
+        #[test]
+        fn left_jacobian_matches_finite_differences(
+            x in -2.5f64..2.5, y in -2.5f64..2.5, z in -2.5f64..2.5,
+            dx in -1.0f64..1.0, dy in -1.0f64..1.0, dz in -1.0f64..1.0,
+        ) {
+            let v = Vector3::new(x, y, z) * 0.5;
+            let dv = Vector3::new(dx, dy, dz);
+            let h = 1e-6;
+            let r = Rotation3::new(v);
+            let rp = Rotation3::new(v + dv * h);
+            let rm = Rotation3::new(v - dv * h);
+            // (R(v+h dv) - R(v-h dv)) / 2h · Rᵀ = [ω]×
+            let w = (rp.matrix() - rm.matrix()) / (2.0 * h) * r.matrix().transpose();
+            let omega = Vector3::new(w[(2, 1)], w[(0, 2)], w[(1, 0)]);
+            assert_relative_eq!(left_jacobian(&v) * dv, omega, epsilon = 1e-6);
+        }
+    }
+}
