@@ -217,3 +217,41 @@ fn round_trip_keeps_world_positions_on_every_fixture() {
         }
     }
 }
+
+fn cmu_walk() -> &'static kinergy::motion::Clip {
+    static CLIP: std::sync::OnceLock<kinergy::motion::Clip> = std::sync::OnceLock::new();
+    CLIP.get_or_init(|| {
+        read_clip(&fixture("cmu_12_01_walk.bvh"), &ImportOptions::default())
+            .expect("read")
+            .0
+    })
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(128))]
+
+    /// The positional Jacobian of any joint or End Site of the real 31-joint CMU skeleton,
+    /// w.r.t. the DoFs of its chain from the root, equals central finite differences at
+    /// captured poses perturbed at random.
+    #[test]
+    fn cmu_jacobian_matches_finite_differences(
+        frame in 1usize..524,
+        target in 0usize..38,
+        noise in proptest::collection::vec(-0.3f64..0.3, 96),
+    ) {
+        let clip = cmu_walk();
+        let s = clip.skeleton();
+        let pose: Vec<f64> = clip.frame(frame).expect("frame").iter().zip(&noise).map(|(v, n)| v + n).collect();
+        let dofs = s.path_dofs(0, target).expect("path from the root");
+        let jac = s.jacobian(&pose, target, &dofs).expect("jacobian");
+        let h = 1e-6;
+        for (col, &d) in dofs.iter().enumerate() {
+            let mut plus = pose.clone();
+            let mut minus = pose.clone();
+            plus[d] += h;
+            minus[d] -= h;
+            let fd = (s.world_positions(&plus).expect("fk")[target] - s.world_positions(&minus).expect("fk")[target]) / (2.0 * h);
+            approx::assert_relative_eq!(jac.column(col).into_owned(), fd, epsilon = 1e-7);
+        }
+    }
+}

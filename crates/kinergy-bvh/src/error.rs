@@ -59,7 +59,9 @@ pub enum ParseErrorKind {
         name: String,
     },
     /// A `CHANNELS` entry that is not one of the six channel names.
-    #[error("unknown channel `{0}` (expected Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation)")]
+    #[error(
+        "unknown channel `{0}` (expected Xposition, Yposition, Zposition, Xrotation, Yrotation or Zrotation)"
+    )]
     UnknownChannel(String),
     /// The same channel listed twice for one joint.
     #[error("channel {0} is listed twice for the same joint")]
@@ -126,7 +128,9 @@ pub enum ParseErrorKind {
     },
     /// The header declares more frames than the rest of the file could possibly hold
     /// (each value needs at least one character and one separator).
-    #[error("the header declares {declared} frames but the rest of the file can hold at most {max_possible}")]
+    #[error(
+        "the header declares {declared} frames but the rest of the file can hold at most {max_possible}"
+    )]
     TooManyFrames {
         /// The count after `Frames:`.
         declared: usize,

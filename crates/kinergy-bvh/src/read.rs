@@ -77,9 +77,10 @@ impl<'a> Parser<'a> {
 
     /// The next token, or `UnexpectedEof { expected }`.
     fn require(&mut self, expected: &'static str) -> Result<Token<'a>, ParseError> {
-        self.scanner
-            .next_token()
-            .ok_or_else(|| self.scanner.error_here(ParseErrorKind::UnexpectedEof { expected }))
+        self.scanner.next_token().ok_or_else(|| {
+            self.scanner
+                .error_here(ParseErrorKind::UnexpectedEof { expected })
+        })
     }
 
     fn hierarchy(&mut self) -> Result<(), ParseError> {
@@ -107,10 +108,9 @@ impl<'a> Parser<'a> {
             };
             if token.is("OFFSET") {
                 if top.has_offset {
-                    return Err(self.scanner.error_at(
-                        &token,
-                        ParseErrorKind::Repeated { keyword: "OFFSET" },
-                    ));
+                    return Err(self
+                        .scanner
+                        .error_at(&token, ParseErrorKind::Repeated { keyword: "OFFSET" }));
                 }
                 let offset = self.offset()?;
                 if let Some(joint) = self.joints.get_mut(top.joint) {
@@ -133,17 +133,17 @@ impl<'a> Parser<'a> {
                     return Err(self.scanner.error_at(&token, kind));
                 }
                 let channels = self.channels(&token)?;
-                self.channel_count = self
-                    .channel_count
-                    .checked_add(channels.len())
-                    .ok_or_else(|| {
-                        self.scanner.error_at(
-                            &token,
-                            ParseErrorKind::BadChannelCount {
-                                found: channels.len().to_string(),
-                            },
-                        )
-                    })?;
+                self.channel_count =
+                    self.channel_count
+                        .checked_add(channels.len())
+                        .ok_or_else(|| {
+                            self.scanner.error_at(
+                                &token,
+                                ParseErrorKind::BadChannelCount {
+                                    found: channels.len().to_string(),
+                                },
+                            )
+                        })?;
                 if let Some(joint) = self.joints.get_mut(top.joint) {
                     joint.channels = channels;
                 }
@@ -232,10 +232,9 @@ impl<'a> Parser<'a> {
             }
         };
         if !crate::document::is_valid_name(name.text) {
-            return Err(self.scanner.error_at(
-                &name,
-                ParseErrorKind::InvalidName { name: name.found() },
-            ));
+            return Err(self
+                .scanner
+                .error_at(&name, ParseErrorKind::InvalidName { name: name.found() }));
         }
         self.push_joint(keyword, Some(name.text.to_owned()), parent)
     }
@@ -444,8 +443,7 @@ impl<'a> Parser<'a> {
                             let at_frame_end = motion.len() % channels == 0;
                             let kind = if text.eq_ignore_ascii_case("HIERARCHY") {
                                 ParseErrorKind::DuplicateHierarchy
-                            } else if at_frame_end && (!strict || motion.len() >= expected_values)
-                            {
+                            } else if at_frame_end && (!strict || motion.len() >= expected_values) {
                                 ParseErrorKind::TrailingGarbage {
                                     found: shorten(text),
                                 }

@@ -400,7 +400,7 @@ mod tests {
     #[test]
     fn fast_path_handles_the_forms_real_files_use() {
         for (text, value) in [
-            ("0", 0.0),
+            ("0", 0.0f64),
             ("-0", -0.0),
             ("+1", 1.0),
             (".5", 0.5),
@@ -419,7 +419,17 @@ mod tests {
 
     #[test]
     fn fast_path_declines_what_it_cannot_do_exactly() {
-        for text in ["", "-", ".", "e5", "1e", "1e+", "12345678901234567890", "1e23", "9007199254740993"] {
+        for text in [
+            "",
+            "-",
+            ".",
+            "e5",
+            "1e",
+            "1e+",
+            "12345678901234567890",
+            "1e23",
+            "9007199254740993",
+        ] {
             assert!(parse_fast(text.as_bytes()).is_none(), "{text}");
         }
     }

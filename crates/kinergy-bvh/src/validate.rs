@@ -12,7 +12,7 @@ impl Bvh {
     ///   no other joint lacks a parent;
     /// * every parent comes before its children, in depth-first order (the parent of joint
     ///   `i` is joint `i - 1` or one of its ancestors), nested at most
-    ///   [`MAX_DEPTH`](crate::MAX_DEPTH) deep;
+    ///   [`MAX_DEPTH`] deep;
     /// * every joint's `first_channel` is the number of channels of the joints before it,
     ///   and no joint lists a channel twice;
     /// * `motion.len() == frame_count * channel_count()`;
@@ -76,7 +76,11 @@ impl Bvh {
                 return Err(WriteError::EndSiteChannels { joint: index });
             }
             for (k, channel) in joint.channels.iter().enumerate() {
-                if joint.channels.get(..k).is_some_and(|before| before.contains(channel)) {
+                if joint
+                    .channels
+                    .get(..k)
+                    .is_some_and(|before| before.contains(channel))
+                {
                     return Err(WriteError::DuplicateChannel {
                         joint: index,
                         channel: *channel,
@@ -122,7 +126,12 @@ impl Bvh {
 mod tests {
     use crate::{Bvh, Channel, Joint, WriteError};
 
-    fn joint(name: Option<&str>, parent: Option<usize>, channels: &[Channel], first: usize) -> Joint {
+    fn joint(
+        name: Option<&str>,
+        parent: Option<usize>,
+        channels: &[Channel],
+        first: usize,
+    ) -> Joint {
         Joint {
             name: name.map(str::to_owned),
             parent,
@@ -137,7 +146,12 @@ mod tests {
     fn small() -> Bvh {
         Bvh {
             joints: vec![
-                joint(Some("Hips"), None, &[Channel::Xposition, Channel::Zrotation], 0),
+                joint(
+                    Some("Hips"),
+                    None,
+                    &[Channel::Xposition, Channel::Zrotation],
+                    0,
+                ),
                 joint(Some("Spine"), Some(0), &[Channel::Yrotation], 2),
                 joint(None, Some(1), &[], 3),
                 joint(Some("Leg"), Some(0), &[Channel::Xrotation], 3),
@@ -155,26 +169,108 @@ mod tests {
 
     #[test]
     fn each_inconsistency_is_named() {
-        let cases: Vec<(fn(&mut Bvh), WriteError)> = vec![
+        type Case = (fn(&mut Bvh), WriteError);
+        let cases: Vec<Case> = vec![
             (|b| b.joints.clear(), WriteError::NoJoints),
             (|b| b.joints[0].parent = Some(0), WriteError::RootNotFirst),
-            (|b| b.joints[3].parent = None, WriteError::MultipleRoots { joint: 3 }),
-            (|b| b.joints[1].parent = Some(1), WriteError::ParentAfterChild { joint: 1, parent: 1 }),
-            (|b| b.joints.push(joint(Some("Arm"), Some(1), &[], 4)), WriteError::NotDepthFirst { joint: 4 }),
-            (|b| b.joints[3].parent = Some(2), WriteError::EndSiteChildren { joint: 2 }),
-            (|b| b.joints[2].channels = vec![Channel::Xrotation], WriteError::EndSiteChannels { joint: 2 }),
-            (|b| b.joints[2].name = Some("x".into()), WriteError::EndSiteName { joint: 2 }),
-            (|b| b.joints[1].name = None, WriteError::MissingName { joint: 1 }),
-            (|b| b.joints[1].name = Some("Left Arm".into()), WriteError::InvalidName { joint: 1, name: "Left Arm".into() }),
-            (|b| b.joints[1].name = Some(String::new()), WriteError::InvalidName { joint: 1, name: String::new() }),
-            (|b| b.joints[1].name = Some("{".into()), WriteError::InvalidName { joint: 1, name: "{".into() }),
-            (|b| b.joints[0].channels[1] = Channel::Xposition, WriteError::DuplicateChannel { joint: 0, channel: Channel::Xposition }),
-            (|b| b.joints[3].first_channel = 2, WriteError::ChannelOffset { joint: 3, expected: 3, found: 2 }),
-            (|b| b.joints[1].offset[2] = f64::NAN, WriteError::NonFiniteOffset { joint: 1 }),
-            (|b| b.motion.push(0.0), WriteError::MotionLength { frame_count: 2, channel_count: 4, values: 9 }),
-            (|b| b.frame_count = usize::MAX, WriteError::MotionLength { frame_count: usize::MAX, channel_count: 4, values: 8 }),
-            (|b| b.motion[6] = f64::INFINITY, WriteError::NonFiniteMotion { frame: 1, channel: 2 }),
-            (|b| b.frame_time = 0.0, WriteError::BadFrameTime { value: 0.0 }),
+            (
+                |b| b.joints[3].parent = None,
+                WriteError::MultipleRoots { joint: 3 },
+            ),
+            (
+                |b| b.joints[1].parent = Some(1),
+                WriteError::ParentAfterChild {
+                    joint: 1,
+                    parent: 1,
+                },
+            ),
+            (
+                |b| b.joints.push(joint(Some("Arm"), Some(1), &[], 4)),
+                WriteError::NotDepthFirst { joint: 4 },
+            ),
+            (
+                |b| b.joints[3].parent = Some(2),
+                WriteError::EndSiteChildren { joint: 2 },
+            ),
+            (
+                |b| b.joints[2].channels = vec![Channel::Xrotation],
+                WriteError::EndSiteChannels { joint: 2 },
+            ),
+            (
+                |b| b.joints[2].name = Some("x".into()),
+                WriteError::EndSiteName { joint: 2 },
+            ),
+            (
+                |b| b.joints[1].name = None,
+                WriteError::MissingName { joint: 1 },
+            ),
+            (
+                |b| b.joints[1].name = Some("Left Arm".into()),
+                WriteError::InvalidName {
+                    joint: 1,
+                    name: "Left Arm".into(),
+                },
+            ),
+            (
+                |b| b.joints[1].name = Some(String::new()),
+                WriteError::InvalidName {
+                    joint: 1,
+                    name: String::new(),
+                },
+            ),
+            (
+                |b| b.joints[1].name = Some("{".into()),
+                WriteError::InvalidName {
+                    joint: 1,
+                    name: "{".into(),
+                },
+            ),
+            (
+                |b| b.joints[0].channels[1] = Channel::Xposition,
+                WriteError::DuplicateChannel {
+                    joint: 0,
+                    channel: Channel::Xposition,
+                },
+            ),
+            (
+                |b| b.joints[3].first_channel = 2,
+                WriteError::ChannelOffset {
+                    joint: 3,
+                    expected: 3,
+                    found: 2,
+                },
+            ),
+            (
+                |b| b.joints[1].offset[2] = f64::NAN,
+                WriteError::NonFiniteOffset { joint: 1 },
+            ),
+            (
+                |b| b.motion.push(0.0),
+                WriteError::MotionLength {
+                    frame_count: 2,
+                    channel_count: 4,
+                    values: 9,
+                },
+            ),
+            (
+                |b| b.frame_count = usize::MAX,
+                WriteError::MotionLength {
+                    frame_count: usize::MAX,
+                    channel_count: 4,
+                    values: 8,
+                },
+            ),
+            (
+                |b| b.motion[6] = f64::INFINITY,
+                WriteError::NonFiniteMotion {
+                    frame: 1,
+                    channel: 2,
+                },
+            ),
+            (
+                |b| b.frame_time = 0.0,
+                WriteError::BadFrameTime { value: 0.0 },
+            ),
         ];
         for (break_it, expected) in cases {
             let mut bvh = small();
@@ -188,10 +284,18 @@ mod tests {
         let joints = (0..=crate::MAX_DEPTH)
             .map(|i| joint(Some("j"), i.checked_sub(1), &[], 0))
             .collect();
-        let bvh = Bvh { joints, frame_time: 1.0, frame_count: 0, motion: vec![] };
+        let bvh = Bvh {
+            joints,
+            frame_time: 1.0,
+            frame_count: 0,
+            motion: vec![],
+        };
         assert_eq!(
             bvh.validate(),
-            Err(WriteError::TooDeep { joint: crate::MAX_DEPTH, max: crate::MAX_DEPTH })
+            Err(WriteError::TooDeep {
+                joint: crate::MAX_DEPTH,
+                max: crate::MAX_DEPTH
+            })
         );
     }
 }

@@ -6,10 +6,10 @@
 //! local +z; a swing is the rotation `exp([(sx, sy, 0)]×)` about an axis in the x–y plane, a
 //! twist rotates about z (DESIGN §1.2–1.3).
 
-use nalgebra::{IsometryMatrix3, Matrix3, Matrix3xX, Point3, Rotation3, Translation3, Vector3};
+use nalgebra::{IsometryMatrix3, Matrix3, Matrix3xX, Point3, Rotation3, Vector3};
 
 use crate::error::{MotionError, Result};
-use crate::rotation::{Axis, axis_rotation, left_jacobian, swing_rotation};
+use crate::rotation::{Axis, left_jacobian, swing_rotation};
 
 /// One elementary motion of a chain joint.
 #[derive(Debug, Clone, PartialEq)]
@@ -92,6 +92,8 @@ impl ChainJoint {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chain {
     joints: Vec<ChainJoint>,
+    /// Per joint: is `rest` the identity (skipped in the hot loops)?
+    rest_identity: Vec<bool>,
     end_effector: Vector3<f64>,
     dof_count: usize,
 }
@@ -150,6 +152,10 @@ impl Chain {
             .map(Motion::dof_count)
             .sum();
         Ok(Chain {
+            rest_identity: joints
+                .iter()
+                .map(|j| j.rest == Rotation3::identity())
+                .collect(),
             joints,
             end_effector,
             dof_count,
@@ -241,16 +247,25 @@ impl Chain {
         out.frames.clear();
         let mut frame = *base;
         let mut k = 0;
-        for j in &self.joints {
-            frame *= IsometryMatrix3::from_parts(Translation3::from(j.offset), j.rest);
+        for (j, &rest_identity) in self.joints.iter().zip(&self.rest_identity) {
+            self.enter_joint(&mut frame, j, rest_identity);
             for m in &j.motions {
-                frame.rotation *= motion_rotation(m, &q[k..]);
+                apply_motion(&mut frame.rotation, m, &q[k..]);
                 k += m.dof_count();
             }
             out.frames.push(frame);
         }
         out.end = frame * Point3::from(self.end_effector);
         Ok(())
+    }
+
+    /// Moves `frame` from the previous joint to joint `j`, before its motions.
+    #[inline]
+    fn enter_joint(&self, frame: &mut IsometryMatrix3<f64>, j: &ChainJoint, rest_identity: bool) {
+        frame.translation.vector += frame.rotation * j.offset;
+        if !rest_identity {
+            frame.rotation *= j.rest;
+        }
     }
 
     /// Forward kinematics from a world `base` frame.
@@ -288,8 +303,8 @@ impl Chain {
         let end = self.end_position(base, q)?.coords;
         let mut frame = *base;
         let mut k = 0;
-        for j in &self.joints {
-            frame *= IsometryMatrix3::from_parts(Translation3::from(j.offset), j.rest);
+        for (j, &rest_identity) in self.joints.iter().zip(&self.rest_identity) {
+            self.enter_joint(&mut frame, j, rest_identity);
             let r = frame.translation.vector;
             let lever = end - r;
             for m in &j.motions {
@@ -305,7 +320,7 @@ impl Chain {
                         out.set_column(k + 1, &jl.column(1).cross(&lever));
                     }
                 }
-                frame.rotation *= motion_rotation(m, &q[k..]);
+                apply_motion(&mut frame.rotation, m, &q[k..]);
                 k += m.dof_count();
             }
         }
@@ -355,11 +370,23 @@ impl Chain {
     }
 }
 
+/// `r ← r · M(q)`. A principal-axis rotation changes only two columns of `r`:
+/// with (i, k) the axes after `a` cyclically, col_i ← c·col_i + s·col_k and
+/// col_k ← −s·col_i + c·col_k (12 multiplications instead of 27).
 #[inline]
-fn motion_rotation(m: &Motion, q: &[f64]) -> Rotation3<f64> {
+fn apply_motion(r: &mut Rotation3<f64>, m: &Motion, q: &[f64]) {
     match *m {
-        Motion::Revolute { axis, .. } => axis_rotation(axis, q[0]),
-        Motion::Swing { .. } => swing_rotation(q[0], q[1]),
+        Motion::Revolute { axis, .. } => {
+            let (s, c) = q[0].sin_cos();
+            let a = axis.index();
+            let (i, k) = ((a + 1) % 3, (a + 2) % 3);
+            let m = r.matrix_mut_unchecked();
+            let ci = m.column(i).into_owned();
+            let ck = m.column(k).into_owned();
+            m.set_column(i, &(ci * c + ck * s));
+            m.set_column(k, &(ck * c - ci * s));
+        }
+        Motion::Swing { .. } => *r *= swing_rotation(q[0], q[1]),
     }
 }
 
@@ -367,7 +394,7 @@ fn motion_rotation(m: &Motion, q: &[f64]) -> Rotation3<f64> {
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
-    use nalgebra::UnitQuaternion;
+    use nalgebra::{Translation3, UnitQuaternion};
     use proptest::prelude::*;
 
     fn base() -> IsometryMatrix3<f64> {

@@ -32,7 +32,7 @@ impl Clip {
         let ok = if n == 0 {
             values.is_empty()
         } else {
-            values.len() % n == 0
+            values.len().is_multiple_of(n)
         };
         if !ok {
             return Err(MotionError::PoseLength {
@@ -91,7 +91,7 @@ impl Clip {
     /// The number of frames.
     pub fn frame_count(&self) -> usize {
         let n = self.skeleton.dof_count();
-        if n == 0 { 0 } else { self.values.len() / n }
+        self.values.len().checked_div(n).unwrap_or(0)
     }
 
     /// Seconds from the first frame to the last: `(frames − 1) · frame_time`.

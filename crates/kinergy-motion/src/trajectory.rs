@@ -23,7 +23,7 @@ impl Trajectory {
                 why: format!("{frame_time} is not a positive number of seconds"),
             });
         }
-        if joints == 0 || points.len() % joints != 0 {
+        if joints == 0 || !points.len().is_multiple_of(joints) {
             return Err(MotionError::Invalid {
                 what: "trajectory",
                 why: format!(

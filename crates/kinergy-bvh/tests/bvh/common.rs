@@ -46,8 +46,7 @@ pub fn real_files() -> Vec<PathBuf> {
 }
 
 pub fn read(path: &Path) -> Bvh {
-    kinergy_bvh::read_file(path, &ReadOptions::default())
-        .unwrap_or_else(|e| panic!("{e}"))
+    kinergy_bvh::read_file(path, &ReadOptions::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 pub fn quirk(name: &str) -> PathBuf {
@@ -69,7 +68,11 @@ pub fn trimmed(text: &str, frames: usize) -> String {
     }
     for line in lines.by_ref() {
         out.push_str(line);
-        if line.trim_start().to_ascii_lowercase().starts_with("frame time") {
+        if line
+            .trim_start()
+            .to_ascii_lowercase()
+            .starts_with("frame time")
+        {
             break;
         }
     }

@@ -4,9 +4,7 @@
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use kinergy_bvh::{
-    Bvh, Channel, Error, FrameCountPolicy, ParseError, ParseErrorKind, ReadOptions,
-};
+use kinergy_bvh::{Bvh, Channel, Error, FrameCountPolicy, ParseError, ParseErrorKind, ReadOptions};
 
 use crate::common::{QUIRKS_DIR, quirk, read};
 
@@ -40,8 +38,14 @@ fn assert_base(bvh: &Bvh) {
     assert_eq!(bvh.joints[2].first_channel, 9);
     assert_eq!(bvh.channel_count(), 9);
     assert_eq!(bvh.frame_count, 2);
-    assert_eq!(bvh.frame(0).unwrap(), [0.0, 90.0, 0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0]);
-    assert_eq!(bvh.frame(1).unwrap(), [1.0, 91.0, 0.0, 0.0, 0.0, 0.0, 4.0, 5.0, 6.0]);
+    assert_eq!(
+        bvh.frame(0).unwrap(),
+        [0.0, 90.0, 0.0, 0.0, 0.0, 0.0, 1.0, 2.0, 3.0]
+    );
+    assert_eq!(
+        bvh.frame(1).unwrap(),
+        [1.0, 91.0, 0.0, 0.0, 0.0, 0.0, 4.0, 5.0, 6.0]
+    );
 }
 
 fn assert_base_file(name: &str, frame_time: f64) {
@@ -50,7 +54,9 @@ fn assert_base_file(name: &str, frame_time: f64) {
     assert_eq!(bvh.frame_time, frame_time, "{name}");
     assert_eq!(
         bvh.joints[0].channels,
-        [Xposition, Yposition, Zposition, Zrotation, Yrotation, Xrotation],
+        [
+            Xposition, Yposition, Zposition, Zrotation, Yrotation, Xrotation
+        ],
         "{name}"
     );
 }
@@ -93,7 +99,11 @@ fn crlf_and_mixed_fixtures_really_have_those_endings() {
     assert!(lf_only > 0 && mixed.contains("\r\n"));
     let no_newline = std::fs::read(quirk("valid/no_final_newline.bvh")).unwrap();
     assert_ne!(no_newline.last(), Some(&b'\n'));
-    assert!(std::fs::read(quirk("valid/bom.bvh")).unwrap().starts_with(b"\xEF\xBB\xBF"));
+    assert!(
+        std::fs::read(quirk("valid/bom.bvh"))
+            .unwrap()
+            .starts_with(b"\xEF\xBB\xBF")
+    );
 }
 
 #[test]
@@ -102,17 +112,27 @@ fn root_with_rotation_channels_first() {
     assert_base(&bvh);
     assert_eq!(
         bvh.joints[0].channels,
-        [Zrotation, Xrotation, Yrotation, Xposition, Yposition, Zposition]
+        [
+            Zrotation, Xrotation, Yrotation, Xposition, Yposition, Zposition
+        ]
     );
 }
 
 #[test]
 fn rotation_orders_differ_per_joint() {
     let bvh = valid("per_joint_orders.bvh");
-    assert_eq!(names(&bvh), ["Hips", "Chest", "Neck", "End Site", "Leg", "End Site"]);
+    assert_eq!(
+        names(&bvh),
+        ["Hips", "Chest", "Neck", "End Site", "Leg", "End Site"]
+    );
     let parents: Vec<Option<usize>> = bvh.joints.iter().map(|j| j.parent).collect();
     assert_eq!(parents, [None, Some(0), Some(1), Some(2), Some(0), Some(4)]);
-    assert_eq!(bvh.joints[0].channels, [Xposition, Yposition, Zposition, Xrotation, Yrotation, Zrotation]);
+    assert_eq!(
+        bvh.joints[0].channels,
+        [
+            Xposition, Yposition, Zposition, Xrotation, Yrotation, Zrotation
+        ]
+    );
     assert_eq!(bvh.joints[1].channels, [Zrotation, Xrotation, Yrotation]);
     assert_eq!(bvh.joints[2].channels, [Yrotation, Zrotation, Xrotation]);
     assert_eq!(bvh.joints[4].channels, [Xrotation, Zrotation, Yrotation]);
@@ -133,7 +153,9 @@ fn non_root_joints_with_0_to_6_channels() {
         channels,
         [
             &[Zrotation, Xrotation, Yrotation][..],
-            &[Xposition, Yposition, Zposition, Zrotation, Xrotation, Yrotation],
+            &[
+                Xposition, Yposition, Zposition, Zrotation, Xrotation, Yrotation
+            ],
             &[Xposition, Yposition, Zposition],
             &[],
             &[Zrotation],
@@ -157,7 +179,10 @@ fn leaves_without_end_sites_and_several_children() {
     assert_eq!(bvh.end_site_count(), 0);
     assert_eq!(bvh.children(0).collect::<Vec<_>>(), [1, 2, 3]);
     assert_eq!(bvh.joints[2].offset, [-10.0, 0.0, 0.0]);
-    assert_eq!(bvh.frame(0).unwrap()[6..], [1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 3.0, 3.0, 3.0]);
+    assert_eq!(
+        bvh.frame(0).unwrap()[6..],
+        [1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 3.0, 3.0, 3.0]
+    );
 }
 
 #[test]
@@ -183,7 +208,14 @@ fn number_forms() {
     let second = bvh.frame(1).unwrap();
     assert_eq!(
         second,
-        [-1.25e-3, 2.5e3, 1e-21, 1.2345678901234568e29, -5e-324, 1e-300]
+        [
+            -1.25e-3,
+            2.5e3,
+            1e-21,
+            1.2345678901234568e29,
+            -5e-324,
+            1e-300
+        ]
     );
 }
 
@@ -201,38 +233,215 @@ fn malformed() -> Vec<(&'static str, ParseErrorKind, usize, Option<usize>)> {
     use ParseErrorKind as K;
     let s = String::from;
     vec![
-        ("absurd_channel_count.bvh", K::BadChannelCount { found: s("1000000000000000000") }, 9, Some(12)),
-        ("absurd_frame_count.bvh", K::TooManyFrames { declared: 1_000_000_000_000, max_possible: 2 }, 17, Some(9)),
-        ("bad_offset_number.bvh", K::Expected { expected: "a number after OFFSET", found: s("abc") }, 8, Some(12)),
-        ("channel_count_mismatch.bvh", K::ChannelCountMismatch { declared: 3, listed: 2 }, 9, Some(3)),
-        ("duplicate_channel.bvh", K::DuplicateChannel(Xrotation), 9, Some(34)),
-        ("empty.bvh", K::UnexpectedEof { expected: "HIERARCHY" }, 1, Some(1)),
-        ("end_site_with_channels.bvh", K::EndSiteChannels, 13, Some(4)),
-        ("end_site_with_children.bvh", K::EndSiteChildren, 13, Some(4)),
-        ("extra_closing_brace.bvh", K::UnbalancedBraces { unclosed: 0 }, 16, Some(1)),
-        ("frame_count_above_data.bvh", K::FrameCountMismatch { declared: 3, found: 2 }, 17, Some(9)),
-        ("frame_count_below_data.bvh", K::FrameCountMismatch { declared: 1, found: 2 }, 17, Some(9)),
-        ("frame_time_nan.bvh", K::BadFrameTime { found: s("NaN") }, 18, Some(13)),
-        ("frame_time_negative.bvh", K::BadFrameTime { found: s("-0.0333333") }, 18, Some(13)),
-        ("frame_time_zero.bvh", K::BadFrameTime { found: s("0") }, 18, Some(13)),
-        ("inf_offset.bvh", K::NonFinite { value: s("inf") }, 8, Some(12)),
-        ("letter_in_motion.bvh", K::Expected { expected: "a number (motion value)", found: s("O") }, 20, Some(10)),
-        ("missing_closing_brace.bvh", K::UnbalancedBraces { unclosed: 1 }, 16, Some(1)),
-        ("missing_joint_name.bvh", K::MissingName { keyword: "JOINT" }, 6, Some(2)),
-        ("missing_offset.bvh", K::MissingOffset { joint: s("End Site") }, 13, Some(3)),
-        ("missing_root_name.bvh", K::MissingName { keyword: "ROOT" }, 2, Some(1)),
-        ("nan_value.bvh", K::NonFinite { value: s("nan") }, 20, Some(8)),
-        ("negative_frame_count.bvh", K::BadFrameCount { found: s("-2") }, 17, Some(9)),
-        ("no_motion.bvh", K::UnexpectedEof { expected: "MOTION" }, 16, Some(1)),
+        (
+            "absurd_channel_count.bvh",
+            K::BadChannelCount {
+                found: s("1000000000000000000"),
+            },
+            9,
+            Some(12),
+        ),
+        (
+            "absurd_frame_count.bvh",
+            K::TooManyFrames {
+                declared: 1_000_000_000_000,
+                max_possible: 2,
+            },
+            17,
+            Some(9),
+        ),
+        (
+            "bad_offset_number.bvh",
+            K::Expected {
+                expected: "a number after OFFSET",
+                found: s("abc"),
+            },
+            8,
+            Some(12),
+        ),
+        (
+            "channel_count_mismatch.bvh",
+            K::ChannelCountMismatch {
+                declared: 3,
+                listed: 2,
+            },
+            9,
+            Some(3),
+        ),
+        (
+            "duplicate_channel.bvh",
+            K::DuplicateChannel(Xrotation),
+            9,
+            Some(34),
+        ),
+        (
+            "empty.bvh",
+            K::UnexpectedEof {
+                expected: "HIERARCHY",
+            },
+            1,
+            Some(1),
+        ),
+        (
+            "end_site_with_channels.bvh",
+            K::EndSiteChannels,
+            13,
+            Some(4),
+        ),
+        (
+            "end_site_with_children.bvh",
+            K::EndSiteChildren,
+            13,
+            Some(4),
+        ),
+        (
+            "extra_closing_brace.bvh",
+            K::UnbalancedBraces { unclosed: 0 },
+            16,
+            Some(1),
+        ),
+        (
+            "frame_count_above_data.bvh",
+            K::FrameCountMismatch {
+                declared: 3,
+                found: 2,
+            },
+            17,
+            Some(9),
+        ),
+        (
+            "frame_count_below_data.bvh",
+            K::FrameCountMismatch {
+                declared: 1,
+                found: 2,
+            },
+            17,
+            Some(9),
+        ),
+        (
+            "frame_time_nan.bvh",
+            K::BadFrameTime { found: s("NaN") },
+            18,
+            Some(13),
+        ),
+        (
+            "frame_time_negative.bvh",
+            K::BadFrameTime {
+                found: s("-0.0333333"),
+            },
+            18,
+            Some(13),
+        ),
+        (
+            "frame_time_zero.bvh",
+            K::BadFrameTime { found: s("0") },
+            18,
+            Some(13),
+        ),
+        (
+            "inf_offset.bvh",
+            K::NonFinite { value: s("inf") },
+            8,
+            Some(12),
+        ),
+        (
+            "letter_in_motion.bvh",
+            K::Expected {
+                expected: "a number (motion value)",
+                found: s("O"),
+            },
+            20,
+            Some(10),
+        ),
+        (
+            "missing_closing_brace.bvh",
+            K::UnbalancedBraces { unclosed: 1 },
+            16,
+            Some(1),
+        ),
+        (
+            "missing_joint_name.bvh",
+            K::MissingName { keyword: "JOINT" },
+            6,
+            Some(2),
+        ),
+        (
+            "missing_offset.bvh",
+            K::MissingOffset {
+                joint: s("End Site"),
+            },
+            13,
+            Some(3),
+        ),
+        (
+            "missing_root_name.bvh",
+            K::MissingName { keyword: "ROOT" },
+            2,
+            Some(1),
+        ),
+        (
+            "nan_value.bvh",
+            K::NonFinite { value: s("nan") },
+            20,
+            Some(8),
+        ),
+        (
+            "negative_frame_count.bvh",
+            K::BadFrameCount { found: s("-2") },
+            17,
+            Some(9),
+        ),
+        (
+            "no_motion.bvh",
+            K::UnexpectedEof { expected: "MOTION" },
+            16,
+            Some(1),
+        ),
         ("not_utf8.bvh", K::InvalidUtf8, 6, Some(10)),
-        ("overflowing_value.bvh", K::NonFinite { value: s("1e999") }, 19, Some(10)),
-        ("partial_frame.bvh", K::PartialFrame { values: 8, channels: 9 }, 20, Some(16)),
-        ("repeated_offset.bvh", K::Repeated { keyword: "OFFSET" }, 9, Some(3)),
+        (
+            "overflowing_value.bvh",
+            K::NonFinite { value: s("1e999") },
+            19,
+            Some(10),
+        ),
+        (
+            "partial_frame.bvh",
+            K::PartialFrame {
+                values: 8,
+                channels: 9,
+            },
+            20,
+            Some(16),
+        ),
+        (
+            "repeated_offset.bvh",
+            K::Repeated { keyword: "OFFSET" },
+            9,
+            Some(3),
+        ),
         ("second_hierarchy.bvh", K::DuplicateHierarchy, 21, Some(1)),
         ("second_root.bvh", K::MultipleRoots, 16, Some(1)),
-        ("text_before_hierarchy.bvh", K::Expected { expected: "HIERARCHY", found: s("#") }, 1, Some(1)),
-        ("trailing_garbage.bvh", K::TrailingGarbage { found: s("END") }, 21, Some(1)),
-        ("unknown_channel.bvh", K::UnknownChannel(s("Wrotation")), 9, Some(24)),
+        (
+            "text_before_hierarchy.bvh",
+            K::Expected {
+                expected: "HIERARCHY",
+                found: s("#"),
+            },
+            1,
+            Some(1),
+        ),
+        (
+            "trailing_garbage.bvh",
+            K::TrailingGarbage { found: s("END") },
+            21,
+            Some(1),
+        ),
+        (
+            "unknown_channel.bvh",
+            K::UnknownChannel(s("Wrotation")),
+            9,
+            Some(24),
+        ),
     ]
 }
 
@@ -265,7 +474,10 @@ fn every_malformed_fixture_is_in_the_table() {
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
         .collect();
-    let listed: BTreeSet<String> = malformed().into_iter().map(|(n, ..)| n.to_owned()).collect();
+    let listed: BTreeSet<String> = malformed()
+        .into_iter()
+        .map(|(n, ..)| n.to_owned())
+        .collect();
     assert_eq!(on_disk, listed);
 }
 
@@ -278,14 +490,17 @@ fn every_valid_fixture_parses_and_is_tested() {
     let source = include_str!("quirks.rs");
     for name in &on_disk {
         valid(name);
-        assert!(source.contains(&format!("\"{name}\"")), "{name} has no test");
+        assert!(
+            source.contains(&format!("\"{name}\"")),
+            "{name} has no test"
+        );
     }
 }
 
 #[test]
 fn lenient_mode_keeps_the_complete_frames_present() {
     for (name, declared) in [
-        ("frame_count_above_data.bvh", 3),
+        ("frame_count_above_data.bvh", 3u64),
         ("frame_count_below_data.bvh", 1),
         ("absurd_frame_count.bvh", 1_000_000_000_000),
     ] {
@@ -326,7 +541,9 @@ fn error_messages_name_file_line_and_column() {
 fn a_missing_file_is_an_io_error_naming_it() {
     let path = quirk("valid/does_not_exist.bvh");
     match kinergy_bvh::read_file(&path, &ReadOptions::default()) {
-        Err(e @ Error::Io { .. }) => assert!(e.to_string().starts_with(&path.display().to_string())),
+        Err(e @ Error::Io { .. }) => {
+            assert!(e.to_string().starts_with(&path.display().to_string()))
+        }
         other => panic!("{other:?}"),
     }
 }

@@ -10,7 +10,10 @@ use crate::common::{QUIRKS_DIR, read, real_files};
 pub fn assert_round_trip(bvh: &Bvh) {
     let text = kinergy_bvh::to_string(bvh).unwrap();
     let again = kinergy_bvh::parse(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
-    assert!(again.same_content(bvh), "round trip changed the document:\n{text}");
+    assert!(
+        again.same_content(bvh),
+        "round trip changed the document:\n{text}"
+    );
     assert_eq!(kinergy_bvh::to_string(&again).unwrap(), text);
 }
 
@@ -36,7 +39,11 @@ fn the_writer_uses_the_standard_layout() {
     assert!(text.starts_with(
         "HIERARCHY\nROOT Pelvis\n{\n\tOFFSET 0 0 0\n\tCHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n\tJOINT LeftHip\n\t{\n\t\tOFFSET 10 0 0\n"
     ));
-    assert!(text.ends_with("}\nMOTION\nFrames: 1\nFrame Time: 0.0333333\n0 0 0 0 0 0 1 1 1 2 2 2 3 3 3\n"));
+    assert!(
+        text.ends_with(
+            "}\nMOTION\nFrames: 1\nFrame Time: 0.0333333\n0 0 0 0 0 0 1 1 1 2 2 2 3 3 3\n"
+        )
+    );
     assert!(!text.contains('\r'));
     let mut streamed = Vec::new();
     kinergy_bvh::write(&bvh, &mut streamed).unwrap();
@@ -56,7 +63,12 @@ fn deepest_accepted_nesting_round_trips_without_recursion() {
             line: 0,
         })
         .collect();
-    let bvh = Bvh { joints, frame_time: 0.01, frame_count: 1, motion: vec![0.5; MAX_DEPTH] };
+    let bvh = Bvh {
+        joints,
+        frame_time: 0.01,
+        frame_count: 1,
+        motion: vec![0.5; MAX_DEPTH],
+    };
     assert_round_trip(&bvh);
 }
 
@@ -66,10 +78,16 @@ fn the_writer_refuses_invalid_documents() {
     bvh.motion[3] = f64::NAN;
     assert!(matches!(
         kinergy_bvh::to_string(&bvh),
-        Err(kinergy_bvh::WriteError::NonFiniteMotion { frame: 0, channel: 3 })
+        Err(kinergy_bvh::WriteError::NonFiniteMotion {
+            frame: 0,
+            channel: 3
+        })
     ));
     let mut out = Vec::new();
-    assert!(matches!(kinergy_bvh::write(&bvh, &mut out), Err(kinergy_bvh::Error::Invalid { .. })));
+    assert!(matches!(
+        kinergy_bvh::write(&bvh, &mut out),
+        Err(kinergy_bvh::Error::Invalid { .. })
+    ));
     assert!(out.is_empty());
 }
 
@@ -78,7 +96,7 @@ fn finite_f64() -> impl Strategy<Value = f64> {
     use proptest::num::f64 as f;
     prop_oneof![
         3 => -1000.0..1000.0f64,
-        1 => (f::NORMAL | f::SUBNORMAL | f::ZERO | f::POSITIVE | f::NEGATIVE),
+        1 => f::NORMAL | f::SUBNORMAL | f::ZERO | f::POSITIVE | f::NEGATIVE,
         1 => prop::sample::select(vec![0.0, -0.0, 5e-324, -5e-324, f64::MAX, f64::MIN, f64::MIN_POSITIVE, 1e-5, 1e16, 0.1, 1.0 / 3.0]),
         1 => (-99_999i32..99_999, -30i32..30).prop_map(|(m, e)| f64::from(m) * 10f64.powi(e)),
     ]
@@ -114,14 +132,16 @@ fn joint_seed() -> impl Strategy<Value = JointSeed> {
         [finite_f64(), finite_f64(), finite_f64()],
         "[A-Za-z_][A-Za-z0-9_:.\\-é]{0,12}",
     )
-        .prop_map(|(parent_pick, end_site, channel_order, channel_count, offset, name)| JointSeed {
-            parent_pick,
-            end_site,
-            channel_order,
-            channel_count,
-            offset,
-            name,
-        })
+        .prop_map(
+            |(parent_pick, end_site, channel_order, channel_count, offset, name)| JointSeed {
+                parent_pick,
+                end_site,
+                channel_order,
+                channel_count,
+                offset,
+                name,
+            },
+        )
 }
 
 /// Builds a valid document: depth-first joints, distinct channels in a random order.
@@ -147,7 +167,9 @@ fn build(seeds: &[JointSeed], frame_count: usize, frame_time: f64, values: &[f64
             let mut all = Channel::ALL.to_vec();
             let mut state = seed.channel_order;
             for i in (1..all.len()).rev() {
-                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 all.swap(i, (state >> 33) as usize % (i + 1));
             }
             all.truncate(seed.channel_count);
@@ -170,7 +192,12 @@ fn build(seeds: &[JointSeed], frame_count: usize, frame_time: f64, values: &[f64
     let motion = (0..frame_count * channel_total)
         .map(|i| values[i % values.len()])
         .collect();
-    Bvh { joints, frame_time, frame_count, motion }
+    Bvh {
+        joints,
+        frame_time,
+        frame_count,
+        motion,
+    }
 }
 
 proptest! {
