@@ -127,7 +127,9 @@ pub enum ParseErrorKind {
         found: String,
     },
     /// The header declares more frames than the rest of the file could possibly hold
-    /// (each value needs at least one character and one separator).
+    /// (each value needs at least one character and one separator); checked before
+    /// anything is allocated, in [`FrameCountPolicy::Strict`](crate::FrameCountPolicy::Strict)
+    /// only. Reported at the header's count.
     #[error(
         "the header declares {declared} frames but the rest of the file can hold at most {max_possible}"
     )]

@@ -98,9 +98,32 @@ pub fn euler_angles(axes: [Axis; 3], r: &Rotation3<f64>) -> Option<[f64; 3]> {
 
 /// The swing rotation `exp([v]×)` for a swing vector `v = (sx, sy, 0)`: angle |v| about the
 /// axis v/|v| lying in the x–y plane (DESIGN §1.2: twist about z, swing about an axis in x–y).
+///
+/// Rodrigues' formula with the unit axis u = (ux, uy, 0), angle θ = |v|:
+/// `R = I + sin θ [u]× + (1 − cos θ)(u uᵀ − I)`, written out (no general axis–angle code).
 #[inline]
 pub fn swing_rotation(sx: f64, sy: f64) -> Rotation3<f64> {
-    Rotation3::new(Vector3::new(sx, sy, 0.0))
+    let t2 = sx * sx + sy * sy;
+    // sin θ / θ and (1 − cos θ) / θ², with their series near zero.
+    let (a, b, c) = if t2 < 1e-12 {
+        (1.0 - t2 / 6.0, 0.5 - t2 / 24.0, 1.0 - t2 / 2.0)
+    } else {
+        let t = t2.sqrt();
+        let (s, c) = t.sin_cos();
+        (s / t, (1.0 - c) / t2, c)
+    };
+    let m = Matrix3::new(
+        1.0 - b * sy * sy,
+        b * sx * sy,
+        a * sy,
+        b * sx * sy,
+        1.0 - b * sx * sx,
+        -a * sx,
+        -a * sy,
+        a * sx,
+        c,
+    );
+    Rotation3::from_matrix_unchecked(m)
 }
 
 /// The swing vector `(sx, sy)` and twist angle `τ` with `R = swing(sx, sy) · R_z(τ)`.
@@ -207,6 +230,12 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn swing_rotation_matches_the_exponential_map(sx in -3.0f64..3.0, sy in -3.0f64..3.0, tiny in -1e-7f64..1e-7) {
+            assert_relative_eq!(swing_rotation(sx, sy), Rotation3::new(Vector3::new(sx, sy, 0.0)), epsilon = 1e-14);
+            assert_relative_eq!(swing_rotation(tiny, -tiny), Rotation3::new(Vector3::new(tiny, -tiny, 0.0)), epsilon = 1e-15);
+        }
+
         #[test]
         fn euler_round_trip(order in 0usize..6, a in -3.1f64..3.1, b in -1.5f64..1.5, c in -3.1f64..3.1) {
             let order = ORDERS[order];

@@ -1,7 +1,7 @@
 //! The same files read by `bvh_anim` 0.4 (which stores `f32`): same joints, channels,
 //! offsets and motion, to `f32` precision.
 
-use approx::assert_ulps_eq;
+use approx::{assert_abs_diff_eq, assert_ulps_eq};
 use kinergy_bvh::Bvh;
 
 use crate::common::{read, real_files};
@@ -56,9 +56,11 @@ fn compare(path: &std::path::Path, ours: &Bvh, theirs: &bvh_anim::Bvh) {
 
     assert_eq!(ours.frame_count, theirs.num_frames(), "{file}");
     assert_eq!(ours.channel_count(), theirs.num_channels(), "{file}");
-    assert!(
-        (ours.frame_time - theirs.frame_time().as_secs_f64()).abs() < 1e-9,
-        "{file}"
+    // bvh_anim keeps the frame time as a whole number of nanoseconds.
+    assert_abs_diff_eq!(
+        ours.frame_time,
+        theirs.frame_time().as_secs_f64(),
+        epsilon = 1e-9
     );
     let mut compared = 0;
     for (f, frame) in theirs.frames().enumerate() {

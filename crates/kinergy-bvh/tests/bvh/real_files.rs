@@ -2,6 +2,8 @@
 
 use std::path::Path;
 
+use approx::assert_relative_eq;
+
 use kinergy_bvh::{Bvh, Channel};
 
 use crate::common::{COMMITTED_DIR, read, shared_dir};
@@ -39,7 +41,7 @@ fn cmu_walk() {
             frame_time: 0.0083333,
         },
     );
-    assert!((bvh.frame_rate() - 120.0).abs() < 0.01);
+    assert_relative_eq!(bvh.frame_rate(), 120.0, max_relative = 1e-5);
     let names: Vec<&str> = bvh
         .joints
         .iter()
