@@ -9,7 +9,7 @@
 use nalgebra::{IsometryMatrix3, Matrix3, Matrix3xX, Point3, Rotation3, Vector3};
 
 use crate::error::{MotionError, Result};
-use crate::rotation::{Axis, left_jacobian, swing_rotation};
+use crate::rotation::{Axis, left_jacobian, swing_rotation, swing_with_jacobian};
 
 /// One elementary motion of a chain joint.
 #[derive(Debug, Clone, PartialEq)]
@@ -94,8 +94,38 @@ pub struct Chain {
     joints: Vec<ChainJoint>,
     /// Per joint: is `rest` the identity (skipped in the hot loops)?
     rest_identity: Vec<bool>,
+    /// Per DoF: the index of its joint.
+    dof_joint: Vec<usize>,
     end_effector: Vector3<f64>,
     dof_count: usize,
+}
+
+/// The end effector's pose and first-order kinematics at one configuration, filled by
+/// [`Chain::linearize_into`] in a single pass (buffers reused between calls).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Linearization {
+    /// World position of each joint.
+    pub joints: Vec<Point3<f64>>,
+    /// World position of the end effector.
+    pub end: Point3<f64>,
+    /// World orientation of the last joint's frame (the end effector's orientation).
+    pub end_rotation: Rotation3<f64>,
+    /// `∂p_end/∂q`, 3 × DoFs, meters per radian.
+    pub linear: Matrix3xX<f64>,
+    /// World angular velocity of the end frame per unit `q̇`, 3 × DoFs.
+    pub angular: Matrix3xX<f64>,
+}
+
+impl Default for Linearization {
+    fn default() -> Linearization {
+        Linearization {
+            joints: Vec::new(),
+            end: Point3::origin(),
+            end_rotation: Rotation3::identity(),
+            linear: Matrix3xX::zeros(0),
+            angular: Matrix3xX::zeros(0),
+        }
+    }
 }
 
 /// The world frames of a chain's joints and its end effector in one configuration.
@@ -151,7 +181,13 @@ impl Chain {
             .flat_map(|j| &j.motions)
             .map(Motion::dof_count)
             .sum();
+        let dof_joint = joints
+            .iter()
+            .enumerate()
+            .flat_map(|(i, j)| std::iter::repeat_n(i, j.motions.iter().map(Motion::dof_count).sum()))
+            .collect();
         Ok(Chain {
+            dof_joint,
             rest_identity: joints
                 .iter()
                 .map(|j| j.rest == Rotation3::identity())
@@ -327,6 +363,55 @@ impl Chain {
         Ok(())
     }
 
+    /// Forward kinematics and both Jacobians in one pass, sharing the trigonometry: the
+    /// solvers' per-frame call. Column k of `angular` is DoF k's world rotation axis ω_k
+    /// (for a swing, the rotated left-Jacobian column), column k of `linear` is
+    /// ω_k × (p_end − p_joint(k)).
+    pub fn linearize_into(
+        &self,
+        base: &IsometryMatrix3<f64>,
+        q: &[f64],
+        out: &mut Linearization,
+    ) -> Result<()> {
+        self.check(q)?;
+        if out.linear.ncols() != self.dof_count {
+            out.linear = Matrix3xX::zeros(self.dof_count);
+            out.angular = Matrix3xX::zeros(self.dof_count);
+        }
+        out.joints.clear();
+        let mut frame = *base;
+        let mut k = 0;
+        for (j, &rest_identity) in self.joints.iter().zip(&self.rest_identity) {
+            self.enter_joint(&mut frame, j, rest_identity);
+            out.joints.push(Point3::from(frame.translation.vector));
+            for m in &j.motions {
+                match *m {
+                    Motion::Revolute { axis, .. } => {
+                        let rot = frame.rotation.matrix();
+                        out.angular.set_column(k, &rot.column(axis.index()));
+                        apply_motion(&mut frame.rotation, m, &q[k..]);
+                    }
+                    Motion::Swing { .. } => {
+                        let (s, jx, jy) = swing_with_jacobian(q[k], q[k + 1]);
+                        let rot = *frame.rotation.matrix();
+                        out.angular.set_column(k, &(rot * jx));
+                        out.angular.set_column(k + 1, &(rot * jy));
+                        frame.rotation = Rotation3::from_matrix_unchecked(rot * s);
+                    }
+                }
+                k += m.dof_count();
+            }
+        }
+        out.end = frame * Point3::from(self.end_effector);
+        out.end_rotation = frame.rotation;
+        for (c, &j) in self.dof_joint.iter().enumerate() {
+            let lever = out.end - out.joints[j];
+            let w = out.angular.column(c).into_owned();
+            out.linear.set_column(c, &w.cross(&lever));
+        }
+        Ok(())
+    }
+
     /// The positional Jacobian of the end effector at `q`.
     pub fn jacobian(&self, base: &IsometryMatrix3<f64>, q: &[f64]) -> Result<Matrix3xX<f64>> {
         let mut j = Matrix3xX::zeros(self.dof_count);
@@ -450,6 +535,34 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn linearization_matches_fk_jacobian_and_finite_differences(q in proptest::collection::vec(-2.0f64..2.0, 7)) {
+            let arm = Chain::arm(0.31, 0.27, 0.09).expect("arm");
+            let b = base();
+            let mut lin = Linearization::default();
+            arm.linearize_into(&b, &q, &mut lin).expect("linearize");
+            let pose = arm.fk(&b, &q).expect("fk");
+            assert_relative_eq!(lin.end, pose.end, epsilon = 1e-12);
+            assert_relative_eq!(lin.end_rotation, pose.frames[2].rotation, epsilon = 1e-12);
+            for (i, p) in lin.joints.iter().enumerate() {
+                assert_relative_eq!(*p, pose.joint_position(i), epsilon = 1e-12);
+            }
+            assert_relative_eq!(lin.linear, arm.jacobian(&b, &q).expect("jacobian"), epsilon = 1e-12);
+            // Angular columns: (R(q + h e_d) − R(q − h e_d)) / 2h · Rᵀ = [ω_d]×.
+            let h = 1e-6;
+            for d in 0..7 {
+                let mut plus = q.clone();
+                let mut minus = q.clone();
+                plus[d] += h;
+                minus[d] -= h;
+                let rp = arm.fk(&b, &plus).expect("fk").frames[2].rotation;
+                let rm = arm.fk(&b, &minus).expect("fk").frames[2].rotation;
+                let w = (rp.matrix() - rm.matrix()) / (2.0 * h) * pose.frames[2].rotation.matrix().transpose();
+                let omega = Vector3::new(w[(2, 1)], w[(0, 2)], w[(1, 0)]);
+                assert_relative_eq!(lin.angular.column(d).into_owned(), omega, epsilon = 1e-7);
+            }
+        }
+
         #[test]
         fn jacobian_matches_finite_differences(q in proptest::collection::vec(-2.0f64..2.0, 7)) {
             let arm = Chain::arm(0.31, 0.27, 0.09).expect("arm");

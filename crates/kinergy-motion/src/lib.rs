@@ -47,7 +47,7 @@ pub mod trajectory;
 pub mod units;
 
 pub use arm::{ArmJoints, ArmLengths, Side};
-pub use chain::{Chain, ChainJoint, ChainPose, Motion};
+pub use chain::{Chain, ChainJoint, ChainPose, Linearization, Motion};
 pub use clip::Clip;
 pub use convert::{
     ExportOptions, ImportOptions, ImportReport, PositionReadingChoice, clip_from_bvh, clip_to_bvh,

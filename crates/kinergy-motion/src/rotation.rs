@@ -126,6 +126,44 @@ pub fn swing_rotation(sx: f64, sy: f64) -> Rotation3<f64> {
     Rotation3::from_matrix_unchecked(m)
 }
 
+/// A swing's rotation and its two left-Jacobian columns from one `sin_cos`:
+/// `(exp([v]×), J_l(v) e_x, J_l(v) e_y)` for `v = (sx, sy, 0)`.
+///
+/// With θ = |v|, a = (1 − cos θ)/θ², b = (θ − sin θ)/θ³ (series near 0):
+/// `J_l e_x = (1 − b sy², b sx sy, −a sy)` and `J_l e_y = (b sx sy, 1 − b sx², a sx)`,
+/// the columns of [`left_jacobian`] written out. Used by the fused FK + Jacobian pass.
+#[inline]
+pub fn swing_with_jacobian(sx: f64, sy: f64) -> (Matrix3<f64>, Vector3<f64>, Vector3<f64>) {
+    let t2 = sx * sx + sy * sy;
+    // sin θ / θ, (1 − cos θ)/θ², cos θ, (θ − sin θ)/θ³.
+    let (s, a, c, b) = if t2 < 1e-4 {
+        (
+            1.0 - t2 / 6.0 + t2 * t2 / 120.0,
+            0.5 - t2 / 24.0 + t2 * t2 / 720.0,
+            1.0 - t2 / 2.0 + t2 * t2 / 24.0,
+            1.0 / 6.0 - t2 / 120.0 + t2 * t2 / 5040.0,
+        )
+    } else {
+        let t = t2.sqrt();
+        let (sn, cs) = t.sin_cos();
+        (sn / t, (1.0 - cs) / t2, cs, (t - sn) / (t2 * t))
+    };
+    let r = Matrix3::new(
+        1.0 - a * sy * sy,
+        a * sx * sy,
+        s * sy,
+        a * sx * sy,
+        1.0 - a * sx * sx,
+        -s * sx,
+        -s * sy,
+        s * sx,
+        c,
+    );
+    let jx = Vector3::new(1.0 - b * sy * sy, b * sx * sy, -a * sy);
+    let jy = Vector3::new(b * sx * sy, 1.0 - b * sx * sx, a * sx);
+    (r, jx, jy)
+}
+
 /// The swing vector `(sx, sy)` and twist angle `τ` with `R = swing(sx, sy) · R_z(τ)`.
 ///
 /// The swing takes the z axis to R·z by the shortest arc; the twist is what remains about z.
@@ -234,6 +272,17 @@ mod tests {
         fn swing_rotation_matches_the_exponential_map(sx in -3.0f64..3.0, sy in -3.0f64..3.0, tiny in -1e-7f64..1e-7) {
             assert_relative_eq!(swing_rotation(sx, sy), Rotation3::new(Vector3::new(sx, sy, 0.0)), epsilon = 1e-14);
             assert_relative_eq!(swing_rotation(tiny, -tiny), Rotation3::new(Vector3::new(tiny, -tiny, 0.0)), epsilon = 1e-15);
+        }
+
+        #[test]
+        fn fused_swing_matches_rotation_and_left_jacobian(sx in -2.5f64..2.5, sy in -2.5f64..2.5, tiny in -1e-3f64..1e-3) {
+            for (x, y) in [(sx, sy), (tiny, -0.5 * tiny), (0.0, 0.0)] {
+                let (r, jx, jy) = swing_with_jacobian(x, y);
+                assert_relative_eq!(r, *swing_rotation(x, y).matrix(), epsilon = 1e-14);
+                let jl = left_jacobian(&Vector3::new(x, y, 0.0));
+                assert_relative_eq!(jx, jl.column(0).into_owned(), epsilon = 1e-12);
+                assert_relative_eq!(jy, jl.column(1).into_owned(), epsilon = 1e-12);
+            }
         }
 
         #[test]
