@@ -121,34 +121,40 @@ pub(crate) fn write_to<W: io::Write>(bvh: &Bvh, mut out: W) -> Result<(), Error>
 /// Distinguishes temporary files of concurrent writes from one process.
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
-/// Replaces `path` atomically: write a temporary file in the same directory, sync it,
-/// rename it over `path`, then sync the directory (best effort).
+/// Replaces `path` atomically with the rendered document (see [`write_atomic`]).
 pub(crate) fn write_file(path: &Path, bvh: &Bvh) -> Result<(), Error> {
     let text = render(bvh).map_err(|source| Error::Write {
         path: path.to_owned(),
         source,
     })?;
-    let io_error = |source| Error::Io {
+    write_atomic(path, text.as_bytes()).map_err(|source| Error::Io {
         path: path.to_owned(),
         source,
-    };
+    })
+}
+
+/// Replaces `path` atomically: write a temporary file in the same directory, sync it,
+/// rename it over `path` (keeping an existing file's permissions), then sync the directory
+/// (best effort). Readers see the old file or the new one, never a part; on failure the
+/// temporary file is removed and `path` is untouched.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
     let dir = match path.parent() {
         Some(dir) if !dir.as_os_str().is_empty() => dir,
         _ => Path::new("."),
     };
     let Some(file_name) = path.file_name() else {
-        return Err(io_error(io::Error::new(
+        return Err(io::Error::new(
             io::ErrorKind::InvalidInput,
             "the path does not name a file",
-        )));
+        ));
     };
-    let (temp_path, mut file) = create_temp(dir, file_name).map_err(io_error)?;
+    let (temp_path, mut file) = create_temp(dir, file_name)?;
     if let Ok(existing) = fs::metadata(path) {
         // Keep the replaced file's permissions; a failure here is not worth failing for.
         let _ = file.set_permissions(existing.permissions());
     }
     let result = file
-        .write_all(text.as_bytes())
+        .write_all(bytes)
         .and_then(|()| file.sync_all())
         .and_then(|()| {
             drop(file);
@@ -156,7 +162,7 @@ pub(crate) fn write_file(path: &Path, bvh: &Bvh) -> Result<(), Error> {
         });
     if let Err(source) = result {
         let _ = fs::remove_file(&temp_path);
-        return Err(io_error(source));
+        return Err(source);
     }
     sync_dir(dir);
     Ok(())

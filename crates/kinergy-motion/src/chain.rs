@@ -184,7 +184,9 @@ impl Chain {
         let dof_joint = joints
             .iter()
             .enumerate()
-            .flat_map(|(i, j)| std::iter::repeat_n(i, j.motions.iter().map(Motion::dof_count).sum()))
+            .flat_map(|(i, j)| {
+                std::iter::repeat_n(i, j.motions.iter().map(Motion::dof_count).sum())
+            })
             .collect();
         Ok(Chain {
             dof_joint,

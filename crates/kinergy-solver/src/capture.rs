@@ -1,0 +1,365 @@
+//! A synthesis arm made from a captured one: the 7-DoF chain with the person's bone lengths,
+//! its base riding on the capture's shoulder, the start posture that puts shoulder, elbow,
+//! wrist and hand exactly where the capture has them, and the way back into the capture's
+//! skeleton for BVH output.
+//!
+//! **The base frame.** Its origin is the captured shoulder joint; its rotation is the
+//! shoulder's parent (clavicle) world rotation times a constant alignment A fixed in the
+//! parent's frame from the skeleton's rest pose: A's z axis points laterally outward
+//! (the horizontal direction from the root to the shoulder), its x axis is up × z (forward
+//! for the right arm, backward for the left), y = z × x (up). So a zero swing is the arm
+//! raised sideways, a positive `shoulder_swing_x` lowers the arm on either side, and the
+//! swing's singularity (|swing| = π) points across the body, where nobody reaches.
+//!
+//! **The start posture** is solved in closed form from the captured positions: the
+//! shoulder swing points the upper arm at the elbow; shoulder twist and elbow flexion put
+//! the forearm on the wrist; the elbow twist is chosen so the wrist swing is about its x
+//! axis alone (the wider axis of its limit ellipse), and the wrist swing points the hand
+//! at the hand point. When the captured start lies outside the default limits, the limits
+//! it violates are widened to include it (and reported), so the first frame is the capture.
+//!
+//! **Output.** A chain frame and the captured joint frame differ by a constant rotation
+//! (measured on the first frame), so each synthesized frame gives the captured shoulder,
+//! elbow and wrist world rotations, converted to each joint's own Euler channels. Joints
+//! between them keep their first-frame values, so bone lengths stay those of the chain.
+
+use std::sync::Arc;
+
+use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3, Point3, Rotation3, Vector3};
+use kinergy_motion::rotation::{Axis, axis_rotation, euler_angles, swing_to, unwrap_near};
+use kinergy_motion::{ArmJoints, Chain, Clip, Dof, Motion, Trajectory};
+
+use crate::controller::{Base, Synthesis};
+use crate::error::{Result, SolverError};
+
+/// How the chain's base moves during a synthesis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BaseMode {
+    /// The capture's own shoulder motion, replayed frame by frame (the default: only the
+    /// arm is synthesized, the torso moves as captured).
+    #[default]
+    Replay,
+    /// The shoulder stays where it is on the first frame (the paper's seated subject).
+    Fixed,
+}
+
+/// A synthesis arm made from a captured arm (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct CaptureArm {
+    joints: ArmJoints,
+    chain: Chain,
+    bases: Vec<IsometryMatrix3<f64>>,
+    start: Vec<f64>,
+    widened: Vec<String>,
+    /// Chain frame → captured world rotation, for shoulder, elbow, wrist.
+    align: [Rotation3<f64>; 3],
+}
+
+impl CaptureArm {
+    /// The synthesis arm of `joints` in `clip`, from the clip's first frame.
+    pub fn new(clip: &Clip, joints: &ArmJoints) -> Result<CaptureArm> {
+        let skeleton = clip.skeleton();
+        if clip.frame_count() == 0 {
+            return Err(kinergy_motion::MotionError::EmptyClip.into());
+        }
+        let name = |j: usize| skeleton.joint(j).name.clone();
+
+        // The alignment A in the parent's frame, from the rest pose.
+        let rest = skeleton.fk(&skeleton.rest_pose())?;
+        let parent = skeleton.joint(joints.shoulder).parent;
+        let parent_rest = parent.map_or(Rotation3::identity(), |p| rest[p].rotation);
+        let shoulder_rest = rest[joints.shoulder].translation.vector;
+        let mut lateral = shoulder_rest - rest[0].translation.vector;
+        lateral.y = 0.0;
+        if lateral.norm() < 1e-3 {
+            lateral = rest[joints.elbow].translation.vector - shoulder_rest;
+            lateral.y = 0.0;
+        }
+        if lateral.norm() < 1e-6 {
+            return Err(SolverError::Capture(format!(
+                "cannot tell which way `{}` points sideways in the rest pose",
+                name(joints.shoulder)
+            )));
+        }
+        let up = parent_rest.inverse() * Vector3::y();
+        let z = parent_rest.inverse() * lateral.normalize();
+        let z = (z - up * z.dot(&up)).normalize();
+        let x = up.cross(&z).normalize();
+        let y = z.cross(&x);
+        let align_base = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[x, y, z]));
+
+        // Per-frame bases.
+        let mut world = Vec::new();
+        let mut bases = Vec::with_capacity(clip.frame_count());
+        let mut first_world = Vec::new();
+        for (k, pose) in clip.frames().enumerate() {
+            skeleton.fk_into(pose, &mut world)?;
+            let parent_rot = parent.map_or(Rotation3::identity(), |p| world[p].rotation);
+            bases.push(IsometryMatrix3::from_parts(
+                world[joints.shoulder].translation,
+                parent_rot * align_base,
+            ));
+            if k == 0 {
+                first_world.clone_from(&world);
+            }
+        }
+        let p = |j: usize| Point3::from(first_world[j].translation.vector);
+        let (s, e, w) = (p(joints.shoulder), p(joints.elbow), p(joints.wrist));
+        let h = joints.hand.map(p);
+        let upper = (e - s).norm();
+        let fore = (w - e).norm();
+        let hand = h.map_or(0.0, |h| (h - w).norm());
+        if upper < 1e-6 || fore < 1e-6 {
+            return Err(SolverError::Capture(format!(
+                "the arm `{}` → `{}` → `{}` has a zero-length bone on the first frame",
+                name(joints.shoulder),
+                name(joints.elbow),
+                name(joints.wrist)
+            )));
+        }
+        let chain = Chain::arm(upper, fore, hand)?;
+        let start = start_posture(&bases[0], s, e, w, h);
+        let (chain, widened) = widen_to_include(&chain, &start)?;
+
+        let frames = chain.fk(&bases[0], &start)?.frames;
+        let align = [joints.shoulder, joints.elbow, joints.wrist]
+            .map(|j| first_world[j].rotation)
+            .iter()
+            .zip(&frames)
+            .map(|(captured, f)| f.rotation.inverse() * captured)
+            .collect::<Vec<_>>();
+        Ok(CaptureArm {
+            joints: joints.clone(),
+            chain,
+            bases,
+            start,
+            widened,
+            align: [align[0], align[1], align[2]],
+        })
+    }
+
+    /// The captured arm's joints.
+    pub fn joints(&self) -> &ArmJoints {
+        &self.joints
+    }
+
+    /// The 7-DoF synthesis chain with the person's bone lengths.
+    pub fn chain(&self) -> &Chain {
+        &self.chain
+    }
+
+    /// The start configuration (the capture's first frame).
+    pub fn start(&self) -> &[f64] {
+        &self.start
+    }
+
+    /// DoF names whose default limits were widened to include the captured start.
+    pub fn widened_limits(&self) -> &[String] {
+        &self.widened
+    }
+
+    /// The base frames for a synthesis.
+    pub fn base(&self, mode: BaseMode) -> Base {
+        match mode {
+            BaseMode::Replay => Base::Replay(self.bases.clone()),
+            BaseMode::Fixed => Base::Fixed(self.bases[0]),
+        }
+    }
+
+    /// The tracked points of a synthesis in the order of [`ArmJoints::metric_joints`]
+    /// (shoulder, elbow, wrist, and the hand point when the capture has one).
+    pub fn synthesized_trajectory(&self, synthesis: &Synthesis) -> Result<Trajectory> {
+        synthesis.trajectory(self.joints.hand.is_some())
+    }
+
+    /// The captured arm's tracked points, for the motion distance.
+    pub fn captured_trajectory(&self, clip: &Clip) -> Result<Trajectory> {
+        Ok(clip.trajectory(&self.joints.metric_joints())?)
+    }
+
+    /// The captured skeleton moving as the synthesis says: the arm from the synthesis, the
+    /// rest of the body as captured (replayed base: frame by frame, held after the capture
+    /// ends; fixed base: the first frame throughout).
+    pub fn to_clip(&self, clip: &Clip, synthesis: &Synthesis, mode: BaseMode) -> Result<Clip> {
+        let skeleton = clip.skeleton();
+        let frames = synthesis.frame_count();
+        if frames == 0 || clip.frame_count() == 0 {
+            return Err(kinergy_motion::MotionError::EmptyClip.into());
+        }
+        let base = self.base(mode);
+        let keys = [self.joints.shoulder, self.joints.elbow, self.joints.wrist];
+        let mut key_axes = Vec::with_capacity(3);
+        for &j in &keys {
+            key_axes.push(rotation_channels(clip, j)?);
+        }
+        // Joints on the path below the shoulder that are not keys keep their first-frame
+        // values, as do the keys' translation channels.
+        let end = self.joints.hand.unwrap_or(self.joints.wrist);
+        let path = skeleton.path(self.joints.shoulder, end).ok_or_else(|| {
+            SolverError::Capture("the hand point is not below the shoulder".into())
+        })?;
+        let first = clip
+            .frame(0)
+            .ok_or(kinergy_motion::MotionError::EmptyClip)?;
+        let mut values = Vec::with_capacity(frames * skeleton.dof_count());
+        let mut world = Vec::new();
+        let mut previous: Option<Vec<f64>> = None;
+        for k in 0..frames {
+            let source = match mode {
+                BaseMode::Replay => k.min(clip.frame_count() - 1),
+                BaseMode::Fixed => 0,
+            };
+            let mut pose = clip.frame(source).unwrap_or(first).to_vec();
+            for &j in &path {
+                for d in skeleton.dof_range(j) {
+                    let is_key_rotation = keys.contains(&j)
+                        && matches!(
+                            skeleton.joint(j).dofs[d - skeleton.first_dof(j)],
+                            Dof::Rotation(_)
+                        );
+                    if !is_key_rotation {
+                        pose[d] = first[d];
+                    }
+                }
+            }
+            let chain_frames = self
+                .chain
+                .fk(base.at(k), synthesis.configuration(k))?
+                .frames;
+            for (i, &j) in keys.iter().enumerate() {
+                skeleton.fk_into(&pose, &mut world)?;
+                let parent_rot = skeleton
+                    .joint(j)
+                    .parent
+                    .map_or(Rotation3::identity(), |p| world[p].rotation);
+                let target = chain_frames[i].rotation * self.align[i];
+                let local = parent_rot.inverse() * target;
+                let (axes, idx) = &key_axes[i];
+                let angles = euler_angles(*axes, &local).ok_or_else(|| {
+                    SolverError::Capture("rotation channels with repeated axes".into())
+                })?;
+                for (&d, angle) in idx.iter().zip(angles) {
+                    pose[d] = match &previous {
+                        Some(prev) => unwrap_near(angle, prev[d]),
+                        None => angle,
+                    };
+                }
+            }
+            values.extend_from_slice(&pose);
+            previous = Some(pose);
+        }
+        Ok(Clip::new(
+            Arc::clone(skeleton),
+            synthesis.frame_time,
+            values,
+        )?)
+    }
+}
+
+/// The rotation axes of joint `j` (exactly three, distinct) and their pose indices.
+fn rotation_channels(clip: &Clip, j: usize) -> Result<([Axis; 3], [usize; 3])> {
+    let skeleton = clip.skeleton();
+    let joint = skeleton.joint(j);
+    let rot: Vec<(Axis, usize)> = joint
+        .dofs
+        .iter()
+        .enumerate()
+        .filter_map(|(k, d)| match d {
+            Dof::Rotation(a) => Some((*a, skeleton.first_dof(j) + k)),
+            Dof::Translation(_) => None,
+        })
+        .collect();
+    let distinct =
+        rot.len() == 3 && rot[0].0 != rot[1].0 && rot[1].0 != rot[2].0 && rot[0].0 != rot[2].0;
+    if !distinct {
+        return Err(SolverError::Capture(format!(
+            "joint `{}` has {} rotation channels; writing an arbitrary rotation needs three about distinct axes",
+            joint.name,
+            rot.len()
+        )));
+    }
+    Ok((
+        [rot[0].0, rot[1].0, rot[2].0],
+        [rot[0].1, rot[1].1, rot[2].1],
+    ))
+}
+
+/// The 7-DoF configuration whose shoulder, elbow, wrist and hand are at `s, e, w, h`, with
+/// the base frame `base` at `s` (see the module documentation).
+fn start_posture(
+    base: &IsometryMatrix3<f64>,
+    s: Point3<f64>,
+    e: Point3<f64>,
+    w: Point3<f64>,
+    h: Option<Point3<f64>>,
+) -> Vec<f64> {
+    let to_base = base.rotation.inverse();
+    let (sx, sy) = swing_to(&(to_base * (e - s)));
+    let swing = kinergy_motion::rotation::swing_rotation(sx, sy);
+    let f = (swing.inverse() * to_base * (w - e)).normalize();
+    let flex = f.z.clamp(-1.0, 1.0).acos();
+    let twist = if flex.sin() > 1e-9 {
+        f.x.atan2(-f.y)
+    } else {
+        0.0
+    };
+    let forearm =
+        base.rotation * swing * axis_rotation(Axis::Z, twist) * axis_rotation(Axis::X, flex);
+    let (mut pronation, mut wx, mut wy) = (0.0, 0.0, 0.0);
+    if let Some(h) = h {
+        let d = forearm.inverse() * (h - w);
+        if d.norm() > 1e-12 {
+            let d = d.normalize();
+            if d.x.hypot(d.y) > 1e-9 {
+                // Rz(−ψ) d has no x component: ψ = atan2(−d.x, d.y) (or that + π).
+                let a = (-d.x).atan2(d.y);
+                let b = unwrap_near(a + std::f64::consts::PI, 0.0);
+                pronation = if a.abs() <= b.abs() { a } else { b };
+            }
+            let local = axis_rotation(Axis::Z, pronation).inverse() * d;
+            (wx, wy) = swing_to(&local);
+        }
+    }
+    vec![sx, sy, twist, flex, pronation, wx, wy]
+}
+
+/// `chain` with any limit that `q` violates widened to include it; the widened DoF names.
+fn widen_to_include(chain: &Chain, q: &[f64]) -> Result<(Chain, Vec<String>)> {
+    if chain.within_limits(q) {
+        return Ok((chain.clone(), Vec::new()));
+    }
+    let margin = 1e-9;
+    let mut widened = Vec::new();
+    let mut joints = chain.joints().to_vec();
+    let mut k = 0;
+    for joint in &mut joints {
+        for m in &mut joint.motions {
+            match m {
+                Motion::Revolute { min, max, .. } => {
+                    if q[k] < *min || q[k] > *max {
+                        *min = min.min(q[k] - margin);
+                        *max = max.max(q[k] + margin);
+                        widened.push(k);
+                    }
+                    k += 1;
+                }
+                Motion::Swing { rx, ry } => {
+                    let e = (q[k] / *rx).powi(2) + (q[k + 1] / *ry).powi(2);
+                    if e > 1.0 {
+                        let grow = e.sqrt() * (1.0 + 1e-9);
+                        *rx *= grow;
+                        *ry *= grow;
+                        widened.extend([k, k + 1]);
+                    }
+                    k += 2;
+                }
+            }
+        }
+    }
+    let chain = Chain::new(joints, chain.end_effector())?;
+    let names: Vec<String> = chain.dof_names().map(String::from).collect();
+    Ok((
+        chain,
+        widened.into_iter().map(|i| names[i].clone()).collect(),
+    ))
+}

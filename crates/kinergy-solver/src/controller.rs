@@ -1,0 +1,354 @@
+//! The synergy controller: iterative IK where each iteration is one frame of the motion
+//! (Aubry et al. 2009, Fig. 1), with the synergy transform between optimizer and
+//! integration: Θ ← clamp(Θ + S(t) · O(ΔX)).
+
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
+use kinergy_motion::{Chain, Linearization, Trajectory};
+
+use crate::error::{Result, SolverError, require};
+use crate::optimizer::{Optimizer, StepScratch};
+use crate::synergy::Synergy;
+use crate::task::Task;
+
+/// Where the chain's base (the shoulder) is on each frame.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Base {
+    /// The same world frame throughout.
+    Fixed(IsometryMatrix3<f64>),
+    /// One world frame per frame (e.g. the capture's own shoulder, replayed); the last is
+    /// held once the motion outlasts it.
+    Replay(Vec<IsometryMatrix3<f64>>),
+}
+
+impl Base {
+    /// The base frame on frame `i`.
+    pub fn at(&self, i: usize) -> &IsometryMatrix3<f64> {
+        match self {
+            Base::Fixed(b) => b,
+            Base::Replay(frames) => &frames[i.min(frames.len() - 1)],
+        }
+    }
+
+    /// True when the base no longer moves from frame `i` on.
+    pub fn is_still_from(&self, i: usize) -> bool {
+        match self {
+            Base::Fixed(_) => true,
+            Base::Replay(frames) => i + 1 >= frames.len(),
+        }
+    }
+
+    fn validate(&self) -> Result<()> {
+        let frames: &[IsometryMatrix3<f64>] = match self {
+            Base::Fixed(b) => std::slice::from_ref(b),
+            Base::Replay(f) => f,
+        };
+        require(!frames.is_empty(), "base", "at least one frame")?;
+        for (i, f) in frames.iter().enumerate() {
+            let finite = f.translation.vector.iter().all(|v| v.is_finite())
+                && f.rotation.matrix().iter().all(|v| v.is_finite());
+            if !finite {
+                return Err(SolverError::NonFinite(format!("the base frame {i}")));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// When a motion counts as stalled: the best task error so far has improved by less than
+/// `min_progress` meters over the last `window` seconds while the base stood still.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StallRule {
+    /// Seconds looked back.
+    pub window: f64,
+    /// Meters of improvement that count as progress.
+    pub min_progress: f64,
+}
+
+impl Default for StallRule {
+    fn default() -> StallRule {
+        StallRule {
+            window: 0.25,
+            min_progress: 1e-5,
+        }
+    }
+}
+
+/// How the controller runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ControllerSettings {
+    /// Seconds per frame (synthesize at the capture's rate to compare frame by frame).
+    pub frame_time: f64,
+    /// The motion ends with [`StopReason::MaxFrames`] after this many frames.
+    pub max_frames: usize,
+    /// ε: the target is reached when the task error is below this, meters.
+    pub tolerance: f64,
+    /// The controller keeps running (tracking the target as the base moves) until at
+    /// least this many frames exist, even once the target is reached; 0 stops at once.
+    pub min_frames: usize,
+    /// When the motion is stalled.
+    pub stall: StallRule,
+}
+
+impl ControllerSettings {
+    /// Settings at `frame_time` with a 10-second budget, ε = 5 mm and the default stall
+    /// rule.
+    pub fn at_frame_time(frame_time: f64) -> ControllerSettings {
+        ControllerSettings {
+            frame_time,
+            max_frames: if frame_time > 0.0 && frame_time.is_finite() {
+                (10.0 / frame_time).ceil() as usize + 1
+            } else {
+                1
+            },
+            tolerance: 0.005,
+            min_frames: 0,
+            stall: StallRule::default(),
+        }
+    }
+
+    /// Checks every setting, naming the field otherwise.
+    pub fn validate(&self) -> Result<()> {
+        require(
+            self.frame_time.is_finite() && self.frame_time > 0.0,
+            "frame_time",
+            "a positive number of seconds",
+        )?;
+        require(self.max_frames >= 1, "max_frames", "at least 1")?;
+        require(
+            self.tolerance.is_finite() && self.tolerance > 0.0,
+            "tolerance",
+            "a positive number of meters",
+        )?;
+        require(
+            self.stall.window.is_finite() && self.stall.window > 0.0,
+            "stall.window",
+            "a positive number of seconds",
+        )?;
+        require(
+            self.stall.min_progress.is_finite() && self.stall.min_progress >= 0.0,
+            "stall.min_progress",
+            "a non-negative number of meters",
+        )
+    }
+}
+
+/// Why a synthesized motion ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum StopReason {
+    /// The task error fell below ε.
+    Reached,
+    /// The frame budget ran out first.
+    MaxFrames,
+    /// No progress any more: the target is out of reach (or the limits block the way); the
+    /// motion ends at the closest point it reached.
+    Stalled,
+    /// A step produced NaN or infinity; the motion ends at the last finite frame.
+    NonFinite,
+}
+
+impl StopReason {
+    /// `reached`, `max_frames`, `stalled` or `non_finite`.
+    pub fn name(self) -> &'static str {
+        match self {
+            StopReason::Reached => "reached",
+            StopReason::MaxFrames => "max_frames",
+            StopReason::Stalled => "stalled",
+            StopReason::NonFinite => "non_finite",
+        }
+    }
+}
+
+impl std::fmt::Display for StopReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A synthesized motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Synthesis {
+    /// Seconds per frame.
+    pub frame_time: f64,
+    /// DoFs per configuration.
+    pub dof_count: usize,
+    /// Configurations, frame after frame (`frames × dof_count`).
+    pub configurations: Vec<f64>,
+    /// World positions per frame: each chain joint, then the end effector.
+    pub points: Vec<Point3<f64>>,
+    /// Why it ended.
+    pub stop: StopReason,
+    /// Task error on the last frame, meters.
+    pub final_error: f64,
+}
+
+impl Synthesis {
+    /// The number of frames.
+    pub fn frame_count(&self) -> usize {
+        self.configurations
+            .len()
+            .checked_div(self.dof_count)
+            .unwrap_or(0)
+    }
+
+    /// The configuration of frame `i`.
+    pub fn configuration(&self, i: usize) -> &[f64] {
+        &self.configurations[i * self.dof_count..(i + 1) * self.dof_count]
+    }
+
+    /// The end effector's world position on frame `i`.
+    pub fn end(&self, i: usize) -> Point3<f64> {
+        let per = self.points.len() / self.frame_count();
+        self.points[i * per + per - 1]
+    }
+
+    /// The tracked points (chain joints + end effector) as a trajectory, optionally
+    /// without the end effector (when it coincides with the last joint).
+    pub fn trajectory(&self, with_end: bool) -> Result<Trajectory> {
+        let frames = self.frame_count();
+        let per = self.points.len() / frames.max(1);
+        let keep = if with_end { per } else { per - 1 };
+        let points = self
+            .points
+            .chunks(per)
+            .flat_map(|c| c[..keep].iter().copied())
+            .collect();
+        Ok(Trajectory::new(self.frame_time, keep, points)?)
+    }
+}
+
+/// One reach to synthesize: a chain, where its base is, the start posture and the task.
+#[derive(Debug, Clone)]
+pub struct Reach<'a> {
+    /// The chain (a person's bone lengths and joint limits).
+    pub chain: &'a Chain,
+    /// The base frames.
+    pub base: &'a Base,
+    /// The start configuration (clamped into the limits before the first frame).
+    pub start: &'a [f64],
+    /// The task.
+    pub task: Task,
+}
+
+/// The synergy controller: an optimizer, a synergy and settings.
+#[derive(Debug, Clone)]
+pub struct Controller {
+    /// Turns the task error into a joint step.
+    pub optimizer: Optimizer,
+    /// Shapes the step over DoFs and time.
+    pub synergy: Synergy,
+    /// Frame time, budget, ε, stall rule.
+    pub settings: ControllerSettings,
+}
+
+impl Controller {
+    /// A controller, with its optimizer and settings validated.
+    pub fn new(
+        optimizer: Optimizer,
+        synergy: Synergy,
+        settings: ControllerSettings,
+    ) -> Result<Controller> {
+        optimizer.validate()?;
+        settings.validate()?;
+        Ok(Controller {
+            optimizer,
+            synergy,
+            settings,
+        })
+    }
+
+    /// Synthesizes the reach frame by frame: frame 0 is the start posture; each frame
+    /// computes ΔX, Δθ = O(ΔX), Δθ' = S(t)Δθ at t = frame · frame_time, and Θ ←
+    /// clamp(Θ + Δθ'). Ends when the task error is below ε (and `min_frames` exist), the
+    /// budget runs out, progress stalls or a step is not finite.
+    pub fn synthesize(&self, reach: &Reach<'_>) -> Result<Synthesis> {
+        let chain = reach.chain;
+        let n = chain.dof_count();
+        if reach.start.len() != n {
+            return Err(kinergy_motion::MotionError::PoseLength {
+                expected: n,
+                found: reach.start.len(),
+            }
+            .into());
+        }
+        if self.synergy.dof_count() != n {
+            return Err(SolverError::Setting {
+                field: "synergy".into(),
+                why: format!(
+                    "made for {} DoFs, the chain has {n}",
+                    self.synergy.dof_count()
+                ),
+            });
+        }
+        if !reach.start.iter().all(|v| v.is_finite()) {
+            return Err(SolverError::NonFinite("the start posture".into()));
+        }
+        reach.base.validate()?;
+        reach.task.validate()?;
+
+        let s = &self.settings;
+        let dt = s.frame_time;
+        let window = ((s.stall.window / dt).ceil() as usize).max(1);
+        let mut q = reach.start.to_vec();
+        chain.clamp(&mut q);
+        let mut lin = Linearization::default();
+        let mut scratch = StepScratch::default();
+        let mut step = vec![0.0; n];
+        let per = chain.joints().len() + 1;
+        let mut out = Synthesis {
+            frame_time: dt,
+            dof_count: n,
+            configurations: Vec::with_capacity(n * s.max_frames.min(4096)),
+            points: Vec::with_capacity(per * s.max_frames.min(4096)),
+            stop: StopReason::MaxFrames,
+            final_error: f64::INFINITY,
+        };
+        // best[i]: the smallest error over frames 0..=i.
+        let mut best: Vec<f64> = Vec::with_capacity(s.max_frames.min(4096));
+        let mut frame = 0;
+        loop {
+            chain.linearize_into(reach.base.at(frame), &q, &mut lin)?;
+            let error = reach.task.error(&lin);
+            let e = error.norm();
+            if !e.is_finite() {
+                out.stop = StopReason::NonFinite;
+                break;
+            }
+            out.configurations.extend_from_slice(&q);
+            out.points.extend_from_slice(&lin.joints);
+            out.points.push(lin.end);
+            out.final_error = e;
+            best.push(best.last().map_or(e, |b: &f64| b.min(e)));
+            let frames = frame + 1;
+            let long_enough = frames >= s.min_frames;
+            if e < s.tolerance && long_enough {
+                out.stop = StopReason::Reached;
+                break;
+            }
+            if frames >= s.max_frames {
+                out.stop = StopReason::MaxFrames;
+                break;
+            }
+            if long_enough
+                && frame >= window
+                && reach.base.is_still_from(frame - window)
+                && best[frame - window] - best[frame] < s.stall.min_progress
+            {
+                out.stop = StopReason::Stalled;
+                break;
+            }
+            self.optimizer
+                .step(&lin, &error, dt, &mut scratch, &mut step);
+            self.synergy.apply(frame as f64 * dt, &mut step);
+            if !step.iter().all(|v| v.is_finite()) {
+                out.stop = StopReason::NonFinite;
+                break;
+            }
+            for (qi, d) in q.iter_mut().zip(&step) {
+                *qi += d;
+            }
+            chain.clamp(&mut q);
+            frame += 1;
+        }
+        Ok(out)
+    }
+}

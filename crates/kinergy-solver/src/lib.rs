@@ -1,0 +1,53 @@
+//! Synergy IK: iterative IK optimizers, the joint-synergy transform S_A–S_D and the
+//! controller that synthesizes a reach frame by frame (Aubry, Julliard & Gibet 2009,
+//! DESIGN §1.1).
+//!
+//! - [`Optimizer`]: `jt`, `njt`, `svd`, `dls` turn the task error ΔX into a joint step Δθ
+//!   ([`optimizer`] documents each formula and why the SVD goes through 3 × 3 algebra).
+//! - [`Synergy`] in a [`ParamSpace`]: Δθ'_i = φ_i(t)·g_i·Δθ_i, the models [`Model`] S_A–S_D
+//!   with named, bounded parameters; [`ParamsFile`] is their JSON file.
+//! - [`Controller`]: Θ ← clamp(Θ + S(t)·O(ΔX)) each frame, with a typed [`StopReason`].
+//! - [`CaptureArm`]: the 7-DoF chain of a captured arm with the person's bone lengths, its
+//!   base riding on the captured shoulder, the captured start posture, and the way back to
+//!   the capture's skeleton for BVH output.
+//!
+//! ```
+//! use kinergy_motion::Chain;
+//! use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
+//! use kinergy_solver::{Base, Controller, ControllerSettings, OptimizerKind, Reach, StopReason, Synergy, Task};
+//!
+//! let arm = Chain::arm(0.30, 0.26, 0.09)?;
+//! let base = Base::Fixed(IsometryMatrix3::identity());
+//! let start = [1.2, 0.0, 0.0, 0.6, 0.0, 0.0, 0.0];
+//! let controller = Controller::new(
+//!     OptimizerKind::Svd.default_optimizer(),
+//!     Synergy::identity(7),
+//!     ControllerSettings::at_frame_time(1.0 / 120.0),
+//! )?;
+//! let reach = Reach { chain: &arm, base: &base, start: &start, task: Task::Position(Point3::new(0.1, -0.2, 0.45)) };
+//! let motion = controller.synthesize(&reach)?;
+//! assert_eq!(motion.stop, StopReason::Reached);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+#![warn(clippy::print_stdout, clippy::print_stderr)]
+
+pub mod capture;
+pub mod controller;
+pub mod error;
+pub mod optimizer;
+pub mod params;
+pub mod synergy;
+pub mod task;
+
+pub use capture::{BaseMode, CaptureArm};
+pub use controller::{
+    Base, Controller, ControllerSettings, Reach, StallRule, StopReason, Synthesis,
+};
+pub use error::{Result, SolverError};
+pub use optimizer::{
+    DampedLeastSquares, NormalizedTranspose, Optimizer, OptimizerKind, PseudoInverse, StepScratch,
+    Transpose,
+};
+pub use params::{FORMAT_VERSION, ParamsFile};
+pub use synergy::{Bounds, Interval, Model, ParamKind, ParamSpace, Synergy, sig};
+pub use task::{Task, TaskError};

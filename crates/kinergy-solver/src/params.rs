@@ -1,0 +1,206 @@
+//! The synergy parameters file (DESIGN §3): JSON with a `format_version`, the model, the
+//! optimizer with its settings, the chain's DoF names, the bounds, the values by name, and
+//! (when it was fitted) a record of the fit.
+//!
+//! ```json
+//! {
+//!   "format_version": 1,
+//!   "model": "sc",
+//!   "optimizer": { "kind": "svd", "rate": 4.0, "threshold": 0.01 },
+//!   "dof_names": ["shoulder_swing_x", "…"],
+//!   "bounds": { "gain": { "lower": -5.0, "upper": 5.0 }, "slope": { … }, "offset": { … } },
+//!   "values": { "g_shoulder_swing_x": 1.3, "…": 0.0, "s": 4.2, "o": 1.7 },
+//!   "fit": { "score": 0.021, "…": "…" }
+//! }
+//! ```
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Result, SolverError};
+use crate::optimizer::Optimizer;
+use crate::synergy::{Bounds, Model, ParamSpace, Synergy};
+
+/// The format version this crate writes and reads.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// A parameters file's content.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParamsFile {
+    /// Always [`FORMAT_VERSION`].
+    pub format_version: u32,
+    /// The synergy model.
+    pub model: Model,
+    /// The optimizer and its settings.
+    pub optimizer: Optimizer,
+    /// The chain's DoF names, in configuration order.
+    pub dof_names: Vec<String>,
+    /// Bounds of the parameters by kind.
+    pub bounds: Bounds,
+    /// Every parameter by name, in vector order.
+    pub values: serde_json::Map<String, serde_json::Value>,
+    /// How the values were fitted (score, clips, segments, method, seed); free-form so
+    /// the trainer can record what it did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<serde_json::Value>,
+}
+
+impl ParamsFile {
+    /// A file for `values` of `space` with `optimizer`, validated.
+    pub fn new(space: &ParamSpace, optimizer: Optimizer, values: &[f64]) -> Result<ParamsFile> {
+        space.validate(values)?;
+        optimizer.validate()?;
+        Ok(ParamsFile {
+            format_version: FORMAT_VERSION,
+            model: space.model(),
+            optimizer,
+            dof_names: space.dof_names().to_vec(),
+            bounds: *space.bounds(),
+            values: space
+                .names()
+                .iter()
+                .zip(values)
+                .map(|(n, &v)| (n.clone(), serde_json::Value::from(v)))
+                .collect(),
+            fit: None,
+        })
+    }
+
+    /// Parses and checks a file's text; errors name the line and column, or the field.
+    pub fn from_json(text: &str) -> Result<ParamsFile> {
+        let file: ParamsFile = serde_json::from_str(text).map_err(|e| {
+            SolverError::ParamsFile(format!("line {}, column {}: {e}", e.line(), e.column()))
+        })?;
+        if file.format_version != FORMAT_VERSION {
+            return Err(SolverError::ParamsFile(format!(
+                "`format_version` is {}, this version of Kinergy reads {FORMAT_VERSION}",
+                file.format_version
+            )));
+        }
+        file.optimizer.validate()?;
+        file.space()?;
+        file.values()?;
+        Ok(file)
+    }
+
+    /// Reads and checks a file.
+    pub fn read(path: &Path) -> Result<ParamsFile> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| SolverError::ParamsFile(format!("cannot read {}: {e}", path.display())))?;
+        ParamsFile::from_json(&text).map_err(|e| match e {
+            SolverError::ParamsFile(m) => {
+                SolverError::ParamsFile(format!("{}: {m}", path.display()))
+            }
+            other => SolverError::ParamsFile(format!("{}: {other}", path.display())),
+        })
+    }
+
+    /// Pretty JSON.
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).unwrap_or_default();
+        s.push('\n');
+        s
+    }
+
+    /// Writes the file atomically.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        kinergy_bvh::write_atomic(path, self.to_json().as_bytes())
+            .map_err(|e| SolverError::ParamsFile(format!("cannot write {}: {e}", path.display())))
+    }
+
+    /// The parameter space the file describes.
+    pub fn space(&self) -> Result<ParamSpace> {
+        ParamSpace::new(self.model, &self.dof_names, self.bounds)
+    }
+
+    /// The values in vector order, checked: every name of the model present, none
+    /// unknown, each a number within its bounds.
+    pub fn values(&self) -> Result<Vec<f64>> {
+        let space = self.space()?;
+        if let Some(extra) = self.values.keys().find(|k| space.index(k).is_none()) {
+            return Err(SolverError::ParamsFile(format!(
+                "`values.{extra}` is not a parameter of {} on these DoFs; expected: {}",
+                self.model,
+                space.names().join(", ")
+            )));
+        }
+        let values = space
+            .names()
+            .iter()
+            .map(|n| match self.values.get(n) {
+                Some(v) => v.as_f64().ok_or_else(|| {
+                    SolverError::ParamsFile(format!("`values.{n}` is {v}, not a number"))
+                }),
+                None => Err(SolverError::ParamsFile(format!("`values.{n}` is missing"))),
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        space.validate(&values)?;
+        Ok(values)
+    }
+
+    /// The synergy, checked against a chain's DoF names.
+    pub fn synergy_for(&self, dof_names: &[String]) -> Result<Synergy> {
+        if dof_names != self.dof_names.as_slice() {
+            return Err(SolverError::ParamsFile(format!(
+                "`dof_names` are [{}] but the chain's are [{}]",
+                self.dof_names.join(", "),
+                dof_names.join(", ")
+            )));
+        }
+        Synergy::new(&self.space()?, &self.values()?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optimizer::OptimizerKind;
+
+    fn space() -> ParamSpace {
+        let dofs: Vec<String> = ["a", "b"].map(String::from).to_vec();
+        ParamSpace::new(Model::Sc, &dofs, Bounds::default()).expect("space")
+    }
+
+    #[test]
+    fn round_trips_exactly() {
+        let values = [1.25, -0.1, 3.0, 0.3];
+        let file = ParamsFile::new(&space(), OptimizerKind::Njt.default_optimizer(), &values)
+            .expect("file");
+        let back = ParamsFile::from_json(&file.to_json()).expect("back");
+        assert_eq!(back, file);
+        assert_eq!(back.values().expect("values"), values);
+    }
+
+    #[test]
+    fn errors_name_the_field() {
+        let file = ParamsFile::new(
+            &space(),
+            OptimizerKind::Svd.default_optimizer(),
+            &[1.0, 1.0, 2.0, 0.0],
+        )
+        .expect("file");
+        let json = file.to_json();
+        let cases = [
+            (json.replace("\"s\": 2.0", "\"s\": 20.0"), "`s` = 20"),
+            (json.replace("\"g_b\"", "\"g_c\""), "values.g_c"),
+            (json.replace("\"sc\"", "\"sx\""), "line"),
+            (
+                json.replace("\"format_version\": 1", "\"format_version\": 7"),
+                "format_version",
+            ),
+            (
+                json.replace("\"threshold\": 0.01", "\"threshold\": -1.0"),
+                "optimizer.threshold",
+            ),
+            (json.replace("\"o\": 0.0", "\"o\": \"soon\""), "values.o"),
+        ];
+        for (text, expected) in cases {
+            let err = ParamsFile::from_json(&text).expect_err(expected);
+            assert!(err.to_string().contains(expected), "{expected}: {err}");
+        }
+        let err = file.synergy_for(&["a".into()]).expect_err("other chain");
+        assert!(err.to_string().contains("dof_names"), "{err}");
+    }
+}

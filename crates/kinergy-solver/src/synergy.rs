@@ -1,0 +1,604 @@
+//! The joint-synergy transform of Aubry et al. (2009) §3.2 and §4:
+//! Δθ'_i = φ_i(t) · (M Δθ)_i with M diagonal gains and φ a time function built on
+//! sig(x) = 1 / (1 + eˣ).
+//!
+//! | model | M | φ_i(t) | parameters |
+//! |---|---|---|---|
+//! | S_A | g·I | 1 | `g` |
+//! | S_B | diag(g_i) | 1 | `g_<dof>` per DoF |
+//! | S_C | diag(g_i) | sig(−s·t + o) | `g_<dof>`…, `s`, `o` |
+//! | S_D | diag(g_i) | sig(−s_i·t + o_i) | `g_<dof>`…, `s_<dof>`…, `o_<dof>`… |
+//!
+//! t is seconds since the start of the motion, so φ rises from sig(o) at t = 0 through ½
+//! at t = o/s (when the DoF "switches on") toward 1. Default bounds are the paper's:
+//! g ∈ [−5, 5], s ∈ [1, 10], o ∈ [0, 20].
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Result, SolverError, require};
+
+/// A synergy model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Model {
+    /// One gain for every DoF, φ = 1: the raw controller scaled.
+    Sa,
+    /// A gain per DoF, φ = 1.
+    Sb,
+    /// A gain per DoF and one shared sigmoid.
+    Sc,
+    /// A gain and a sigmoid per DoF.
+    Sd,
+}
+
+impl Model {
+    /// Every model, poorest first.
+    pub const ALL: [Model; 4] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
+
+    /// `sa`, `sb`, `sc` or `sd`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Sa => "sa",
+            Model::Sb => "sb",
+            Model::Sc => "sc",
+            Model::Sd => "sd",
+        }
+    }
+
+    /// The paper's name: `S_A` … `S_D`.
+    pub fn paper_name(self) -> &'static str {
+        match self {
+            Model::Sa => "S_A",
+            Model::Sb => "S_B",
+            Model::Sc => "S_C",
+            Model::Sd => "S_D",
+        }
+    }
+
+    /// The model this one extends (S_B extends S_A, …), `None` for S_A.
+    pub fn poorer(self) -> Option<Model> {
+        match self {
+            Model::Sa => None,
+            Model::Sb => Some(Model::Sa),
+            Model::Sc => Some(Model::Sb),
+            Model::Sd => Some(Model::Sc),
+        }
+    }
+
+    /// The number of parameters on a chain of `dofs` DoFs: 1, n, n + 2, 3n.
+    pub fn parameter_count(self, dofs: usize) -> usize {
+        match self {
+            Model::Sa => 1,
+            Model::Sb => dofs,
+            Model::Sc => dofs + 2,
+            Model::Sd => 3 * dofs,
+        }
+    }
+}
+
+impl fmt::Display for Model {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.paper_name())
+    }
+}
+
+impl FromStr for Model {
+    type Err = SolverError;
+
+    fn from_str(s: &str) -> Result<Model> {
+        let key = s.replace('_', "").to_ascii_lowercase();
+        Model::ALL
+            .into_iter()
+            .find(|m| m.name() == key)
+            .ok_or_else(|| SolverError::Setting {
+                field: "model".into(),
+                why: format!("`{s}` is not one of sa, sb, sc, sd"),
+            })
+    }
+}
+
+/// A closed interval `[lower, upper]`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Interval {
+    /// Lower end.
+    pub lower: f64,
+    /// Upper end.
+    pub upper: f64,
+}
+
+impl Interval {
+    /// `[lower, upper]`.
+    pub const fn new(lower: f64, upper: f64) -> Interval {
+        Interval { lower, upper }
+    }
+
+    /// True when `v` lies inside.
+    pub fn contains(&self, v: f64) -> bool {
+        (self.lower..=self.upper).contains(&v)
+    }
+
+    /// `v` clamped into the interval.
+    pub fn clamp(&self, v: f64) -> f64 {
+        v.clamp(self.lower, self.upper)
+    }
+}
+
+/// Bounds of the synergy parameters by kind (the paper's defaults), configurable.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Bounds {
+    /// Gains g: [−5, 5].
+    pub gain: Interval,
+    /// Sigmoid slopes s, 1/s: [1, 10].
+    pub slope: Interval,
+    /// Sigmoid offsets o: [0, 20].
+    pub offset: Interval,
+}
+
+impl Default for Bounds {
+    fn default() -> Bounds {
+        Bounds {
+            gain: Interval::new(-5.0, 5.0),
+            slope: Interval::new(1.0, 10.0),
+            offset: Interval::new(0.0, 20.0),
+        }
+    }
+}
+
+impl Bounds {
+    /// Checks each interval is finite and not inverted, naming the field otherwise.
+    pub fn validate(&self) -> Result<()> {
+        for (name, i) in [
+            ("bounds.gain", self.gain),
+            ("bounds.slope", self.slope),
+            ("bounds.offset", self.offset),
+        ] {
+            require(
+                i.lower.is_finite() && i.upper.is_finite() && i.lower <= i.upper,
+                name,
+                "finite [lower, upper] with lower ≤ upper",
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// What each entry of a parameter vector means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamKind {
+    /// A gain (of every DoF for S_A, else of one DoF).
+    Gain,
+    /// A sigmoid slope.
+    Slope,
+    /// A sigmoid offset.
+    Offset,
+}
+
+/// The parameter space of one model on one chain: names, kinds and bounds of the entries.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamSpace {
+    model: Model,
+    dof_names: Vec<String>,
+    bounds: Bounds,
+    names: Vec<String>,
+    kinds: Vec<ParamKind>,
+}
+
+impl ParamSpace {
+    /// The space of `model` on a chain with these DoF names.
+    pub fn new(model: Model, dof_names: &[String], bounds: Bounds) -> Result<ParamSpace> {
+        bounds.validate()?;
+        require(!dof_names.is_empty(), "dof_names", "at least one DoF")?;
+        let n = dof_names.len();
+        let mut names = Vec::with_capacity(model.parameter_count(n));
+        let mut kinds = Vec::with_capacity(names.capacity());
+        let mut push = |name: String, kind| {
+            names.push(name);
+            kinds.push(kind);
+        };
+        match model {
+            Model::Sa => push("g".into(), ParamKind::Gain),
+            _ => dof_names
+                .iter()
+                .for_each(|d| push(format!("g_{d}"), ParamKind::Gain)),
+        }
+        match model {
+            Model::Sa | Model::Sb => {}
+            Model::Sc => {
+                push("s".into(), ParamKind::Slope);
+                push("o".into(), ParamKind::Offset);
+            }
+            Model::Sd => {
+                dof_names
+                    .iter()
+                    .for_each(|d| push(format!("s_{d}"), ParamKind::Slope));
+                dof_names
+                    .iter()
+                    .for_each(|d| push(format!("o_{d}"), ParamKind::Offset));
+            }
+        }
+        Ok(ParamSpace {
+            model,
+            dof_names: dof_names.to_vec(),
+            bounds,
+            names,
+            kinds,
+        })
+    }
+
+    /// The model.
+    pub fn model(&self) -> Model {
+        self.model
+    }
+
+    /// The chain's DoF names.
+    pub fn dof_names(&self) -> &[String] {
+        &self.dof_names
+    }
+
+    /// The bounds by kind.
+    pub fn bounds(&self) -> &Bounds {
+        &self.bounds
+    }
+
+    /// Number of parameters.
+    pub fn len(&self) -> usize {
+        self.names.len()
+    }
+
+    /// Always false: every model has at least one parameter.
+    pub fn is_empty(&self) -> bool {
+        self.names.is_empty()
+    }
+
+    /// The entries' names, in vector order: `g` or `g_<dof>`…, then `s`, `o` or
+    /// `s_<dof>`…, `o_<dof>`….
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The entries' kinds.
+    pub fn kinds(&self) -> &[ParamKind] {
+        &self.kinds
+    }
+
+    /// The interval of entry `i`.
+    pub fn interval(&self, i: usize) -> Interval {
+        match self.kinds[i] {
+            ParamKind::Gain => self.bounds.gain,
+            ParamKind::Slope => self.bounds.slope,
+            ParamKind::Offset => self.bounds.offset,
+        }
+    }
+
+    /// Lower bounds, one per entry.
+    pub fn lower(&self) -> Vec<f64> {
+        (0..self.len()).map(|i| self.interval(i).lower).collect()
+    }
+
+    /// Upper bounds, one per entry.
+    pub fn upper(&self) -> Vec<f64> {
+        (0..self.len()).map(|i| self.interval(i).upper).collect()
+    }
+
+    /// The index of the entry with this name.
+    pub fn index(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+
+    /// The neutral vector: gains 1, and sigmoids switched on from the start as far as the
+    /// bounds allow (largest slope, smallest offset), clamped into the bounds.
+    pub fn neutral(&self) -> Vec<f64> {
+        (0..self.len())
+            .map(|i| {
+                let b = self.interval(i);
+                match self.kinds[i] {
+                    ParamKind::Gain => b.clamp(1.0),
+                    ParamKind::Slope => b.upper,
+                    ParamKind::Offset => b.lower,
+                }
+            })
+            .collect()
+    }
+
+    /// Checks the length and that every value is finite and within its bounds, naming the
+    /// first entry that is not.
+    pub fn validate(&self, values: &[f64]) -> Result<()> {
+        if values.len() != self.len() {
+            return Err(SolverError::ParamCount {
+                model: self.model.to_string(),
+                dofs: self.dof_names.len(),
+                expected: self.len(),
+                found: values.len(),
+            });
+        }
+        for (i, &v) in values.iter().enumerate() {
+            let b = self.interval(i);
+            if !b.contains(v) {
+                return Err(SolverError::OutOfBounds {
+                    name: self.names[i].clone(),
+                    value: v,
+                    lower: b.lower,
+                    upper: b.upper,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// `values` clamped into the bounds (NaN becomes the lower bound).
+    pub fn clamp(&self, values: &mut [f64]) {
+        for (i, v) in values.iter_mut().enumerate() {
+            let b = self.interval(i);
+            *v = if v.is_nan() { b.lower } else { b.clamp(*v) };
+        }
+    }
+
+    /// Carries a vector of this space into a richer model's space on the same chain, so
+    /// that training the richer model can start from this one's solution: S_A's gain goes
+    /// to every DoF; S_C's shared sigmoid goes to every DoF of S_D (exactly the same
+    /// motion). S_B → S_C adds the sigmoid switched on as early as the bounds allow
+    /// (the neutral one); with the paper's bounds (o ≥ 0) that sigmoid starts at ½, so that
+    /// step alone is not exact. Going to the same model returns the vector unchanged.
+    pub fn extend_to(&self, values: &[f64], richer: &ParamSpace) -> Result<Vec<f64>> {
+        self.validate(values)?;
+        require(
+            richer.dof_names == self.dof_names,
+            "dof_names",
+            "the same chain in both parameter spaces",
+        )?;
+        require(
+            richer.model >= self.model,
+            "model",
+            "a model at least as rich as the one extended",
+        )?;
+        let n = self.dof_names.len();
+        let gains: Vec<f64> = match self.model {
+            Model::Sa => vec![values[0]; n],
+            _ => values[..n].to_vec(),
+        };
+        let (slopes, offsets): (Vec<f64>, Vec<f64>) = match self.model {
+            Model::Sa | Model::Sb => {
+                let neutral = richer.neutral();
+                let (s, o) = match richer.model {
+                    Model::Sd => (neutral[n], neutral[2 * n]),
+                    Model::Sc => (neutral[n], neutral[n + 1]),
+                    _ => (0.0, 0.0),
+                };
+                (vec![s; n], vec![o; n])
+            }
+            Model::Sc => (vec![values[n]; n], vec![values[n + 1]; n]),
+            Model::Sd => (values[n..2 * n].to_vec(), values[2 * n..].to_vec()),
+        };
+        let mut out = match richer.model {
+            Model::Sa => vec![gains[0]],
+            Model::Sb => gains,
+            Model::Sc => {
+                let mut v = gains;
+                v.extend([slopes[0], offsets[0]]);
+                v
+            }
+            Model::Sd => {
+                let mut v = gains;
+                v.extend(slopes);
+                v.extend(offsets);
+                v
+            }
+        };
+        richer.clamp(&mut out);
+        Ok(out)
+    }
+}
+
+/// sig(x) = 1 / (1 + eˣ), the paper's sigmoid.
+#[inline]
+pub fn sig(x: f64) -> f64 {
+    1.0 / (1.0 + x.exp())
+}
+
+/// The time part of a synergy.
+#[derive(Debug, Clone, PartialEq)]
+enum Timing {
+    /// φ = 1.
+    Constant,
+    /// φ = sig(−s t + o) for every DoF.
+    Shared { slope: f64, offset: f64 },
+    /// φ_i = sig(−s_i t + o_i).
+    PerDof { slopes: Vec<f64>, offsets: Vec<f64> },
+}
+
+/// A synergy transform S(t, Θ) ready to apply: validated parameters of one model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Synergy {
+    model: Model,
+    gains: Vec<f64>,
+    timing: Timing,
+}
+
+impl Synergy {
+    /// The synergy of `values` in `space`, validated against the bounds.
+    pub fn new(space: &ParamSpace, values: &[f64]) -> Result<Synergy> {
+        space.validate(values)?;
+        let n = space.dof_names.len();
+        let gains = match space.model {
+            Model::Sa => vec![values[0]; n],
+            _ => values[..n].to_vec(),
+        };
+        let timing = match space.model {
+            Model::Sa | Model::Sb => Timing::Constant,
+            Model::Sc => Timing::Shared {
+                slope: values[n],
+                offset: values[n + 1],
+            },
+            Model::Sd => Timing::PerDof {
+                slopes: values[n..2 * n].to_vec(),
+                offsets: values[2 * n..].to_vec(),
+            },
+        };
+        Ok(Synergy {
+            model: space.model,
+            gains,
+            timing,
+        })
+    }
+
+    /// The identity synergy on `dofs` DoFs (S_A with g = 1): the raw optimizer.
+    pub fn identity(dofs: usize) -> Synergy {
+        Synergy {
+            model: Model::Sa,
+            gains: vec![1.0; dofs],
+            timing: Timing::Constant,
+        }
+    }
+
+    /// The model.
+    pub fn model(&self) -> Model {
+        self.model
+    }
+
+    /// The number of DoFs it applies to.
+    pub fn dof_count(&self) -> usize {
+        self.gains.len()
+    }
+
+    /// The gain of DoF `i` (the diagonal of M).
+    pub fn gain(&self, i: usize) -> f64 {
+        self.gains[i]
+    }
+
+    /// φ_i(t).
+    pub fn phi(&self, i: usize, t: f64) -> f64 {
+        match &self.timing {
+            Timing::Constant => 1.0,
+            Timing::Shared { slope, offset } => sig(-slope * t + offset),
+            Timing::PerDof { slopes, offsets } => sig(-slopes[i] * t + offsets[i]),
+        }
+    }
+
+    /// Δθ ← S(t) Δθ in place: Δθ_i ← φ_i(t) · g_i · Δθ_i.
+    #[inline]
+    pub fn apply(&self, t: f64, dtheta: &mut [f64]) {
+        match &self.timing {
+            Timing::Constant => {
+                for (d, g) in dtheta.iter_mut().zip(&self.gains) {
+                    *d *= g;
+                }
+            }
+            Timing::Shared { slope, offset } => {
+                let phi = sig(-slope * t + offset);
+                for (d, g) in dtheta.iter_mut().zip(&self.gains) {
+                    *d *= g * phi;
+                }
+            }
+            Timing::PerDof { slopes, offsets } => {
+                for (i, d) in dtheta.iter_mut().enumerate() {
+                    *d *= self.gains[i] * sig(-slopes[i] * t + offsets[i]);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn dofs() -> Vec<String> {
+        ["a", "b", "c"].map(String::from).to_vec()
+    }
+
+    #[test]
+    fn names_counts_and_bounds_follow_the_paper() {
+        let d = dofs();
+        let sc = ParamSpace::new(Model::Sc, &d, Bounds::default()).expect("sc");
+        assert_eq!(sc.names(), ["g_a", "g_b", "g_c", "s", "o"]);
+        assert_eq!(sc.lower(), [-5.0, -5.0, -5.0, 1.0, 0.0]);
+        assert_eq!(sc.upper(), [5.0, 5.0, 5.0, 10.0, 20.0]);
+        let sd = ParamSpace::new(Model::Sd, &d, Bounds::default()).expect("sd");
+        assert_eq!(sd.names()[3..], ["s_a", "s_b", "s_c", "o_a", "o_b", "o_c"]);
+        // The paper's counts on its 7-DoF chain: S_C 9, S_D 21.
+        assert_eq!(Model::Sc.parameter_count(7), 9);
+        assert_eq!(Model::Sd.parameter_count(7), 21);
+        assert_eq!(
+            ParamSpace::new(Model::Sa, &d, Bounds::default())
+                .expect("sa")
+                .names(),
+            ["g"]
+        );
+    }
+
+    #[test]
+    fn validation_names_the_entry_out_of_bounds() {
+        let sc = ParamSpace::new(Model::Sc, &dofs(), Bounds::default()).expect("sc");
+        let err = sc
+            .validate(&[1.0, 1.0, 1.0, 11.0, 2.0])
+            .expect_err("slope 11");
+        assert!(err.to_string().contains("`s` = 11"), "{err}");
+        let err = sc
+            .validate(&[1.0, f64::NAN, 1.0, 5.0, 2.0])
+            .expect_err("NaN");
+        assert!(err.to_string().contains("g_b"), "{err}");
+        let err = sc.validate(&[1.0]).expect_err("count");
+        assert!(matches!(
+            err,
+            SolverError::ParamCount {
+                expected: 5,
+                found: 1,
+                ..
+            }
+        ));
+        let bad = Bounds {
+            slope: Interval::new(3.0, 2.0),
+            ..Bounds::default()
+        };
+        let err = ParamSpace::new(Model::Sc, &dofs(), bad).expect_err("inverted");
+        assert!(err.to_string().contains("bounds.slope"), "{err}");
+    }
+
+    #[test]
+    fn the_sigmoid_switches_on_at_o_over_s() {
+        let sc = ParamSpace::new(Model::Sc, &dofs(), Bounds::default()).expect("sc");
+        let syn = Synergy::new(&sc, &[1.0, 2.0, -1.0, 4.0, 6.0]).expect("synergy");
+        assert_relative_eq!(syn.phi(0, 1.5), 0.5);
+        assert!(syn.phi(0, 0.0) < 0.01 && syn.phi(0, 3.0) > 0.99);
+        let mut d = [1.0, 1.0, 1.0];
+        syn.apply(1.5, &mut d);
+        assert_eq!(d, [0.5, 1.0, -0.5]);
+    }
+
+    #[test]
+    fn extending_keeps_the_motion_where_the_bounds_allow() {
+        let d = dofs();
+        let spaces: Vec<_> = Model::ALL
+            .iter()
+            .map(|&m| ParamSpace::new(m, &d, Bounds::default()).expect("space"))
+            .collect();
+        let sb = spaces[0].extend_to(&[2.5], &spaces[1]).expect("sa→sb");
+        assert_eq!(sb, [2.5, 2.5, 2.5]);
+        let sc_values = [1.0, -2.0, 3.0, 4.0, 6.0];
+        let sd = spaces[2].extend_to(&sc_values, &spaces[3]).expect("sc→sd");
+        let (a, b) = (
+            Synergy::new(&spaces[2], &sc_values).expect("sc"),
+            Synergy::new(&spaces[3], &sd).expect("sd"),
+        );
+        for t in [0.0, 0.7, 1.5, 4.0] {
+            let (mut x, mut y) = ([0.3, -0.2, 0.1], [0.3, -0.2, 0.1]);
+            a.apply(t, &mut x);
+            b.apply(t, &mut y);
+            assert_eq!(x, y);
+        }
+        let err = spaces[3].extend_to(&sd, &spaces[0]).expect_err("poorer");
+        assert!(err.to_string().contains("model"), "{err}");
+    }
+
+    #[test]
+    fn models_parse_both_spellings() {
+        assert_eq!("S_C".parse::<Model>().expect("S_C"), Model::Sc);
+        assert_eq!("sd".parse::<Model>().expect("sd"), Model::Sd);
+        assert!("se".parse::<Model>().is_err());
+    }
+}
