@@ -13,7 +13,6 @@ pub enum Failure {
     /// The input was wrong: a missing or malformed file, a bad argument.
     Input(String),
     /// The input was fine but the task failed (e.g. an unreachable target).
-    #[allow(dead_code)]
     Task(String),
 }
 
@@ -70,7 +69,6 @@ impl ReadArgs {
 
 /// How to find the arm chain.
 #[derive(Debug, clap::Args)]
-#[allow(dead_code)] // used by the subcommands that synthesize arms
 pub struct ArmArgs {
     /// Which arm.
     #[arg(long, default_value = "right", value_name = "SIDE")]
@@ -81,7 +79,6 @@ pub struct ArmArgs {
     pub chain: Option<Vec<String>>,
 }
 
-#[allow(dead_code)]
 impl ArmArgs {
     pub fn find(&self, clip: &Clip, path: &Path) -> Result<ArmJoints, Failure> {
         let found = match &self.chain {

@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 mod common;
 mod convert;
 mod inspect;
+mod synthesize;
 
 /// Learn and synthesize human reaching motion from BVH captures.
 #[derive(Debug, Parser)]
@@ -24,6 +25,12 @@ enum Command {
     /// Read a BVH file and write it back (optionally in another unit), atomically.
     #[command(after_help = "Example:\n  kinergy convert in.bvh -o out.bvh --unit m")]
     Convert(convert::Args),
+    /// Synthesize one reach with the synergy controller from a capture's first frame to its
+    /// final hand position (or --target), written on the capture's skeleton.
+    #[command(
+        after_help = "Examples:\n  kinergy synthesize --from reach.bvh --model sc --optimizer svd -o out.bvh\n  kinergy synthesize --from reach.bvh --params me.json --target 0.3,1.2,0.4 -o out.bvh --json"
+    )]
+    Synthesize(synthesize::Args),
 }
 
 fn main() -> ExitCode {
@@ -31,6 +38,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Inspect(args) => inspect::run(&args),
         Command::Convert(args) => convert::run(&args),
+        Command::Synthesize(args) => synthesize::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -17,6 +17,9 @@
 //! axis alone (the wider axis of its limit ellipse), and the wrist swing points the hand
 //! at the hand point. When the captured start lies outside the default limits, the limits
 //! it violates are widened to include it (and reported), so the first frame is the capture.
+//! The same closed form on every frame gives the captured motion in the chain's DoFs
+//! ([`CaptureArm::captured_configurations`]); the person's limits are widened to include
+//! all of it: what the capture shows the person doing is within their limits.
 //!
 //! **Output.** A chain frame and the captured joint frame differ by a constant rotation
 //! (measured on the first frame), so each synthesized frame gives the captured shoulder,
@@ -50,6 +53,7 @@ pub struct CaptureArm {
     chain: Chain,
     bases: Vec<IsometryMatrix3<f64>>,
     start: Vec<f64>,
+    captured: Vec<f64>,
     widened: Vec<String>,
     /// Chain frame → captured world rotation, for shoulder, elbow, wrist.
     align: [Rotation3<f64>; 3],
@@ -92,12 +96,21 @@ impl CaptureArm {
         let mut world = Vec::new();
         let mut bases = Vec::with_capacity(clip.frame_count());
         let mut first_world = Vec::new();
+        // Arm points of every frame: shoulder, elbow, wrist, hand.
+        let mut points = Vec::with_capacity(clip.frame_count());
         for (k, pose) in clip.frames().enumerate() {
             skeleton.fk_into(pose, &mut world)?;
             let parent_rot = parent.map_or(Rotation3::identity(), |p| world[p].rotation);
             bases.push(IsometryMatrix3::from_parts(
                 world[joints.shoulder].translation,
                 parent_rot * align_base,
+            ));
+            let at = |j: usize| Point3::from(world[j].translation.vector);
+            points.push((
+                at(joints.shoulder),
+                at(joints.elbow),
+                at(joints.wrist),
+                joints.hand.map(at),
             ));
             if k == 0 {
                 first_world.clone_from(&world);
@@ -118,8 +131,22 @@ impl CaptureArm {
             )));
         }
         let chain = Chain::arm(upper, fore, hand)?;
-        let start = start_posture(&bases[0], s, e, w, h);
-        let (chain, widened) = widen_to_include(&chain, &start)?;
+        // The captured motion in the chain's DoFs, frame by frame (angles unwrapped to stay
+        // continuous); the person's limits include all of it.
+        let mut captured = Vec::with_capacity(points.len() * 7);
+        let mut previous: Option<Vec<f64>> = None;
+        for (base, &(s, e, w, h)) in bases.iter().zip(&points) {
+            let mut q = start_posture(base, s, e, w, h);
+            if let Some(prev) = &previous {
+                for i in [2, 4] {
+                    q[i] = unwrap_near(q[i], prev[i]);
+                }
+            }
+            captured.extend_from_slice(&q);
+            previous = Some(q);
+        }
+        let start = captured[..7].to_vec();
+        let (chain, widened) = widen_to_include(&chain, &captured)?;
 
         let frames = chain.fk(&bases[0], &start)?.frames;
         let align = [joints.shoulder, joints.elbow, joints.wrist]
@@ -133,6 +160,7 @@ impl CaptureArm {
             chain,
             bases,
             start,
+            captured,
             widened,
             align: [align[0], align[1], align[2]],
         })
@@ -153,7 +181,14 @@ impl CaptureArm {
         &self.start
     }
 
-    /// DoF names whose default limits were widened to include the captured start.
+    /// The captured arm motion in the chain's DoFs: frame `k` is `[7k..7k + 7]`, with the
+    /// shoulder, elbow, wrist and hand where the capture has them whenever the capture's
+    /// bone lengths equal the first frame's.
+    pub fn captured_configurations(&self) -> &[f64] {
+        &self.captured
+    }
+
+    /// DoF names whose default limits were widened to include the captured motion.
     pub fn widened_limits(&self) -> &[String] {
         &self.widened
     }
@@ -323,11 +358,30 @@ fn start_posture(
     vec![sx, sy, twist, flex, pronation, wx, wy]
 }
 
-/// `chain` with any limit that `q` violates widened to include it; the widened DoF names.
-fn widen_to_include(chain: &Chain, q: &[f64]) -> Result<(Chain, Vec<String>)> {
-    if chain.within_limits(q) {
-        return Ok((chain.clone(), Vec::new()));
+/// `chain` with every limit widened to include the configurations `qs` (one after the
+/// other, `dof_count` values each); the widened DoF names.
+fn widen_to_include(chain: &Chain, qs: &[f64]) -> Result<(Chain, Vec<String>)> {
+    let n = chain.dof_count();
+    let mut widened: Vec<usize> = Vec::new();
+    let mut chain = chain.clone();
+    for q in qs.chunks(n) {
+        if !chain.within_limits(q) {
+            let (wider, more) = widen_one(&chain, q)?;
+            chain = wider;
+            widened.extend(more);
+        }
     }
+    widened.sort_unstable();
+    widened.dedup();
+    let names: Vec<String> = chain.dof_names().map(String::from).collect();
+    Ok((
+        chain,
+        widened.into_iter().map(|i| names[i].clone()).collect(),
+    ))
+}
+
+/// `chain` with any limit that `q` violates widened to include it; the widened DoFs.
+fn widen_one(chain: &Chain, q: &[f64]) -> Result<(Chain, Vec<usize>)> {
     let margin = 1e-9;
     let mut widened = Vec::new();
     let mut joints = chain.joints().to_vec();
@@ -356,10 +410,5 @@ fn widen_to_include(chain: &Chain, q: &[f64]) -> Result<(Chain, Vec<String>)> {
             }
         }
     }
-    let chain = Chain::new(joints, chain.end_effector())?;
-    let names: Vec<String> = chain.dof_names().map(String::from).collect();
-    Ok((
-        chain,
-        widened.into_iter().map(|i| names[i].clone()).collect(),
-    ))
+    Ok((Chain::new(joints, chain.end_effector())?, widened))
 }

@@ -54,8 +54,9 @@ impl Base {
     }
 }
 
-/// When a motion counts as stalled: the best task error so far has improved by less than
-/// `min_progress` meters over the last `window` seconds while the base stood still.
+/// When a motion counts as stalled: over the last `window` seconds, during which the base
+/// stood still, the task error never got more than `min_progress` meters below its value
+/// at the window's start.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StallRule {
     /// Seconds looked back.
@@ -87,6 +88,8 @@ pub struct ControllerSettings {
     pub min_frames: usize,
     /// When the motion is stalled.
     pub stall: StallRule,
+    /// How joint limits enter the step.
+    pub limits: LimitHandling,
 }
 
 impl ControllerSettings {
@@ -103,6 +106,7 @@ impl ControllerSettings {
             tolerance: 0.005,
             min_frames: 0,
             stall: StallRule::default(),
+            limits: LimitHandling::default(),
         }
     }
 
@@ -240,6 +244,19 @@ pub struct Controller {
     pub settings: ControllerSettings,
 }
 
+/// How the controller treats joint limits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LimitHandling {
+    /// The paper's Θ ← clamp(Θ + Δθ'): a DoF pushed against its limit stays there and the
+    /// others do not compensate, so reaches can stall on a limit.
+    Clamp,
+    /// DoFs on a limit that the step pushes outward are removed from the Jacobian and the
+    /// step is solved again with the others (then clamped as above), so the free DoFs
+    /// carry the motion on (Baerlocher & Boulic 2004). The default.
+    #[default]
+    Deactivate,
+}
+
 impl Controller {
     /// A controller, with its optimizer and settings validated.
     pub fn new(
@@ -293,6 +310,7 @@ impl Controller {
         let mut lin = Linearization::default();
         let mut scratch = StepScratch::default();
         let mut step = vec![0.0; n];
+        let mut blocked = vec![false; n];
         let per = chain.joints().len() + 1;
         let mut out = Synthesis {
             frame_time: dt,
@@ -302,8 +320,8 @@ impl Controller {
             stop: StopReason::MaxFrames,
             final_error: f64::INFINITY,
         };
-        // best[i]: the smallest error over frames 0..=i.
-        let mut best: Vec<f64> = Vec::with_capacity(s.max_frames.min(4096));
+        // The task error of every frame so far.
+        let mut errors: Vec<f64> = Vec::with_capacity(s.max_frames.min(4096));
         let mut frame = 0;
         loop {
             chain.linearize_into(reach.base.at(frame), &q, &mut lin)?;
@@ -317,7 +335,7 @@ impl Controller {
             out.points.extend_from_slice(&lin.joints);
             out.points.push(lin.end);
             out.final_error = e;
-            best.push(best.last().map_or(e, |b: &f64| b.min(e)));
+            errors.push(e);
             let frames = frame + 1;
             let long_enough = frames >= s.min_frames;
             if e < s.tolerance && long_enough {
@@ -331,14 +349,25 @@ impl Controller {
             if long_enough
                 && frame >= window
                 && reach.base.is_still_from(frame - window)
-                && best[frame - window] - best[frame] < s.stall.min_progress
+                && errors[frame - window]
+                    - errors[frame - window + 1..=frame]
+                        .iter()
+                        .fold(f64::INFINITY, |a, &b| a.min(b))
+                    < s.stall.min_progress
             {
                 out.stop = StopReason::Stalled;
                 break;
             }
-            self.optimizer
-                .step(&lin, &error, dt, &mut scratch, &mut step);
-            self.synergy.apply(frame as f64 * dt, &mut step);
+            self.limited_step(
+                chain,
+                &q,
+                &mut lin,
+                &error,
+                frame as f64 * dt,
+                &mut scratch,
+                &mut blocked,
+                &mut step,
+            );
             if !step.iter().all(|v| v.is_finite()) {
                 out.stop = StopReason::NonFinite;
                 break;
@@ -350,5 +379,38 @@ impl Controller {
             frame += 1;
         }
         Ok(out)
+    }
+
+    /// Δθ' = S(t)·O(ΔX) for the current frame; with [`LimitHandling::Deactivate`], solved
+    /// again without the DoFs it would push out of their limits until none is left.
+    #[allow(clippy::too_many_arguments)]
+    fn limited_step(
+        &self,
+        chain: &Chain,
+        q: &[f64],
+        lin: &mut Linearization,
+        error: &crate::task::TaskError,
+        t: f64,
+        scratch: &mut StepScratch,
+        blocked: &mut [bool],
+        step: &mut [f64],
+    ) {
+        let dt = self.settings.frame_time;
+        blocked.fill(false);
+        loop {
+            self.optimizer.step(lin, error, dt, scratch, step);
+            self.synergy.apply(t, step);
+            if self.settings.limits == LimitHandling::Clamp || !chain.mark_blocked(q, step, blocked)
+            {
+                break;
+            }
+            for (k, _) in blocked.iter().enumerate().filter(|(_, b)| **b) {
+                lin.linear.column_mut(k).fill(0.0);
+                lin.angular.column_mut(k).fill(0.0);
+            }
+        }
+        for (s, _) in step.iter_mut().zip(blocked.iter()).filter(|(_, b)| **b) {
+            *s = 0.0;
+        }
     }
 }

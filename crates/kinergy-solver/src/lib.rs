@@ -41,7 +41,7 @@ pub mod task;
 
 pub use capture::{BaseMode, CaptureArm};
 pub use controller::{
-    Base, Controller, ControllerSettings, Reach, StallRule, StopReason, Synthesis,
+    Base, Controller, ControllerSettings, LimitHandling, Reach, StallRule, StopReason, Synthesis,
 };
 pub use error::{Result, SolverError};
 pub use optimizer::{

@@ -1,0 +1,282 @@
+//! `kinergy synthesize`: one reach by the synergy controller, from a capture's first frame
+//! to its final hand position (or a given target), written as BVH on the capture's skeleton.
+
+use std::path::PathBuf;
+
+use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::{ExportOptions, LengthUnit, motion_distance};
+use kinergy_solver::{
+    BaseMode, CaptureArm, Controller, ControllerSettings, Model, OptimizerKind, ParamSpace,
+    ParamsFile, Reach, StopReason, Synergy, Task,
+};
+use serde::Serialize;
+
+use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The capture: the reach starts from its first frame, its torso motion is replayed.
+    #[arg(long, value_name = "CLIP.bvh")]
+    from: PathBuf,
+    /// Where to write the synthesized motion (BVH, written atomically).
+    #[arg(short, long, value_name = "OUT.bvh")]
+    output: PathBuf,
+    /// A parameters file (from `kinergy fit`): model, optimizer and values.
+    #[arg(long, value_name = "P.json", conflicts_with_all = ["model", "optimizer"])]
+    params: Option<PathBuf>,
+    /// Synergy model without a parameters file: neutral values (gains 1, sigmoids on).
+    #[arg(long, default_value = "sa", value_name = "sa|sb|sc|sd")]
+    model: Model,
+    /// IK optimizer without a parameters file, with its default settings.
+    #[arg(long, default_value = "svd", value_name = "jt|njt|svd|dls")]
+    optimizer: OptimizerKind,
+    /// Target hand position in world meters `x,y,z` (default: the capture's final hand
+    /// position).
+    #[arg(long, value_name = "x,y,z")]
+    target: Option<String>,
+    /// Keep the shoulder where it is on the first frame instead of replaying the capture's
+    /// torso motion.
+    #[arg(long)]
+    fixed_base: bool,
+    /// Stop as soon as the target is reached (default: keep tracking it until the capture's
+    /// last frame, so the output spans the capture).
+    #[arg(long)]
+    stop_at_reach: bool,
+    /// ε: the target counts as reached within this many meters.
+    #[arg(long, default_value_t = 0.005, value_name = "M")]
+    tolerance: f64,
+    /// Longest motion synthesized, seconds.
+    #[arg(long, default_value_t = 10.0, value_name = "S")]
+    max_seconds: f64,
+    /// Length unit of the written file: m, cm, mm, in or cmu.
+    #[arg(long, default_value = "cm", value_name = "UNIT")]
+    unit: LengthUnit,
+    /// Print the report as JSON.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    read: ReadArgs,
+    #[command(flatten)]
+    arm: ArmArgs,
+}
+
+#[derive(Debug, Serialize)]
+struct Report {
+    input: String,
+    output: String,
+    arm: Vec<String>,
+    model: String,
+    optimizer: String,
+    base: &'static str,
+    target_m: [f64; 3],
+    target_from: &'static str,
+    stop: &'static str,
+    frames: usize,
+    duration_s: f64,
+    final_error_m: f64,
+    shoulder_to_target_m: f64,
+    arm_length_m: f64,
+    distance_to_capture_m: Option<f64>,
+    widened_limits: Vec<String>,
+    at_limits_at_end: Vec<String>,
+}
+
+/// Parses `x,y,z` (meters) into a finite point.
+pub fn parse_point(text: &str, flag: &str) -> Result<Point3<f64>, Failure> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let bad = |why: String| Failure::Input(format!("{flag} `{text}`: {why}"));
+    if parts.len() != 3 {
+        return Err(bad(format!(
+            "expected three comma-separated numbers x,y,z, got {}",
+            parts.len()
+        )));
+    }
+    let mut v = [0.0; 3];
+    for (i, p) in parts.iter().enumerate() {
+        let x: f64 = p
+            .parse()
+            .map_err(|_| bad(format!("`{p}` is not a number")))?;
+        if !x.is_finite() {
+            return Err(bad(format!("`{p}` is not a finite number")));
+        }
+        v[i] = x;
+    }
+    Ok(Point3::new(v[0], v[1], v[2]))
+}
+
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let (clip, _) = args.read.read(&args.from)?;
+    let joints = args.arm.find(&clip, &args.from)?;
+    let arm = CaptureArm::new(&clip, &joints).map_err(|e| Failure::input(&args.from, e))?;
+    let dof_names: Vec<String> = arm.chain().dof_names().map(String::from).collect();
+
+    let (optimizer, synergy) = match &args.params {
+        Some(path) => {
+            let file = ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?;
+            let synergy = file
+                .synergy_for(&dof_names)
+                .map_err(|e| Failure::input(path, e))?;
+            (file.optimizer, synergy)
+        }
+        None => {
+            let space = ParamSpace::new(args.model, &dof_names, Default::default())
+                .map_err(|e| Failure::Input(e.to_string()))?;
+            let synergy = Synergy::new(&space, &space.neutral())
+                .map_err(|e| Failure::Input(e.to_string()))?;
+            (args.optimizer.default_optimizer(), synergy)
+        }
+    };
+
+    let captured = arm
+        .captured_trajectory(&clip)
+        .map_err(|e| Failure::input(&args.from, e))?;
+    let last = captured.frame(captured.frame_count() - 1);
+    let (target, target_from) = match &args.target {
+        Some(t) => (parse_point(t, "--target")?, "--target"),
+        None => (last[last.len() - 1], "the capture's final hand position"),
+    };
+    if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
+        return Err(Failure::Input(format!(
+            "--tolerance {}: expected a positive number of meters",
+            args.tolerance
+        )));
+    }
+    if !(args.max_seconds.is_finite() && args.max_seconds > 0.0) {
+        return Err(Failure::Input(format!(
+            "--max-seconds {}: expected a positive number of seconds",
+            args.max_seconds
+        )));
+    }
+    let frame_time = clip.frame_time();
+    let settings = ControllerSettings {
+        max_frames: ((args.max_seconds / frame_time).ceil() as usize).max(1),
+        tolerance: args.tolerance,
+        min_frames: if args.stop_at_reach {
+            0
+        } else {
+            clip.frame_count()
+        },
+        ..ControllerSettings::at_frame_time(frame_time)
+    };
+    let mode = if args.fixed_base {
+        BaseMode::Fixed
+    } else {
+        BaseMode::Replay
+    };
+    let base = arm.base(mode);
+    let controller =
+        Controller::new(optimizer, synergy, settings).map_err(|e| Failure::Input(e.to_string()))?;
+    let synthesis = controller
+        .synthesize(&Reach {
+            chain: arm.chain(),
+            base: &base,
+            start: arm.start(),
+            task: Task::Position(target),
+        })
+        .map_err(|e| Failure::Task(e.to_string()))?;
+    let out_clip = arm
+        .to_clip(&clip, &synthesis, mode)
+        .map_err(|e| Failure::input(&args.from, e))?;
+    kinergy_motion::write_clip(&args.output, &out_clip, &ExportOptions { unit: args.unit })
+        .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+
+    let distance = match (&args.target, arm.synthesized_trajectory(&synthesis)) {
+        (None, Ok(synthesized)) => motion_distance(&captured, &synthesized).ok(),
+        _ => None,
+    };
+    let report = Report {
+        input: args.from.display().to_string(),
+        output: args.output.display().to_string(),
+        arm: joints
+            .names(clip.skeleton())
+            .into_iter()
+            .map(String::from)
+            .collect(),
+        model: controller.synergy.model().name().to_string(),
+        optimizer: optimizer.to_string(),
+        base: if args.fixed_base { "fixed" } else { "replayed" },
+        target_m: [target.x, target.y, target.z],
+        target_from,
+        stop: synthesis.stop.name(),
+        frames: synthesis.frame_count(),
+        duration_s: synthesis.frame_count().saturating_sub(1) as f64 * frame_time,
+        final_error_m: synthesis.final_error,
+        shoulder_to_target_m: (target - base.at(synthesis.frame_count() - 1).translation.vector)
+            .coords
+            .norm(),
+        arm_length_m: arm_length(arm.chain()),
+        distance_to_capture_m: distance,
+        widened_limits: arm.widened_limits().to_vec(),
+        at_limits_at_end: arm
+            .chain()
+            .dofs_at_limits(synthesis.configuration(synthesis.frame_count() - 1), 1e-6)
+            .into_iter()
+            .map(|k| dof_names[k].clone())
+            .collect(),
+    };
+    if args.json {
+        print_json(&report)?;
+    } else {
+        emit(&text(&report))?;
+    }
+    match synthesis.stop {
+        StopReason::Reached => Ok(()),
+        stop => Err(Failure::Task(format!(
+            "the target was not reached ({stop}): the motion written to {} ends {:.1} mm from it",
+            args.output.display(),
+            synthesis.final_error * 1000.0
+        ))),
+    }
+}
+
+/// Shoulder to end effector, fully stretched.
+fn arm_length(chain: &kinergy_motion::Chain) -> f64 {
+    chain.joints()[1..]
+        .iter()
+        .map(|j| j.offset.norm())
+        .sum::<f64>()
+        + chain.end_effector().norm()
+}
+
+fn text(r: &Report) -> String {
+    let mut s = format!(
+        "{} → {}\narm: {}\nmodel {}, optimizer {}, base {}\ntarget ({:.4}, {:.4}, {:.4}) m from {}\n\
+         stop: {} after {} frames ({:.3} s), final error {:.2} mm\n\
+         the target is {:.3} m from the shoulder on the last frame; the arm is {:.3} m long\n",
+        r.input,
+        r.output,
+        r.arm.join(" → "),
+        r.model,
+        r.optimizer,
+        r.base,
+        r.target_m[0],
+        r.target_m[1],
+        r.target_m[2],
+        r.target_from,
+        r.stop,
+        r.frames,
+        r.duration_s,
+        r.final_error_m * 1000.0,
+        r.shoulder_to_target_m,
+        r.arm_length_m,
+    );
+    if let Some(d) = r.distance_to_capture_m {
+        s.push_str(&format!(
+            "motion distance to the captured arm: {:.2} cm\n",
+            d * 100.0
+        ));
+    }
+    if !r.at_limits_at_end.is_empty() {
+        s.push_str(&format!(
+            "at their limits on the last frame: {}\n",
+            r.at_limits_at_end.join(", ")
+        ));
+    }
+    if !r.widened_limits.is_empty() {
+        s.push_str(&format!(
+            "limits widened to include the captured start: {}\n",
+            r.widened_limits.join(", ")
+        ));
+    }
+    s
+}
