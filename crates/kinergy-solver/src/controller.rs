@@ -3,7 +3,7 @@
 //! integration: Θ ← clamp(Θ + S(t) · O(ΔX)).
 
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
-use kinergy_motion::{Chain, Linearization, Trajectory};
+use kinergy_motion::{Chain, Linearization, Motion, Trajectory};
 
 use crate::error::{Result, SolverError, require};
 use crate::optimizer::{Optimizer, StepScratch};
@@ -375,7 +375,7 @@ impl Controller {
             for (qi, d) in q.iter_mut().zip(&step) {
                 *qi += d;
             }
-            chain.clamp(&mut q);
+            clamp_moved(chain, &mut q, &step);
             frame += 1;
         }
         Ok(out)
@@ -412,5 +412,36 @@ impl Controller {
         for (s, _) in step.iter_mut().zip(blocked.iter()).filter(|(_, b)| **b) {
             *s = 0.0;
         }
+    }
+}
+
+/// [`Chain::clamp`] after a step, without moving a DoF the step left alone: a swing pushed out
+/// of its ellipse by one DoF while the other's step is zero (frozen by a zero synergy gain,
+/// or deactivated) is brought back along the moving DoF's axis instead of being scaled
+/// toward zero, which would move the frozen one too.
+fn clamp_moved(chain: &Chain, q: &mut [f64], step: &[f64]) {
+    let mut k = 0;
+    for m in chain.joints().iter().flat_map(|j| &j.motions) {
+        match *m {
+            Motion::Revolute { min, max, .. } => q[k] = q[k].clamp(min, max),
+            Motion::Swing { rx, ry } => {
+                let (a, b) = (q[k] / rx, q[k + 1] / ry);
+                let e = a * a + b * b;
+                // A swing neither of whose DoFs moved stays put (it was within its limits,
+                // up to the rounding of the previous frame's clamp).
+                if e > 1.0 && (step[k] != 0.0 || step[k + 1] != 0.0) {
+                    if step[k] == 0.0 {
+                        q[k + 1] = ry * (1.0 - a * a).max(0.0).sqrt().copysign(q[k + 1]);
+                    } else if step[k + 1] == 0.0 {
+                        q[k] = rx * (1.0 - b * b).max(0.0).sqrt().copysign(q[k]);
+                    } else {
+                        let s = 1.0 / e.sqrt();
+                        q[k] *= s;
+                        q[k + 1] *= s;
+                    }
+                }
+            }
+        }
+        k += m.dof_count();
     }
 }
