@@ -460,45 +460,6 @@ impl Chain {
         out
     }
 
-    /// Marks in `blocked` (one flag per DoF) the DoFs that sit on a limit at `q` and that
-    /// `step` would push further out: a revolute DoF at its min (max) with a negative
-    /// (positive) step; both DoFs of a swing on its ellipse when the step increases the
-    /// ellipse value. Returns true when it marked any DoF not marked before. IK loops zero
-    /// these DoFs' Jacobian columns and solve again, so the free DoFs make up for them
-    /// (joint-limit handling by deactivation, Baerlocher & Boulic 2004).
-    pub fn mark_blocked(&self, q: &[f64], step: &[f64], blocked: &mut [bool]) -> bool {
-        const ON_LIMIT: f64 = 1e-9;
-        let mut changed = false;
-        let mut mark = |k: usize, blocked: &mut [bool]| {
-            if !blocked[k] {
-                blocked[k] = true;
-                changed = true;
-            }
-        };
-        let mut k = 0;
-        for m in self.joints.iter().flat_map(|j| &j.motions) {
-            match *m {
-                Motion::Revolute { min, max, .. } => {
-                    if (q[k] <= min + ON_LIMIT && step[k] < 0.0)
-                        || (q[k] >= max - ON_LIMIT && step[k] > 0.0)
-                    {
-                        mark(k, blocked);
-                    }
-                }
-                Motion::Swing { rx, ry } => {
-                    let e = (q[k] / rx).powi(2) + (q[k + 1] / ry).powi(2);
-                    let outward = q[k] * step[k] / (rx * rx) + q[k + 1] * step[k + 1] / (ry * ry);
-                    if e >= 1.0 - ON_LIMIT && outward > 0.0 {
-                        mark(k, blocked);
-                        mark(k + 1, blocked);
-                    }
-                }
-            }
-            k += m.dof_count();
-        }
-        changed
-    }
-
     /// Brings `q` within the limits: revolute DoFs are clamped; a swing outside its ellipse
     /// is scaled toward zero onto the ellipse (keeping the swing axis's direction).
     pub fn clamp(&self, q: &mut [f64]) {

@@ -381,6 +381,22 @@ fn versus_k(_: &mut Criterion) {
             dls,
             LimitHandling::Deactivate,
         ),
+        ours(
+            "kinergy svd (λ = 0.5, limit deactivation)",
+            Optimizer::Svd(PseudoInverse {
+                rate: 0.5,
+                threshold: 1e-4,
+            }),
+            LimitHandling::Deactivate,
+        ),
+        ours(
+            "kinergy dls (λ = 0.5, μ = 0.01, deactivation)",
+            Optimizer::Dls(kinergy_solver::DampedLeastSquares {
+                rate: 0.5,
+                damping: 0.01,
+            }),
+            LimitHandling::Deactivate,
+        ),
         theirs(1.0),
         theirs(0.5),
     ] {

@@ -250,9 +250,10 @@ pub enum LimitHandling {
     /// The paper's Θ ← clamp(Θ + Δθ'): a DoF pushed against its limit stays there and the
     /// others do not compensate, so reaches can stall on a limit.
     Clamp,
-    /// DoFs on a limit that the step pushes outward are removed from the Jacobian and the
-    /// step is solved again with the others (then clamped as above), so the free DoFs
-    /// carry the motion on (Baerlocher & Boulic 2004). The default.
+    /// DoFs on a limit that the step pushes outward are removed from the Jacobian (a swing
+    /// on its ellipse keeps its tangent direction and slides along the ellipse) and the step
+    /// is solved again with the others (then clamped as above), so the free DoFs carry the
+    /// motion on (Baerlocher & Boulic 2004). The default.
     #[default]
     Deactivate,
 }
@@ -310,7 +311,7 @@ impl Controller {
         let mut lin = Linearization::default();
         let mut scratch = StepScratch::default();
         let mut step = vec![0.0; n];
-        let mut blocked = vec![false; n];
+        let mut locks = vec![Lock::Free; n];
         let per = chain.joints().len() + 1;
         let mut out = Synthesis {
             frame_time: dt,
@@ -365,7 +366,7 @@ impl Controller {
                 &error,
                 frame as f64 * dt,
                 &mut scratch,
-                &mut blocked,
+                &mut locks,
                 &mut step,
             );
             if !step.iter().all(|v| v.is_finite()) {
@@ -382,7 +383,10 @@ impl Controller {
     }
 
     /// Δθ' = S(t)·O(ΔX) for the current frame; with [`LimitHandling::Deactivate`], solved
-    /// again without the DoFs it would push out of their limits until none is left.
+    /// again under the limits the step pushes against until it pushes against none: a
+    /// revolute DoF on its limit is removed; a swing on its ellipse first keeps only its
+    /// tangent direction (it slides along the ellipse), and is removed only if the synergy
+    /// still pushes it outward.
     #[allow(clippy::too_many_arguments)]
     fn limited_step(
         &self,
@@ -392,27 +396,116 @@ impl Controller {
         error: &crate::task::TaskError,
         t: f64,
         scratch: &mut StepScratch,
-        blocked: &mut [bool],
+        locks: &mut [Lock],
         step: &mut [f64],
     ) {
         let dt = self.settings.frame_time;
-        blocked.fill(false);
+        locks.fill(Lock::Free);
         loop {
             self.optimizer.step(lin, error, dt, scratch, step);
+            // A sliding swing's first column holds the tangent direction: its step is the
+            // coefficient u along it.
+            for k in 0..locks.len() {
+                if let Lock::Slide(t0, t1) = locks[k] {
+                    let u = step[k];
+                    step[k] = u * t0;
+                    step[k + 1] = u * t1;
+                }
+            }
             self.synergy.apply(t, step);
-            if self.settings.limits == LimitHandling::Clamp || !chain.mark_blocked(q, step, blocked)
+            if self.settings.limits == LimitHandling::Clamp
+                || !lock_limits(chain, q, step, locks, lin)
             {
                 break;
             }
-            for (k, _) in blocked.iter().enumerate().filter(|(_, b)| **b) {
-                lin.linear.column_mut(k).fill(0.0);
-                lin.angular.column_mut(k).fill(0.0);
-            }
         }
-        for (s, _) in step.iter_mut().zip(blocked.iter()).filter(|(_, b)| **b) {
+        for (s, _) in step
+            .iter_mut()
+            .zip(locks.iter())
+            .filter(|(_, l)| **l == Lock::Blocked)
+        {
             *s = 0.0;
         }
     }
+}
+
+/// What the limits leave of a DoF for the current frame's step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Lock {
+    /// Moves freely.
+    Free,
+    /// Does not move.
+    Blocked,
+    /// On the first DoF of a swing on its ellipse: the swing moves only along the unit
+    /// tangent (t0, t1); the second DoF's entry is [`Lock::Tied`].
+    Slide(f64, f64),
+    /// The second DoF of a sliding swing.
+    Tied,
+}
+
+/// Locks the DoFs that `step` pushes out of their limits, and rewrites the Jacobian
+/// columns to match (removed columns are zeroed; a sliding swing's two columns become its
+/// tangent column and a zero column). Returns whether any lock was added.
+fn lock_limits(
+    chain: &Chain,
+    q: &[f64],
+    step: &[f64],
+    locks: &mut [Lock],
+    lin: &mut Linearization,
+) -> bool {
+    const ON_LIMIT: f64 = 1e-9;
+    let mut changed = false;
+    let block = |k: usize, locks: &mut [Lock], lin: &mut Linearization| {
+        locks[k] = Lock::Blocked;
+        lin.linear.column_mut(k).fill(0.0);
+        lin.angular.column_mut(k).fill(0.0);
+    };
+    let mut k = 0;
+    for m in chain.joints().iter().flat_map(|j| &j.motions) {
+        match *m {
+            Motion::Revolute { min, max, .. } => {
+                if locks[k] == Lock::Free
+                    && ((q[k] <= min + ON_LIMIT && step[k] < 0.0)
+                        || (q[k] >= max - ON_LIMIT && step[k] > 0.0))
+                {
+                    block(k, locks, lin);
+                    changed = true;
+                }
+            }
+            Motion::Swing { rx, ry } => {
+                let e = (q[k] / rx).powi(2) + (q[k + 1] / ry).powi(2);
+                // The ellipse's outward normal at q (the gradient of e / 2).
+                let (n0, n1) = (q[k] / (rx * rx), q[k + 1] / (ry * ry));
+                let outward = n0 * step[k] + n1 * step[k + 1];
+                let scale = (n0.abs() + n1.abs()) * (step[k].abs() + step[k + 1].abs());
+                if e >= 1.0 - ON_LIMIT && outward > 1e-12 * scale {
+                    match locks[k] {
+                        Lock::Free => {
+                            let norm = n0.hypot(n1);
+                            let (t0, t1) = (-n1 / norm, n0 / norm);
+                            for jac in [&mut lin.linear, &mut lin.angular] {
+                                for r in 0..jac.nrows() {
+                                    jac[(r, k)] = jac[(r, k)] * t0 + jac[(r, k + 1)] * t1;
+                                    jac[(r, k + 1)] = 0.0;
+                                }
+                            }
+                            locks[k] = Lock::Slide(t0, t1);
+                            locks[k + 1] = Lock::Tied;
+                            changed = true;
+                        }
+                        Lock::Slide(..) => {
+                            block(k, locks, lin);
+                            block(k + 1, locks, lin);
+                            changed = true;
+                        }
+                        Lock::Blocked | Lock::Tied => {}
+                    }
+                }
+            }
+        }
+        k += m.dof_count();
+    }
+    changed
 }
 
 /// [`Chain::clamp`] after a step, without moving a DoF the step left alone: a swing pushed out

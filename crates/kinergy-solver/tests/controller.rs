@@ -215,13 +215,12 @@ fn every_optimizer_reaches_reachable_targets_from_random_starts() {
 }
 
 // Across the whole range of every limit (starts and goals uniform inside the limits) the
-// motion stays inside the limits on every frame, always; but far fewer reaches succeed
-// (measured on these 400: JT 247, NJT 298, SVD 321, DLS 316; with `LimitHandling::Clamp`
-// instead of the default: 273, 363, 358, 355). The failures are NOT constrained local
-// minima (the gradient projected on the limits is not zero where they stall): swings on
-// their ellipse are blocked instead of sliding along it, and the inverse methods' steps
-// assume the blocked DoFs move. These floors record today's rates so a change that loses
-// reaches is caught; raise them when the limit handling improves.
+// motion stays inside the limits on every frame, always; fewer reaches succeed than in the
+// middle of the range (measured on these 400 with the default limit handling, swings
+// sliding along their ellipse: JT 278, NJT 373, SVD 373, DLS 375; with
+// `LimitHandling::Clamp` instead: 273, 363, 358, 355; when swings on their ellipse were
+// blocked outright: 247, 298, 321, 316). The floors sit a little under today's rates so a
+// change that loses reaches is caught.
 #[test]
 fn reaches_across_the_whole_joint_range_stay_within_limits() {
     const CASES: usize = 400;
@@ -229,10 +228,10 @@ fn reaches_across_the_whole_joint_range_stay_within_limits() {
         let reached = CASES - failed.len();
         eprintln!("whole range of the limits, {kind}: reached {reached}/{CASES}");
         let floor = match kind {
-            OptimizerKind::Jt => 220,
-            OptimizerKind::Njt => 280,
-            OptimizerKind::Svd => 300,
-            OptimizerKind::Dls => 300,
+            OptimizerKind::Jt => 265,
+            OptimizerKind::Njt => 360,
+            OptimizerKind::Svd => 360,
+            OptimizerKind::Dls => 360,
         };
         assert!(reached >= floor, "{kind}: reached {reached} < {floor}");
     }
@@ -629,10 +628,9 @@ fn a_late_sigmoid_scales_the_first_step_by_phi() {
 // Truth 6a: with the 6-D task (position + orientation of the hand's frame), SVD and DLS
 // reach poses made by FK of a random configuration from random starts: position within
 // ε = 1 mm and, at 0.2 m/rad, orientation within 5 mrad. With the paper's clamp they reach
-// all 200; with the default `LimitHandling::Deactivate` both miss the same 9 (measured),
-// every one with the wrist swing on its narrow 70° × 30° ellipse: deactivation blocks both
-// DoFs of a swing on its ellipse rather than letting it slide along it, and with one DoF of
-// redundancy left the pose cannot be met. Floor: 95%.
+// all 200; with the default `LimitHandling::Deactivate` both miss case 181 (measured: stalled
+// 0.27 m away; when swings on their ellipse were blocked instead of sliding, they missed 9).
+// Floor: 99%.
 #[test]
 fn svd_and_dls_reach_reachable_poses() {
     const CASES: usize = 200;
@@ -687,7 +685,7 @@ fn svd_and_dls_reach_reachable_poses() {
             );
             let allowed = match limits {
                 LimitHandling::Clamp => 0,
-                _ => CASES / 20,
+                _ => CASES / 100,
             };
             assert!(
                 failed.len() <= allowed,
@@ -844,4 +842,57 @@ fn bad_inputs_are_typed_errors() {
         Err(SolverError::NonFinite(_))
     ));
     assert!(run(&c, &start, target).is_ok());
+}
+
+// Truth 7: a swing on its ellipse, pushed further out by a target beyond its limit, slides
+// along the ellipse (default `LimitHandling::Deactivate`) to the reachable point closest to
+// the target — found independently by sampling the ellipse densely — instead of freezing
+// where it first touched the limit.
+#[test]
+fn a_swing_on_its_limit_slides_to_the_closest_reachable_point() {
+    let (rx, ry) = (1.0, 0.5);
+    let chain = Chain::new(
+        vec![kinergy_motion::ChainJoint::new(
+            "shoulder",
+            Vector3::zeros(),
+            vec![Motion::Swing { rx, ry }],
+        )],
+        Vector3::new(0.0, 0.0, 0.5),
+    )
+    .expect("chain");
+    let base = IsometryMatrix3::identity();
+    let on_ellipse = |a: f64| [rx * a.cos(), ry * a.sin()];
+    let hand = |q: &[f64]| chain.end_position(&base, q).expect("fk");
+    let start = on_ellipse(0.2);
+    for (b, beyond) in [(1.2, 1.3), (2.0, 1.2), (-0.9, 1.25)] {
+        let g = on_ellipse(b);
+        let target = hand(&[g[0] * beyond, g[1] * beyond]);
+        let closest = (0..20_000)
+            .map(|i| {
+                (hand(&on_ellipse(i as f64 * std::f64::consts::TAU / 20_000.0)) - target).norm()
+            })
+            .fold(f64::INFINITY, f64::min);
+        for kind in [OptimizerKind::Njt, OptimizerKind::Svd, OptimizerKind::Dls] {
+            let m = synthesize(
+                &controller(kind, Synergy::identity(2)),
+                &chain,
+                &Base::Fixed(base),
+                &start,
+                Task::Position(target),
+            );
+            assert_within_limits(&chain, &m, &format!("{kind} b = {b}"));
+            let end = last(&m);
+            let e = (end[0] / rx).powi(2) + (end[1] / ry).powi(2);
+            assert!(
+                m.final_error < closest + 1e-3,
+                "{kind} b = {b}: ended {} m from the target, {closest} m is reachable ({:?}, e = {e})",
+                m.final_error,
+                m.stop
+            );
+            assert!(
+                (e - 1.0).abs() < 1e-6,
+                "{kind} b = {b}: ended off the ellipse (e = {e})"
+            );
+        }
+    }
 }
