@@ -4,7 +4,10 @@
 //! This umbrella crate re-exports the library crates as modules:
 //! - [`bvh`]: the BVH format alone, read and written at full precision, never panicking;
 //! - [`motion`]: skeletons, poses, clips, forward kinematics, Jacobians, joint limits, arm
-//!   chains by role, the motion distance and hand-speed series.
+//!   chains by role, the motion distance and hand-speed series;
+//! - [`solver`]: the synergy IK — the JT, NJT, SVD and DLS optimizers, the synergy
+//!   transform S_A–S_D with named, bounded parameters, the frame-by-frame controller, arms
+//!   taken from captures, and the parameters file.
 //!
 //! `use kinergy::prelude::*;` brings the types most programs need.
 //!
@@ -15,12 +18,29 @@
 //! let base = kinergy::motion::nalgebra::IsometryMatrix3::identity();
 //! let hand = arm.end_position(&base, &[0.0; 7])?;
 //! assert!((hand.z - 0.63).abs() < 1e-12);
-//! # Ok::<(), kinergy::motion::MotionError>(())
+//!
+//! // Reach a point 40 cm in front of the shoulder with SVD and the neutral S_A.
+//! let controller = Controller::new(
+//!     OptimizerKind::Svd.default_optimizer(),
+//!     Synergy::identity(7),
+//!     ControllerSettings::at_frame_time(1.0 / 120.0),
+//! )?;
+//! let target = kinergy::motion::nalgebra::Point3::new(0.1, -0.2, 0.35);
+//! let start = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
+//! let motion = controller.synthesize(&Reach {
+//!     chain: &arm,
+//!     base: &Base::Fixed(base),
+//!     start: &start,
+//!     task: Task::Position(target),
+//! })?;
+//! assert_eq!(motion.stop, StopReason::Reached);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub use kinergy_bvh as bvh;
 pub use kinergy_motion as motion;
+pub use kinergy_solver as solver;
 
 /// The types most programs need.
 pub mod prelude {
@@ -29,5 +49,9 @@ pub mod prelude {
         ArmJoints, Chain, Clip, ExportOptions, ImportOptions, LengthUnit, MotionError, Side,
         Skeleton, Trajectory, UnitChoice, clip_from_bvh, clip_to_bvh, motion_distance, read_clip,
         write_clip,
+    };
+    pub use kinergy_solver::{
+        Base, CaptureArm, Controller, ControllerSettings, Model, Optimizer, OptimizerKind,
+        ParamSpace, ParamsFile, Reach, SolverError, StopReason, Synergy, Synthesis, Task,
     };
 }

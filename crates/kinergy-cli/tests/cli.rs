@@ -205,3 +205,285 @@ fn a_closed_pipe_is_not_a_crash() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(status.code().is_some_and(|c| c == 0), "{status:?} {err}");
 }
+
+/// Reads a BVH file the way the library does (SI units, radians).
+fn read_clip(path: &Path) -> kinergy_motion::Clip {
+    kinergy_motion::read_clip(path, &Default::default())
+        .expect("read clip")
+        .0
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    serde_json::from_str(&stdout(o)).unwrap_or_else(|e| panic!("{e}: {}", stdout(o)))
+}
+
+fn point(v: &serde_json::Value) -> [f64; 3] {
+    let a = v.as_array().expect("array");
+    [0, 1, 2].map(|i| a[i].as_f64().expect("number"))
+}
+
+/// The world position of `joint` on the clip's last frame, by forward kinematics of the file.
+fn last_position(clip: &kinergy_motion::Clip, joint: &str) -> [f64; 3] {
+    position(clip, joint, clip.frame_count() - 1)
+}
+
+/// The world position of `joint` on `frame`, by forward kinematics of the file.
+fn position(clip: &kinergy_motion::Clip, joint: &str, frame: usize) -> [f64; 3] {
+    let j = clip.skeleton().require_joint(joint).expect("joint");
+    let p = clip.trajectory(&[j]).expect("trajectory").frame(frame)[0];
+    [p.x, p.y, p.z]
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+// The synthesized file, read back independently: the same skeleton, the report's frame count,
+// the hand (the arm's end joint) within ε of the target on the last frame by FK of the
+// written channels, and every channel outside the arm exactly the capture's (the torso is
+// replayed, not synthesized).
+#[test]
+fn synthesize_writes_the_reach_on_the_capture_skeleton() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = fixture("006_14.bvh");
+    let out = dir.path().join("reach.bvh");
+    // JT with the default rate ends 9.4 mm short after 10 s on this capture (exit 1); the
+    // others reach.
+    for optimizer in ["njt", "svd", "dls"] {
+        let o = kinergy(&[
+            "synthesize",
+            "--from",
+            input.to_str().expect("utf-8"),
+            "--optimizer",
+            optimizer,
+            "--model",
+            "sc",
+            "-o",
+            out.to_str().expect("utf-8"),
+            "--unit",
+            "m",
+            "--json",
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{optimizer}: {}", stderr(&o));
+        let report = json(&o);
+        assert_eq!(report["stop"], "reached", "{optimizer}: {report}");
+        let captured = read_clip(&input);
+        let synthesized = read_clip(&out);
+        let names = |c: &kinergy_motion::Clip| {
+            c.skeleton()
+                .joints()
+                .iter()
+                .map(|j| j.name.clone())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(names(&captured), names(&synthesized));
+        assert_eq!(
+            synthesized.frame_count() as u64,
+            report["frames"].as_u64().expect("frames")
+        );
+        let arm: Vec<String> = report["arm"]
+            .as_array()
+            .expect("arm")
+            .iter()
+            .map(|v| v.as_str().expect("name").to_string())
+            .collect();
+        let target = point(&report["target_m"]);
+        let error = distance(
+            last_position(&synthesized, arm.last().expect("end")),
+            target,
+        );
+        assert!(
+            error < 0.005 + 1e-9,
+            "{optimizer}: hand {error} m from the target"
+        );
+        assert!(
+            (error - report["final_error_m"].as_f64().expect("error")).abs() < 1e-9,
+            "{optimizer}: the report says {}, the file {error}",
+            report["final_error_m"]
+        );
+        // The capture's final hand position is the default target.
+        let captured_end = last_position(&captured, arm.last().expect("end"));
+        assert!(distance(captured_end, target) < 1e-9);
+        let skeleton = synthesized.skeleton();
+        let arm_dofs: Vec<usize> = arm[1..]
+            .iter()
+            .flat_map(|n| skeleton.dof_range(skeleton.require_joint(n).expect("joint")))
+            .collect();
+        let frames = synthesized.frame_count().min(captured.frame_count());
+        for f in 0..frames {
+            let (a, b) = (
+                captured.frame(f).expect("frame"),
+                synthesized.frame(f).expect("frame"),
+            );
+            for d in (0..a.len()).filter(|d| !arm_dofs.contains(d)) {
+                assert!(
+                    (a[d] - b[d]).abs() < 1e-9,
+                    "{optimizer}: frame {f}, DoF {:?} changed",
+                    skeleton.dof_name(d)
+                );
+            }
+        }
+    }
+}
+
+// An explicit target is honored; an unreachable one ends at exit code 1 with the motion
+// still written, ended as close as the arm gets (the shoulder–target distance minus the
+// arm's length, within a few centimeters: the shoulder rides on the replayed torso).
+#[test]
+fn synthesize_target_reachable_and_unreachable() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = fixture("006_14.bvh");
+    let input = input.to_str().expect("utf-8");
+    let out = dir.path().join("reach.bvh");
+    let out_s = out.to_str().expect("utf-8");
+    let o = kinergy(&[
+        "synthesize",
+        "--from",
+        input,
+        "--target",
+        "0.35,1.2,0.2",
+        "-o",
+        out_s,
+        "--json",
+        "--stop-at-reach",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let report = json(&o);
+    assert_eq!(point(&report["target_m"]), [0.35, 1.2, 0.2]);
+    let arm = report["arm"].as_array().expect("arm");
+    let end = arm.last().and_then(|v| v.as_str()).expect("end");
+    let synthesized = read_clip(&out);
+    assert!(distance(last_position(&synthesized, end), [0.35, 1.2, 0.2]) < 0.005);
+    assert_eq!(
+        synthesized.frame_count() as u64,
+        report["frames"].as_u64().expect("frames")
+    );
+    std::fs::remove_file(&out).expect("remove");
+
+    // Three times as far as the capture's final hand position, along the line from the
+    // shoulder (fixed on its first-frame place) through it: the arm straightens toward it.
+    let captured = read_clip(&fixture("006_14.bvh"));
+    let shoulder = position(&captured, arm[1].as_str().expect("name"), 0);
+    let hand = last_position(&captured, end);
+    let far: Vec<String> = (0..3)
+        .map(|i| (shoulder[i] + 3.0 * (hand[i] - shoulder[i])).to_string())
+        .collect();
+    let far = far.join(",");
+    let o = kinergy(&[
+        "synthesize",
+        "--from",
+        input,
+        "--target",
+        &far,
+        "-o",
+        out_s,
+        "--json",
+        "--fixed-base",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let report = json(&o);
+    assert_eq!(report["stop"], "stalled", "{report}");
+    assert!(out.exists(), "the closest motion is still written");
+    let gap = report["shoulder_to_target_m"].as_f64().expect("distance")
+        - report["arm_length_m"].as_f64().expect("length");
+    let error = report["final_error_m"].as_f64().expect("error");
+    assert!(
+        (error - gap).abs() < 1e-3,
+        "ended {error} m away, the fixed shoulder is {gap} m beyond reach"
+    );
+}
+
+// A parameters file is read and honored: S_A with every gain 0 freezes the arm (exit 1, the
+// hand never gets closer), the neutral S_A from the same file format reaches.
+#[test]
+fn synthesize_reads_a_parameters_file() {
+    use kinergy_solver::{Model, OptimizerKind, ParamSpace, ParamsFile};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = fixture("006_14.bvh");
+    let input = input.to_str().expect("utf-8");
+    let out = dir.path().join("reach.bvh");
+    let out_s = out.to_str().expect("utf-8");
+    let names: Vec<String> = kinergy_motion::Chain::arm(0.3, 0.25, 0.1)
+        .expect("arm")
+        .dof_names()
+        .map(String::from)
+        .collect();
+    let space = ParamSpace::new(Model::Sa, &names, Default::default()).expect("space");
+    for (gain, code) in [(1.0, 0), (0.0, 1)] {
+        let file = ParamsFile::new(&space, OptimizerKind::Svd.default_optimizer(), &[gain])
+            .expect("params");
+        let params = dir.path().join(format!("g{gain}.json"));
+        file.write(&params).expect("write");
+        let o = kinergy(&[
+            "synthesize",
+            "--from",
+            input,
+            "--params",
+            params.to_str().expect("utf-8"),
+            "-o",
+            out_s,
+            "--json",
+        ]);
+        assert_eq!(o.status.code(), Some(code), "g = {gain}: {}", stderr(&o));
+        let report = json(&o);
+        assert_eq!(report["model"], "sa");
+        if gain == 0.0 {
+            assert!(
+                report["final_error_m"].as_f64().expect("error") > 0.05,
+                "{report}"
+            );
+        }
+    }
+}
+
+// Each kind of bad input to `synthesize` exits 2, names the problem and writes nothing.
+#[test]
+fn synthesize_bad_input_exits_2_and_writes_nothing() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out.bvh");
+    let out_s = out.to_str().expect("utf-8");
+    let input = fixture("006_14.bvh");
+    let input = input.to_str().expect("utf-8");
+    let write = |name: &str, text: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).expect("write");
+        p.to_str().expect("utf-8").to_string()
+    };
+    let not_json = write("not_json.json", "{ \"format_version\": 1,\n  \"model\": ");
+    let wrong_version = write(
+        "v9.json",
+        r#"{"format_version": 9, "model": "sa", "optimizer": {"kind": "svd", "rate": 4.0, "threshold": 0.01}, "dof_names": [], "bounds": {"gain": {"lower": -5, "upper": 5}, "slope": {"lower": 1, "upper": 10}, "offset": {"lower": 0, "upper": 20}}, "values": {}}"#,
+    );
+    let out_of_bounds = write(
+        "oob.json",
+        r#"{"format_version": 1, "model": "sa", "optimizer": {"kind": "svd", "rate": 4.0, "threshold": 0.01}, "dof_names": ["shoulder_swing_x", "shoulder_swing_y", "shoulder_twist", "elbow_flexion", "elbow_twist", "wrist_swing_x", "wrist_swing_y"], "bounds": {"gain": {"lower": -5, "upper": 5}, "slope": {"lower": 1, "upper": 10}, "offset": {"lower": 0, "upper": 20}}, "values": {"g": 7.5}}"#,
+    );
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["--target", "0,nan,0"], "nan"),
+        (vec!["--target", "0.3,1.2"], "three"),
+        (vec!["--target", "0.3,1.2,abc"], "abc"),
+        (vec!["--params", &not_json], "not_json.json"),
+        (vec!["--params", &wrong_version], "format_version"),
+        (vec!["--params", &out_of_bounds], "`g`"),
+        (vec!["--params", "/nonexistent/p.json"], "p.json"),
+        (vec!["--model", "se"], "se"),
+        (vec!["--tolerance=-1"], "tolerance"),
+        (
+            vec!["--chain", "CC_Base_R_Upperarm,Nope,CC_Base_R_Hand"],
+            "Nope",
+        ),
+    ];
+    for (extra, needle) in cases {
+        let mut args = vec!["synthesize", "--from", input, "-o", out_s];
+        args.extend(&extra);
+        let o = kinergy(&args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(
+            err.contains(needle),
+            "{extra:?}: `{err}` does not mention {needle}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(!out.exists(), "{extra:?} left an output file");
+    }
+}
