@@ -1,0 +1,2 @@
+//! Trainer benchmarks (in progress).
+fn main() {}

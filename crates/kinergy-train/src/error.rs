@@ -1,0 +1,65 @@
+//! The error type of `kinergy-train`.
+
+use std::path::PathBuf;
+
+use kinergy_motion::MotionError;
+use kinergy_solver::SolverError;
+
+/// Everything that can go wrong in `kinergy-train`.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum TrainError {
+    /// A skeleton, chain or clip operation failed.
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+    /// The synergy solver refused a setting, a parameter or a reach.
+    #[error(transparent)]
+    Solver(#[from] SolverError),
+    /// A setting is outside what it may be (named by its field).
+    #[error("invalid `{field}`: {why}")]
+    Setting {
+        /// The setting's name, e.g. `anneal.population`.
+        field: String,
+        /// What was expected.
+        why: String,
+    },
+    /// No reach could be found or prepared in a clip.
+    #[error("{clip}: {why}")]
+    Reach {
+        /// The clip's name.
+        clip: String,
+        /// What is wrong.
+        why: String,
+    },
+    /// A checkpoint cannot be read, written or resumed.
+    #[error("checkpoint {}: {why}", path.display())]
+    Checkpoint {
+        /// The checkpoint file.
+        path: PathBuf,
+        /// What is wrong.
+        why: String,
+    },
+    /// A file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T, E = TrainError> = std::result::Result<T, E>;
+
+/// A `Setting` error unless `ok`.
+pub(crate) fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(TrainError::Setting {
+            field: field.to_string(),
+            why: why.into(),
+        })
+    }
+}

@@ -1,0 +1,29 @@
+//! Fitting joint-synergy parameters to captured reaches (Aubry, Julliard & Gibet 2009, §3.3–4;
+//! DESIGN §1.1):
+//!
+//! - [`segment`]: the reach segments of a clip from its hand-speed series (onset, peak, end);
+//! - [`reach`]: a captured reach prepared for fitting — start posture, target, the person's
+//!   arm, the captured torso motion the synthesized arm rides on — and its score, the
+//!   joint-position motion distance;
+//! - [`objective`]: the mean distance of a parameter vector over a set of reaches, as a
+//!   bounded [`CostFunction`];
+//! - [`anneal`]: simulated annealing (population, adaptive steps, Metropolis acceptance,
+//!   cooling; greedy at temperature zero), parallel and reproducible on any thread count,
+//!   with checkpoints that resume bit for bit;
+//! - [`fit`]: per-clip and per-person fits, richer models started from poorer ones;
+//! - [`baseline`]: the same objective under argmin's Nelder–Mead and particle swarm;
+//! - [`field`]: parameters as a smooth function of the target, per person.
+#![warn(clippy::print_stdout, clippy::print_stderr)]
+
+pub mod anneal;
+pub mod baseline;
+pub mod error;
+pub mod field;
+pub mod fit;
+pub mod objective;
+pub mod reach;
+pub mod segment;
+
+pub use error::{Result, TrainError};
+pub use objective::{CostFunction, Objective};
+pub use reach::ReachData;

@@ -1,0 +1,137 @@
+//! What the trainer minimizes: the mean motion distance, over a set of captured reaches, of
+//! the motions the synergy controller synthesizes with a parameter vector.
+
+use rayon::prelude::*;
+
+use kinergy_solver::{Optimizer, ParamSpace, Synergy};
+
+use crate::error::{Result, TrainError, require};
+use crate::reach::{DEFAULT_TOLERANCE, ReachData};
+
+/// A bounded cost function: what [`crate::anneal`] and [`crate::baseline`] minimize.
+/// Evaluations must be deterministic; `cost` is called from several threads at once.
+pub trait CostFunction: Sync {
+    /// The number of parameters.
+    fn dimension(&self) -> usize;
+    /// The lower and upper bound of every parameter (lower < upper).
+    fn bounds(&self) -> (Vec<f64>, Vec<f64>);
+    /// The cost of `x` (within the bounds). Failures and non-finite costs are reported as
+    /// `f64::MAX`, worse than anything else.
+    fn cost(&self, x: &[f64]) -> f64;
+    /// Synthesized frames per evaluation (for speed reports; 0 when not meaningful).
+    fn frames_per_evaluation(&self) -> usize {
+        0
+    }
+}
+
+/// The mean motion distance over `reaches` of the motions synthesized with a parameter
+/// vector of `space` and `optimizer`.
+#[derive(Debug, Clone)]
+pub struct Objective {
+    reaches: Vec<ReachData>,
+    space: ParamSpace,
+    optimizer: Optimizer,
+    tolerance: f64,
+}
+
+impl Objective {
+    /// An objective over `reaches` (at least one; every reach's chain must have the DoF
+    /// names of `space`), with ε = [`DEFAULT_TOLERANCE`].
+    pub fn new(
+        reaches: Vec<ReachData>,
+        space: ParamSpace,
+        optimizer: Optimizer,
+    ) -> Result<Objective> {
+        require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
+        optimizer.validate()?;
+        for r in &reaches {
+            if r.dof_names() != space.dof_names() {
+                return Err(TrainError::Reach {
+                    clip: r.name().to_string(),
+                    why: format!(
+                        "its arm's DoFs {:?} differ from the parameters' {:?}",
+                        r.dof_names(),
+                        space.dof_names()
+                    ),
+                });
+            }
+        }
+        Ok(Objective {
+            reaches,
+            space,
+            optimizer,
+            tolerance: DEFAULT_TOLERANCE,
+        })
+    }
+
+    /// The same objective with ε = `tolerance` (meters, positive).
+    pub fn with_tolerance(mut self, tolerance: f64) -> Result<Objective> {
+        require(
+            tolerance > 0.0 && tolerance.is_finite(),
+            "tolerance",
+            "a positive number of meters",
+        )?;
+        self.tolerance = tolerance;
+        Ok(self)
+    }
+
+    /// The reaches.
+    pub fn reaches(&self) -> &[ReachData] {
+        &self.reaches
+    }
+
+    /// The parameter space.
+    pub fn space(&self) -> &ParamSpace {
+        &self.space
+    }
+
+    /// The optimizer.
+    pub fn optimizer(&self) -> Optimizer {
+        self.optimizer
+    }
+
+    /// ε, meters.
+    pub fn tolerance(&self) -> f64 {
+        self.tolerance
+    }
+
+    /// The distance of every reach's synthesis with `x`, in the order of the reaches
+    /// (computed in parallel, deterministic).
+    pub fn distances(&self, x: &[f64]) -> Result<Vec<f64>> {
+        let synergy = Synergy::new(&self.space, x)?;
+        self.reaches
+            .par_iter()
+            .map(|r| r.evaluate(self.optimizer, synergy.clone(), self.tolerance))
+            .collect()
+    }
+
+    /// The mean distance over the reaches (summed in the reaches' order, so the same on any
+    /// thread count).
+    pub fn score(&self, x: &[f64]) -> Result<f64> {
+        let d = self.distances(x)?;
+        let sum: f64 = d.iter().sum();
+        Ok(if sum.is_finite() {
+            sum / d.len() as f64
+        } else {
+            f64::MAX
+        })
+    }
+}
+
+impl CostFunction for Objective {
+    fn dimension(&self) -> usize {
+        self.space.len()
+    }
+
+    fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        (self.space.lower(), self.space.upper())
+    }
+
+    fn cost(&self, x: &[f64]) -> f64 {
+        self.score(x).unwrap_or(f64::MAX)
+    }
+
+    fn frames_per_evaluation(&self) -> usize {
+        self.reaches.iter().map(ReachData::frame_count).sum()
+    }
+}

@@ -1,0 +1,170 @@
+//! A captured reach prepared for fitting: the person's arm as a 7-DoF synthesis chain, the
+//! start posture (the segment's first frame), the target (the hand's position on the
+//! segment's last frame), the captured torso motion the synthesized arm rides on, and the
+//! captured arm trajectory the synthesis is scored against with the joint-position motion
+//! distance (DESIGN §1.1).
+//!
+//! A synthesis for fitting runs exactly as many frames as the captured segment at the
+//! capture's frame rate, tracking the target once it is reached, so the two motions compare
+//! frame by frame over their whole length.
+
+use std::ops::Range;
+
+use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::{ArmJoints, Clip, Trajectory, motion_distance};
+use kinergy_solver::{
+    Base, BaseMode, CaptureArm, Controller, ControllerSettings, Optimizer, Reach, StopReason,
+    Synergy, Synthesis, Task,
+};
+
+use crate::error::{Result, TrainError};
+
+/// The default ε of a fitting synthesis, meters (the controller's default).
+pub const DEFAULT_TOLERANCE: f64 = 0.005;
+
+/// One captured reach, ready to be synthesized and scored.
+#[derive(Debug, Clone)]
+pub struct ReachData {
+    name: String,
+    frames: Range<usize>,
+    arm: CaptureArm,
+    base: Base,
+    mode: BaseMode,
+    target: Point3<f64>,
+    captured: Trajectory,
+    frame_time: f64,
+}
+
+impl ReachData {
+    /// The reach of `clip` over `frames` (indices into the clip), with the arm `joints`;
+    /// `name` names it in messages and reports (e.g. the file name). The base follows the
+    /// capture (`BaseMode::Replay`) or stays at the segment's first frame (`Fixed`).
+    pub fn new(
+        name: &str,
+        clip: &Clip,
+        joints: &ArmJoints,
+        frames: Range<usize>,
+        mode: BaseMode,
+    ) -> Result<ReachData> {
+        let bad = |why: String| TrainError::Reach {
+            clip: name.to_string(),
+            why,
+        };
+        if frames.start >= frames.end || frames.end > clip.frame_count() {
+            return Err(bad(format!(
+                "frames {}..{} are not within the clip's {} frames",
+                frames.start,
+                frames.end,
+                clip.frame_count()
+            )));
+        }
+        if frames.len() < 2 {
+            return Err(bad("a reach needs at least 2 frames".into()));
+        }
+        let segment = clip.slice(frames.clone())?;
+        let arm = CaptureArm::new(&segment, joints)?;
+        let captured = arm.captured_trajectory(&segment)?;
+        let last = captured.frame(captured.frame_count() - 1);
+        let target = *last
+            .last()
+            .ok_or_else(|| bad("the arm has no joints".into()))?;
+        Ok(ReachData {
+            name: name.to_string(),
+            base: arm.base(mode),
+            frames,
+            arm,
+            mode,
+            target,
+            captured,
+            frame_time: clip.frame_time(),
+        })
+    }
+
+    /// The reach's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The captured frames (indices into the original clip).
+    pub fn frames(&self) -> Range<usize> {
+        self.frames.clone()
+    }
+
+    /// Frames synthesized per evaluation (the segment's length).
+    pub fn frame_count(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// Seconds per frame.
+    pub fn frame_time(&self) -> f64 {
+        self.frame_time
+    }
+
+    /// The hand's captured position on the segment's last frame, world meters.
+    pub fn target(&self) -> Point3<f64> {
+        self.target
+    }
+
+    /// The synthesis arm made from the capture.
+    pub fn arm(&self) -> &CaptureArm {
+        &self.arm
+    }
+
+    /// How the base moves.
+    pub fn base_mode(&self) -> BaseMode {
+        self.mode
+    }
+
+    /// The captured arm's tracked points (shoulder, elbow, wrist, hand) per frame.
+    pub fn captured(&self) -> &Trajectory {
+        &self.captured
+    }
+
+    /// The DoF names of the synthesis chain.
+    pub fn dof_names(&self) -> Vec<String> {
+        self.arm.chain().dof_names().map(String::from).collect()
+    }
+
+    /// Controller settings of a fitting synthesis: the capture's frame time, exactly the
+    /// segment's frame count, ε = `tolerance`.
+    pub fn settings(&self, tolerance: f64) -> ControllerSettings {
+        ControllerSettings {
+            max_frames: self.frame_count(),
+            min_frames: self.frame_count(),
+            tolerance,
+            ..ControllerSettings::at_frame_time(self.frame_time)
+        }
+    }
+
+    /// Synthesizes the reach with `optimizer` and `synergy`.
+    pub fn synthesize(
+        &self,
+        optimizer: Optimizer,
+        synergy: Synergy,
+        tolerance: f64,
+    ) -> Result<Synthesis> {
+        let controller = Controller::new(optimizer, synergy, self.settings(tolerance))?;
+        Ok(controller.synthesize(&Reach {
+            chain: self.arm.chain(),
+            base: &self.base,
+            start: self.arm.start(),
+            task: Task::Position(self.target),
+        })?)
+    }
+
+    /// The motion distance between a synthesis of this reach and the capture, meters; a
+    /// synthesis that went non-finite scores `f64::MAX` (never better than any motion).
+    pub fn distance(&self, synthesis: &Synthesis) -> Result<f64> {
+        if synthesis.stop == StopReason::NonFinite {
+            return Ok(f64::MAX);
+        }
+        let d = motion_distance(&self.arm.synthesized_trajectory(synthesis)?, &self.captured)?;
+        Ok(if d.is_finite() { d } else { f64::MAX })
+    }
+
+    /// Synthesizes and scores in one go.
+    pub fn evaluate(&self, optimizer: Optimizer, synergy: Synergy, tolerance: f64) -> Result<f64> {
+        let synthesis = self.synthesize(optimizer, synergy, tolerance)?;
+        self.distance(&synthesis)
+    }
+}
