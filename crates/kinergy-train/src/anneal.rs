@@ -9,7 +9,8 @@
 //! `cooling` per iteration; `temperature = 0` is the paper's greedy rule (keep a change only
 //! if the score did not get worse). Each member's step adapts: every `adapt_every` proposals
 //! it grows by 1.3× when more than `target_acceptance` of them were accepted and shrinks by
-//! 1.3× otherwise, within `[min_step, max_step]`. The run stops when the population's mean
+//! 1.3× otherwise, within `[min_step, max_step]`. Every `share_best_every` iterations the
+//! worst member jumps to the best vector found so far. The run stops when the population's mean
 //! cost changed by at most `stable_tolerance` (relative) over the last `stable_window`
 //! iterations, or when the next iteration would exceed `max_evaluations`. The best vector
 //! ever evaluated is returned; member 0 starts at the given start vector, so the result is
@@ -67,6 +68,10 @@ pub struct AnnealSettings {
     pub stable_window: usize,
     /// Relative change of the mean cost over `stable_window` counted as stable.
     pub stable_tolerance: f64,
+    /// Every this many iterations the population's worst member moves to the best vector
+    /// found so far (keeping its own step), so no member wanders for long far from the best
+    /// region; 0 never does.
+    pub share_best_every: usize,
     /// Seed of every random draw.
     pub seed: u64,
 }
@@ -85,6 +90,7 @@ impl Default for AnnealSettings {
             cooling: 0.95,
             stable_window: 25,
             stable_tolerance: 1e-4,
+            share_best_every: 10,
             seed: 0,
         }
     }
@@ -573,6 +579,17 @@ impl Annealer {
             }
         }
         state.iteration += 1;
+        if s.share_best_every > 0 && state.iteration.is_multiple_of(s.share_best_every) {
+            // The worst member (the last of equals) takes the best vector.
+            let worst = (0..state.members.len())
+                .rev()
+                .max_by(|&a, &b| state.members[a].cost.total_cmp(&state.members[b].cost))
+                .unwrap_or(0);
+            if state.members[worst].cost > state.best_cost {
+                state.members[worst].x.clone_from(&state.best_x);
+                state.members[worst].cost = state.best_cost;
+            }
+        }
         state.evaluations += s.population;
         state.temperature *= s.cooling;
         let mean = mean_cost(&state.members);

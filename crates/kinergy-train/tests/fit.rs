@@ -1,0 +1,217 @@
+//! Fits on captures whose truth is known: motions synthesized by the synergy controller
+//! itself from known S_C parameters, written into the capture's skeleton as a new "capture".
+//! The fit must find a motion indistinguishable from it; richer models never end worse than
+//! the poorer models they start from; bounds hold.
+
+use std::path::Path;
+
+use kinergy_motion::{ArmJoints, Clip, ImportOptions, Side, read_clip};
+use kinergy_solver::{
+    BaseMode, Controller, Model, OptimizerKind, ParamSpace, Reach, Synergy, Task,
+};
+use kinergy_train::anneal::AnnealSettings;
+use kinergy_train::fit::{FitSettings, fit_model, fit_nested};
+use kinergy_train::{CostFunction, Objective, ReachData};
+
+fn capture() -> (Clip, ArmJoints) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/006_14.bvh");
+    let (clip, _) = read_clip(&path, &ImportOptions::default()).expect("fixture");
+    let arm = ArmJoints::find(clip.skeleton(), Side::Right).expect("arm");
+    (clip, arm)
+}
+
+/// A "capture" made by the controller from `truth` (S_C values, SVD): the fixture gives the
+/// person and the start posture; the shoulder stays where it is on the first frame and the
+/// target is a reachable point (FK of a posture within the limits), so the motion ends on
+/// its own target, which is what a fit of the made capture aims at.
+fn synthetic_capture(truth: &[f64], frames: usize) -> (Clip, ArmJoints, ParamSpace) {
+    let (clip, arm) = capture();
+    let segment = clip.slice(0..frames).expect("slice");
+    let reach =
+        ReachData::new("fixture", &segment, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let chain = reach.arm().chain();
+    let start = reach.arm().start();
+    let mut goal: Vec<f64> = start
+        .iter()
+        .zip([0.35, -0.25, -0.3, -0.5, 0.2, 0.1, 0.05])
+        .map(|(q, d)| q + d)
+        .collect();
+    chain.clamp(&mut goal);
+    let base = reach.arm().base(BaseMode::Fixed);
+    let target = chain.end_position(base.at(0), &goal).expect("fk");
+    let space = ParamSpace::new(Model::Sc, &reach.dof_names(), Default::default()).expect("space");
+    let controller = Controller::new(
+        OptimizerKind::Svd.default_optimizer(),
+        Synergy::new(&space, truth).expect("truth"),
+        reach.settings(0.005),
+    )
+    .expect("controller");
+    let synthesis = controller
+        .synthesize(&Reach {
+            chain,
+            base: &base,
+            start,
+            task: Task::Position(target),
+        })
+        .expect("synthesize");
+    assert!(
+        synthesis.final_error < 1e-4,
+        "the truth ends {} m from its target",
+        synthesis.final_error
+    );
+    let made = reach
+        .arm()
+        .to_clip(&segment, &synthesis, BaseMode::Fixed)
+        .expect("to clip");
+    (made, arm, space)
+}
+
+const TRUTH: [f64; 9] = [1.4, 0.7, 1.1, 1.8, 0.6, 0.9, 1.2, 7.0, 1.5];
+
+#[test]
+fn the_true_parameters_score_zero_on_their_own_motion() {
+    let (made, arm, space) = synthetic_capture(&TRUTH, 150);
+    let reach = ReachData::new("made", &made, &arm, 0..150, BaseMode::Fixed).expect("reach");
+    let objective = Objective::new(
+        vec![reach],
+        space.clone(),
+        OptimizerKind::Svd.default_optimizer(),
+    )
+    .expect("objective");
+    let truth = objective.score(&TRUTH).expect("score");
+    let neutral = objective.score(&space.neutral()).expect("score");
+    eprintln!("distance of the truth {truth:e} m, of the neutral vector {neutral} m");
+    assert!(truth < 2e-4, "the truth scores {truth} m on its own motion");
+    assert!(
+        neutral > 20.0 * truth.max(1e-4),
+        "the test cannot tell the truth apart"
+    );
+}
+
+#[test]
+fn known_sc_parameters_are_recovered() {
+    let frames = 150;
+    let (made, arm, space) = synthetic_capture(&TRUTH, frames);
+    let reach = ReachData::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let settings = FitSettings {
+        anneal: AnnealSettings {
+            max_evaluations: 6000,
+            seed: 4,
+            ..AnnealSettings::default()
+        },
+        ..FitSettings::default()
+    };
+    let fit = fit_model(
+        std::slice::from_ref(&reach),
+        Model::Sc,
+        OptimizerKind::Svd.default_optimizer(),
+        None,
+        &settings,
+        &mut (),
+        &Default::default(),
+        None,
+    )
+    .expect("fit");
+    let names = space.names();
+    let report: Vec<String> = names
+        .iter()
+        .zip(fit.values.iter().zip(&TRUTH))
+        .map(|(n, (v, t))| format!("{n} {v:.3} (true {t})"))
+        .collect();
+    eprintln!(
+        "S_C from neutral ({:.4} m): {:.3} mm after {} evaluations ({:?}); {}",
+        fit.start_score,
+        fit.score * 1e3,
+        fit.evaluations,
+        fit.status,
+        report.join(", ")
+    );
+    assert!(
+        fit.score <= 1e-3,
+        "mean distance {} mm > 1 mm",
+        fit.score * 1e3
+    );
+    space.validate(&fit.values).expect("within bounds");
+}
+
+#[test]
+fn richer_models_never_end_worse_and_bounds_hold() {
+    let frames = 120;
+    let (made, arm, _) = synthetic_capture(&TRUTH, frames);
+    let reach = ReachData::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let settings = FitSettings {
+        anneal: AnnealSettings {
+            max_evaluations: 1200,
+            seed: 11,
+            ..AnnealSettings::default()
+        },
+        ..FitSettings::default()
+    };
+    let nested = fit_nested(
+        &[reach],
+        &[Model::Sd, Model::Sa, Model::Sc, Model::Sb],
+        OptimizerKind::Svd.default_optimizer(),
+        &settings,
+    )
+    .expect("fit");
+    let scores: Vec<(Model, f64, f64)> = nested
+        .fits
+        .iter()
+        .map(|f| (f.model(), f.start_score, f.score))
+        .collect();
+    eprintln!("nested (model, start, best): {scores:?}");
+    assert_eq!(
+        nested.fits.iter().map(|f| f.model()).collect::<Vec<_>>(),
+        [Model::Sa, Model::Sb, Model::Sc, Model::Sd]
+    );
+    for f in &nested.fits {
+        f.space.validate(&f.values).expect("within bounds");
+        assert!(
+            f.score <= f.start_score,
+            "{:?} ended worse than its start",
+            f.model()
+        );
+    }
+    // Exact carry-overs: S_A → S_B and S_C → S_D start at the poorer model's score.
+    let (a, b, c, d) = (
+        &nested.fits[0],
+        &nested.fits[1],
+        &nested.fits[2],
+        &nested.fits[3],
+    );
+    assert_eq!(b.start_score.to_bits(), a.score.to_bits());
+    assert_eq!(d.start_score.to_bits(), c.score.to_bits());
+    assert!(nested.violations().is_empty(), "{:?}", nested.violations());
+}
+
+#[test]
+fn objective_distances_are_per_reach_and_the_score_is_their_mean() {
+    let (clip, arm) = capture();
+    let r1 = ReachData::new("a", &clip, &arm, 0..100, BaseMode::Replay).expect("reach");
+    let r2 = ReachData::new("b", &clip, &arm, 50..200, BaseMode::Fixed).expect("reach");
+    let space = ParamSpace::new(Model::Sb, &r1.dof_names(), Default::default()).expect("space");
+    let objective = Objective::new(
+        vec![r1.clone(), r2.clone()],
+        space.clone(),
+        OptimizerKind::Dls.default_optimizer(),
+    )
+    .expect("objective");
+    let x = vec![0.8, 1.2, 1.0, 1.5, 0.5, 1.0, 2.0];
+    let d = objective.distances(&x).expect("distances");
+    let synergy = Synergy::new(&space, &x).expect("synergy");
+    let alone = r2
+        .evaluate(OptimizerKind::Dls.default_optimizer(), synergy, 0.005)
+        .expect("evaluate");
+    assert_eq!(d[1].to_bits(), alone.to_bits());
+    assert_eq!(objective.cost(&x), (d[0] + d[1]) / 2.0);
+    assert_eq!(objective.frames_per_evaluation(), 250);
+    // Frames outside the clip, or too few, are refused with the clip's name.
+    let e = ReachData::new("short.bvh", &clip, &arm, 10..10, BaseMode::Replay)
+        .expect_err("empty")
+        .to_string();
+    assert!(e.contains("short.bvh"), "{e}");
+    let e = ReachData::new("long.bvh", &clip, &arm, 0..100_000, BaseMode::Replay)
+        .expect_err("outside")
+        .to_string();
+    assert!(e.contains("long.bvh") && e.contains("100000"), "{e}");
+}
