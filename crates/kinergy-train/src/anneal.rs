@@ -394,16 +394,44 @@ impl Observer for CsvLog {
     }
 }
 
+/// Where checkpoints go; other sinks can wrap the state in more (e.g. the finished stages of a nested fit).
+/// A [`PathBuf`] writes the [`AnnealState`] itself there, atomically.
+pub trait Checkpoint {
+    /// Writes `state`.
+    fn save(&self, state: &AnnealState) -> Result<()>;
+    /// The file written, for observers and messages.
+    fn path(&self) -> &Path;
+}
+
+impl Checkpoint for PathBuf {
+    fn save(&self, state: &AnnealState) -> Result<()> {
+        state.save(self)
+    }
+    fn path(&self) -> &Path {
+        self
+    }
+}
+
 /// Checkpoints and early stopping for a run.
-#[derive(Debug, Default)]
+#[derive(Default)]
 pub struct Control<'a> {
     /// Write the state here every `checkpoint_every` iterations and when the run ends.
-    pub checkpoint: Option<&'a Path>,
+    pub checkpoint: Option<&'a dyn Checkpoint>,
     /// Iterations between checkpoints (0: only at the end).
     pub checkpoint_every: usize,
     /// When this becomes true the run stops after the current iteration, writes its
     /// checkpoint and returns [`Status::Interrupted`] (e.g. set from a Ctrl-C handler).
     pub interrupt: Option<&'a AtomicBool>,
+}
+
+impl std::fmt::Debug for Control<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Control")
+            .field("checkpoint", &self.checkpoint.map(Checkpoint::path))
+            .field("checkpoint_every", &self.checkpoint_every)
+            .field("interrupt", &self.interrupt)
+            .finish()
+    }
 }
 
 /// The simulated-annealing executor.
@@ -648,17 +676,17 @@ impl Annealer {
             }
             let progress = self.iterate(cost, &mut state);
             observer.on_iteration(&progress);
-            if let Some(path) = control.checkpoint
+            if let Some(sink) = control.checkpoint
                 && control.checkpoint_every > 0
                 && state.iteration.is_multiple_of(control.checkpoint_every)
             {
-                state.save(path)?;
-                observer.on_checkpoint(path, state.iteration);
+                sink.save(&state)?;
+                observer.on_checkpoint(sink.path(), state.iteration);
             }
         }
-        if let Some(path) = control.checkpoint {
-            state.save(path)?;
-            observer.on_checkpoint(path, state.iteration);
+        if let Some(sink) = control.checkpoint {
+            sink.save(&state)?;
+            observer.on_checkpoint(sink.path(), state.iteration);
         }
         Ok(state)
     }

@@ -12,11 +12,16 @@
 //! (s = s_max, o = o_min: φ > 0.95 after 0.3 s). [`NestedFit::violations`] lists any richer
 //! fit that still ended worse than its poorer model, so a report can say so.
 
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
 use kinergy_solver::{Bounds, Model, Optimizer, ParamSpace, ParamsFile};
+use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use crate::anneal::{AnnealSettings, Annealer, Control, Observer, Status};
-use crate::error::{Result, require};
+use crate::anneal::{AnnealSettings, AnnealState, Annealer, Checkpoint, Control, Observer, Status};
+use crate::error::{Result, TrainError, require};
+use crate::objective::CostFunction;
 use crate::objective::Objective;
 use crate::reach::{DEFAULT_TOLERANCE, ReachData};
 
@@ -112,7 +117,7 @@ pub fn model_seed(seed: u64, model: Model) -> u64 {
 }
 
 /// A problem tag for checkpoints: model, optimizer and reaches.
-pub fn tag(model: Model, optimizer: &Optimizer, reaches: &[ReachData]) -> String {
+pub fn tag_of(model: Model, optimizer: &Optimizer, reaches: &[ReachData]) -> String {
     let names: Vec<String> = reaches
         .iter()
         .map(|r| format!("{}[{}..{}]", r.name(), r.frames().start, r.frames().end))
@@ -152,12 +157,12 @@ pub fn fit_model(
         seed,
         ..settings.anneal
     })?;
-    let tag = tag(model, &optimizer, reaches);
+    let tag = tag_of(model, &optimizer, reaches);
     let state = match resume {
         Some(state) => {
             let path = control
                 .checkpoint
-                .map(std::path::Path::to_path_buf)
+                .map(|c| c.path().to_path_buf())
                 .unwrap_or_default();
             annealer.check_resume(&objective, &state, &tag, &path)?;
             state
@@ -217,30 +222,290 @@ pub fn fit_nested(
     optimizer: Optimizer,
     settings: &FitSettings,
 ) -> Result<NestedFit> {
-    require(!models.is_empty(), "models", "at least one model")?;
-    let mut models = models.to_vec();
-    models.sort();
-    models.dedup();
-    let mut fits: Vec<Fit> = Vec::with_capacity(models.len());
-    for model in models {
-        let start = match fits.last() {
-            Some(poorer) => {
-                let richer = ParamSpace::new(model, poorer.space.dof_names(), settings.bounds)?;
-                Some(poorer.space.extend_to(&poorer.values, &richer)?)
-            }
-            None => None,
+    let run = NestedRun {
+        reaches,
+        models,
+        optimizer,
+        settings,
+    };
+    Ok(run.run(&mut (), None, None, false)?.fits)
+}
+
+/// One finished stage of a nested fit, as its checkpoint records it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Stage {
+    /// The model fitted.
+    pub model: Model,
+    /// The best vector.
+    pub values: Vec<f64>,
+    /// Its score.
+    pub score: f64,
+    /// The start vector's score.
+    pub start_score: f64,
+    /// Evaluations spent.
+    pub evaluations: usize,
+    /// Iterations.
+    pub iterations: usize,
+    /// Why it ended.
+    pub status: Status,
+    /// The annealer's seed.
+    pub seed: u64,
+}
+
+/// The checkpoint of a nested fit: the finished stages and the running one's state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NestedCheckpoint {
+    /// [`crate::anneal::CHECKPOINT_VERSION`].
+    pub format_version: u32,
+    /// Names the problem: models, optimizer, reaches, settings.
+    pub tag: String,
+    /// Stages done, poorest first.
+    pub completed: Vec<Stage>,
+    /// The running stage's annealer state (`None` once every stage is done).
+    pub current: Option<AnnealState>,
+}
+
+impl NestedCheckpoint {
+    /// Reads a checkpoint, naming the file in errors.
+    pub fn load(path: &Path) -> Result<NestedCheckpoint> {
+        let bad = |why: String| TrainError::Checkpoint {
+            path: path.to_path_buf(),
+            why,
         };
-        let fit = fit_model(
-            reaches,
-            model,
-            optimizer,
-            start.as_deref(),
-            settings,
-            &mut (),
-            &Control::default(),
-            None,
-        )?;
-        fits.push(fit);
+        let text = std::fs::read_to_string(path).map_err(|source| TrainError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let c: NestedCheckpoint = serde_json::from_str(&text)
+            .map_err(|e| bad(format!("line {}, column {}: {e}", e.line(), e.column())))?;
+        if c.format_version != crate::anneal::CHECKPOINT_VERSION {
+            return Err(bad(format!(
+                "`format_version` is {}, this version reads {}",
+                c.format_version,
+                crate::anneal::CHECKPOINT_VERSION
+            )));
+        }
+        Ok(c)
     }
-    Ok(NestedFit { fits })
+
+    fn save(&self, path: &Path) -> Result<()> {
+        let text = serde_json::to_vec_pretty(self).map_err(|e| TrainError::Checkpoint {
+            path: path.to_path_buf(),
+            why: e.to_string(),
+        })?;
+        kinergy_bvh::write_atomic(path, &text).map_err(|source| TrainError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+}
+
+/// Writes a [`NestedCheckpoint`] with the stages done so far around the running state.
+struct NestedSink {
+    path: PathBuf,
+    tag: String,
+    completed: Vec<Stage>,
+}
+
+impl Checkpoint for NestedSink {
+    fn save(&self, state: &AnnealState) -> Result<()> {
+        NestedCheckpoint {
+            format_version: crate::anneal::CHECKPOINT_VERSION,
+            tag: self.tag.clone(),
+            completed: self.completed.clone(),
+            current: Some(state.clone()),
+        }
+        .save(&self.path)
+    }
+    fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+/// A nested fit that can be checkpointed, interrupted and resumed.
+#[derive(Debug, Clone, Copy)]
+pub struct NestedRun<'a> {
+    /// The reaches fitted (one for a per-clip fit, all of a person's for a per-person fit).
+    pub reaches: &'a [ReachData],
+    /// The models, in any order (fitted poorest first).
+    pub models: &'a [Model],
+    /// The optimizer.
+    pub optimizer: Optimizer,
+    /// Search settings.
+    pub settings: &'a FitSettings,
+}
+
+/// How a [`NestedRun`] ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NestedOutcome {
+    /// The finished fits (all of them unless interrupted).
+    pub fits: NestedFit,
+    /// True when the run was interrupted; resume it from the checkpoint.
+    pub interrupted: bool,
+}
+
+impl NestedRun<'_> {
+    /// The problem's name in checkpoints: models, optimizer, reaches and settings.
+    pub fn tag(&self) -> String {
+        let models: Vec<&str> = self.sorted_models().iter().map(|m| m.name()).collect();
+        format!(
+            "nested {} | {} | {:?} {} {:?}",
+            models.join(","),
+            tag_of(self.sorted_models()[0], &self.optimizer, self.reaches),
+            self.settings.anneal,
+            self.settings.tolerance,
+            self.settings.bounds
+        )
+    }
+
+    fn sorted_models(&self) -> Vec<Model> {
+        let mut m = self.models.to_vec();
+        m.sort();
+        m.dedup();
+        m
+    }
+
+    /// Runs the stages, writing `checkpoint` (path, iterations between writes) as it goes
+    /// and stopping early when `interrupt` is set. With `resume`, continues from the
+    /// checkpoint, which must belong to the same problem; the result is bit for bit the
+    /// uninterrupted run's.
+    pub fn run(
+        &self,
+        observer: &mut dyn Observer,
+        checkpoint: Option<(&Path, usize)>,
+        interrupt: Option<&AtomicBool>,
+        resume: bool,
+    ) -> Result<NestedOutcome> {
+        require(
+            !self.reaches.is_empty(),
+            "reaches",
+            "at least one reach to fit",
+        )?;
+        require(!self.models.is_empty(), "models", "at least one model")?;
+        let models = self.sorted_models();
+        let tag = self.tag();
+        let (mut completed, mut current) = match (resume, checkpoint) {
+            (true, Some((path, _))) => {
+                let c = NestedCheckpoint::load(path)?;
+                if c.tag != tag {
+                    return Err(TrainError::Checkpoint {
+                        path: path.to_path_buf(),
+                        why: format!(
+                            "it belongs to another fit (`{}`), not this one (`{tag}`)",
+                            c.tag
+                        ),
+                    });
+                }
+                (c.completed, c.current)
+            }
+            (true, None) => {
+                return Err(TrainError::Setting {
+                    field: "resume".into(),
+                    why: "needs a checkpoint file".into(),
+                });
+            }
+            _ => (Vec::new(), None),
+        };
+        let mut fits: Vec<Fit> = Vec::with_capacity(models.len());
+        for (i, &model) in models.iter().enumerate() {
+            let space = ParamSpace::new(model, &self.reaches[0].dof_names(), self.settings.bounds)?;
+            let objective = Objective::new(self.reaches.to_vec(), space.clone(), self.optimizer)?
+                .with_tolerance(self.settings.tolerance)?;
+            if let Some(stage) = completed.get(i) {
+                require(
+                    stage.model == model,
+                    "checkpoint.completed",
+                    "the same models in the same order",
+                )?;
+                fits.push(Fit {
+                    distances: objective.distances(&stage.values)?,
+                    optimizer: self.optimizer,
+                    values: stage.values.clone(),
+                    score: stage.score,
+                    start_score: stage.start_score,
+                    evaluations: stage.evaluations,
+                    iterations: stage.iterations,
+                    status: stage.status,
+                    seed: stage.seed,
+                    frames_synthesized: stage.evaluations * objective.frames_per_evaluation(),
+                    space,
+                });
+                continue;
+            }
+            let start = match fits.last() {
+                Some(poorer) => poorer.space.extend_to(&poorer.values, &space)?,
+                None => space.neutral(),
+            };
+            let start_score = objective.score(&start)?;
+            let seed = model_seed(self.settings.anneal.seed, model);
+            let annealer = Annealer::new(AnnealSettings {
+                seed,
+                ..self.settings.anneal
+            })?;
+            let stage_tag = tag_of(model, &self.optimizer, self.reaches);
+            let state = match current.take() {
+                Some(state) => {
+                    let path = checkpoint.map(|(p, _)| p.to_path_buf()).unwrap_or_default();
+                    annealer.check_resume(&objective, &state, &stage_tag, &path)?;
+                    state
+                }
+                None => annealer.init(&objective, &start, &stage_tag)?,
+            };
+            let sink = checkpoint.map(|(path, _)| NestedSink {
+                path: path.to_path_buf(),
+                tag: tag.clone(),
+                completed: completed.clone(),
+            });
+            let control = Control {
+                checkpoint: sink.as_ref().map(|s| s as &dyn Checkpoint),
+                checkpoint_every: checkpoint.map_or(0, |(_, every)| every),
+                interrupt,
+            };
+            let state = annealer.run(&objective, state, observer, &control)?;
+            if state.status == Status::Interrupted {
+                return Ok(NestedOutcome {
+                    fits: NestedFit { fits },
+                    interrupted: true,
+                });
+            }
+            completed.push(Stage {
+                model,
+                values: state.best_x.clone(),
+                score: state.best_cost,
+                start_score,
+                evaluations: state.evaluations,
+                iterations: state.iteration,
+                status: state.status,
+                seed,
+            });
+            fits.push(Fit {
+                distances: objective.distances(&state.best_x)?,
+                optimizer: self.optimizer,
+                values: state.best_x,
+                score: state.best_cost,
+                start_score,
+                evaluations: state.evaluations,
+                iterations: state.iteration,
+                status: state.status,
+                seed,
+                frames_synthesized: state.evaluations * objective.frames_per_evaluation(),
+                space,
+            });
+        }
+        if let Some((path, _)) = checkpoint {
+            NestedCheckpoint {
+                format_version: crate::anneal::CHECKPOINT_VERSION,
+                tag,
+                completed,
+                current: None,
+            }
+            .save(path)?;
+        }
+        Ok(NestedOutcome {
+            fits: NestedFit { fits },
+            interrupted: false,
+        })
+    }
 }

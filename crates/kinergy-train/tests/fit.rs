@@ -215,3 +215,97 @@ fn objective_distances_are_per_reach_and_the_score_is_their_mean() {
         .to_string();
     assert!(e.contains("long.bvh") && e.contains("100000"), "{e}");
 }
+
+/// Sets the flag after `at` iterations in all (across the stages of a nested fit).
+struct StopAfter<'a> {
+    at: usize,
+    seen: usize,
+    flag: &'a std::sync::atomic::AtomicBool,
+}
+
+impl kinergy_train::anneal::Observer for StopAfter<'_> {
+    fn on_iteration(&mut self, _: &kinergy_train::anneal::Progress) {
+        self.seen += 1;
+        if self.seen == self.at {
+            self.flag.store(true, std::sync::atomic::Ordering::SeqCst);
+        }
+    }
+}
+
+#[test]
+fn an_interrupted_nested_fit_resumes_bit_for_bit() {
+    use kinergy_train::fit::NestedRun;
+    let frames = 120;
+    let (made, arm, _) = synthetic_capture(&TRUTH, frames);
+    let reach = ReachData::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let settings = FitSettings {
+        anneal: AnnealSettings {
+            max_evaluations: 400,
+            population: 4,
+            seed: 21,
+            ..AnnealSettings::default()
+        },
+        ..FitSettings::default()
+    };
+    let reaches = [reach];
+    let run = NestedRun {
+        reaches: &reaches,
+        models: &[Model::Sa, Model::Sb, Model::Sc],
+        optimizer: OptimizerKind::Njt.default_optimizer(),
+        settings: &settings,
+    };
+    let whole = run.run(&mut (), None, None, false).expect("whole");
+    assert!(!whole.interrupted);
+    let sa_iterations = whole.fits.fits[0].iterations;
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("fit.ckpt.json");
+    // Interrupt inside the second stage (S_B), then again inside the third.
+    let flag = std::sync::atomic::AtomicBool::new(false);
+    let first = run
+        .run(
+            &mut StopAfter {
+                at: sa_iterations + 7,
+                seen: 0,
+                flag: &flag,
+            },
+            Some((&path, 3)),
+            Some(&flag),
+            false,
+        )
+        .expect("first part");
+    assert!(first.interrupted);
+    assert_eq!(first.fits.fits.len(), 1, "S_A done, S_B interrupted");
+    flag.store(false, std::sync::atomic::Ordering::SeqCst);
+    let second = run
+        .run(
+            &mut StopAfter {
+                at: 12,
+                seen: 0,
+                flag: &flag,
+            },
+            Some((&path, 3)),
+            Some(&flag),
+            true,
+        )
+        .expect("second part");
+    assert!(second.interrupted);
+    flag.store(false, std::sync::atomic::Ordering::SeqCst);
+    let resumed = run
+        .run(&mut (), Some((&path, 3)), Some(&flag), true)
+        .expect("resume");
+    assert!(!resumed.interrupted);
+    assert_eq!(resumed.fits, whole.fits, "the resumed fit differs");
+    for (a, b) in resumed.fits.fits.iter().zip(&whole.fits.fits) {
+        assert_eq!(a.score.to_bits(), b.score.to_bits());
+    }
+    // A checkpoint of another problem is refused, naming the file.
+    let other = NestedRun {
+        optimizer: OptimizerKind::Svd.default_optimizer(),
+        ..run
+    };
+    let e = other
+        .run(&mut (), Some((&path, 3)), None, true)
+        .expect_err("another problem")
+        .to_string();
+    assert!(e.contains("fit.ckpt.json"), "{e}");
+}
