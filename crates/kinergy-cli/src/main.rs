@@ -5,8 +5,12 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod common;
+mod compare;
 mod convert;
+mod fit;
 mod inspect;
+mod reaches;
+mod segment;
 mod synthesize;
 
 /// Learn and synthesize human reaching motion from BVH captures.
@@ -31,6 +35,24 @@ enum Command {
         after_help = "Examples:\n  kinergy synthesize --from reach.bvh --model sc --optimizer svd -o out.bvh\n  kinergy synthesize --from reach.bvh --params me.json --target 0.3,1.2,0.4 -o out.bvh --json"
     )]
     Synthesize(synthesize::Args),
+    /// Find the reach segments of a capture from its hand speed: onset, peak, end.
+    #[command(
+        after_help = "Examples:\n  kinergy segment tests/data/006_14.bvh\n  kinergy segment reach.bvh --arm left --json"
+    )]
+    Segment(segment::Args),
+    /// Fit synergy parameters to captured reaches by simulated annealing, per clip or per
+    /// person, and write the parameters file.
+    #[command(
+        after_help = "Examples:\n  kinergy fit me/ --model sc --optimizer svd -o me.json\n  kinergy fit reach.bvh --model sc --per clip --frames 12..140 --checkpoint fit.ckpt -o p.json\n  kinergy fit me/ --model sc --checkpoint fit.ckpt --resume -o me.json"
+    )]
+    Fit(fit::Args),
+    /// Run the paper's experiments on captures (default: data-synthetic/): S_A–S_D per clip
+    /// (Fig. 3), optimizers with S_A and S_C (Fig. 4), and annealing vs argmin's optimizers;
+    /// writes results.csv and summary.md.
+    #[command(
+        after_help = "Examples:\n  kinergy compare\n  kinergy compare me/ --models sa,sc --optimizers jt,svd -o out/ --budget 2000"
+    )]
+    Compare(compare::Args),
 }
 
 fn main() -> ExitCode {
@@ -39,6 +61,9 @@ fn main() -> ExitCode {
         Command::Inspect(args) => inspect::run(&args),
         Command::Convert(args) => convert::run(&args),
         Command::Synthesize(args) => synthesize::run(&args),
+        Command::Segment(args) => segment::run(&args),
+        Command::Fit(args) => fit::run(&args),
+        Command::Compare(args) => compare::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

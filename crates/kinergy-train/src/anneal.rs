@@ -305,6 +305,16 @@ pub trait Observer {
 /// The observer that does nothing.
 impl Observer for () {}
 
+/// An observer borrowed.
+impl<T: Observer + ?Sized> Observer for &mut T {
+    fn on_iteration(&mut self, p: &Progress) {
+        (**self).on_iteration(p);
+    }
+    fn on_checkpoint(&mut self, path: &Path, iteration: usize) {
+        (**self).on_checkpoint(path, iteration);
+    }
+}
+
 /// Observers side by side.
 impl<A: Observer, B: Observer> Observer for (A, B) {
     fn on_iteration(&mut self, p: &Progress) {

@@ -1,0 +1,405 @@
+//! `kinergy fit`: fit synergy parameters to captured reaches by simulated annealing, per
+//! clip or per person, and write the parameters file.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use kinergy_solver::{Model, OptimizerKind};
+use kinergy_train::ReachData;
+use kinergy_train::anneal::{AnnealSettings, CsvLog, Observer, Progress};
+use kinergy_train::fit::{Fit, FitSettings, NestedRun};
+use serde::Serialize;
+use serde_json::json;
+
+use crate::common::{Failure, emit, print_json};
+use crate::reaches::{ReachArgs, collect_clips};
+
+/// Set by Ctrl-C: the running fit stops after its current iteration and checkpoints.
+pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// One vector per clip or one for all clips.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Per {
+    /// One parameter vector per clip (the paper's experiment).
+    Clip,
+    /// One parameter vector for all the clips (one person's).
+    Person,
+}
+
+/// Search settings shared by `fit` and `compare`.
+#[derive(Debug, clap::Args)]
+pub struct SearchArgs {
+    /// Seed of every random draw (same seed, same result, on any thread count).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Threads (default: all cores). The result does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Evaluation budget per model fit (each evaluation synthesizes every reach once).
+    #[arg(long, default_value_t = AnnealSettings::default().max_evaluations, value_name = "N")]
+    pub budget: usize,
+    /// Members of the annealing population.
+    #[arg(long, default_value_t = AnnealSettings::default().population, value_name = "N")]
+    pub population: usize,
+    /// Initial temperature relative to the initial mean score (0: the paper's greedy rule).
+    #[arg(long, default_value_t = AnnealSettings::default().temperature, value_name = "T")]
+    pub temperature: f64,
+}
+
+impl SearchArgs {
+    /// Fit settings from the flags.
+    pub fn settings(&self) -> FitSettings {
+        FitSettings {
+            anneal: AnnealSettings {
+                seed: self.seed,
+                max_evaluations: self.budget,
+                population: self.population,
+                temperature: self.temperature,
+                ..AnnealSettings::default()
+            },
+            ..FitSettings::default()
+        }
+    }
+
+    /// Sizes rayon's global pool.
+    pub fn apply_threads(&self) -> Result<(), Failure> {
+        if let Some(n) = self.threads {
+            if n == 0 {
+                return Err(Failure::Input("--threads 0: expected at least 1".into()));
+            }
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build_global()
+                .map_err(|e| Failure::Task(format!("--threads {n}: {e}")))?;
+        }
+        Ok(())
+    }
+}
+
+/// Arguments of `kinergy fit`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Captures: BVH files or folders of them.
+    #[arg(value_name = "CLIPS", required = true)]
+    pub clips: Vec<PathBuf>,
+    /// The synergy model to fit.
+    #[arg(long, value_name = "sa|sb|sc|sd")]
+    pub model: Model,
+    /// The IK optimizer the motions are synthesized with.
+    #[arg(long, default_value = "svd", value_name = "jt|njt|svd|dls")]
+    pub optimizer: OptimizerKind,
+    /// One vector per clip, or one for all clips.
+    #[arg(long, value_enum, default_value = "person")]
+    pub per: Per,
+    /// Fit only the model asked for, from its neutral vector, instead of the poorer models
+    /// first (S_A → S_B → S_C → S_D), each starting from the previous solution.
+    #[arg(long)]
+    pub no_nested: bool,
+    /// Where to write the parameters (JSON, atomically); with `--per clip` and several clips,
+    /// a folder that receives one `<clip>.json` per clip.
+    #[arg(short, long, value_name = "params.json")]
+    pub output: PathBuf,
+    /// Checkpoint file, written atomically every `--checkpoint-every` iterations and on
+    /// Ctrl-C.
+    #[arg(long, value_name = "F")]
+    pub checkpoint: Option<PathBuf>,
+    /// Iterations between checkpoints.
+    #[arg(long, default_value_t = 20, value_name = "N")]
+    pub checkpoint_every: usize,
+    /// Continue the fit saved in `--checkpoint` (same clips and settings); the result is bit
+    /// for bit the uninterrupted fit's.
+    #[arg(long, requires = "checkpoint")]
+    pub resume: bool,
+    /// Write the score of every iteration to this CSV file.
+    #[arg(long, value_name = "F.csv")]
+    pub log: Option<PathBuf>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub search: SearchArgs,
+    #[command(flatten)]
+    pub reach: ReachArgs,
+}
+
+/// Shows the search on a progress bar (hidden when stderr is not a terminal).
+pub struct Bar {
+    bar: indicatif::ProgressBar,
+    offset: u64,
+    last: u64,
+}
+
+impl Bar {
+    /// A bar for `total` evaluations.
+    pub fn new(total: u64) -> Bar {
+        let bar = indicatif::ProgressBar::new(total);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {pos}/{len} evaluations  {msg}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        Bar {
+            bar,
+            offset: 0,
+            last: 0,
+        }
+    }
+
+    /// One more step done (for bars counting jobs, not evaluations).
+    pub fn inc(&self) {
+        self.bar.inc(1);
+    }
+
+    /// Done.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+impl Observer for Bar {
+    fn on_iteration(&mut self, p: &Progress) {
+        let e = p.evaluations as u64;
+        if e < self.last {
+            // A new stage of a nested fit.
+            self.offset += self.last;
+        }
+        self.last = e;
+        self.bar.set_position(self.offset + e);
+        self.bar.set_message(format!(
+            "best {:.2} mm, mean {:.2} mm",
+            p.best_cost * 1e3,
+            p.mean_cost * 1e3
+        ));
+    }
+}
+
+#[derive(Serialize)]
+struct ModelRow {
+    model: &'static str,
+    score_m: f64,
+    start_score_m: f64,
+    evaluations: usize,
+    iterations: usize,
+    status: &'static str,
+}
+
+#[derive(Serialize)]
+struct FitReport {
+    output: String,
+    per: &'static str,
+    optimizer: &'static str,
+    reaches: Vec<serde_json::Value>,
+    models: Vec<ModelRow>,
+    nested_violations: Vec<String>,
+}
+
+/// Runs `kinergy fit`.
+pub fn run(args: &Args) -> Result<(), Failure> {
+    args.search.apply_threads()?;
+    if args.checkpoint_every == 0 {
+        return Err(Failure::Input(
+            "--checkpoint-every 0: expected at least 1".into(),
+        ));
+    }
+    let clips = collect_clips(&args.clips)?;
+    let reaches = args.reach.load_all(&clips)?;
+    let settings = args.search.settings();
+    settings
+        .anneal
+        .validate()
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    let models: Vec<Model> = if args.no_nested {
+        vec![args.model]
+    } else {
+        [Model::Sa, Model::Sb, Model::Sc, Model::Sd]
+            .into_iter()
+            .filter(|m| *m <= args.model)
+            .collect()
+    };
+    let groups: Vec<Vec<ReachData>> = match args.per {
+        Per::Person => vec![reaches],
+        Per::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
+    };
+    let several = groups.len() > 1;
+    if several && args.checkpoint.is_some() {
+        return Err(Failure::Input(
+            "--checkpoint works on one fit at a time: use --per person or one clip".into(),
+        ));
+    }
+    if several {
+        std::fs::create_dir_all(&args.output).map_err(|e| Failure::input(&args.output, e))?;
+    }
+    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
+        .map_err(|e| Failure::Task(format!("cannot watch for Ctrl-C: {e}")))?;
+
+    let mut log = match &args.log {
+        Some(p) => Some(CsvLog::create(p, args.resume).map_err(|e| Failure::Input(e.to_string()))?),
+        None => None,
+    };
+    let mut reports = Vec::new();
+    for group in &groups {
+        let run = NestedRun {
+            reaches: group,
+            models: &models,
+            optimizer: args.optimizer.default_optimizer(),
+            settings: &settings,
+        };
+        let mut bar = Bar::new((settings.anneal.max_evaluations * models.len()) as u64);
+        let checkpoint = args
+            .checkpoint
+            .as_deref()
+            .map(|p| (p, args.checkpoint_every));
+        let outcome = match log.as_mut() {
+            Some(log) => run.run(
+                &mut (&mut bar, log),
+                checkpoint,
+                Some(&INTERRUPTED),
+                args.resume,
+            ),
+            None => run.run(&mut bar, checkpoint, Some(&INTERRUPTED), args.resume),
+        };
+        bar.finish();
+        let outcome = outcome.map_err(train_failure)?;
+        if outcome.interrupted {
+            return Err(Failure::Task(match &args.checkpoint {
+                Some(p) => format!(
+                    "interrupted; the fit so far is in {}: continue it with --resume",
+                    p.display()
+                ),
+                None => "interrupted (no --checkpoint: nothing saved)".into(),
+            }));
+        }
+        let output = if several {
+            args.output
+                .join(format!("{}.json", stem(Path::new(group[0].name()))))
+        } else {
+            args.output.clone()
+        };
+        let fits = &outcome.fits;
+        let last = fits
+            .fits
+            .last()
+            .ok_or_else(|| Failure::Task("nothing was fitted".into()))?;
+        let mut file = last
+            .params_file(group)
+            .map_err(|e| Failure::Task(e.to_string()))?;
+        if let Some(serde_json::Value::Object(record)) = file.fit.as_mut() {
+            record.insert("per".into(), json!(per_name(args.per)));
+            record.insert(
+                "nested".into(),
+                json!(
+                    fits.fits
+                        .iter()
+                        .map(|f| json!({
+                            "model": f.model().name(),
+                            "score_m": f.score,
+                            "evaluations": f.evaluations,
+                        }))
+                        .collect::<Vec<_>>()
+                ),
+            );
+        }
+        file.write(&output)
+            .map_err(|e| Failure::Task(e.to_string()))?;
+        reports.push(report(&output, args, group, &fits.fits, &fits.violations()));
+    }
+    if let Some(log) = log {
+        log.finish().map_err(|e| Failure::Task(e.to_string()))?;
+    }
+    if args.json {
+        return if reports.len() == 1 {
+            print_json(&reports[0])
+        } else {
+            print_json(&reports)
+        };
+    }
+    let mut text = String::new();
+    for r in &reports {
+        text.push_str(&format!("{} ({} fit, {}):\n", r.output, r.per, r.optimizer));
+        for m in &r.models {
+            text.push_str(&format!(
+                "  {}  {:8.3} mm  (from {:.3} mm, {} evaluations, {})\n",
+                m.model,
+                m.score_m * 1e3,
+                m.start_score_m * 1e3,
+                m.evaluations,
+                m.status
+            ));
+        }
+        for v in &r.nested_violations {
+            text.push_str(&format!("  note: {v}\n"));
+        }
+    }
+    emit(&text)
+}
+
+fn per_name(per: Per) -> &'static str {
+    match per {
+        Per::Clip => "clip",
+        Per::Person => "person",
+    }
+}
+
+fn stem(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "clip".into())
+}
+
+fn report(
+    output: &Path,
+    args: &Args,
+    reaches: &[ReachData],
+    fits: &[Fit],
+    violations: &[(Model, Model)],
+) -> FitReport {
+    let last = &fits[fits.len() - 1];
+    FitReport {
+        output: output.display().to_string(),
+        per: per_name(args.per),
+        optimizer: args.optimizer.name(),
+        reaches: reaches
+            .iter()
+            .zip(&last.distances)
+            .map(|(r, d)| {
+                json!({
+                    "clip": r.name(),
+                    "frames": [r.frames().start, r.frames().end],
+                    "distance_m": d,
+                })
+            })
+            .collect(),
+        models: fits
+            .iter()
+            .map(|f| ModelRow {
+                model: f.model().name(),
+                score_m: f.score,
+                start_score_m: f.start_score,
+                evaluations: f.evaluations,
+                iterations: f.iterations,
+                status: f.status.name(),
+            })
+            .collect(),
+        nested_violations: violations
+            .iter()
+            .map(|(a, b)| {
+                format!(
+                    "{} ended worse than {} (the S_B → S_C carry-over is not exact with o ≥ 0)",
+                    b.name(),
+                    a.name()
+                )
+            })
+            .collect(),
+    }
+}
+
+/// Training errors: bad checkpoints and settings are bad input; the rest failed tasks.
+pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
+    use kinergy_train::TrainError as E;
+    match e {
+        E::Checkpoint { .. } | E::Setting { .. } | E::Reach { .. } => Failure::Input(e.to_string()),
+        _ => Failure::Task(e.to_string()),
+    }
+}
