@@ -7,6 +7,9 @@
 //!   starting from S_A's solution; for the Fig. 3 optimizer the Fig. 3 fits are reused).
 //! - **Methods** — S_C per clip from its neutral vector under the same evaluation budget with
 //!   simulated annealing, argmin's Nelder–Mead and argmin's particle swarm.
+//! - **Parameter field** — per person (the clips of one folder), each clip's S_C parameters
+//!   predicted from the other clips' fits by the field over targets, scored on the clip
+//!   (leave one target out), beside the clip's own fit.
 //!
 //! Writes `DIR/results.csv` (one row per fit: `clip,model,optimizer,method,distance_m,frames,
 //! evaluations,seconds`) and `DIR/summary.md` (mean/min/max per model, per optimizer and per
@@ -117,7 +120,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let bar = crate::fit::Bar::new(reaches.len() as u64);
 
     // One job per clip; each returns its rows in a fixed order.
-    let per_clip: Result<Vec<Vec<Row>>, kinergy_train::TrainError> = reaches
+    let per_clip: Result<Vec<ClipRows>, kinergy_train::TrainError> = reaches
         .par_iter()
         .map(|reach| {
             let rows = clip_rows(reach, args, &settings);
@@ -126,11 +129,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         })
         .collect();
     bar.finish();
-    let rows: Vec<Row> = per_clip
-        .map_err(train_failure)?
-        .into_iter()
-        .flatten()
-        .collect();
+    let (per_clip, sc): (Vec<Vec<Row>>, Vec<Option<Vec<f64>>>) =
+        per_clip.map_err(train_failure)?.into_iter().unzip();
+    let mut rows: Vec<Row> = per_clip.into_iter().flatten().collect();
+    rows.extend(field_rows(&reaches, &sc, args, &settings).map_err(train_failure)?);
     let seconds = clock.elapsed().as_secs_f64();
 
     let csv_path = args.output.join("results.csv");
@@ -160,12 +162,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     ))
 }
 
+/// A clip's rows and its Fig. 3 S_C values (for the parameter field).
+type ClipRows = (Vec<Row>, Option<Vec<f64>>);
+
 /// The rows of one clip: Fig. 3, Fig. 4, methods.
 fn clip_rows(
     reach: &ReachData,
     args: &Args,
     settings: &FitSettings,
-) -> Result<Vec<Row>, kinergy_train::TrainError> {
+) -> Result<ClipRows, kinergy_train::TrainError> {
     let reaches = std::slice::from_ref(reach);
     let mut rows = Vec::new();
     let row = |model: Model,
@@ -202,6 +207,7 @@ fn clip_rows(
             per_fit,
         ));
     }
+    let sc_values = fig3.get(Model::Sc).map(|f| f.values.clone());
     // Fig. 4.
     for &optimizer in &args.optimizers {
         if optimizer == args.optimizer
@@ -276,6 +282,67 @@ fn clip_rows(
             ));
         }
     }
+    Ok((rows, sc_values))
+}
+
+/// Leave-one-target-out with the parameter field, per person (clips in the same folder are
+/// one person's): for each clip, S_C parameters from the field of the person's other
+/// per-clip S_C fits, scored on the clip; one row per clip with method `field_loo`.
+fn field_rows(
+    reaches: &[ReachData],
+    sc: &[Option<Vec<f64>>],
+    args: &Args,
+    settings: &FitSettings,
+) -> Result<Vec<Row>, kinergy_train::TrainError> {
+    use kinergy_train::field::{FieldSettings, leave_one_out};
+    let person = |r: &ReachData| {
+        std::path::Path::new(r.name())
+            .parent()
+            .map(|p| p.to_path_buf())
+            .unwrap_or_default()
+    };
+    let mut persons: Vec<PathBuf> = reaches.iter().map(person).collect();
+    persons.sort();
+    persons.dedup();
+    let mut rows = Vec::new();
+    for p in persons {
+        let members: Vec<usize> = (0..reaches.len())
+            .filter(|&i| person(&reaches[i]) == p && sc[i].is_some())
+            .collect();
+        if members.len() < 2 {
+            continue;
+        }
+        let space = ParamSpace::new(Model::Sc, &reaches[members[0]].dof_names(), settings.bounds)?;
+        let samples: Vec<_> = members
+            .iter()
+            .map(|&i| (reaches[i].target(), sc[i].clone().unwrap_or_default()))
+            .collect();
+        let clock = Instant::now();
+        let loo = leave_one_out(&space, &samples, &FieldSettings::default(), |k, params| {
+            let reach = &reaches[members[k]];
+            Objective::new(
+                vec![reach.clone()],
+                space.clone(),
+                args.optimizer.default_optimizer(),
+            )?
+            .with_tolerance(settings.tolerance)?
+            .score(params)
+        })?;
+        let per = clock.elapsed().as_secs_f64() / loo.len() as f64;
+        for row in loo {
+            let reach = &reaches[members[row.index]];
+            rows.push(Row {
+                clip: reach.name().to_string(),
+                model: Model::Sc.name(),
+                optimizer: args.optimizer.name(),
+                method: "field_loo",
+                distance_m: row.field_distance,
+                frames: reach.frame_count(),
+                evaluations: 1,
+                seconds: per,
+            });
+        }
+    }
     Ok(rows)
 }
 
@@ -310,6 +377,7 @@ struct Summary {
     models: Vec<(String, Stats)>,
     optimizers: Vec<(String, Option<Stats>, Option<Stats>)>,
     methods: Vec<(String, Stats)>,
+    field_loo: Option<(Stats, Stats)>,
     nested_violations: Vec<String>,
     #[serde(skip)]
     markdown: String,
@@ -438,6 +506,33 @@ fn summarize(
             ));
         }
     }
+    let field_direct: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.method == "field_loo")
+        .filter_map(|f| {
+            rows.iter()
+                .find(|r| {
+                    r.clip == f.clip
+                        && r.model == "sc"
+                        && r.optimizer == fig3_opt
+                        && r.method == "sa"
+                })
+                .map(|d| (d.distance_m, f.distance_m))
+        })
+        .collect();
+    let field =
+        stats(field_direct.iter().map(|p| p.1)).zip(stats(field_direct.iter().map(|p| p.0)));
+    if let Some((f, d)) = field {
+        md.push_str(&format!(
+            "\n## Parameter field — leave one target out (S_C, {fig3_opt})\n\nEach clip's parameters predicted from the same person's other clips' fits (clips in one folder are one person), against fitting the clip itself.\n\n| parameters | mean | min | max |\n|---|---|---|---|\n| direct per-clip fit | {} | {} | {} |\n| field from the other targets | {} | {} | {} |\n",
+            mm(d.mean),
+            mm(d.min),
+            mm(d.max),
+            mm(f.mean),
+            mm(f.min),
+            mm(f.max)
+        ));
+    }
     md.push_str("\n## Nested models\n\n");
     if nested_violations.is_empty() {
         md.push_str("No richer model ended worse than the poorer one it started from.\n");
@@ -456,6 +551,7 @@ fn summarize(
         models,
         optimizers,
         methods,
+        field_loo: field,
         nested_violations,
         markdown: md,
     }

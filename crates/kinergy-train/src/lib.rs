@@ -12,7 +12,8 @@
 //!   with checkpoints that resume bit for bit;
 //! - [`fit`]: per-clip and per-person fits, richer models started from poorer ones;
 //! - [`baseline`]: the same objective under argmin's Nelder–Mead and particle swarm;
-//! - [`field`]: parameters as a smooth function of the target, per person.
+//! - [`field`]: parameters as a smooth function of the target, per person;
+//! - [`synthetic`]: reaches made by the controller itself from known parameters.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod anneal;
@@ -23,6 +24,7 @@ pub mod fit;
 pub mod objective;
 pub mod reach;
 pub mod segment;
+pub mod synthetic;
 
 pub use error::{Result, TrainError};
 pub use objective::{CostFunction, Objective};

@@ -6,11 +6,10 @@
 use std::path::Path;
 
 use kinergy_motion::{ArmJoints, Clip, ImportOptions, Side, read_clip};
-use kinergy_solver::{
-    BaseMode, Controller, Model, OptimizerKind, ParamSpace, Reach, Synergy, Task,
-};
+use kinergy_solver::{BaseMode, Model, OptimizerKind, ParamSpace, Synergy};
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::fit::{FitSettings, fit_model, fit_nested};
+use kinergy_train::synthetic::made_reach;
 use kinergy_train::{CostFunction, Objective, ReachData};
 
 fn capture() -> (Clip, ArmJoints) {
@@ -20,50 +19,27 @@ fn capture() -> (Clip, ArmJoints) {
     (clip, arm)
 }
 
-/// A "capture" made by the controller from `truth` (S_C values, SVD): the fixture gives the
-/// person and the start posture; the shoulder stays where it is on the first frame and the
-/// target is a reachable point (FK of a posture within the limits), so the motion ends on
-/// its own target, which is what a fit of the made capture aims at.
+/// A "capture" made by the controller from `truth` (S_C values, SVD; see
+/// `kinergy_train::synthetic`): the fixture gives the person and the start posture.
 fn synthetic_capture(truth: &[f64], frames: usize) -> (Clip, ArmJoints, ParamSpace) {
     let (clip, arm) = capture();
-    let segment = clip.slice(0..frames).expect("slice");
-    let reach =
-        ReachData::new("fixture", &segment, &arm, 0..frames, BaseMode::Fixed).expect("reach");
-    let chain = reach.arm().chain();
-    let start = reach.arm().start();
-    let mut goal: Vec<f64> = start
-        .iter()
-        .zip([0.35, -0.25, -0.3, -0.5, 0.2, 0.1, 0.05])
-        .map(|(q, d)| q + d)
-        .collect();
-    chain.clamp(&mut goal);
-    let base = reach.arm().base(BaseMode::Fixed);
-    let target = chain.end_position(base.at(0), &goal).expect("fk");
-    let space = ParamSpace::new(Model::Sc, &reach.dof_names(), Default::default()).expect("space");
-    let controller = Controller::new(
+    let made = made_reach(
+        "made",
+        &clip,
+        &arm,
+        frames,
+        Model::Sc,
+        truth,
         OptimizerKind::Svd.default_optimizer(),
-        Synergy::new(&space, truth).expect("truth"),
-        reach.settings(0.005),
+        &[0.35, -0.25, -0.3, -0.5, 0.2, 0.1, 0.05],
     )
-    .expect("controller");
-    let synthesis = controller
-        .synthesize(&Reach {
-            chain,
-            base: &base,
-            start,
-            task: Task::Position(target),
-        })
-        .expect("synthesize");
+    .expect("made reach");
     assert!(
-        synthesis.final_error < 1e-4,
+        made.final_error < 1e-4,
         "the truth ends {} m from its target",
-        synthesis.final_error
+        made.final_error
     );
-    let made = reach
-        .arm()
-        .to_clip(&segment, &synthesis, BaseMode::Fixed)
-        .expect("to clip");
-    (made, arm, space)
+    (made.clip, arm, made.space)
 }
 
 const TRUTH: [f64; 9] = [1.4, 0.7, 1.1, 1.8, 0.6, 0.9, 1.2, 7.0, 1.5];

@@ -1,0 +1,136 @@
+//! Reaches whose truth is known: motions synthesized by the synergy controller itself from
+//! given parameters and written into a capture's skeleton as a new "capture". Fitting them
+//! must find the parameters' motion again (known-parameter recovery), and a set of them makes
+//! a benchmark workload with the shape of real data.
+//!
+//! The capture gives the person (bone lengths, limits), the start posture and the skeleton;
+//! the shoulder stays where it is on the first frame; the target is the hand of a goal
+//! posture (the start moved by a given offset, within the limits), so it is reachable and the
+//! made motion ends on its own target — which is what a fit of the made capture aims at.
+
+use kinergy_motion::{ArmJoints, Clip};
+use kinergy_solver::{
+    BaseMode, Controller, Model, Optimizer, ParamSpace, Reach, Synergy, Synthesis, Task,
+};
+use rand::rngs::ChaCha8Rng;
+use rand::{RngExt, SeedableRng};
+
+use crate::error::{Result, TrainError};
+use crate::reach::ReachData;
+
+/// A made reach: the capture made, its reach, the parameters that made it.
+#[derive(Debug, Clone)]
+pub struct MadeReach {
+    /// The made capture (the source skeleton, the arm moving as synthesized).
+    pub clip: Clip,
+    /// Its reach, ready to fit (fixed base, all frames).
+    pub reach: ReachData,
+    /// The parameter space of `truth`.
+    pub space: ParamSpace,
+    /// The parameters that made it.
+    pub truth: Vec<f64>,
+    /// How far the made motion ends from the target it was made for, meters.
+    pub final_error: f64,
+}
+
+/// Makes one reach of `frames` frames from `clip`'s first frame with `optimizer` and
+/// `truth` (values of `model`), toward the hand of the start posture moved by `offset`
+/// (per DoF, radians; clamped into the limits). `name` names the made reach.
+#[allow(clippy::too_many_arguments)]
+pub fn made_reach(
+    name: &str,
+    clip: &Clip,
+    arm: &ArmJoints,
+    frames: usize,
+    model: Model,
+    truth: &[f64],
+    optimizer: Optimizer,
+    offset: &[f64],
+) -> Result<MadeReach> {
+    let frames = frames.min(clip.frame_count());
+    let segment = clip.slice(0..frames)?;
+    let source = ReachData::new(name, &segment, arm, 0..frames, BaseMode::Fixed)?;
+    let chain = source.arm().chain();
+    let start = source.arm().start();
+    if offset.len() != start.len() {
+        return Err(TrainError::Setting {
+            field: "offset".into(),
+            why: format!("one value per DoF ({})", start.len()),
+        });
+    }
+    let mut goal: Vec<f64> = start.iter().zip(offset).map(|(q, d)| q + d).collect();
+    chain.clamp(&mut goal);
+    let base = source.arm().base(BaseMode::Fixed);
+    let target = chain.end_position(base.at(0), &goal)?;
+    let space = ParamSpace::new(model, &source.dof_names(), Default::default())?;
+    let controller = Controller::new(
+        optimizer,
+        Synergy::new(&space, truth)?,
+        source.settings(crate::reach::DEFAULT_TOLERANCE),
+    )?;
+    let synthesis: Synthesis = controller.synthesize(&Reach {
+        chain,
+        base: &base,
+        start,
+        task: Task::Position(target),
+    })?;
+    let made = source
+        .arm()
+        .to_clip(&segment, &synthesis, BaseMode::Fixed)?;
+    let reach = ReachData::new(name, &made, arm, 0..frames, BaseMode::Fixed)?;
+    Ok(MadeReach {
+        clip: made,
+        reach,
+        space,
+        truth: truth.to_vec(),
+        final_error: synthesis.final_error,
+    })
+}
+
+/// `count` made reaches of S_C motions from `clip`: truths drawn with gains in [0.5, 2],
+/// s in [3, 10], o in [0, 3]; goal offsets of up to ±0.5 rad per DoF; drawn from `seed`.
+/// Made motions that end more than 1 mm from their target are drawn again (up to 20 times
+/// per reach).
+pub fn made_set(
+    clip: &Clip,
+    arm: &ArmJoints,
+    count: usize,
+    frames: usize,
+    optimizer: Optimizer,
+    seed: u64,
+) -> Result<Vec<MadeReach>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut out = Vec::with_capacity(count);
+    let dofs = 7;
+    for k in 0..count {
+        let mut tries = 0;
+        loop {
+            let mut truth: Vec<f64> = (0..dofs).map(|_| rng.random_range(0.5..2.0)).collect();
+            truth.push(rng.random_range(3.0..10.0));
+            truth.push(rng.random_range(0.0..3.0));
+            let offset: Vec<f64> = (0..dofs).map(|_| rng.random_range(-0.5..0.5)).collect();
+            let made = made_reach(
+                &format!("made_{k:02}"),
+                clip,
+                arm,
+                frames,
+                Model::Sc,
+                &truth,
+                optimizer,
+                &offset,
+            )?;
+            tries += 1;
+            if made.final_error < 1e-3 {
+                out.push(made);
+                break;
+            }
+            if tries >= 20 {
+                return Err(TrainError::Reach {
+                    clip: format!("made_{k:02}"),
+                    why: "no drawn motion ended within 1 mm of its target in 20 draws".into(),
+                });
+            }
+        }
+    }
+    Ok(out)
+}
