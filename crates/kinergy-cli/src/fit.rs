@@ -116,6 +116,9 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Testing hook: behave as if Ctrl-C came after this many iterations in all.
+    #[arg(long, hide = true, value_name = "N")]
+    pub interrupt_after: Option<usize>,
     #[command(flatten)]
     pub search: SearchArgs,
     #[command(flatten)]
@@ -155,6 +158,22 @@ impl Bar {
     /// Done.
     pub fn finish(&self) {
         self.bar.finish_and_clear();
+    }
+}
+
+/// Raises [`INTERRUPTED`] after a number of iterations (the `--interrupt-after` hook).
+struct InterruptAfter {
+    left: Option<usize>,
+}
+
+impl Observer for InterruptAfter {
+    fn on_iteration(&mut self, _: &Progress) {
+        if let Some(n) = self.left.as_mut() {
+            *n = n.saturating_sub(1);
+            if *n == 0 {
+                INTERRUPTED.store(true, Ordering::SeqCst);
+            }
+        }
     }
 }
 
@@ -251,14 +270,22 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .checkpoint
             .as_deref()
             .map(|p| (p, args.checkpoint_every));
+        let mut hook = InterruptAfter {
+            left: args.interrupt_after,
+        };
         let outcome = match log.as_mut() {
             Some(log) => run.run(
-                &mut (&mut bar, log),
+                &mut ((&mut bar, &mut hook), log),
                 checkpoint,
                 Some(&INTERRUPTED),
                 args.resume,
             ),
-            None => run.run(&mut bar, checkpoint, Some(&INTERRUPTED), args.resume),
+            None => run.run(
+                &mut (&mut bar, &mut hook),
+                checkpoint,
+                Some(&INTERRUPTED),
+                args.resume,
+            ),
         };
         bar.finish();
         let outcome = outcome.map_err(train_failure)?;
