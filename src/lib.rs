@@ -7,7 +7,10 @@
 //!   chains by role, the motion distance and hand-speed series;
 //! - [`solver`]: the synergy IK — the JT, NJT, SVD and DLS optimizers, the synergy
 //!   transform S_A–S_D with named, bounded parameters, the frame-by-frame controller, arms
-//!   taken from captures, and the parameters file.
+//!   taken from captures, and the parameters file;
+//! - [`train`]: fitting synergy parameters to captured reaches — segmentation, simulated
+//!   annealing with checkpoints, per-clip and per-person nested fits, argmin baselines, the
+//!   parameter field over targets.
 //!
 //! `use kinergy::prelude::*;` brings the types most programs need.
 //!
@@ -41,6 +44,7 @@
 pub use kinergy_bvh as bvh;
 pub use kinergy_motion as motion;
 pub use kinergy_solver as solver;
+pub use kinergy_train as train;
 
 /// The types most programs need.
 pub mod prelude {
