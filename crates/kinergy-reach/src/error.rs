@@ -1,0 +1,35 @@
+//! The error type of `kinergy-reach`.
+
+use kinergy_motion::MotionError;
+
+/// Everything that can go wrong in `kinergy-reach`.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ReachError {
+    /// A skeleton, chain or clip operation failed.
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+    /// A setting or input is outside what it may be (named by its field).
+    #[error("invalid `{field}`: {why}")]
+    Setting {
+        /// The setting's name, e.g. `person.height`.
+        field: String,
+        /// What was expected.
+        why: String,
+    },
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T, E = ReachError> = std::result::Result<T, E>;
+
+/// A `Setting` error unless `ok`.
+pub(crate) fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(ReachError::Setting {
+            field: field.to_string(),
+            why: why.into(),
+        })
+    }
+}
