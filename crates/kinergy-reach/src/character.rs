@@ -170,6 +170,9 @@ pub type Pose = [f64; DOF_COUNT];
 /// ground, for the support polygon.
 pub const CONTACT_TOLERANCE: f64 = 0.01;
 
+/// Foot breadth as a fraction of height (Drillis & Contini: 0.055).
+pub const FOOT_BREADTH: f64 = 0.055;
+
 /// Indices of the character's joints in [`Character::joints`] (and in the exported skeleton).
 pub mod joint {
     /// The sacral root.
@@ -1710,12 +1713,27 @@ impl Character {
         Point3::from(sum / total)
     }
 
-    /// The support polygon: the convex hull in x–z of the heel and toe points within
-    /// [`CONTACT_TOLERANCE`] of the lowest of them.
+    /// The support polygon: the convex hull in x–z of the feet's soles — each heel and toe
+    /// point widened sideways by half the foot breadth ([`FOOT_BREADTH`] of the height) —
+    /// of the points within [`CONTACT_TOLERANCE`] of the lowest. One foot on the ground
+    /// gives its sole's rectangle, not a line.
     pub fn support_polygon(&self, pose: &Pose) -> SupportPolygon {
-        let feet = self.foot_points(pose);
-        let lowest = feet.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
-        let contact: Vec<Point2<f64>> = feet
+        let f = self.world_frames(pose);
+        let half = 0.5 * FOOT_BREADTH * self.proportions.height();
+        let p = &self.proportions;
+        let mut points = Vec::with_capacity(8);
+        for (ankle, leg) in [
+            (joint::RIGHT_FOOT, &p.right_leg),
+            (joint::LEFT_FOOT, &p.left_leg),
+        ] {
+            for y in [-leg.heel, leg.toe] {
+                for x in [-half, half] {
+                    points.push(f[ankle] * Point3::new(x, y, leg.ankle_height));
+                }
+            }
+        }
+        let lowest = points.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+        let contact: Vec<Point2<f64>> = points
             .iter()
             .filter(|p| p.y <= lowest + CONTACT_TOLERANCE)
             .map(|p| Point2::new(p.x, p.z))

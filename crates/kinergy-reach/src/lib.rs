@@ -9,6 +9,7 @@
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod character;
+pub mod controller;
 pub mod error;
 pub mod profile;
 pub mod steps;

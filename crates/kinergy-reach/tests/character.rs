@@ -355,7 +355,11 @@ fn a_lifted_foot_leaves_the_support_polygon() {
     pose[b.dof_index("left_knee_flexion").expect("dof")] = 1.0;
     let support = b.support_polygon(&pose);
     let [rh, rt, ..] = b.foot_points(&pose);
-    assert_eq!(support.vertices().len(), 2, "only the right heel and toe");
+    assert_eq!(
+        support.vertices().len(),
+        4,
+        "only the right sole: heel and toe, each widened by half the foot breadth"
+    );
     assert!(support.contains(Point2::new(rh.x, rh.z)) && support.contains(Point2::new(rt.x, rt.z)));
     let com = b.com(&pose);
     assert!(!support.contains(Point2::new(com.x, com.z)));

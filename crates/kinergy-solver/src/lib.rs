@@ -31,6 +31,7 @@
 //! ```
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
+pub mod analytic;
 pub mod capture;
 pub mod controller;
 pub mod error;

@@ -1,0 +1,250 @@
+//! Scenario tests of the full-body reach (Huang's Fig. 4 situations), checked on the output.
+
+use kinergy_motion::nalgebra::{Point2, Point3};
+use kinergy_reach::character::{Character, joint};
+use kinergy_reach::controller::{ReachMotion, ReachSettings, ReachStop, reach};
+
+fn character() -> Character {
+    Character::from_height(1.75).expect("character")
+}
+
+fn run(target: [f64; 3], settings: &ReachSettings) -> ReachMotion {
+    reach(
+        &character(),
+        Point3::new(target[0], target[1], target[2]),
+        settings,
+    )
+    .expect("reach")
+}
+
+/// Checks every frame: limits, planted feet, balance; returns the largest planted-foot slide.
+fn check_motion(c: &Character, m: &ReachMotion, what: &str) -> f64 {
+    let mut slide: f64 = 0.0;
+    let first = c.foot_points(&m.poses[0]);
+    let mut prev = first;
+    for (i, pose) in m.poses.iter().enumerate() {
+        c.joint_limits_ok(pose)
+            .unwrap_or_else(|e| panic!("{what}: frame {i}: {e}"));
+        let feet = c.foot_points(pose);
+        for k in 0..4 {
+            // A foot point on the ground in two consecutive frames is planted: it must not slide.
+            if feet[k].y.abs() < 1e-6 && prev[k].y.abs() < 1e-6 {
+                slide = slide.max((feet[k] - prev[k]).norm());
+            }
+        }
+        prev = feet;
+        let com = c.com(pose);
+        let margin = c.support_polygon(pose).margin(Point2::new(com.x, com.z));
+        assert!(
+            margin > -1e-9,
+            "{what}: frame {i}: COM {margin} m outside the support polygon"
+        );
+    }
+    slide
+}
+
+fn hand(c: &Character, m: &ReachMotion) -> Point3<f64> {
+    let pose = m.poses.last().expect("frames");
+    let p = c.world_positions(pose);
+    if m.report.arm == "left_arm" {
+        p[joint::LEFT_HAND_END]
+    } else {
+        p[joint::RIGHT_HAND_END]
+    }
+}
+
+/// Every scenario's motion: within limits, planted feet still, COM over the support polygon.
+fn checked(target: [f64; 3], settings: &ReachSettings, what: &str) -> ReachMotion {
+    let c = character();
+    let m = run(target, settings);
+    let slide = check_motion(&c, &m, what);
+    assert!(slide <= 1e-3, "{what}: a planted foot slid {slide} m");
+    m
+}
+
+#[test]
+fn a_target_inside_the_crr_needs_no_step() {
+    for seed in 0..10 {
+        let m = checked(
+            [0.25, 1.1, 0.35],
+            &ReachSettings {
+                seed,
+                ..ReachSettings::default()
+            },
+            "near",
+        );
+        assert_eq!(m.report.step, "none");
+        assert_eq!(m.report.stop, ReachStop::Reached, "{:?}", m.report);
+        assert!(m.report.final_error < 0.01);
+    }
+}
+
+#[test]
+fn a_target_beyond_the_mrr_makes_a_step_toward_it() {
+    let c = character();
+    for seed in 0..6 {
+        let m = checked(
+            [0.2, 1.0, 1.15],
+            &ReachSettings {
+                seed,
+                ..ReachSettings::default()
+            },
+            "far",
+        );
+        assert_ne!(m.report.step, "none", "{:?}", m.report);
+        assert!(m.report.step_length > 0.1);
+        // The feet moved toward the target (+z).
+        let (a, b) = (
+            c.foot_points(&m.poses[0]),
+            c.foot_points(m.poses.last().expect("frames")),
+        );
+        let mean_z = |f: &[Point3<f64>; 4]| f.iter().map(|p| p.z).sum::<f64>() / 4.0;
+        assert!(mean_z(&b) > mean_z(&a) + 0.05, "{:?}", m.report);
+    }
+}
+
+#[test]
+fn a_low_far_target_squats_when_flexible_and_stoops_when_stiff() {
+    let flexible = checked(
+        [0.2, 0.15, 0.8],
+        &ReachSettings {
+            flexibility: 3.0,
+            seed: 1,
+            ..ReachSettings::default()
+        },
+        "flexible",
+    );
+    assert_eq!(flexible.report.posture, "squat", "{:?}", flexible.report);
+    assert!(flexible.report.squat_m > 0.1);
+    assert_eq!(
+        flexible.report.stop,
+        ReachStop::Reached,
+        "{:?}",
+        flexible.report
+    );
+    let stiff = checked(
+        [0.2, 0.15, 0.8],
+        &ReachSettings {
+            flexibility: 0.5,
+            seed: 1,
+            ..ReachSettings::default()
+        },
+        "stiff",
+    );
+    assert_eq!(stiff.report.posture, "stoop", "{:?}", stiff.report);
+    assert_eq!(stiff.report.squat_m, 0.0);
+    assert!(stiff.report.swing_deg.abs() > 10.0);
+}
+
+// A high lateral target (above the start swing distance, beyond a comfortable 90 % of the
+// arm from the shoulder): the spine twists toward it and swings. (This one stays out of the
+// hand's reach — the 0-DoF clavicle and the shoulder's 130° × 100° swing ellipse stop the
+// arm short of overhead — and the report says so.)
+#[test]
+fn a_high_lateral_target_twists_and_swings() {
+    let m = checked(
+        [0.7, 2.0, 0.2],
+        &ReachSettings {
+            seed: 2,
+            ..ReachSettings::default()
+        },
+        "high lateral",
+    );
+    assert!(m.report.twist_deg > 1.0, "{:?}", m.report);
+    assert!(m.report.swing_deg.abs() > 1.0, "{:?}", m.report);
+    assert_eq!(
+        m.report.stop == ReachStop::Reached,
+        m.report.final_error <= 0.01
+    );
+}
+
+#[test]
+fn reachable_targets_are_reached_within_a_centimeter() {
+    let c = character();
+    for (i, target) in [
+        [0.25, 1.1, 0.35],
+        [-0.3, 1.3, 0.3],
+        [0.1, 0.9, 0.5],
+        [0.4, 1.4, 0.2],
+        [-0.3, 1.2, -0.4],
+        [0.0, 1.5, 0.45],
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let m = checked(
+            target,
+            &ReachSettings {
+                seed: i as u64,
+                ..ReachSettings::default()
+            },
+            "reachable",
+        );
+        let error = (hand(&c, &m) - Point3::new(target[0], target[1], target[2])).norm();
+        assert!(
+            error < 0.01,
+            "target {target:?}: {error} m ({:?})",
+            m.report
+        );
+        assert_eq!(m.report.stop, ReachStop::Reached);
+        assert!((error - m.report.final_error).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn an_unreachable_target_says_so() {
+    let m = checked(
+        [0.3, 3.5, 0.3],
+        &ReachSettings {
+            timeout: 4.0,
+            ..ReachSettings::default()
+        },
+        "unreachable",
+    );
+    assert_ne!(m.report.stop, ReachStop::Reached);
+    assert!(m.report.final_error > 1.0);
+}
+
+#[test]
+fn the_same_seed_gives_the_same_bvh_byte_for_byte() {
+    let c = character();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let write = |seed: u64, name: &str| {
+        let m = run(
+            [0.2, 1.0, 1.0],
+            &ReachSettings {
+                seed,
+                ..ReachSettings::default()
+            },
+        );
+        let clip = c.to_clip(&m.poses, m.frame_time).expect("clip");
+        let path = dir.path().join(name);
+        kinergy_motion::write_clip(&path, &clip, &Default::default()).expect("write");
+        std::fs::read(path).expect("read")
+    };
+    assert_eq!(write(7, "a.bvh"), write(7, "b.bvh"));
+}
+
+#[test]
+fn bad_settings_name_the_field() {
+    let c = character();
+    let e = reach(
+        &c,
+        Point3::new(0.0, f64::NAN, 0.0),
+        &ReachSettings::default(),
+    )
+    .expect_err("nan")
+    .to_string();
+    assert!(e.contains("target"), "{e}");
+    let e = reach(
+        &c,
+        Point3::new(0.0, 1.0, 0.3),
+        &ReachSettings {
+            flexibility: 0.0,
+            ..ReachSettings::default()
+        },
+    )
+    .expect_err("flexibility")
+    .to_string();
+    assert!(e.contains("flexibility"), "{e}");
+}
