@@ -9,8 +9,10 @@ mod compare;
 mod convert;
 mod fit;
 mod inspect;
+mod reach;
 mod reaches;
 mod segment;
+mod synth;
 mod synthesize;
 
 /// Learn and synthesize human reaching motion from BVH captures.
@@ -53,6 +55,16 @@ enum Command {
         after_help = "Examples:\n  kinergy compare\n  kinergy compare me/ --models sa,sc --optimizers jt,svd -o out/ --budget 2000"
     )]
     Compare(compare::Args),
+    /// Synthesize one full-body reach (steps, spine, head, arm) toward a target, as BVH.
+    #[command(
+        after_help = "Examples:\n  kinergy reach --target 0.3,1.1,0.4 -o reach.bvh\n  kinergy reach --target 0.2,0.15,0.8 --flexibility 3 --seed 2 -o squat.bvh --json"
+    )]
+    Reach(reach::Args),
+    /// Make the synthetic motion-capture set: persons × reaches, with manifest.csv.
+    #[command(
+        after_help = "Examples:\n  kinergy synth\n  kinergy synth -o my-set --persons 2 --reaches 5 --seed 7"
+    )]
+    Synth(synth::Args),
 }
 
 fn main() -> ExitCode {
@@ -64,6 +76,8 @@ fn main() -> ExitCode {
         Command::Segment(args) => segment::run(&args),
         Command::Fit(args) => fit::run(&args),
         Command::Compare(args) => compare::run(&args),
+        Command::Reach(args) => reach::run(&args),
+        Command::Synth(args) => synth::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -76,19 +76,14 @@ pub fn parse_frames(text: &str) -> Result<std::ops::Range<usize>, Failure> {
     Ok(a..b)
 }
 
-/// The BVH files named: files as given, folders expanded to their `*.bvh` files (not
-/// recursive), sorted by name. An empty result or a missing path is bad input.
+/// The BVH files named: files as given, folders expanded to the `*.bvh` files in them and
+/// in their subfolders (sorted by path). An empty result or a missing path is bad input.
 pub fn collect_clips(paths: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
-            let entries = std::fs::read_dir(p).map_err(|e| Failure::input(p, e))?;
-            let mut found: Vec<PathBuf> = entries
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| {
-                    f.is_file() && f.extension().is_some_and(|x| x.eq_ignore_ascii_case("bvh"))
-                })
-                .collect();
+            let mut found = Vec::new();
+            walk(p, &mut found)?;
             found.sort();
             if found.is_empty() {
                 return Err(Failure::Input(format!(
@@ -110,4 +105,21 @@ pub fn collect_clips(paths: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
         return Err(Failure::Input("no clips given".into()));
     }
     Ok(out)
+}
+
+/// Every `*.bvh` file under `dir`.
+fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), Failure> {
+    let entries = std::fs::read_dir(dir).map_err(|e| Failure::input(dir, e))?;
+    for entry in entries {
+        let path = entry.map_err(|e| Failure::input(dir, e))?.path();
+        if path.is_dir() {
+            walk(&path, out)?;
+        } else if path
+            .extension()
+            .is_some_and(|x| x.eq_ignore_ascii_case("bvh"))
+        {
+            out.push(path);
+        }
+    }
+    Ok(())
 }

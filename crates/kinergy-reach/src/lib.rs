@@ -13,5 +13,6 @@ pub mod controller;
 pub mod error;
 pub mod profile;
 pub mod steps;
+pub mod synth;
 
 pub use error::{ReachError, Result};

@@ -41,7 +41,7 @@
 //! Position mode ([`LimbIk::solve_position`]) is the same construction with the hand held in
 //! line with the forearm, the distal link then being `L2 z + h`.
 //!
-//! //! ```
+//! ```
 //! use kinergy_motion::Chain;
 //! use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
 //! use kinergy_solver::analytic::{LimbIk, OrbitSearch};
@@ -52,11 +52,22 @@
 //! let q0 = [0.9, -0.3, 0.2, 1.2, 0.4, 0.3, -0.1];
 //! let pose = arm.fk(&IsometryMatrix3::identity(), &q0)?;
 //! let goal = IsometryMatrix3::from_parts(pose.end.coords.into(), pose.frames[2].rotation);
-//! let (alpha, q) = ik.search(&goal, &OrbitSearch::default())?;
+//!
+//! // At the configuration's own orbit angle the solver gives the configuration back.
+//! let q = ik.solve(&goal, ik.alpha_of(&q0))?;
+//! assert!(q.iter().zip(&q0).all(|(a, b)| (a - b).abs() < 1e-9));
+//!
+//! // Kallmann's search: the first orbit angle from 20° on whose posture is within limits.
+//! let (_alpha, q) = ik.search(&goal, &OrbitSearch::default())?;
 //! assert!(arm.within_limits(&q));
-//! let end = arm.end_position(&IsometryMatrix3::identity(), &q)?;
-//! assert!((end - pose.end).norm() < 1e-9);
-//! # let _ = alpha;
+//! let again = arm.fk(&IsometryMatrix3::identity(), &q)?;
+//! assert!((again.end - pose.end).norm() < 1e-9);
+//! assert!((again.frames[2].rotation.matrix() - pose.frames[2].rotation.matrix()).amax() < 1e-9);
+//!
+//! // Position only: the hand in line with the forearm.
+//! let target = Point3::new(0.1, -0.3, 0.35);
+//! let (_alpha, q) = ik.solve_position(&target, &OrbitSearch::default())?;
+//! assert!((arm.end_position(&IsometryMatrix3::identity(), &q)? - target).norm() < 1e-9);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
@@ -637,7 +648,16 @@ impl LimbIk {
         alpha: f64,
     ) -> Result<[f64; 7], AnalyticError> {
         finite_alpha(alpha)?;
-        Ok(self.full_at(&self.prepare_goal(goal)?, alpha))
+        finite_goal(goal)?;
+        let rg = goal.rotation.matrix();
+        let w = goal.translation.vector - rg * self.hand - self.shoulder;
+        let d = w.norm();
+        Self::check_reach(&self.wrist_link, d)?;
+        let prepared = Prepared {
+            placement: self.place(&self.wrist_link, &w, d),
+            rg_t: rg.transpose(),
+        };
+        Ok(self.full_at(&prepared, alpha))
     }
 
     /// Position mode at a given α: the end effector at `target` (base frame) with the hand
@@ -660,8 +680,10 @@ impl LimbIk {
         finite_goal(goal)?;
         let rg = *goal.rotation.matrix();
         let w = goal.translation.vector - rg * self.hand - self.shoulder;
+        let d = w.norm();
+        Self::check_reach(&self.wrist_link, d)?;
         Ok(Prepared {
-            placement: self.place(&self.wrist_link, &w)?,
+            placement: self.place(&self.wrist_link, &w, d),
             rg_t: rg.transpose(),
         })
     }
@@ -676,7 +698,10 @@ impl LimbIk {
                 "position mode: the end effector lies on the elbow's flexion axis".into(),
             ));
         };
-        self.place(link, &(target.coords - self.shoulder))
+        let rel = target.coords - self.shoulder;
+        let d = rel.norm();
+        Self::check_reach(link, d)?;
+        Ok(self.place(link, &rel, d))
     }
 
     /// Steps 3–5 of the module docs at one α.
@@ -857,19 +882,27 @@ impl LimbIk {
         }
     }
 
-    /// Steps 1–3 of the module docs, everything but α: the link's tip goes to `rel`
-    /// (relative to the shoulder, base frame).
+    /// Step 1's test: `Unreachable` unless `d` lies within the link's shell.
     #[inline]
-    fn place(&self, link: &Link, rel: &Vector3<f64>) -> Result<Placement, AnalyticError> {
-        let d = rel.norm();
+    fn check_reach(link: &Link, d: f64) -> Result<(), AnalyticError> {
         let slack = REACH_SLACK * link.outer;
-        if !(d <= link.outer + slack && d >= link.inner - slack) {
-            return Err(AnalyticError::Unreachable {
+        if d <= link.outer + slack && d >= link.inner - slack {
+            Ok(())
+        } else {
+            Err(AnalyticError::Unreachable {
                 distance: d,
                 reach: link.outer,
                 inner: link.inner,
-            });
+            })
         }
+    }
+
+    /// Steps 1–3 of the module docs, everything but α: the link's tip goes to `rel`
+    /// (relative to the shoulder, base frame), `d = |rel|` already checked by
+    /// [`LimbIk::check_reach`]. Infallible, so the 170-byte result is built in place rather
+    /// than moved out of a `Result`.
+    #[inline]
+    fn place(&self, link: &Link, rel: &Vector3<f64>, d: f64) -> Placement {
         // cos(f − φ) = k, sin(f − φ) = σ √((1 − k)(1 + k)): no sin_cos of f needed.
         let k = ((d * d - link.sum_sq) / (2.0 * self.upper * link.rho)).clamp(-1.0, 1.0);
         let (s, c) = (self.bend * ((1.0 - k) * (1.0 + k)).sqrt(), k);
@@ -882,7 +915,7 @@ impl LimbIk {
         let (p_hat, e1) = self.elbow_side(link, &p, self.bend);
         let n = self.axis(rel, d, link);
         let (u, v) = self.orbit_basis(&n);
-        Ok(Placement {
+        Placement {
             f,
             sf,
             cf,
@@ -894,7 +927,7 @@ impl LimbIk {
             n,
             u,
             v,
-        })
+        }
     }
 
     /// The unit shoulder→tip axis; a fixed one (`−down`) when the tip is at the shoulder.

@@ -1,0 +1,154 @@
+//! `kinergy reach`: one full-body reach toward a target, written as BVH.
+
+use std::path::PathBuf;
+
+use kinergy_reach::character::{Character, Proportions};
+use kinergy_reach::controller::{ReachSettings, ReachStop, reach};
+use kinergy_reach::profile::{BellTiming, SpeedProfile};
+use kinergy_reach::steps::Side;
+use serde::Serialize;
+
+use crate::common::{Failure, ReadArgs, emit, print_json};
+use crate::synthesize::parse_point;
+
+/// The hand's speed profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Profile {
+    /// The paper's: constant speed, then constant deceleration (v_s = 20 cm/s, r_s = 0.8).
+    EaseOut,
+    /// A minimum-jerk bell, like human hand speed.
+    MinimumJerk,
+}
+
+/// Arguments of `kinergy reach`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Target hand position, world meters `x,y,z` (the character stands at the origin,
+    /// facing +Z, Y up, its left at +X).
+    #[arg(long, value_name = "x,y,z")]
+    pub target: String,
+    /// A BVH capture whose skeleton gives the character's proportions.
+    #[arg(long, value_name = "FILE", conflicts_with = "height")]
+    pub person: Option<PathBuf>,
+    /// The character's height, meters (proportions from anthropometric ratios).
+    #[arg(long, default_value_t = 1.75, value_name = "H")]
+    pub height: f64,
+    /// Leg flexibility: higher squats, lower stoops.
+    #[arg(long, default_value_t = 1.0, value_name = "F")]
+    pub flexibility: f64,
+    /// The reaching arm (default: the one on the target's side).
+    #[arg(long, value_name = "SIDE")]
+    pub arm: Option<String>,
+    /// The hand's speed profile.
+    #[arg(long, value_enum, default_value = "ease-out")]
+    pub profile: Profile,
+    /// Seed of the stepping decisions.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// The longest reach, seconds.
+    #[arg(long, default_value_t = 8.0, value_name = "S")]
+    pub timeout: f64,
+    /// Where to write the clip (BVH at 120 Hz, centimeters, written atomically).
+    #[arg(short, long, value_name = "OUT.bvh")]
+    pub output: PathBuf,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub read: ReadArgs,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    output: String,
+    height_m: f64,
+    target_m: [f64; 3],
+    #[serde(flatten)]
+    reach: &'a kinergy_reach::controller::ReachReport,
+}
+
+/// Runs `kinergy reach`.
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let target = parse_point(&args.target, "--target")?;
+    let proportions = match &args.person {
+        Some(path) => {
+            let (clip, _) = args.read.read(path)?;
+            Proportions::from_clip(&clip).map_err(|e| Failure::input(path, e))?
+        }
+        None => Proportions::from_height(args.height)
+            .map_err(|e| Failure::Input(format!("--height {}: {e}", args.height)))?,
+    };
+    let character = Character::new(&proportions).map_err(|e| Failure::Input(e.to_string()))?;
+    let arm = match args.arm.as_deref() {
+        None => None,
+        Some("right") => Some(Side::Right),
+        Some("left") => Some(Side::Left),
+        Some(other) => {
+            return Err(Failure::Input(format!(
+                "--arm `{other}`: expected right or left"
+            )));
+        }
+    };
+    let settings = ReachSettings {
+        flexibility: args.flexibility,
+        seed: args.seed,
+        timeout: args.timeout,
+        arm,
+        profile: match args.profile {
+            Profile::EaseOut => SpeedProfile::default(),
+            Profile::MinimumJerk => SpeedProfile::MinimumJerk {
+                timing: BellTiming::default(),
+            },
+        },
+        ..ReachSettings::default()
+    };
+    let motion = reach(&character, target, &settings).map_err(|e| Failure::Input(e.to_string()))?;
+    let clip = character
+        .to_clip(&motion.poses, motion.frame_time)
+        .map_err(|e| Failure::Task(e.to_string()))?;
+    kinergy_motion::write_clip(&args.output, &clip, &Default::default())
+        .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+    let r = &motion.report;
+    let report = Report {
+        output: args.output.display().to_string(),
+        height_m: proportions.height(),
+        target_m: [target.x, target.y, target.z],
+        reach: r,
+    };
+    if args.json {
+        print_json(&report)?;
+    } else {
+        emit(&format!(
+            "{}: {} ({} frames, {:.2} s), arm {}, step {} ({:.2} m), twist {:.0}°, swing {:.0}°, {} (squat {:.2} m), hand {:.1} mm from the target\n",
+            report.output,
+            match r.stop {
+                ReachStop::Reached => "reached",
+                ReachStop::Unreachable => "unreachable: ended at the nearest point",
+                ReachStop::Timeout => "timed out",
+            },
+            r.frames,
+            r.duration,
+            r.arm,
+            r.step,
+            r.step_length,
+            r.twist_deg,
+            r.swing_deg,
+            r.posture,
+            r.squat_m,
+            r.final_error * 1e3
+        ))?;
+    }
+    if r.stop == ReachStop::Reached {
+        Ok(())
+    } else {
+        Err(Failure::Task(format!(
+            "the target was not reached ({}): the motion written to {} ends {:.1} mm from it",
+            match r.stop {
+                ReachStop::Unreachable => "unreachable",
+                _ => "timeout",
+            },
+            args.output.display(),
+            r.final_error * 1e3
+        )))
+    }
+}

@@ -1,0 +1,172 @@
+//! End-to-end tests of `kinergy reach` and `kinergy synth`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn kinergy(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kinergy"))
+        .args(args)
+        .output()
+        .expect("run kinergy")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+#[test]
+fn reach_writes_a_clip_whose_hand_ends_on_the_target() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("reach.bvh");
+    let o = kinergy(&[
+        "reach",
+        "--target",
+        "0.3,1.1,0.4",
+        "--seed",
+        "4",
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(report["stop"], "reached");
+    let (clip, _) = kinergy_motion::read_clip(&out, &Default::default()).expect("read");
+    assert_eq!(clip.frame_time(), 1.0 / 120.0);
+    assert_eq!(
+        clip.frame_count() as u64,
+        report["frames"].as_u64().expect("frames")
+    );
+    // The hand's end (read back from the file by FK) is on the target.
+    let arm = if report["arm"] == "left_arm" {
+        "LeftHand_End"
+    } else {
+        "RightHand_End"
+    };
+    let j = clip.skeleton().require_joint(arm).expect("hand");
+    let t = clip.trajectory(&[j]).expect("fk");
+    let hand = t.frame(t.frame_count() - 1)[0];
+    let error = ((hand.x - 0.3).powi(2) + (hand.y - 1.1).powi(2) + (hand.z - 0.4).powi(2)).sqrt();
+    assert!(error < 0.01, "hand {error} m from the target");
+}
+
+#[test]
+fn reach_exit_codes() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("reach.bvh");
+    let out_s = out.to_str().expect("utf-8");
+    let o = kinergy(&[
+        "reach",
+        "--target",
+        "0.3,3.5,0.3",
+        "--timeout",
+        "3",
+        "-o",
+        out_s,
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        out.exists(),
+        "the motion toward an unreachable target is still written"
+    );
+    std::fs::remove_file(&out).expect("remove");
+    for (args, needle) in [
+        (vec!["reach", "--target", "0.3,nan,0.3", "-o", out_s], "nan"),
+        (
+            vec![
+                "reach",
+                "--target",
+                "0.3,1.1,0.3",
+                "--height",
+                "7",
+                "-o",
+                out_s,
+            ],
+            "height",
+        ),
+        (
+            vec![
+                "reach",
+                "--target",
+                "0.3,1.1,0.3",
+                "--flexibility",
+                "0",
+                "-o",
+                out_s,
+            ],
+            "flexibility",
+        ),
+        (
+            vec![
+                "reach",
+                "--target",
+                "0.3,1.1,0.3",
+                "--person",
+                "/nonexistent/p.bvh",
+                "-o",
+                out_s,
+            ],
+            "p.bvh",
+        ),
+    ] {
+        let o = kinergy(&args);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(needle),
+            "{args:?}: `{err}` does not mention {needle}"
+        );
+        assert!(!out.exists(), "{args:?} left an output file");
+    }
+}
+
+/// Every file under `dir`, relative path → bytes.
+fn files(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).expect("read_dir") {
+            let p = e.expect("entry").path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).expect("prefix").to_path_buf();
+                out.push((rel, std::fs::read(&p).expect("read")));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+// The committed synthetic set is what `kinergy synth` writes, byte for byte.
+#[test]
+fn synth_regenerates_the_committed_set_byte_for_byte() {
+    let committed = repo().join("data-synthetic");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("set");
+    let o = kinergy(&["synth", "-o", out.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let (a, b) = (files(&committed), files(&out));
+    assert_eq!(
+        a.iter().map(|f| &f.0).collect::<Vec<_>>(),
+        b.iter().map(|f| &f.0).collect::<Vec<_>>()
+    );
+    for (x, y) in a.iter().zip(&b) {
+        assert!(
+            x.1 == y.1,
+            "{} differs from a fresh `kinergy synth`",
+            x.0.display()
+        );
+    }
+    // 4 persons × 14 reaches and the manifest.
+    assert_eq!(a.len(), 4 * 14 + 1);
+    let manifest = String::from_utf8(std::fs::read(out.join("manifest.csv")).expect("manifest"))
+        .expect("utf-8");
+    assert_eq!(manifest.lines().count(), 1 + 4 * 14);
+    assert!(manifest.starts_with("clip,person,height_m,flexibility"));
+}
