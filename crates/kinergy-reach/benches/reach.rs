@@ -1,0 +1,36 @@
+//! The full-body controller's cost per character per frame, and the synthetic set.
+//!
+//! `cargo bench -p kinergy-reach --bench reach`
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use kinergy_motion::nalgebra::Point3;
+use kinergy_reach::character::Character;
+use kinergy_reach::controller::{ReachSettings, reach};
+
+fn per_frame(c: &mut Criterion) {
+    let character = Character::from_height(1.75).expect("character");
+    let mut group = c.benchmark_group("reach");
+    for (name, target, flexibility) in [
+        ("near", [0.25, 1.1, 0.35], 1.0),
+        ("step", [0.2, 1.0, 1.15], 1.0),
+        ("squat", [0.2, 0.15, 0.8], 3.0),
+    ] {
+        let settings = ReachSettings {
+            flexibility,
+            ..ReachSettings::default()
+        };
+        let target = Point3::new(target[0], target[1], target[2]);
+        let frames = reach(&character, target, &settings).expect("reach").poses.len();
+        group.throughput(Throughput::Elements(frames as u64));
+        group.sample_size(10);
+        group.bench_function(name, |b| {
+            b.iter(|| reach(black_box(&character), target, &settings).expect("reach"))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, per_frame);
+criterion_main!(benches);
