@@ -22,7 +22,10 @@ fn per_frame(c: &mut Criterion) {
             ..ReachSettings::default()
         };
         let target = Point3::new(target[0], target[1], target[2]);
-        let frames = reach(&character, target, &settings).expect("reach").poses.len();
+        let frames = reach(&character, target, &settings)
+            .expect("reach")
+            .poses
+            .len();
         group.throughput(Throughput::Elements(frames as u64));
         group.sample_size(10);
         group.bench_function(name, |b| {

@@ -1590,9 +1590,18 @@ impl Character {
     /// The world frame of the limb's chain base at `pose`: its base joint's frame before the
     /// joint's own motions (parent frame · offset · rest rotation).
     pub fn limb_base_frame(&self, limb: Limb, pose: &Pose) -> IsometryMatrix3<f64> {
+        self.limb_base_frame_in(limb, &self.world_frames(pose))
+    }
+
+    /// [`Character::limb_base_frame`] from world frames already computed
+    /// ([`Character::world_frames`]); only the frames above the limb matter.
+    pub fn limb_base_frame_in(
+        &self,
+        limb: Limb,
+        frames: &[IsometryMatrix3<f64>],
+    ) -> IsometryMatrix3<f64> {
         let base = limb.joints()[0];
         let j = &self.joints[base];
-        let frames = self.world_frames(pose);
         let mut frame = j.parent.map_or(IsometryMatrix3::identity(), |p| frames[p]);
         frame.translation.vector += frame.rotation * j.offset;
         frame.rotation *= j.rest;
@@ -1656,7 +1665,15 @@ impl Character {
     /// Every body segment's mass fraction and centre of mass (Winter's Table 4.1, see the
     /// [module docs](self#centre-of-mass)).
     pub fn mass_segments(&self, pose: &Pose) -> Vec<MassSegment> {
-        let p = self.world_positions(pose);
+        self.mass_segments_in(&self.world_frames(pose))
+    }
+
+    /// [`Character::mass_segments`] from world frames already computed.
+    pub fn mass_segments_in(&self, frames: &[IsometryMatrix3<f64>]) -> Vec<MassSegment> {
+        let p: Vec<Point3<f64>> = frames
+            .iter()
+            .map(|f| Point3::from(f.translation.vector))
+            .collect();
         let along = |a: usize, b: usize, t: f64| p[a] + (p[b] - p[a]) * t;
         let seg = |name, mass_fraction, com| MassSegment {
             name,
@@ -1705,7 +1722,12 @@ impl Character {
 
     /// The whole body's centre of mass: the mass-weighted mean of [`Character::mass_segments`].
     pub fn com(&self, pose: &Pose) -> Point3<f64> {
-        let segments = self.mass_segments(pose);
+        self.com_in(&self.world_frames(pose))
+    }
+
+    /// [`Character::com`] from world frames already computed.
+    pub fn com_in(&self, frames: &[IsometryMatrix3<f64>]) -> Point3<f64> {
+        let segments = self.mass_segments_in(frames);
         let total: f64 = segments.iter().map(|s| s.mass_fraction).sum();
         let sum = segments.iter().fold(Vector3::zeros(), |acc, s| {
             acc + s.com.coords * s.mass_fraction
@@ -1718,7 +1740,11 @@ impl Character {
     /// of the points within [`CONTACT_TOLERANCE`] of the lowest. One foot on the ground
     /// gives its sole's rectangle, not a line.
     pub fn support_polygon(&self, pose: &Pose) -> SupportPolygon {
-        let f = self.world_frames(pose);
+        self.support_polygon_in(&self.world_frames(pose))
+    }
+
+    /// [`Character::support_polygon`] from world frames already computed.
+    pub fn support_polygon_in(&self, f: &[IsometryMatrix3<f64>]) -> SupportPolygon {
         let half = 0.5 * FOOT_BREADTH * self.proportions.height();
         let p = &self.proportions;
         let mut points = Vec::with_capacity(8);

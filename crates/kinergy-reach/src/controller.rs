@@ -833,10 +833,18 @@ fn animate(
         for pass in 0..10 {
             let feet = [foot_goal(0), foot_goal(1)];
             lower_root_for_legs(character, &mut pose, &feet);
-            solve_legs(character, &mut pose, &leg_iks, &feet)?;
+            // The limbs' bases do not depend on the limbs: one FK serves all three.
+            let above = character.world_frames(&pose);
+            solve_legs_in(character, &mut pose, &above, &leg_iks, &feet)?;
             // Arm.
-            let base = character.limb_base_frame(plan.arm, &pose);
-            let hand_now = hand_position(character, &pose, plan.arm);
+            let base = character.limb_base_frame_in(plan.arm, &above);
+            let arm_chain = character.limb_chain(plan.arm);
+            let end = |pose: &Pose| {
+                arm_chain
+                    .end_position(&base, &pose[arm_dofs.clone()])
+                    .unwrap_or(plan.target)
+            };
+            let hand_now = end(&pose);
             if t >= t_arm {
                 let start = *hand_start.get_or_insert(hand_now);
                 let goal = s.profile.position(&start, &plan.target, t - t_arm);
@@ -848,11 +856,11 @@ fn animate(
                 }
                 last_arm = Some(q);
             }
-            let hand = hand_position(character, &pose, plan.arm);
-            error = (hand - plan.target).norm();
+            error = (end(&pose) - plan.target).norm();
             // Balance.
-            let com = character.com(&pose);
-            let polygon = character.support_polygon(&pose);
+            let frames = character.world_frames(&pose);
+            let com = character.com_in(&frames);
+            let polygon = character.support_polygon_in(&frames);
             let c = Point2::new(com.x, com.z);
             let margin = polygon.margin(c);
             if margin >= s.balance_margin || pass == 9 {
@@ -1043,8 +1051,20 @@ fn solve_legs(
     iks: &[LimbIk; 2],
     feet: &[IsometryMatrix3<f64>; 2],
 ) -> Result<()> {
+    let above = character.world_frames(pose);
+    solve_legs_in(character, pose, &above, iks, feet)
+}
+
+/// [`solve_legs`] with the world frames of the body above the legs already computed.
+fn solve_legs_in(
+    character: &Character,
+    pose: &mut Pose,
+    above: &[IsometryMatrix3<f64>],
+    iks: &[LimbIk; 2],
+    feet: &[IsometryMatrix3<f64>; 2],
+) -> Result<()> {
     for (i, leg) in [Limb::RightLeg, Limb::LeftLeg].into_iter().enumerate() {
-        let base = character.limb_base_frame(leg, pose);
+        let base = character.limb_base_frame_in(leg, above);
         // The chain's end effector is the toe tip in the ankle frame.
         let toe = character.limb_chain(leg).end_effector();
         let goal_world = IsometryMatrix3::from_parts(
