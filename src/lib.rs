@@ -10,7 +10,9 @@
 //!   taken from captures, and the parameters file;
 //! - [`train`]: fitting synergy parameters to captured reaches — segmentation, simulated
 //!   annealing with checkpoints, per-clip and per-person nested fits, argmin baselines, the
-//!   parameter field over targets.
+//!   parameter field over targets;
+//! - [`reach`]: full-body reaching — the 43-DoF character, speed profiles, stepping, the
+//!   controllers and their scheduler, the synthetic motion-capture set.
 //!
 //! `use kinergy::prelude::*;` brings the types most programs need.
 //!
@@ -45,6 +47,7 @@ pub use kinergy_bvh as bvh;
 pub use kinergy_motion as motion;
 pub use kinergy_solver as solver;
 pub use kinergy_train as train;
+pub use kinergy_reach as reach;
 
 /// The types most programs need.
 pub mod prelude {
