@@ -45,9 +45,9 @@
 
 pub use kinergy_bvh as bvh;
 pub use kinergy_motion as motion;
+pub use kinergy_reach as reach;
 pub use kinergy_solver as solver;
 pub use kinergy_train as train;
-pub use kinergy_reach as reach;
 
 /// The types most programs need.
 pub mod prelude {
