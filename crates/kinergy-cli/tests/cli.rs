@@ -1,29 +1,11 @@
 //! End-to-end tests of the `kinergy` binary: outputs and their content, exit codes, and
 //! that bad input never leaves a file behind.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+use common::{fixture, json, kinergy, stderr, stdout};
 
-fn kinergy(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kinergy"))
-        .args(args)
-        .output()
-        .expect("run kinergy")
-}
-
-fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/data")
-        .join(name)
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use std::path::Path;
+use std::process::Command;
 
 #[test]
 fn inspect_json_describes_the_cmu_walk() {
@@ -211,10 +193,6 @@ fn read_clip(path: &Path) -> kinergy_motion::Clip {
     kinergy_motion::read_clip(path, &Default::default())
         .expect("read clip")
         .0
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    serde_json::from_str(&stdout(o)).unwrap_or_else(|e| panic!("{e}: {}", stdout(o)))
 }
 
 fn point(v: &serde_json::Value) -> [f64; 3] {

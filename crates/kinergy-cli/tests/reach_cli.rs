@@ -1,22 +1,9 @@
 //! End-to-end tests of `kinergy reach` and `kinergy synth`.
 
+mod common;
+use common::{kinergy, repo, text};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn kinergy(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kinergy"))
-        .args(args)
-        .output()
-        .expect("run kinergy")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 #[test]
 fn reach_writes_a_clip_whose_hand_ends_on_the_target() {

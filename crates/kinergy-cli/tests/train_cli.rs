@@ -1,31 +1,13 @@
 //! End-to-end tests of `kinergy segment`, `fit` and `compare`: files written and their
 //! content, determinism across thread counts, interrupt and resume, bad input.
 
-use std::path::{Path, PathBuf};
+mod common;
+use common::{fixture, json, kinergy, text};
+
+use std::path::Path;
 use std::process::{Command, Output};
 
 use kinergy_solver::{Model, ParamsFile};
-
-fn kinergy(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_kinergy"))
-        .args(args)
-        .output()
-        .expect("run kinergy")
-}
-
-fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/data")
-        .join(name)
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{e}: {}", text(&o.stdout)))
-}
 
 #[test]
 fn segment_lists_the_reaches_and_marks_the_main_one() {

@@ -21,13 +21,24 @@ use crate::clip::Clip;
 use crate::error::{MotionError, Result};
 use crate::skeleton::Skeleton;
 
-/// Which arm.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// Left or right: an arm, a foot, or the side of the body a target is on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Side {
-    /// The right arm.
+    /// The right side.
     Right,
-    /// The left arm.
+    /// The left side.
     Left,
+}
+
+impl Side {
+    /// The other side.
+    pub fn opposite(self) -> Side {
+        match self {
+            Side::Left => Side::Right,
+            Side::Right => Side::Left,
+        }
+    }
 }
 
 impl fmt::Display for Side {
@@ -125,8 +136,9 @@ impl ArmJoints {
     }
 }
 
-/// Lowercase role tokens of a joint name.
-fn tokens(name: &str) -> Vec<String> {
+/// Lowercase role tokens of a joint name: split at separators and camelCase boundaries,
+/// namespace (`mixamorig:`) dropped — how joints are recognized by role.
+pub fn name_tokens(name: &str) -> Vec<String> {
     let name = name.rsplit(':').next().unwrap_or(name);
     let chars: Vec<char> = name.chars().collect();
     let mut out = Vec::new();
@@ -212,7 +224,7 @@ impl ArmJoints {
             .joints()
             .iter()
             .map(|j| {
-                let t = tokens(&j.name);
+                let t = name_tokens(&j.name);
                 (side_of(&t), role_word(&t))
             })
             .collect();
@@ -293,7 +305,7 @@ impl ArmJoints {
             .joints()
             .iter()
             .map(|j| {
-                let t = tokens(&j.name);
+                let t = name_tokens(&j.name);
                 (side_of(&t), role_word(&t))
             })
             .collect();
@@ -389,10 +401,13 @@ mod tests {
 
     #[test]
     fn tokenizes_the_conventions() {
-        assert_eq!(tokens("mixamorig:RightForeArm"), ["right", "fore", "arm"]);
-        assert_eq!(tokens("CC_Base_R_Upperarm"), ["r", "upperarm"]);
-        assert_eq!(tokens("RHipJoint"), ["r", "hip", "joint"]);
-        assert_eq!(tokens("LowerArm_R"), ["lower", "arm", "r"]);
+        assert_eq!(
+            name_tokens("mixamorig:RightForeArm"),
+            ["right", "fore", "arm"]
+        );
+        assert_eq!(name_tokens("CC_Base_R_Upperarm"), ["r", "upperarm"]);
+        assert_eq!(name_tokens("RHipJoint"), ["r", "hip", "joint"]);
+        assert_eq!(name_tokens("LowerArm_R"), ["lower", "arm", "r"]);
     }
 
     #[test]

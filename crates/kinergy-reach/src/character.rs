@@ -777,42 +777,10 @@ struct LegJoints {
     toe: usize,
 }
 
-/// Name tokens: lowercase, split at separators and camelCase boundaries, namespace dropped.
-fn name_tokens(name: &str) -> Vec<String> {
-    let name = name.rsplit(':').next().unwrap_or(name);
-    let chars: Vec<char> = name.chars().collect();
-    let mut out = Vec::new();
-    let mut cur = String::new();
-    for (i, &c) in chars.iter().enumerate() {
-        if !c.is_ascii_alphanumeric() {
-            if !cur.is_empty() {
-                out.push(std::mem::take(&mut cur));
-            }
-            continue;
-        }
-        let prev = i.checked_sub(1).map(|k| chars[k]);
-        let next = chars.get(i + 1).copied();
-        let boundary = c.is_ascii_uppercase()
-            && prev.is_some_and(|p| {
-                p.is_ascii_lowercase()
-                    || p.is_ascii_digit()
-                    || (p.is_ascii_uppercase() && next.is_some_and(|n| n.is_ascii_lowercase()))
-            });
-        if boundary && !cur.is_empty() {
-            out.push(std::mem::take(&mut cur));
-        }
-        cur.push(c.to_ascii_lowercase());
-    }
-    if !cur.is_empty() {
-        out.push(cur);
-    }
-    out
-}
-
 /// The side a name's tokens give, and its role: the other tokens joined (`RightUpLeg` →
 /// `upleg`, `CC_Base_L_Calf` → `ccbasecalf`).
 fn side_and_role(name: &str) -> (Option<Side>, String) {
-    let tokens = name_tokens(name);
+    let tokens = kinergy_motion::arm::name_tokens(name);
     let mut side = None;
     let mut role = String::new();
     for t in &tokens {
@@ -952,7 +920,9 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
         .find(|&j| {
             let joint = skeleton.joint(j);
             !joint.end_site
-                && name_tokens(&joint.name).iter().any(|t| t == "head")
+                && kinergy_motion::arm::name_tokens(&joint.name)
+                    .iter()
+                    .any(|t| t == "head")
                 && side_and_role(&joint.name).0.is_none()
         })
         .ok_or_else(|| {

@@ -278,7 +278,7 @@ fn plan(
         Side::Left => Limb::LeftArm,
         Side::Right => Limb::RightArm,
     };
-    let segments = character.proportions().arm(body_side(side));
+    let segments = character.proportions().arm(side);
     let arm_length = segments.upper_arm + segments.forearm + segments.hand;
     let step_settings = match s.steps {
         Some(st) => st,
@@ -312,22 +312,13 @@ fn plan(
     pose[dof::ROOT_Z] += direction.z * root_move;
 
     // Twist: the smallest |θ| putting the target within the comfortable angle.
-    let mut twist = 0.0;
+    // The smallest |θ| (1° steps, + before −) putting the target within the comfortable
+    // angle; when none within the limits does, the θ turning closest to it.
     let max_twist = max_equal_split(character, |j| j.rotation_dofs().start + dof::TWIST);
-    let mut best_twist = (f64::INFINITY, 0.0);
-    for k in 0..=180 {
-        for sign in [1.0, -1.0] {
-            let theta = sign * (k as f64).to_radians();
-            if theta.abs() <= max_twist {
-                let mut p = pose;
-                set_twist(&mut p, theta);
-                let a = comfort_angle(character, &p, arm, &target);
-                if a < best_twist.0 - 1e-12 {
-                    best_twist = (a, theta);
-                }
-            }
-        }
-        let mut found = None;
+    let forward_local = chest_forward_local(character);
+    let mut found = None;
+    let mut closest = (f64::INFINITY, 0.0);
+    'search: for k in 0..=180 {
         for sign in [1.0, -1.0] {
             let theta = sign * (k as f64).to_radians();
             if theta.abs() > max_twist {
@@ -335,21 +326,17 @@ fn plan(
             }
             let mut p = pose;
             set_twist(&mut p, theta);
-            if within_comfort(character, &p, arm, &target, s.comfortable_angle) {
+            let a = comfort_angle(character, &p, arm, &target, &forward_local);
+            if a <= s.comfortable_angle {
                 found = Some(theta);
-                break;
+                break 'search;
+            }
+            if a < closest.0 - 1e-12 {
+                closest = (a, theta);
             }
         }
-        if let Some(t) = found {
-            twist = t;
-            break;
-        }
-        if (k as f64).to_radians() > max_twist {
-            // Nothing within the comfortable angle: turn as far toward the target as allowed.
-            twist = best_twist.1;
-            break;
-        }
     }
+    let twist = found.unwrap_or(closest.1);
     set_twist(&mut pose, twist);
 
     // Squat: lower the root by what the shoulder's height above the target exceeds the
@@ -357,7 +344,7 @@ fn plan(
     let shoulder = shoulder_position(character, &pose, arm);
     let drop = shoulder.y - target.y;
     let stoop_range = arm_length / s.flexibility;
-    let leg = character.proportions().leg(kinergy_motion::Side::Right);
+    let leg = character.proportions().leg(Side::Right);
     let max_squat = 0.45 * (leg.thigh + leg.shank);
     let squat = if drop > stoop_range {
         (drop - stoop_range).min(max_squat)
@@ -608,9 +595,15 @@ fn arm_error(
 
 /// The angle between the target's horizontal direction from the shoulder and the chest's
 /// horizontal forward direction (eq. 6).
-fn comfort_angle(character: &Character, pose: &Pose, arm: Limb, target: &Point3<f64>) -> f64 {
+fn comfort_angle(
+    character: &Character,
+    pose: &Pose,
+    arm: Limb,
+    target: &Point3<f64>,
+    forward_local: &Vector3<f64>,
+) -> f64 {
     let frames = character.world_frames(pose);
-    let forward = frames[joint::CHEST].rotation * chest_forward_local(character);
+    let forward = frames[joint::CHEST].rotation * forward_local;
     let shoulder = shoulder_position(character, pose, arm);
     let d = target - shoulder;
     let (f, d) = (
@@ -621,18 +614,6 @@ fn comfort_angle(character: &Character, pose: &Pose, arm: Limb, target: &Point3<
         return 0.0;
     }
     f.normalize().dot(&d.normalize()).clamp(-1.0, 1.0).acos()
-}
-
-/// Whether the target's horizontal direction from the shoulder is within `angle` of the
-/// chest's horizontal forward direction (eq. 6).
-fn within_comfort(
-    character: &Character,
-    pose: &Pose,
-    arm: Limb,
-    target: &Point3<f64>,
-    angle: f64,
-) -> bool {
-    comfort_angle(character, pose, arm, target) <= angle
 }
 
 /// The chest's forward direction in its own frame (world +Z at rest).
@@ -697,11 +678,9 @@ fn animate(
     let root_rest_point = Point3::new(rest[dof::ROOT_X], rest[dof::ROOT_Y], rest[dof::ROOT_Z]);
     let sole = |i: usize, moved: bool| -> Point3<f64> {
         let ankle = Point3::from(feet_rest[i].translation.vector);
-        let leg = character.proportions().leg(if i == 0 {
-            kinergy_motion::Side::Right
-        } else {
-            kinergy_motion::Side::Left
-        });
+        let leg = character
+            .proportions()
+            .leg(if i == 0 { Side::Right } else { Side::Left });
         // Toward the toe, where the swinging foot is going (the COM stays 2 cm inside).
         let toward = 0.3 * (leg.toe - leg.heel).max(0.0);
         let forward = plan.direction * toward;
@@ -731,7 +710,7 @@ fn animate(
     let step_settings = match s.steps {
         Some(st) => st,
         None => {
-            let a = character.proportions().arm(body_side(limb_side(plan.arm)));
+            let a = character.proportions().arm(plan.arm.side());
             StepSettings::for_arm_length(a.upper_arm + a.forearm + a.hand)?
         }
     };
@@ -939,7 +918,7 @@ const STEP_KNEE_BEND: f64 = 0.12;
 /// The longest step a foot can take while the root stays over the other foot's toe (static
 /// balance), from the leg's geometry with the knees bent by [`STEP_KNEE_BEND`].
 fn static_step_limit(character: &Character) -> f64 {
-    let leg = character.proportions().leg(kinergy_motion::Side::Right);
+    let leg = character.proportions().leg(Side::Right);
     let l = leg.thigh + leg.shank;
     let drop = l - STEP_KNEE_BEND * l;
     let reach = 0.97 * l;
@@ -973,25 +952,10 @@ fn swing_window(order: [usize; 2], i: usize, step_time: f64) -> (f64, f64) {
     (a, a + swing)
 }
 
-/// The motion crate's side for the stepping module's.
-fn body_side(side: Side) -> kinergy_motion::Side {
-    match side {
-        Side::Left => kinergy_motion::Side::Left,
-        Side::Right => kinergy_motion::Side::Right,
-    }
-}
-
 fn foot_index(side: Side) -> usize {
     match side {
         Side::Right => 0,
         Side::Left => 1,
-    }
-}
-
-fn limb_side(limb: Limb) -> Side {
-    match limb {
-        Limb::LeftArm | Limb::LeftLeg => Side::Left,
-        _ => Side::Right,
     }
 }
 
@@ -1015,20 +979,11 @@ fn leg_ik(character: &Character, leg: Limb) -> Result<LimbIk> {
     Ok(ik)
 }
 
-/// Brings a limb configuration within its chain's limits.
-fn clamp_limb(chain: &kinergy_motion::Chain, q: &mut [f64; 7]) {
-    chain.clamp(q);
-}
-
 /// Lowers the root until both ankles are within 98.5 % of the legs' length from the hips
 /// (a planted foot must stay reachable whatever the root does).
 fn lower_root_for_legs(character: &Character, pose: &mut Pose, feet: &[IsometryMatrix3<f64>; 2]) {
     for (i, leg) in [Limb::RightLeg, Limb::LeftLeg].into_iter().enumerate() {
-        let segments = character.proportions().leg(if i == 0 {
-            kinergy_motion::Side::Right
-        } else {
-            kinergy_motion::Side::Left
-        });
+        let segments = character.proportions().leg(leg.side());
         let reach = 0.985 * (segments.thigh + segments.shank);
         let hip = character.limb_base_frame(leg, pose).translation.vector;
         let ankle = feet[i].translation.vector;
@@ -1099,7 +1054,7 @@ fn solve_legs_in(
                 let mut q = iks[i]
                     .solve(&(base.inverse() * goal_world), 0.0)
                     .unwrap_or_default();
-                clamp_limb(character.limb_chain(leg), &mut q);
+                character.limb_chain(leg).clamp(&mut q);
                 q
             }
         };

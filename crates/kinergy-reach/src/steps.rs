@@ -63,25 +63,7 @@ pub const MRR_PER_ARM_LENGTH: f64 = 1.3;
 /// adult (≈ 0.40 of the height, Drillis & Contini).
 pub const REFERENCE_ARM_LENGTH: f64 = 0.70;
 
-/// Left or right: a foot, an arm, or the side of the body a target is on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Side {
-    /// The character's left.
-    Left,
-    /// The character's right.
-    Right,
-}
-
-impl Side {
-    /// The other side.
-    pub fn opposite(self) -> Side {
-        match self {
-            Side::Left => Side::Right,
-            Side::Right => Side::Left,
-        }
-    }
-}
+pub use kinergy_motion::Side;
 
 /// What the stepping decision state machine (§3.5) chose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]

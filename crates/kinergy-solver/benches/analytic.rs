@@ -19,9 +19,8 @@ use kinergy_solver::analytic::{LimbIk, OrbitSearch};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
-const UPPER: f64 = 0.30;
-const FORE: f64 = 0.26;
-const HAND: f64 = 0.09;
+mod common;
+use common::{FORE, HAND, UPPER};
 const TARGETS: usize = 10_000;
 /// k's acceptance: meters and radians (ours is checked at 1e-9).
 const K_DISTANCE: f64 = 1e-4;
@@ -138,46 +137,6 @@ fn solve(c: &mut Criterion) {
 // k's arm: the same bones with revolute joints — shoulder X, Y, Z; elbow X, Z; wrist X, Y —
 // and no joint limits, so every goal of our arm is reachable by it.
 
-const K_AXES: [Axis; 7] = [
-    Axis::X,
-    Axis::Y,
-    Axis::Z,
-    Axis::X,
-    Axis::Z,
-    Axis::X,
-    Axis::Y,
-];
-
-fn k_arm() -> k::SerialChain<f64> {
-    use k::nalgebra as kn;
-    let offsets = [0.0, 0.0, 0.0, UPPER, 0.0, FORE, 0.0];
-    let mut nodes: Vec<k::Node<f64>> = (0..7)
-        .map(|i| {
-            let axis = match K_AXES[i] {
-                Axis::X => kn::Vector3::x_axis(),
-                Axis::Y => kn::Vector3::y_axis(),
-                Axis::Z => kn::Vector3::z_axis(),
-            };
-            k::NodeBuilder::new()
-                .name(&format!("j{i}"))
-                .joint_type(k::JointType::Rotational { axis })
-                .translation(kn::Translation3::new(0.0, 0.0, offsets[i]))
-                .into_node()
-        })
-        .collect();
-    nodes.push(
-        k::NodeBuilder::new()
-            .name("hand")
-            .joint_type(k::JointType::Fixed)
-            .translation(kn::Translation3::new(0.0, 0.0, HAND))
-            .into_node(),
-    );
-    for w in nodes.windows(2) {
-        w[1].set_parent(&w[0]);
-    }
-    k::SerialChain::try_new(k::Chain::from_root(nodes[0].clone())).expect("serial")
-}
-
 /// Our configuration in k's joints with the same FK: shoulder `swing · R_z(t)` as XYZ Euler
 /// angles, flexion as is, and the distal `R_z(u) · swing(wx, wy)` as ZXY Euler angles.
 fn to_k(q: &[f64; 7]) -> [f64; 7] {
@@ -279,7 +238,7 @@ fn ours_search(goals: &[IsometryMatrix3<f64>]) -> Outcome {
 fn theirs(goals: &[IsometryMatrix3<f64>], multiplier: f64) -> Outcome {
     use k::InverseKinematicsSolver;
     use k::nalgebra as kn;
-    let arm = k_arm();
+    let arm = common::k_arm(None);
     let start = [0.3, 0.3, 0.0, 1.0, 0.0, 0.0, 0.0];
     let solver = k::JacobianIkSolver::new(K_DISTANCE, K_ANGLE, multiplier, K_ITERATIONS);
     let constraints = k::Constraints::default();
@@ -317,7 +276,7 @@ fn theirs(goals: &[IsometryMatrix3<f64>], multiplier: f64) -> Outcome {
 fn versus_k(_: &mut Criterion) {
     // The two arms agree: the same FK at random configurations, ours mapped to k's joints.
     let ours = arm();
-    let k_arm = k_arm();
+    let k_arm = common::k_arm(None);
     let mut lin = Linearization::default();
     for q in configurations(7, 100) {
         k_arm.set_joint_positions(&to_k(&q)).expect("no limits");

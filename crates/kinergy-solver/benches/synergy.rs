@@ -14,7 +14,6 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use kinergy_motion::nalgebra::{
     DMatrix, IsometryMatrix3, Point3, Translation3, UnitQuaternion, Vector3,
 };
-use kinergy_motion::rotation::Axis;
 use kinergy_motion::{Chain, ChainJoint, Linearization, Motion};
 use kinergy_solver::{
     Base, Controller, ControllerSettings, LimitHandling, Model, Optimizer, OptimizerKind,
@@ -23,9 +22,8 @@ use kinergy_solver::{
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 
-const UPPER: f64 = 0.30;
-const FORE: f64 = 0.26;
-const HAND: f64 = 0.09;
+mod common;
+use common::{FORE, HAND, K_AXES as AXES, UPPER};
 
 fn base() -> IsometryMatrix3<f64> {
     IsometryMatrix3::from_parts(
@@ -160,15 +158,6 @@ const LIMITS: [(f64, f64); 7] = [
     (-1.2, 1.2),
     (-0.5, 0.5),
 ];
-const AXES: [Axis; 7] = [
-    Axis::X,
-    Axis::Y,
-    Axis::Z,
-    Axis::X,
-    Axis::Z,
-    Axis::X,
-    Axis::Y,
-];
 const TOLERANCE: f64 = 1e-4;
 const MAX_ITERATIONS: usize = 100;
 const TARGETS: usize = 10_000;
@@ -188,38 +177,6 @@ fn revolute_arm() -> Chain {
         Vector3::new(0.0, 0.0, HAND),
     )
     .expect("revolute arm")
-}
-
-fn k_arm() -> k::SerialChain<f64> {
-    use k::nalgebra as kn;
-    let offsets = [0.0, 0.0, 0.0, UPPER, 0.0, FORE, 0.0];
-    let mut nodes: Vec<k::Node<f64>> = (0..7)
-        .map(|i| {
-            let axis = match AXES[i] {
-                Axis::X => kn::Vector3::x_axis(),
-                Axis::Y => kn::Vector3::y_axis(),
-                Axis::Z => kn::Vector3::z_axis(),
-            };
-            k::NodeBuilder::new()
-                .name(&format!("j{i}"))
-                .joint_type(k::JointType::Rotational { axis })
-                .translation(kn::Translation3::new(0.0, 0.0, offsets[i]))
-                .limits(Some(k::joint::Range::new(LIMITS[i].0, LIMITS[i].1)))
-                .into_node()
-        })
-        .collect();
-    nodes.push(
-        k::NodeBuilder::new()
-            .name("hand")
-            .joint_type(k::JointType::Fixed)
-            .translation(kn::Translation3::new(0.0, 0.0, HAND))
-            .into_node(),
-    );
-    for w in nodes.windows(2) {
-        w[1].set_parent(&w[0]);
-    }
-    let chain = k::Chain::from_root(nodes[0].clone());
-    k::SerialChain::try_new(chain).expect("serial")
 }
 
 struct Outcome {
@@ -296,7 +253,7 @@ fn ours(name: &str, optimizer: Optimizer, limits: LimitHandling) -> Outcome {
 fn theirs(multiplier: f64) -> Outcome {
     use k::InverseKinematicsSolver;
     use k::nalgebra as kn;
-    let arm = k_arm();
+    let arm = common::k_arm(Some(&LIMITS));
     let (targets, start) = targets();
     let solver = k::JacobianIkSolver::new(TOLERANCE, 1.0, multiplier, MAX_ITERATIONS);
     let constraints = k::Constraints {
@@ -335,7 +292,7 @@ fn theirs(multiplier: f64) -> Outcome {
 fn versus_k(_: &mut Criterion) {
     // Agreement of the two arms first: same FK at random configurations.
     let ours_arm = revolute_arm();
-    let k_arm = k_arm();
+    let k_arm = common::k_arm(Some(&LIMITS));
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
     for _ in 0..100 {
         let q: Vec<f64> = LIMITS

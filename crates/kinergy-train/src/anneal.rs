@@ -465,27 +465,7 @@ impl Annealer {
     /// The initial state: member 0 at `start`, the others around it (three initial steps
     /// away on average), all evaluated. `tag` names the problem for resume checks.
     pub fn init(&self, cost: &dyn CostFunction, start: &[f64], tag: &str) -> Result<AnnealState> {
-        let (lower, upper) = cost.bounds();
-        let n = cost.dimension();
-        require(
-            lower.len() == n && upper.len() == n,
-            "bounds",
-            "one lower and one upper bound per parameter",
-        )?;
-        require(
-            lower.iter().zip(&upper).all(|(l, u)| l < u),
-            "bounds",
-            "lower < upper for every parameter",
-        )?;
-        require(start.len() == n, "start", format!("{n} parameters"))?;
-        require(
-            start
-                .iter()
-                .zip(lower.iter().zip(&upper))
-                .all(|(x, (l, u))| x >= l && x <= u),
-            "start",
-            "within the bounds",
-        )?;
+        let (lower, upper) = crate::objective::checked_bounds(cost, start)?;
         let s = &self.settings;
         let xs: Vec<Vec<f64>> = (0..s.population)
             .map(|m| {

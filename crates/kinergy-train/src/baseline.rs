@@ -220,27 +220,8 @@ pub fn minimize(
     settings: &BaselineSettings,
 ) -> Result<BaselineResult> {
     settings.validate()?;
-    let (lower, upper) = cost.bounds();
+    let (lower, upper) = crate::objective::checked_bounds(cost, start)?;
     let n = cost.dimension();
-    require(
-        lower.len() == n && upper.len() == n,
-        "bounds",
-        "one lower and one upper bound per parameter",
-    )?;
-    require(
-        lower.iter().zip(&upper).all(|(l, u)| l < u),
-        "bounds",
-        "lower < upper for every parameter",
-    )?;
-    require(start.len() == n, "start", format!("{n} parameters"))?;
-    require(
-        start
-            .iter()
-            .zip(lower.iter().zip(&upper))
-            .all(|(x, (l, u))| x >= l && x <= u),
-        "start",
-        "within the bounds",
-    )?;
     let needed = match method {
         BaselineMethod::NelderMead => n + 1,
         BaselineMethod::ParticleSwarm => settings.particles,

@@ -24,6 +24,33 @@ pub trait CostFunction: Sync {
     }
 }
 
+/// `cost`'s bounds, checked (one pair per parameter, lower < upper) together with a start
+/// vector (one value per parameter, within the bounds); errors name `bounds` or `start`.
+pub fn checked_bounds(cost: &dyn CostFunction, start: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
+    let (lower, upper) = cost.bounds();
+    let n = cost.dimension();
+    require(
+        lower.len() == n && upper.len() == n,
+        "bounds",
+        "one lower and one upper bound per parameter",
+    )?;
+    require(
+        lower.iter().zip(&upper).all(|(l, u)| l < u),
+        "bounds",
+        "lower < upper for every parameter",
+    )?;
+    require(start.len() == n, "start", format!("{n} parameters"))?;
+    require(
+        start
+            .iter()
+            .zip(lower.iter().zip(&upper))
+            .all(|(x, (l, u))| x >= l && x <= u),
+        "start",
+        "within the bounds",
+    )?;
+    Ok((lower, upper))
+}
+
 /// The mean motion distance over `reaches` of the motions synthesized with a parameter
 /// vector of `space` and `optimizer`.
 #[derive(Debug, Clone)]

@@ -1,0 +1,43 @@
+//! What the CLI's end-to-end tests share: running the binary, the fixtures, its output.
+#![allow(dead_code)] // each test file uses a subset
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs `kinergy` with `args`.
+pub fn kinergy(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_kinergy"))
+        .args(args)
+        .output()
+        .expect("run kinergy")
+}
+
+/// The repository's root.
+pub fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A committed test capture under `tests/data/`.
+pub fn fixture(name: &str) -> PathBuf {
+    repo().join("tests/data").join(name)
+}
+
+/// Bytes as (lossy) UTF-8.
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// The command's standard output.
+pub fn stdout(o: &Output) -> String {
+    text(&o.stdout)
+}
+
+/// The command's standard error.
+pub fn stderr(o: &Output) -> String {
+    text(&o.stderr)
+}
+
+/// The command's standard output parsed as JSON.
+pub fn json(o: &Output) -> serde_json::Value {
+    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{e}: {}", stdout(o)))
+}
