@@ -1,0 +1,144 @@
+//! The error type of `kinergy-plan`.
+
+use std::path::PathBuf;
+
+use kinergy_motion::MotionError;
+use kinergy_reach::ReachError;
+use kinergy_solver::analytic::AnalyticError;
+
+/// Everything that can go wrong in `kinergy-plan`: bad input (scene files, OBJ meshes,
+/// settings) and the planner's typed failures.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PlanError {
+    /// A file could not be read.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// A scene file is malformed: `field` is the JSON path of the offending value, e.g.
+    /// `objects[2].shape.box.half_extents`.
+    #[error("{}: `{field}`: {why}", path.display())]
+    Scene {
+        /// The scene file (empty when the scene came from a string).
+        path: PathBuf,
+        /// The JSON path of the offending value.
+        field: String,
+        /// What was expected.
+        why: String,
+    },
+    /// An OBJ mesh is malformed.
+    #[error("{}:{line}: {why}", path.display())]
+    Obj {
+        /// The mesh file.
+        path: PathBuf,
+        /// 1-based line number (0 for the file as a whole).
+        line: usize,
+        /// What was expected.
+        why: String,
+    },
+    /// A setting or argument is outside what it may be (named by its field).
+    #[error("invalid `{field}`: {why}")]
+    Setting {
+        /// The setting's name, e.g. `rrt.step`.
+        field: String,
+        /// What was expected.
+        why: String,
+    },
+    /// The character could not be built or exported.
+    #[error(transparent)]
+    Reach(#[from] ReachError),
+    /// A skeleton or clip operation failed.
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+    /// The start posture already collides: the planner has nowhere to start from.
+    #[error("the start posture is in collision: {contact}")]
+    StartInCollision {
+        /// The first colliding pair, e.g. `right_forearm × shelf`.
+        contact: String,
+    },
+    /// No posture of the arm reaches the goal within the joint limits, whatever the
+    /// collisions.
+    #[error("the goal is unreachable: {why}")]
+    GoalUnreachable {
+        /// Why, from the analytic IK.
+        why: String,
+    },
+    /// Postures reach the goal within the joint limits, but every one the orbit-angle search
+    /// tried collides.
+    #[error(
+        "the goal is in collision at every orbit angle tried ({tried} postures within limits; first contact {contact})"
+    )]
+    GoalInCollision {
+        /// Postures within the joint limits that were tried.
+        tried: usize,
+        /// The first colliding pair found at the first posture.
+        contact: String,
+    },
+    /// The planner's budget ran out before the two trees met.
+    #[error(
+        "no collision-free path within the budget ({iterations} iterations, {elapsed_ms:.1} ms, \
+         {nodes} nodes); the trees came within {gap:.3} m of each other"
+    )]
+    NoPath {
+        /// Iterations done.
+        iterations: usize,
+        /// Time spent, milliseconds.
+        elapsed_ms: f64,
+        /// Nodes in both trees.
+        nodes: usize,
+        /// The best progress: the smallest distance (the planner's metric, meters) seen
+        /// between a node of one tree and a node of the other.
+        gap: f64,
+    },
+    /// A value was NaN or infinite.
+    #[error("{0} is not finite")]
+    NonFinite(String),
+}
+
+impl PlanError {
+    /// True for failures of the task (no path, unreachable or colliding goal or start),
+    /// false for bad input. The CLI maps the first to exit code 1, the second to 2.
+    pub fn is_task_failure(&self) -> bool {
+        matches!(
+            self,
+            PlanError::StartInCollision { .. }
+                | PlanError::GoalUnreachable { .. }
+                | PlanError::GoalInCollision { .. }
+                | PlanError::NoPath { .. }
+        )
+    }
+}
+
+impl From<AnalyticError> for PlanError {
+    fn from(e: AnalyticError) -> PlanError {
+        match e {
+            AnalyticError::NonFinite(what) => PlanError::NonFinite(what),
+            AnalyticError::Setting { .. } => PlanError::Setting {
+                field: "ik".into(),
+                why: e.to_string(),
+            },
+            other => PlanError::GoalUnreachable {
+                why: other.to_string(),
+            },
+        }
+    }
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T, E = PlanError> = std::result::Result<T, E>;
+
+/// A `Setting` error unless `ok`.
+pub(crate) fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(PlanError::Setting {
+            field: field.to_string(),
+            why: why.into(),
+        })
+    }
+}

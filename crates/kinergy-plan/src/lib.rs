@@ -1,0 +1,23 @@
+//! Collision-free reaching and manipulation after Kallmann (2005), *Scalable Solutions for
+//! Interactive Virtual Humans that can Manipulate Objects* (DESIGN §1.3).
+//!
+//! - [`body`]: capsules on the character's bones and the pairs never tested;
+//! - [`scene`]: obstacles and graspable objects from JSON (boxes, spheres, capsules, OBJ
+//!   meshes), [`obj`]: the OBJ reader, [`shelf`]: the bookshelf example's shelf unit;
+//! - [`space`]: the arm's configuration space: collision tests, Kallmann's distance, IK with
+//!   collision avoidance (the orbit-angle search rejecting colliding postures);
+//! - [`rrt`]: bidirectional RRT-Connect (Algorithm 1), shortcut smoothing, the bell time warp;
+//! - [`hand`]: hand targets' grip point, hand shapes, fingers in the BVH export;
+//! - [`task`]: reach, grasp, relocate and push/pull sequences made of planned and straight
+//!   motions.
+
+pub mod body;
+pub mod error;
+pub mod hand;
+pub mod obj;
+pub mod rrt;
+pub mod scene;
+pub mod shelf;
+pub mod space;
+
+pub use error::{PlanError, Result};

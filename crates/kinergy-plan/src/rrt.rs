@@ -1,0 +1,522 @@
+//! Bidirectional RRT-Connect in the arm's configuration space — Kallmann's Algorithm 1 —
+//! with his sampling routine, random-shortcut smoothing and the bell-shaped time warp.
+//!
+//! # Algorithm 1, as implemented
+//! Two trees grow from the start and the goal. Each iteration samples a free posture
+//! ([`Sampler`]), finds the node of each tree closest to it (linear search, Kallmann's
+//! metric: the largest distance between corresponding tracked points,
+//! [`ArmSpace::distance`]), and returns a path as soon as the interpolation between those
+//! two nodes is free; otherwise the first tree grows one step of `step` meters from its
+//! node toward the sample (the whole way when closer) if that interpolation is free, and the
+//! new node is tried against the other tree's node. Then the trees swap roles.
+//!
+//! # Budget and reproducibility
+//! Every random draw comes from one ChaCha8 stream seeded by [`RrtSettings::seed`], so the
+//! same seed gives the same path on any machine and thread count — as long as the
+//! *iteration* budget is what stops the search. A time budget ([`Budget::time`]) is a
+//! safety net for interactive use; when it is what stops a search, the result depends on the
+//! machine's speed.
+//!
+//! # Smoothing
+//! [`smooth`] repeatedly picks two random points along the path (not necessarily nodes) and
+//! replaces the stretch between them by their straight interpolation when that is free and
+//! shorter. The path never gets longer and never stops being valid (both are checked before
+//! a shortcut is kept).
+
+use std::time::{Duration, Instant};
+
+use rand::rngs::ChaCha8Rng;
+use rand::{RngExt, SeedableRng};
+
+use crate::error::{PlanError, Result, require};
+use crate::space::{ArmConfig, ArmSpace, Points, lerp};
+
+/// When a search or a smoothing stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Budget {
+    /// At most this many iterations.
+    pub iterations: usize,
+    /// At most this much time (`None`: no limit).
+    pub time: Option<Duration>,
+}
+
+/// Settings of the planner.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RrtSettings {
+    /// ε: how far a tree grows toward a sample per iteration, meters of the planner's
+    /// distance.
+    pub step: f64,
+    /// The elbow flexion is first sampled within this fraction of its range below full
+    /// flexion (Kallmann: 90–100 %, so 0.1) …
+    pub elbow_start: f64,
+    /// … and the interval widens linearly to the whole range over this many iterations.
+    pub elbow_widening: usize,
+    /// The wrist swing is sampled within this fraction of its ellipse.
+    pub wrist_range: f64,
+    /// Draws before a sampling gives up on finding a free posture for this iteration.
+    pub sample_tries: usize,
+    /// When to give up.
+    pub budget: Budget,
+    /// The random stream's seed.
+    pub seed: u64,
+}
+
+impl Default for RrtSettings {
+    fn default() -> RrtSettings {
+        RrtSettings {
+            step: 0.15,
+            elbow_start: 0.1,
+            elbow_widening: 300,
+            wrist_range: 0.3,
+            sample_tries: 50,
+            budget: Budget {
+                iterations: 5000,
+                time: Some(Duration::from_secs(10)),
+            },
+            seed: 0,
+        }
+    }
+}
+
+impl RrtSettings {
+    /// Checks every field.
+    pub fn validate(&self) -> Result<()> {
+        require(
+            self.step.is_finite() && self.step > 0.0,
+            "rrt.step",
+            "a finite number > 0",
+        )?;
+        require(
+            (0.0..=1.0).contains(&self.elbow_start),
+            "rrt.elbow_start",
+            "a fraction in [0, 1]",
+        )?;
+        require(
+            (0.0..=1.0).contains(&self.wrist_range),
+            "rrt.wrist_range",
+            "a fraction in [0, 1]",
+        )?;
+        require(self.sample_tries > 0, "rrt.sample_tries", "at least 1")?;
+        Ok(())
+    }
+}
+
+/// What a search did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PlanStats {
+    /// Iterations of Algorithm 1.
+    pub iterations: usize,
+    /// Nodes in both trees at the end.
+    pub nodes: usize,
+    /// Wall time, seconds.
+    pub seconds: f64,
+}
+
+/// Kallmann's sampling routine: valid joint values inside their limits, the elbow biased to
+/// almost full flexion (widening with the iterations), the wrist swing within a narrowed
+/// ellipse; a sample is kept only when collision-free.
+#[derive(Debug, Clone)]
+pub struct Sampler {
+    settings: RrtSettings,
+}
+
+impl Sampler {
+    /// A sampler with the settings' biases.
+    pub fn new(settings: &RrtSettings) -> Sampler {
+        Sampler {
+            settings: settings.clone(),
+        }
+    }
+
+    /// One posture within the limits (not tested for collisions) at `iteration`.
+    pub fn draw(&self, space: &ArmSpace, iteration: usize, rng: &mut ChaCha8Rng) -> ArmConfig {
+        let l = space.ik().limits();
+        let s = &self.settings;
+        let (sx, sy) = in_ellipse(l.shoulder_swing, 1.0, rng);
+        let twist = uniform(l.shoulder_twist, rng);
+        let (lo, hi) = l.elbow_flexion;
+        let widen = if s.elbow_widening == 0 {
+            1.0
+        } else {
+            (iteration as f64 / s.elbow_widening as f64).min(1.0)
+        };
+        let width = s.elbow_start + (1.0 - s.elbow_start) * widen;
+        let flex = uniform((hi - width * (hi - lo), hi), rng);
+        let etwist = uniform(l.elbow_twist, rng);
+        let (wx, wy) = in_ellipse(l.wrist_swing, s.wrist_range, rng);
+        [sx, sy, twist, flex, etwist, wx, wy]
+    }
+
+    /// A free posture, or `None` after [`RrtSettings::sample_tries`] draws.
+    pub fn sample(
+        &self,
+        space: &ArmSpace,
+        iteration: usize,
+        rng: &mut ChaCha8Rng,
+    ) -> Option<ArmConfig> {
+        (0..self.settings.sample_tries)
+            .map(|_| self.draw(space, iteration, rng))
+            .find(|q| space.contact(q).is_none())
+    }
+}
+
+fn uniform((lo, hi): (f64, f64), rng: &mut ChaCha8Rng) -> f64 {
+    if hi > lo {
+        rng.random_range(lo..hi)
+    } else {
+        lo
+    }
+}
+
+/// Uniform in the ellipse of radii `(rx, ry)` scaled by `scale` (by rejection).
+fn in_ellipse((rx, ry): (f64, f64), scale: f64, rng: &mut ChaCha8Rng) -> (f64, f64) {
+    loop {
+        let u: f64 = rng.random_range(-1.0..1.0);
+        let v: f64 = rng.random_range(-1.0..1.0);
+        if u * u + v * v <= 1.0 {
+            return (u * rx * scale, v * ry * scale);
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+struct Node {
+    q: ArmConfig,
+    points: Points,
+    parent: Option<usize>,
+}
+
+#[derive(Debug, Clone, Default)]
+struct Tree {
+    nodes: Vec<Node>,
+}
+
+impl Tree {
+    fn add(&mut self, space: &ArmSpace, q: ArmConfig, parent: Option<usize>) -> usize {
+        self.nodes.push(Node {
+            q,
+            points: space.points(&q),
+            parent,
+        });
+        self.nodes.len() - 1
+    }
+
+    /// The closest node to `p` and its distance.
+    fn nearest(&self, p: &Points) -> (usize, f64) {
+        let mut best = (0, f64::INFINITY);
+        for (i, n) in self.nodes.iter().enumerate() {
+            let d = n.points.distance(p);
+            if d < best.1 {
+                best = (i, d);
+            }
+        }
+        best
+    }
+
+    /// Configurations from the root to node `i`.
+    fn branch(&self, mut i: usize) -> Vec<ArmConfig> {
+        let mut out = vec![self.nodes[i].q];
+        while let Some(p) = self.nodes[i].parent {
+            out.push(self.nodes[p].q);
+            i = p;
+        }
+        out.reverse();
+        out
+    }
+}
+
+/// A piecewise-linear path in configuration space, from the start to the goal.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArmPath {
+    /// The configurations; consecutive ones are joined by straight interpolations.
+    pub configs: Vec<ArmConfig>,
+}
+
+impl ArmPath {
+    /// Its length in the planner's distance, meters.
+    pub fn length(&self, space: &ArmSpace) -> f64 {
+        self.configs
+            .windows(2)
+            .map(|w| space.distance(&w[0], &w[1]))
+            .sum()
+    }
+
+    /// True when every configuration is free and every segment is free at the space's
+    /// resolution.
+    pub fn is_valid(&self, space: &ArmSpace) -> bool {
+        self.configs.iter().all(|q| space.free(q))
+            && self
+                .configs
+                .windows(2)
+                .all(|w| space.edge_free(&w[0], &w[1]))
+    }
+
+    /// The configuration at fraction `s` ∈ \[0, 1\] of the path's length.
+    pub fn at(&self, space: &ArmSpace, s: f64) -> ArmConfig {
+        let lengths: Vec<f64> = self
+            .configs
+            .windows(2)
+            .map(|w| space.distance(&w[0], &w[1]))
+            .collect();
+        sample_at(&self.configs, &lengths, s)
+    }
+}
+
+fn sample_at(configs: &[ArmConfig], lengths: &[f64], s: f64) -> ArmConfig {
+    let total: f64 = lengths.iter().sum();
+    if configs.len() == 1 || total <= 0.0 {
+        return configs[0];
+    }
+    let mut left = s.clamp(0.0, 1.0) * total;
+    for (i, &l) in lengths.iter().enumerate() {
+        if left <= l || i + 1 == lengths.len() {
+            let t = if l > 0.0 { (left / l).min(1.0) } else { 1.0 };
+            return lerp(&configs[i], &configs[i + 1], t);
+        }
+        left -= l;
+    }
+    *configs.last().unwrap_or(&configs[0])
+}
+
+/// Plans a collision-free motion of the arm from `start` to `goal` (both must be free).
+pub fn plan(
+    space: &ArmSpace,
+    start: &ArmConfig,
+    goal: &ArmConfig,
+    settings: &RrtSettings,
+) -> Result<(ArmPath, PlanStats)> {
+    settings.validate()?;
+    for (what, q) in [("start", start), ("goal", goal)] {
+        if !q.iter().all(|v| v.is_finite()) {
+            return Err(PlanError::NonFinite(format!("the {what} configuration")));
+        }
+    }
+    if let Some(contact) = space.contact(start) {
+        return Err(PlanError::StartInCollision { contact });
+    }
+    if let Some(contact) = space.contact(goal) {
+        return Err(PlanError::GoalInCollision { tried: 1, contact });
+    }
+    if !space.ik().within_limits(goal) {
+        return Err(PlanError::GoalUnreachable {
+            why: "the goal configuration is outside the joint limits".into(),
+        });
+    }
+    let clock = Instant::now();
+    let sampler = Sampler::new(settings);
+    let mut rng = ChaCha8Rng::seed_from_u64(settings.seed);
+    let mut trees = [Tree::default(), Tree::default()];
+    trees[0].add(space, *start, None);
+    trees[1].add(space, *goal, None);
+    // `a` is the tree that grows this iteration (T1), `1 − a` the other (T2).
+    let mut a = 0;
+    let mut gap = space.distance(start, goal);
+    let stats = |trees: &[Tree; 2], iterations| PlanStats {
+        iterations,
+        nodes: trees[0].nodes.len() + trees[1].nodes.len(),
+        seconds: clock.elapsed().as_secs_f64(),
+    };
+    // Line 5 on the roots: a free straight line needs no tree.
+    if space.edge_free(start, goal) {
+        return Ok((
+            ArmPath {
+                configs: vec![*start, *goal],
+            },
+            stats(&trees, 0),
+        ));
+    }
+    for iteration in 0..settings.budget.iterations {
+        if settings.budget.time.is_some_and(|t| clock.elapsed() > t) {
+            return Err(no_path(stats(&trees, iteration), gap));
+        }
+        let Some(sample) = sampler.sample(space, iteration, &mut rng) else {
+            a = 1 - a;
+            continue;
+        };
+        let sp = space.points(&sample);
+        let (i1, d1) = trees[a].nearest(&sp);
+        let (i2, _) = trees[1 - a].nearest(&sp);
+        let (q1, q2) = (trees[a].nodes[i1].q, trees[1 - a].nodes[i2].q);
+        gap = gap.min(
+            trees[a].nodes[i1]
+                .points
+                .distance(&trees[1 - a].nodes[i2].points),
+        );
+        if space.edge_free(&q1, &q2) {
+            return Ok((join(&trees, a, i1, i2), stats(&trees, iteration + 1)));
+        }
+        let q_exp = if d1 <= settings.step {
+            sample
+        } else {
+            lerp(&q1, &sample, settings.step / d1)
+        };
+        if space.free(&q_exp) && space.edge_free(&q1, &q_exp) {
+            let e = trees[a].add(space, q_exp, Some(i1));
+            let pe = trees[a].nodes[e].points;
+            gap = gap.min(pe.distance(&trees[1 - a].nodes[i2].points));
+            if space.edge_free(&q_exp, &q2) {
+                return Ok((join(&trees, a, e, i2), stats(&trees, iteration + 1)));
+            }
+        }
+        a = 1 - a;
+    }
+    Err(no_path(stats(&trees, settings.budget.iterations), gap))
+}
+
+fn no_path(s: PlanStats, gap: f64) -> PlanError {
+    PlanError::NoPath {
+        iterations: s.iterations,
+        elapsed_ms: s.seconds * 1e3,
+        nodes: s.nodes,
+        gap,
+    }
+}
+
+/// MAKEPATH: the branch from the root of tree `a` to node `i`, then from node `j` of the
+/// other tree to its root; oriented from the start (tree 0) to the goal (tree 1).
+fn join(trees: &[Tree; 2], a: usize, i: usize, j: usize) -> ArmPath {
+    let mut first = trees[a].branch(i);
+    let mut second = trees[1 - a].branch(j);
+    second.reverse();
+    first.extend(second);
+    if a == 1 {
+        first.reverse();
+    }
+    ArmPath { configs: first }
+}
+
+/// What a smoothing did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SmoothStats {
+    /// Shortcuts tried.
+    pub tries: usize,
+    /// Shortcuts kept.
+    pub kept: usize,
+    /// Length before and after, meters.
+    pub length_before: f64,
+    /// Length after, meters.
+    pub length_after: f64,
+    /// Wall time, seconds.
+    pub seconds: f64,
+}
+
+/// Random-shortcut smoothing (see the [module docs](self#smoothing)); `seed` drives the
+/// choice of the shortcuts.
+pub fn smooth(
+    space: &ArmSpace,
+    path: &ArmPath,
+    budget: &Budget,
+    seed: u64,
+) -> (ArmPath, SmoothStats) {
+    let clock = Instant::now();
+    let mut configs = path.configs.clone();
+    let mut lengths: Vec<f64> = configs
+        .windows(2)
+        .map(|w| space.distance(&w[0], &w[1]))
+        .collect();
+    let before: f64 = lengths.iter().sum();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed_5eed_5eed_5eed);
+    let mut stats = SmoothStats {
+        length_before: before,
+        ..SmoothStats::default()
+    };
+    for _ in 0..budget.iterations {
+        if budget.time.is_some_and(|t| clock.elapsed() > t)
+            || configs.len() < 3 && lengths.iter().sum::<f64>() == 0.0
+        {
+            break;
+        }
+        let total: f64 = lengths.iter().sum();
+        if total <= 0.0 {
+            break;
+        }
+        stats.tries += 1;
+        let mut u: f64 = rng.random_range(0.0..total);
+        let mut v: f64 = rng.random_range(0.0..total);
+        if u > v {
+            std::mem::swap(&mut u, &mut v);
+        }
+        let (ia, ta) = locate(&lengths, u);
+        let (ib, tb) = locate(&lengths, v);
+        if ia == ib {
+            continue; // within one straight segment: nothing to cut
+        }
+        let qa = lerp(&configs[ia], &configs[ia + 1], ta);
+        let qb = lerp(&configs[ib], &configs[ib + 1], tb);
+        // The stretch being replaced: qa → configs[ia+1] … configs[ib] → qb.
+        let old =
+            lengths[ia] * (1.0 - ta) + lengths[ia + 1..ib].iter().sum::<f64>() + lengths[ib] * tb;
+        let new = space.distance(&qa, &qb);
+        if new >= old - 1e-9 {
+            continue;
+        }
+        let whole = [(configs[ia], qa), (qa, qb), (qb, configs[ib + 1])];
+        // The two end pieces are parts of free segments; the shortcut must be checked.
+        if !space.free(&qa) || !space.free(&qb) || !space.edge_free(&whole[1].0, &whole[1].1) {
+            continue;
+        }
+        let mut next: Vec<ArmConfig> = configs[..=ia].to_vec();
+        for q in [qa, qb] {
+            if next.last() != Some(&q) {
+                next.push(q);
+            }
+        }
+        next.extend_from_slice(&configs[ib + 1..]);
+        let next_lengths: Vec<f64> = next
+            .windows(2)
+            .map(|w| space.distance(&w[0], &w[1]))
+            .collect();
+        if next_lengths.iter().sum::<f64>() >= lengths.iter().sum::<f64>() {
+            continue; // the metric is not a norm of q: pieces of a segment may not add up
+        }
+        configs = next;
+        lengths = next_lengths;
+        stats.kept += 1;
+    }
+    stats.length_after = lengths.iter().sum();
+    stats.seconds = clock.elapsed().as_secs_f64();
+    (ArmPath { configs }, stats)
+}
+
+/// The segment and fraction at arc length `s`.
+fn locate(lengths: &[f64], s: f64) -> (usize, f64) {
+    let mut left = s;
+    for (i, &l) in lengths.iter().enumerate() {
+        if left <= l {
+            return (i, if l > 0.0 { left / l } else { 0.0 });
+        }
+        left -= l;
+    }
+    (lengths.len() - 1, 1.0)
+}
+
+/// Kallmann's bell-shaped time warp: `t = −2h³ + 3h²` for `h` ∈ \[0, 1\] at constant
+/// speed gives a path parameter whose speed is a symmetric bell, zero at both ends.
+pub fn bell(h: f64) -> f64 {
+    let h = h.clamp(0.0, 1.0);
+    h * h * (3.0 - 2.0 * h)
+}
+
+/// The path played over `frames` frames (≥ 2) with the bell time warp: frame `k` is the
+/// configuration at fraction `bell(k / (frames − 1))` of the path's length. The first frame
+/// is exactly the start and the last exactly the goal.
+pub fn timed(space: &ArmSpace, path: &ArmPath, frames: usize) -> Vec<ArmConfig> {
+    let frames = frames.max(2);
+    let lengths: Vec<f64> = path
+        .configs
+        .windows(2)
+        .map(|w| space.distance(&w[0], &w[1]))
+        .collect();
+    let mut out: Vec<ArmConfig> = (0..frames)
+        .map(|k| {
+            sample_at(
+                &path.configs,
+                &lengths,
+                bell(k as f64 / (frames - 1) as f64),
+            )
+        })
+        .collect();
+    out[0] = path.configs[0];
+    out[frames - 1] = *path.configs.last().unwrap_or(&path.configs[0]);
+    out
+}

@@ -1,0 +1,708 @@
+//! The arm's configuration space in a scene: forward kinematics of the points the planner
+//! tracks, the collision test of a configuration and of an interpolation between two, the
+//! planner's distance, and IK with collision avoidance.
+//!
+//! A configuration is the arm's 7 DoFs ([`ArmConfig`], the order of
+//! [`kinergy_reach::character::dof`]): shoulder swing x, swing y, twist, elbow flexion,
+//! twist, wrist swing x, y. The rest of the body stays in the pose the space was built for.
+//!
+//! # What a configuration collides with
+//! The arm's three parts (upper arm, forearm, hand) are tested against every other body part
+//! of the enabled pairs ([`BodyGeometry`]), against each other where not adjacent, and
+//! against every scene object that is not ignored; a held object ([`ArmSpace::attach`])
+//! against the body (except the arm holding it) and the scene. Arm capsules are inflated by
+//! the *clearance* ([`ArmSpace::with_clearance`]) so that what the discrete edge checks
+//! miss between samples stays within that margin; a held object is shrunk by
+//! [`HELD_CONTACT`] first, so it may rest on the surface it is picked from or placed on.
+//!
+//! # Distance and edge resolution
+//! The planner's distance between two configurations is Kallmann's: the largest Euclidean
+//! distance between corresponding tracked points — elbow, wrist, fingertip, and the corners
+//! of a held box — posed at each ([`ArmSpace::distance`]). An interpolation (linear in the
+//! 7 DoFs) is valid when configurations spaced at most `resolution` apart in that distance
+//! along it are all free ([`ArmSpace::edge_free`]); with the default 1 cm resolution and
+//! 1 cm clearance no unchecked point of the motion comes closer than the clearance can
+//! cover. Samples are tested midpoint first (bisection order) so colliding edges fail fast.
+
+use kinergy_motion::{Chain, ChainPose};
+use kinergy_reach::character::{Character, Limb, Pose};
+use kinergy_solver::analytic::{AnalyticError, LimbIk, OrbitSearch};
+use nalgebra::{
+    Isometry3, IsometryMatrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3,
+};
+use parry3d::math::{Pose as PPose, Rot3, Vector as PVec};
+use parry3d::query::intersection_test;
+use parry3d::shape::{Ball, Capsule as PCapsule, Cuboid, Shape as PShape, SharedShape, TriMesh};
+
+use crate::body::{BodyGeometry, Capsule};
+use crate::error::{PlanError, Result, require};
+use crate::hand::GRIP_FRACTION;
+use crate::scene::{Scene, SceneObject, Shape};
+
+/// An arm configuration: the 7 DoFs of one arm.
+pub type ArmConfig = [f64; 7];
+
+/// How much a held object is shrunk for collision tests, meters: it may touch (rest on) a
+/// surface by this much without colliding.
+pub const HELD_CONTACT: f64 = 0.005;
+
+/// Most tracked points: elbow, wrist, fingertip and a held box's 8 corners.
+const MAX_POINTS: usize = 11;
+
+/// The tracked points of one configuration (see the [module docs](self)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Points {
+    p: [Point3<f64>; MAX_POINTS],
+    n: usize,
+}
+
+impl Points {
+    /// The points.
+    pub fn as_slice(&self) -> &[Point3<f64>] {
+        &self.p[..self.n]
+    }
+
+    /// The largest distance between corresponding points.
+    pub fn distance(&self, other: &Points) -> f64 {
+        self.as_slice()
+            .iter()
+            .zip(other.as_slice())
+            .map(|(a, b)| (a - b).norm_squared())
+            .fold(0.0, f64::max)
+            .sqrt()
+    }
+
+    /// The wrist's position.
+    pub fn wrist(&self) -> Point3<f64> {
+        self.p[1]
+    }
+}
+
+/// A hand target (Kallmann 2005): where the grip point goes ([`crate::hand`]), optionally
+/// how the hand is turned, from its rest orientation. Without an orientation the wrist stays
+/// straight and the IK chooses the forearm's direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HandTarget {
+    /// The grip point in world, meters.
+    pub position: Point3<f64>,
+    /// The hand's rotation from its rest orientation, in world.
+    pub orientation: Option<UnitQuaternion<f64>>,
+}
+
+/// A scene object as the collision tests see it.
+#[derive(Clone)]
+struct Collider {
+    name: String,
+    shape: SharedShape,
+    pose: PPose,
+    min: Point3<f64>,
+    max: Point3<f64>,
+    ignored: bool,
+}
+
+/// An object held in the hand.
+#[derive(Clone)]
+struct Held {
+    /// Its index in the scene (it is ignored as an obstacle while held).
+    object: usize,
+    name: String,
+    /// Its shape, shrunk by [`HELD_CONTACT`] (the clearance is added at test time for boxes).
+    half_extents: Option<Vector3<f64>>,
+    shape: SharedShape,
+    /// Its frame in the wrist's frame.
+    local: Isometry3<f64>,
+    /// Corners tracked by the distance, in its own frame.
+    corners: Vec<Point3<f64>>,
+}
+
+/// The configuration space of one arm of a character standing in a scene.
+#[derive(Clone)]
+pub struct ArmSpace {
+    limb: Limb,
+    chain: Chain,
+    ik: LimbIk,
+    base: IsometryMatrix3<f64>,
+    rest_hand: Rotation3<f64>,
+    /// Wrist → fingertip in the wrist frame.
+    hand_tip: Vector3<f64>,
+    /// The arm's parts: (name, arm joint 0–2, capsule in that joint's frame).
+    moving: Vec<(String, usize, Capsule)>,
+    /// Static body parts in world with, per moving part, whether the pair is enabled.
+    statics: Vec<(String, Capsule, [bool; 3])>,
+    /// Non-adjacent moving pairs (indices into `moving`).
+    moving_pairs: Vec<(usize, usize)>,
+    colliders: Vec<Collider>,
+    held: Option<Held>,
+    clearance: f64,
+    resolution: f64,
+    orbit: OrbitSearch,
+}
+
+impl std::fmt::Debug for ArmSpace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ArmSpace")
+            .field("limb", &self.limb)
+            .field(
+                "objects",
+                &self.colliders.iter().map(|c| &c.name).collect::<Vec<_>>(),
+            )
+            .field("held", &self.held.as_ref().map(|h| &h.name))
+            .field("clearance", &self.clearance)
+            .field("resolution", &self.resolution)
+            .finish()
+    }
+}
+
+/// nalgebra → parry's glam pose (f32).
+fn to_parry(iso: &Isometry3<f64>) -> PPose {
+    let t = iso.translation.vector;
+    let q = iso.rotation.coords;
+    PPose::from_parts(
+        PVec::new(t.x as f32, t.y as f32, t.z as f32),
+        Rot3::from_xyzw(q.x as f32, q.y as f32, q.z as f32, q.w as f32).normalize(),
+    )
+}
+
+fn pvec(p: &Point3<f64>) -> PVec {
+    PVec::new(p.x as f32, p.y as f32, p.z as f32)
+}
+
+/// The parry shape of a scene shape, grown (or shrunk, negative) by `grow` for primitives.
+fn parry_shape(shape: &Shape, grow: f64) -> Result<SharedShape> {
+    Ok(match shape {
+        Shape::Box { half_extents } => {
+            let h = half_extents.map(|v| (v + grow).max(1e-4));
+            SharedShape::new(Cuboid::new(PVec::new(h.x as f32, h.y as f32, h.z as f32)))
+        }
+        Shape::Sphere { radius } => SharedShape::new(Ball::new((radius + grow).max(1e-4) as f32)),
+        Shape::Capsule {
+            half_height,
+            radius,
+        } => SharedShape::new(PCapsule::new_y(
+            *half_height as f32,
+            (radius + grow).max(1e-4) as f32,
+        )),
+        Shape::Mesh { file, mesh } => {
+            let vertices = mesh.vertices.iter().map(pvec).collect();
+            let mesh =
+                TriMesh::new(vertices, mesh.triangles.clone()).map_err(|e| PlanError::Obj {
+                    path: file.clone(),
+                    line: 0,
+                    why: format!("not a usable triangle mesh: {e:?}"),
+                })?;
+            SharedShape::new(mesh)
+        }
+    })
+}
+
+fn collider(o: &SceneObject) -> Result<Collider> {
+    let shape = parry_shape(&o.shape, 0.0)?;
+    let pose = to_parry(&o.pose);
+    let aabb = shape.compute_aabb(&pose);
+    let p = |v: PVec| Point3::new(v.x as f64, v.y as f64, v.z as f64);
+    Ok(Collider {
+        name: o.name.clone(),
+        shape,
+        pose,
+        min: p(aabb.mins),
+        max: p(aabb.maxs),
+        ignored: false,
+    })
+}
+
+fn overlaps(a: &(Point3<f64>, Point3<f64>), min: &Point3<f64>, max: &Point3<f64>) -> bool {
+    (0..3).all(|k| a.0[k] <= max[k] && a.1[k] >= min[k])
+}
+
+impl ArmSpace {
+    /// The space of `limb` (an arm) of `character` standing in `body_pose`, among the
+    /// objects of `scene`, with the default clearance (1 cm), resolution (1 cm) and orbit
+    /// search (Kallmann's 20°, within −15°…130°).
+    pub fn new(
+        character: &Character,
+        body: &BodyGeometry,
+        body_pose: &Pose,
+        limb: Limb,
+        scene: &Scene,
+    ) -> Result<ArmSpace> {
+        require(limb.is_arm(), "limb", "the planner moves an arm")?;
+        if !body_pose.iter().all(|v| v.is_finite()) {
+            return Err(PlanError::NonFinite("the body pose".into()));
+        }
+        let frames = character.world_frames(body_pose);
+        let full = character.limb_chain(limb);
+        let hand_tip = full.end_effector();
+        let chain = Chain::new(full.joints().to_vec(), hand_tip * GRIP_FRACTION)?;
+        let ik = LimbIk::new(&chain)?;
+        let base = character.limb_base_frame_in(limb, &frames);
+        let rest_hand = character
+            .limb_base_frame(limb, &character.rest_pose())
+            .rotation;
+        let arm_joints = limb.joints();
+        let arm_parts = body.limb_parts(limb);
+        let moving: Vec<(String, usize, Capsule)> = arm_parts
+            .iter()
+            .map(|&i| {
+                let p = &body.parts()[i];
+                let k = arm_joints.iter().position(|&j| j == p.joint).unwrap_or(0);
+                (p.name.clone(), k, p.capsule)
+            })
+            .collect();
+        require(
+            moving.len() == 3,
+            "body",
+            "an arm needs three parts (upper arm, forearm, hand)",
+        )?;
+        let statics = (0..body.parts().len())
+            .filter(|i| !arm_parts.contains(i))
+            .map(|i| {
+                let p = &body.parts()[i];
+                let enabled = [0, 1, 2].map(|m| !body.is_disabled(arm_parts[m], i));
+                (
+                    p.name.clone(),
+                    p.capsule.transformed(&frames[p.joint]),
+                    enabled,
+                )
+            })
+            .collect();
+        let mut moving_pairs = Vec::new();
+        for a in 0..3 {
+            for b in a + 1..3 {
+                if !body.is_disabled(arm_parts[a], arm_parts[b]) {
+                    moving_pairs.push((a, b));
+                }
+            }
+        }
+        let colliders = scene.objects.iter().map(collider).collect::<Result<_>>()?;
+        Ok(ArmSpace {
+            limb,
+            chain,
+            ik,
+            base,
+            rest_hand,
+            hand_tip,
+            moving,
+            statics,
+            moving_pairs,
+            colliders,
+            held: None,
+            clearance: 0.01,
+            resolution: 0.01,
+            orbit: OrbitSearch::default(),
+        })
+    }
+
+    /// The same space with the arm capsules inflated by `clearance` meters (≥ 0).
+    pub fn with_clearance(mut self, clearance: f64) -> Result<ArmSpace> {
+        require(
+            clearance.is_finite() && clearance >= 0.0,
+            "clearance",
+            "a finite number ≥ 0",
+        )?;
+        self.clearance = clearance;
+        Ok(self)
+    }
+
+    /// The same space with interpolations checked every `resolution` meters (> 0) of the
+    /// planner's distance.
+    pub fn with_resolution(mut self, resolution: f64) -> Result<ArmSpace> {
+        require(
+            resolution.is_finite() && resolution > 0.0,
+            "resolution",
+            "a finite number > 0",
+        )?;
+        self.resolution = resolution;
+        Ok(self)
+    }
+
+    /// The same space with another orbit-angle search for the IK.
+    pub fn with_orbit_search(mut self, orbit: OrbitSearch) -> Result<ArmSpace> {
+        orbit.validate()?;
+        self.orbit = orbit;
+        Ok(self)
+    }
+
+    /// The clearance, meters.
+    pub fn clearance(&self) -> f64 {
+        self.clearance
+    }
+
+    /// The edge resolution, meters.
+    pub fn resolution(&self) -> f64 {
+        self.resolution
+    }
+
+    /// The arm.
+    pub fn limb(&self) -> Limb {
+        self.limb
+    }
+
+    /// The arm's analytic IK (its end effector is the grip point).
+    pub fn ik(&self) -> &LimbIk {
+        &self.ik
+    }
+
+    /// Ignore (or stop ignoring) the scene object named `name` as an obstacle, e.g. the
+    /// object the hand is closing on.
+    pub fn set_ignored(&mut self, name: &str, ignored: bool) -> Result<()> {
+        let c = self
+            .colliders
+            .iter_mut()
+            .find(|c| c.name == name)
+            .ok_or_else(|| PlanError::Setting {
+                field: "object".into(),
+                why: format!("the scene has no object `{name}`"),
+            })?;
+        c.ignored = ignored;
+        Ok(())
+    }
+
+    /// Hold scene object `name` (a box, sphere or capsule) in the hand as it is posed when
+    /// the arm is at `q`: from now on it moves with the wrist, is ignored as an obstacle and
+    /// is tested against the body and the scene.
+    pub fn attach(&mut self, scene: &Scene, name: &str, q: &ArmConfig) -> Result<()> {
+        let index = scene.object_index(name).ok_or_else(|| PlanError::Setting {
+            field: "object".into(),
+            why: format!("the scene has no object `{name}`"),
+        })?;
+        let o = &scene.objects[index];
+        let (half_extents, corners) = match &o.shape {
+            Shape::Box { half_extents } => {
+                let h = *half_extents;
+                let corners = (0..8)
+                    .map(|i| {
+                        let s = |b: usize| if i & (1 << b) == 0 { -1.0 } else { 1.0 };
+                        Point3::new(s(0) * h.x, s(1) * h.y, s(2) * h.z)
+                    })
+                    .collect();
+                (Some(h), corners)
+            }
+            Shape::Sphere { .. } | Shape::Capsule { .. } => (None, Vec::new()),
+            Shape::Mesh { .. } => {
+                return Err(PlanError::Setting {
+                    field: "object".into(),
+                    why: format!(
+                        "`{name}` is a mesh; only boxes, spheres and capsules can be held"
+                    ),
+                });
+            }
+        };
+        let wrist = self.wrist_frame(q);
+        let wrist = Isometry3::from_parts(
+            Translation3::from(wrist.translation.vector),
+            UnitQuaternion::from_rotation_matrix(&wrist.rotation),
+        );
+        self.held = Some(Held {
+            object: index,
+            name: name.to_string(),
+            half_extents,
+            shape: parry_shape(&o.shape, -HELD_CONTACT)?,
+            local: wrist.inverse() * o.pose,
+            corners,
+        });
+        self.colliders[index].ignored = true;
+        Ok(())
+    }
+
+    /// Let go of the held object, leaving it where it is when the arm is at `q`; returns its
+    /// new pose. It is an obstacle again from there.
+    pub fn release(&mut self, q: &ArmConfig) -> Option<(String, Isometry3<f64>)> {
+        let pose = self.held_pose(q)?;
+        let held = self.held.take()?;
+        let c = &mut self.colliders[held.object];
+        c.pose = to_parry(&pose);
+        let aabb = c.shape.compute_aabb(&c.pose);
+        let p = |v: PVec| Point3::new(v.x as f64, v.y as f64, v.z as f64);
+        c.min = p(aabb.mins);
+        c.max = p(aabb.maxs);
+        c.ignored = false;
+        Some((held.name, pose))
+    }
+
+    /// The held object's world pose when the arm is at `q`.
+    pub fn held_pose(&self, q: &ArmConfig) -> Option<Isometry3<f64>> {
+        let h = self.held.as_ref()?;
+        let w = self.wrist_frame(q);
+        let w = Isometry3::from_parts(
+            Translation3::from(w.translation.vector),
+            UnitQuaternion::from_rotation_matrix(&w.rotation),
+        );
+        Some(w * h.local)
+    }
+
+    /// The name of the held object.
+    pub fn held(&self) -> Option<&str> {
+        self.held.as_ref().map(|h| h.name.as_str())
+    }
+
+    /// World frames of the shoulder, elbow and wrist at `q`.
+    pub fn frames(&self, q: &ArmConfig) -> [IsometryMatrix3<f64>; 3] {
+        let mut out = ChainPose::default();
+        // The chain has 7 DoFs: fk_into cannot fail on a 7-array.
+        if self.chain.fk_into(&self.base, q, &mut out).is_err() || out.frames.len() != 3 {
+            return [self.base; 3];
+        }
+        [out.frames[0], out.frames[1], out.frames[2]]
+    }
+
+    fn wrist_frame(&self, q: &ArmConfig) -> IsometryMatrix3<f64> {
+        self.frames(q)[2]
+    }
+
+    /// The grip point's world frame at `q` (the wrist's orientation).
+    pub fn grip_frame(&self, q: &ArmConfig) -> IsometryMatrix3<f64> {
+        let mut w = self.wrist_frame(q);
+        w.translation.vector += w.rotation * (self.hand_tip * GRIP_FRACTION);
+        w
+    }
+
+    /// The tracked points at `q` (elbow, wrist, fingertip, held box corners).
+    pub fn points(&self, q: &ArmConfig) -> Points {
+        let [_, e, w] = self.frames(q);
+        let mut p = [Point3::origin(); MAX_POINTS];
+        p[0] = Point3::from(e.translation.vector);
+        p[1] = Point3::from(w.translation.vector);
+        p[2] = w * Point3::from(self.hand_tip);
+        let mut n = 3;
+        if let Some(h) = &self.held {
+            let wq = Isometry3::from_parts(
+                Translation3::from(w.translation.vector),
+                UnitQuaternion::from_rotation_matrix(&w.rotation),
+            );
+            let obj = wq * h.local;
+            for c in &h.corners {
+                p[n] = obj * c;
+                n += 1;
+            }
+        }
+        Points { p, n }
+    }
+
+    /// The planner's distance between two configurations (meters).
+    pub fn distance(&self, a: &ArmConfig, b: &ArmConfig) -> f64 {
+        self.points(a).distance(&self.points(b))
+    }
+
+    /// True when `q` is within the joint limits and collides with nothing.
+    pub fn free(&self, q: &ArmConfig) -> bool {
+        self.ik.within_limits(q) && self.contact(q).is_none()
+    }
+
+    /// The first collision at `q`, as `part × obstacle`, or `None` when it is free (joint
+    /// limits are not looked at).
+    pub fn contact(&self, q: &ArmConfig) -> Option<String> {
+        self.contact_with(q, self.clearance)
+    }
+
+    /// [`ArmSpace::contact`] with another clearance (0 tests the true geometry).
+    pub fn contact_with(&self, q: &ArmConfig, clearance: f64) -> Option<String> {
+        let frames = self.frames(q);
+        let mut world = [Capsule {
+            a: Point3::origin(),
+            b: Point3::origin(),
+            radius: 0.0,
+        }; 3];
+        for (m, (_, k, c)) in self.moving.iter().enumerate() {
+            world[m] = c.transformed(&frames[*k]);
+            world[m].radius += clearance;
+        }
+        for (name, c, enabled) in &self.statics {
+            for m in 0..3 {
+                if enabled[m] && world[m].gap(c) < 0.0 {
+                    return Some(format!("{} × {name}", self.moving[m].0));
+                }
+            }
+        }
+        for &(a, b) in &self.moving_pairs {
+            if world[a].gap(&world[b]) + clearance < 0.0 {
+                return Some(format!("{} × {}", self.moving[a].0, self.moving[b].0));
+            }
+        }
+        for m in 0..3 {
+            let bounds = world[m].bounds(0.0);
+            let cap = PCapsule::new(pvec(&world[m].a), pvec(&world[m].b), world[m].radius as f32);
+            for c in &self.colliders {
+                if c.ignored || !overlaps(&bounds, &c.min, &c.max) {
+                    continue;
+                }
+                if hit(&PPose::IDENTITY, &cap, &c.pose, c.shape.as_ref()) {
+                    return Some(format!("{} × {}", self.moving[m].0, c.name));
+                }
+            }
+        }
+        if let Some(h) = &self.held {
+            return self.held_contact(h, &frames[2], clearance);
+        }
+        None
+    }
+
+    fn held_contact(
+        &self,
+        h: &Held,
+        wrist: &IsometryMatrix3<f64>,
+        clearance: f64,
+    ) -> Option<String> {
+        let wq = Isometry3::from_parts(
+            Translation3::from(wrist.translation.vector),
+            UnitQuaternion::from_rotation_matrix(&wrist.rotation),
+        );
+        let pose = to_parry(&(wq * h.local));
+        let grown;
+        let shape: &dyn PShape = match (h.half_extents, clearance > 0.0) {
+            (Some(he), true) => {
+                let g = he.map(|v| (v - HELD_CONTACT + clearance).max(1e-4));
+                grown = Cuboid::new(PVec::new(g.x as f32, g.y as f32, g.z as f32));
+                &grown
+            }
+            _ => h.shape.as_ref(),
+        };
+        let aabb = shape.compute_aabb(&pose);
+        let p = |v: PVec| Point3::new(v.x as f64, v.y as f64, v.z as f64);
+        let bounds = (p(aabb.mins), p(aabb.maxs));
+        for (name, c, _) in &self.statics {
+            let cap = PCapsule::new(pvec(&c.a), pvec(&c.b), c.radius as f32);
+            if hit(&PPose::IDENTITY, &cap, &pose, shape) {
+                return Some(format!("{} × {name}", h.name));
+            }
+        }
+        for c in &self.colliders {
+            if c.ignored || !overlaps(&bounds, &c.min, &c.max) {
+                continue;
+            }
+            if hit(&pose, shape, &c.pose, c.shape.as_ref()) {
+                return Some(format!("{} × {}", h.name, c.name));
+            }
+        }
+        None
+    }
+
+    /// True when the interpolation from `a` to `b` is free at the space's resolution (the
+    /// end configurations themselves are not tested: callers have).
+    pub fn edge_free(&self, a: &ArmConfig, b: &ArmConfig) -> bool {
+        self.edge_free_at(a, b, self.resolution, self.clearance)
+    }
+
+    /// [`ArmSpace::edge_free`] at another resolution and clearance.
+    pub fn edge_free_at(
+        &self,
+        a: &ArmConfig,
+        b: &ArmConfig,
+        resolution: f64,
+        clearance: f64,
+    ) -> bool {
+        let d = self.distance(a, b);
+        let n = (d / resolution).ceil() as usize;
+        if n <= 1 {
+            return true;
+        }
+        // Bisection order: every interior sample k/n, coarse levels first.
+        let mut stride = n.next_power_of_two();
+        let mut seen = vec![false; n + 1];
+        seen[0] = true;
+        seen[n] = true;
+        while stride >= 1 {
+            let mut k = stride;
+            while k < n {
+                if !seen[k] {
+                    seen[k] = true;
+                    let q = lerp(a, b, k as f64 / n as f64);
+                    if !self.ik.within_limits(&q) || self.contact_with(&q, clearance).is_some() {
+                        return false;
+                    }
+                }
+                k += stride;
+            }
+            stride /= 2;
+        }
+        true
+    }
+
+    /// The goal in the chain's base frame for a world hand target.
+    fn goal(&self, target: &HandTarget, orientation: &UnitQuaternion<f64>) -> IsometryMatrix3<f64> {
+        let world = IsometryMatrix3::from_parts(
+            Translation3::from(target.position.coords),
+            orientation.to_rotation_matrix() * self.rest_hand,
+        );
+        self.base.inverse() * world
+    }
+
+    /// IK with collision avoidance (Kallmann's unified search): the orbit-angle search
+    /// accepts the first posture within the joint limits that collides with nothing.
+    /// Returns the orbit angle and the configuration.
+    pub fn solve(&self, target: &HandTarget) -> Result<(f64, ArmConfig)> {
+        self.solve_with(target, &|_| true)
+    }
+
+    /// [`ArmSpace::solve`] with an extra acceptance test.
+    pub fn solve_with(
+        &self,
+        target: &HandTarget,
+        accept: &dyn Fn(&ArmConfig) -> bool,
+    ) -> Result<(f64, ArmConfig)> {
+        if !target.position.iter().all(|v| v.is_finite()) {
+            return Err(PlanError::NonFinite("the hand target".into()));
+        }
+        let ok = |q: &ArmConfig| self.contact(q).is_none() && accept(q);
+        let result = match &target.orientation {
+            Some(o) => self.ik.search_with(&self.goal(target, o), &self.orbit, &ok),
+            None => {
+                let p = self.base.inverse() * target.position;
+                self.ik.solve_position_with(&p, &self.orbit, &ok)
+            }
+        };
+        result.map_err(|e| match e {
+            AnalyticError::Rejected { within_limits, .. } => PlanError::GoalInCollision {
+                tried: within_limits,
+                contact: self
+                    .first_contact_of(target)
+                    .unwrap_or_else(|| "a rejected posture".into()),
+            },
+            other => other.into(),
+        })
+    }
+
+    /// The first contact of the first within-limits posture the search tries.
+    fn first_contact_of(&self, target: &HandTarget) -> Option<String> {
+        let found = std::cell::RefCell::new(None);
+        let record = |q: &ArmConfig| {
+            if found.borrow().is_none() {
+                *found.borrow_mut() = self.contact(q);
+            }
+            false
+        };
+        let _ = match &target.orientation {
+            Some(o) => self
+                .ik
+                .search_with(&self.goal(target, o), &self.orbit, &record),
+            None => {
+                let p = self.base.inverse() * target.position;
+                self.ik.solve_position_with(&p, &self.orbit, &record)
+            }
+        };
+        found.into_inner()
+    }
+
+    /// The arm's DoFs in a full-body pose.
+    pub fn config_of(&self, pose: &Pose) -> ArmConfig {
+        let d = self.limb.dofs().start;
+        std::array::from_fn(|i| pose[d + i])
+    }
+
+    /// A full-body pose with the arm at `q`.
+    pub fn pose_with(&self, pose: &Pose, q: &ArmConfig) -> Pose {
+        let mut out = *pose;
+        out[self.limb.dofs()].copy_from_slice(q);
+        out
+    }
+}
+
+/// Linear interpolation of two configurations.
+pub fn lerp(a: &ArmConfig, b: &ArmConfig, t: f64) -> ArmConfig {
+    std::array::from_fn(|i| a[i] + (b[i] - a[i]) * t)
+}
+
+/// parry's intersection test; pairs it cannot test count as colliding (never silently
+/// free).
+fn hit(p1: &PPose, s1: &dyn PShape, p2: &PPose, s2: &dyn PShape) -> bool {
+    intersection_test(p1, s1, p2, s2).map_or(true, |r| r.intersecting)
+}
