@@ -19,5 +19,6 @@ pub mod rrt;
 pub mod scene;
 pub mod shelf;
 pub mod space;
+pub mod task;
 
 pub use error::{PlanError, Result};

@@ -481,3 +481,10 @@ mod tests {
         assert_eq!(unit.mesh().triangle_count(), unit.triangle_count());
     }
 }
+
+/// The comment lines of the bookshelf example's `shelf.obj`.
+pub const OBJ_HEADER: [&str; 3] = [
+    "Kinergy bookshelf example: ShelfUnit::default() (kinergy-plan/src/shelf.rs).",
+    "Frame: origin on the floor at the centre of the front edge, x across, y up, z to the back; meters.",
+    "Regenerate: cargo run -p kinergy-plan --example make_bookshelf -- examples/bookshelf/shelf.obj",
+];

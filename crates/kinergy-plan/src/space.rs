@@ -12,8 +12,9 @@
 //! against every scene object that is not ignored; a held object ([`ArmSpace::attach`])
 //! against the body (except the arm holding it) and the scene. Arm capsules are inflated by
 //! the *clearance* ([`ArmSpace::with_clearance`]) so that what the discrete edge checks
-//! miss between samples stays within that margin; a held object is shrunk by
-//! [`HELD_CONTACT`] first, so it may rest on the surface it is picked from or placed on.
+//! miss between samples stays within that margin. A held object is shrunk by
+//! [`HELD_CONTACT`] — it may rest on the surface it is picked from or placed on — and a
+//! held box grown back by half the clearance, its own margin.
 //!
 //! # Distance and edge resolution
 //! The planner's distance between two configurations is Kallmann's: the largest Euclidean
@@ -24,9 +25,9 @@
 //! 1 cm clearance no unchecked point of the motion comes closer than the clearance can
 //! cover. Samples are tested midpoint first (bisection order) so colliding edges fail fast.
 
-use kinergy_motion::{Chain, ChainPose};
+use kinergy_motion::{Chain, ChainPose, Side};
 use kinergy_reach::character::{Character, Limb, Pose};
-use kinergy_solver::analytic::{AnalyticError, LimbIk, OrbitSearch};
+use kinergy_solver::analytic::{AnalyticError, LimbIk, OrbitSearch, OrbitSense};
 use nalgebra::{
     Isometry3, IsometryMatrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3,
 };
@@ -44,7 +45,7 @@ pub type ArmConfig = [f64; 7];
 
 /// How much a held object is shrunk for collision tests, meters: it may touch (rest on) a
 /// surface by this much without colliding.
-pub const HELD_CONTACT: f64 = 0.005;
+pub const HELD_CONTACT: f64 = 0.01;
 
 /// Most tracked points: elbow, wrist, fingertip and a held box's 8 corners.
 const MAX_POINTS: usize = 11;
@@ -233,8 +234,17 @@ impl ArmSpace {
         let full = character.limb_chain(limb);
         let hand_tip = full.end_effector();
         let chain = Chain::new(full.joints().to_vec(), hand_tip * GRIP_FRACTION)?;
-        let ik = LimbIk::new(&chain)?;
         let base = character.limb_base_frame_in(limb, &frames);
+        // α = 0 is the lowest elbow (world down in the base frame); growing α raises the
+        // elbow outward, which for the right arm is a left-handed turn about the
+        // shoulder→wrist axis.
+        let sense = match limb.side() {
+            Side::Right => OrbitSense::LeftHanded,
+            Side::Left => OrbitSense::RightHanded,
+        };
+        let ik = LimbIk::new(&chain)?
+            .with_down(base.rotation.inverse() * -Vector3::y())?
+            .with_sense(sense);
         let rest_hand = character
             .limb_base_frame(limb, &character.rest_pose())
             .rotation;
@@ -550,7 +560,7 @@ impl ArmSpace {
         let grown;
         let shape: &dyn PShape = match (h.half_extents, clearance > 0.0) {
             (Some(he), true) => {
-                let g = he.map(|v| (v - HELD_CONTACT + clearance).max(1e-4));
+                let g = he.map(|v| (v - HELD_CONTACT + 0.5 * clearance).max(1e-4));
                 grown = Cuboid::new(PVec::new(g.x as f32, g.y as f32, g.z as f32));
                 &grown
             }

@@ -1,0 +1,569 @@
+//! Manipulation tasks as sequences of hand targets (Kallmann 2005, "Scalable Specification
+//! of Manipulations"): reach, grasp, relocate and push/pull, each made of
+//!
+//! - **planned** phases: IK with collision avoidance for the goal posture, RRT-Connect from
+//!   the current posture, shortcut smoothing, played with the bell time warp;
+//! - **straight** phases: the hand target interpolated (position lerp, orientation slerp)
+//!   and the IK solved on every frame, its orbit search starting from the previous frame's
+//!   orbit angle so the elbow moves continuously — the slower final approach of a grasp,
+//!   the retreat after a release, a drawer's handle followed;
+//! - **hand** phases: the arm still while the fingers close or open.
+//!
+//! The character stands in [`crate::body::reference_pose`]; only the acting arm moves.
+//!
+//! **Relocation** (the paper's Fig. 5): plan to the pre-grasp (the grasp pulled back
+//! along its approach by its distance, hand opening), approach straight and close the
+//! fingers, then plan *with the object held* from the grasp straight to the posture that
+//! puts the object at its destination, open the fingers, back off straight along the
+//! approach and plan the way back to the starting posture.
+
+use std::ops::Range;
+
+use kinergy_reach::character::{Character, Limb, Pose};
+use kinergy_solver::analytic::OrbitSearch;
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
+
+use crate::body::{BodyGeometry, reference_pose};
+use crate::error::{PlanError, Result, require};
+use crate::hand::{FingeredSkeleton, HandShape, Hands};
+use crate::rrt::{ArmPath, Budget, PlanStats, RrtSettings, SmoothStats, plan, smooth, timed};
+use crate::scene::{Grasp, Scene};
+use crate::space::{ArmConfig, ArmSpace, HandTarget};
+
+/// Settings of a task.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TaskSettings {
+    /// Which arm acts.
+    pub limb: Limb,
+    /// Frames per second of the motion.
+    pub frame_rate: f64,
+    /// Mean speed of the planned phases (the fastest tracked point), m/s.
+    pub reach_speed: f64,
+    /// Mean speed of the straight phases (approach, retreat, drawers), m/s.
+    pub approach_speed: f64,
+    /// Duration of closing or opening the fingers, seconds.
+    pub finger_time: f64,
+    /// Shortest planned phase, seconds.
+    pub min_duration: f64,
+    /// Clearance of the arm capsules during planning, meters.
+    pub clearance: f64,
+    /// Edge resolution, meters of the planner's distance.
+    pub resolution: f64,
+    /// The planner.
+    pub rrt: RrtSettings,
+    /// The smoothing's budget.
+    pub smoothing: Budget,
+}
+
+impl Default for TaskSettings {
+    fn default() -> TaskSettings {
+        TaskSettings {
+            limb: Limb::RightArm,
+            frame_rate: 60.0,
+            reach_speed: 0.5,
+            approach_speed: 0.15,
+            finger_time: 0.4,
+            min_duration: 0.6,
+            clearance: 0.01,
+            resolution: 0.01,
+            rrt: RrtSettings::default(),
+            smoothing: Budget {
+                iterations: 100,
+                time: None,
+            },
+        }
+    }
+}
+
+impl TaskSettings {
+    /// Checks every field.
+    pub fn validate(&self) -> Result<()> {
+        require(self.limb.is_arm(), "limb", "an arm")?;
+        for (name, v) in [
+            ("frame_rate", self.frame_rate),
+            ("reach_speed", self.reach_speed),
+            ("approach_speed", self.approach_speed),
+            ("finger_time", self.finger_time),
+            ("min_duration", self.min_duration),
+            ("resolution", self.resolution),
+        ] {
+            require(v.is_finite() && v > 0.0, name, "a finite number > 0")?;
+        }
+        require(
+            self.clearance.is_finite() && self.clearance >= 0.0,
+            "clearance",
+            "a finite number ≥ 0",
+        )?;
+        self.rrt.validate()
+    }
+}
+
+/// What one phase of a task did.
+#[derive(Debug, Clone)]
+pub struct Phase {
+    /// `reach`, `approach`, `close`, `transfer`, `open`, `retreat`, `pull`, …
+    pub name: String,
+    /// Its frames in the motion (the first is shared with the previous phase's last).
+    pub frames: Range<usize>,
+    /// For planned phases: the search, the smoothing and the smoothed path.
+    pub planned: Option<Planned>,
+}
+
+/// A planned phase's search and smoothing.
+#[derive(Debug, Clone)]
+pub struct Planned {
+    /// The RRT-Connect search.
+    pub search: PlanStats,
+    /// The smoothing.
+    pub smoothing: SmoothStats,
+    /// The path as found.
+    pub raw: ArmPath,
+    /// The smoothed path the motion plays.
+    pub path: ArmPath,
+    /// The space the phase was planned in (the held object, ignored objects).
+    pub space: ArmSpace,
+}
+
+/// A moved object's pose on every frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectTrack {
+    /// The scene object.
+    pub name: String,
+    /// Its world pose per frame.
+    pub poses: Vec<Isometry3<f64>>,
+}
+
+/// A task's motion: body poses and hand shapes per frame, the phases and moved objects.
+#[derive(Debug, Clone)]
+pub struct Manipulation {
+    /// Full-body poses (only the acting arm moves).
+    pub poses: Vec<Pose>,
+    /// Hand shapes per frame.
+    pub hands: Vec<Hands>,
+    /// Seconds per frame.
+    pub frame_time: f64,
+    /// The phases in order.
+    pub phases: Vec<Phase>,
+    /// Objects that moved.
+    pub objects: Vec<ObjectTrack>,
+}
+
+impl Manipulation {
+    /// Its duration, seconds.
+    pub fn duration(&self) -> f64 {
+        (self.poses.len().saturating_sub(1)) as f64 * self.frame_time
+    }
+
+    /// The motion as a clip of the character with fingers ([`FingeredSkeleton`]).
+    pub fn to_clip(&self, character: &Character) -> Result<kinergy_motion::Clip> {
+        FingeredSkeleton::new(character)?.clip(character, &self.poses, &self.hands, self.frame_time)
+    }
+}
+
+/// A planning problem: a space, a start and a goal configuration.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// The arm's space (with what it holds and ignores).
+    pub space: ArmSpace,
+    /// The start configuration.
+    pub start: ArmConfig,
+    /// The goal configuration.
+    pub goal: ArmConfig,
+}
+
+/// Plans manipulation tasks for one character in one scene.
+#[derive(Debug, Clone)]
+pub struct Planner {
+    character: Character,
+    body: BodyGeometry,
+    scene: Scene,
+    settings: TaskSettings,
+    start: Pose,
+}
+
+/// The motion being assembled.
+struct Builder<'a> {
+    planner: &'a Planner,
+    space: ArmSpace,
+    q: ArmConfig,
+    alpha: f64,
+    hand: HandShape,
+    out: Manipulation,
+    held: Option<usize>,
+}
+
+impl Planner {
+    /// A planner for the character of the scene's height standing at the origin in its
+    /// reference posture.
+    pub fn new(scene: Scene, settings: TaskSettings) -> Result<Planner> {
+        settings.validate()?;
+        let character = Character::from_height(scene.character_height)?;
+        let body = BodyGeometry::new(&character)?;
+        let start = reference_pose(&character);
+        Ok(Planner {
+            character,
+            body,
+            scene,
+            settings,
+            start,
+        })
+    }
+
+    /// The character.
+    pub fn character(&self) -> &Character {
+        &self.character
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &TaskSettings {
+        &self.settings
+    }
+
+    /// The starting body pose.
+    pub fn start_pose(&self) -> &Pose {
+        &self.start
+    }
+
+    /// The arm's space in the scene as it is at the start (nothing held or ignored).
+    pub fn space(&self) -> Result<ArmSpace> {
+        ArmSpace::new(
+            &self.character,
+            &self.body,
+            &self.start,
+            self.settings.limb,
+            &self.scene,
+        )?
+        .with_clearance(self.settings.clearance)?
+        .with_resolution(self.settings.resolution)
+    }
+
+    fn builder(&self) -> Result<Builder<'_>> {
+        let space = self.space()?;
+        let q = space.config_of(&self.start);
+        let alpha = space.ik().alpha_of(&q);
+        let hand = HandShape::relaxed();
+        let mut b = Builder {
+            planner: self,
+            space,
+            q,
+            alpha,
+            hand,
+            out: Manipulation {
+                poses: Vec::new(),
+                hands: Vec::new(),
+                frame_time: 1.0 / self.settings.frame_rate,
+                phases: Vec::new(),
+                objects: Vec::new(),
+            },
+            held: None,
+        };
+        b.push_frame();
+        Ok(b)
+    }
+
+    /// A collision-free reach to a hand target, the hand taking `shape` on the way.
+    pub fn reach(&self, target: &HandTarget, shape: HandShape) -> Result<Manipulation> {
+        let mut b = self.builder()?;
+        let (alpha, goal) = b.space.solve(target)?;
+        b.planned("reach", &goal, alpha, shape, 0)?;
+        Ok(b.out)
+    }
+
+    /// Grasp the object `name`: plan to its pre-grasp, approach straight, close the hand.
+    pub fn grasp(&self, name: &str) -> Result<Manipulation> {
+        let mut b = self.builder()?;
+        b.grasp(name)?;
+        Ok(b.out)
+    }
+
+    /// Move the object `name` so that its origin ends at `to` (same orientation): grasp
+    /// it, plan the transfer with it in the hand, release it and retreat.
+    pub fn relocate(&self, name: &str, to: &Point3<f64>) -> Result<Manipulation> {
+        if !to.iter().all(|v| v.is_finite()) {
+            return Err(PlanError::NonFinite("the destination".into()));
+        }
+        let mut b = self.builder()?;
+        let grasp = b.grasp(name)?;
+        let object = &self.scene.objects[b.held.unwrap_or(0)];
+        let dest = Isometry3::from_parts(Translation3::from(to.coords), object.pose.rotation);
+        let target = grasp_target(&dest, &grasp, 0.0);
+        let (alpha, place) = b.space.solve(&target).map_err(|e| in_phase(e, "the placing posture"))?;
+        b.planned("transfer", &place, alpha, b.hand, 1)?;
+        b.hand_phase("open", HandShape::open());
+        b.release();
+        let back = grasp_target(&dest, &grasp, grasp.distance);
+        b.space.set_ignored(name, true)?;
+        b.straight("retreat", &back, HandShape::open())?;
+        b.space.set_ignored(name, false)?;
+        b.return_to_start()?;
+        Ok(b.out)
+    }
+
+    /// The planning problem at the heart of a relocation, for benchmarks and tests: the
+    /// space with object `name` held, the configuration grasping it where it stands (the
+    /// IK with collision avoidance, the object ignored) and the one placing it at `to`.
+    pub fn transfer_problem(&self, name: &str, to: &Point3<f64>) -> Result<Problem> {
+        let index = self.scene.object_index(name).ok_or_else(|| unknown_object(name))?;
+        let object = &self.scene.objects[index];
+        let grasp = object.grasp.clone().ok_or_else(|| PlanError::Setting {
+            field: "object".into(),
+            why: format!("`{name}` has no `grasp`: it cannot be grasped"),
+        })?;
+        let mut space = self.space()?;
+        space.set_ignored(name, true)?;
+        let (_, start) = space.solve(&grasp_target(&object.pose, &grasp, 0.0))?;
+        space.attach(&self.scene, name, &start)?;
+        let dest = Isometry3::from_parts(Translation3::from(to.coords), object.pose.rotation);
+        let (_, goal) = space.solve(&grasp_target(&dest, &grasp, 0.0))?;
+        Ok(Problem { space, start, goal })
+    }
+
+    /// Open (pull, `distance` > 0) or close (push, < 0) the drawer `name` by `distance`
+    /// meters along its slide: grasp the handle, then the hand follows the handle with the
+    /// IK on every frame.
+    pub fn pull(&self, name: &str, distance: f64) -> Result<Manipulation> {
+        let o = self.scene.object(name).ok_or_else(|| unknown_object(name))?;
+        let slide = o.slide.clone().ok_or_else(|| PlanError::Setting {
+            field: "object".into(),
+            why: format!("`{name}` has no `slide`: it is not a drawer"),
+        })?;
+        require(
+            distance.is_finite() && distance.abs() <= slide.travel + 1e-12,
+            "distance",
+            format!("within ±{} m (the drawer's travel)", slide.travel),
+        )?;
+        let mut b = self.builder()?;
+        let grasp = b.grasp(name)?;
+        let start = o.pose;
+        let axis = start.rotation * slide.axis;
+        let frames = b.frames_for(distance.abs(), self.settings.approach_speed);
+        let first = b.out.poses.len() - 1;
+        let mut track = vec![start; b.out.poses.len()];
+        for k in 1..frames {
+            let s = crate::rrt::bell(k as f64 / (frames - 1) as f64) * distance;
+            let pose = Isometry3::from_parts(
+                Translation3::from(start.translation.vector + axis * s),
+                start.rotation,
+            );
+            let target = grasp_target(&pose, &grasp, 0.0);
+            b.follow(&target).map_err(|e| in_phase(e, "pulling the drawer"))?;
+            track.push(pose);
+        }
+        b.out.phases.push(Phase {
+            name: if distance >= 0.0 { "pull" } else { "push" }.into(),
+            frames: first..b.out.poses.len(),
+            planned: None,
+        });
+        b.out.objects.push(ObjectTrack {
+            name: name.to_string(),
+            poses: track,
+        });
+        Ok(b.out)
+    }
+}
+
+fn unknown_object(name: &str) -> PlanError {
+    PlanError::Setting {
+        field: "object".into(),
+        why: format!("the scene has no object `{name}`"),
+    }
+}
+
+/// Names the phase in a goal failure.
+fn in_phase(e: PlanError, what: &str) -> PlanError {
+    match e {
+        PlanError::GoalUnreachable { why } => PlanError::GoalUnreachable {
+            why: format!("{what}: {why}"),
+        },
+        PlanError::GoalInCollision { tried, contact } => PlanError::GoalInCollision {
+            tried,
+            contact: format!("{contact} ({what})"),
+        },
+        other => other,
+    }
+}
+
+/// The hand target of a grasp on an object at `pose`, pulled back along the approach by
+/// `back` meters.
+fn grasp_target(pose: &Isometry3<f64>, grasp: &Grasp, back: f64) -> HandTarget {
+    let at = pose * (grasp.position - grasp.approach * back);
+    HandTarget {
+        position: at,
+        orientation: Some(pose.rotation * grasp.rotation),
+    }
+}
+
+impl Builder<'_> {
+    fn push_frame(&mut self) {
+        let pose = self.space.pose_with(&self.planner.start, &self.q);
+        self.out.poses.push(pose);
+        let mut hands = Hands::default();
+        match self.planner.settings.limb {
+            Limb::LeftArm => hands.left = self.hand,
+            _ => hands.right = self.hand,
+        }
+        self.out.hands.push(hands);
+        if let Some(i) = self.held
+            && let Some(pose) = self.space.held_pose(&self.q)
+        {
+            let name = &self.planner.scene.objects[i].name;
+            if let Some(t) = self.out.objects.iter_mut().find(|t| &t.name == name) {
+                t.poses.push(pose);
+            }
+        }
+        let n = self.out.poses.len();
+        for t in &mut self.out.objects {
+            while t.poses.len() < n {
+                let last = *t.poses.last().unwrap_or(&Isometry3::identity());
+                t.poses.push(last);
+            }
+        }
+    }
+
+    fn frames_for(&self, length: f64, speed: f64) -> usize {
+        let s = &self.planner.settings;
+        let seconds = (length / speed).max(s.min_duration);
+        (seconds * s.frame_rate).ceil() as usize + 1
+    }
+
+    /// A planned phase to `goal`; `salt` varies the seed between phases.
+    fn planned(&mut self, name: &str, goal: &ArmConfig, alpha: f64, shape: HandShape, salt: u64) -> Result<()> {
+        let s = &self.planner.settings;
+        let mut rrt = s.rrt.clone();
+        rrt.seed = s.rrt.seed.wrapping_mul(0x9e37_79b9_7f4a_7c15).wrapping_add(salt);
+        let (raw, search) = plan(&self.space, &self.q, goal, &rrt).map_err(|e| in_phase(e, name))?;
+        let (path, smoothing) = smooth(&self.space, &raw, &s.smoothing, rrt.seed);
+        let frames = self.frames_for(path.length(&self.space), s.reach_speed);
+        let configs = timed(&self.space, &path, frames);
+        let first = self.out.poses.len() - 1;
+        let from = self.hand;
+        for (k, q) in configs.iter().enumerate().skip(1) {
+            self.q = *q;
+            self.hand = from.lerp(&shape, k as f64 / (frames - 1) as f64);
+            self.push_frame();
+        }
+        self.alpha = alpha;
+        self.out.phases.push(Phase {
+            name: name.into(),
+            frames: first..self.out.poses.len(),
+            planned: Some(Planned {
+                search,
+                smoothing,
+                raw,
+                path,
+                space: self.space.clone(),
+            }),
+        });
+        Ok(())
+    }
+
+    /// The arm still while the hand takes `shape`.
+    fn hand_phase(&mut self, name: &str, shape: HandShape) {
+        let s = &self.planner.settings;
+        let frames = ((s.finger_time * s.frame_rate).ceil() as usize).max(1) + 1;
+        let first = self.out.poses.len() - 1;
+        let from = self.hand;
+        for k in 1..frames {
+            self.hand = from.lerp(&shape, k as f64 / (frames - 1) as f64);
+            self.push_frame();
+        }
+        self.out.phases.push(Phase {
+            name: name.into(),
+            frames: first..self.out.poses.len(),
+            planned: None,
+        });
+    }
+
+    /// One frame of a followed target: the IK with collision avoidance, its orbit search
+    /// starting at the previous orbit angle.
+    fn follow(&mut self, target: &HandTarget) -> Result<()> {
+        let orbit = OrbitSearch {
+            start: self.alpha.clamp(OrbitSearch::default().min, OrbitSearch::default().max),
+            step: 2f64.to_radians(),
+            ..OrbitSearch::default()
+        };
+        let space = self.space.clone().with_orbit_search(orbit)?;
+        let (alpha, q) = space.solve(target)?;
+        self.alpha = alpha;
+        self.q = q;
+        self.push_frame();
+        Ok(())
+    }
+
+    /// A straight phase: the grip frame from where it is to `target` (lerp + slerp) at the
+    /// approach speed, the hand taking `shape`.
+    fn straight(&mut self, name: &str, target: &HandTarget, shape: HandShape) -> Result<()> {
+        let from = self.space.grip_frame(&self.q);
+        let p0 = Point3::from(from.translation.vector);
+        let rest = self.rest_rotation();
+        let r0 = UnitQuaternion::from_rotation_matrix(&(from.rotation * rest.inverse()));
+        let r1 = target.orientation.unwrap_or(r0);
+        let length = (target.position - p0).norm();
+        let frames = self.frames_for(length, self.planner.settings.approach_speed);
+        let first = self.out.poses.len() - 1;
+        let hand0 = self.hand;
+        for k in 1..frames {
+            let t = crate::rrt::bell(k as f64 / (frames - 1) as f64);
+            let step = HandTarget {
+                position: p0 + (target.position - p0) * t,
+                orientation: Some(r0.slerp(&r1, t)),
+            };
+            self.hand = hand0.lerp(&shape, k as f64 / (frames - 1) as f64);
+            self.follow(&step).map_err(|e| in_phase(e, name))?;
+        }
+        self.out.phases.push(Phase {
+            name: name.into(),
+            frames: first..self.out.poses.len(),
+            planned: None,
+        });
+        Ok(())
+    }
+
+    /// The hand's rest orientation in world.
+    fn rest_rotation(&self) -> nalgebra::Rotation3<f64> {
+        let c = &self.planner.character;
+        c.limb_base_frame(self.planner.settings.limb, &c.rest_pose()).rotation
+    }
+
+    /// Reach, approach and close on object `name`; it is held afterwards.
+    fn grasp(&mut self, name: &str) -> Result<Grasp> {
+        let scene = &self.planner.scene;
+        let index = scene.object_index(name).ok_or_else(|| unknown_object(name))?;
+        let object = &scene.objects[index];
+        let grasp = object.grasp.clone().ok_or_else(|| PlanError::Setting {
+            field: "object".into(),
+            why: format!("`{name}` has no `grasp`: it cannot be grasped"),
+        })?;
+        let pre = grasp_target(&object.pose, &grasp, grasp.distance);
+        let (alpha, goal) = self.space.solve(&pre).map_err(|e| in_phase(e, "the pre-grasp"))?;
+        self.planned("reach", &goal, alpha, HandShape::open(), 0)?;
+        self.space.set_ignored(name, true)?;
+        let at = grasp_target(&object.pose, &grasp, 0.0);
+        self.straight("approach", &at, HandShape::open())?;
+        self.hand_phase("close", grasp.hand);
+        self.space.attach(scene, name, &self.q)?;
+        self.held = Some(index);
+        self.out.objects.push(ObjectTrack {
+            name: name.to_string(),
+            poses: vec![object.pose; self.out.poses.len()],
+        });
+        Ok(grasp)
+    }
+
+    /// A planned phase back to the starting posture, the hand relaxing.
+    fn return_to_start(&mut self) -> Result<()> {
+        let goal = self.space.config_of(&self.planner.start);
+        let alpha = self.space.ik().alpha_of(&goal);
+        self.planned("return", &goal, alpha, HandShape::relaxed(), 2)
+    }
+
+    fn release(&mut self) {
+        self.space.release(&self.q);
+        self.held = None;
+    }
+}
