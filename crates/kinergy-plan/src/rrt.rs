@@ -451,8 +451,10 @@ pub fn smooth(
             continue;
         }
         let whole = [(configs[ia], qa), (qa, qb), (qb, configs[ib + 1])];
-        // The two end pieces are parts of free segments; the shortcut must be checked.
-        if !space.free(&qa) || !space.free(&qb) || !space.edge_free(&whole[1].0, &whole[1].1) {
+        // All three pieces are checked: the end pieces lie on free segments, but a discrete
+        // check of a piece samples other points than the check of the whole segment did.
+        if !space.free(&qa) || !space.free(&qb) || !whole.iter().all(|(x, y)| space.edge_free(x, y))
+        {
             continue;
         }
         let mut next: Vec<ArmConfig> = configs[..=ia].to_vec();

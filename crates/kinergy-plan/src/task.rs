@@ -292,7 +292,10 @@ impl Planner {
         let object = &self.scene.objects[b.held.unwrap_or(0)];
         let dest = Isometry3::from_parts(Translation3::from(to.coords), object.pose.rotation);
         let target = grasp_target(&dest, &grasp, 0.0);
-        let (alpha, place) = b.space.solve(&target).map_err(|e| in_phase(e, "the placing posture"))?;
+        let (alpha, place) = b
+            .space
+            .solve(&target)
+            .map_err(|e| in_phase(e, "the placing posture"))?;
         b.planned("transfer", &place, alpha, b.hand, 1)?;
         b.hand_phase("open", HandShape::open());
         b.release();
@@ -308,7 +311,10 @@ impl Planner {
     /// space with object `name` held, the configuration grasping it where it stands (the
     /// IK with collision avoidance, the object ignored) and the one placing it at `to`.
     pub fn transfer_problem(&self, name: &str, to: &Point3<f64>) -> Result<Problem> {
-        let index = self.scene.object_index(name).ok_or_else(|| unknown_object(name))?;
+        let index = self
+            .scene
+            .object_index(name)
+            .ok_or_else(|| unknown_object(name))?;
         let object = &self.scene.objects[index];
         let grasp = object.grasp.clone().ok_or_else(|| PlanError::Setting {
             field: "object".into(),
@@ -327,7 +333,10 @@ impl Planner {
     /// meters along its slide: grasp the handle, then the hand follows the handle with the
     /// IK on every frame.
     pub fn pull(&self, name: &str, distance: f64) -> Result<Manipulation> {
-        let o = self.scene.object(name).ok_or_else(|| unknown_object(name))?;
+        let o = self
+            .scene
+            .object(name)
+            .ok_or_else(|| unknown_object(name))?;
         let slide = o.slide.clone().ok_or_else(|| PlanError::Setting {
             field: "object".into(),
             why: format!("`{name}` has no `slide`: it is not a drawer"),
@@ -351,7 +360,8 @@ impl Planner {
                 start.rotation,
             );
             let target = grasp_target(&pose, &grasp, 0.0);
-            b.follow(&target).map_err(|e| in_phase(e, "pulling the drawer"))?;
+            b.follow(&target)
+                .map_err(|e| in_phase(e, "pulling the drawer"))?;
             track.push(pose);
         }
         b.out.phases.push(Phase {
@@ -432,11 +442,23 @@ impl Builder<'_> {
     }
 
     /// A planned phase to `goal`; `salt` varies the seed between phases.
-    fn planned(&mut self, name: &str, goal: &ArmConfig, alpha: f64, shape: HandShape, salt: u64) -> Result<()> {
+    fn planned(
+        &mut self,
+        name: &str,
+        goal: &ArmConfig,
+        alpha: f64,
+        shape: HandShape,
+        salt: u64,
+    ) -> Result<()> {
         let s = &self.planner.settings;
         let mut rrt = s.rrt.clone();
-        rrt.seed = s.rrt.seed.wrapping_mul(0x9e37_79b9_7f4a_7c15).wrapping_add(salt);
-        let (raw, search) = plan(&self.space, &self.q, goal, &rrt).map_err(|e| in_phase(e, name))?;
+        rrt.seed = s
+            .rrt
+            .seed
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            .wrapping_add(salt);
+        let (raw, search) =
+            plan(&self.space, &self.q, goal, &rrt).map_err(|e| in_phase(e, name))?;
         let (path, smoothing) = smooth(&self.space, &raw, &s.smoothing, rrt.seed);
         let frames = self.frames_for(path.length(&self.space), s.reach_speed);
         let configs = timed(&self.space, &path, frames);
@@ -483,7 +505,9 @@ impl Builder<'_> {
     /// starting at the previous orbit angle.
     fn follow(&mut self, target: &HandTarget) -> Result<()> {
         let orbit = OrbitSearch {
-            start: self.alpha.clamp(OrbitSearch::default().min, OrbitSearch::default().max),
+            start: self
+                .alpha
+                .clamp(OrbitSearch::default().min, OrbitSearch::default().max),
             step: 2f64.to_radians(),
             ..OrbitSearch::default()
         };
@@ -527,20 +551,26 @@ impl Builder<'_> {
     /// The hand's rest orientation in world.
     fn rest_rotation(&self) -> nalgebra::Rotation3<f64> {
         let c = &self.planner.character;
-        c.limb_base_frame(self.planner.settings.limb, &c.rest_pose()).rotation
+        c.limb_base_frame(self.planner.settings.limb, &c.rest_pose())
+            .rotation
     }
 
     /// Reach, approach and close on object `name`; it is held afterwards.
     fn grasp(&mut self, name: &str) -> Result<Grasp> {
         let scene = &self.planner.scene;
-        let index = scene.object_index(name).ok_or_else(|| unknown_object(name))?;
+        let index = scene
+            .object_index(name)
+            .ok_or_else(|| unknown_object(name))?;
         let object = &scene.objects[index];
         let grasp = object.grasp.clone().ok_or_else(|| PlanError::Setting {
             field: "object".into(),
             why: format!("`{name}` has no `grasp`: it cannot be grasped"),
         })?;
         let pre = grasp_target(&object.pose, &grasp, grasp.distance);
-        let (alpha, goal) = self.space.solve(&pre).map_err(|e| in_phase(e, "the pre-grasp"))?;
+        let (alpha, goal) = self
+            .space
+            .solve(&pre)
+            .map_err(|e| in_phase(e, "the pre-grasp"))?;
         self.planned("reach", &goal, alpha, HandShape::open(), 0)?;
         self.space.set_ignored(name, true)?;
         let at = grasp_target(&object.pose, &grasp, 0.0);

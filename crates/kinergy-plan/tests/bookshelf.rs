@@ -7,7 +7,8 @@ use kinergy_plan::task::{Planner, TaskSettings};
 use nalgebra::Point3;
 
 fn scene() -> Scene {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/bookshelf/scene.json");
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/bookshelf/scene.json");
     Scene::read(&path).unwrap()
 }
 
@@ -25,13 +26,23 @@ fn relocates_the_blue_book() {
             Ok(m) => m,
             Err(e) => panic!("seed {seed}: {e}"),
         };
-        eprintln!("seed {seed}: {:.1} ms, {} frames", t.elapsed().as_secs_f64() * 1e3, m.poses.len());
+        eprintln!(
+            "seed {seed}: {:.1} ms, {} frames",
+            t.elapsed().as_secs_f64() * 1e3,
+            m.poses.len()
+        );
         for p in &m.phases {
             if let Some(pl) = &p.planned {
                 eprintln!(
                     "  {}: {} iterations, {} nodes, {:.2} ms; smoothing {:.3} -> {:.3} m in {:.2} ms ({} raw configs)",
-                    p.name, pl.search.iterations, pl.search.nodes, pl.search.seconds * 1e3,
-                    pl.smoothing.length_before, pl.smoothing.length_after, pl.smoothing.seconds * 1e3, pl.raw.configs.len()
+                    p.name,
+                    pl.search.iterations,
+                    pl.search.nodes,
+                    pl.search.seconds * 1e3,
+                    pl.smoothing.length_before,
+                    pl.smoothing.length_after,
+                    pl.smoothing.seconds * 1e3,
+                    pl.raw.configs.len()
                 );
             }
         }

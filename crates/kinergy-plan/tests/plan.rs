@@ -1,0 +1,544 @@
+//! The planner against independent truths: paths re-checked at 10× finer resolution by a
+//! separate collision test (full-body FK, every triangle on its own), exact endpoints, the
+//! same seed giving the same path, every failure reason from a scene built for it, and
+//! smoothing that never lengthens or invalidates a path.
+
+use std::path::PathBuf;
+
+use kinergy_plan::PlanError;
+use kinergy_plan::body::{BodyGeometry, Capsule};
+use kinergy_plan::rrt::{ArmPath, Budget, RrtSettings, plan, smooth, timed};
+use kinergy_plan::scene::{Scene, Shape};
+use kinergy_plan::space::{ArmConfig, ArmSpace, HELD_CONTACT, HandTarget, lerp};
+use kinergy_plan::task::{Planner, Problem, TaskSettings};
+use kinergy_reach::character::{Character, Limb};
+use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
+use parry3d::math::{Pose as PPose, Rot3, Vector as PVec};
+use parry3d::query::intersection_test;
+use parry3d::shape::{Capsule as PCapsule, Cuboid, Shape as _, Triangle};
+
+fn bookshelf() -> Scene {
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/bookshelf/scene.json");
+    Scene::read(&path).unwrap()
+}
+
+const DESTINATION: [f64; 3] = [-0.22, 1.49, 0.50];
+
+fn transfer(seed: u64) -> (Planner, Problem) {
+    let mut settings = TaskSettings::default();
+    settings.rrt.seed = seed;
+    let planner = Planner::new(bookshelf(), settings).unwrap();
+    let problem = planner
+        .transfer_problem("blue_book", &Point3::from(DESTINATION))
+        .unwrap();
+    (planner, problem)
+}
+
+fn pvec(p: &Point3<f64>) -> PVec {
+    PVec::new(p.x as f32, p.y as f32, p.z as f32)
+}
+
+fn ppose(iso: &Isometry3<f64>) -> PPose {
+    let q = iso.rotation.coords;
+    PPose::from_parts(
+        pvec(&Point3::from(iso.translation.vector)),
+        Rot3::from_xyzw(q.x as f32, q.y as f32, q.z as f32, q.w as f32).normalize(),
+    )
+}
+
+/// A collision test written apart from the planner's: the arm's capsules from the
+/// character's full-body FK, the scene's meshes triangle by triangle (no hierarchy), boxes
+/// and other primitives one by one; no clearance.
+struct Verifier {
+    character: Character,
+    start: kinergy_reach::character::Pose,
+    body: BodyGeometry,
+    /// Scene triangles in world with their bounds, and primitive colliders.
+    triangles: Vec<([Point3<f64>; 3], Point3<f64>, Point3<f64>, String)>,
+    boxes: Vec<(Isometry3<f64>, Vector3<f64>, String)>,
+    other: Vec<(Isometry3<f64>, Shape, String)>,
+}
+
+impl Verifier {
+    fn new(planner: &Planner, ignore: &[&str]) -> Verifier {
+        let character = planner.character().clone();
+        let body = BodyGeometry::new(&character).unwrap();
+        let mut triangles = Vec::new();
+        let mut boxes = Vec::new();
+        let mut other = Vec::new();
+        for o in &planner.scene().objects {
+            if ignore.contains(&o.name.as_str()) {
+                continue;
+            }
+            match &o.shape {
+                Shape::Mesh { mesh, .. } => {
+                    for t in &mesh.triangles {
+                        let p = t.map(|i| o.pose * mesh.vertices[i as usize]);
+                        let min = p[0].inf(&p[1]).inf(&p[2]);
+                        let max = p[0].sup(&p[1]).sup(&p[2]);
+                        triangles.push((p, min, max, o.name.clone()));
+                    }
+                }
+                Shape::Box { half_extents } => boxes.push((o.pose, *half_extents, o.name.clone())),
+                s => other.push((o.pose, s.clone(), o.name.clone())),
+            }
+        }
+        Verifier {
+            start: *planner.start_pose(),
+            character,
+            body,
+            triangles,
+            boxes,
+            other,
+        }
+    }
+
+    /// The first contact of the arm at `q` (and of the held box at `held`), if any.
+    fn contact(
+        &self,
+        space: &ArmSpace,
+        q: &ArmConfig,
+        held: Option<(&Isometry3<f64>, Vector3<f64>)>,
+    ) -> Option<String> {
+        let pose = space.pose_with(&self.start, q);
+        let frames = self.character.world_frames(&pose);
+        let world = self.body.world_capsules(&frames);
+        let arm = self.body.limb_parts(Limb::RightArm);
+        let parts = self.body.parts();
+        for &m in &arm {
+            for j in 0..parts.len() {
+                if j != m && !self.body.is_disabled(m, j) && world[m].gap(&world[j]) < 0.0 {
+                    return Some(format!("{} × {}", parts[m].name, parts[j].name));
+                }
+            }
+            if let Some(hit) = self.capsule_hits(&world[m]) {
+                return Some(format!("{} × {hit}", parts[m].name));
+            }
+        }
+        if let Some((obj, half)) = held {
+            let h = half.map(|v| v - HELD_CONTACT);
+            let cube = Cuboid::new(PVec::new(h.x as f32, h.y as f32, h.z as f32));
+            let p = ppose(obj);
+            for (j, c) in world.iter().enumerate() {
+                if arm.contains(&j) {
+                    continue;
+                }
+                let cap = PCapsule::new(pvec(&c.a), pvec(&c.b), c.radius as f32);
+                if intersection_test(&PPose::IDENTITY, &cap, &p, &cube)
+                    .unwrap()
+                    .intersecting
+                {
+                    return Some(format!("book × {}", parts[j].name));
+                }
+            }
+            let aabb = cube.compute_aabb(&p);
+            for (tri, tmin, tmax, name) in &self.triangles {
+                let apart = (0..3)
+                    .any(|k| tmin[k] as f32 > aabb.maxs[k] || (tmax[k] as f32) < aabb.mins[k]);
+                if apart {
+                    continue;
+                }
+                let t = Triangle::new(pvec(&tri[0]), pvec(&tri[1]), pvec(&tri[2]));
+                if intersection_test(&PPose::IDENTITY, &t, &p, &cube)
+                    .unwrap()
+                    .intersecting
+                {
+                    return Some(format!("book × {name}"));
+                }
+            }
+            for (pose, he, name) in &self.boxes {
+                let other = Cuboid::new(PVec::new(he.x as f32, he.y as f32, he.z as f32));
+                if intersection_test(&ppose(pose), &other, &p, &cube)
+                    .unwrap()
+                    .intersecting
+                {
+                    return Some(format!("book × {name}"));
+                }
+            }
+        }
+        None
+    }
+
+    fn capsule_hits(&self, c: &Capsule) -> Option<String> {
+        let (min, max) = c.bounds(0.0);
+        let cap = PCapsule::new(pvec(&c.a), pvec(&c.b), c.radius as f32);
+        for (tri, tmin, tmax, name) in &self.triangles {
+            if (0..3).any(|k| tmin[k] > max[k] || tmax[k] < min[k]) {
+                continue;
+            }
+            let t = Triangle::new(pvec(&tri[0]), pvec(&tri[1]), pvec(&tri[2]));
+            if intersection_test(&PPose::IDENTITY, &cap, &PPose::IDENTITY, &t)
+                .unwrap()
+                .intersecting
+            {
+                return Some(name.clone());
+            }
+        }
+        for (pose, he, name) in &self.boxes {
+            let cube = Cuboid::new(PVec::new(he.x as f32, he.y as f32, he.z as f32));
+            if intersection_test(&PPose::IDENTITY, &cap, &ppose(pose), &cube)
+                .unwrap()
+                .intersecting
+            {
+                return Some(name.clone());
+            }
+        }
+        for (pose, shape, name) in &self.other {
+            let hit = match shape {
+                Shape::Sphere { radius } => {
+                    let centre = pose * Point3::origin();
+                    kinergy_plan::body::segment_distance(&c.a, &c.b, &centre, &centre)
+                        < c.radius + radius
+                }
+                Shape::Capsule {
+                    half_height,
+                    radius,
+                } => {
+                    let a = pose * Point3::new(0.0, -half_height, 0.0);
+                    let b = pose * Point3::new(0.0, *half_height, 0.0);
+                    kinergy_plan::body::segment_distance(&c.a, &c.b, &a, &b) < c.radius + radius
+                }
+                _ => false,
+            };
+            if hit {
+                return Some(name.clone());
+            }
+        }
+        None
+    }
+
+    /// Re-checks every segment of `path` with samples every `resolution` meters of the
+    /// largest tracked-point displacement; returns the first contact found.
+    fn recheck(
+        &self,
+        space: &ArmSpace,
+        path: &ArmPath,
+        resolution: f64,
+        half: Option<Vector3<f64>>,
+    ) -> Option<String> {
+        for w in path.configs.windows(2) {
+            let n = (space.distance(&w[0], &w[1]) / resolution).ceil().max(1.0) as usize;
+            for k in 0..=n {
+                let q = lerp(&w[0], &w[1], k as f64 / n as f64);
+                if !space.ik().within_limits(&q) {
+                    return Some(format!("outside the joint limits at {q:?}"));
+                }
+                let held = half.map(|h| (space.held_pose(&q).unwrap(), h));
+                if let Some(c) = self.contact(space, &q, held.as_ref().map(|(p, h)| (p, *h))) {
+                    return Some(c);
+                }
+            }
+        }
+        None
+    }
+}
+
+fn book_half(planner: &Planner) -> Vector3<f64> {
+    match planner.scene().object("blue_book").unwrap().shape {
+        Shape::Box { half_extents } => half_extents,
+        _ => unreachable!(),
+    }
+}
+
+#[test]
+fn transfer_paths_are_free_at_ten_times_finer_resolution_with_exact_endpoints() {
+    let (planner, _) = transfer(0);
+    let verifier = Verifier::new(&planner, &["blue_book"]);
+    let half = book_half(&planner);
+    for seed in 0..4 {
+        let (_, p) = transfer(seed);
+        let mut rrt = RrtSettings::default();
+        rrt.seed = seed;
+        let (raw, stats) = plan(&p.space, &p.start, &p.goal, &rrt).unwrap();
+        assert!(
+            stats.iterations > 0,
+            "the straight line is blocked by the board"
+        );
+        assert_eq!(raw.configs[0], p.start);
+        assert_eq!(*raw.configs.last().unwrap(), p.goal);
+        let fine = p.space.resolution() / 10.0;
+        assert_eq!(
+            verifier.recheck(&p.space, &raw, fine, Some(half)),
+            None,
+            "seed {seed}"
+        );
+        let (smooth_path, s) = smooth(&p.space, &raw, &TaskSettings::default().smoothing, seed);
+        assert!(s.length_after <= s.length_before);
+        assert_eq!(smooth_path.configs[0], p.start);
+        assert_eq!(*smooth_path.configs.last().unwrap(), p.goal);
+        assert_eq!(
+            verifier.recheck(&p.space, &smooth_path, fine, Some(half)),
+            None,
+            "smoothed, seed {seed}"
+        );
+        let frames = timed(&p.space, &smooth_path, 90);
+        assert_eq!(frames[0], p.start);
+        assert_eq!(frames[89], p.goal);
+    }
+}
+
+#[test]
+fn the_verifier_sees_what_the_planner_avoids() {
+    // The straight interpolation from grasp to place drives the book through the board:
+    // both checkers must say so, or the re-check above proves nothing.
+    let (planner, p) = transfer(0);
+    let verifier = Verifier::new(&planner, &["blue_book"]);
+    let straight = ArmPath {
+        configs: vec![p.start, p.goal],
+    };
+    assert!(!p.space.edge_free(&p.start, &p.goal));
+    assert!(
+        verifier
+            .recheck(&p.space, &straight, 0.001, Some(book_half(&planner)))
+            .is_some()
+    );
+}
+
+#[test]
+fn the_same_seed_gives_the_same_path() {
+    let (_, p) = transfer(7);
+    let rrt = RrtSettings {
+        seed: 7,
+        ..RrtSettings::default()
+    };
+    let a = plan(&p.space, &p.start, &p.goal, &rrt).unwrap().0;
+    let b = plan(&p.space, &p.start, &p.goal, &rrt).unwrap().0;
+    assert_eq!(a, b);
+    let budget = TaskSettings::default().smoothing;
+    assert_eq!(
+        smooth(&p.space, &a, &budget, 3).0,
+        smooth(&p.space, &b, &budget, 3).0
+    );
+    let others: Vec<ArmPath> = (8..12)
+        .map(|seed| {
+            plan(
+                &p.space,
+                &p.start,
+                &p.goal,
+                &RrtSettings {
+                    seed,
+                    ..rrt.clone()
+                },
+            )
+            .unwrap()
+            .0
+        })
+        .collect();
+    assert!(others.iter().any(|o| *o != a), "seeds change the search");
+}
+
+#[test]
+fn smoothing_never_lengthens_or_invalidates() {
+    for seed in 0..12 {
+        let (_, p) = transfer(seed);
+        let rrt = RrtSettings {
+            seed,
+            ..RrtSettings::default()
+        };
+        let (raw, _) = plan(&p.space, &p.start, &p.goal, &rrt).unwrap();
+        for budget in [1, 10, 200] {
+            let b = Budget {
+                iterations: budget,
+                time: None,
+            };
+            let (s, stats) = smooth(&p.space, &raw, &b, seed);
+            assert!(s.length(&p.space) <= raw.length(&p.space) + 1e-12);
+            assert!((stats.length_after - s.length(&p.space)).abs() < 1e-9);
+            assert!(s.is_valid(&p.space), "seed {seed} budget {budget}");
+        }
+    }
+}
+
+fn empty_planner(objects: &str) -> Planner {
+    let text = format!(r#"{{"format_version": 1, "objects": [{objects}]}}"#);
+    let scene = Scene::parse(&text, "t.json".as_ref(), ".".as_ref()).unwrap();
+    Planner::new(scene, TaskSettings::default()).unwrap()
+}
+
+#[test]
+fn start_in_collision() {
+    // A box around the resting right hand (at about x = −0.33, y = 0.7).
+    let planner = empty_planner(
+        r#"{"name": "crate", "shape": {"type": "box", "half_extents": [0.1, 0.1, 0.1]}, "position": [-0.33, 0.75, 0]}"#,
+    );
+    let target = HandTarget {
+        position: Point3::new(-0.2, 1.2, 0.4),
+        orientation: None,
+    };
+    match planner.reach(&target, kinergy_plan::hand::HandShape::open()) {
+        Err(PlanError::StartInCollision { contact }) => {
+            assert!(contact.contains("crate"), "{contact}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn goal_unreachable() {
+    let planner = empty_planner("");
+    let target = HandTarget {
+        position: Point3::new(-0.2, 1.3, 1.5),
+        orientation: None,
+    };
+    let e = planner
+        .reach(&target, kinergy_plan::hand::HandShape::open())
+        .unwrap_err();
+    assert!(matches!(e, PlanError::GoalUnreachable { .. }), "{e}");
+    assert!(e.is_task_failure());
+}
+
+#[test]
+fn goal_in_collision() {
+    let planner = empty_planner(
+        r#"{"name": "block", "shape": {"type": "box", "half_extents": [0.15, 0.15, 0.15]}, "position": [-0.2, 1.2, 0.45]}"#,
+    );
+    let target = HandTarget {
+        position: Point3::new(-0.2, 1.2, 0.45),
+        orientation: None,
+    };
+    match planner.reach(&target, kinergy_plan::hand::HandShape::open()) {
+        Err(PlanError::GoalInCollision { tried, contact }) => {
+            assert!(tried > 0);
+            assert!(contact.contains("block"), "{contact}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn no_path_within_the_budget_reports_progress() {
+    let (_, p) = transfer(0);
+    let rrt = RrtSettings {
+        budget: Budget {
+            iterations: 2,
+            time: None,
+        },
+        ..RrtSettings::default()
+    };
+    match plan(&p.space, &p.start, &p.goal, &rrt) {
+        Err(PlanError::NoPath {
+            iterations,
+            nodes,
+            gap,
+            ..
+        }) => {
+            assert_eq!(iterations, 2);
+            assert!(nodes >= 2);
+            assert!(gap > 0.0 && gap <= p.space.distance(&p.start, &p.goal) + 1e-12);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn collision_aware_ik_moves_the_elbow_away_from_an_obstacle() {
+    // Kallmann's Fig. 3: the first orbit angle's posture puts the elbow into an obstacle;
+    // the search finds another angle whose posture is free and still reaches the target.
+    let free = empty_planner("");
+    let space = free.space().unwrap();
+    let target = HandTarget {
+        position: Point3::new(-0.25, 1.15, 0.35),
+        orientation: Some(UnitQuaternion::from_scaled_axis(Vector3::x() * -1.6)),
+    };
+    let (alpha0, q0) = space.solve(&target).unwrap();
+    let elbow = space.frames(&q0)[1].translation.vector;
+    let obstacle = format!(
+        r#"{{"name": "post", "shape": {{"type": "sphere", "radius": 0.05}}, "position": [{}, {}, {}]}}"#,
+        elbow.x, elbow.y, elbow.z
+    );
+    let blocked = empty_planner(&obstacle);
+    let space = blocked.space().unwrap();
+    assert!(space.contact(&q0).is_some());
+    let (alpha, q) = space.solve(&target).unwrap();
+    assert!((alpha - alpha0).abs() > 1e-3);
+    assert!(space.free(&q));
+    let grip = space.grip_frame(&q);
+    assert!((Point3::from(grip.translation.vector) - target.position).norm() < 1e-9);
+}
+
+#[test]
+fn relocation_puts_the_book_where_asked() {
+    let (planner, _) = transfer(1);
+    let m = planner
+        .relocate("blue_book", &Point3::from(DESTINATION))
+        .unwrap();
+    let names: Vec<&str> = m.phases.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "reach", "approach", "close", "transfer", "open", "retreat", "return"
+        ]
+    );
+    let track = &m.objects[0];
+    assert_eq!(track.poses.len(), m.poses.len());
+    let start = planner.scene().object("blue_book").unwrap().pose;
+    assert_eq!(track.poses[0], start);
+    let end = track.poses.last().unwrap();
+    assert!((end.translation.vector - Vector3::from(DESTINATION)).norm() < 1e-9);
+    assert!(end.rotation.angle_to(&start.rotation) < 1e-9);
+    assert_eq!(m.poses[0], *planner.start_pose());
+    assert_eq!(m.poses.last().unwrap(), planner.start_pose());
+    // Every frame of every phase is collision-free for the separate checker, the book
+    // included while held.
+    let verifier = Verifier::new(&planner, &["blue_book"]);
+    let space = planner.space().unwrap();
+    for p in &m.phases {
+        let Some(pl) = &p.planned else { continue };
+        let half = pl.space.held().map(|_| book_half(&planner));
+        assert_eq!(
+            verifier.recheck(&pl.space, &pl.path, 0.001, half),
+            None,
+            "{}",
+            p.name
+        );
+    }
+    for (k, pose) in m.poses.iter().enumerate() {
+        assert!(
+            planner.character().joint_limits_ok(pose).is_ok(),
+            "frame {k}"
+        );
+    }
+    let clip = m.to_clip(planner.character()).unwrap();
+    assert_eq!(clip.frame_count(), m.poses.len());
+    let _ = space;
+}
+
+#[test]
+fn the_hand_follows_a_drawer() {
+    let planner = empty_planner(
+        r#"{"name": "drawer", "shape": {"type": "box", "half_extents": [0.2, 0.06, 0.02]},
+            "position": [-0.22, 1.08, 0.5],
+            "grasp": {"position": [0, 0, -0.06], "rotation": [-0.90630779, 0, 0, 0.42261826],
+                      "approach": [0, 0, 1], "distance": 0.1, "hand": "power"},
+            "slide": {"axis": [0, 0, -1], "travel": 0.3}}"#,
+    );
+    let m = planner.pull("drawer", 0.2).unwrap();
+    let track = &m.objects[0];
+    let start = track.poses[0];
+    let end = track.poses.last().unwrap();
+    assert!(
+        (end.translation.vector - start.translation.vector - Vector3::new(0.0, 0.0, -0.2)).norm()
+            < 1e-12
+    );
+    let pull = m.phases.iter().find(|p| p.name == "pull").unwrap();
+    let space = planner.space().unwrap();
+    let grasp = planner
+        .scene()
+        .object("drawer")
+        .unwrap()
+        .grasp
+        .clone()
+        .unwrap();
+    for k in pull.frames.clone() {
+        let q = space.config_of(&m.poses[k]);
+        let grip = Point3::from(space.grip_frame(&q).translation.vector);
+        let handle = track.poses[k] * grasp.position;
+        assert!(
+            (grip - handle).norm() < 1e-9,
+            "frame {k}: {}",
+            (grip - handle).norm()
+        );
+    }
+    assert!(planner.pull("drawer", 0.5).is_err(), "beyond the travel");
+}
