@@ -9,6 +9,7 @@ mod compare;
 mod convert;
 mod fit;
 mod inspect;
+mod plan;
 mod reach;
 mod reaches;
 mod segment;
@@ -65,6 +66,12 @@ enum Command {
         after_help = "Examples:\n  kinergy synth\n  kinergy synth -o my-set --persons 2 --reaches 5 --seed 7"
     )]
     Synth(synth::Args),
+    /// Plan collision-free reaching and manipulation in a scene (Kallmann 2005): IK with
+    /// collision avoidance, RRT-Connect, smoothing; BVH with fingers.
+    #[command(
+        after_help = "Examples:\n  kinergy plan --scene examples/bookshelf/scene.json --task relocate --object blue_book --to -0.22,1.49,0.50 -o relocate.bvh\n  kinergy plan --scene examples/bookshelf/scene.json --target -0.25,1.1,0.3 --seed 3 -o reach.bvh --json"
+    )]
+    Plan(plan::Args),
 }
 
 fn main() -> ExitCode {
@@ -78,6 +85,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare::run(&args),
         Command::Reach(args) => reach::run(&args),
         Command::Synth(args) => synth::run(&args),
+        Command::Plan(args) => plan::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,316 @@
+//! `kinergy plan`: collision-free reaching and manipulation in a scene (Kallmann 2005),
+//! written as BVH with fingers.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use kinergy_plan::PlanError;
+use kinergy_plan::hand::HandShape;
+use kinergy_plan::scene::Scene;
+use kinergy_plan::space::HandTarget;
+use kinergy_plan::task::{Manipulation, Planner, TaskSettings};
+use kinergy_reach::character::Limb;
+use nalgebra::{Isometry3, Point3, Quaternion, UnitQuaternion};
+use serde::Serialize;
+
+use crate::common::{Failure, emit, print_json};
+
+/// A manipulation task.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Task {
+    /// Grasp `--object`, carry it so its origin ends at `--to`, let go and come back.
+    Relocate,
+    /// Reach, approach and close the hand on `--object`.
+    Grasp,
+    /// Grasp the drawer `--object` and pull it open by `--distance` meters.
+    Pull,
+    /// Grasp the drawer `--object` and push it in by `--distance` meters.
+    Push,
+}
+
+/// Arguments of `kinergy plan`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The scene (JSON, see the bookshelf example in examples/bookshelf/).
+    #[arg(long, value_name = "S.json")]
+    pub scene: PathBuf,
+    /// Reach a hand target: the grip point (palm centre) in world meters, optionally with the
+    /// hand's rotation from its rest orientation as a quaternion.
+    #[arg(
+        long,
+        value_name = "x,y,z[,qx,qy,qz,qw]",
+        allow_hyphen_values = true,
+        conflicts_with = "task",
+        required_unless_present = "task"
+    )]
+    pub target: Option<String>,
+    /// A manipulation task on a scene object.
+    #[arg(long, value_enum, requires = "object")]
+    pub task: Option<Task>,
+    /// The object the task acts on.
+    #[arg(long, value_name = "NAME")]
+    pub object: Option<String>,
+    /// Where a relocated object's origin goes, world meters.
+    #[arg(long, value_name = "x,y,z", allow_hyphen_values = true)]
+    pub to: Option<String>,
+    /// How far a drawer moves, meters.
+    #[arg(long, default_value_t = 0.2, value_name = "D")]
+    pub distance: f64,
+    /// The acting arm: right or left.
+    #[arg(long, default_value = "right", value_name = "SIDE")]
+    pub arm: String,
+    /// Seed of the planner's random stream (same seed, same motion).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Time budget of each planned phase, milliseconds (the iteration budget, 5000, applies
+    /// too; a search stopped by time depends on the machine's speed).
+    #[arg(long, value_name = "N")]
+    pub budget_ms: Option<u64>,
+    /// Where to write the motion (BVH with fingers, 60 Hz, centimeters, written atomically).
+    #[arg(short, long, value_name = "OUT.bvh")]
+    pub output: PathBuf,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct PlannedReport {
+    iterations: usize,
+    nodes: usize,
+    plan_ms: f64,
+    smooth_ms: f64,
+    length_before_m: f64,
+    length_after_m: f64,
+    configs_before: usize,
+    configs_after: usize,
+}
+
+#[derive(Serialize)]
+struct PhaseReport {
+    name: String,
+    first_frame: usize,
+    last_frame: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    planned: Option<PlannedReport>,
+}
+
+#[derive(Serialize)]
+struct PoseReport {
+    position_m: [f64; 3],
+    rotation_xyzw: [f64; 4],
+}
+
+#[derive(Serialize)]
+struct ObjectReport {
+    name: String,
+    start: PoseReport,
+    end: PoseReport,
+}
+
+#[derive(Serialize)]
+struct Report {
+    output: String,
+    scene: String,
+    triangles: usize,
+    task: String,
+    seed: u64,
+    frames: usize,
+    duration_s: f64,
+    phases: Vec<PhaseReport>,
+    objects: Vec<ObjectReport>,
+}
+
+fn pose_report(p: &Isometry3<f64>) -> PoseReport {
+    let q = p.rotation.coords;
+    PoseReport {
+        position_m: p.translation.vector.into(),
+        rotation_xyzw: [q.x, q.y, q.z, q.w],
+    }
+}
+
+/// `x,y,z` or `x,y,z,qx,qy,qz,qw` (finite numbers).
+fn parse_target(text: &str) -> Result<HandTarget, Failure> {
+    let bad = |why: &str| Failure::Input(format!("--target `{text}`: {why}"));
+    let values: Vec<f64> = text
+        .split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad("expected comma-separated numbers x,y,z[,qx,qy,qz,qw]"))?;
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(bad("every value must be finite"));
+    }
+    let position = match values.len() {
+        3 | 7 => Point3::new(values[0], values[1], values[2]),
+        n => return Err(bad(&format!("expected 3 or 7 numbers, found {n}"))),
+    };
+    let orientation = if values.len() == 7 {
+        let q = Quaternion::new(values[6], values[3], values[4], values[5]);
+        if q.norm() < 1e-9 {
+            return Err(bad("the quaternion must not be zero"));
+        }
+        Some(UnitQuaternion::from_quaternion(q))
+    } else {
+        None
+    };
+    Ok(HandTarget {
+        position,
+        orientation,
+    })
+}
+
+fn plan_failure(e: PlanError) -> Failure {
+    if e.is_task_failure() {
+        Failure::Task(e.to_string())
+    } else {
+        Failure::Input(e.to_string())
+    }
+}
+
+/// Runs `kinergy plan`.
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let scene = Scene::read(&args.scene).map_err(|e| Failure::input(&args.scene, e))?;
+    let limb = match args.arm.as_str() {
+        "right" => Limb::RightArm,
+        "left" => Limb::LeftArm,
+        other => {
+            return Err(Failure::Input(format!(
+                "--arm `{other}`: expected right or left"
+            )));
+        }
+    };
+    let mut settings = TaskSettings {
+        limb,
+        ..TaskSettings::default()
+    };
+    settings.rrt.seed = args.seed;
+    if let Some(ms) = args.budget_ms {
+        if ms == 0 {
+            return Err(Failure::Input("--budget-ms must be at least 1".into()));
+        }
+        settings.rrt.budget.time = Some(Duration::from_millis(ms));
+    }
+    let triangles = scene.triangle_count();
+    let planner = Planner::new(scene, settings).map_err(plan_failure)?;
+    let need_object = || {
+        args.object
+            .clone()
+            .ok_or_else(|| Failure::Input("--task needs --object NAME".into()))
+    };
+    let (task, motion): (String, Result<Manipulation, PlanError>) = match (&args.target, args.task)
+    {
+        (Some(t), _) => {
+            let target = parse_target(t)?;
+            ("reach".into(), planner.reach(&target, HandShape::relaxed()))
+        }
+        (None, Some(Task::Relocate)) => {
+            let object = need_object()?;
+            let to = args
+                .to
+                .as_deref()
+                .ok_or_else(|| Failure::Input("--task relocate needs --to x,y,z".into()))?;
+            let to = crate::synthesize::parse_point(to, "--to")?;
+            (format!("relocate {object}"), planner.relocate(&object, &to))
+        }
+        (None, Some(Task::Grasp)) => {
+            let object = need_object()?;
+            (format!("grasp {object}"), planner.grasp(&object))
+        }
+        (None, Some(task @ (Task::Pull | Task::Push))) => {
+            let object = need_object()?;
+            if !args.distance.is_finite() || args.distance <= 0.0 {
+                return Err(Failure::Input(format!(
+                    "--distance {}: expected a number > 0",
+                    args.distance
+                )));
+            }
+            let signed = if task == Task::Pull {
+                args.distance
+            } else {
+                -args.distance
+            };
+            (
+                format!("{task:?} {object}").to_lowercase(),
+                planner.pull(&object, signed),
+            )
+        }
+        (None, None) => return Err(Failure::Input("give --target or --task".into())),
+    };
+    let motion = motion.map_err(plan_failure)?;
+    let clip = motion
+        .to_clip(planner.character())
+        .map_err(|e| Failure::Task(e.to_string()))?;
+    kinergy_motion::write_clip(&args.output, &clip, &Default::default())
+        .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+    let report = Report {
+        output: args.output.display().to_string(),
+        scene: args.scene.display().to_string(),
+        triangles,
+        task,
+        seed: args.seed,
+        frames: motion.poses.len(),
+        duration_s: motion.duration(),
+        phases: motion
+            .phases
+            .iter()
+            .map(|p| PhaseReport {
+                name: p.name.clone(),
+                first_frame: p.frames.start,
+                last_frame: p.frames.end.saturating_sub(1),
+                planned: p.planned.as_ref().map(|pl| PlannedReport {
+                    iterations: pl.search.iterations,
+                    nodes: pl.search.nodes,
+                    plan_ms: pl.search.seconds * 1e3,
+                    smooth_ms: pl.smoothing.seconds * 1e3,
+                    length_before_m: pl.smoothing.length_before,
+                    length_after_m: pl.smoothing.length_after,
+                    configs_before: pl.raw.configs.len(),
+                    configs_after: pl.path.configs.len(),
+                }),
+            })
+            .collect(),
+        objects: motion
+            .objects
+            .iter()
+            .filter_map(|t| {
+                Some(ObjectReport {
+                    name: t.name.clone(),
+                    start: pose_report(t.poses.first()?),
+                    end: pose_report(t.poses.last()?),
+                })
+            })
+            .collect(),
+    };
+    if args.json {
+        print_json(&report)?;
+    } else {
+        let mut text = format!(
+            "{}: {} in {} ({} triangles), {} frames ({:.2} s)\n",
+            report.output, report.task, report.scene, triangles, report.frames, report.duration_s
+        );
+        for p in &report.phases {
+            text += &format!(
+                "  {:<9} frames {:>4}–{:<4}",
+                p.name, p.first_frame, p.last_frame
+            );
+            if let Some(pl) = &p.planned {
+                text += &format!(
+                    "  planned: {} iterations, {} nodes, {:.1} ms; smoothed {:.2} → {:.2} m in {:.1} ms",
+                    pl.iterations,
+                    pl.nodes,
+                    pl.plan_ms,
+                    pl.length_before_m,
+                    pl.length_after_m,
+                    pl.smooth_ms
+                );
+            }
+            text.push('\n');
+        }
+        for o in &report.objects {
+            let [x, y, z] = o.end.position_m;
+            text += &format!("  {} ends at {x:.3},{y:.3},{z:.3}\n", o.name);
+        }
+        emit(&text)?;
+    }
+    Ok(())
+}
