@@ -45,6 +45,7 @@
 
 pub use kinergy_bvh as bvh;
 pub use kinergy_motion as motion;
+pub use kinergy_plan as plan;
 pub use kinergy_reach as reach;
 pub use kinergy_solver as solver;
 pub use kinergy_train as train;

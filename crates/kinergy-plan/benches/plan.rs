@@ -466,11 +466,17 @@ fn rrt_crate(c: &mut Criterion, f: &Fixture, summaries: &Summaries) {
                     ms(elapsed)
                 ),
             };
+            let paths = if waypoints.is_empty() {
+                "no path found".to_string()
+            } else {
+                format!(
+                    "median {} waypoints; {valid}/{succeeded} paths valid under our 1 cm edge check",
+                    median(&mut waypoints)
+                )
+            };
             eprintln!(
-                "rrt_crate {name} summary: {head}; {}; median {} waypoints; \
-                 {valid}/{succeeded} paths valid under our 1 cm edge check",
-                times(&t),
-                median(&mut waypoints)
+                "rrt_crate {name} summary: {head} (budget {TRIES} tries); {}; {paths}",
+                times(&t)
             );
             if stopped.is_some() {
                 seeds[v].truncate(done);

@@ -528,15 +528,15 @@ impl ArmSpace {
                 return Some(format!("{} × {}", self.moving[a].0, self.moving[b].0));
             }
         }
-        for m in 0..3 {
-            let bounds = world[m].bounds(0.0);
-            let cap = PCapsule::new(pvec(&world[m].a), pvec(&world[m].b), world[m].radius as f32);
+        for (w, (name, _, _)) in world.iter().zip(&self.moving) {
+            let bounds = w.bounds(0.0);
+            let cap = PCapsule::new(pvec(&w.a), pvec(&w.b), w.radius as f32);
             for c in &self.colliders {
                 if c.ignored || !overlaps(&bounds, &c.min, &c.max) {
                     continue;
                 }
                 if hit(&PPose::IDENTITY, &cap, &c.pose, c.shape.as_ref()) {
-                    return Some(format!("{} × {}", self.moving[m].0, c.name));
+                    return Some(format!("{name} × {}", c.name));
                 }
             }
         }
