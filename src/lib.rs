@@ -12,7 +12,10 @@
 //!   annealing with checkpoints, per-clip and per-person nested fits, argmin baselines, the
 //!   parameter field over targets;
 //! - [`reach`]: full-body reaching — the 43-DoF character, speed profiles, stepping, the
-//!   controllers and their scheduler, the synthetic motion-capture set.
+//!   controllers and their scheduler, the synthetic motion-capture set;
+//! - [`plan`]: collision-free reaching and manipulation (Kallmann 2005) — body capsules,
+//!   JSON scenes with OBJ meshes, IK with collision avoidance, RRT-Connect, smoothing,
+//!   grasp / relocate / push-pull.
 //!
 //! `use kinergy::prelude::*;` brings the types most programs need.
 //!
