@@ -325,6 +325,13 @@ fn lerp(min: f64, max: f64, step: usize, steps: usize) -> f64 {
     }
 }
 
+/// The comment lines of the bookshelf example's `shelf.obj`.
+pub const OBJ_HEADER: [&str; 3] = [
+    "Kinergy bookshelf example: ShelfUnit::default() (kinergy-plan/src/shelf.rs).",
+    "Frame: origin on the floor at the centre of the front edge, x across, y up, z to the back; meters.",
+    "Regenerate: cargo run -p kinergy-plan --example make_bookshelf -- examples/bookshelf/shelf.obj",
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -481,10 +488,3 @@ mod tests {
         assert_eq!(unit.mesh().triangle_count(), unit.triangle_count());
     }
 }
-
-/// The comment lines of the bookshelf example's `shelf.obj`.
-pub const OBJ_HEADER: [&str; 3] = [
-    "Kinergy bookshelf example: ShelfUnit::default() (kinergy-plan/src/shelf.rs).",
-    "Frame: origin on the floor at the centre of the front edge, x across, y up, z to the back; meters.",
-    "Regenerate: cargo run -p kinergy-plan --example make_bookshelf -- examples/bookshelf/shelf.obj",
-];

@@ -26,8 +26,13 @@ fn bookshelf() -> Scene {
 const DESTINATION: [f64; 3] = [-0.22, 1.49, 0.50];
 
 fn transfer(seed: u64) -> (Planner, Problem) {
-    let mut settings = TaskSettings::default();
-    settings.rrt.seed = seed;
+    let settings = TaskSettings {
+        rrt: RrtSettings {
+            seed,
+            ..RrtSettings::default()
+        },
+        ..TaskSettings::default()
+    };
     let planner = Planner::new(bookshelf(), settings).unwrap();
     let problem = planner
         .transfer_problem("blue_book", &Point3::from(DESTINATION))
@@ -47,6 +52,9 @@ fn ppose(iso: &Isometry3<f64>) -> PPose {
     )
 }
 
+/// A scene triangle in world: corners, bounds and the object's name.
+type WorldTriangle = ([Point3<f64>; 3], Point3<f64>, Point3<f64>, String);
+
 /// A collision test written apart from the planner's: the arm's capsules from the
 /// character's full-body FK, the scene's meshes triangle by triangle (no hierarchy), boxes
 /// and other primitives one by one; no clearance.
@@ -55,7 +63,7 @@ struct Verifier {
     start: kinergy_reach::character::Pose,
     body: BodyGeometry,
     /// Scene triangles in world with their bounds, and primitive colliders.
-    triangles: Vec<([Point3<f64>; 3], Point3<f64>, Point3<f64>, String)>,
+    triangles: Vec<WorldTriangle>,
     boxes: Vec<(Isometry3<f64>, Vector3<f64>, String)>,
     other: Vec<(Isometry3<f64>, Shape, String)>,
 }
@@ -248,8 +256,10 @@ fn transfer_paths_are_free_at_ten_times_finer_resolution_with_exact_endpoints() 
     let half = book_half(&planner);
     for seed in 0..4 {
         let (_, p) = transfer(seed);
-        let mut rrt = RrtSettings::default();
-        rrt.seed = seed;
+        let rrt = RrtSettings {
+            seed,
+            ..RrtSettings::default()
+        };
         let (raw, stats) = plan(&p.space, &p.start, &p.goal, &rrt).unwrap();
         assert!(
             stats.iterations > 0,
