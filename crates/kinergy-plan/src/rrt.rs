@@ -453,7 +453,12 @@ pub fn smooth(
         let whole = [(configs[ia], qa), (qa, qb), (qb, configs[ib + 1])];
         // All three pieces are checked: the end pieces lie on free segments, but a discrete
         // check of a piece samples other points than the check of the whole segment did.
-        if !space.free(&qa) || !space.free(&qb) || !whole.iter().all(|(x, y)| space.edge_free(x, y))
+        // The shortcut first: it is the piece likely to collide.
+        if !space.free(&qa)
+            || !space.free(&qb)
+            || ![1, 0, 2]
+                .iter()
+                .all(|&k| space.edge_free(&whole[k].0, &whole[k].1))
         {
             continue;
         }
