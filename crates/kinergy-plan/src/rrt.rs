@@ -251,17 +251,22 @@ impl ArmPath {
                 .all(|w| space.edge_free(&w[0], &w[1]))
     }
 
-    /// The configuration at fraction `s` ∈ \[0, 1\] of the path's length.
-    pub fn at(&self, space: &ArmSpace, s: f64) -> ArmConfig {
+    /// The configuration at fraction `s` ∈ \[0, 1\] of the path's length (`None` for an
+    /// empty path).
+    pub fn at(&self, space: &ArmSpace, s: f64) -> Option<ArmConfig> {
+        if self.configs.is_empty() {
+            return None;
+        }
         let lengths: Vec<f64> = self
             .configs
             .windows(2)
             .map(|w| space.distance(&w[0], &w[1]))
             .collect();
-        sample_at(&self.configs, &lengths, s)
+        Some(sample_at(&self.configs, &lengths, s))
     }
 }
 
+/// `configs` must not be empty.
 fn sample_at(configs: &[ArmConfig], lengths: &[f64], s: f64) -> ArmConfig {
     let total: f64 = lengths.iter().sum();
     if configs.len() == 1 || total <= 0.0 {
@@ -506,8 +511,11 @@ pub fn bell(h: f64) -> f64 {
 
 /// The path played over `frames` frames (≥ 2) with the bell time warp: frame `k` is the
 /// configuration at fraction `bell(k / (frames − 1))` of the path's length. The first frame
-/// is exactly the start and the last exactly the goal.
+/// is exactly the start and the last exactly the goal. An empty path gives no frames.
 pub fn timed(space: &ArmSpace, path: &ArmPath, frames: usize) -> Vec<ArmConfig> {
+    if path.configs.is_empty() {
+        return Vec::new();
+    }
     let frames = frames.max(2);
     let lengths: Vec<f64> = path
         .configs

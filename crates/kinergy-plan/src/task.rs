@@ -90,6 +90,19 @@ impl TaskSettings {
             require(v.is_finite() && v > 0.0, name, "a finite number > 0")?;
         }
         require(
+            self.frame_rate <= 1000.0,
+            "frame_rate",
+            "at most 1000 frames per second",
+        )?;
+        require(self.min_duration <= 60.0, "min_duration", "at most 60 s")?;
+        require(self.finger_time <= 60.0, "finger_time", "at most 60 s")?;
+        for (name, v) in [
+            ("reach_speed", self.reach_speed),
+            ("approach_speed", self.approach_speed),
+        ] {
+            require(v >= 1e-3, name, "at least 1 mm/s")?;
+        }
+        require(
             self.clearance.is_finite() && self.clearance >= 0.0,
             "clearance",
             "a finite number ≥ 0",
