@@ -7,9 +7,11 @@ use clap::{Parser, Subcommand};
 mod common;
 mod compare;
 mod convert;
+mod draw;
 mod fit;
 mod inspect;
 mod plan;
+mod plot;
 mod reach;
 mod reaches;
 mod segment;
@@ -72,6 +74,11 @@ enum Command {
         after_help = "Examples:\n  kinergy plan --scene examples/bookshelf/scene.json --task relocate --object blue_book --to -0.22,1.49,0.50 -o relocate.bvh\n  kinergy plan --scene examples/bookshelf/scene.json --target -0.25,1.1,0.3 --seed 3 -o reach.bvh --json"
     )]
     Plan(plan::Args),
+    /// Draw charts: hand speed over time of captured and synthesized clips (Fig. 5).
+    #[command(
+        after_help = "Examples:\n  kinergy plot speed capture.bvh sa.bvh sc.bvh -o speed.svg\n  kinergy plot speed data-synthetic/p01 -o speed.png --csv speed.csv"
+    )]
+    Plot(plot::Args),
 }
 
 fn main() -> ExitCode {
@@ -86,6 +93,7 @@ fn main() -> ExitCode {
         Command::Reach(args) => reach::run(&args),
         Command::Synth(args) => synth::run(&args),
         Command::Plan(args) => plan::run(&args),
+        Command::Plot(args) => plot::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

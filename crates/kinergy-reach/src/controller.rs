@@ -36,7 +36,7 @@
 //!   target and every controller has finished, or at the timeout.
 
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point2, Point3, Rotation3, Vector3};
-use kinergy_solver::analytic::{LimbIk, OrbitSearch};
+use kinergy_solver::analytic::{LimbIk, OrbitSearch, OrbitSense};
 use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;
 use serde::Serialize;
@@ -357,7 +357,7 @@ fn plan(
     let shoulder = shoulder_position(character, &pose, arm);
     let dv = target - shoulder;
     let vertical = dv.y.abs();
-    let arm_ik = LimbIk::new(character.limb_chain(arm)).map_err(|e| ReachError::Setting {
+    let arm_ik = arm_ik_of(character, arm).map_err(|e| ReachError::Setting {
         field: "character.arm".into(),
         why: e.to_string(),
     })?;
@@ -718,7 +718,7 @@ fn animate(
         leg_ik(character, Limb::RightLeg)?,
         leg_ik(character, Limb::LeftLeg)?,
     ];
-    let arm_ik = LimbIk::new(character.limb_chain(plan.arm)).map_err(|e| ReachError::Setting {
+    let arm_ik = arm_ik_of(character, plan.arm).map_err(|e| ReachError::Setting {
         field: "character.arm".into(),
         why: e.to_string(),
     })?;
@@ -745,6 +745,11 @@ fn animate(
     let mut final_error = f64::INFINITY;
     let arm_dofs = character.limb_dofs(plan.arm);
     let mut last_arm: Option<[f64; 7]> = None;
+    // The orbit angle of the previous frame's arm: each frame's search starts there, so the
+    // elbow (and the arm's twist) moves continuously; before the first solve, the search
+    // starts at the angle whose posture is closest to the resting arm.
+    let mut arm_alpha: Option<f64> = None;
+    let mut previous_arm: [f64; 7] = std::array::from_fn(|i| rest[arm_dofs.start + i]);
     for frame in 0..max_frames {
         let t = frame as f64 * dt;
         let mut pose = *rest;
@@ -809,6 +814,7 @@ fn animate(
 
         // Limbs, then balance (at most two corrections).
         let mut error = f64::INFINITY;
+        let mut frame_alpha = None;
         for pass in 0..10 {
             let feet = [foot_goal(0), foot_goal(1)];
             lower_root_for_legs(character, &mut pose, &feet);
@@ -827,9 +833,26 @@ fn animate(
             if t >= t_arm {
                 let start = *hand_start.get_or_insert(hand_now);
                 let goal = s.profile.position(&start, &plan.target, t - t_arm);
-                let q = solve_arm(&arm_ik, &base, &goal, &search)
-                    .or(last_arm)
-                    .unwrap_or_default();
+                let near = match arm_alpha {
+                    Some(a) => Near::Alpha(a),
+                    None => Near::Posture(previous_arm),
+                };
+                let mut solved = solve_arm_near(&arm_ik, &base, &goal, &search, near);
+                // Through a straight arm the orbit angle's reference flips: when the posture
+                // jumps, take the angle closest to the previous frame's posture instead.
+                if let Some((_, q)) = solved
+                    && (0..5).any(|i| (q[i] - previous_arm[i]).abs() > ARM_JUMP)
+                {
+                    let again =
+                        solve_arm_near(&arm_ik, &base, &goal, &search, Near::Posture(previous_arm));
+                    if again.is_some() {
+                        solved = again;
+                    }
+                }
+                if let Some((a, _)) = solved {
+                    frame_alpha = Some(a);
+                }
+                let q = solved.map(|(_, q)| q).or(last_arm).unwrap_or_default();
                 if pass == 0 || q != [0.0; 7] {
                     pose[arm_dofs.clone()].copy_from_slice(&q);
                 }
@@ -858,8 +881,28 @@ fn animate(
             pose[dof::ROOT_X] += shift.x;
             pose[dof::ROOT_Z] += shift.y;
         }
+        if frame_alpha.is_some() {
+            arm_alpha = frame_alpha;
+        }
+        // A human joint turns at most so fast: near full extension a millimetre of shoulder
+        // motion (a balance correction) swings the elbow by tens of degrees, which the arm
+        // then catches up with over a few frames instead of in one.
+        let max_step = ARM_MAX_SPEED * dt;
+        let mut limited = false;
+        for i in 0..7 {
+            let k = arm_dofs.start + i;
+            let change = pose[k] - previous_arm[i];
+            if change.abs() > max_step {
+                pose[k] = previous_arm[i] + max_step.copysign(change);
+                limited = true;
+            }
+        }
+        if limited {
+            error = (character.world_positions(&pose)[plan.arm.joints()[3]] - plan.target).norm();
+        }
         final_error = error;
         character.clamp_pose(&mut pose);
+        previous_arm = std::array::from_fn(|i| pose[arm_dofs.start + i]);
         poses.push(pose);
         let done_body = t >= t_swing + swing_time && t >= step_total && t >= t_arm + twist_time;
         let hand_done = t
@@ -1063,6 +1106,38 @@ fn solve_legs_in(
     Ok(())
 }
 
+/// The arm's analytic IK: α = 0 the lowest elbow (world down) and growing α raising the
+/// elbow outward — a left-handed turn about the shoulder→wrist axis for the right arm.
+fn arm_ik_of(
+    character: &Character,
+    arm: Limb,
+) -> std::result::Result<LimbIk, kinergy_solver::analytic::AnalyticError> {
+    let sense = match arm.side() {
+        Side::Right => OrbitSense::LeftHanded,
+        Side::Left => OrbitSense::RightHanded,
+    };
+    Ok(LimbIk::new(character.limb_chain(arm))?.with_sense(sense))
+}
+
+/// The largest change of an arm DoF between frames before the orbit angle is chosen anew by
+/// posture (radians; a reach moves far less per frame).
+const ARM_JUMP: f64 = 0.2;
+
+/// The fastest an arm DoF turns, rad/s (peak elbow and shoulder speeds of fast human
+/// reaches are around 10 rad/s; ours stay below).
+const ARM_MAX_SPEED: f64 = 8.0;
+
+/// Where an arm's orbit search starts.
+#[derive(Debug, Clone, Copy)]
+enum Near {
+    /// The default start ([`OrbitSearch::start`]).
+    Default,
+    /// At this orbit angle (the previous frame's), with small increments.
+    Alpha(f64),
+    /// At the angle whose posture is closest to this one (in the shoulder and elbow DoFs).
+    Posture([f64; 7]),
+}
+
 /// The arm for the hand at `goal` (world), position mode with the orbit search; a goal out
 /// of reach is moved to the nearest reachable point on the shoulder→goal line.
 fn solve_arm(
@@ -1071,29 +1146,85 @@ fn solve_arm(
     goal: &Point3<f64>,
     search: &OrbitSearch,
 ) -> Option<[f64; 7]> {
+    solve_arm_near(ik, base, goal, search, Near::Default).map(|(_, q)| q)
+}
+
+/// [`solve_arm`] with the search starting [`Near`] a previous solution; returns the orbit
+/// angle too.
+fn solve_arm_near(
+    ik: &LimbIk,
+    base: &IsometryMatrix3<f64>,
+    goal: &Point3<f64>,
+    search: &OrbitSearch,
+    near: Near,
+) -> Option<(f64, [f64; 7])> {
     let down = base.rotation.inverse() * -Vector3::y();
     let ik = ik.clone().with_down(down).ok()?;
     let local = base.inverse() * goal;
     let r = local.coords.norm();
-    for scale in [1.0, 0.999, 0.995, 0.99, 0.98, 0.96, 0.93, 0.9] {
+    let solve = |p: &Point3<f64>| {
+        let start = match near {
+            Near::Default => None,
+            Near::Alpha(a) => Some(a),
+            Near::Posture(q0) => closest_alpha(&ik, p, &q0),
+        };
+        match start {
+            None => ik.solve_position(p, search).ok(),
+            Some(a) => {
+                // The range widens to include the start: continuity comes first.
+                let s = OrbitSearch {
+                    start: a,
+                    min: search.min.min(a),
+                    max: search.max.max(a),
+                    step: search.step.min(2f64.to_radians()),
+                    ..*search
+                };
+                ik.solve_position(p, &s)
+                    .or_else(|_| ik.solve_position(p, search))
+                    .ok()
+            }
+        }
+    };
+    const SCALES: [f64; 8] = [1.0, 0.999, 0.995, 0.99, 0.98, 0.96, 0.93, 0.9];
+    // The goal itself, or a point a little closer on the same line (a goal exactly at full
+    // extension can fail by rounding) ...
+    for scale in SCALES {
         let p = if r > 1e-9 {
             Point3::from(local.coords * scale)
         } else {
             local
         };
-        if let Ok((_, q)) = ik.solve_position(&p, search) {
-            return Some(q);
+        if let Some(found) = solve(&p) {
+            return Some(found);
         }
-        // Out of reach: try the point at the reach radius along the same line.
-        let (_, outer) = ik.wrist_reach();
-        if r > outer {
-            let p = Point3::from(local.coords * (outer / r) * scale);
-            if let Ok((_, q)) = ik.solve_position(&p, search) {
-                return Some(q);
+    }
+    // ... and only then, out of reach, the point at the reach radius on that line.
+    let (_, outer) = ik.position_reach().unwrap_or_else(|| ik.wrist_reach());
+    if r > outer {
+        for scale in SCALES {
+            if let Some(found) = solve(&Point3::from(local.coords * (outer / r) * scale)) {
+                return Some(found);
             }
         }
     }
     None
+}
+
+/// The orbit angle, on a 5° grid over the whole circle, whose posture within the limits is
+/// closest to `q0` in the shoulder and elbow DoFs.
+fn closest_alpha(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7]) -> Option<f64> {
+    use std::f64::consts::PI;
+    (0..72)
+        .map(|k| -PI + (k as f64) * 5f64.to_radians())
+        .filter_map(|a| {
+            let q = ik.solve_position_at(p, a).ok()?;
+            ik.within_limits(&q).then(|| {
+                let d: f64 = (0..5).map(|i| (q[i] - q0[i]).powi(2)).sum();
+                (a, d)
+            })
+        })
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .map(|(a, _)| a)
 }
 
 /// The cervical twist and forward swing that face the head toward the target.

@@ -639,6 +639,13 @@ impl LimbIk {
         (self.wrist_link.inner, self.wrist_link.outer)
     }
 
+    /// The distances from the shoulder between which position mode
+    /// ([`LimbIk::solve_position`]: the end effector, wrist straight) reaches, or `None`
+    /// when the chain has no position mode.
+    pub fn position_reach(&self) -> Option<(f64, f64)> {
+        self.reach_link.as_ref().map(|l| (l.inner, l.outer))
+    }
+
     /// The configuration reaching `goal` (end-effector position + wrist orientation, base
     /// frame) with orbit angle `alpha` radians, limits not checked. Reproduces the whole goal
     /// for every reachable goal and every α (module docs, steps 1–5).

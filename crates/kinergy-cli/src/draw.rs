@@ -1,0 +1,364 @@
+//! Pictures: the embedded font, the palette, SVG / PNG / GIF output written atomically, and
+//! the two chart kinds the commands draw (lines over time, means with min–max bars).
+
+use std::error::Error;
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+use crate::common::Failure;
+
+/// A drawing error, boxed (plotters' errors are generic over the backend).
+pub type DrawResult = Result<(), Box<dyn Error>>;
+
+/// The font family every picture uses: DejaVu Sans, embedded, registered once.
+pub const FONT: &str = "sans-serif";
+
+/// Registers DejaVu Sans (regular and bold) with plotters; no system fonts are needed.
+pub fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // Embedded, valid TrueType fonts: registration cannot fail, and a failure would only
+        // mean text is not drawn.
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
+        let _ = plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold());
+    });
+}
+
+/// Colour-blind-safe colours (Okabe & Ito), one per series, cycling.
+pub const PALETTE: [RGBColor; 8] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+    RGBColor(240, 228, 66),
+];
+
+/// The colour of series `i`.
+pub fn colour(i: usize) -> RGBColor {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// The picture formats, from the output's extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Scalable vector graphics.
+    Svg,
+    /// A PNG bitmap.
+    Png,
+}
+
+impl Format {
+    /// The format `path` asks for by its extension (`.svg` or `.png`).
+    pub fn of(path: &Path, option: &str) -> Result<Format, Failure> {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("svg") => Ok(Format::Svg),
+            Some("png") => Ok(Format::Png),
+            _ => Err(Failure::Input(format!(
+                "{option} {}: the file name must end in .svg or .png",
+                path.display()
+            ))),
+        }
+    }
+}
+
+/// Something that draws itself on any plotters backend.
+pub trait Figure {
+    /// Draws on `root`.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult
+    where
+        DB::ErrorType: 'static;
+}
+
+/// A temporary path next to `path` keeping its extension (plotters picks the bitmap encoder
+/// from it), for an atomic rename once the picture is complete.
+fn temp_next_to(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "picture".into());
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()))
+}
+
+/// Moves a finished temporary file into place, or removes it after a failure.
+fn finish(temp: &Path, path: &Path, result: DrawResult) -> Result<(), Failure> {
+    let result = result
+        .map_err(|e| e.to_string())
+        .and_then(|()| std::fs::rename(temp, path).map_err(|e| e.to_string()));
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(temp);
+        return Err(Failure::Task(format!("{}: {e}", path.display())));
+    }
+    Ok(())
+}
+
+/// Draws `figure` into `path` (SVG or PNG by its extension), written atomically.
+pub fn save(figure: &impl Figure, path: &Path, size: (u32, u32)) -> Result<(), Failure> {
+    register_fonts();
+    match Format::of(path, "-o")? {
+        Format::Svg => {
+            let mut text = String::new();
+            {
+                let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+                figure
+                    .draw(&root)
+                    .and_then(|()| root.present().map_err(|e| e.into()))
+                    .map_err(|e| Failure::Task(format!("{}: {e}", path.display())))?;
+            }
+            kinergy_bvh::write_atomic(path, text.as_bytes())
+                .map_err(|e| Failure::Task(format!("{}: {e}", path.display())))
+        }
+        Format::Png => {
+            let temp = temp_next_to(path);
+            let result = (|| -> DrawResult {
+                let root = BitMapBackend::new(&temp, size).into_drawing_area();
+                figure.draw(&root)?;
+                root.present()?;
+                Ok(())
+            })();
+            finish(&temp, path, result)
+        }
+    }
+}
+
+/// Draws `frames` frames into an animated GIF at `path` (`delay_ms` per frame), written
+/// atomically; `frame(k, root)` draws frame `k`.
+pub fn save_gif(
+    path: &Path,
+    size: (u32, u32),
+    frames: usize,
+    delay_ms: u32,
+    frame: impl Fn(usize, &DrawingArea<BitMapBackend<'_>, Shift>) -> DrawResult,
+) -> Result<(), Failure> {
+    register_fonts();
+    let temp = temp_next_to(path);
+    let result = (|| -> DrawResult {
+        let root = BitMapBackend::gif(&temp, size, delay_ms)?.into_drawing_area();
+        for k in 0..frames {
+            frame(k, &root)?;
+            root.present()?;
+        }
+        Ok(())
+    })();
+    finish(&temp, path, result)
+}
+
+/// One line of a [`LineChart`].
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Its legend entry.
+    pub name: String,
+    /// Its points (x, y).
+    pub points: Vec<(f64, f64)>,
+}
+
+/// Lines over a shared x axis, with a legend (e.g. hand speed over time).
+#[derive(Debug, Clone)]
+pub struct LineChart {
+    /// The title.
+    pub title: String,
+    /// The x axis label, with its unit.
+    pub x_label: String,
+    /// The y axis label, with its unit.
+    pub y_label: String,
+    /// The lines.
+    pub series: Vec<Series>,
+}
+
+fn padded_range(values: impl Iterator<Item = f64>, floor_zero: bool) -> (f64, f64) {
+    let (mut lo, mut hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    if floor_zero {
+        lo = lo.min(0.0);
+    }
+    if hi - lo < 1e-9 {
+        hi = lo + 1.0;
+    }
+    let pad = 0.05 * (hi - lo);
+    (
+        if floor_zero && lo >= 0.0 {
+            lo
+        } else {
+            lo - pad
+        },
+        hi + pad,
+    )
+}
+
+impl Figure for LineChart {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&WHITE)?;
+        let (x0, x1) = padded_range(
+            self.series
+                .iter()
+                .flat_map(|s| s.points.iter().map(|p| p.0)),
+            false,
+        );
+        let (y0, y1) = padded_range(
+            self.series
+                .iter()
+                .flat_map(|s| s.points.iter().map(|p| p.1)),
+            true,
+        );
+        let mut chart = ChartBuilder::on(root)
+            .caption(&self.title, (FONT, 22))
+            .margin(12)
+            .x_label_area_size(44)
+            .y_label_area_size(60)
+            .build_cartesian_2d(x0..x1, y0..y1)?;
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .label_style((FONT, 14))
+            .axis_desc_style((FONT, 16))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()?;
+        for (i, s) in self.series.iter().enumerate() {
+            let c = colour(i);
+            chart
+                .draw_series(LineSeries::new(s.points.iter().copied(), c.stroke_width(2)))?
+                .label(&s.name)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font((FONT, 14))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+        Ok(())
+    }
+}
+
+/// One bar: a mean with its minimum and maximum.
+#[derive(Debug, Clone)]
+pub struct Bar {
+    /// Which series it belongs to (colour and legend).
+    pub series: usize,
+    /// The mean (the bar's height).
+    pub mean: f64,
+    /// The smallest value (the whisker's bottom).
+    pub min: f64,
+    /// The largest value (the whisker's top).
+    pub max: f64,
+}
+
+/// Groups of bars with min–max whiskers (the paper's Fig. 3 and 4).
+#[derive(Debug, Clone)]
+pub struct BarChart {
+    /// The title.
+    pub title: String,
+    /// The y axis label, with its unit.
+    pub y_label: String,
+    /// The series' legend entries (one colour each).
+    pub series: Vec<String>,
+    /// The groups along x: a label and its bars.
+    pub groups: Vec<(String, Vec<Bar>)>,
+}
+
+impl Figure for BarChart {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&WHITE)?;
+        let top = self
+            .groups
+            .iter()
+            .flat_map(|(_, bars)| bars.iter().map(|b| b.max.max(b.mean)))
+            .filter(|v| v.is_finite())
+            .fold(0.0_f64, f64::max);
+        let top = if top > 0.0 { top * 1.12 } else { 1.0 };
+        let n = self.groups.len().max(1);
+        let per = self.series.len().max(1) as f64;
+        let labels: Vec<String> = self.groups.iter().map(|g| g.0.clone()).collect();
+        let mut chart = ChartBuilder::on(root)
+            .caption(&self.title, (FONT, 22))
+            .margin(12)
+            .x_label_area_size(44)
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..n as f64, 0.0..top)?;
+        chart
+            .configure_mesh()
+            .disable_x_mesh()
+            .x_labels(n)
+            .x_label_formatter(&|x| {
+                let i = (x - 0.5).round();
+                if (x - 0.5 - i).abs() < 1e-6 && i >= 0.0 {
+                    labels.get(i as usize).cloned().unwrap_or_default()
+                } else {
+                    String::new()
+                }
+            })
+            .y_desc(&self.y_label)
+            .label_style((FONT, 14))
+            .axis_desc_style((FONT, 16))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()?;
+        let width = 0.8 / per;
+        for (s, name) in self.series.iter().enumerate() {
+            let c = colour(s);
+            let bars: Vec<(f64, &Bar)> = self
+                .groups
+                .iter()
+                .enumerate()
+                .flat_map(|(g, (_, bars))| {
+                    bars.iter()
+                        .filter(move |b| b.series == s)
+                        .map(move |b| (g as f64 + 0.1 + width * s as f64, b))
+                })
+                .collect();
+            chart
+                .draw_series(bars.iter().map(|&(x, b)| {
+                    Rectangle::new([(x, 0.0), (x + width * 0.9, b.mean)], c.mix(0.85).filled())
+                }))?
+                .label(name)
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], c.filled()));
+            chart.draw_series(bars.iter().map(|&(x, b)| {
+                let mid = x + width * 0.45;
+                PathElement::new(vec![(mid, b.min), (mid, b.max)], BLACK.stroke_width(1))
+            }))?;
+            chart.draw_series(bars.iter().flat_map(|&(x, b)| {
+                let (l, r) = (x + width * 0.25, x + width * 0.65);
+                [b.min, b.max]
+                    .map(|y| PathElement::new(vec![(l, y), (r, y)], BLACK.stroke_width(1)))
+            }))?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font((FONT, 14))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+        Ok(())
+    }
+}
