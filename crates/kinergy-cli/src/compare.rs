@@ -12,8 +12,9 @@
 //!   (leave one target out), beside the clip's own fit.
 //!
 //! Writes `DIR/results.csv` (one row per fit: `clip,model,optimizer,method,distance_m,frames,
-//! evaluations,seconds`) and `DIR/summary.md` (mean/min/max per model, per optimizer and per
-//! method, the relative reductions beside the paper's). Clips are fitted in parallel; every
+//! evaluations,seconds`), `DIR/summary.md` (mean/min/max per model, per optimizer and per
+//! method, the relative reductions beside the paper's) and the charts `DIR/fig3.svg|png` and
+//! `DIR/fig4.svg|png` (mean with min–max bars). Clips are fitted in parallel; every
 //! number but `seconds` is the same on any thread count.
 
 use std::path::PathBuf;
@@ -151,15 +152,91 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let md_path = args.output.join("summary.md");
     kinergy_bvh::write_atomic(&md_path, summary.markdown.as_bytes())
         .map_err(|e| Failure::Task(format!("{}: {e}", md_path.display())))?;
+    let charts = draw_charts(&rows, args)?;
     if args.json {
         return print_json(&summary);
     }
     emit(&format!(
-        "{}\nwritten: {} and {}\n",
+        "{}\nwritten: {}, {} and {}\n",
         summary.markdown,
         csv_path.display(),
-        md_path.display()
+        md_path.display(),
+        charts
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
     ))
+}
+
+/// Fig. 3 (per model) and Fig. 4 (per optimizer, S_A and S_C) as bar charts of the mean
+/// motion distance with min–max whiskers, in millimetres: `fig3.svg`/`.png` and
+/// `fig4.svg`/`.png` next to summary.md. Returns the files written.
+fn draw_charts(rows: &[Row], args: &Args) -> Result<Vec<PathBuf>, Failure> {
+    use crate::draw::{Bar, BarChart, save};
+    let bar = |series: usize, model: &str, optimizer: &str| {
+        stats(
+            rows.iter()
+                .filter(|r| r.model == model && r.optimizer == optimizer && r.method == "sa")
+                .map(|r| r.distance_m * 1e3),
+        )
+        .map(|s| Bar {
+            series,
+            mean: s.mean,
+            min: s.min,
+            max: s.max,
+        })
+    };
+    let mut models = args.models.clone();
+    models.sort();
+    models.dedup();
+    let fig3 = BarChart {
+        title: format!(
+            "Fig. 3: synergy models ({}, {} clips)",
+            args.optimizer.name().to_uppercase(),
+            rows.iter()
+                .map(|r| r.clip.as_str())
+                .collect::<std::collections::BTreeSet<_>>()
+                .len()
+        ),
+        y_label: "motion distance to the capture (mm)".into(),
+        series: vec!["mean, min–max".into()],
+        groups: models
+            .iter()
+            .filter_map(|m| {
+                let b = bar(0, m.name(), args.optimizer.name())?;
+                Some((m.name().to_uppercase().replacen('S', "S_", 1), vec![b]))
+            })
+            .collect(),
+    };
+    let fig4 = BarChart {
+        title: "Fig. 4: optimizers with S_A and S_C".into(),
+        y_label: "motion distance to the capture (mm)".into(),
+        series: vec!["S_A".into(), "S_C".into()],
+        groups: args
+            .optimizers
+            .iter()
+            .map(|o| {
+                let bars = [bar(0, "sa", o.name()), bar(1, "sc", o.name())]
+                    .into_iter()
+                    .flatten()
+                    .collect();
+                (o.name().to_uppercase(), bars)
+            })
+            .collect(),
+    };
+    let mut written = Vec::new();
+    for (name, chart) in [("fig3", &fig3), ("fig4", &fig4)] {
+        if chart.groups.iter().all(|g| g.1.is_empty()) {
+            continue;
+        }
+        for ext in ["svg", "png"] {
+            let path = args.output.join(format!("{name}.{ext}"));
+            save(chart, &path, (800, 500))?;
+            written.push(path);
+        }
+    }
+    Ok(written)
 }
 
 /// A clip's rows and its Fig. 3 S_C values (for the parameter field).

@@ -8,6 +8,7 @@ use std::sync::Once;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::common::Failure;
 
@@ -299,7 +300,6 @@ impl Figure for BarChart {
         let top = if top > 0.0 { top * 1.12 } else { 1.0 };
         let n = self.groups.len().max(1);
         let per = self.series.len().max(1) as f64;
-        let labels: Vec<String> = self.groups.iter().map(|g| g.0.clone()).collect();
         let mut chart = ChartBuilder::on(root)
             .caption(&self.title, (FONT, 22))
             .margin(12)
@@ -309,15 +309,7 @@ impl Figure for BarChart {
         chart
             .configure_mesh()
             .disable_x_mesh()
-            .x_labels(n)
-            .x_label_formatter(&|x| {
-                let i = (x - 0.5).round();
-                if (x - 0.5 - i).abs() < 1e-6 && i >= 0.0 {
-                    labels.get(i as usize).cloned().unwrap_or_default()
-                } else {
-                    String::new()
-                }
-            })
+            .x_labels(0)
             .y_desc(&self.y_label)
             .label_style((FONT, 14))
             .axis_desc_style((FONT, 16))
@@ -351,6 +343,14 @@ impl Figure for BarChart {
                 [b.min, b.max]
                     .map(|y| PathElement::new(vec![(l, y), (r, y)], BLACK.stroke_width(1)))
             }))?;
+        }
+        // The group labels, centred under each group (plotters would place numeric ticks).
+        let style = TextStyle::from((FONT, 16).into_font())
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Top));
+        for (g, (label, _)) in self.groups.iter().enumerate() {
+            let (x, y) = chart.backend_coord(&(g as f64 + 0.5, 0.0));
+            root.draw(&Text::new(label.clone(), (x, y + 10), style.clone()))?;
         }
         chart
             .configure_series_labels()
