@@ -1,5 +1,8 @@
 //! `kinergy synthesize`: one reach by the synergy controller, from a capture's first frame
 //! to its final hand position (or a given target), written as BVH on the capture's skeleton.
+//! `--frames` picks the part of the capture the reach covers (all of it, the main reach
+//! segment as `kinergy fit` scores it, or given frames). Exit code 1 when the target is not
+//! reached; the motion is written all the same.
 
 use std::path::PathBuf;
 
@@ -38,10 +41,15 @@ pub struct Args {
     /// torso motion.
     #[arg(long)]
     fixed_base: bool,
-    /// Stop as soon as the target is reached (default: keep tracking it until the capture's
-    /// last frame, so the output spans the capture).
+    /// Stop as soon as the target is reached (default: keep tracking it at least until the
+    /// capture's last frame, and on until it is reached, up to --max-seconds).
     #[arg(long)]
     stop_at_reach: bool,
+    /// Which frames of the capture the reach covers: `all`, `auto` (the main reach segment
+    /// of the hand speed, as `kinergy fit` picks it by default — use it to replay what a fit
+    /// scored) or `A..B` (0-based, end excluded).
+    #[arg(long, default_value = "all", value_name = "all|auto|A..B")]
+    frames: String,
     /// ε: the target counts as reached within this many meters.
     #[arg(long, default_value_t = 0.005, value_name = "M")]
     tolerance: f64,
@@ -70,6 +78,7 @@ struct Report {
     base: &'static str,
     target_m: [f64; 3],
     target_from: &'static str,
+    capture_frames: [usize; 2],
     stop: &'static str,
     frames: usize,
     duration_s: f64,
@@ -105,8 +114,32 @@ pub fn parse_point(text: &str, flag: &str) -> Result<Point3<f64>, Failure> {
 }
 
 pub fn run(args: &Args) -> Result<(), Failure> {
-    let (clip, _) = args.read.read(&args.from)?;
-    let joints = args.arm.find(&clip, &args.from)?;
+    let (whole, _) = args.read.read(&args.from)?;
+    let joints = args.arm.find(&whole, &args.from)?;
+    let frames = match args.frames.as_str() {
+        "all" => 0..whole.frame_count(),
+        "auto" => kinergy_train::segment::main_segment(
+            &whole,
+            &joints,
+            &kinergy_train::segment::SegmentSettings::default(),
+            &args.from.display().to_string(),
+        )
+        .map_err(|e| Failure::input(&args.from, e))?
+        .frames(),
+        text => crate::reaches::parse_frames(text)?,
+    };
+    if frames.end > whole.frame_count() || frames.len() < 2 {
+        return Err(Failure::Input(format!(
+            "--frames {}..{}: {} has {} frames and a reach needs at least 2",
+            frames.start,
+            frames.end,
+            args.from.display(),
+            whole.frame_count()
+        )));
+    }
+    let clip = whole
+        .slice(frames.clone())
+        .map_err(|e| Failure::input(&args.from, e))?;
     let arm = CaptureArm::new(&clip, &joints).map_err(|e| Failure::input(&args.from, e))?;
     let dof_names: Vec<String> = arm.chain().dof_names().map(String::from).collect();
 
@@ -197,6 +230,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         base: if args.fixed_base { "fixed" } else { "replayed" },
         target_m: [target.x, target.y, target.z],
         target_from,
+        capture_frames: [frames.start, frames.end],
         stop: synthesis.stop.name(),
         frames: synthesis.frame_count(),
         duration_s: synthesis.frame_count().saturating_sub(1) as f64 * frame_time,
