@@ -499,8 +499,13 @@ fn summarize(
         .collect();
     // Per clip: a richer model with a higher distance than the poorer one (Fig. 3 rows).
     let mut nested_violations = Vec::new();
-    let mut by_clip: Vec<&str> = rows.iter().map(|r| r.clip.as_str()).collect();
-    by_clip.dedup();
+    // Each clip once, in the order of the rows (field rows come back to every clip later).
+    let mut by_clip: Vec<&str> = Vec::new();
+    for r in rows {
+        if !by_clip.contains(&r.clip.as_str()) {
+            by_clip.push(&r.clip);
+        }
+    }
     for clip in by_clip {
         let chain: Vec<&Row> = rows
             .iter()
@@ -524,7 +529,8 @@ fn summarize(
     let mut md = String::new();
     md.push_str("# Synergy models compared\n\n");
     md.push_str(&format!(
-        "{clips} clips; simulated annealing, {} evaluations per fit, population {}, seed {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand), in millimeters.\n\n",
+        "{clips} clip{}; simulated annealing, {} evaluations per fit, population {}, seed {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand), in millimeters.\n\n",
+        if clips == 1 { "" } else { "s" },
         settings.anneal.max_evaluations, settings.anneal.population, settings.anneal.seed, seconds
     ));
     md.push_str(&format!(

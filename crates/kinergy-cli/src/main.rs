@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod animate;
 mod common;
 mod compare;
 mod convert;
@@ -20,7 +21,12 @@ mod synthesize;
 
 /// Learn and synthesize human reaching motion from BVH captures.
 #[derive(Debug, Parser)]
-#[command(name = "kinergy", version, about, long_about = None)]
+#[command(
+    name = "kinergy",
+    version,
+    about = "Learn how a person reaches from BVH captures and synthesize reaches in that style.",
+    after_help = "A walk-through:\n  kinergy inspect capture.bvh\n  kinergy fit capture.bvh --model sc --per clip -o sc.json\n  kinergy synthesize --from capture.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy plot speed capture.bvh sc.bvh -o speed.svg\n  kinergy animate capture.bvh sc.bvh -o overlay.gif --view side\n\nExit codes: 0 done, 1 the task failed (e.g. unreachable), 2 bad input."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -34,17 +40,16 @@ enum Command {
     /// Read a BVH file and write it back (optionally in another unit), atomically.
     #[command(after_help = "Example:\n  kinergy convert in.bvh -o out.bvh --unit m")]
     Convert(convert::Args),
-    /// Synthesize one reach with the synergy controller from a capture's first frame to its
-    /// final hand position (or --target), written on the capture's skeleton.
-    #[command(
-        after_help = "Examples:\n  kinergy synthesize --from reach.bvh --model sc --optimizer svd -o out.bvh\n  kinergy synthesize --from reach.bvh --params me.json --target 0.3,1.2,0.4 -o out.bvh --json"
-    )]
-    Synthesize(synthesize::Args),
     /// Find the reach segments of a capture from its hand speed: onset, peak, end.
     #[command(
         after_help = "Examples:\n  kinergy segment tests/data/006_14.bvh\n  kinergy segment reach.bvh --arm left --json"
     )]
     Segment(segment::Args),
+    /// Make the synthetic motion-capture set: persons × reaches, with manifest.csv.
+    #[command(
+        after_help = "Examples:\n  kinergy synth\n  kinergy synth -o my-set --persons 2 --reaches 5 --seed 7"
+    )]
+    Synth(synth::Args),
     /// Fit synergy parameters to captured reaches by simulated annealing, per clip or per
     /// person, and write the parameters file.
     #[command(
@@ -53,21 +58,22 @@ enum Command {
     Fit(fit::Args),
     /// Run the paper's experiments on captures (default: data-synthetic/): S_A–S_D per clip
     /// (Fig. 3), optimizers with S_A and S_C (Fig. 4), and annealing vs argmin's optimizers;
-    /// writes results.csv and summary.md.
+    /// writes results.csv, summary.md and the Fig. 3 / Fig. 4 charts.
     #[command(
         after_help = "Examples:\n  kinergy compare\n  kinergy compare me/ --models sa,sc --optimizers jt,svd -o out/ --budget 2000"
     )]
     Compare(compare::Args),
+    /// Synthesize one reach with the synergy controller from a capture's first frame to its
+    /// final hand position (or --target), written on the capture's skeleton.
+    #[command(
+        after_help = "Examples:\n  kinergy synthesize --from reach.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy synthesize --from reach.bvh --model sc --optimizer svd -o out.bvh\n  kinergy synthesize --from reach.bvh --params me.json --target 0.3,1.2,0.4 -o out.bvh --json"
+    )]
+    Synthesize(synthesize::Args),
     /// Synthesize one full-body reach (steps, spine, head, arm) toward a target, as BVH.
     #[command(
         after_help = "Examples:\n  kinergy reach --target 0.3,1.1,0.4 -o reach.bvh\n  kinergy reach --target 0.2,0.15,0.8 --flexibility 3 --seed 2 -o squat.bvh --json"
     )]
     Reach(reach::Args),
-    /// Make the synthetic motion-capture set: persons × reaches, with manifest.csv.
-    #[command(
-        after_help = "Examples:\n  kinergy synth\n  kinergy synth -o my-set --persons 2 --reaches 5 --seed 7"
-    )]
-    Synth(synth::Args),
     /// Plan collision-free reaching and manipulation in a scene (Kallmann 2005): IK with
     /// collision avoidance, RRT-Connect, smoothing; BVH with fingers.
     #[command(
@@ -79,6 +85,12 @@ enum Command {
         after_help = "Examples:\n  kinergy plot speed capture.bvh sa.bvh sc.bvh -o speed.svg\n  kinergy plot speed data-synthetic/p01 -o speed.png --csv speed.csv"
     )]
     Plot(plot::Args),
+    /// Animate clips as superposed stick figures synchronized by time (the paper's Fig. 6:
+    /// captured vs S_A vs S_C): an animated GIF and a film strip of snapshots.
+    #[command(
+        after_help = "Examples:\n  kinergy animate capture.bvh sa.bvh sc.bvh -o overlay.gif --view side\n  kinergy animate data-synthetic/p01/r01.bvh data-synthetic/p01/r02.bvh -o pair.gif --fps 12 --strip pair.svg --strip-frames 8 --json"
+    )]
+    Animate(animate::Args),
 }
 
 fn main() -> ExitCode {
@@ -94,6 +106,7 @@ fn main() -> ExitCode {
         Command::Synth(args) => synth::run(&args),
         Command::Plan(args) => plan::run(&args),
         Command::Plot(args) => plot::run(&args),
+        Command::Animate(args) => animate::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

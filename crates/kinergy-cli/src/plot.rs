@@ -171,11 +171,11 @@ fn speed(args: &SpeedArgs) -> Result<(), Failure> {
         series,
     };
     save(&chart, &args.output, size)?;
-    if let Some(csv_path) = &args.csv {
-        if let Err(e) = kinergy_bvh::write_atomic(csv_path, csv.as_bytes()) {
-            let _ = std::fs::remove_file(&args.output);
-            return Err(Failure::Task(format!("{}: {e}", csv_path.display())));
-        }
+    if let Some(csv_path) = &args.csv
+        && let Err(e) = kinergy_bvh::write_atomic(csv_path, csv.as_bytes())
+    {
+        let _ = std::fs::remove_file(&args.output);
+        return Err(Failure::Task(format!("{}: {e}", csv_path.display())));
     }
     let report = Report {
         output: args.output.display().to_string(),

@@ -889,11 +889,10 @@ fn animate(
         // then catches up with over a few frames instead of in one.
         let max_step = ARM_MAX_SPEED * dt;
         let mut limited = false;
-        for i in 0..7 {
-            let k = arm_dofs.start + i;
-            let change = pose[k] - previous_arm[i];
+        for (value, before) in pose[arm_dofs.clone()].iter_mut().zip(&previous_arm) {
+            let change = *value - before;
             if change.abs() > max_step {
-                pose[k] = previous_arm[i] + max_step.copysign(change);
+                *value = before + max_step.copysign(change);
                 limited = true;
             }
         }
