@@ -625,7 +625,7 @@ fn summarize(
             md.push_str(&format!("- {v}\n"));
         }
     }
-    md.push_str("\nThe paper (14 seated reaches of one subject, centimeter-scale distances): S_A → S_B −55 %, S_B → S_C −13 %, S_C → S_D −10 %; with S_C instead of S_A: JT −34 %, NJT −47 %, SVD −66 %.\n");
+    md.push_str("\nThe paper (14 seated reaches of one subject; its distance unit is not stated): S_A → S_B −55 %, S_B → S_C −13 %, S_C → S_D −10 %; with S_C instead of S_A: JT −34 %, NJT −47 %, SVD −66 %.\n");
     Summary {
         clips,
         seconds,
