@@ -52,7 +52,7 @@ pub struct Args {
     /// Skip the comparison with argmin's Nelder–Mead and particle swarm.
     #[arg(long)]
     pub no_baselines: bool,
-    /// Output folder for results.csv and summary.md.
+    /// Output folder for results.csv, summary.md and the charts fig3/fig4 (.svg and .png).
     #[arg(short, long, default_value = "compare-out", value_name = "DIR")]
     pub output: PathBuf,
     /// Print the summary as JSON too.

@@ -239,13 +239,18 @@ fn text(r: &Report) -> String {
         if !arm.found {
             let _ = writeln!(
                 o,
-                "  {} arm  not found: {}",
+                "  {:<5} arm  not found: {}",
                 arm.side,
                 arm.message.as_deref().unwrap_or("")
             );
             continue;
         }
-        let _ = writeln!(o, "  {} arm  {}", arm.side, arm.joints.join(" → "));
+        let _ = writeln!(
+            o,
+            "  {:<5} arm  {}",
+            arm.side.to_string(),
+            arm.joints.join(" → ")
+        );
         if let (Some(u), Some(f), Some(h)) = (arm.upper_arm_m, arm.forearm_m, arm.hand_m) {
             let _ = writeln!(
                 o,

@@ -38,7 +38,9 @@ enum Command {
     #[command(after_help = "Example:\n  kinergy inspect tests/data/cmu_12_01_walk.bvh --json")]
     Inspect(inspect::Args),
     /// Read a BVH file and write it back (optionally in another unit), atomically.
-    #[command(after_help = "Example:\n  kinergy convert in.bvh -o out.bvh --unit m")]
+    #[command(
+        after_help = "Examples:\n  kinergy convert in.bvh -o out.bvh --unit m\n  kinergy convert capture.bvh --frames 7..87 -o reach.bvh"
+    )]
     Convert(convert::Args),
     /// Find the reach segments of a capture from its hand speed: onset, peak, end.
     #[command(

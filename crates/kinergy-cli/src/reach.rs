@@ -25,7 +25,7 @@ pub enum Profile {
 pub struct Args {
     /// Target hand position, world meters `x,y,z` (the character stands at the origin,
     /// facing +Z, Y up, its left at +X).
-    #[arg(long, value_name = "x,y,z")]
+    #[arg(long, value_name = "x,y,z", allow_hyphen_values = true)]
     pub target: String,
     /// A BVH capture whose skeleton gives the character's proportions.
     #[arg(long, value_name = "FILE", conflicts_with = "height")]

@@ -35,7 +35,7 @@ pub struct Args {
     optimizer: OptimizerKind,
     /// Target hand position in world meters `x,y,z` (default: the capture's final hand
     /// position).
-    #[arg(long, value_name = "x,y,z")]
+    #[arg(long, value_name = "x,y,z", allow_hyphen_values = true)]
     target: Option<String>,
     /// Keep the shoulder where it is on the first frame instead of replaying the capture's
     /// torso motion.

@@ -71,7 +71,8 @@ impl ParamsFile {
     /// Parses and checks a file's text; errors name the line and column, or the field.
     pub fn from_json(text: &str) -> Result<ParamsFile> {
         let file: ParamsFile = serde_json::from_str(text).map_err(|e| {
-            SolverError::ParamsFile(format!("line {}, column {}: {e}", e.line(), e.column()))
+            // serde_json's message already ends with "at line L column C".
+            SolverError::ParamsFile(e.to_string())
         })?;
         if file.format_version != FORMAT_VERSION {
             return Err(SolverError::ParamsFile(format!(

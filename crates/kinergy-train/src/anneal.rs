@@ -250,7 +250,7 @@ impl AnnealState {
             source,
         })?;
         let state: AnnealState = serde_json::from_str(&text)
-            .map_err(|e| bad(format!("line {}, column {}: {e}", e.line(), e.column())))?;
+            .map_err(|e| bad(e.to_string()))?;
         if state.format_version != CHECKPOINT_VERSION {
             return Err(bad(format!(
                 "`format_version` is {}, this version reads {CHECKPOINT_VERSION}",

@@ -279,7 +279,7 @@ impl NestedCheckpoint {
             source,
         })?;
         let c: NestedCheckpoint = serde_json::from_str(&text)
-            .map_err(|e| bad(format!("line {}, column {}: {e}", e.line(), e.column())))?;
+            .map_err(|e| bad(e.to_string()))?;
         if c.format_version != crate::anneal::CHECKPOINT_VERSION {
             return Err(bad(format!(
                 "`format_version` is {}, this version reads {}",
