@@ -296,8 +296,8 @@ fn text(r: &Report) -> String {
     );
     if let Some(d) = r.distance_to_capture_m {
         s.push_str(&format!(
-            "motion distance to the captured arm: {:.2} cm\n",
-            d * 100.0
+            "motion distance to the captured arm: {:.3} mm\n",
+            d * 1000.0
         ));
     }
     if !r.at_limits_at_end.is_empty() {
