@@ -249,8 +249,7 @@ impl AnnealState {
             path: path.to_path_buf(),
             source,
         })?;
-        let state: AnnealState = serde_json::from_str(&text)
-            .map_err(|e| bad(e.to_string()))?;
+        let state: AnnealState = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
         if state.format_version != CHECKPOINT_VERSION {
             return Err(bad(format!(
                 "`format_version` is {}, this version reads {CHECKPOINT_VERSION}",

@@ -278,8 +278,7 @@ impl NestedCheckpoint {
             path: path.to_path_buf(),
             source,
         })?;
-        let c: NestedCheckpoint = serde_json::from_str(&text)
-            .map_err(|e| bad(e.to_string()))?;
+        let c: NestedCheckpoint = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
         if c.format_version != crate::anneal::CHECKPOINT_VERSION {
             return Err(bad(format!(
                 "`format_version` is {}, this version reads {}",
