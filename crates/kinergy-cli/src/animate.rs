@@ -601,7 +601,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     // Both pictures are finished under temporary names first, so that a failure leaves
     // neither behind.
     let (gif_temp, strip_temp) = (staged(&args.output), staged(&strip));
+    // A bar on the terminal only (indicatif hides it when stderr is not one).
+    let bar = indicatif::ProgressBar::new(frames as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} frames")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
     let written = draw::save_gif(&gif_temp, size, frames, delay_ms, |k, root| {
+        bar.inc(1);
         draw_scene(root, &scene, &[k as f64 / fps])
     })
     .map_err(|e| about(e, &gif_temp, &args.output))
@@ -622,6 +630,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             let _ = std::fs::remove_file(&strip);
         })
     });
+    bar.finish_and_clear();
     if let Err(e) = written {
         let _ = std::fs::remove_file(&gif_temp);
         let _ = std::fs::remove_file(&strip_temp);
