@@ -1,7 +1,8 @@
 //! `kinergy synthesize`: one reach by the synergy controller, from a capture's first frame
 //! to its final hand position (or a given target), written as BVH on the capture's skeleton.
-//! `--frames` picks the part of the capture the reach covers (all of it, the main reach
-//! segment as `kinergy fit` scores it, or given frames). Exit code 1 when the target is not
+//! `--frames` picks the part of the capture the reach covers: by default the frames the
+//! parameters were fitted on (so `fit` then `synthesize` replays what the fit scored), all of
+//! it, the main reach segment, or given frames. Exit code 1 when the target is not
 //! reached; the motion is written all the same.
 
 use std::path::PathBuf;
@@ -45,10 +46,11 @@ pub struct Args {
     /// capture's last frame, and on until it is reached, up to --max-seconds).
     #[arg(long)]
     stop_at_reach: bool,
-    /// Which frames of the capture the reach covers: `all`, `auto` (the main reach segment
-    /// of the hand speed, as `kinergy fit` picks it by default — use it to replay what a fit
-    /// scored) or `A..B` (0-based, end excluded).
-    #[arg(long, default_value = "all", value_name = "all|auto|A..B")]
+    /// Which frames of the capture the reach covers: `fit` (the frames the --params file
+    /// was fitted on for this capture, so the motion is the one the fit scored; all frames
+    /// without such a record), `all`, `auto` (the main reach segment of the hand speed, as
+    /// `kinergy fit` picks it by default) or `A..B` (0-based, end excluded).
+    #[arg(long, default_value = "fit", value_name = "fit|all|auto|A..B")]
     frames: String,
     /// ε: the target counts as reached within this many meters.
     #[arg(long, default_value_t = 0.005, value_name = "M")]
@@ -117,6 +119,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let (whole, _) = args.read.read(&args.from)?;
     let joints = args.arm.find(&whole, &args.from)?;
     let frames = match args.frames.as_str() {
+        "fit" => fitted_frames(args).unwrap_or(0..whole.frame_count()),
         "all" => 0..whole.frame_count(),
         "auto" => kinergy_train::segment::main_segment(
             &whole,
@@ -261,6 +264,32 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             synthesis.final_error * 1000.0
         ))),
     }
+}
+
+/// The frames the parameters file records for this capture (`fit.reaches[].frames` of the
+/// reach whose `clip` is the same file), if any.
+fn fitted_frames(args: &Args) -> Option<std::ops::Range<usize>> {
+    let path = args.params.as_ref()?;
+    let text = std::fs::read_to_string(path).ok()?;
+    let file = ParamsFile::from_json(&text).ok()?;
+    let same = |clip: &str| {
+        let clip = std::path::Path::new(clip);
+        clip == args.from
+            || matches!(
+                (clip.canonicalize(), args.from.canonicalize()),
+                (Ok(a), Ok(b)) if a == b
+            )
+    };
+    file.fit?
+        .get("reaches")?
+        .as_array()?
+        .iter()
+        .find(|r| r.get("clip").and_then(|c| c.as_str()).is_some_and(same))
+        .and_then(|r| {
+            let f = r.get("frames")?.as_array()?;
+            let (a, b) = (f.first()?.as_u64()?, f.get(1)?.as_u64()?);
+            Some(a as usize..b as usize)
+        })
 }
 
 /// Shoulder to end effector, fully stretched.

@@ -2,7 +2,7 @@
 //! content, determinism across thread counts, interrupt and resume, bad input.
 
 mod common;
-use common::{fixture, json, kinergy, text};
+use common::{fixture, json, kinergy, repo, text};
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -400,4 +400,43 @@ fn training_commands_reject_bad_input_with_exit_2() {
         assert!(!err.contains("panicked"), "{err}");
         assert!(!out.exists(), "{args:?} left an output file");
     }
+}
+
+#[test]
+fn synthesize_replays_by_default_the_frames_a_fit_scored() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let clip = repo().join("data-synthetic/p01/r09.bvh");
+    let clip = clip.to_str().expect("utf-8");
+    let params = dir.path().join("sc.json");
+    let params = params.to_str().expect("utf-8");
+    let o = kinergy(&[
+        "fit", clip, "--model", "sc", "--per", "clip", "--budget", "60", "-o", params, "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(params).expect("params")).expect("json");
+    let reach = &file["fit"]["reaches"][0];
+    let out = dir.path().join("sc.bvh");
+    let o = kinergy(&[
+        "synthesize",
+        "--from",
+        clip,
+        "--params",
+        params,
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--json",
+    ]);
+    assert!(
+        matches!(o.status.code(), Some(0 | 1)),
+        "{}",
+        text(&o.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(report["capture_frames"], reach["frames"]);
+    let (a, b) = (
+        report["distance_to_capture_m"].as_f64().expect("distance"),
+        reach["distance_m"].as_f64().expect("score"),
+    );
+    assert!((a - b).abs() < 1e-12, "{a} vs {b}");
 }
