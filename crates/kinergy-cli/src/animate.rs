@@ -437,22 +437,7 @@ impl Figure for Strip<'_> {
 
 /// `WxH` → (W, H), each side within [`SIZE_RANGE`].
 fn parse_size(text: &str) -> Result<(u32, u32), Failure> {
-    let bad = |why: &str| Failure::Input(format!("--size `{text}`: {why}"));
-    let (w, h) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| bad("expected WxH, e.g. 640x480"))?;
-    let side = |s: &str| -> Result<u32, Failure> {
-        let n: u32 = s
-            .trim()
-            .parse()
-            .map_err(|_| bad("W and H must be whole numbers of pixels"))?;
-        if SIZE_RANGE.contains(&n) {
-            Ok(n)
-        } else {
-            Err(bad("each side must be 64 to 4096 pixels"))
-        }
-    };
-    Ok((side(w)?, side(h)?))
+    draw::parse_size(text, SIZE_RANGE)
 }
 
 /// Labels for the clips: their file stems, with as many parent folders as it takes to tell
@@ -602,14 +587,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     // neither behind.
     let (gif_temp, strip_temp) = (staged(&args.output), staged(&strip));
     // A bar on the terminal only (indicatif hides it when stderr is not one).
-    let bar = indicatif::ProgressBar::new(frames as u64);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} frames")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
+    let bar = crate::fit::Bar::counting(frames as u64, "frames");
     let written = draw::save_gif(&gif_temp, size, frames, delay_ms, |k, root| {
-        bar.inc(1);
+        bar.inc();
         draw_scene(root, &scene, &[k as f64 / fps])
     })
     .map_err(|e| about(e, &gif_temp, &args.output))
@@ -630,7 +610,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             let _ = std::fs::remove_file(&strip);
         })
     });
-    bar.finish_and_clear();
+    bar.finish();
     if let Err(e) = written {
         let _ = std::fs::remove_file(&gif_temp);
         let _ = std::fs::remove_file(&strip_temp);

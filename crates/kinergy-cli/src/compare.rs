@@ -118,7 +118,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     std::fs::create_dir_all(&args.output).map_err(|e| Failure::input(&args.output, e))?;
     let clock = Instant::now();
-    let bar = crate::fit::Bar::new(reaches.len() as u64);
+    let bar = crate::fit::Bar::counting(reaches.len() as u64, "clips");
 
     // One job per clip; each returns its rows in a fixed order.
     let per_clip: Result<Vec<ClipRows>, kinergy_train::TrainError> = reaches

@@ -125,7 +125,8 @@ pub struct Args {
     pub reach: ReachArgs,
 }
 
-/// Shows the search on a progress bar (hidden when stderr is not a terminal).
+/// A progress bar (hidden when stderr is not a terminal): annealing evaluations, clips,
+/// frames.
 pub struct Bar {
     bar: indicatif::ProgressBar,
     offset: u64,
@@ -135,11 +136,16 @@ pub struct Bar {
 impl Bar {
     /// A bar for `total` evaluations.
     pub fn new(total: u64) -> Bar {
+        Bar::counting(total, "evaluations")
+    }
+
+    /// A bar for `total` things named `unit` (`clips`, `frames`).
+    pub fn counting(total: u64, unit: &str) -> Bar {
         let bar = indicatif::ProgressBar::new(total);
         bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{elapsed_precise} [{bar:40}] {pos}/{len} evaluations  {msg}",
-            )
+            indicatif::ProgressStyle::with_template(&format!(
+                "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit}  {{msg}}"
+            ))
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
             .progress_chars("=> "),
         );

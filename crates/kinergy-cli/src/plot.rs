@@ -81,22 +81,6 @@ struct Report {
     clips: Vec<ClipSummary>,
 }
 
-/// `WIDTHxHEIGHT` in pixels (each 64–8192).
-pub fn parse_size(text: &str) -> Result<(u32, u32), Failure> {
-    let bad = || {
-        Failure::Input(format!(
-            "--size `{text}`: expected WIDTHxHEIGHT, e.g. 900x500, each 64 to 8192"
-        ))
-    };
-    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
-    let w: u32 = w.trim().parse().map_err(|_| bad())?;
-    let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if !(64..=8192).contains(&w) || !(64..=8192).contains(&h) {
-        return Err(bad());
-    }
-    Ok((w, h))
-}
-
 /// Runs `kinergy plot`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     match &args.chart {
@@ -106,7 +90,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
 fn speed(args: &SpeedArgs) -> Result<(), Failure> {
     crate::draw::Format::of(&args.output, "-o")?;
-    let size = parse_size(&args.size)?;
+    let size = crate::draw::parse_size(&args.size, 64..=8192)?;
     if !args.smoothing.is_finite() || args.smoothing < 0.0 {
         return Err(Failure::Input(format!(
             "--smoothing {}: expected seconds ≥ 0",

@@ -2,7 +2,7 @@
 //! that bad input never leaves a file behind.
 
 mod common;
-use common::{fixture, json, kinergy, stderr, stdout};
+use common::{assert_bad_input, fixture, json, kinergy, stderr, stdout};
 
 use std::path::Path;
 use std::process::Command;
@@ -153,15 +153,7 @@ fn bad_input_exits_2_names_the_problem_and_writes_nothing() {
         ),
     ];
     for (args, needle) in cases {
-        let o = kinergy(&args);
-        let err = stderr(&o);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
-        assert!(
-            err.contains(needle),
-            "{args:?}: `{err}` does not mention {needle}"
-        );
-        assert!(!err.contains("panicked"), "{err}");
-        assert!(!out.exists(), "{args:?} left an output file");
+        assert_bad_input(&args, needle, &out);
     }
 }
 

@@ -2,7 +2,7 @@
 //! content, determinism across thread counts, interrupt and resume, bad input.
 
 mod common;
-use common::{fixture, json, kinergy, repo, text};
+use common::{assert_bad_input, fixture, json, kinergy, repo, text};
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -390,15 +390,7 @@ fn training_commands_reject_bad_input_with_exit_2() {
         (vec!["compare", empty, "-o", out_s], "no .bvh"),
     ];
     for (args, needle) in cases {
-        let o = kinergy(&args);
-        let err = text(&o.stderr);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
-        assert!(
-            err.contains(needle),
-            "{args:?}: `{err}` does not mention {needle}"
-        );
-        assert!(!err.contains("panicked"), "{err}");
-        assert!(!out.exists(), "{args:?} left an output file");
+        assert_bad_input(&args, needle, &out);
     }
 }
 

@@ -235,10 +235,7 @@ pub struct ArmPath {
 impl ArmPath {
     /// Its length in the planner's distance, meters.
     pub fn length(&self, space: &ArmSpace) -> f64 {
-        self.configs
-            .windows(2)
-            .map(|w| space.distance(&w[0], &w[1]))
-            .sum()
+        segment_lengths(space, &self.configs).iter().sum()
     }
 
     /// True when every configuration is free and every segment is free at the space's
@@ -257,11 +254,7 @@ impl ArmPath {
         if self.configs.is_empty() {
             return None;
         }
-        let lengths: Vec<f64> = self
-            .configs
-            .windows(2)
-            .map(|w| space.distance(&w[0], &w[1]))
-            .collect();
+        let lengths = segment_lengths(space, &self.configs);
         Some(sample_at(&self.configs, &lengths, s))
     }
 }
@@ -281,6 +274,14 @@ fn sample_at(configs: &[ArmConfig], lengths: &[f64], s: f64) -> ArmConfig {
         left -= l;
     }
     *configs.last().unwrap_or(&configs[0])
+}
+
+/// The planner's distance along each segment of a piecewise-linear path.
+fn segment_lengths(space: &ArmSpace, configs: &[ArmConfig]) -> Vec<f64> {
+    configs
+        .windows(2)
+        .map(|w| space.distance(&w[0], &w[1]))
+        .collect()
 }
 
 /// Plans a collision-free motion of the arm from `start` to `goal` (both must be free).
@@ -415,10 +416,7 @@ pub fn smooth(
 ) -> (ArmPath, SmoothStats) {
     let clock = Instant::now();
     let mut configs = path.configs.clone();
-    let mut lengths: Vec<f64> = configs
-        .windows(2)
-        .map(|w| space.distance(&w[0], &w[1]))
-        .collect();
+    let mut lengths = segment_lengths(space, &configs);
     let before: f64 = lengths.iter().sum();
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed_5eed_5eed_5eed);
     let mut stats = SmoothStats {
@@ -474,10 +472,7 @@ pub fn smooth(
             }
         }
         next.extend_from_slice(&configs[ib + 1..]);
-        let next_lengths: Vec<f64> = next
-            .windows(2)
-            .map(|w| space.distance(&w[0], &w[1]))
-            .collect();
+        let next_lengths = segment_lengths(space, &next);
         if next_lengths.iter().sum::<f64>() >= lengths.iter().sum::<f64>() {
             continue; // the metric is not a norm of q: pieces of a segment may not add up
         }
@@ -517,11 +512,7 @@ pub fn timed(space: &ArmSpace, path: &ArmPath, frames: usize) -> Vec<ArmConfig> 
         return Vec::new();
     }
     let frames = frames.max(2);
-    let lengths: Vec<f64> = path
-        .configs
-        .windows(2)
-        .map(|w| space.distance(&w[0], &w[1]))
-        .collect();
+    let lengths = segment_lengths(space, &path.configs);
     let mut out: Vec<ArmConfig> = (0..frames)
         .map(|k| {
             sample_at(

@@ -164,6 +164,21 @@ fn to_parry(iso: &Isometry3<f64>) -> PPose {
     )
 }
 
+/// A rotation-matrix isometry as a quaternion one.
+fn isometry(m: &IsometryMatrix3<f64>) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::from(m.translation.vector),
+        UnitQuaternion::from_rotation_matrix(&m.rotation),
+    )
+}
+
+/// World bounds of a parry shape at a pose.
+fn bounds_of(shape: &dyn PShape, pose: &PPose) -> (Point3<f64>, Point3<f64>) {
+    let aabb = shape.compute_aabb(pose);
+    let p = |v: PVec| Point3::new(v.x as f64, v.y as f64, v.z as f64);
+    (p(aabb.mins), p(aabb.maxs))
+}
+
 fn pvec(p: &Point3<f64>) -> PVec {
     PVec::new(p.x as f32, p.y as f32, p.z as f32)
 }
@@ -199,14 +214,13 @@ fn parry_shape(shape: &Shape, grow: f64) -> Result<SharedShape> {
 fn collider(o: &SceneObject) -> Result<Collider> {
     let shape = parry_shape(&o.shape, 0.0)?;
     let pose = to_parry(&o.pose);
-    let aabb = shape.compute_aabb(&pose);
-    let p = |v: PVec| Point3::new(v.x as f64, v.y as f64, v.z as f64);
+    let (min, max) = bounds_of(shape.as_ref(), &pose);
     Ok(Collider {
         name: o.name.clone(),
         shape,
         pose,
-        min: p(aabb.mins),
-        max: p(aabb.maxs),
+        min,
+        max,
         ignored: false,
     })
 }
@@ -398,10 +412,7 @@ impl ArmSpace {
             }
         };
         let wrist = self.wrist_frame(q);
-        let wrist = Isometry3::from_parts(
-            Translation3::from(wrist.translation.vector),
-            UnitQuaternion::from_rotation_matrix(&wrist.rotation),
-        );
+        let wrist = isometry(&wrist);
         self.held = Some(Held {
             object: index,
             name: name.to_string(),
@@ -421,10 +432,7 @@ impl ArmSpace {
         let held = self.held.take()?;
         let c = &mut self.colliders[held.object];
         c.pose = to_parry(&pose);
-        let aabb = c.shape.compute_aabb(&c.pose);
-        let p = |v: PVec| Point3::new(v.x as f64, v.y as f64, v.z as f64);
-        c.min = p(aabb.mins);
-        c.max = p(aabb.maxs);
+        (c.min, c.max) = bounds_of(c.shape.as_ref(), &c.pose);
         c.ignored = false;
         Some((held.name, pose))
     }
@@ -433,10 +441,7 @@ impl ArmSpace {
     pub fn held_pose(&self, q: &ArmConfig) -> Option<Isometry3<f64>> {
         let h = self.held.as_ref()?;
         let w = self.wrist_frame(q);
-        let w = Isometry3::from_parts(
-            Translation3::from(w.translation.vector),
-            UnitQuaternion::from_rotation_matrix(&w.rotation),
-        );
+        let w = isometry(&w);
         Some(w * h.local)
     }
 
@@ -475,10 +480,7 @@ impl ArmSpace {
         p[2] = w * Point3::from(self.hand_tip);
         let mut n = 3;
         if let Some(h) = &self.held {
-            let wq = Isometry3::from_parts(
-                Translation3::from(w.translation.vector),
-                UnitQuaternion::from_rotation_matrix(&w.rotation),
-            );
+            let wq = isometry(&w);
             let obj = wq * h.local;
             for c in &h.corners {
                 p[n] = obj * c;
@@ -552,10 +554,7 @@ impl ArmSpace {
         wrist: &IsometryMatrix3<f64>,
         clearance: f64,
     ) -> Option<String> {
-        let wq = Isometry3::from_parts(
-            Translation3::from(wrist.translation.vector),
-            UnitQuaternion::from_rotation_matrix(&wrist.rotation),
-        );
+        let wq = isometry(wrist);
         let pose = to_parry(&(wq * h.local));
         let grown;
         let shape: &dyn PShape = match (h.half_extents, clearance > 0.0) {
@@ -566,9 +565,7 @@ impl ArmSpace {
             }
             _ => h.shape.as_ref(),
         };
-        let aabb = shape.compute_aabb(&pose);
-        let p = |v: PVec| Point3::new(v.x as f64, v.y as f64, v.z as f64);
-        let bounds = (p(aabb.mins), p(aabb.maxs));
+        let bounds = bounds_of(shape, &pose);
         for (name, c, _) in &self.statics {
             let cap = PCapsule::new(pvec(&c.a), pvec(&c.b), c.radius as f32);
             if hit(&PPose::IDENTITY, &cap, &pose, shape) {
@@ -649,22 +646,38 @@ impl ArmSpace {
         target: &HandTarget,
         accept: &dyn Fn(&ArmConfig) -> bool,
     ) -> Result<(f64, ArmConfig)> {
+        self.solve_searching(target, &self.orbit, accept)
+    }
+
+    /// [`ArmSpace::solve`] with another orbit-angle search (e.g. one starting at the previous
+    /// frame's angle when a target is followed).
+    pub fn solve_from(&self, target: &HandTarget, orbit: &OrbitSearch) -> Result<(f64, ArmConfig)> {
+        orbit.validate()?;
+        self.solve_searching(target, orbit, &|_| true)
+    }
+
+    fn solve_searching(
+        &self,
+        target: &HandTarget,
+        orbit: &OrbitSearch,
+        accept: &dyn Fn(&ArmConfig) -> bool,
+    ) -> Result<(f64, ArmConfig)> {
         if !target.position.iter().all(|v| v.is_finite()) {
             return Err(PlanError::NonFinite("the hand target".into()));
         }
         let ok = |q: &ArmConfig| self.contact(q).is_none() && accept(q);
         let result = match &target.orientation {
-            Some(o) => self.ik.search_with(&self.goal(target, o), &self.orbit, &ok),
+            Some(o) => self.ik.search_with(&self.goal(target, o), orbit, &ok),
             None => {
                 let p = self.base.inverse() * target.position;
-                self.ik.solve_position_with(&p, &self.orbit, &ok)
+                self.ik.solve_position_with(&p, orbit, &ok)
             }
         };
         result.map_err(|e| match e {
             AnalyticError::Rejected { within_limits, .. } => PlanError::GoalInCollision {
                 tried: within_limits,
                 contact: self
-                    .first_contact_of(target)
+                    .first_contact_of(target, orbit)
                     .unwrap_or_else(|| "a rejected posture".into()),
             },
             other => other.into(),
@@ -672,7 +685,7 @@ impl ArmSpace {
     }
 
     /// The first contact of the first within-limits posture the search tries.
-    fn first_contact_of(&self, target: &HandTarget) -> Option<String> {
+    fn first_contact_of(&self, target: &HandTarget, orbit: &OrbitSearch) -> Option<String> {
         let found = std::cell::RefCell::new(None);
         let record = |q: &ArmConfig| {
             if found.borrow().is_none() {
@@ -681,12 +694,10 @@ impl ArmSpace {
             false
         };
         let _ = match &target.orientation {
-            Some(o) => self
-                .ik
-                .search_with(&self.goal(target, o), &self.orbit, &record),
+            Some(o) => self.ik.search_with(&self.goal(target, o), orbit, &record),
             None => {
                 let p = self.base.inverse() * target.position;
-                self.ik.solve_position_with(&p, &self.orbit, &record)
+                self.ik.solve_position_with(&p, orbit, &record)
             }
         };
         found.into_inner()

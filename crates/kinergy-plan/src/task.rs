@@ -524,8 +524,7 @@ impl Builder<'_> {
             step: 2f64.to_radians(),
             ..OrbitSearch::default()
         };
-        let space = self.space.clone().with_orbit_search(orbit)?;
-        let (alpha, q) = space.solve(target)?;
+        let (alpha, q) = self.space.solve_from(target, &orbit)?;
         self.alpha = alpha;
         self.q = q;
         self.push_frame();

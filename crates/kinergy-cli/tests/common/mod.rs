@@ -41,3 +41,17 @@ pub fn stderr(o: &Output) -> String {
 pub fn json(o: &Output) -> serde_json::Value {
     serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{e}: {}", stdout(o)))
 }
+
+/// Runs `kinergy args` expecting bad input: exit code 2, `needle` in the message, no panic,
+/// and no file at `out`.
+pub fn assert_bad_input(args: &[&str], needle: &str, out: &Path) {
+    let o = kinergy(args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+    assert!(
+        err.contains(needle),
+        "{args:?}: `{err}` does not mention {needle}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out.exists(), "{args:?} left an output file");
+}
