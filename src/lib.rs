@@ -2,6 +2,7 @@
 //! reaching motions in that style.
 //!
 //! This umbrella crate re-exports the library crates as modules:
+//! - [`io`]: atomic file replacement and versioned JSON documents, shared by every crate;
 //! - [`bvh`]: the BVH format alone, read and written at full precision, never panicking;
 //! - [`motion`]: skeletons, poses, clips, forward kinematics, Jacobians, joint limits, arm
 //!   chains by role, the motion distance and hand-speed series;
@@ -47,6 +48,7 @@
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub use kinergy_bvh as bvh;
+pub use kinergy_io as io;
 pub use kinergy_motion as motion;
 pub use kinergy_plan as plan;
 pub use kinergy_reach as reach;

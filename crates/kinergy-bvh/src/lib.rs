@@ -26,7 +26,6 @@ pub use document::{Bvh, Channel, Joint};
 pub use error::{Error, ParseError, ParseErrorKind, WriteError};
 pub use options::{FrameCountPolicy, ReadOptions};
 pub use read::MAX_DEPTH;
-pub use write::write_atomic;
 
 /// Parses BVH text strictly: `parse_with(text, &ReadOptions::default())`.
 pub fn parse(text: &str) -> Result<Bvh, ParseError> {

@@ -1,11 +1,8 @@
 //! The writer: a standard layout, full precision, and atomic file replacement.
 
-use std::ffi::OsString;
 use std::fmt::Write as _;
-use std::fs::{self, File, OpenOptions};
-use std::io::{self, Write as _};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::io;
+use std::path::Path;
 
 use crate::document::Bvh;
 use crate::error::{Error, WriteError};
@@ -118,88 +115,16 @@ pub(crate) fn write_to<W: io::Write>(bvh: &Bvh, mut out: W) -> Result<(), Error>
         .map_err(|source| Error::Stream { source })
 }
 
-/// Distinguishes temporary files of concurrent writes from one process.
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Replaces `path` atomically with the rendered document (see [`write_atomic`]).
+/// Replaces `path` atomically with the rendered document (see [`kinergy_io::write_atomic`]).
 pub(crate) fn write_file(path: &Path, bvh: &Bvh) -> Result<(), Error> {
     let text = render(bvh).map_err(|source| Error::Write {
         path: path.to_owned(),
         source,
     })?;
-    write_atomic(path, text.as_bytes()).map_err(|source| Error::Io {
+    kinergy_io::write_atomic(path, text.as_bytes()).map_err(|source| Error::Io {
         path: path.to_owned(),
         source,
     })
-}
-
-/// Replaces `path` atomically: write a temporary file in the same directory, sync it,
-/// rename it over `path` (keeping an existing file's permissions), then sync the directory
-/// (best effort). Readers see the old file or the new one, never a part; on failure the
-/// temporary file is removed and `path` is untouched.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
-    let Some(file_name) = path.file_name() else {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "the path does not name a file",
-        ));
-    };
-    let (temp_path, mut file) = create_temp(dir, file_name)?;
-    if let Ok(existing) = fs::metadata(path) {
-        // Keep the replaced file's permissions; a failure here is not worth failing for.
-        let _ = file.set_permissions(existing.permissions());
-    }
-    let result = file
-        .write_all(bytes)
-        .and_then(|()| file.sync_all())
-        .and_then(|()| {
-            drop(file);
-            fs::rename(&temp_path, path)
-        });
-    if let Err(source) = result {
-        let _ = fs::remove_file(&temp_path);
-        return Err(source);
-    }
-    sync_dir(dir);
-    Ok(())
-}
-
-/// Creates a new, unique temporary file `.<name>.<pid>.<n>.tmp` in `dir`.
-fn create_temp(dir: &Path, file_name: &std::ffi::OsStr) -> io::Result<(PathBuf, File)> {
-    let mut attempts = 0u32;
-    loop {
-        let n = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
-        let mut name = OsString::from(".");
-        name.push(file_name);
-        name.push(format!(".{}.{n}.tmp", std::process::id()));
-        let temp_path = dir.join(name);
-        match OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&temp_path)
-        {
-            Ok(file) => return Ok((temp_path, file)),
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists && attempts < 100 => {
-                attempts = attempts.saturating_add(1);
-            }
-            Err(e) => return Err(e),
-        }
-    }
-}
-
-/// Makes the rename durable where the platform allows syncing a directory. The file is
-/// already in place, so a failure here (some file systems refuse) is not reported.
-fn sync_dir(dir: &Path) {
-    #[cfg(unix)]
-    if let Ok(handle) = File::open(dir) {
-        let _ = handle.sync_all();
-    }
-    #[cfg(not(unix))]
-    let _ = dir;
 }
 
 #[cfg(test)]

@@ -94,9 +94,8 @@ impl ArmArgs {
 
 /// Prints a value as pretty JSON on stdout.
 pub fn print_json(value: &impl serde::Serialize) -> Result<(), Failure> {
-    let mut text = serde_json::to_string_pretty(value)
+    let text = kinergy_io::to_pretty_json(value)
         .map_err(|e| Failure::Task(format!("could not encode JSON: {e}")))?;
-    text.push('\n');
     emit(&text)
 }
 

@@ -145,12 +145,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let bytes = w
         .into_inner()
         .map_err(|e| Failure::Task(format!("results.csv: {e}")))?;
-    kinergy_bvh::write_atomic(&csv_path, &bytes)
+    kinergy_io::write_atomic(&csv_path, &bytes)
         .map_err(|e| Failure::Task(format!("{}: {e}", csv_path.display())))?;
 
     let summary = summarize(&rows, args, &settings, reaches.len(), seconds);
     let md_path = args.output.join("summary.md");
-    kinergy_bvh::write_atomic(&md_path, summary.markdown.as_bytes())
+    kinergy_io::write_atomic(&md_path, summary.markdown.as_bytes())
         .map_err(|e| Failure::Task(format!("{}: {e}", md_path.display())))?;
     let charts = draw_charts(&rows, args)?;
     if args.json {

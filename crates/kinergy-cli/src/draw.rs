@@ -145,7 +145,7 @@ pub fn save(figure: &impl Figure, path: &Path, size: (u32, u32)) -> Result<(), F
                     .and_then(|()| root.present().map_err(|e| e.into()))
                     .map_err(|e| Failure::Task(format!("{}: {e}", path.display())))?;
             }
-            kinergy_bvh::write_atomic(path, text.as_bytes())
+            kinergy_io::write_atomic(path, text.as_bytes())
                 .map_err(|e| Failure::Task(format!("{}: {e}", path.display())))
         }
         Format::Png => {

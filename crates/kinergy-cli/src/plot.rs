@@ -156,7 +156,7 @@ fn speed(args: &SpeedArgs) -> Result<(), Failure> {
     };
     save(&chart, &args.output, size)?;
     if let Some(csv_path) = &args.csv
-        && let Err(e) = kinergy_bvh::write_atomic(csv_path, csv.as_bytes())
+        && let Err(e) = kinergy_io::write_atomic(csv_path, csv.as_bytes())
     {
         let _ = std::fs::remove_file(&args.output);
         return Err(Failure::Task(format!("{}: {e}", csv_path.display())));

@@ -44,7 +44,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .into_inner()
         .map_err(|e| Failure::Task(format!("manifest.csv: {e}")))?;
     let manifest = args.output.join("manifest.csv");
-    kinergy_bvh::write_atomic(&manifest, &bytes)
+    kinergy_io::write_atomic(&manifest, &bytes)
         .map_err(|e| Failure::Task(format!("{}: {e}", manifest.display())))?;
     emit(&format!(
         "{} clips of {} persons in {} (seed {}), manifest {}\n",

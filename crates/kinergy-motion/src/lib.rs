@@ -61,3 +61,7 @@ pub use units::{LengthUnit, UnitChoice};
 
 /// The linear-algebra crate of every public type here, re-exported so callers use the same version.
 pub use nalgebra;
+
+/// The BVH format crate the conversion reads and writes, re-exported so callers use the same
+/// version (and need not depend on it to parse text).
+pub use kinergy_bvh;

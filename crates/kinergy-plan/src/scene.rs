@@ -161,19 +161,17 @@ impl Scene {
 
     /// Parses scene JSON; `path` names it in errors, `dir` is where mesh files are looked for.
     pub fn parse(text: &str, path: &Path, dir: &Path) -> Result<Scene> {
-        let de = &mut serde_json::Deserializer::from_str(text);
-        let file: SceneFile = serde_path_to_error::deserialize(de).map_err(|e| {
-            let field = e.path().to_string();
-            PlanError::Scene {
-                path: path.to_path_buf(),
-                field: if field == "." {
-                    "(top level)".into()
-                } else {
-                    field
-                },
-                why: e.into_inner().to_string(),
-            }
-        })?;
+        let file: SceneFile =
+            kinergy_io::parse_versioned(text, SCENE_FORMAT_VERSION).map_err(|e| {
+                PlanError::Scene {
+                    path: path.to_path_buf(),
+                    field: match e.field() {
+                        None | Some(".") => "(top level)".into(),
+                        Some(field) => field.to_string(),
+                    },
+                    why: e.detail(),
+                }
+            })?;
         file.build(path, dir)
     }
 
@@ -197,9 +195,14 @@ impl Scene {
 // The file's serde model and its validation
 // ---------------------------------------------------------------------------------------
 
+/// The scene format this build reads.
+pub const SCENE_FORMAT_VERSION: u32 = 1;
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneFile {
+    /// Checked by [`kinergy_io::parse_versioned`].
+    #[allow(dead_code)]
     format_version: u32,
     #[serde(default)]
     character: Option<CharacterFile>,
@@ -413,12 +416,6 @@ fn build_shape(
 impl SceneFile {
     fn build(self, path: &Path, dir: &Path) -> Result<Scene> {
         let check = Check { path };
-        if self.format_version != 1 {
-            return Err(check.fail(
-                "format_version",
-                format!("this version reads format 1, found {}", self.format_version),
-            ));
-        }
         let height = match self.character {
             Some(c) => check.positive("character.height", c.height)?,
             None => 1.75,

@@ -214,7 +214,7 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
                 field: "output".into(),
                 why: e.to_string(),
             })?;
-            kinergy_bvh::write_atomic(&path, &bytes).map_err(|e| io(&path, e))?;
+            kinergy_io::write_atomic(&path, &bytes).map_err(|e| io(&path, e))?;
             let rep = &motion.report;
             rows.push(ManifestRow {
                 clip: format!("{id}/{name}"),

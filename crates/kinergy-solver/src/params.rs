@@ -70,16 +70,8 @@ impl ParamsFile {
 
     /// Parses and checks a file's text; errors name the line and column, or the field.
     pub fn from_json(text: &str) -> Result<ParamsFile> {
-        let file: ParamsFile = serde_json::from_str(text).map_err(|e| {
-            // serde_json's message already ends with "at line L column C".
-            SolverError::ParamsFile(e.to_string())
-        })?;
-        if file.format_version != FORMAT_VERSION {
-            return Err(SolverError::ParamsFile(format!(
-                "`format_version` is {}, this version of Kinergy reads {FORMAT_VERSION}",
-                file.format_version
-            )));
-        }
+        let file: ParamsFile = kinergy_io::parse_versioned(text, FORMAT_VERSION)
+            .map_err(|e| SolverError::ParamsFile(e.to_string()))?;
         file.optimizer.validate()?;
         file.space()?;
         file.values()?;
@@ -100,14 +92,12 @@ impl ParamsFile {
 
     /// Pretty JSON.
     pub fn to_json(&self) -> String {
-        let mut s = serde_json::to_string_pretty(self).unwrap_or_default();
-        s.push('\n');
-        s
+        kinergy_io::to_pretty_json(self).unwrap_or_default()
     }
 
     /// Writes the file atomically.
     pub fn write(&self, path: &Path) -> Result<()> {
-        kinergy_bvh::write_atomic(path, self.to_json().as_bytes())
+        kinergy_io::write_atomic(path, self.to_json().as_bytes())
             .map_err(|e| SolverError::ParamsFile(format!("cannot write {}: {e}", path.display())))
     }
 

@@ -229,11 +229,7 @@ pub struct AnnealState {
 impl AnnealState {
     /// Writes the state as JSON, atomically (temporary file + rename).
     pub fn save(&self, path: &Path) -> Result<()> {
-        let text = serde_json::to_vec_pretty(self).map_err(|e| TrainError::Checkpoint {
-            path: path.to_path_buf(),
-            why: e.to_string(),
-        })?;
-        kinergy_bvh::write_atomic(path, &text).map_err(|source| TrainError::Io {
+        kinergy_io::write_json(path, self).map_err(|source| TrainError::Io {
             path: path.to_path_buf(),
             source,
         })
@@ -249,13 +245,8 @@ impl AnnealState {
             path: path.to_path_buf(),
             source,
         })?;
-        let state: AnnealState = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
-        if state.format_version != CHECKPOINT_VERSION {
-            return Err(bad(format!(
-                "`format_version` is {}, this version reads {CHECKPOINT_VERSION}",
-                state.format_version
-            )));
-        }
+        let state: AnnealState = kinergy_io::parse_versioned(&text, CHECKPOINT_VERSION)
+            .map_err(|e| bad(e.to_string()))?;
         let n = state.lower.len();
         let consistent = state.upper.len() == n
             && state.best_x.len() == n

@@ -733,10 +733,11 @@ impl TryFrom<FieldFile> for ParamField {
     type Error = TrainError;
 
     fn try_from(file: FieldFile) -> Result<ParamField> {
-        require(
-            file.format_version == FIELD_FORMAT_VERSION,
-            "format_version",
-            format!("{FIELD_FORMAT_VERSION} (this version reads no other)"),
+        kinergy_io::check_version(u64::from(file.format_version), FIELD_FORMAT_VERSION).map_err(
+            |e| TrainError::Setting {
+                field: "format_version".into(),
+                why: e.message(),
+            },
         )?;
         let space = ParamSpace::new(file.model, &file.dof_names, file.bounds)?;
         require(

@@ -278,23 +278,12 @@ impl NestedCheckpoint {
             path: path.to_path_buf(),
             source,
         })?;
-        let c: NestedCheckpoint = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
-        if c.format_version != crate::anneal::CHECKPOINT_VERSION {
-            return Err(bad(format!(
-                "`format_version` is {}, this version reads {}",
-                c.format_version,
-                crate::anneal::CHECKPOINT_VERSION
-            )));
-        }
-        Ok(c)
+        kinergy_io::parse_versioned(&text, crate::anneal::CHECKPOINT_VERSION)
+            .map_err(|e| bad(e.to_string()))
     }
 
     fn save(&self, path: &Path) -> Result<()> {
-        let text = serde_json::to_vec_pretty(self).map_err(|e| TrainError::Checkpoint {
-            path: path.to_path_buf(),
-            why: e.to_string(),
-        })?;
-        kinergy_bvh::write_atomic(path, &text).map_err(|source| TrainError::Io {
+        kinergy_io::write_json(path, self).map_err(|source| TrainError::Io {
             path: path.to_path_buf(),
             source,
         })

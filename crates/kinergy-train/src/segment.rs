@@ -62,7 +62,7 @@
 //!     End Site\n     {\n      OFFSET -9 0 0\n     }\n    }\n   }\n  }\n }\n}\n\
 //!     MOTION\nFrames: 2\nFrame Time: 0.0333333\n\
 //!     0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n";
-//! let bvh = kinergy_bvh::parse(text)?;
+//! let bvh = kinergy_motion::kinergy_bvh::parse(text)?;
 //! let options = ImportOptions { unit: "cm".parse()?, ..Default::default() };
 //! let (clip, _report) = clip_from_bvh(&bvh, &options)?;
 //! let arm = ArmJoints::find(clip.skeleton(), Side::Right)?;
