@@ -23,13 +23,13 @@ use std::time::Instant;
 use kinergy_solver::{Model, OptimizerKind, ParamSpace};
 use kinergy_train::baseline::{BaselineMethod, BaselineSettings};
 use kinergy_train::fit::{FitSettings, fit_nested};
-use kinergy_train::{CostFunction, Objective, ReachData};
+use kinergy_train::{CapturedReach, CostFunction, Objective};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::common::{Failure, emit, print_json};
-use crate::fit::{SearchArgs, train_failure};
-use crate::reaches::{ReachArgs, collect_clips};
+use crate::common::{
+    Bar, CaptureArgs, Failure, SearchArgs, collect_clips, emit, print_json, train_failure,
+};
 
 /// The folder `compare` uses when no clips are given.
 pub const DEFAULT_DATA: &str = "data-synthetic";
@@ -61,7 +61,7 @@ pub struct Args {
     #[command(flatten)]
     pub search: SearchArgs,
     #[command(flatten)]
-    pub reach: ReachArgs,
+    pub reach: CaptureArgs,
 }
 
 /// One fit's row of results.csv.
@@ -118,7 +118,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     std::fs::create_dir_all(&args.output).map_err(|e| Failure::input(&args.output, e))?;
     let clock = Instant::now();
-    let bar = crate::fit::Bar::counting(reaches.len() as u64, "clips");
+    let bar = Bar::counting(reaches.len() as u64, "clips");
 
     // One job per clip; each returns its rows in a fixed order.
     let per_clip: Result<Vec<ClipRows>, kinergy_train::TrainError> = reaches
@@ -173,14 +173,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 /// motion distance with min–max whiskers, in millimetres: `fig3.svg`/`.png` and
 /// `fig4.svg`/`.png` next to summary.md. Returns the files written.
 fn draw_charts(rows: &[Row], args: &Args) -> Result<Vec<PathBuf>, Failure> {
-    use crate::draw::{Bar, BarChart, save};
+    use crate::draw::{BarChart, save};
     let bar = |series: usize, model: &str, optimizer: &str| {
         stats(
             rows.iter()
                 .filter(|r| r.model == model && r.optimizer == optimizer && r.method == "sa")
                 .map(|r| r.distance_m * 1e3),
         )
-        .map(|s| Bar {
+        .map(|s| crate::draw::Bar {
             series,
             mean: s.mean,
             min: s.min,
@@ -244,7 +244,7 @@ type ClipRows = (Vec<Row>, Option<Vec<f64>>);
 
 /// The rows of one clip: Fig. 3, Fig. 4, methods.
 fn clip_rows(
-    reach: &ReachData,
+    reach: &CapturedReach,
     args: &Args,
     settings: &FitSettings,
 ) -> Result<ClipRows, kinergy_train::TrainError> {
@@ -366,13 +366,13 @@ fn clip_rows(
 /// one person's): for each clip, S_C parameters from the field of the person's other
 /// per-clip S_C fits, scored on the clip; one row per clip with method `field_loo`.
 fn field_rows(
-    reaches: &[ReachData],
+    reaches: &[CapturedReach],
     sc: &[Option<Vec<f64>>],
     args: &Args,
     settings: &FitSettings,
 ) -> Result<Vec<Row>, kinergy_train::TrainError> {
     use kinergy_train::field::{FieldSettings, leave_one_out};
-    let person = |r: &ReachData| {
+    let person = |r: &CapturedReach| {
         std::path::Path::new(r.name())
             .parent()
             .map(|p| p.to_path_buf())

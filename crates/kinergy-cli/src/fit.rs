@@ -5,14 +5,15 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use kinergy_solver::{Model, OptimizerKind};
-use kinergy_train::ReachData;
-use kinergy_train::anneal::{AnnealSettings, CsvLog, Observer, Progress};
-use kinergy_train::fit::{Fit, FitSettings, NestedRun};
+use kinergy_train::CapturedReach;
+use kinergy_train::anneal::{CsvLog, Observer, Progress};
+use kinergy_train::fit::{Fit, NestedRun};
 use serde::Serialize;
 use serde_json::json;
 
-use crate::common::{Failure, emit, print_json};
-use crate::reaches::{ReachArgs, collect_clips};
+use crate::common::{
+    Bar, CaptureArgs, Failure, SearchArgs, collect_clips, emit, print_json, train_failure,
+};
 
 /// Set by Ctrl-C: the running fit stops after its current iteration and checkpoints.
 pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
@@ -24,56 +25,6 @@ pub enum Per {
     Clip,
     /// One parameter vector for all the clips (one person's).
     Person,
-}
-
-/// Search settings shared by `fit` and `compare`.
-#[derive(Debug, clap::Args)]
-pub struct SearchArgs {
-    /// Seed of every random draw (same seed, same result, on any thread count).
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Threads (default: all cores). The result does not depend on it.
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// Evaluation budget per model fit (each evaluation synthesizes every reach once).
-    #[arg(long, default_value_t = AnnealSettings::default().max_evaluations, value_name = "N")]
-    pub budget: usize,
-    /// Members of the annealing population.
-    #[arg(long, default_value_t = AnnealSettings::default().population, value_name = "N")]
-    pub population: usize,
-    /// Initial temperature relative to the initial mean score (0: the paper's greedy rule).
-    #[arg(long, default_value_t = AnnealSettings::default().temperature, value_name = "T")]
-    pub temperature: f64,
-}
-
-impl SearchArgs {
-    /// Fit settings from the flags.
-    pub fn settings(&self) -> FitSettings {
-        FitSettings {
-            anneal: AnnealSettings {
-                seed: self.seed,
-                max_evaluations: self.budget,
-                population: self.population,
-                temperature: self.temperature,
-                ..AnnealSettings::default()
-            },
-            ..FitSettings::default()
-        }
-    }
-
-    /// Sizes rayon's global pool.
-    pub fn apply_threads(&self) -> Result<(), Failure> {
-        if let Some(n) = self.threads {
-            if n == 0 {
-                return Err(Failure::Input("--threads 0: expected at least 1".into()));
-            }
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build_global()
-                .map_err(|e| Failure::Task(format!("--threads {n}: {e}")))?;
-        }
-        Ok(())
-    }
 }
 
 /// Arguments of `kinergy fit`.
@@ -122,49 +73,7 @@ pub struct Args {
     #[command(flatten)]
     pub search: SearchArgs,
     #[command(flatten)]
-    pub reach: ReachArgs,
-}
-
-/// A progress bar (hidden when stderr is not a terminal): annealing evaluations, clips,
-/// frames.
-pub struct Bar {
-    bar: indicatif::ProgressBar,
-    offset: u64,
-    last: u64,
-}
-
-impl Bar {
-    /// A bar for `total` evaluations.
-    pub fn new(total: u64) -> Bar {
-        Bar::counting(total, "evaluations")
-    }
-
-    /// A bar for `total` things named `unit` (`clips`, `frames`).
-    pub fn counting(total: u64, unit: &str) -> Bar {
-        let bar = indicatif::ProgressBar::new(total);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(&format!(
-                "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit}  {{msg}}"
-            ))
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-            .progress_chars("=> "),
-        );
-        Bar {
-            bar,
-            offset: 0,
-            last: 0,
-        }
-    }
-
-    /// One more step done (for bars counting jobs, not evaluations).
-    pub fn inc(&self) {
-        self.bar.inc(1);
-    }
-
-    /// Done.
-    pub fn finish(&self) {
-        self.bar.finish_and_clear();
-    }
+    pub reach: CaptureArgs,
 }
 
 /// Raises [`INTERRUPTED`] after a number of iterations (the `--interrupt-after` hook).
@@ -180,23 +89,6 @@ impl Observer for InterruptAfter {
                 INTERRUPTED.store(true, Ordering::SeqCst);
             }
         }
-    }
-}
-
-impl Observer for Bar {
-    fn on_iteration(&mut self, p: &Progress) {
-        let e = p.evaluations as u64;
-        if e < self.last {
-            // A new stage of a nested fit.
-            self.offset += self.last;
-        }
-        self.last = e;
-        self.bar.set_position(self.offset + e);
-        self.bar.set_message(format!(
-            "best {:.2} mm, mean {:.2} mm",
-            p.best_cost * 1e3,
-            p.mean_cost * 1e3
-        ));
     }
 }
 
@@ -243,7 +135,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .filter(|m| *m <= args.model)
             .collect()
     };
-    let groups: Vec<Vec<ReachData>> = match args.per {
+    let groups: Vec<Vec<CapturedReach>> = match args.per {
         Per::Person => vec![reaches],
         Per::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
     };
@@ -384,7 +276,7 @@ fn stem(path: &Path) -> String {
 fn report(
     output: &Path,
     args: &Args,
-    reaches: &[ReachData],
+    reaches: &[CapturedReach],
     fits: &[Fit],
     violations: &[(Model, Model)],
 ) -> FitReport {
@@ -425,14 +317,5 @@ fn report(
                 )
             })
             .collect(),
-    }
-}
-
-/// Training errors: bad checkpoints and settings are bad input; the rest failed tasks.
-pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
-    use kinergy_train::TrainError as E;
-    match e {
-        E::Checkpoint { .. } | E::Setting { .. } | E::Reach { .. } => Failure::Input(e.to_string()),
-        _ => Failure::Task(e.to_string()),
     }
 }

@@ -7,16 +7,16 @@
 
 use std::path::PathBuf;
 
-use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ExportOptions, LengthUnit, motion_distance};
 use kinergy_solver::{
-    BaseMode, CaptureArm, Controller, ControllerSettings, Model, OptimizerKind, ParamSpace,
-    ParamsFile, Reach, StopReason, Synergy, Task,
+    ArmTask, BaseMode, CaptureArm, Controller, ControllerSettings, Model, OptimizerKind,
+    ParamSpace, ParamsFile, StopReason, Synergy, Task,
 };
 use serde::Serialize;
 
-use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
+use crate::common::{ArmArgs, Failure, ReadArgs, emit, parse_point, print_json};
 
+/// Arguments of `kinergy synthesize`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The capture: the reach starts from its first frame, its torso motion is replayed.
@@ -92,29 +92,7 @@ struct Report {
     at_limits_at_end: Vec<String>,
 }
 
-/// Parses `x,y,z` (meters) into a finite point.
-pub fn parse_point(text: &str, flag: &str) -> Result<Point3<f64>, Failure> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let bad = |why: String| Failure::Input(format!("{flag} `{text}`: {why}"));
-    if parts.len() != 3 {
-        return Err(bad(format!(
-            "expected three comma-separated numbers x,y,z, got {}",
-            parts.len()
-        )));
-    }
-    let mut v = [0.0; 3];
-    for (i, p) in parts.iter().enumerate() {
-        let x: f64 = p
-            .parse()
-            .map_err(|_| bad(format!("`{p}` is not a number")))?;
-        if !x.is_finite() {
-            return Err(bad(format!("`{p}` is not a finite number")));
-        }
-        v[i] = x;
-    }
-    Ok(Point3::new(v[0], v[1], v[2]))
-}
-
+/// Runs `kinergy synthesize`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     let (whole, _) = args.read.read(&args.from)?;
     let joints = args.arm.find(&whole, &args.from)?;
@@ -129,7 +107,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         )
         .map_err(|e| Failure::input(&args.from, e))?
         .frames(),
-        text => crate::reaches::parse_frames(text)?,
+        text => crate::common::parse_frames(text)?,
     };
     if frames.end > whole.frame_count() || frames.len() < 2 {
         return Err(Failure::Input(format!(
@@ -203,7 +181,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let controller =
         Controller::new(optimizer, synergy, settings).map_err(|e| Failure::Input(e.to_string()))?;
     let synthesis = controller
-        .synthesize(&Reach {
+        .synthesize(&ArmTask {
             chain: arm.chain(),
             base: &base,
             start: arm.start(),

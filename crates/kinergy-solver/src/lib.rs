@@ -14,7 +14,7 @@
 //! ```
 //! use kinergy_motion::Chain;
 //! use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
-//! use kinergy_solver::{Base, Controller, ControllerSettings, OptimizerKind, Reach, StopReason, Synergy, Task};
+//! use kinergy_solver::{Base, Controller, ControllerSettings, OptimizerKind, ArmTask, StopReason, Synergy, Task};
 //!
 //! let arm = Chain::arm(0.30, 0.26, 0.09)?;
 //! let base = Base::Fixed(IsometryMatrix3::identity());
@@ -24,8 +24,8 @@
 //!     Synergy::identity(7),
 //!     ControllerSettings::at_frame_time(1.0 / 120.0),
 //! )?;
-//! let reach = Reach { chain: &arm, base: &base, start: &start, task: Task::Position(Point3::new(0.1, -0.2, 0.45)) };
-//! let motion = controller.synthesize(&reach)?;
+//! let task = ArmTask { chain: &arm, base: &base, start: &start, task: Task::Position(Point3::new(0.1, -0.2, 0.45)) };
+//! let motion = controller.synthesize(&task)?;
 //! assert_eq!(motion.stop, StopReason::Reached);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -42,7 +42,7 @@ pub mod task;
 
 pub use capture::{BaseMode, CaptureArm};
 pub use controller::{
-    Base, Controller, ControllerSettings, LimitHandling, Reach, StallRule, StopReason, Synthesis,
+    ArmTask, Base, Controller, ControllerSettings, LimitHandling, StallRule, StopReason, Synthesis,
 };
 pub use error::{Result, SolverError};
 pub use optimizer::{

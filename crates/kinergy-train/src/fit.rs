@@ -20,10 +20,10 @@ use serde::{Deserialize, Serialize};
 use serde_json::json;
 
 use crate::anneal::{AnnealSettings, AnnealState, Annealer, Checkpoint, Control, Observer, Status};
+use crate::captured::{CapturedReach, DEFAULT_TOLERANCE};
 use crate::error::{Result, TrainError, require};
 use crate::objective::CostFunction;
 use crate::objective::Objective;
-use crate::reach::{DEFAULT_TOLERANCE, ReachData};
 
 /// How a fit searches.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -80,7 +80,7 @@ impl Fit {
     }
 
     /// The parameters file of this fit, recording the reaches it was fitted on.
-    pub fn params_file(&self, reaches: &[ReachData]) -> Result<ParamsFile> {
+    pub fn params_file(&self, reaches: &[CapturedReach]) -> Result<ParamsFile> {
         let mut file = ParamsFile::new(&self.space, self.optimizer, &self.values)?;
         file.fit = Some(json!({
             "method": "simulated_annealing",
@@ -117,7 +117,7 @@ pub fn model_seed(seed: u64, model: Model) -> u64 {
 }
 
 /// A problem tag for checkpoints: model, optimizer and reaches.
-pub fn tag_of(model: Model, optimizer: &Optimizer, reaches: &[ReachData]) -> String {
+pub fn tag_of(model: Model, optimizer: &Optimizer, reaches: &[CapturedReach]) -> String {
     let names: Vec<String> = reaches
         .iter()
         .map(|r| format!("{}[{}..{}]", r.name(), r.frames().start, r.frames().end))
@@ -130,7 +130,7 @@ pub fn tag_of(model: Model, optimizer: &Optimizer, reaches: &[ReachData]) -> Str
 /// state to `resume` to continue an interrupted fit.
 #[allow(clippy::too_many_arguments)]
 pub fn fit_model(
-    reaches: &[ReachData],
+    reaches: &[CapturedReach],
     model: Model,
     optimizer: Optimizer,
     start: Option<&[f64]>,
@@ -185,7 +185,7 @@ pub fn fit_model(
             * objective
                 .reaches()
                 .iter()
-                .map(ReachData::frame_count)
+                .map(CapturedReach::frame_count)
                 .sum::<usize>(),
         space,
     })
@@ -217,7 +217,7 @@ impl NestedFit {
 /// Fits `models` (any order; fitted poorest first) to `reaches`, each richer model starting
 /// from the previous one's solution.
 pub fn fit_nested(
-    reaches: &[ReachData],
+    reaches: &[CapturedReach],
     models: &[Model],
     optimizer: Optimizer,
     settings: &FitSettings,
@@ -327,7 +327,7 @@ impl Checkpoint for NestedSink {
 #[derive(Debug, Clone, Copy)]
 pub struct NestedRun<'a> {
     /// The reaches fitted (one for a per-clip fit, all of a person's for a per-person fit).
-    pub reaches: &'a [ReachData],
+    pub reaches: &'a [CapturedReach],
     /// The models, in any order (fitted poorest first).
     pub models: &'a [Model],
     /// The optimizer.

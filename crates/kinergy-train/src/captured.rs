@@ -13,7 +13,7 @@ use std::ops::Range;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, Trajectory, motion_distance};
 use kinergy_solver::{
-    Base, BaseMode, CaptureArm, Controller, ControllerSettings, Optimizer, Reach, StopReason,
+    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, Optimizer, StopReason,
     Synergy, Synthesis, Task,
 };
 
@@ -24,7 +24,7 @@ pub const DEFAULT_TOLERANCE: f64 = 0.005;
 
 /// One captured reach, ready to be synthesized and scored.
 #[derive(Debug, Clone)]
-pub struct ReachData {
+pub struct CapturedReach {
     name: String,
     frames: Range<usize>,
     arm: CaptureArm,
@@ -35,7 +35,7 @@ pub struct ReachData {
     frame_time: f64,
 }
 
-impl ReachData {
+impl CapturedReach {
     /// The reach of `clip` over `frames` (indices into the clip), with the arm `joints`;
     /// `name` names it in messages and reports (e.g. the file name). The base follows the
     /// capture (`BaseMode::Replay`) or stays at the segment's first frame (`Fixed`).
@@ -45,7 +45,7 @@ impl ReachData {
         joints: &ArmJoints,
         frames: Range<usize>,
         mode: BaseMode,
-    ) -> Result<ReachData> {
+    ) -> Result<CapturedReach> {
         let bad = |why: String| TrainError::Reach {
             clip: name.to_string(),
             why,
@@ -68,7 +68,7 @@ impl ReachData {
         let target = *last
             .last()
             .ok_or_else(|| bad("the arm has no joints".into()))?;
-        Ok(ReachData {
+        Ok(CapturedReach {
             name: name.to_string(),
             base: arm.base(mode),
             frames,
@@ -144,7 +144,7 @@ impl ReachData {
         tolerance: f64,
     ) -> Result<Synthesis> {
         let controller = Controller::new(optimizer, synergy, self.settings(tolerance))?;
-        Ok(controller.synthesize(&Reach {
+        Ok(controller.synthesize(&ArmTask {
             chain: self.arm.chain(),
             base: &self.base,
             start: self.arm.start(),
