@@ -4,12 +4,11 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use kinergy_solver::{Model, OptimizerKind};
+use kinergy_solver::{FitGrouping, FittedReach, Model, OptimizerKind};
 use kinergy_train::CapturedReach;
 use kinergy_train::anneal::{CsvLog, Observer, Progress};
 use kinergy_train::fit::{Fit, NestedRun};
 use serde::Serialize;
-use serde_json::json;
 
 use crate::common::{
     Bar, CaptureArgs, Failure, SearchArgs, collect_clips, emit, print_json, train_failure,
@@ -107,7 +106,7 @@ struct FitReport {
     output: String,
     per: &'static str,
     optimizer: &'static str,
-    reaches: Vec<serde_json::Value>,
+    reaches: Vec<FittedReach>,
     models: Vec<ModelRow>,
     nested_violations: Vec<String>,
 }
@@ -203,29 +202,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             args.output.clone()
         };
         let fits = &outcome.fits;
-        let last = fits
-            .fits
-            .last()
-            .ok_or_else(|| Failure::Task("nothing was fitted".into()))?;
-        let mut file = last
-            .params_file(group)
-            .map_err(|e| Failure::Task(e.to_string()))?;
-        if let Some(serde_json::Value::Object(record)) = file.fit.as_mut() {
-            record.insert("per".into(), json!(per_name(args.per)));
-            record.insert(
-                "nested".into(),
-                json!(
-                    fits.fits
-                        .iter()
-                        .map(|f| json!({
-                            "model": f.model().name(),
-                            "score_m": f.score,
-                            "evaluations": f.evaluations,
-                        }))
-                        .collect::<Vec<_>>()
-                ),
-            );
+        if fits.fits.is_empty() {
+            return Err(Failure::Task("nothing was fitted".into()));
         }
+        let file = fits
+            .params_file(group, args.per.grouping())
+            .map_err(|e| Failure::Task(e.to_string()))?;
         file.write(&output)
             .map_err(|e| Failure::Task(e.to_string()))?;
         reports.push(report(&output, args, group, &fits.fits, &fits.violations()));
@@ -260,10 +242,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     emit(&text)
 }
 
-fn per_name(per: Per) -> &'static str {
-    match per {
-        Per::Clip => "clip",
-        Per::Person => "person",
+impl Per {
+    /// The grouping the parameters file records.
+    fn grouping(self) -> FitGrouping {
+        match self {
+            Per::Clip => FitGrouping::Clip,
+            Per::Person => FitGrouping::Person,
+        }
     }
 }
 
@@ -283,19 +268,9 @@ fn report(
     let last = &fits[fits.len() - 1];
     FitReport {
         output: output.display().to_string(),
-        per: per_name(args.per),
+        per: args.per.grouping().name(),
         optimizer: args.optimizer.name(),
-        reaches: reaches
-            .iter()
-            .zip(&last.distances)
-            .map(|(r, d)| {
-                json!({
-                    "clip": r.name(),
-                    "frames": [r.frames().start, r.frames().end],
-                    "distance_m": d,
-                })
-            })
-            .collect(),
+        reaches: last.record(reaches).reaches,
         models: fits
             .iter()
             .map(|f| ModelRow {

@@ -258,16 +258,7 @@ fn fitted_frames(args: &Args) -> Option<std::ops::Range<usize>> {
                 (Ok(a), Ok(b)) if a == b
             )
     };
-    file.fit?
-        .get("reaches")?
-        .as_array()?
-        .iter()
-        .find(|r| r.get("clip").and_then(|c| c.as_str()).is_some_and(same))
-        .and_then(|r| {
-            let f = r.get("frames")?.as_array()?;
-            let (a, b) = (f.first()?.as_u64()?, f.get(1)?.as_u64()?);
-            Some(a as usize..b as usize)
-        })
+    Some(file.fit?.reach(same)?.frames())
 }
 
 /// Shoulder to end effector, fully stretched.

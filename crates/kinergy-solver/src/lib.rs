@@ -5,7 +5,8 @@
 //! - [`Optimizer`]: `jt`, `njt`, `svd`, `dls` turn the task error ΔX into a joint step Δθ
 //!   ([`optimizer`] documents each formula and why the SVD goes through 3 × 3 algebra).
 //! - [`Synergy`] in a [`ParamSpace`]: Δθ'_i = φ_i(t)·g_i·Δθ_i, the models [`Model`] S_A–S_D
-//!   with named, bounded parameters; [`ParamsFile`] is their JSON file.
+//!   with named, bounded parameters; [`ParamsFile`] is their JSON file, with the
+//!   [`FitRecord`] of how they were fitted.
 //! - [`Controller`]: Θ ← clamp(Θ + S(t)·O(ΔX)) each frame, with a typed [`StopReason`].
 //! - [`CaptureArm`]: the 7-DoF chain of a captured arm with the person's bone lengths, its
 //!   base riding on the captured shoulder, the captured start posture, and the way back to
@@ -35,6 +36,7 @@ pub mod analytic;
 pub mod capture;
 pub mod controller;
 pub mod error;
+pub mod fit_record;
 pub mod optimizer;
 pub mod params;
 pub mod synergy;
@@ -45,6 +47,7 @@ pub use controller::{
     ArmTask, Base, Controller, ControllerSettings, LimitHandling, StallRule, StopReason, Synthesis,
 };
 pub use error::{Result, SolverError};
+pub use fit_record::{FitGrouping, FitRecord, FittedReach, StageScore};
 pub use optimizer::{
     DampedLeastSquares, NormalizedTranspose, Optimizer, OptimizerKind, PseudoInverse, StepScratch,
     Transpose,

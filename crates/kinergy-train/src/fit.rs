@@ -15,9 +15,11 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
-use kinergy_solver::{Bounds, Model, Optimizer, ParamSpace, ParamsFile};
+use kinergy_solver::{
+    Bounds, FitGrouping, FitRecord, FittedReach, Model, Optimizer, ParamSpace, ParamsFile,
+    StageScore,
+};
 use serde::{Deserialize, Serialize};
-use serde_json::json;
 
 use crate::anneal::{AnnealSettings, AnnealState, Annealer, Checkpoint, Control, Observer, Status};
 use crate::captured::{CapturedReach, DEFAULT_TOLERANCE};
@@ -79,27 +81,34 @@ impl Fit {
         self.space.model()
     }
 
+    /// The record of this fit on `reaches` (the reaches it was fitted on, in order).
+    pub fn record(&self, reaches: &[CapturedReach]) -> FitRecord {
+        FitRecord {
+            method: "simulated_annealing".into(),
+            score_m: self.score,
+            start_score_m: self.start_score,
+            evaluations: self.evaluations,
+            iterations: self.iterations,
+            status: self.status.name().into(),
+            seed: self.seed,
+            reaches: reaches
+                .iter()
+                .zip(&self.distances)
+                .map(|(r, &distance_m)| FittedReach {
+                    clip: r.name().to_string(),
+                    frames: [r.frames().start, r.frames().end],
+                    distance_m,
+                })
+                .collect(),
+            per: None,
+            nested: None,
+        }
+    }
+
     /// The parameters file of this fit, recording the reaches it was fitted on.
     pub fn params_file(&self, reaches: &[CapturedReach]) -> Result<ParamsFile> {
         let mut file = ParamsFile::new(&self.space, self.optimizer, &self.values)?;
-        file.fit = Some(json!({
-            "method": "simulated_annealing",
-            "score_m": self.score,
-            "start_score_m": self.start_score,
-            "evaluations": self.evaluations,
-            "iterations": self.iterations,
-            "status": self.status.name(),
-            "seed": self.seed,
-            "reaches": reaches
-                .iter()
-                .zip(&self.distances)
-                .map(|(r, d)| json!({
-                    "clip": r.name(),
-                    "frames": [r.frames().start, r.frames().end],
-                    "distance_m": d,
-                }))
-                .collect::<Vec<_>>(),
-        }));
+        file.fit = Some(self.record(reaches));
         Ok(file)
     }
 }
@@ -202,6 +211,34 @@ impl NestedFit {
     /// The fit of `model`, if it was fitted.
     pub fn get(&self, model: Model) -> Option<&Fit> {
         self.fits.iter().find(|f| f.model() == model)
+    }
+
+    /// The parameters file of the richest model, recording the reaches it was fitted on,
+    /// how they were grouped and every model's score.
+    pub fn params_file(
+        &self,
+        reaches: &[CapturedReach],
+        grouping: FitGrouping,
+    ) -> Result<ParamsFile> {
+        let last = self.fits.last().ok_or_else(|| TrainError::Setting {
+            field: "models".into(),
+            why: "at least one fitted model".into(),
+        })?;
+        let mut file = last.params_file(reaches)?;
+        if let Some(record) = file.fit.as_mut() {
+            record.per = Some(grouping);
+            record.nested = Some(
+                self.fits
+                    .iter()
+                    .map(|f| StageScore {
+                        model: f.model(),
+                        score_m: f.score,
+                        evaluations: f.evaluations,
+                    })
+                    .collect(),
+            );
+        }
+        Ok(file)
     }
 
     /// Pairs (poorer, richer) where the richer model ended with a higher score.
