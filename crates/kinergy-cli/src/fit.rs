@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use kinergy_solver::{FitGrouping, FittedReach, Model, OptimizerKind};
 use kinergy_train::CapturedReach;
-use kinergy_train::anneal::{CsvLog, Observer, Progress};
+use kinergy_train::anneal::{Checkpoint, Control, CsvLog, Observer, Progress};
 use kinergy_train::fit::{Fit, NestedRun};
 use serde::Serialize;
 
@@ -163,26 +163,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             settings: &settings,
         };
         let mut bar = Bar::new((settings.anneal.max_evaluations * models.len()) as u64);
-        let checkpoint = args
-            .checkpoint
-            .as_deref()
-            .map(|p| (p, args.checkpoint_every));
+        let control = Control {
+            checkpoint: args.checkpoint.as_ref().map(|p| p as &dyn Checkpoint),
+            checkpoint_every: args.checkpoint_every,
+            interrupt: Some(&INTERRUPTED),
+        };
         let mut hook = InterruptAfter {
             left: args.interrupt_after,
         };
         let outcome = match log.as_mut() {
-            Some(log) => run.run(
-                &mut ((&mut bar, &mut hook), log),
-                checkpoint,
-                Some(&INTERRUPTED),
-                args.resume,
-            ),
-            None => run.run(
-                &mut (&mut bar, &mut hook),
-                checkpoint,
-                Some(&INTERRUPTED),
-                args.resume,
-            ),
+            Some(log) => run.run(&mut ((&mut bar, &mut hook), log), &control, args.resume),
+            None => run.run(&mut (&mut bar, &mut hook), &control, args.resume),
         };
         bar.finish();
         let outcome = outcome.map_err(train_failure)?;

@@ -210,6 +210,7 @@ impl kinergy_train::anneal::Observer for StopAfter<'_> {
 
 #[test]
 fn an_interrupted_nested_fit_resumes_bit_for_bit() {
+    use kinergy_train::anneal::Control;
     use kinergy_train::fit::NestedRun;
     let frames = 120;
     let (made, arm, _) = synthetic_capture(&TRUTH, frames);
@@ -230,7 +231,7 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
         optimizer: OptimizerKind::Njt.default_optimizer(),
         settings: &settings,
     };
-    let whole = run.run(&mut (), None, None, false).expect("whole");
+    let whole = run.run(&mut (), &Control::default(), false).expect("whole");
     assert!(!whole.interrupted);
     let sa_iterations = whole.fits.fits[0].iterations;
     let dir = tempfile::tempdir().expect("tempdir");
@@ -244,8 +245,11 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
                 seen: 0,
                 flag: &flag,
             },
-            Some((&path, 3)),
-            Some(&flag),
+            &Control {
+                checkpoint: Some(&path),
+                checkpoint_every: 3,
+                interrupt: Some(&flag),
+            },
             false,
         )
         .expect("first part");
@@ -259,15 +263,26 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
                 seen: 0,
                 flag: &flag,
             },
-            Some((&path, 3)),
-            Some(&flag),
+            &Control {
+                checkpoint: Some(&path),
+                checkpoint_every: 3,
+                interrupt: Some(&flag),
+            },
             true,
         )
         .expect("second part");
     assert!(second.interrupted);
     flag.store(false, std::sync::atomic::Ordering::SeqCst);
     let resumed = run
-        .run(&mut (), Some((&path, 3)), Some(&flag), true)
+        .run(
+            &mut (),
+            &Control {
+                checkpoint: Some(&path),
+                checkpoint_every: 3,
+                interrupt: Some(&flag),
+            },
+            true,
+        )
         .expect("resume");
     assert!(!resumed.interrupted);
     assert_eq!(resumed.fits, whole.fits, "the resumed fit differs");
@@ -280,7 +295,15 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
         ..run
     };
     let e = other
-        .run(&mut (), Some((&path, 3)), None, true)
+        .run(
+            &mut (),
+            &Control {
+                checkpoint: Some(&path),
+                checkpoint_every: 3,
+                interrupt: None,
+            },
+            true,
+        )
         .expect_err("another problem")
         .to_string();
     assert!(e.contains("fit.ckpt.json"), "{e}");
