@@ -12,6 +12,8 @@
 //!   with checkpoints that resume bit for bit;
 //! - [`fit`]: per-clip and per-person fits, richer models started from poorer ones;
 //! - [`baseline`]: the same objective under argmin's Nelder–Mead and particle swarm;
+//! - [`experiment`]: the paper's comparison of models and optimizers on a set of reaches,
+//!   with annealing against the baselines and the field left one target out;
 //! - [`field`]: parameters as a smooth function of the target, per person;
 //! - [`synthetic`]: reaches made by the controller itself from known parameters.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
@@ -20,6 +22,7 @@ pub mod anneal;
 pub mod baseline;
 pub mod captured;
 pub mod error;
+pub mod experiment;
 pub mod field;
 pub mod fit;
 pub mod objective;
