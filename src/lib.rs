@@ -36,7 +36,7 @@
 //! )?;
 //! let target = kinergy::motion::nalgebra::Point3::new(0.1, -0.2, 0.35);
 //! let start = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
-//! let motion = controller.synthesize(&Reach {
+//! let motion = controller.synthesize(&ArmTask {
 //!     chain: &arm,
 //!     base: &Base::Fixed(base),
 //!     start: &start,
@@ -64,7 +64,7 @@ pub mod prelude {
         write_clip,
     };
     pub use kinergy_solver::{
-        Base, CaptureArm, Controller, ControllerSettings, Model, Optimizer, OptimizerKind,
-        ParamSpace, ParamsFile, Reach, SolverError, StopReason, Synergy, Synthesis, Task,
+        ArmTask, Base, CaptureArm, Controller, ControllerSettings, Model, Optimizer, OptimizerKind,
+        ParamSpace, ParamsFile, SolverError, StopReason, Synergy, Synthesis, Task,
     };
 }

@@ -10,9 +10,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde::Serialize;
 
+use crate::common::collect_clips;
 use crate::common::{Failure, ReadArgs, emit, print_json};
 use crate::draw::{self, DrawResult, FONT, Figure, Format};
-use crate::reaches::collect_clips;
 
 /// The most clips one picture holds: one palette colour each.
 const MAX_CLIPS: usize = 8;
@@ -437,7 +437,7 @@ impl Figure for Strip<'_> {
 
 /// `WxH` → (W, H), each side within [`SIZE_RANGE`].
 fn parse_size(text: &str) -> Result<(u32, u32), Failure> {
-    draw::parse_size(text, SIZE_RANGE)
+    crate::common::parse_size(text, SIZE_RANGE)
 }
 
 /// Labels for the clips: their file stems, with as many parent folders as it takes to tell
@@ -587,7 +587,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     // neither behind.
     let (gif_temp, strip_temp) = (staged(&args.output), staged(&strip));
     // A bar on the terminal only (indicatif hides it when stderr is not one).
-    let bar = crate::fit::Bar::counting(frames as u64, "frames");
+    let bar = crate::common::Bar::counting(frames as u64, "frames");
     let written = draw::save_gif(&gif_temp, size, frames, delay_ms, |k, root| {
         bar.inc();
         draw_scene(root, &scene, &[k as f64 / fps])

@@ -7,6 +7,7 @@ use kinergy_motion::{ExportOptions, LengthUnit};
 
 use crate::common::{Failure, ReadArgs};
 
+/// Arguments of `kinergy convert`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The BVH file to read.
@@ -25,12 +26,13 @@ pub struct Args {
     read: ReadArgs,
 }
 
+/// Runs `kinergy convert`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     let (clip, _) = args.read.read(&args.input)?;
     let clip = match &args.frames {
         None => clip,
         Some(text) => {
-            let range = crate::reaches::parse_frames(text)?;
+            let range = crate::common::parse_frames(text)?;
             if range.end > clip.frame_count() {
                 return Err(Failure::Input(format!(
                     "--frames {text}: {} has {} frames",

@@ -46,30 +46,6 @@ pub fn colour(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
 
-/// `WxH` → (W, H) pixels, each side within `range`; errors name `--size`.
-pub fn parse_size(text: &str, range: std::ops::RangeInclusive<u32>) -> Result<(u32, u32), Failure> {
-    let bad = |why: &str| Failure::Input(format!("--size `{text}`: {why}"));
-    let (w, h) = text
-        .split_once(['x', 'X'])
-        .ok_or_else(|| bad("expected WxH, e.g. 640x480"))?;
-    let side = |s: &str| -> Result<u32, Failure> {
-        let n: u32 = s
-            .trim()
-            .parse()
-            .map_err(|_| bad("W and H must be whole numbers of pixels"))?;
-        if range.contains(&n) {
-            Ok(n)
-        } else {
-            Err(bad(&format!(
-                "each side must be {} to {} pixels",
-                range.start(),
-                range.end()
-            )))
-        }
-    };
-    Ok((side(w)?, side(h)?))
-}
-
 /// The picture formats, from the output's extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {

@@ -4,15 +4,15 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use kinergy_solver::{Model, OptimizerKind};
-use kinergy_train::ReachData;
-use kinergy_train::anneal::{AnnealSettings, CsvLog, Observer, Progress};
-use kinergy_train::fit::{Fit, FitSettings, NestedRun};
+use kinergy_solver::{FitGrouping, FittedReach, Model, OptimizerKind};
+use kinergy_train::CapturedReach;
+use kinergy_train::anneal::{Checkpoint, Control, CsvLog, Observer, Progress};
+use kinergy_train::fit::{Fit, NestedRun};
 use serde::Serialize;
-use serde_json::json;
 
-use crate::common::{Failure, emit, print_json};
-use crate::reaches::{ReachArgs, collect_clips};
+use crate::common::{
+    Bar, CaptureArgs, Failure, SearchArgs, collect_clips, emit, print_json, train_failure,
+};
 
 /// Set by Ctrl-C: the running fit stops after its current iteration and checkpoints.
 pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
@@ -24,56 +24,6 @@ pub enum Per {
     Clip,
     /// One parameter vector for all the clips (one person's).
     Person,
-}
-
-/// Search settings shared by `fit` and `compare`.
-#[derive(Debug, clap::Args)]
-pub struct SearchArgs {
-    /// Seed of every random draw (same seed, same result, on any thread count).
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Threads (default: all cores). The result does not depend on it.
-    #[arg(long)]
-    pub threads: Option<usize>,
-    /// Evaluation budget per model fit (each evaluation synthesizes every reach once).
-    #[arg(long, default_value_t = AnnealSettings::default().max_evaluations, value_name = "N")]
-    pub budget: usize,
-    /// Members of the annealing population.
-    #[arg(long, default_value_t = AnnealSettings::default().population, value_name = "N")]
-    pub population: usize,
-    /// Initial temperature relative to the initial mean score (0: the paper's greedy rule).
-    #[arg(long, default_value_t = AnnealSettings::default().temperature, value_name = "T")]
-    pub temperature: f64,
-}
-
-impl SearchArgs {
-    /// Fit settings from the flags.
-    pub fn settings(&self) -> FitSettings {
-        FitSettings {
-            anneal: AnnealSettings {
-                seed: self.seed,
-                max_evaluations: self.budget,
-                population: self.population,
-                temperature: self.temperature,
-                ..AnnealSettings::default()
-            },
-            ..FitSettings::default()
-        }
-    }
-
-    /// Sizes rayon's global pool.
-    pub fn apply_threads(&self) -> Result<(), Failure> {
-        if let Some(n) = self.threads {
-            if n == 0 {
-                return Err(Failure::Input("--threads 0: expected at least 1".into()));
-            }
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build_global()
-                .map_err(|e| Failure::Task(format!("--threads {n}: {e}")))?;
-        }
-        Ok(())
-    }
 }
 
 /// Arguments of `kinergy fit`.
@@ -122,49 +72,7 @@ pub struct Args {
     #[command(flatten)]
     pub search: SearchArgs,
     #[command(flatten)]
-    pub reach: ReachArgs,
-}
-
-/// A progress bar (hidden when stderr is not a terminal): annealing evaluations, clips,
-/// frames.
-pub struct Bar {
-    bar: indicatif::ProgressBar,
-    offset: u64,
-    last: u64,
-}
-
-impl Bar {
-    /// A bar for `total` evaluations.
-    pub fn new(total: u64) -> Bar {
-        Bar::counting(total, "evaluations")
-    }
-
-    /// A bar for `total` things named `unit` (`clips`, `frames`).
-    pub fn counting(total: u64, unit: &str) -> Bar {
-        let bar = indicatif::ProgressBar::new(total);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(&format!(
-                "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit}  {{msg}}"
-            ))
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-            .progress_chars("=> "),
-        );
-        Bar {
-            bar,
-            offset: 0,
-            last: 0,
-        }
-    }
-
-    /// One more step done (for bars counting jobs, not evaluations).
-    pub fn inc(&self) {
-        self.bar.inc(1);
-    }
-
-    /// Done.
-    pub fn finish(&self) {
-        self.bar.finish_and_clear();
-    }
+    pub reach: CaptureArgs,
 }
 
 /// Raises [`INTERRUPTED`] after a number of iterations (the `--interrupt-after` hook).
@@ -183,23 +91,6 @@ impl Observer for InterruptAfter {
     }
 }
 
-impl Observer for Bar {
-    fn on_iteration(&mut self, p: &Progress) {
-        let e = p.evaluations as u64;
-        if e < self.last {
-            // A new stage of a nested fit.
-            self.offset += self.last;
-        }
-        self.last = e;
-        self.bar.set_position(self.offset + e);
-        self.bar.set_message(format!(
-            "best {:.2} mm, mean {:.2} mm",
-            p.best_cost * 1e3,
-            p.mean_cost * 1e3
-        ));
-    }
-}
-
 #[derive(Serialize)]
 struct ModelRow {
     model: &'static str,
@@ -215,7 +106,7 @@ struct FitReport {
     output: String,
     per: &'static str,
     optimizer: &'static str,
-    reaches: Vec<serde_json::Value>,
+    reaches: Vec<FittedReach>,
     models: Vec<ModelRow>,
     nested_violations: Vec<String>,
 }
@@ -243,7 +134,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .filter(|m| *m <= args.model)
             .collect()
     };
-    let groups: Vec<Vec<ReachData>> = match args.per {
+    let groups: Vec<Vec<CapturedReach>> = match args.per {
         Per::Person => vec![reaches],
         Per::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
     };
@@ -272,26 +163,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             settings: &settings,
         };
         let mut bar = Bar::new((settings.anneal.max_evaluations * models.len()) as u64);
-        let checkpoint = args
-            .checkpoint
-            .as_deref()
-            .map(|p| (p, args.checkpoint_every));
+        let control = Control {
+            checkpoint: args.checkpoint.as_ref().map(|p| p as &dyn Checkpoint),
+            checkpoint_every: args.checkpoint_every,
+            interrupt: Some(&INTERRUPTED),
+        };
         let mut hook = InterruptAfter {
             left: args.interrupt_after,
         };
         let outcome = match log.as_mut() {
-            Some(log) => run.run(
-                &mut ((&mut bar, &mut hook), log),
-                checkpoint,
-                Some(&INTERRUPTED),
-                args.resume,
-            ),
-            None => run.run(
-                &mut (&mut bar, &mut hook),
-                checkpoint,
-                Some(&INTERRUPTED),
-                args.resume,
-            ),
+            Some(log) => run.run(&mut ((&mut bar, &mut hook), log), &control, args.resume),
+            None => run.run(&mut (&mut bar, &mut hook), &control, args.resume),
         };
         bar.finish();
         let outcome = outcome.map_err(train_failure)?;
@@ -311,29 +193,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             args.output.clone()
         };
         let fits = &outcome.fits;
-        let last = fits
-            .fits
-            .last()
-            .ok_or_else(|| Failure::Task("nothing was fitted".into()))?;
-        let mut file = last
-            .params_file(group)
-            .map_err(|e| Failure::Task(e.to_string()))?;
-        if let Some(serde_json::Value::Object(record)) = file.fit.as_mut() {
-            record.insert("per".into(), json!(per_name(args.per)));
-            record.insert(
-                "nested".into(),
-                json!(
-                    fits.fits
-                        .iter()
-                        .map(|f| json!({
-                            "model": f.model().name(),
-                            "score_m": f.score,
-                            "evaluations": f.evaluations,
-                        }))
-                        .collect::<Vec<_>>()
-                ),
-            );
+        if fits.fits.is_empty() {
+            return Err(Failure::Task("nothing was fitted".into()));
         }
+        let file = fits
+            .params_file(group, args.per.grouping())
+            .map_err(|e| Failure::Task(e.to_string()))?;
         file.write(&output)
             .map_err(|e| Failure::Task(e.to_string()))?;
         reports.push(report(&output, args, group, &fits.fits, &fits.violations()));
@@ -368,10 +233,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     emit(&text)
 }
 
-fn per_name(per: Per) -> &'static str {
-    match per {
-        Per::Clip => "clip",
-        Per::Person => "person",
+impl Per {
+    /// The grouping the parameters file records.
+    fn grouping(self) -> FitGrouping {
+        match self {
+            Per::Clip => FitGrouping::Clip,
+            Per::Person => FitGrouping::Person,
+        }
     }
 }
 
@@ -384,26 +252,16 @@ fn stem(path: &Path) -> String {
 fn report(
     output: &Path,
     args: &Args,
-    reaches: &[ReachData],
+    reaches: &[CapturedReach],
     fits: &[Fit],
     violations: &[(Model, Model)],
 ) -> FitReport {
     let last = &fits[fits.len() - 1];
     FitReport {
         output: output.display().to_string(),
-        per: per_name(args.per),
+        per: args.per.grouping().name(),
         optimizer: args.optimizer.name(),
-        reaches: reaches
-            .iter()
-            .zip(&last.distances)
-            .map(|(r, d)| {
-                json!({
-                    "clip": r.name(),
-                    "frames": [r.frames().start, r.frames().end],
-                    "distance_m": d,
-                })
-            })
-            .collect(),
+        reaches: last.record(reaches).reaches,
         models: fits
             .iter()
             .map(|f| ModelRow {
@@ -425,14 +283,5 @@ fn report(
                 )
             })
             .collect(),
-    }
-}
-
-/// Training errors: bad checkpoints and settings are bad input; the rest failed tasks.
-pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
-    use kinergy_train::TrainError as E;
-    match e {
-        E::Checkpoint { .. } | E::Setting { .. } | E::Reach { .. } => Failure::Input(e.to_string()),
-        _ => Failure::Task(e.to_string()),
     }
 }

@@ -9,6 +9,7 @@ use std::fmt::Write as _;
 
 use crate::common::{Failure, ReadArgs, emit, print_json};
 
+/// Arguments of `kinergy inspect`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The BVH file.
@@ -66,6 +67,7 @@ struct ArmInfo {
     peak_hand_speed_time_s: Option<f64>,
 }
 
+/// Runs `kinergy inspect`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     let (clip, import) = args.read.read(&args.file)?;
     let arms = match &args.chain {

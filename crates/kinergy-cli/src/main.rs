@@ -14,7 +14,6 @@ mod inspect;
 mod plan;
 mod plot;
 mod reach;
-mod reaches;
 mod segment;
 mod synth;
 mod synthesize;

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+use kinergy_motion::Side;
 use kinergy_plan::PlanError;
 use kinergy_plan::hand::HandShape;
 use kinergy_plan::scene::Scene;
@@ -58,7 +59,7 @@ pub struct Args {
     pub distance: f64,
     /// The acting arm: right or left.
     #[arg(long, default_value = "right", value_name = "SIDE")]
-    pub arm: String,
+    pub arm: Side,
     /// Seed of the planner's random stream (same seed, same motion).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -170,14 +171,9 @@ fn plan_failure(e: PlanError) -> Failure {
 /// Runs `kinergy plan`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     let scene = Scene::read(&args.scene).map_err(|e| Failure::input(&args.scene, e))?;
-    let limb = match args.arm.as_str() {
-        "right" => Limb::RightArm,
-        "left" => Limb::LeftArm,
-        other => {
-            return Err(Failure::Input(format!(
-                "--arm `{other}`: expected right or left"
-            )));
-        }
+    let limb = match args.arm {
+        Side::Right => Limb::RightArm,
+        Side::Left => Limb::LeftArm,
     };
     let mut settings = TaskSettings {
         limb,
@@ -209,7 +205,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 .to
                 .as_deref()
                 .ok_or_else(|| Failure::Input("--task relocate needs --to x,y,z".into()))?;
-            let to = crate::synthesize::parse_point(to, "--to")?;
+            let to = crate::common::parse_point(to, "--to")?;
             (format!("relocate {object}"), planner.relocate(&object, &to))
         }
         (None, Some(Task::Grasp)) => {

@@ -9,9 +9,8 @@ use std::path::PathBuf;
 use kinergy_train::segment::{SegmentSettings, hand_speed};
 use serde::Serialize;
 
-use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
+use crate::common::{ArmArgs, Failure, ReadArgs, collect_clips, emit, parse_size, print_json};
 use crate::draw::{LineChart, Series, save};
-use crate::reaches::collect_clips;
 
 /// Arguments of `kinergy plot`.
 #[derive(Debug, clap::Args)]
@@ -90,7 +89,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
 fn speed(args: &SpeedArgs) -> Result<(), Failure> {
     crate::draw::Format::of(&args.output, "-o")?;
-    let size = crate::draw::parse_size(&args.size, 64..=8192)?;
+    let size = parse_size(&args.size, 64..=8192)?;
     if !args.smoothing.is_finite() || args.smoothing < 0.0 {
         return Err(Failure::Input(format!(
             "--smoothing {}: expected seconds ≥ 0",

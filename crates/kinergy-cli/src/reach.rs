@@ -8,8 +8,7 @@ use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use kinergy_reach::steps::Side;
 use serde::Serialize;
 
-use crate::common::{Failure, ReadArgs, emit, print_json};
-use crate::synthesize::parse_point;
+use crate::common::{Failure, ReadArgs, emit, parse_point, print_json};
 
 /// The hand's speed profile.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -38,7 +37,7 @@ pub struct Args {
     pub flexibility: f64,
     /// The reaching arm (default: the one on the target's side).
     #[arg(long, value_name = "SIDE")]
-    pub arm: Option<String>,
+    pub arm: Option<Side>,
     /// The hand's speed profile.
     #[arg(long, value_enum, default_value = "ease-out")]
     pub profile: Profile,
@@ -79,21 +78,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .map_err(|e| Failure::Input(format!("--height {}: {e}", args.height)))?,
     };
     let character = Character::new(&proportions).map_err(|e| Failure::Input(e.to_string()))?;
-    let arm = match args.arm.as_deref() {
-        None => None,
-        Some("right") => Some(Side::Right),
-        Some("left") => Some(Side::Left),
-        Some(other) => {
-            return Err(Failure::Input(format!(
-                "--arm `{other}`: expected right or left"
-            )));
-        }
-    };
     let settings = ReachSettings {
         flexibility: args.flexibility,
         seed: args.seed,
         timeout: args.timeout,
-        arm,
+        arm: args.arm,
         profile: match args.profile {
             Profile::EaseOut => SpeedProfile::default(),
             Profile::MinimumJerk => SpeedProfile::MinimumJerk {

@@ -7,16 +7,16 @@
 
 use std::path::PathBuf;
 
-use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ExportOptions, LengthUnit, motion_distance};
 use kinergy_solver::{
-    BaseMode, CaptureArm, Controller, ControllerSettings, Model, OptimizerKind, ParamSpace,
-    ParamsFile, Reach, StopReason, Synergy, Task,
+    BaseMode, Controller, Model, OptimizerKind, ParamSpace, ParamsFile, StopReason, Synergy,
 };
+use kinergy_train::CapturedReach;
 use serde::Serialize;
 
-use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
+use crate::common::{ArmArgs, Failure, ReadArgs, emit, parse_point, print_json};
 
+/// Arguments of `kinergy synthesize`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The capture: the reach starts from its first frame, its torso motion is replayed.
@@ -92,29 +92,7 @@ struct Report {
     at_limits_at_end: Vec<String>,
 }
 
-/// Parses `x,y,z` (meters) into a finite point.
-pub fn parse_point(text: &str, flag: &str) -> Result<Point3<f64>, Failure> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let bad = |why: String| Failure::Input(format!("{flag} `{text}`: {why}"));
-    if parts.len() != 3 {
-        return Err(bad(format!(
-            "expected three comma-separated numbers x,y,z, got {}",
-            parts.len()
-        )));
-    }
-    let mut v = [0.0; 3];
-    for (i, p) in parts.iter().enumerate() {
-        let x: f64 = p
-            .parse()
-            .map_err(|_| bad(format!("`{p}` is not a number")))?;
-        if !x.is_finite() {
-            return Err(bad(format!("`{p}` is not a finite number")));
-        }
-        v[i] = x;
-    }
-    Ok(Point3::new(v[0], v[1], v[2]))
-}
-
+/// Runs `kinergy synthesize`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     let (whole, _) = args.read.read(&args.from)?;
     let joints = args.arm.find(&whole, &args.from)?;
@@ -129,7 +107,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         )
         .map_err(|e| Failure::input(&args.from, e))?
         .frames(),
-        text => crate::reaches::parse_frames(text)?,
+        text => crate::common::parse_frames(text)?,
     };
     if frames.end > whole.frame_count() || frames.len() < 2 {
         return Err(Failure::Input(format!(
@@ -140,11 +118,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             whole.frame_count()
         )));
     }
-    let clip = whole
-        .slice(frames.clone())
+    let name = args.from.display().to_string();
+    let mode = if args.fixed_base {
+        BaseMode::Fixed
+    } else {
+        BaseMode::Replay
+    };
+    let reach = CapturedReach::new(&name, &whole, &joints, frames.clone(), mode)
         .map_err(|e| Failure::input(&args.from, e))?;
-    let arm = CaptureArm::new(&clip, &joints).map_err(|e| Failure::input(&args.from, e))?;
-    let dof_names: Vec<String> = arm.chain().dof_names().map(String::from).collect();
+    let dof_names = reach.dof_names();
 
     let (optimizer, synergy) = match &args.params {
         Some(path) => {
@@ -163,14 +145,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
     };
 
-    let captured = arm
-        .captured_trajectory(&clip)
-        .map_err(|e| Failure::input(&args.from, e))?;
-    let last = captured.frame(captured.frame_count() - 1);
-    let (target, target_from) = match &args.target {
-        Some(t) => (parse_point(t, "--target")?, "--target"),
-        None => (last[last.len() - 1], "the capture's final hand position"),
+    let (reach, target_from) = match &args.target {
+        Some(t) => (reach.with_target(parse_point(t, "--target")?), "--target"),
+        None => (reach, "the capture's final hand position"),
     };
+    let target = reach.target();
     if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
         return Err(Failure::Input(format!(
             "--tolerance {}: expected a positive number of meters",
@@ -183,48 +162,29 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             args.max_seconds
         )));
     }
-    let frame_time = clip.frame_time();
-    let settings = ControllerSettings {
-        max_frames: ((args.max_seconds / frame_time).ceil() as usize).max(1),
-        tolerance: args.tolerance,
-        min_frames: if args.stop_at_reach {
-            0
-        } else {
-            clip.frame_count()
-        },
-        ..ControllerSettings::at_frame_time(frame_time)
-    };
-    let mode = if args.fixed_base {
-        BaseMode::Fixed
-    } else {
-        BaseMode::Replay
-    };
-    let base = arm.base(mode);
+    let settings = reach.open_settings(args.tolerance, args.max_seconds, args.stop_at_reach);
     let controller =
         Controller::new(optimizer, synergy, settings).map_err(|e| Failure::Input(e.to_string()))?;
     let synthesis = controller
-        .synthesize(&Reach {
-            chain: arm.chain(),
-            base: &base,
-            start: arm.start(),
-            task: Task::Position(target),
-        })
+        .synthesize(&reach.task())
         .map_err(|e| Failure::Task(e.to_string()))?;
-    let out_clip = arm
-        .to_clip(&clip, &synthesis, mode)
+    let out_clip = reach
+        .to_clip(&whole, &synthesis)
         .map_err(|e| Failure::input(&args.from, e))?;
     kinergy_motion::write_clip(&args.output, &out_clip, &ExportOptions { unit: args.unit })
         .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
 
+    let arm = reach.arm();
     let distance = match (&args.target, arm.synthesized_trajectory(&synthesis)) {
-        (None, Ok(synthesized)) => motion_distance(&captured, &synthesized).ok(),
+        (None, Ok(synthesized)) => motion_distance(reach.captured(), &synthesized).ok(),
         _ => None,
     };
+    let last = synthesis.frame_count() - 1;
     let report = Report {
-        input: args.from.display().to_string(),
+        input: name,
         output: args.output.display().to_string(),
         arm: joints
-            .names(clip.skeleton())
+            .names(whole.skeleton())
             .into_iter()
             .map(String::from)
             .collect(),
@@ -236,9 +196,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         capture_frames: [frames.start, frames.end],
         stop: synthesis.stop.name(),
         frames: synthesis.frame_count(),
-        duration_s: synthesis.frame_count().saturating_sub(1) as f64 * frame_time,
+        duration_s: synthesis.frame_count().saturating_sub(1) as f64 * reach.frame_time(),
         final_error_m: synthesis.final_error,
-        shoulder_to_target_m: (target - base.at(synthesis.frame_count() - 1).translation.vector)
+        shoulder_to_target_m: (target - reach.base().at(last).translation.vector)
             .coords
             .norm(),
         arm_length_m: arm_length(arm.chain()),
@@ -246,7 +206,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         widened_limits: arm.widened_limits().to_vec(),
         at_limits_at_end: arm
             .chain()
-            .dofs_at_limits(synthesis.configuration(synthesis.frame_count() - 1), 1e-6)
+            .dofs_at_limits(synthesis.configuration(last), 1e-6)
             .into_iter()
             .map(|k| dof_names[k].clone())
             .collect(),
@@ -280,16 +240,7 @@ fn fitted_frames(args: &Args) -> Option<std::ops::Range<usize>> {
                 (Ok(a), Ok(b)) if a == b
             )
     };
-    file.fit?
-        .get("reaches")?
-        .as_array()?
-        .iter()
-        .find(|r| r.get("clip").and_then(|c| c.as_str()).is_some_and(same))
-        .and_then(|r| {
-            let f = r.get("frames")?.as_array()?;
-            let (a, b) = (f.first()?.as_u64()?, f.get(1)?.as_u64()?);
-            Some(a as usize..b as usize)
-        })
+    Some(file.fit?.reach(same)?.frames())
 }
 
 /// Shoulder to end effector, fully stretched.

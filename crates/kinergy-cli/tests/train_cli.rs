@@ -84,7 +84,7 @@ fn fit_writes_a_valid_parameters_file_the_same_on_any_thread_count() {
     space
         .validate(&file.values().expect("values"))
         .expect("within bounds");
-    let record = file.fit.as_ref().expect("fit record");
+    let record = serde_json::to_value(file.fit.as_ref().expect("fit record")).expect("json");
     assert_eq!(
         record["reaches"][0]["clip"],
         fixture("006_14.bvh").to_str().expect("utf-8")

@@ -16,8 +16,8 @@ use kinergy_motion::nalgebra::{
 };
 use kinergy_motion::{Chain, ChainJoint, Linearization, Motion};
 use kinergy_solver::{
-    Base, Controller, ControllerSettings, LimitHandling, Model, Optimizer, OptimizerKind,
-    ParamSpace, PseudoInverse, Reach, StallRule, StepScratch, StopReason, Synergy, Task,
+    ArmTask, Base, Controller, ControllerSettings, LimitHandling, Model, Optimizer, OptimizerKind,
+    ParamSpace, PseudoInverse, StallRule, StepScratch, StopReason, Synergy, Task,
 };
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
@@ -97,7 +97,7 @@ fn reach(c: &mut Criterion) {
     for kind in OptimizerKind::ALL {
         let controller =
             Controller::new(kind.default_optimizer(), sc_synergy(&arm), settings).expect("ok");
-        let reach = Reach {
+        let reach = ArmTask {
             chain: &arm,
             base: &base,
             start: &start,
@@ -234,7 +234,7 @@ fn ours(name: &str, optimizer: Optimizer, limits: LimitHandling) -> Outcome {
     let mut successes = 0;
     let clock = Instant::now();
     for t in &targets {
-        let reach = Reach {
+        let reach = ArmTask {
             chain: &arm,
             base: &base,
             start: &start,

@@ -220,9 +220,10 @@ impl Synthesis {
     }
 }
 
-/// One reach to synthesize: a chain, where its base is, the start posture and the task.
+/// An arm task for the controller: a chain, where its base is, the start posture and the
+/// task of its end effector (one reach to synthesize).
 #[derive(Debug, Clone)]
-pub struct Reach<'a> {
+pub struct ArmTask<'a> {
     /// The chain (a person's bone lengths and joint limits).
     pub chain: &'a Chain,
     /// The base frames.
@@ -278,13 +279,13 @@ impl Controller {
     /// computes ΔX, Δθ = O(ΔX), Δθ' = S(t)Δθ at t = frame · frame_time, and Θ ←
     /// clamp(Θ + Δθ'). Ends when the task error is below ε (and `min_frames` exist), the
     /// budget runs out, progress stalls or a step is not finite.
-    pub fn synthesize(&self, reach: &Reach<'_>) -> Result<Synthesis> {
-        let chain = reach.chain;
+    pub fn synthesize(&self, arm: &ArmTask<'_>) -> Result<Synthesis> {
+        let chain = arm.chain;
         let n = chain.dof_count();
-        if reach.start.len() != n {
+        if arm.start.len() != n {
             return Err(kinergy_motion::MotionError::PoseLength {
                 expected: n,
-                found: reach.start.len(),
+                found: arm.start.len(),
             }
             .into());
         }
@@ -297,16 +298,16 @@ impl Controller {
                 ),
             });
         }
-        if !reach.start.iter().all(|v| v.is_finite()) {
+        if !arm.start.iter().all(|v| v.is_finite()) {
             return Err(SolverError::NonFinite("the start posture".into()));
         }
-        reach.base.validate()?;
-        reach.task.validate()?;
+        arm.base.validate()?;
+        arm.task.validate()?;
 
         let s = &self.settings;
         let dt = s.frame_time;
         let window = ((s.stall.window / dt).ceil() as usize).max(1);
-        let mut q = reach.start.to_vec();
+        let mut q = arm.start.to_vec();
         chain.clamp(&mut q);
         let mut lin = Linearization::default();
         let mut scratch = StepScratch::default();
@@ -325,8 +326,8 @@ impl Controller {
         let mut errors: Vec<f64> = Vec::with_capacity(s.max_frames.min(4096));
         let mut frame = 0;
         loop {
-            chain.linearize_into(reach.base.at(frame), &q, &mut lin)?;
-            let error = reach.task.error(&lin);
+            chain.linearize_into(arm.base.at(frame), &q, &mut lin)?;
+            let error = arm.task.error(&lin);
             let e = error.norm();
             if !e.is_finite() {
                 out.stop = StopReason::NonFinite;
@@ -349,7 +350,7 @@ impl Controller {
             }
             if long_enough
                 && frame >= window
-                && reach.base.is_still_from(frame - window)
+                && arm.base.is_still_from(frame - window)
                 && errors[frame - window]
                     - errors[frame - window + 1..=frame]
                         .iter()

@@ -5,7 +5,8 @@
 //! - [`Optimizer`]: `jt`, `njt`, `svd`, `dls` turn the task error ΔX into a joint step Δθ
 //!   ([`optimizer`] documents each formula and why the SVD goes through 3 × 3 algebra).
 //! - [`Synergy`] in a [`ParamSpace`]: Δθ'_i = φ_i(t)·g_i·Δθ_i, the models [`Model`] S_A–S_D
-//!   with named, bounded parameters; [`ParamsFile`] is their JSON file.
+//!   with named, bounded parameters; [`ParamsFile`] is their JSON file, with the
+//!   [`FitRecord`] of how they were fitted.
 //! - [`Controller`]: Θ ← clamp(Θ + S(t)·O(ΔX)) each frame, with a typed [`StopReason`].
 //! - [`CaptureArm`]: the 7-DoF chain of a captured arm with the person's bone lengths, its
 //!   base riding on the captured shoulder, the captured start posture, and the way back to
@@ -14,7 +15,7 @@
 //! ```
 //! use kinergy_motion::Chain;
 //! use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
-//! use kinergy_solver::{Base, Controller, ControllerSettings, OptimizerKind, Reach, StopReason, Synergy, Task};
+//! use kinergy_solver::{Base, Controller, ControllerSettings, OptimizerKind, ArmTask, StopReason, Synergy, Task};
 //!
 //! let arm = Chain::arm(0.30, 0.26, 0.09)?;
 //! let base = Base::Fixed(IsometryMatrix3::identity());
@@ -24,8 +25,8 @@
 //!     Synergy::identity(7),
 //!     ControllerSettings::at_frame_time(1.0 / 120.0),
 //! )?;
-//! let reach = Reach { chain: &arm, base: &base, start: &start, task: Task::Position(Point3::new(0.1, -0.2, 0.45)) };
-//! let motion = controller.synthesize(&reach)?;
+//! let task = ArmTask { chain: &arm, base: &base, start: &start, task: Task::Position(Point3::new(0.1, -0.2, 0.45)) };
+//! let motion = controller.synthesize(&task)?;
 //! assert_eq!(motion.stop, StopReason::Reached);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -35,6 +36,7 @@ pub mod analytic;
 pub mod capture;
 pub mod controller;
 pub mod error;
+pub mod fit_record;
 pub mod optimizer;
 pub mod params;
 pub mod synergy;
@@ -42,9 +44,10 @@ pub mod task;
 
 pub use capture::{BaseMode, CaptureArm};
 pub use controller::{
-    Base, Controller, ControllerSettings, LimitHandling, Reach, StallRule, StopReason, Synthesis,
+    ArmTask, Base, Controller, ControllerSettings, LimitHandling, StallRule, StopReason, Synthesis,
 };
 pub use error::{Result, SolverError};
+pub use fit_record::{FitGrouping, FitRecord, FittedReach, StageScore};
 pub use optimizer::{
     DampedLeastSquares, NormalizedTranspose, Optimizer, OptimizerKind, PseudoInverse, StepScratch,
     Transpose,

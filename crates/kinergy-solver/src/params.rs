@@ -1,6 +1,6 @@
 //! The synergy parameters file (DESIGN §3): JSON with a `format_version`, the model, the
 //! optimizer with its settings, the chain's DoF names, the bounds, the values by name, and
-//! (when it was fitted) a record of the fit.
+//! (when it was fitted) a record of the fit ([`FitRecord`]).
 //!
 //! ```json
 //! {
@@ -10,7 +10,7 @@
 //!   "dof_names": ["shoulder_swing_x", "…"],
 //!   "bounds": { "gain": { "lower": -5.0, "upper": 5.0 }, "slope": { … }, "offset": { … } },
 //!   "values": { "g_shoulder_swing_x": 1.3, "…": 0.0, "s": 4.2, "o": 1.7 },
-//!   "fit": { "score": 0.021, "…": "…" }
+//!   "fit": { "method": "simulated_annealing", "score_m": 0.021, "…": "…" }
 //! }
 //! ```
 
@@ -19,6 +19,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, SolverError};
+use crate::fit_record::FitRecord;
 use crate::optimizer::Optimizer;
 use crate::synergy::{Bounds, Model, ParamSpace, Synergy};
 
@@ -41,10 +42,9 @@ pub struct ParamsFile {
     pub bounds: Bounds,
     /// Every parameter by name, in vector order.
     pub values: serde_json::Map<String, serde_json::Value>,
-    /// How the values were fitted (score, clips, segments, method, seed); free-form so
-    /// the trainer can record what it did.
+    /// How the values were fitted (method, scores, seed, the reaches and their frames).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub fit: Option<serde_json::Value>,
+    pub fit: Option<FitRecord>,
 }
 
 impl ParamsFile {

@@ -12,8 +12,8 @@ use kinergy_motion::{
     write_clip,
 };
 use kinergy_solver::{
-    BaseMode, CaptureArm, Controller, ControllerSettings, OptimizerKind, Reach, Synergy, Synthesis,
-    Task,
+    ArmTask, BaseMode, CaptureArm, Controller, ControllerSettings, OptimizerKind, Synergy,
+    Synthesis, Task,
 };
 
 const FILES: [&str; 2] = ["cmu_12_01_walk.bvh", "006_14.bvh"];
@@ -119,7 +119,7 @@ fn reach(clip: &Clip, arm: &CaptureArm, mode: BaseMode, extra: usize) -> Synthes
     .expect("controller");
     let base = arm.base(mode);
     let m = controller
-        .synthesize(&Reach {
+        .synthesize(&ArmTask {
             chain: arm.chain(),
             base: &base,
             start: arm.start(),

@@ -12,9 +12,9 @@ use kinergy_motion::rotation::swing_rotation;
 use kinergy_motion::{Chain, Linearization, Motion, MotionError};
 use kinergy_solver::task::TaskError;
 use kinergy_solver::{
-    Base, Bounds, Controller, ControllerSettings, LimitHandling, Model, Optimizer, OptimizerKind,
-    ParamSpace, PseudoInverse, Reach, SolverError, StepScratch, StopReason, Synergy, Synthesis,
-    Task, sig,
+    ArmTask, Base, Bounds, Controller, ControllerSettings, LimitHandling, Model, Optimizer,
+    OptimizerKind, ParamSpace, PseudoInverse, SolverError, StepScratch, StopReason, Synergy,
+    Synthesis, Task, sig,
 };
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
@@ -110,7 +110,7 @@ fn random_base(rng: &mut Rng) -> IsometryMatrix3<f64> {
 }
 
 fn synthesize(c: &Controller, chain: &Chain, base: &Base, start: &[f64], task: Task) -> Synthesis {
-    c.synthesize(&Reach {
+    c.synthesize(&ArmTask {
         chain,
         base,
         start,
@@ -793,7 +793,7 @@ fn bad_inputs_are_typed_errors() {
     let start = [0.3, -0.2, 0.1, 1.0, 0.2, 0.1, 0.0];
     let target = Task::Position(Point3::new(0.1, -0.2, 0.45));
     let run = |c: &Controller, start: &[f64], task: Task| {
-        c.synthesize(&Reach {
+        c.synthesize(&ArmTask {
             chain: &chain,
             base: &base,
             start,

@@ -18,7 +18,7 @@ use kinergy_solver::{Model, OptimizerKind, ParamSpace};
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::fit::{FitSettings, fit_nested};
 use kinergy_train::synthetic::{MadeReach, made_set};
-use kinergy_train::{CostFunction, Objective, ReachData};
+use kinergy_train::{CapturedReach, CostFunction, Objective};
 use rayon::prelude::*;
 
 const CLIPS: usize = 14;
@@ -80,7 +80,7 @@ fn settings(budget: usize) -> FitSettings {
 
 /// Fig. 3: every clip, 4 nested models with SVD, clips in parallel. Returns the mean score
 /// per model and the evaluations spent.
-fn fig3(reaches: &[ReachData], budget: usize) -> (Vec<f64>, usize) {
+fn fig3(reaches: &[CapturedReach], budget: usize) -> (Vec<f64>, usize) {
     let fits: Vec<_> = reaches
         .par_iter()
         .map(|r| {
@@ -104,7 +104,7 @@ fn fig3(reaches: &[ReachData], budget: usize) -> (Vec<f64>, usize) {
 }
 
 /// Fig. 4: every clip, JT / NJT / SVD with S_A then S_C.
-fn fig4(reaches: &[ReachData], budget: usize) -> Vec<(f64, f64)> {
+fn fig4(reaches: &[CapturedReach], budget: usize) -> Vec<(f64, f64)> {
     [OptimizerKind::Jt, OptimizerKind::Njt, OptimizerKind::Svd]
         .iter()
         .map(|kind| {
@@ -128,7 +128,7 @@ fn fig4(reaches: &[ReachData], budget: usize) -> Vec<(f64, f64)> {
 
 fn experiments(_: &mut Criterion) {
     let set = made();
-    let reaches: Vec<ReachData> = set.iter().map(|m| m.reach.clone()).collect();
+    let reaches: Vec<CapturedReach> = set.iter().map(|m| m.reach.clone()).collect();
     let budget = AnnealSettings::default().max_evaluations;
     eprintln!(
         "\n{CLIPS} reaches made by the controller (S_C truths, SVD, {FRAMES} frames at 60 Hz), {} threads:",

@@ -2,7 +2,7 @@
 //! DESIGN §1.1):
 //!
 //! - [`segment`]: the reach segments of a clip from its hand-speed series (onset, peak, end);
-//! - [`reach`]: a captured reach prepared for fitting — start posture, target, the person's
+//! - [`captured`]: a captured reach prepared for fitting — start posture, target, the person's
 //!   arm, the captured torso motion the synthesized arm rides on — and its score, the
 //!   joint-position motion distance;
 //! - [`objective`]: the mean distance of a parameter vector over a set of reaches, as a
@@ -12,20 +12,23 @@
 //!   with checkpoints that resume bit for bit;
 //! - [`fit`]: per-clip and per-person fits, richer models started from poorer ones;
 //! - [`baseline`]: the same objective under argmin's Nelder–Mead and particle swarm;
+//! - [`experiment`]: the paper's comparison of models and optimizers on a set of reaches,
+//!   with annealing against the baselines and the field left one target out;
 //! - [`field`]: parameters as a smooth function of the target, per person;
 //! - [`synthetic`]: reaches made by the controller itself from known parameters.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod anneal;
 pub mod baseline;
+pub mod captured;
 pub mod error;
+pub mod experiment;
 pub mod field;
 pub mod fit;
 pub mod objective;
-pub mod reach;
 pub mod segment;
 pub mod synthetic;
 
+pub use captured::CapturedReach;
 pub use error::{Result, TrainError};
 pub use objective::{CostFunction, Objective};
-pub use reach::ReachData;

@@ -5,8 +5,8 @@ use rayon::prelude::*;
 
 use kinergy_solver::{Optimizer, ParamSpace, Synergy};
 
+use crate::captured::{CapturedReach, DEFAULT_TOLERANCE};
 use crate::error::{Result, TrainError, require};
-use crate::reach::{DEFAULT_TOLERANCE, ReachData};
 
 /// A bounded cost function: what [`crate::anneal`] and [`crate::baseline`] minimize.
 /// Evaluations must be deterministic; `cost` is called from several threads at once.
@@ -55,7 +55,7 @@ pub fn checked_bounds(cost: &dyn CostFunction, start: &[f64]) -> Result<(Vec<f64
 /// vector of `space` and `optimizer`.
 #[derive(Debug, Clone)]
 pub struct Objective {
-    reaches: Vec<ReachData>,
+    reaches: Vec<CapturedReach>,
     space: ParamSpace,
     optimizer: Optimizer,
     tolerance: f64,
@@ -65,7 +65,7 @@ impl Objective {
     /// An objective over `reaches` (at least one; every reach's chain must have the DoF
     /// names of `space`), with ε = [`DEFAULT_TOLERANCE`].
     pub fn new(
-        reaches: Vec<ReachData>,
+        reaches: Vec<CapturedReach>,
         space: ParamSpace,
         optimizer: Optimizer,
     ) -> Result<Objective> {
@@ -103,7 +103,7 @@ impl Objective {
     }
 
     /// The reaches.
-    pub fn reaches(&self) -> &[ReachData] {
+    pub fn reaches(&self) -> &[CapturedReach] {
         &self.reaches
     }
 
@@ -159,6 +159,6 @@ impl CostFunction for Objective {
     }
 
     fn frames_per_evaluation(&self) -> usize {
-        self.reaches.iter().map(ReachData::frame_count).sum()
+        self.reaches.iter().map(CapturedReach::frame_count).sum()
     }
 }

@@ -10,13 +10,13 @@
 
 use kinergy_motion::{ArmJoints, Clip};
 use kinergy_solver::{
-    BaseMode, Controller, Model, Optimizer, ParamSpace, Reach, Synergy, Synthesis, Task,
+    ArmTask, BaseMode, Controller, Model, Optimizer, ParamSpace, Synergy, Synthesis, Task,
 };
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 
+use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError};
-use crate::reach::ReachData;
 
 /// A made reach: the capture made, its reach, the parameters that made it.
 #[derive(Debug, Clone)]
@@ -24,7 +24,7 @@ pub struct MadeReach {
     /// The made capture (the source skeleton, the arm moving as synthesized).
     pub clip: Clip,
     /// Its reach, ready to fit (fixed base, all frames).
-    pub reach: ReachData,
+    pub reach: CapturedReach,
     /// The parameter space of `truth`.
     pub space: ParamSpace,
     /// The parameters that made it.
@@ -49,7 +49,7 @@ pub fn made_reach(
 ) -> Result<MadeReach> {
     let frames = frames.min(clip.frame_count());
     let segment = clip.slice(0..frames)?;
-    let source = ReachData::new(name, &segment, arm, 0..frames, BaseMode::Fixed)?;
+    let source = CapturedReach::new(name, &segment, arm, 0..frames, BaseMode::Fixed)?;
     let chain = source.arm().chain();
     let start = source.arm().start();
     if offset.len() != start.len() {
@@ -66,9 +66,9 @@ pub fn made_reach(
     let controller = Controller::new(
         optimizer,
         Synergy::new(&space, truth)?,
-        source.settings(crate::reach::DEFAULT_TOLERANCE),
+        source.settings(crate::captured::DEFAULT_TOLERANCE),
     )?;
-    let synthesis: Synthesis = controller.synthesize(&Reach {
+    let synthesis: Synthesis = controller.synthesize(&ArmTask {
         chain,
         base: &base,
         start,
@@ -77,7 +77,7 @@ pub fn made_reach(
     let made = source
         .arm()
         .to_clip(&segment, &synthesis, BaseMode::Fixed)?;
-    let reach = ReachData::new(name, &made, arm, 0..frames, BaseMode::Fixed)?;
+    let reach = CapturedReach::new(name, &made, arm, 0..frames, BaseMode::Fixed)?;
     Ok(MadeReach {
         clip: made,
         reach,

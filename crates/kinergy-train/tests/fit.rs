@@ -10,7 +10,7 @@ use kinergy_solver::{BaseMode, Model, OptimizerKind, ParamSpace, Synergy};
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::fit::{FitSettings, fit_model, fit_nested};
 use kinergy_train::synthetic::made_reach;
-use kinergy_train::{CostFunction, Objective, ReachData};
+use kinergy_train::{CapturedReach, CostFunction, Objective};
 
 fn capture() -> (Clip, ArmJoints) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/006_14.bvh");
@@ -47,7 +47,7 @@ const TRUTH: [f64; 9] = [1.4, 0.7, 1.1, 1.8, 0.6, 0.9, 1.2, 7.0, 1.5];
 #[test]
 fn the_true_parameters_score_zero_on_their_own_motion() {
     let (made, arm, space) = synthetic_capture(&TRUTH, 150);
-    let reach = ReachData::new("made", &made, &arm, 0..150, BaseMode::Fixed).expect("reach");
+    let reach = CapturedReach::new("made", &made, &arm, 0..150, BaseMode::Fixed).expect("reach");
     let objective = Objective::new(
         vec![reach],
         space.clone(),
@@ -68,7 +68,7 @@ fn the_true_parameters_score_zero_on_their_own_motion() {
 fn known_sc_parameters_are_recovered() {
     let frames = 150;
     let (made, arm, space) = synthetic_capture(&TRUTH, frames);
-    let reach = ReachData::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let reach = CapturedReach::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
     let settings = FitSettings {
         anneal: AnnealSettings {
             max_evaluations: 6000,
@@ -114,7 +114,7 @@ fn known_sc_parameters_are_recovered() {
 fn richer_models_never_end_worse_and_bounds_hold() {
     let frames = 120;
     let (made, arm, _) = synthetic_capture(&TRUTH, frames);
-    let reach = ReachData::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let reach = CapturedReach::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
     let settings = FitSettings {
         anneal: AnnealSettings {
             max_evaluations: 1200,
@@ -163,8 +163,8 @@ fn richer_models_never_end_worse_and_bounds_hold() {
 #[test]
 fn objective_distances_are_per_reach_and_the_score_is_their_mean() {
     let (clip, arm) = capture();
-    let r1 = ReachData::new("a", &clip, &arm, 0..100, BaseMode::Replay).expect("reach");
-    let r2 = ReachData::new("b", &clip, &arm, 50..200, BaseMode::Fixed).expect("reach");
+    let r1 = CapturedReach::new("a", &clip, &arm, 0..100, BaseMode::Replay).expect("reach");
+    let r2 = CapturedReach::new("b", &clip, &arm, 50..200, BaseMode::Fixed).expect("reach");
     let space = ParamSpace::new(Model::Sb, &r1.dof_names(), Default::default()).expect("space");
     let objective = Objective::new(
         vec![r1.clone(), r2.clone()],
@@ -182,11 +182,11 @@ fn objective_distances_are_per_reach_and_the_score_is_their_mean() {
     assert_eq!(objective.cost(&x), (d[0] + d[1]) / 2.0);
     assert_eq!(objective.frames_per_evaluation(), 250);
     // Frames outside the clip, or too few, are refused with the clip's name.
-    let e = ReachData::new("short.bvh", &clip, &arm, 10..10, BaseMode::Replay)
+    let e = CapturedReach::new("short.bvh", &clip, &arm, 10..10, BaseMode::Replay)
         .expect_err("empty")
         .to_string();
     assert!(e.contains("short.bvh"), "{e}");
-    let e = ReachData::new("long.bvh", &clip, &arm, 0..100_000, BaseMode::Replay)
+    let e = CapturedReach::new("long.bvh", &clip, &arm, 0..100_000, BaseMode::Replay)
         .expect_err("outside")
         .to_string();
     assert!(e.contains("long.bvh") && e.contains("100000"), "{e}");
@@ -210,10 +210,11 @@ impl kinergy_train::anneal::Observer for StopAfter<'_> {
 
 #[test]
 fn an_interrupted_nested_fit_resumes_bit_for_bit() {
+    use kinergy_train::anneal::Control;
     use kinergy_train::fit::NestedRun;
     let frames = 120;
     let (made, arm, _) = synthetic_capture(&TRUTH, frames);
-    let reach = ReachData::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let reach = CapturedReach::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
     let settings = FitSettings {
         anneal: AnnealSettings {
             max_evaluations: 400,
@@ -230,7 +231,7 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
         optimizer: OptimizerKind::Njt.default_optimizer(),
         settings: &settings,
     };
-    let whole = run.run(&mut (), None, None, false).expect("whole");
+    let whole = run.run(&mut (), &Control::default(), false).expect("whole");
     assert!(!whole.interrupted);
     let sa_iterations = whole.fits.fits[0].iterations;
     let dir = tempfile::tempdir().expect("tempdir");
@@ -244,8 +245,11 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
                 seen: 0,
                 flag: &flag,
             },
-            Some((&path, 3)),
-            Some(&flag),
+            &Control {
+                checkpoint: Some(&path),
+                checkpoint_every: 3,
+                interrupt: Some(&flag),
+            },
             false,
         )
         .expect("first part");
@@ -259,15 +263,26 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
                 seen: 0,
                 flag: &flag,
             },
-            Some((&path, 3)),
-            Some(&flag),
+            &Control {
+                checkpoint: Some(&path),
+                checkpoint_every: 3,
+                interrupt: Some(&flag),
+            },
             true,
         )
         .expect("second part");
     assert!(second.interrupted);
     flag.store(false, std::sync::atomic::Ordering::SeqCst);
     let resumed = run
-        .run(&mut (), Some((&path, 3)), Some(&flag), true)
+        .run(
+            &mut (),
+            &Control {
+                checkpoint: Some(&path),
+                checkpoint_every: 3,
+                interrupt: Some(&flag),
+            },
+            true,
+        )
         .expect("resume");
     assert!(!resumed.interrupted);
     assert_eq!(resumed.fits, whole.fits, "the resumed fit differs");
@@ -280,7 +295,15 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
         ..run
     };
     let e = other
-        .run(&mut (), Some((&path, 3)), None, true)
+        .run(
+            &mut (),
+            &Control {
+                checkpoint: Some(&path),
+                checkpoint_every: 3,
+                interrupt: None,
+            },
+            true,
+        )
         .expect_err("another problem")
         .to_string();
     assert!(e.contains("fit.ckpt.json"), "{e}");

@@ -13,7 +13,7 @@ use std::ops::Range;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, Trajectory, motion_distance};
 use kinergy_solver::{
-    Base, BaseMode, CaptureArm, Controller, ControllerSettings, Optimizer, Reach, StopReason,
+    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, Optimizer, StopReason,
     Synergy, Synthesis, Task,
 };
 
@@ -24,7 +24,7 @@ pub const DEFAULT_TOLERANCE: f64 = 0.005;
 
 /// One captured reach, ready to be synthesized and scored.
 #[derive(Debug, Clone)]
-pub struct ReachData {
+pub struct CapturedReach {
     name: String,
     frames: Range<usize>,
     arm: CaptureArm,
@@ -35,7 +35,7 @@ pub struct ReachData {
     frame_time: f64,
 }
 
-impl ReachData {
+impl CapturedReach {
     /// The reach of `clip` over `frames` (indices into the clip), with the arm `joints`;
     /// `name` names it in messages and reports (e.g. the file name). The base follows the
     /// capture (`BaseMode::Replay`) or stays at the segment's first frame (`Fixed`).
@@ -45,7 +45,7 @@ impl ReachData {
         joints: &ArmJoints,
         frames: Range<usize>,
         mode: BaseMode,
-    ) -> Result<ReachData> {
+    ) -> Result<CapturedReach> {
         let bad = |why: String| TrainError::Reach {
             clip: name.to_string(),
             why,
@@ -68,7 +68,7 @@ impl ReachData {
         let target = *last
             .last()
             .ok_or_else(|| bad("the arm has no joints".into()))?;
-        Ok(ReachData {
+        Ok(CapturedReach {
             name: name.to_string(),
             base: arm.base(mode),
             frames,
@@ -125,6 +125,28 @@ impl ReachData {
         self.arm.chain().dof_names().map(String::from).collect()
     }
 
+    /// The same reach toward another target, world meters (the capture it is scored
+    /// against stays the same).
+    pub fn with_target(self, target: Point3<f64>) -> CapturedReach {
+        CapturedReach { target, ..self }
+    }
+
+    /// The base the synthesized arm rides on.
+    pub fn base(&self) -> &Base {
+        &self.base
+    }
+
+    /// The controller's task: the synthesis arm on its base, from the captured start
+    /// posture, the hand to the target.
+    pub fn task(&self) -> ArmTask<'_> {
+        ArmTask {
+            chain: self.arm.chain(),
+            base: &self.base,
+            start: self.arm.start(),
+            task: Task::Position(self.target),
+        }
+    }
+
     /// Controller settings of a fitting synthesis: the capture's frame time, exactly the
     /// segment's frame count, ε = `tolerance`.
     pub fn settings(&self, tolerance: f64) -> ControllerSettings {
@@ -132,6 +154,23 @@ impl ReachData {
             max_frames: self.frame_count(),
             min_frames: self.frame_count(),
             tolerance,
+            ..ControllerSettings::at_frame_time(self.frame_time)
+        }
+    }
+
+    /// Controller settings of a synthesis that runs until the target is reached (ε =
+    /// `tolerance`) for at most `max_seconds`, and unless `stop_at_reach` for at least the
+    /// segment's frame count (tracking the target once reached), at the capture's frame time.
+    pub fn open_settings(
+        &self,
+        tolerance: f64,
+        max_seconds: f64,
+        stop_at_reach: bool,
+    ) -> ControllerSettings {
+        ControllerSettings {
+            max_frames: ((max_seconds / self.frame_time).ceil() as usize).max(1),
+            tolerance,
+            min_frames: if stop_at_reach { 0 } else { self.frame_count() },
             ..ControllerSettings::at_frame_time(self.frame_time)
         }
     }
@@ -144,12 +183,14 @@ impl ReachData {
         tolerance: f64,
     ) -> Result<Synthesis> {
         let controller = Controller::new(optimizer, synergy, self.settings(tolerance))?;
-        Ok(controller.synthesize(&Reach {
-            chain: self.arm.chain(),
-            base: &self.base,
-            start: self.arm.start(),
-            task: Task::Position(self.target),
-        })?)
+        Ok(controller.synthesize(&self.task())?)
+    }
+
+    /// A synthesis of this reach as a clip on the capture's skeleton: `clip` is the clip the
+    /// reach was taken from (the torso rides as the base did).
+    pub fn to_clip(&self, clip: &Clip, synthesis: &Synthesis) -> Result<Clip> {
+        let segment = clip.slice(self.frames.clone())?;
+        Ok(self.arm.to_clip(&segment, synthesis, self.mode)?)
     }
 
     /// The motion distance between a synthesis of this reach and the capture, meters; a

@@ -1,0 +1,180 @@
+//! Options and argument parsers several subcommands share: reading a capture, finding the
+//! arm, the annealer's search settings, and the `x,y,z`, `A..B` and `WxH` values.
+
+use std::path::Path;
+
+use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::{
+    ArmJoints, Clip, ImportOptions, ImportReport, PositionReadingChoice, Side, UnitChoice,
+};
+use kinergy_train::anneal::AnnealSettings;
+use kinergy_train::fit::FitSettings;
+
+use super::Failure;
+
+/// Options for reading a capture, shared by every subcommand that reads BVH.
+#[derive(Debug, clap::Args)]
+pub struct ReadArgs {
+    /// Length unit of the file: m, cm, mm, in, cmu (CMU's 0.0564 m), or auto (guessed from the
+    /// skeleton's size in its first frame).
+    #[arg(long = "from-unit", default_value = "auto", value_name = "UNIT")]
+    pub from_unit: UnitChoice,
+    /// How position channels combine with OFFSETs: auto (per joint: channels closer to the
+    /// OFFSET than to zero replace it, otherwise they add to it), add, or replace.
+    #[arg(long, default_value = "auto", value_name = "READING")]
+    pub positions: PositionReadingChoice,
+}
+
+impl ReadArgs {
+    /// Reads the clip at `path` with these options; errors name the file.
+    pub fn read(&self, path: &Path) -> Result<(Clip, ImportReport), Failure> {
+        let options = ImportOptions {
+            unit: self.from_unit,
+            position_reading: self.positions,
+        };
+        kinergy_motion::read_clip(path, &options).map_err(|e| Failure::input(path, e))
+    }
+}
+
+/// How to find the arm chain.
+#[derive(Debug, clap::Args)]
+pub struct ArmArgs {
+    /// Which arm.
+    #[arg(long, default_value = "right", value_name = "SIDE")]
+    pub arm: Side,
+    /// The arm's joints by name, overriding the search: clavicle,shoulder,elbow,wrist (or
+    /// shoulder,elbow,wrist).
+    #[arg(long, value_delimiter = ',', value_name = "JOINTS")]
+    pub chain: Option<Vec<String>>,
+}
+
+impl ArmArgs {
+    /// The arm's joints in `clip` (read from `path`, named in errors).
+    pub fn find(&self, clip: &Clip, path: &Path) -> Result<ArmJoints, Failure> {
+        let found = match &self.chain {
+            Some(names) => {
+                let names: Vec<&str> = names.iter().map(String::as_str).collect();
+                ArmJoints::from_names(clip.skeleton(), &names)
+            }
+            None => ArmJoints::find(clip.skeleton(), self.arm),
+        };
+        found.map_err(|e| Failure::input(path, e))
+    }
+}
+
+/// Search settings shared by `fit` and `compare`.
+#[derive(Debug, clap::Args)]
+pub struct SearchArgs {
+    /// Seed of every random draw (same seed, same result, on any thread count).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Threads (default: all cores). The result does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Evaluation budget per model fit (each evaluation synthesizes every reach once).
+    #[arg(long, default_value_t = AnnealSettings::default().max_evaluations, value_name = "N")]
+    pub budget: usize,
+    /// Members of the annealing population.
+    #[arg(long, default_value_t = AnnealSettings::default().population, value_name = "N")]
+    pub population: usize,
+    /// Initial temperature relative to the initial mean score (0: the paper's greedy rule).
+    #[arg(long, default_value_t = AnnealSettings::default().temperature, value_name = "T")]
+    pub temperature: f64,
+}
+
+impl SearchArgs {
+    /// Fit settings from the flags.
+    pub fn settings(&self) -> FitSettings {
+        FitSettings {
+            anneal: AnnealSettings {
+                seed: self.seed,
+                max_evaluations: self.budget,
+                population: self.population,
+                temperature: self.temperature,
+                ..AnnealSettings::default()
+            },
+            ..FitSettings::default()
+        }
+    }
+
+    /// Sizes rayon's global pool.
+    pub fn apply_threads(&self) -> Result<(), Failure> {
+        if let Some(n) = self.threads {
+            if n == 0 {
+                return Err(Failure::Input("--threads 0: expected at least 1".into()));
+            }
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build_global()
+                .map_err(|e| Failure::Task(format!("--threads {n}: {e}")))?;
+        }
+        Ok(())
+    }
+}
+
+/// Parses `x,y,z` (meters) into a finite point.
+pub fn parse_point(text: &str, flag: &str) -> Result<Point3<f64>, Failure> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let bad = |why: String| Failure::Input(format!("{flag} `{text}`: {why}"));
+    if parts.len() != 3 {
+        return Err(bad(format!(
+            "expected three comma-separated numbers x,y,z, got {}",
+            parts.len()
+        )));
+    }
+    let mut v = [0.0; 3];
+    for (i, p) in parts.iter().enumerate() {
+        let x: f64 = p
+            .parse()
+            .map_err(|_| bad(format!("`{p}` is not a number")))?;
+        if !x.is_finite() {
+            return Err(bad(format!("`{p}` is not a finite number")));
+        }
+        v[i] = x;
+    }
+    Ok(Point3::new(v[0], v[1], v[2]))
+}
+
+/// `A..B` → `A..B`, with `A < B`.
+pub fn parse_frames(text: &str) -> Result<std::ops::Range<usize>, Failure> {
+    let bad = |why: &str| Failure::Input(format!("--frames `{text}`: {why}"));
+    let (a, b) = text
+        .split_once("..")
+        .ok_or_else(|| bad("expected A..B, e.g. 12..140"))?;
+    let a: usize = a
+        .trim()
+        .parse()
+        .map_err(|_| bad("A is not a frame number"))?;
+    let b: usize = b
+        .trim()
+        .parse()
+        .map_err(|_| bad("B is not a frame number"))?;
+    if a >= b {
+        return Err(bad("A must be smaller than B"));
+    }
+    Ok(a..b)
+}
+
+/// `WxH` → (W, H) pixels, each side within `range`; errors name `--size`.
+pub fn parse_size(text: &str, range: std::ops::RangeInclusive<u32>) -> Result<(u32, u32), Failure> {
+    let bad = |why: &str| Failure::Input(format!("--size `{text}`: {why}"));
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| bad("expected WxH, e.g. 640x480"))?;
+    let side = |s: &str| -> Result<u32, Failure> {
+        let n: u32 = s
+            .trim()
+            .parse()
+            .map_err(|_| bad("W and H must be whole numbers of pixels"))?;
+        if range.contains(&n) {
+            Ok(n)
+        } else {
+            Err(bad(&format!(
+                "each side must be {} to {} pixels",
+                range.start(),
+                range.end()
+            )))
+        }
+    };
+    Ok((side(w)?, side(h)?))
+}

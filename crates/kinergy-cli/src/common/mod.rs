@@ -1,0 +1,82 @@
+//! What the subcommands share: failures with exit codes, output on stdout, the options
+//! several subcommands take ([`args`]), clip paths ([`clips`]), captured reaches from the
+//! command line ([`captured`]) and the progress bar ([`progress`]).
+
+use std::fmt;
+use std::path::Path;
+
+pub mod args;
+pub mod captured;
+pub mod clips;
+pub mod progress;
+
+pub use args::{ArmArgs, ReadArgs, SearchArgs, parse_frames, parse_point, parse_size};
+pub use captured::CaptureArgs;
+pub use clips::collect_clips;
+pub use progress::Bar;
+
+/// Why a command stopped: bad input (exit 2) or a task that could not be done (exit 1).
+#[derive(Debug)]
+pub enum Failure {
+    /// The input was wrong: a missing or malformed file, a bad argument.
+    Input(String),
+    /// The input was fine but the task failed (e.g. an unreachable target).
+    Task(String),
+}
+
+impl Failure {
+    /// The process's exit code: 2 for bad input, 1 for a failed task.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Failure::Input(_) => 2,
+            Failure::Task(_) => 1,
+        }
+    }
+
+    /// Bad input concerning `path`.
+    pub fn input(path: &Path, e: impl fmt::Display) -> Failure {
+        let text = e.to_string();
+        // Library errors about files already name them.
+        if text.contains(&*path.to_string_lossy()) {
+            Failure::Input(text)
+        } else {
+            Failure::Input(format!("{}: {text}", path.display()))
+        }
+    }
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Failure::Input(m) | Failure::Task(m) => f.write_str(m),
+        }
+    }
+}
+
+/// Prints a value as pretty JSON on stdout.
+pub fn print_json(value: &impl serde::Serialize) -> Result<(), Failure> {
+    let text = kinergy_io::to_pretty_json(value)
+        .map_err(|e| Failure::Task(format!("could not encode JSON: {e}")))?;
+    emit(&text)
+}
+
+/// Writes `text` to stdout. A closed pipe (`kinergy inspect … | head`) is not an error.
+pub fn emit(text: &str) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(Failure::Task(format!("could not write to stdout: {e}")))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Training errors: bad checkpoints and settings are bad input; the rest failed tasks.
+pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
+    use kinergy_train::TrainError as E;
+    match e {
+        E::Checkpoint { .. } | E::Setting { .. } | E::Reach { .. } => Failure::Input(e.to_string()),
+        _ => Failure::Task(e.to_string()),
+    }
+}

@@ -1,0 +1,313 @@
+//! Fitting a synergy model to captured reaches: per clip (the paper's experiment: one reach,
+//! one vector) or per person (one vector for all of a person's reaches), and the nested
+//! sequence S_A → S_B → S_C → S_D in which each richer model starts from the poorer one's
+//! solution.
+//!
+//! **The nested guarantee.** The annealer's member 0 starts at the poorer solution carried
+//! into the richer space ([`ParamSpace::extend_to`]) and the best vector ever evaluated is
+//! returned, so a richer fit never scores worse than that carried-over vector. S_A → S_B
+//! and S_C → S_D carry over exactly (the same motion). S_B → S_C does not: the paper's
+//! sigmoid sig(−s·t + o) with o ≥ 0 is at most ½ at t = 0, so S_C cannot reproduce S_B's
+//! constant φ = 1; the carried vector switches the sigmoid on as early as the bounds allow
+//! (s = s_max, o = o_min: φ > 0.95 after 0.3 s). [`NestedFit::violations`] lists any richer
+//! fit that still ended worse than its poorer model, so a report can say so.
+//!
+//! One function runs a model's fit (a *stage*): [`fit_model`] runs one, [`NestedRun`] runs
+//! them in sequence with checkpoints that name the problem by value ([`FitProblem`]) and
+//! resume bit for bit. Each stage's annealer draws from the user's seed mixed with the model
+//! ([`model_seed`], applied by [`FitSettings::anneal_for`]).
+
+use kinergy_solver::{
+    Bounds, FitGrouping, FitRecord, FittedReach, Model, Optimizer, ParamSpace, ParamsFile,
+    StageScore,
+};
+
+use crate::anneal::{AnnealSettings, AnnealState, Annealer, Control, Observer, Status};
+use crate::captured::{CapturedReach, DEFAULT_TOLERANCE};
+use crate::error::{Result, TrainError, require};
+use crate::objective::{CostFunction, Objective};
+
+mod nested;
+
+pub use nested::{ClipFrames, FitProblem, NestedCheckpoint, NestedOutcome, NestedRun, Stage};
+
+/// How a fit searches.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitSettings {
+    /// The annealer's settings (its seed is mixed with the model for each fit, see
+    /// [`FitSettings::anneal_for`]).
+    pub anneal: AnnealSettings,
+    /// ε of the synthesis, meters.
+    pub tolerance: f64,
+    /// Parameter bounds.
+    pub bounds: Bounds,
+}
+
+impl Default for FitSettings {
+    fn default() -> FitSettings {
+        FitSettings {
+            anneal: AnnealSettings::default(),
+            tolerance: DEFAULT_TOLERANCE,
+            bounds: Bounds::default(),
+        }
+    }
+}
+
+impl FitSettings {
+    /// The annealer's settings for a fit of `model`: [`FitSettings::anneal`] with its seed
+    /// mixed with the model ([`model_seed`]).
+    pub fn anneal_for(&self, model: Model) -> AnnealSettings {
+        AnnealSettings {
+            seed: model_seed(self.anneal.seed, model),
+            ..self.anneal
+        }
+    }
+
+    /// The objective of `model` on `reaches` (at least one) with `optimizer`: the parameter
+    /// space of the first reach's DoFs within [`FitSettings::bounds`], ε =
+    /// [`FitSettings::tolerance`].
+    pub fn objective(
+        &self,
+        reaches: &[CapturedReach],
+        model: Model,
+        optimizer: Optimizer,
+    ) -> Result<Objective> {
+        require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
+        let space = ParamSpace::new(model, &reaches[0].dof_names(), self.bounds)?;
+        Objective::new(reaches.to_vec(), space, optimizer)?.with_tolerance(self.tolerance)
+    }
+}
+
+/// The seed of one model's fit: the user's seed mixed with the model, so each model of a
+/// nested sequence draws differently but reproducibly: `seed ^ k · 0x9e3779b97f4a7c15`
+/// with k = 1, 2, 3, 4 for S_A–S_D.
+pub fn model_seed(seed: u64, model: Model) -> u64 {
+    let k = match model {
+        Model::Sa => 1u64,
+        Model::Sb => 2,
+        Model::Sc => 3,
+        Model::Sd => 4,
+    };
+    seed ^ k.wrapping_mul(0x9e37_79b9_7f4a_7c15)
+}
+
+/// One fitted model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// The parameter space (model, DoF names, bounds).
+    pub space: ParamSpace,
+    /// The optimizer the motions were synthesized with.
+    pub optimizer: Optimizer,
+    /// The best vector.
+    pub values: Vec<f64>,
+    /// Its mean motion distance over the reaches, meters.
+    pub score: f64,
+    /// The start vector's score (the neutral vector, or the poorer model's solution).
+    pub start_score: f64,
+    /// The best vector's distance on each reach, meters, in the reaches' order.
+    pub distances: Vec<f64>,
+    /// Cost evaluations spent (each synthesizes every reach once).
+    pub evaluations: usize,
+    /// Annealing iterations.
+    pub iterations: usize,
+    /// Why the search ended.
+    pub status: Status,
+    /// The seed the annealer used.
+    pub seed: u64,
+    /// Frames synthesized in all (evaluations × frames per evaluation).
+    pub frames_synthesized: usize,
+}
+
+impl Fit {
+    /// The model.
+    pub fn model(&self) -> Model {
+        self.space.model()
+    }
+
+    /// The record of this fit on `reaches` (the reaches it was fitted on, in order).
+    pub fn record(&self, reaches: &[CapturedReach]) -> FitRecord {
+        FitRecord {
+            method: "simulated_annealing".into(),
+            score_m: self.score,
+            start_score_m: self.start_score,
+            evaluations: self.evaluations,
+            iterations: self.iterations,
+            status: self.status.name().into(),
+            seed: self.seed,
+            reaches: reaches
+                .iter()
+                .zip(&self.distances)
+                .map(|(r, &distance_m)| FittedReach {
+                    clip: r.name().to_string(),
+                    frames: [r.frames().start, r.frames().end],
+                    distance_m,
+                })
+                .collect(),
+            per: None,
+            nested: None,
+        }
+    }
+
+    /// The parameters file of this fit, recording the reaches it was fitted on.
+    pub fn params_file(&self, reaches: &[CapturedReach]) -> Result<ParamsFile> {
+        let mut file = ParamsFile::new(&self.space, self.optimizer, &self.values)?;
+        file.fit = Some(self.record(reaches));
+        Ok(file)
+    }
+
+    /// The fit a finished stage of a checkpoint records (its distances computed again).
+    fn from_stage(stage: &Stage, objective: &Objective) -> Result<Fit> {
+        Ok(Fit {
+            distances: objective.distances(&stage.values)?,
+            space: objective.space().clone(),
+            optimizer: objective.optimizer(),
+            values: stage.values.clone(),
+            score: stage.score,
+            start_score: stage.start_score,
+            evaluations: stage.evaluations,
+            iterations: stage.iterations,
+            status: stage.status,
+            seed: stage.seed,
+            frames_synthesized: stage.evaluations * objective.frames_per_evaluation(),
+        })
+    }
+}
+
+/// Fits `model` to `reaches` with `optimizer`, starting from `start` (the model's neutral
+/// vector when `None`). `observer` and `control` are the annealer's; pass a checkpointed
+/// state of this same fit to `resume` to continue it (the annealer checks its settings,
+/// seed, bounds and model; [`NestedRun`] checks the whole problem).
+#[allow(clippy::too_many_arguments)]
+pub fn fit_model(
+    reaches: &[CapturedReach],
+    model: Model,
+    optimizer: Optimizer,
+    start: Option<&[f64]>,
+    settings: &FitSettings,
+    observer: &mut dyn Observer,
+    control: &Control<'_>,
+    resume: Option<AnnealState>,
+) -> Result<Fit> {
+    let objective = settings.objective(reaches, model, optimizer)?;
+    let start = match start {
+        Some(s) => {
+            objective.space().validate(s)?;
+            s.to_vec()
+        }
+        None => objective.space().neutral(),
+    };
+    run_stage(&objective, &start, settings, resume, observer, control)
+}
+
+/// A model's fit on `objective` from `start` (or from `resume`, a state of the same stage):
+/// the one place a stage runs, for [`fit_model`] and every stage of a [`NestedRun`].
+fn run_stage(
+    objective: &Objective,
+    start: &[f64],
+    settings: &FitSettings,
+    resume: Option<AnnealState>,
+    observer: &mut dyn Observer,
+    control: &Control<'_>,
+) -> Result<Fit> {
+    let model = objective.space().model();
+    // Fail on a broken setup here, with its message, rather than as a silent f64::MAX.
+    let start_score = objective.score(start)?;
+    let anneal = settings.anneal_for(model);
+    let annealer = Annealer::new(anneal)?;
+    // The stage's name in the annealer's state; the problem itself is checked by value by
+    // the caller's checkpoint (see `FitProblem`).
+    let tag = model.name();
+    let state = match resume {
+        Some(state) => {
+            let path = control
+                .checkpoint
+                .map(|c| c.path().to_path_buf())
+                .unwrap_or_default();
+            annealer.check_resume(objective, &state, tag, &path)?;
+            state
+        }
+        None => annealer.init(objective, start, tag)?,
+    };
+    let state = annealer.run(objective, state, observer, control)?;
+    Ok(Fit {
+        distances: objective.distances(&state.best_x)?,
+        space: objective.space().clone(),
+        optimizer: objective.optimizer(),
+        values: state.best_x,
+        score: state.best_cost,
+        start_score,
+        evaluations: state.evaluations,
+        iterations: state.iteration,
+        status: state.status,
+        seed: anneal.seed,
+        frames_synthesized: state.evaluations * objective.frames_per_evaluation(),
+    })
+}
+
+/// The fits of a nested sequence of models, poorest first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NestedFit {
+    /// One fit per model, in the order fitted.
+    pub fits: Vec<Fit>,
+}
+
+impl NestedFit {
+    /// The fit of `model`, if it was fitted.
+    pub fn get(&self, model: Model) -> Option<&Fit> {
+        self.fits.iter().find(|f| f.model() == model)
+    }
+
+    /// The parameters file of the richest model, recording the reaches it was fitted on,
+    /// how they were grouped and every model's score.
+    pub fn params_file(
+        &self,
+        reaches: &[CapturedReach],
+        grouping: FitGrouping,
+    ) -> Result<ParamsFile> {
+        let last = self.fits.last().ok_or_else(|| TrainError::Setting {
+            field: "models".into(),
+            why: "at least one fitted model".into(),
+        })?;
+        let mut file = last.params_file(reaches)?;
+        if let Some(record) = file.fit.as_mut() {
+            record.per = Some(grouping);
+            record.nested = Some(
+                self.fits
+                    .iter()
+                    .map(|f| StageScore {
+                        model: f.model(),
+                        score_m: f.score,
+                        evaluations: f.evaluations,
+                    })
+                    .collect(),
+            );
+        }
+        Ok(file)
+    }
+
+    /// Pairs (poorer, richer) where the richer model ended with a higher score.
+    pub fn violations(&self) -> Vec<(Model, Model)> {
+        self.fits
+            .windows(2)
+            .filter(|w| w[1].score > w[0].score)
+            .map(|w| (w[0].model(), w[1].model()))
+            .collect()
+    }
+}
+
+/// Fits `models` (any order; fitted poorest first) to `reaches`, each richer model starting
+/// from the previous one's solution.
+pub fn fit_nested(
+    reaches: &[CapturedReach],
+    models: &[Model],
+    optimizer: Optimizer,
+    settings: &FitSettings,
+) -> Result<NestedFit> {
+    let run = NestedRun {
+        reaches,
+        models,
+        optimizer,
+        settings,
+    };
+    Ok(run.run(&mut (), &Control::default(), false)?.fits)
+}
