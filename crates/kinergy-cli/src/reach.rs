@@ -2,10 +2,10 @@
 
 use std::path::PathBuf;
 
+use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
 use kinergy_reach::controller::{ReachSettings, ReachStop, reach};
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
-use kinergy_reach::steps::Side;
 use serde::Serialize;
 
 use crate::common::{Failure, ReadArgs, emit, print_json};

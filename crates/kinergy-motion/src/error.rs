@@ -1,6 +1,6 @@
 //! The error type of `kinergy-motion`.
 
-use crate::arm::Side;
+use crate::side::Side;
 
 /// Everything that can go wrong in `kinergy-motion`.
 #[derive(Debug, thiserror::Error)]

@@ -42,11 +42,12 @@ pub mod clip;
 pub mod convert;
 pub mod error;
 pub mod rotation;
+pub mod side;
 pub mod skeleton;
 pub mod trajectory;
 pub mod units;
 
-pub use arm::{ArmJoints, ArmLengths, Side};
+pub use arm::{ArmJoints, ArmLengths};
 pub use chain::{Chain, ChainJoint, ChainPose, Linearization, Motion};
 pub use clip::Clip;
 pub use convert::{
@@ -55,6 +56,7 @@ pub use convert::{
 };
 pub use error::{MotionError, Result};
 pub use rotation::Axis;
+pub use side::Side;
 pub use skeleton::{Dof, Joint, PositionReading, Skeleton};
 pub use trajectory::{Trajectory, motion_distance, speed_series};
 pub use units::{LengthUnit, UnitChoice};

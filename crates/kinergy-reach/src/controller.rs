@@ -35,6 +35,7 @@
 //!   twist) starts swing, COM adjustment and squat; state 3 ends when the hand is at the
 //!   target and every controller has finished, or at the timeout.
 
+use kinergy_motion::Side;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point2, Point3, Rotation3, Vector3};
 use kinergy_solver::analytic::{LimbIk, OrbitSearch, OrbitSense};
 use rand::SeedableRng;
@@ -44,7 +45,7 @@ use serde::Serialize;
 use crate::character::{Character, Limb, Pose, SpineJoint, dof, joint};
 use crate::error::{ReachError, Result, require};
 use crate::profile::SpeedProfile;
-use crate::steps::{self, Side, StepDecision, StepSettings};
+use crate::steps::{self, StepDecision, StepSettings};
 
 /// Everything a reach can be tuned with. Defaults follow the paper where it gives values.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

@@ -25,7 +25,8 @@
 //! arc" of the foot and "concave arc" of the root, simplified to piecewise linear paths.
 //!
 //! ```
-//! use kinergy_reach::steps::{self, Side, StepDecision, StepSettings};
+//! use kinergy_motion::Side;
+//! use kinergy_reach::steps::{self, StepDecision, StepSettings};
 //! use nalgebra::Point3;
 //! use rand::SeedableRng;
 //! use rand::rngs::ChaCha8Rng;
@@ -41,6 +42,7 @@
 //! assert_eq!(steps::step_length(&settings, d, p), settings.l_max);
 //! ```
 
+use kinergy_motion::Side;
 use nalgebra::{Point3, Unit, Vector3};
 use rand::{Rng, RngExt};
 use rand_distr::{Distribution, StandardNormal};
@@ -62,8 +64,6 @@ pub const MRR_PER_ARM_LENGTH: f64 = 1.3;
 /// The arm length [`StepSettings::default`] is made for, m: shoulder to hand of a 1.75 m
 /// adult (≈ 0.40 of the height, Drillis & Contini).
 pub const REFERENCE_ARM_LENGTH: f64 = 0.70;
-
-pub use kinergy_motion::Side;
 
 /// What the stepping decision state machine (§3.5) chose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -17,6 +17,7 @@
 
 use std::path::Path;
 
+use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
@@ -26,7 +27,7 @@ use crate::character::{Character, Proportions};
 use crate::controller::{ReachSettings, ReachStop, reach};
 use crate::error::{ReachError, Result, require};
 use crate::profile::{BellTiming, SpeedProfile};
-use crate::steps::{Side, StepSettings};
+use crate::steps::StepSettings;
 
 /// How many persons and reaches, and the seed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -156,7 +157,7 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
         let id = format!("p{:02}", p + 1);
         let folder = dir.join(&id);
         std::fs::create_dir_all(&folder).map_err(|e| io(&folder, e))?;
-        let arm = character.proportions().arm(kinergy_motion::Side::Right);
+        let arm = character.proportions().arm(Side::Right);
         let steps = StepSettings {
             p_max: person.p_max,
             ..StepSettings::for_arm_length(arm.upper_arm + arm.forearm + arm.hand)?
