@@ -147,7 +147,7 @@
 use std::ops::Range;
 use std::sync::Arc;
 
-use kinergy_motion::rotation::{Axis, axis_rotation, euler_angles, swing_rotation, unwrap_near};
+use kinergy_motion::rotation::{Axis, axis_rotation, euler_angles, nearest_euler, swing_rotation};
 use kinergy_motion::{
     ArmJoints, Chain, ChainJoint, Clip, Dof, Joint, Motion, PositionReading, Side, Skeleton,
 };
@@ -1872,24 +1872,6 @@ fn motion_rotation(m: &Motion, q: &[f64]) -> Rotation3<f64> {
         Motion::Revolute { axis, .. } => axis_rotation(axis, q[0]),
         Motion::Swing { .. } => swing_rotation(q[0], q[1]),
     }
-}
-
-/// Of the two Tait–Bryan solutions (α, β, γ) and (α + π, π − β, γ + π), each unwrapped
-/// toward `near`, the one closest to `near`.
-fn nearest_euler(angles: [f64; 3], near: [f64; 3]) -> [f64; 3] {
-    use std::f64::consts::PI;
-    let [a, b, c] = angles;
-    let mut best = angles;
-    let mut best_d = f64::INFINITY;
-    for cand in [[a, b, c], [a + PI, PI - b, c + PI]] {
-        let un = [0, 1, 2].map(|i| unwrap_near(cand[i], near[i]));
-        let d: f64 = un.iter().zip(&near).map(|(x, y)| (x - y).powi(2)).sum();
-        if d < best_d {
-            best_d = d;
-            best = un;
-        }
-    }
-    best
 }
 
 #[cfg(test)]
