@@ -147,9 +147,11 @@
 use std::ops::Range;
 use std::sync::Arc;
 
+use kinergy_motion::limbs::{name_tokens, side_of};
 use kinergy_motion::rotation::{Axis, axis_rotation, euler_angles, nearest_euler, swing_rotation};
 use kinergy_motion::{
-    ArmJoints, Chain, ChainJoint, Clip, Dof, Joint, Motion, PositionReading, Side, Skeleton,
+    ArmJoints, Chain, ChainJoint, Clip, Dof, Joint, LegJoints, Motion, MotionError,
+    PositionReading, Side, Skeleton,
 };
 use nalgebra::{IsometryMatrix3, Matrix3, Point2, Point3, Rotation3, Vector3};
 use serde::{Deserialize, Serialize};
@@ -631,7 +633,7 @@ impl Proportions {
     /// stretch bones), widths and heights in the skeleton's zero pose (assumed upright, Y up).
     ///
     /// Best effort by joint role: arms by [`ArmJoints::find`] (shoulder→elbow, elbow→wrist,
-    /// wrist→hand point); legs by names (`UpLeg`/`UpperLeg`/`Thigh`/`Hip` →
+    /// wrist→hand point); legs by [`LegJoints::find`] (`UpLeg`/`UpperLeg`/`Thigh`/`Hip` →
     /// `Leg`/`LowerLeg`/`Knee`/`Shin`/`Calf` → `Foot`/`Ankle`, the toe tip being the ankle's
     /// farthest descendant); the top of the head as the highest point of the `Head` joint
     /// and its descendants. The standing height H is the head's top above the hips plus the
@@ -769,121 +771,15 @@ fn setting(field: &str, why: impl Into<String>) -> ReachError {
     }
 }
 
-/// A capture's leg, by joint role.
-struct LegJoints {
-    hip: usize,
-    knee: usize,
-    ankle: usize,
-    toe: usize,
-}
-
-/// The side a name's tokens give, and its role: the other tokens joined (`RightUpLeg` →
-/// `upleg`, `CC_Base_L_Calf` → `ccbasecalf`).
-fn side_and_role(name: &str) -> (Option<Side>, String) {
-    let tokens = kinergy_motion::arm::name_tokens(name);
-    let mut side = None;
-    let mut role = String::new();
-    for t in &tokens {
-        match t.as_str() {
-            "right" | "r" => side = Some(Side::Right),
-            "left" | "l" => side = Some(Side::Left),
-            other => role.push_str(other),
-        }
-    }
-    (side, role)
-}
-
-fn is_ankle_role(role: &str) -> bool {
-    role.ends_with("foot") || role.ends_with("ankle")
-}
-
-fn is_knee_role(role: &str) -> bool {
-    ["lowerleg", "lowleg", "knee", "shin", "calf"]
-        .iter()
-        .any(|k| role.ends_with(k))
-        || (role.ends_with("leg") && !role.ends_with("upleg") && !role.ends_with("upperleg"))
-}
-
-fn is_hip_role(role: &str) -> bool {
-    ["upleg", "upperleg", "thigh", "hip"]
-        .iter()
-        .any(|k| role.ends_with(k))
-}
-
-fn is_helper_role(role: &str) -> bool {
-    ["twist", "roll", "share", "helper"]
-        .iter()
-        .any(|k| role.contains(k))
-}
-
+/// The `side` leg of a capture ([`LegJoints::find`]); a skeleton without one is a bad
+/// `skeleton` input, like its other missing parts.
 fn find_leg(skeleton: &Skeleton, side: Side) -> Result<LegJoints> {
-    let info: Vec<(Option<Side>, String)> = skeleton
-        .joints()
-        .iter()
-        .map(|j| side_and_role(&j.name))
-        .collect();
-    let parent_skipping_helpers = |mut j: usize| -> Option<usize> {
-        loop {
-            j = skeleton.joint(j).parent?;
-            if !is_helper_role(&info[j].1) {
-                return Some(j);
-            }
+    LegJoints::find(skeleton, side).map_err(|e| match e {
+        MotionError::LegNotFound { .. } | MotionError::NoToe { .. } => {
+            setting("skeleton", e.to_string())
         }
-    };
-    let zero = skeleton.world_positions(&skeleton.rest_pose())?;
-    for ankle in (0..skeleton.joint_count()).filter(|&j| {
-        !skeleton.joint(j).end_site && info[j].0 == Some(side) && is_ankle_role(&info[j].1)
-    }) {
-        let Some(knee) = parent_skipping_helpers(ankle).filter(|&k| is_knee_role(&info[k].1))
-        else {
-            continue;
-        };
-        let Some(hip) = parent_skipping_helpers(knee).filter(|&h| is_hip_role(&info[h].1)) else {
-            continue;
-        };
-        let toe = (ankle + 1..skeleton.joint_count())
-            .filter(|&d| skeleton.is_ancestor_or_self(ankle, d))
-            .max_by(|&a, &b| {
-                let da = (zero[a] - zero[ankle]).norm();
-                let db = (zero[b] - zero[ankle]).norm();
-                da.total_cmp(&db)
-            });
-        let Some(toe) = toe else {
-            return Err(setting(
-                "skeleton",
-                format!(
-                    "the {side} ankle `{}` has no toe joint or End Site below it",
-                    skeleton.joint(ankle).name
-                ),
-            ));
-        };
-        return Ok(LegJoints {
-            hip,
-            knee,
-            ankle,
-            toe,
-        });
-    }
-    let leg_like: Vec<&str> = skeleton
-        .joints()
-        .iter()
-        .zip(&info)
-        .filter(|(j, (_, r))| {
-            !j.end_site && (is_ankle_role(r) || is_knee_role(r) || is_hip_role(r))
-        })
-        .map(|(j, _)| j.name.as_str())
-        .collect();
-    Err(setting(
-        "skeleton",
-        format!(
-            "no {side} leg found (UpLeg/Thigh/Hip → Leg/Knee/Shin/Calf → Foot/Ankle); leg-like joints: {}",
-            if leg_like.is_empty() {
-                "none".to_string()
-            } else {
-                leg_like.join(", ")
-            }
-        ),
-    ))
+        e => e.into(),
+    })
 }
 
 fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
@@ -919,11 +815,8 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
     let head = (0..skeleton.joint_count())
         .find(|&j| {
             let joint = skeleton.joint(j);
-            !joint.end_site
-                && kinergy_motion::arm::name_tokens(&joint.name)
-                    .iter()
-                    .any(|t| t == "head")
-                && side_and_role(&joint.name).0.is_none()
+            let tokens = name_tokens(&joint.name);
+            !joint.end_site && tokens.iter().any(|t| t == "head") && side_of(&tokens).is_none()
         })
         .ok_or_else(|| {
             setting(
@@ -1877,21 +1770,6 @@ fn motion_rotation(m: &Motion, q: &[f64]) -> Rotation3<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn tokens_and_roles_of_common_leg_names() {
-        assert_eq!(
-            side_and_role("RightUpLeg"),
-            (Some(Side::Right), "upleg".into())
-        );
-        assert_eq!(
-            side_and_role("RHipJoint"),
-            (Some(Side::Right), "hipjoint".into())
-        );
-        assert_eq!(side_and_role("Calf_L"), (Some(Side::Left), "calf".into()));
-        assert!(is_knee_role("leg") && !is_knee_role("upleg") && is_hip_role("thigh"));
-        assert!(!is_hip_role("hipjoint"));
-    }
 
     #[test]
     fn hull_drops_interior_and_collinear_points() {
