@@ -30,7 +30,7 @@ pub struct LegJoints {
 /// joined (`RightUpLeg` → `upleg`, `CC_Base_L_Calf` → `calf`).
 fn side_and_role(name: &str) -> (Option<Side>, String) {
     let tokens = name_tokens(name);
-    let side = tokens.iter().filter_map(|t| side_token(t)).last();
+    let side = tokens.iter().rev().find_map(|t| side_token(t));
     (side, role_word(&tokens))
 }
 
