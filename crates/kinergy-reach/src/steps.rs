@@ -42,6 +42,8 @@
 //! assert_eq!(steps::step_length(&settings, d, p), settings.l_max);
 //! ```
 
+use std::fmt;
+
 use kinergy_motion::Side;
 use nalgebra::{Point3, Unit, Vector3};
 use rand::{Rng, RngExt};
@@ -84,6 +86,30 @@ impl StepDecision {
     /// Whether the character steps at all.
     pub fn steps(self) -> bool {
         self != StepDecision::NoStep
+    }
+
+    /// Its name in reports: `none`, `half_left`, `half_right` or `full`.
+    pub fn name(self) -> &'static str {
+        match self {
+            StepDecision::NoStep => "none",
+            StepDecision::HalfStep { foot: Side::Left } => "half_left",
+            StepDecision::HalfStep { foot: Side::Right } => "half_right",
+            StepDecision::FullStep => "full",
+        }
+    }
+}
+
+impl fmt::Display for StepDecision {
+    /// Its [name](StepDecision::name).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl PartialEq<&str> for StepDecision {
+    /// Whether `name` is its [name](StepDecision::name).
+    fn eq(&self, name: &&str) -> bool {
+        self.name() == *name
     }
 }
 

@@ -230,7 +230,7 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
                 target_x: target.x,
                 target_y: target.y,
                 target_z: target.z,
-                step: rep.step.clone(),
+                step: rep.step.name().to_string(),
                 step_length_m: rep.step_length,
                 twist_deg: rep.twist_deg,
                 swing_deg: rep.swing_deg,

@@ -35,6 +35,7 @@
 //! [`Character::limb_chain`]: super::Character::limb_chain
 //! [`Character::dof_names`]: super::Character::dof_names
 
+use std::fmt;
 use std::ops::Range;
 
 use kinergy_motion::Side;
@@ -143,16 +144,22 @@ pub mod dof {
     pub const TWIST: usize = 2;
 }
 
-/// One of the four limbs.
+/// One of the four limbs. Serialized by its [name](Limb::name), `right_arm` …; the
+/// variants' own names (`RightArm` …) are read too.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Limb {
     /// The right arm (shoulder, elbow, wrist, fingertip).
+    #[serde(alias = "RightArm")]
     RightArm,
     /// The left arm.
+    #[serde(alias = "LeftArm")]
     LeftArm,
     /// The right leg (hip, knee, ankle, toe tip).
+    #[serde(alias = "RightLeg")]
     RightLeg,
     /// The left leg.
+    #[serde(alias = "LeftLeg")]
     LeftLeg,
 }
 
@@ -198,6 +205,20 @@ impl Limb {
             joint::LEFT_UP_LEG,
         ][self.index()];
         [base, base + 1, base + 2, base + 3]
+    }
+}
+
+impl fmt::Display for Limb {
+    /// Its [name](Limb::name).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl PartialEq<&str> for Limb {
+    /// Whether `name` is its [name](Limb::name).
+    fn eq(&self, name: &&str) -> bool {
+        self.name() == *name
     }
 }
 

@@ -63,7 +63,7 @@ mod spine;
 
 use kinergy_motion::nalgebra::Point3;
 
-pub use report::{ReachMotion, ReachReport, ReachStop};
+pub use report::{Posture, ReachMotion, ReachReport, ReachStop};
 pub use settings::ReachSettings;
 
 use crate::character::Character;

@@ -19,12 +19,11 @@ use super::arm::{ArmFollower, arm_ik, hand_position, shoulder_position};
 use super::balance::{plan_com_shift, rebalance};
 use super::head::Head;
 use super::legs::{self, StepPlan, Stepping, leg_iks, lower_root_for_legs, solve_legs_in};
-use super::report::{ReachMotion, ReachReport, ReachStop};
+use super::report::{Posture, ReachMotion, ReachReport, ReachStop};
 use super::settings::ReachSettings;
 use super::spine::{apply_swing, plan_squat, plan_swing, plan_twist, set_twist};
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::Result;
-use crate::steps::StepDecision;
 
 /// The plan: every decision, made once at the start.
 #[derive(Debug, Clone)]
@@ -304,24 +303,19 @@ pub(super) fn animate(
     }
     let frames = poses.len();
     let report = ReachReport {
-        arm: plan.arm.name(),
-        step: match plan.step.step {
-            StepDecision::NoStep => "none".into(),
-            StepDecision::HalfStep { foot: Side::Left } => "half_left".into(),
-            StepDecision::HalfStep { foot: Side::Right } => "half_right".into(),
-            StepDecision::FullStep => "full".into(),
-        },
+        arm: plan.arm,
+        step: plan.step.step,
         step_length: plan.step.length,
         horizontal_distance: plan.step.horizontal_distance,
         twist_deg: plan.twist.to_degrees(),
         swing_deg: plan.swing.to_degrees(),
         squat_m: plan.squat,
         posture: if plan.squat > 0.0 {
-            "squat"
+            Posture::Squat
         } else if plan.swing != 0.0 && plan.target.y < hand_position(character, rest, plan.arm).y {
-            "stoop"
+            Posture::Stoop
         } else {
-            "upright"
+            Posture::Upright
         },
         final_error,
         stop,
