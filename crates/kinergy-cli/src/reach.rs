@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
-use kinergy_reach::controller::{ReachSettings, ReachStop, reach};
+use kinergy_reach::controller::{ReachSettings, ReachStop, reach_full_body};
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use serde::Serialize;
 
@@ -102,7 +102,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         },
         ..ReachSettings::default()
     };
-    let motion = reach(&character, target, &settings).map_err(|e| Failure::Input(e.to_string()))?;
+    let motion = reach_full_body(&character, target, &settings)
+        .map_err(|e| Failure::Input(e.to_string()))?;
     let clip = character
         .to_clip(&motion.poses, motion.frame_time)
         .map_err(|e| Failure::Task(e.to_string()))?;

@@ -24,7 +24,7 @@ use rand::{RngExt, SeedableRng};
 use serde::Serialize;
 
 use crate::character::{Character, Proportions};
-use crate::controller::{ReachSettings, ReachStop, reach};
+use crate::controller::{ReachSettings, ReachStop, reach_full_body};
 use crate::error::{ReachError, Result, require};
 use crate::profile::{BellTiming, SpeedProfile};
 use crate::steps::StepSettings;
@@ -190,7 +190,7 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
                     seed,
                     ..ReachSettings::default()
                 };
-                let motion = reach(&character, target, &reach_settings)?;
+                let motion = reach_full_body(&character, target, &reach_settings)?;
                 if motion.report.stop == ReachStop::Reached {
                     made = Some((motion, target, seed));
                     break;

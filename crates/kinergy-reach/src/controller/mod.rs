@@ -42,10 +42,10 @@
 //! ```
 //! use kinergy_motion::nalgebra::Point3;
 //! use kinergy_reach::character::Character;
-//! use kinergy_reach::controller::{ReachSettings, ReachStop, reach};
+//! use kinergy_reach::controller::{ReachSettings, ReachStop, reach_full_body};
 //!
 //! let character = Character::from_height(1.75)?;
-//! let motion = reach(&character, Point3::new(0.3, 1.1, 0.4), &ReachSettings::default())?;
+//! let motion = reach_full_body(&character, Point3::new(0.3, 1.1, 0.4), &ReachSettings::default())?;
 //! assert_eq!(motion.report.stop, ReachStop::Reached);
 //! let clip = character.to_clip(&motion.poses, motion.frame_time)?;
 //! assert_eq!(clip.frame_count(), motion.report.frames);
@@ -71,7 +71,7 @@ use crate::error::{Result, require};
 
 /// Synthesizes a full-body reach of `character` toward `target` (world meters) from the
 /// rest posture.
-pub fn reach(
+pub fn reach_full_body(
     character: &Character,
     target: Point3<f64>,
     settings: &ReachSettings,
