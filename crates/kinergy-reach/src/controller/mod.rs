@@ -45,7 +45,8 @@
 //! use kinergy_reach::controller::{ReachSettings, ReachStop, reach_full_body};
 //!
 //! let character = Character::from_height(1.75)?;
-//! let motion = reach_full_body(&character, Point3::new(0.3, 1.1, 0.4), &ReachSettings::default())?;
+//! let target = Point3::new(0.3, 1.1, 0.4);
+//! let motion = reach_full_body(&character, target, &ReachSettings::default())?;
 //! assert_eq!(motion.report.stop, ReachStop::Reached);
 //! let clip = character.to_clip(&motion.poses, motion.frame_time)?;
 //! assert_eq!(clip.frame_count(), motion.report.frames);

@@ -113,7 +113,9 @@ fn revolute_excess(x: f64, (min, max): (f64, f64)) -> f64 {
     }
 }
 
-/// The same test as [`Chain::within_limits`](kinergy_motion::Chain::within_limits), so both agree on every configuration.
+/// The same test as [`Chain::within_limits`], so both agree on every configuration.
+///
+/// [`Chain::within_limits`]: kinergy_motion::Chain::within_limits
 fn swing_excess(sx: f64, sy: f64, (rx, ry): (f64, f64)) -> f64 {
     let e = (sx / rx).powi(2) + (sy / ry).powi(2);
     if e <= 1.0 + 1e-12 {
@@ -126,7 +128,9 @@ fn swing_excess(sx: f64, sy: f64, (rx, ry): (f64, f64)) -> f64 {
 }
 
 impl LimbIk {
-    /// True when `q` is within the limits — the same test as [`Chain::within_limits`](kinergy_motion::Chain::within_limits).
+    /// True when `q` is within the limits — the same test as [`Chain::within_limits`].
+    ///
+    /// [`Chain::within_limits`]: kinergy_motion::Chain::within_limits
     pub fn within_limits(&self, q: &[f64; 7]) -> bool {
         self.violation(q).is_none()
     }
