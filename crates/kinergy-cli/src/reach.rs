@@ -2,10 +2,10 @@
 
 use std::path::PathBuf;
 
+use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
-use kinergy_reach::controller::{ReachSettings, ReachStop, reach};
+use kinergy_reach::controller::{ReachSettings, ReachStop, reach_full_body};
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
-use kinergy_reach::steps::Side;
 use serde::Serialize;
 
 use crate::common::{Failure, ReadArgs, emit, parse_point, print_json};
@@ -91,7 +91,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         },
         ..ReachSettings::default()
     };
-    let motion = reach(&character, target, &settings).map_err(|e| Failure::Input(e.to_string()))?;
+    let motion = reach_full_body(&character, target, &settings)
+        .map_err(|e| Failure::Input(e.to_string()))?;
     let clip = character
         .to_clip(&motion.poses, motion.frame_time)
         .map_err(|e| Failure::Task(e.to_string()))?;

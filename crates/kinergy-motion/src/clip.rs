@@ -5,7 +5,7 @@ use std::sync::Arc;
 use nalgebra::Point3;
 
 use crate::error::{MotionError, Result};
-use crate::rotation::{Axis, euler_angles, euler_rotation, slerp, unwrap_near};
+use crate::rotation::{Axis, euler_angles, euler_rotation, nearest_euler, slerp, unwrap_near};
 use crate::skeleton::{Dof, Skeleton};
 use crate::trajectory::Trajectory;
 
@@ -238,29 +238,6 @@ impl Clip {
 
 fn distinct(axes: [Axis; 3]) -> Option<[Axis; 3]> {
     (axes[0] != axes[1] && axes[1] != axes[2] && axes[0] != axes[2]).then_some(axes)
-}
-
-/// Of the two Tait–Bryan solutions (α, β, γ) and (α + π, π − β, γ + π), each unwrapped
-/// towards `near`, the one closest to `near`.
-fn nearest_euler(angles: [f64; 3], near: [f64; 3]) -> [f64; 3] {
-    use std::f64::consts::PI;
-    let [a, b, c] = angles;
-    let candidates = [[a, b, c], [a + PI, PI - b, c + PI]];
-    let mut best = [0.0; 3];
-    let mut best_d = f64::INFINITY;
-    for cand in candidates {
-        let un = [
-            unwrap_near(cand[0], near[0]),
-            unwrap_near(cand[1], near[1]),
-            unwrap_near(cand[2], near[2]),
-        ];
-        let d: f64 = un.iter().zip(&near).map(|(x, y)| (x - y).powi(2)).sum();
-        if d < best_d {
-            best_d = d;
-            best = un;
-        }
-    }
-    best
 }
 
 #[cfg(test)]

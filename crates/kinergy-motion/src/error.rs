@@ -1,6 +1,6 @@
 //! The error type of `kinergy-motion`.
 
-use crate::arm::Side;
+use crate::side::Side;
 
 /// Everything that can go wrong in `kinergy-motion`.
 #[derive(Debug, thiserror::Error)]
@@ -43,6 +43,25 @@ pub enum MotionError {
         side: Side,
         /// Joints whose names look like arm joints.
         candidates: Vec<String>,
+    },
+    /// No leg with the usual joint names was found.
+    #[error(
+        "no {side} leg found (UpLeg/Thigh/Hip → Leg/Knee/Shin/Calf → Foot/Ankle); leg-like joints: {}",
+        if .candidates.is_empty() { "none".to_string() } else { .candidates.join(", ") }
+    )]
+    LegNotFound {
+        /// Which leg was looked for.
+        side: Side,
+        /// Joints whose names look like leg joints.
+        candidates: Vec<String>,
+    },
+    /// A leg's ankle has no joint or End Site below it to be the toe tip.
+    #[error("the {side} ankle `{ankle}` has no toe joint or End Site below it")]
+    NoToe {
+        /// Which leg.
+        side: Side,
+        /// The ankle's name.
+        ankle: String,
     },
     /// A value that must be finite is NaN or infinite.
     #[error("{what} is not finite")]

@@ -6,8 +6,8 @@
 //! - [`Clip`]: a skeleton and its poses over time, resampled with slerp.
 //! - [`clip_from_bvh`] / [`clip_to_bvh`]: BVH ↔ clip in SI units, with the unit guessed or
 //!   given and a documented reading of position channels ([`convert`]).
-//! - [`ArmJoints`]: the arm chain found by joint role in CMU, Bandai Namco, Character
-//!   Creator, Mixamo and Collar-style skeletons.
+//! - [`ArmJoints`], [`LegJoints`]: the arm chain and the leg found by joint role in CMU,
+//!   Bandai Namco, Character Creator, Mixamo and Collar-style skeletons ([`limbs`]).
 //! - [`Chain`]: serial chains for IK, among them the 7-DoF swing-twist [`Chain::arm`], with
 //!   joint limits, FK and the Jacobian.
 //! - [`Trajectory`] and [`motion_distance`]: the paper's joint-position motion distance, and
@@ -36,17 +36,17 @@
 //! ```
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
-pub mod arm;
 pub mod chain;
 pub mod clip;
 pub mod convert;
 pub mod error;
+pub mod limbs;
 pub mod rotation;
+pub mod side;
 pub mod skeleton;
 pub mod trajectory;
 pub mod units;
 
-pub use arm::{ArmJoints, ArmLengths, Side};
 pub use chain::{Chain, ChainJoint, ChainPose, Linearization, Motion};
 pub use clip::Clip;
 pub use convert::{
@@ -54,7 +54,9 @@ pub use convert::{
     read_clip, write_clip,
 };
 pub use error::{MotionError, Result};
+pub use limbs::{ArmJoints, ArmLengths, LegJoints};
 pub use rotation::Axis;
+pub use side::Side;
 pub use skeleton::{Dof, Joint, PositionReading, Skeleton};
 pub use trajectory::{Trajectory, motion_distance, speed_series};
 pub use units::{LengthUnit, UnitChoice};

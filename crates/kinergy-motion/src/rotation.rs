@@ -233,6 +233,26 @@ pub fn unwrap_near(angle: f64, reference: f64) -> f64 {
     angle - ((angle - reference) / tau).round() * tau
 }
 
+/// Of the two Tait–Bryan solutions (α, β, γ) and (α + π, π − β, γ + π) of one rotation
+/// (from [`euler_angles`]), each unwrapped toward `near` ([`unwrap_near`]), the one closest
+/// to `near` (least squared distance); `angles` as given when neither compares (NaN).
+/// Frame to frame, this keeps Euler angles from jumping by 2π or flipping solution.
+pub fn nearest_euler(angles: [f64; 3], near: [f64; 3]) -> [f64; 3] {
+    use std::f64::consts::PI;
+    let [a, b, c] = angles;
+    let mut best = angles;
+    let mut best_d = f64::INFINITY;
+    for cand in [[a, b, c], [a + PI, PI - b, c + PI]] {
+        let un = [0, 1, 2].map(|i| unwrap_near(cand[i], near[i]));
+        let d: f64 = un.iter().zip(&near).map(|(x, y)| (x - y).powi(2)).sum();
+        if d < best_d {
+            best_d = d;
+            best = un;
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -247,6 +267,22 @@ mod tests {
         [Axis::Z, Axis::X, Axis::Y],
         [Axis::Z, Axis::Y, Axis::X],
     ];
+
+    #[test]
+    fn nearest_euler_takes_the_solution_and_turn_closest_to_the_previous_frame() {
+        use std::f64::consts::{PI, TAU};
+        let order = [Axis::Y, Axis::X, Axis::Z];
+        let angles = [0.1, 0.2, 0.3];
+        // Near the other solution, two turns away: that one, unwrapped.
+        let flipped = [0.1 + PI + 2.0 * TAU, PI - 0.2, 0.3 + PI - TAU];
+        let near = nearest_euler(angles, [flipped[0] + 0.01, flipped[1], flipped[2]]);
+        for (a, b) in near.iter().zip(&flipped) {
+            assert_relative_eq!(a, b, epsilon = 1e-12);
+        }
+        let same = euler_rotation(&order, &near).inverse() * euler_rotation(&order, &angles);
+        assert_relative_eq!(same.angle(), 0.0, epsilon = 1e-12);
+        assert_eq!(nearest_euler(angles, angles), angles);
+    }
 
     #[test]
     fn axis_rotation_matches_nalgebra() {

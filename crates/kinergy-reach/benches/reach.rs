@@ -7,7 +7,7 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kinergy_motion::nalgebra::Point3;
 use kinergy_reach::character::Character;
-use kinergy_reach::controller::{ReachSettings, reach};
+use kinergy_reach::controller::{ReachSettings, reach_full_body};
 
 fn per_frame(c: &mut Criterion) {
     let character = Character::from_height(1.75).expect("character");
@@ -22,14 +22,14 @@ fn per_frame(c: &mut Criterion) {
             ..ReachSettings::default()
         };
         let target = Point3::new(target[0], target[1], target[2]);
-        let frames = reach(&character, target, &settings)
+        let frames = reach_full_body(&character, target, &settings)
             .expect("reach")
             .poses
             .len();
         group.throughput(Throughput::Elements(frames as u64));
         group.sample_size(10);
         group.bench_function(name, |b| {
-            b.iter(|| reach(black_box(&character), target, &settings).expect("reach"))
+            b.iter(|| reach_full_body(black_box(&character), target, &settings).expect("reach"))
         });
     }
     group.finish();

@@ -5,7 +5,10 @@
 //! - [`character`]: the character's skeleton, proportions and BVH export;
 //! - [`profile`]: hand speed profiles (the paper's ease-out, a minimum-jerk bell);
 //! - [`steps`]: the leg controller's decisions (reaching cylinders, step probability, half
-//!   or full step, step length) and foot and root paths.
+//!   or full step, step length) and foot and root paths;
+//! - [`controller`]: the controllers and their scheduler, run by
+//!   [`controller::reach_full_body`];
+//! - [`synth`]: the synthetic motion-capture set.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod character;

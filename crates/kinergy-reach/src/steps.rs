@@ -25,7 +25,8 @@
 //! arc" of the foot and "concave arc" of the root, simplified to piecewise linear paths.
 //!
 //! ```
-//! use kinergy_reach::steps::{self, Side, StepDecision, StepSettings};
+//! use kinergy_motion::Side;
+//! use kinergy_reach::steps::{self, StepDecision, StepSettings};
 //! use nalgebra::Point3;
 //! use rand::SeedableRng;
 //! use rand::rngs::ChaCha8Rng;
@@ -41,6 +42,9 @@
 //! assert_eq!(steps::step_length(&settings, d, p), settings.l_max);
 //! ```
 
+use std::fmt;
+
+use kinergy_motion::Side;
 use nalgebra::{Point3, Unit, Vector3};
 use rand::{Rng, RngExt};
 use rand_distr::{Distribution, StandardNormal};
@@ -63,8 +67,6 @@ pub const MRR_PER_ARM_LENGTH: f64 = 1.3;
 /// adult (≈ 0.40 of the height, Drillis & Contini).
 pub const REFERENCE_ARM_LENGTH: f64 = 0.70;
 
-pub use kinergy_motion::Side;
-
 /// What the stepping decision state machine (§3.5) chose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
@@ -84,6 +86,30 @@ impl StepDecision {
     /// Whether the character steps at all.
     pub fn steps(self) -> bool {
         self != StepDecision::NoStep
+    }
+
+    /// Its name in reports: `none`, `half_left`, `half_right` or `full`.
+    pub fn name(self) -> &'static str {
+        match self {
+            StepDecision::NoStep => "none",
+            StepDecision::HalfStep { foot: Side::Left } => "half_left",
+            StepDecision::HalfStep { foot: Side::Right } => "half_right",
+            StepDecision::FullStep => "full",
+        }
+    }
+}
+
+impl fmt::Display for StepDecision {
+    /// Its [name](StepDecision::name).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl PartialEq<&str> for StepDecision {
+    /// Whether `name` is its [name](StepDecision::name).
+    fn eq(&self, name: &&str) -> bool {
+        self.name() == *name
     }
 }
 

@@ -17,16 +17,17 @@
 
 use std::path::Path;
 
+use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use serde::Serialize;
 
 use crate::character::{Character, Proportions};
-use crate::controller::{ReachSettings, ReachStop, reach};
+use crate::controller::{ReachSettings, ReachStop, reach_full_body};
 use crate::error::{ReachError, Result, require};
 use crate::profile::{BellTiming, SpeedProfile};
-use crate::steps::{Side, StepSettings};
+use crate::steps::StepSettings;
 
 /// How many persons and reaches, and the seed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -156,7 +157,7 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
         let id = format!("p{:02}", p + 1);
         let folder = dir.join(&id);
         std::fs::create_dir_all(&folder).map_err(|e| io(&folder, e))?;
-        let arm = character.proportions().arm(kinergy_motion::Side::Right);
+        let arm = character.proportions().arm(Side::Right);
         let steps = StepSettings {
             p_max: person.p_max,
             ..StepSettings::for_arm_length(arm.upper_arm + arm.forearm + arm.hand)?
@@ -189,7 +190,7 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
                     seed,
                     ..ReachSettings::default()
                 };
-                let motion = reach(&character, target, &reach_settings)?;
+                let motion = reach_full_body(&character, target, &reach_settings)?;
                 if motion.report.stop == ReachStop::Reached {
                     made = Some((motion, target, seed));
                     break;
@@ -229,7 +230,7 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
                 target_x: target.x,
                 target_y: target.y,
                 target_z: target.z,
-                step: rep.step.clone(),
+                step: rep.step.name().to_string(),
                 step_length_m: rep.step_length,
                 twist_deg: rep.twist_deg,
                 swing_deg: rep.swing_deg,

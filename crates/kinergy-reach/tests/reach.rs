@@ -2,14 +2,14 @@
 
 use kinergy_motion::nalgebra::{Point2, Point3};
 use kinergy_reach::character::{Character, joint};
-use kinergy_reach::controller::{ReachMotion, ReachSettings, ReachStop, reach};
+use kinergy_reach::controller::{ReachMotion, ReachSettings, ReachStop, reach_full_body};
 
 fn character() -> Character {
     Character::from_height(1.75).expect("character")
 }
 
 fn run(target: [f64; 3], settings: &ReachSettings) -> ReachMotion {
-    reach(
+    reach_full_body(
         &character(),
         Point3::new(target[0], target[1], target[2]),
         settings,
@@ -228,7 +228,7 @@ fn the_same_seed_gives_the_same_bvh_byte_for_byte() {
 #[test]
 fn bad_settings_name_the_field() {
     let c = character();
-    let e = reach(
+    let e = reach_full_body(
         &c,
         Point3::new(0.0, f64::NAN, 0.0),
         &ReachSettings::default(),
@@ -236,7 +236,7 @@ fn bad_settings_name_the_field() {
     .expect_err("nan")
     .to_string();
     assert!(e.contains("target"), "{e}");
-    let e = reach(
+    let e = reach_full_body(
         &c,
         Point3::new(0.0, 1.0, 0.3),
         &ReachSettings {

@@ -2,10 +2,10 @@
 //! and half-step probabilities, eq. 9, foot and root arcs.
 
 use approx::assert_relative_eq;
+use kinergy_motion::Side;
 use kinergy_reach::ReachError;
 use kinergy_reach::steps::{
-    self, CRR_PER_ARM_LENGTH, MRR_PER_ARM_LENGTH, PAPER_STEP_LENGTH, Side, StepDecision,
-    StepSettings,
+    self, CRR_PER_ARM_LENGTH, MRR_PER_ARM_LENGTH, PAPER_STEP_LENGTH, StepDecision, StepSettings,
 };
 use nalgebra::{Point3, Vector3};
 use rand::rngs::ChaCha8Rng;

@@ -1,10 +1,7 @@
-//! Finding a skeleton's arm chain by joint role (clavicle → shoulder → elbow → wrist → hand).
+//! The arm chain by joint role (clavicle → shoulder → elbow → wrist → hand).
 //!
-//! Names are split into lowercase tokens (at `_`, `:`, `.`, `-`, spaces and camelCase
-//! boundaries; a `namespace:` prefix such as `mixamorig:` and Character Creator's `CC_Base_`
-//! are dropped), a side token (`right`/`r`, `left`/`l`) is looked for, and the remaining
-//! tokens give the role. The chain is found from the hand upward, skipping twist, roll and
-//! share bones, so the conventions below all work, including the ambiguity of `Shoulder`
+//! The chain is found from the hand upward, skipping twist, roll, share, helper, bend and
+//! adjust bones, so the conventions below all work, including the ambiguity of `Shoulder`
 //! (the clavicle in CMU's naming, the upper arm in the Collar style):
 //!
 //! | convention | clavicle | shoulder | elbow | wrist |
@@ -14,52 +11,12 @@
 //! | Character Creator | `CC_Base_R_Clavicle` | `CC_Base_R_Upperarm` | `CC_Base_R_Forearm` | `CC_Base_R_Hand` |
 //! | Collar style | `RightCollar` | `RightShoulder` | `RightElbow` | `RightWrist` |
 
-use std::fmt;
-use std::str::FromStr;
-
 use crate::clip::Clip;
 use crate::error::{MotionError, Result};
+use crate::side::Side;
 use crate::skeleton::Skeleton;
 
-/// Left or right: an arm, a foot, or the side of the body a target is on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Side {
-    /// The right side.
-    Right,
-    /// The left side.
-    Left,
-}
-
-impl Side {
-    /// The other side.
-    pub fn opposite(self) -> Side {
-        match self {
-            Side::Left => Side::Right,
-            Side::Right => Side::Left,
-        }
-    }
-}
-
-impl fmt::Display for Side {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Side::Right => "right",
-            Side::Left => "left",
-        })
-    }
-}
-
-impl FromStr for Side {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s.to_ascii_lowercase().as_str() {
-            "right" | "r" => Ok(Side::Right),
-            "left" | "l" => Ok(Side::Left),
-            _ => Err(format!("unknown side `{s}`: expected right or left")),
-        }
-    }
-}
+use super::{name_tokens, role_word, side_of};
 
 /// The joints of one arm, by role. Indices are into the skeleton's joints.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -136,60 +93,6 @@ impl ArmJoints {
     }
 }
 
-/// Lowercase role tokens of a joint name: split at separators and camelCase boundaries,
-/// namespace (`mixamorig:`) dropped — how joints are recognized by role.
-pub fn name_tokens(name: &str) -> Vec<String> {
-    let name = name.rsplit(':').next().unwrap_or(name);
-    let chars: Vec<char> = name.chars().collect();
-    let mut out = Vec::new();
-    let mut cur = String::new();
-    for (i, &c) in chars.iter().enumerate() {
-        if !c.is_ascii_alphanumeric() {
-            if !cur.is_empty() {
-                out.push(std::mem::take(&mut cur));
-            }
-            continue;
-        }
-        let prev = i.checked_sub(1).map(|k| chars[k]);
-        let next = chars.get(i + 1).copied();
-        let boundary = c.is_ascii_uppercase()
-            && prev.is_some_and(|p| {
-                p.is_ascii_lowercase()
-                    || p.is_ascii_digit()
-                    || (p.is_ascii_uppercase() && next.is_some_and(|n| n.is_ascii_lowercase()))
-            });
-        if boundary && !cur.is_empty() {
-            out.push(std::mem::take(&mut cur));
-        }
-        cur.push(c.to_ascii_lowercase());
-    }
-    if !cur.is_empty() {
-        out.push(cur);
-    }
-    // Character Creator's prefix.
-    if out.len() > 2 && out[0] == "cc" && out[1] == "base" {
-        out.drain(..2);
-    }
-    out
-}
-
-fn side_of(tokens: &[String]) -> Option<Side> {
-    tokens.iter().find_map(|t| match t.as_str() {
-        "right" | "r" => Some(Side::Right),
-        "left" | "l" => Some(Side::Left),
-        _ => None,
-    })
-}
-
-/// The name without its side tokens, joined: `Shoulder_R` → `shoulder`.
-fn role_word(tokens: &[String]) -> String {
-    tokens
-        .iter()
-        .filter(|t| !matches!(t.as_str(), "right" | "r" | "left" | "l"))
-        .map(String::as_str)
-        .collect()
-}
-
 fn is_helper(word: &str) -> bool {
     ["twist", "roll", "share", "helper", "bend", "adjust"]
         .iter()
@@ -217,7 +120,7 @@ fn is_arm_like(word: &str) -> bool {
 }
 
 impl ArmJoints {
-    /// Finds the `side` arm by joint names (see the [module docs](self)); the error lists
+    /// Finds the `side` arm by joint names (see the [module docs](self) and [`super`] for the names); the error lists
     /// the arm-like joints it saw.
     pub fn find(skeleton: &Skeleton, side: Side) -> Result<ArmJoints> {
         let info: Vec<(Option<Side>, String)> = skeleton
@@ -397,17 +300,6 @@ mod tests {
         let s = chain_skeleton(names);
         let arm = ArmJoints::find(&s, side).expect("arm");
         arm.names(&s).into_iter().map(String::from).collect()
-    }
-
-    #[test]
-    fn tokenizes_the_conventions() {
-        assert_eq!(
-            name_tokens("mixamorig:RightForeArm"),
-            ["right", "fore", "arm"]
-        );
-        assert_eq!(name_tokens("CC_Base_R_Upperarm"), ["r", "upperarm"]);
-        assert_eq!(name_tokens("RHipJoint"), ["r", "hip", "joint"]);
-        assert_eq!(name_tokens("LowerArm_R"), ["lower", "arm", "r"]);
     }
 
     #[test]

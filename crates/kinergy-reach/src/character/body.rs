@@ -1,0 +1,470 @@
+//! The character's body: its joints, built by walking one table of joint rows
+//! ([`Character::new`]), its bones, and forward kinematics.
+//!
+//! Each row names a joint, its parent, where it sits in the parent's frame and how it moves
+//! (the [character docs](super#the-skeleton-and-its-count) list the skeleton); walking the
+//! rows in order assigns the DoF indices of a [`Pose`]. The spine joints stack up the spine
+//! frame's +z by the [`SpineSegments`]; each limb hangs from its clavicle (arms) or from the
+//! root (legs), its base joint turned into the limb's rest frame and the rest placed by the
+//! limb's [`Chain`].
+
+use std::ops::Range;
+use std::sync::Arc;
+
+use kinergy_motion::rotation::{Axis, axis_rotation, swing_rotation};
+use kinergy_motion::{Chain, Motion, Side, Skeleton};
+use nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
+
+use super::export::{LIMB_ORDER, SPINE_ORDER, exported_skeleton};
+use super::layout::{
+    DOF_COUNT, DofKind, Limb, Pose, SpineJoint, arm_frame, dof, joint, leg_frame, spine_frame,
+};
+use super::limits::{leg_chain, spine_motions};
+use super::proportions::{Proportions, SpineSegments};
+use crate::error::Result;
+
+/// One joint of the [`Character`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct CharacterJoint {
+    /// The BVH name (see the [character docs](super#the-skeleton-and-its-count)).
+    pub name: String,
+    /// The parent joint, `None` for the root.
+    pub parent: Option<usize>,
+    /// Position in the parent's joint frame (world for the root), meters.
+    pub offset: Vector3<f64>,
+    /// Fixed rotation in the parent's frame, applied before the motions.
+    pub rest: Rotation3<f64>,
+    /// True for the root: three world translations come first among its DoFs.
+    pub translates: bool,
+    /// The rotational motions, in order (with their limits).
+    pub motions: Vec<Motion>,
+    /// Every DoF, translations first.
+    pub dofs: Vec<DofKind>,
+    /// The index of its first DoF in a [`Pose`].
+    pub first_dof: usize,
+    /// True for an End Site (a 0-DoF tip).
+    pub end_site: bool,
+    /// The BVH rotation channel order (used when it has motions).
+    pub channel_order: [Axis; 3],
+}
+
+impl CharacterJoint {
+    /// Its DoFs' indices in a [`Pose`].
+    pub fn dof_range(&self) -> Range<usize> {
+        self.first_dof..self.first_dof + self.dofs.len()
+    }
+}
+
+/// A rigid segment between two joints.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Bone {
+    /// E.g. `thorax`, `right_clavicle`, `left_shank`.
+    pub name: &'static str,
+    /// The joint it hangs from.
+    pub from: usize,
+    /// The joint at its other end.
+    pub to: usize,
+}
+
+/// The 21-bone, 43-DoF character (see the [character docs](super)). Immutable; poses are
+/// [`Pose`]s.
+#[derive(Debug, Clone)]
+pub struct Character {
+    pub(super) proportions: Proportions,
+    pub(super) joints: Vec<CharacterJoint>,
+    pub(super) bones: Vec<Bone>,
+    pub(super) dof_names: Vec<String>,
+    pub(super) chains: [Chain; 4],
+    /// Per joint: the world orientation of its frame at rest.
+    pub(super) rest_world: Vec<Rotation3<f64>>,
+    pub(super) skeleton: Arc<Skeleton>,
+}
+
+/// A length of the spine a joint sits up its parent's +z by.
+#[derive(Debug, Clone, Copy)]
+enum Rise {
+    Sacrum,
+    Lumbar,
+    Thoracic,
+    Neck,
+    Head,
+    /// From the thoracic joint to the clavicles: thoracic − shoulder drop.
+    Clavicle,
+}
+
+impl Rise {
+    fn length(self, s: &SpineSegments) -> f64 {
+        match self {
+            Rise::Sacrum => s.sacrum,
+            Rise::Lumbar => s.lumbar,
+            Rise::Thoracic => s.thoracic,
+            Rise::Neck => s.neck,
+            Rise::Head => s.head,
+            Rise::Clavicle => s.thoracic - s.shoulder_drop,
+        }
+    }
+}
+
+/// Where a joint sits in its parent's frame, and its rest rotation there.
+#[derive(Debug, Clone, Copy)]
+enum At {
+    /// The root: at the origin (its translation DoFs place it), turned into the spine frame.
+    Root,
+    /// Up the parent's +z (the spine) by a spine length, not turned.
+    Up(Rise),
+    /// A limb's base joint: sideways from its parent by half the shoulder or hip width (a hip
+    /// also down to its leg's hip height), turned into the limb's rest frame.
+    Beside(Limb),
+    /// Where its limb's chain puts it: the chain joint's offset and rest rotation.
+    InChain,
+    /// A limb's tip: its chain's end effector, not turned.
+    Tip(Limb),
+}
+
+/// How a joint moves.
+#[derive(Debug, Clone, Copy)]
+enum Moves {
+    /// A spine joint's swing + twist, within its limits (the root also translates).
+    Spine(SpineJoint),
+    /// Joint `i` (0 base, 1 mid, 2 end) of a limb's chain: the chain joint's motions.
+    InLimb(Limb, usize),
+    /// Not at all (0 DoFs).
+    Fixed,
+    /// Not at all: an End Site.
+    EndSite,
+}
+
+/// One joint: its BVH name, its parent, where it sits and how it moves.
+#[derive(Debug, Clone, Copy)]
+struct Row(&'static str, Option<usize>, At, Moves);
+
+/// The joints, parents first, in the order of [`joint`].
+#[rustfmt::skip]
+const JOINTS: [Row; joint::COUNT] = {
+    use At::{Beside, InChain, Root, Tip, Up};
+    use Limb::{LeftArm, LeftLeg, RightArm, RightLeg};
+    use Moves::{EndSite, Fixed, InLimb, Spine};
+    use SpineJoint::{Cervical, Lumbar, Sacral, Thoracic};
+    use joint as j;
+    [
+        //  BVH name         parent                   where it sits       how it moves
+        Row("Hips",          None,                    Root,               Spine(Sacral)),
+        Row("Spine",         Some(j::HIPS),           Up(Rise::Sacrum),   Spine(Lumbar)),
+        Row("Chest",         Some(j::SPINE),          Up(Rise::Lumbar),   Spine(Thoracic)),
+        Row("Neck",          Some(j::CHEST),          Up(Rise::Thoracic), Spine(Cervical)),
+        Row("Head",          Some(j::NECK),           Up(Rise::Neck),     Fixed),
+        Row("Head_End",      Some(j::HEAD),           Up(Rise::Head),     EndSite),
+        Row("RightShoulder", Some(j::CHEST),          Up(Rise::Clavicle), Fixed),
+        Row("RightArm",      Some(j::RIGHT_SHOULDER), Beside(RightArm),   InLimb(RightArm, 0)),
+        Row("RightForeArm",  Some(j::RIGHT_ARM),      InChain,            InLimb(RightArm, 1)),
+        Row("RightHand",     Some(j::RIGHT_FOREARM),  InChain,            InLimb(RightArm, 2)),
+        Row("RightHand_End", Some(j::RIGHT_HAND),     Tip(RightArm),      EndSite),
+        Row("LeftShoulder",  Some(j::CHEST),          Up(Rise::Clavicle), Fixed),
+        Row("LeftArm",       Some(j::LEFT_SHOULDER),  Beside(LeftArm),    InLimb(LeftArm, 0)),
+        Row("LeftForeArm",   Some(j::LEFT_ARM),       InChain,            InLimb(LeftArm, 1)),
+        Row("LeftHand",      Some(j::LEFT_FOREARM),   InChain,            InLimb(LeftArm, 2)),
+        Row("LeftHand_End",  Some(j::LEFT_HAND),      Tip(LeftArm),       EndSite),
+        Row("RightUpLeg",    Some(j::HIPS),           Beside(RightLeg),   InLimb(RightLeg, 0)),
+        Row("RightLeg",      Some(j::RIGHT_UP_LEG),   InChain,            InLimb(RightLeg, 1)),
+        Row("RightFoot",     Some(j::RIGHT_LEG),      InChain,            InLimb(RightLeg, 2)),
+        Row("RightFoot_End", Some(j::RIGHT_FOOT),     Tip(RightLeg),      EndSite),
+        Row("LeftUpLeg",     Some(j::HIPS),           Beside(LeftLeg),    InLimb(LeftLeg, 0)),
+        Row("LeftLeg",       Some(j::LEFT_UP_LEG),    InChain,            InLimb(LeftLeg, 1)),
+        Row("LeftFoot",      Some(j::LEFT_LEG),       InChain,            InLimb(LeftLeg, 2)),
+        Row("LeftFoot_End",  Some(j::LEFT_FOOT),      Tip(LeftLeg),       EndSite),
+    ]
+};
+
+/// The 21 bones: the spine's four and the head, then per arm the clavicle, upper arm,
+/// forearm and hand, per leg the pelvic bone, thigh, shank and foot.
+const BONES: [Bone; 21] = {
+    use joint as j;
+    const fn bone(name: &'static str, from: usize, to: usize) -> Bone {
+        Bone { name, from, to }
+    }
+    [
+        bone("sacrum", j::HIPS, j::SPINE),
+        bone("lumbar", j::SPINE, j::CHEST),
+        bone("thorax", j::CHEST, j::NECK),
+        bone("neck", j::NECK, j::HEAD),
+        bone("head", j::HEAD, j::HEAD_END),
+        bone("right_clavicle", j::RIGHT_SHOULDER, j::RIGHT_ARM),
+        bone("right_upper_arm", j::RIGHT_ARM, j::RIGHT_FOREARM),
+        bone("right_forearm", j::RIGHT_FOREARM, j::RIGHT_HAND),
+        bone("right_hand", j::RIGHT_HAND, j::RIGHT_HAND_END),
+        bone("left_clavicle", j::LEFT_SHOULDER, j::LEFT_ARM),
+        bone("left_upper_arm", j::LEFT_ARM, j::LEFT_FOREARM),
+        bone("left_forearm", j::LEFT_FOREARM, j::LEFT_HAND),
+        bone("left_hand", j::LEFT_HAND, j::LEFT_HAND_END),
+        bone("right_pelvis", j::HIPS, j::RIGHT_UP_LEG),
+        bone("right_thigh", j::RIGHT_UP_LEG, j::RIGHT_LEG),
+        bone("right_shank", j::RIGHT_LEG, j::RIGHT_FOOT),
+        bone("right_foot", j::RIGHT_FOOT, j::RIGHT_FOOT_END),
+        bone("left_pelvis", j::HIPS, j::LEFT_UP_LEG),
+        bone("left_thigh", j::LEFT_UP_LEG, j::LEFT_LEG),
+        bone("left_shank", j::LEFT_LEG, j::LEFT_FOOT),
+        bone("left_foot", j::LEFT_FOOT, j::LEFT_FOOT_END),
+    ]
+};
+
+/// The prefix of a spine joint's DoF names.
+fn spine_dof_prefix(joint: SpineJoint) -> &'static str {
+    match joint {
+        SpineJoint::Sacral => "root",
+        SpineJoint::Lumbar => "lumbar",
+        SpineJoint::Thoracic => "thoracic",
+        SpineJoint::Cervical => "cervical",
+    }
+}
+
+/// The joint of `row`, its DoFs starting at `first_dof`, and its DoFs' names.
+fn joint_of(
+    row: Row,
+    p: &Proportions,
+    chains: &[Chain; 4],
+    first_dof: usize,
+) -> (CharacterJoint, Vec<String>) {
+    let Row(name, parent, at, moves) = row;
+    let spine_rest = spine_frame();
+    let (offset, rest) = match at {
+        At::Root => (Vector3::zeros(), spine_rest),
+        At::Up(rise) => (
+            Vector3::new(0.0, 0.0, rise.length(&p.spine)),
+            Rotation3::identity(),
+        ),
+        At::Beside(limb) => {
+            let sideways = |width: f64| match limb.side() {
+                Side::Right => -0.5 * width,
+                Side::Left => 0.5 * width,
+            };
+            if limb.is_arm() {
+                let offset = Vector3::new(sideways(p.shoulder_width), 0.0, 0.0);
+                (offset, spine_rest.inverse() * arm_frame())
+            } else {
+                let hip_y = p.leg(limb.side()).hip_height() - p.root_height();
+                // Spine-frame coordinates: world (x, y, 0) is (x, 0, y).
+                let offset = Vector3::new(sideways(p.hip_width), 0.0, hip_y);
+                (offset, spine_rest.inverse() * leg_frame())
+            }
+        }
+        At::InChain => match moves {
+            Moves::InLimb(limb, i) => {
+                let cj = &chains[limb.index()].joints()[i];
+                (cj.offset, cj.rest)
+            }
+            _ => unreachable!("a joint placed by a chain moves with it"),
+        },
+        At::Tip(limb) => (chains[limb.index()].end_effector(), Rotation3::identity()),
+    };
+    let translates = parent.is_none();
+    let (motions, motion_names, channel_order) = match moves {
+        Moves::Spine(j) => {
+            let prefix = spine_dof_prefix(j);
+            let names = ["swing_x", "swing_y", "twist"].map(|d| format!("{prefix}_{d}"));
+            (spine_motions(j), names.to_vec(), SPINE_ORDER)
+        }
+        Moves::InLimb(limb, i) => {
+            let cj = &chains[limb.index()].joints()[i];
+            let side = limb.side();
+            let names = cj.dof_names.iter().map(|n| format!("{side}_{n}")).collect();
+            (cj.motions.clone(), names, LIMB_ORDER)
+        }
+        Moves::Fixed | Moves::EndSite => (Vec::new(), Vec::new(), LIMB_ORDER),
+    };
+    let mut dofs = Vec::new();
+    let mut names = Vec::new();
+    if translates {
+        dofs.extend([Axis::X, Axis::Y, Axis::Z].map(DofKind::Translation));
+        names.extend(["root_tx", "root_ty", "root_tz"].map(String::from));
+    }
+    names.extend(motion_names);
+    for m in &motions {
+        match m {
+            Motion::Swing { .. } => dofs.extend([DofKind::SwingX, DofKind::SwingY]),
+            Motion::Revolute { axis: Axis::Z, .. } => dofs.push(DofKind::Twist),
+            Motion::Revolute { .. } => dofs.push(DofKind::Flexion),
+        }
+    }
+    debug_assert_eq!(dofs.len(), names.len());
+    let joint = CharacterJoint {
+        name: name.to_string(),
+        parent,
+        offset,
+        rest,
+        translates,
+        motions,
+        dofs,
+        first_dof,
+        end_site: matches!(moves, Moves::EndSite),
+        channel_order,
+    };
+    (joint, names)
+}
+
+impl Character {
+    /// The character with these proportions (validated first): the rows of its joint table
+    /// walked in order.
+    pub fn new(proportions: &Proportions) -> Result<Character> {
+        proportions.validate()?;
+        let p = proportions;
+        let chains = [
+            Chain::arm(p.right_arm.upper_arm, p.right_arm.forearm, p.right_arm.hand)?,
+            Chain::arm(p.left_arm.upper_arm, p.left_arm.forearm, p.left_arm.hand)?,
+            leg_chain(&p.right_leg)?,
+            leg_chain(&p.left_leg)?,
+        ];
+        let mut joints: Vec<CharacterJoint> = Vec::with_capacity(joint::COUNT);
+        let mut dof_names: Vec<String> = Vec::with_capacity(DOF_COUNT);
+        let mut rest_world: Vec<Rotation3<f64>> = Vec::with_capacity(joint::COUNT);
+        for row in JOINTS {
+            let (j, names) = joint_of(row, p, &chains, dof_names.len());
+            let parent = j.parent.map_or(Rotation3::identity(), |p| rest_world[p]);
+            rest_world.push(parent * j.rest);
+            joints.push(j);
+            dof_names.extend(names);
+        }
+        debug_assert_eq!(dof_names.len(), DOF_COUNT);
+        let skeleton = Arc::new(exported_skeleton(&joints, &rest_world)?);
+        Ok(Character {
+            proportions: *proportions,
+            joints,
+            bones: BONES.to_vec(),
+            dof_names,
+            chains,
+            rest_world,
+            skeleton,
+        })
+    }
+
+    /// A character `height` meters tall with Drillis & Contini's proportions.
+    pub fn from_height(height: f64) -> Result<Character> {
+        Character::new(&Proportions::from_height(height)?)
+    }
+
+    /// Its proportions.
+    pub fn proportions(&self) -> &Proportions {
+        &self.proportions
+    }
+
+    /// The joints, parents first (End Sites included); indices as in [`joint`].
+    pub fn joints(&self) -> &[CharacterJoint] {
+        &self.joints
+    }
+
+    /// The joint named `name`.
+    pub fn joint_index(&self, name: &str) -> Option<usize> {
+        self.joints.iter().position(|j| j.name == name)
+    }
+
+    /// The 21 bones.
+    pub fn bones(&self) -> &[Bone] {
+        &self.bones
+    }
+
+    /// 21.
+    pub fn bone_count(&self) -> usize {
+        self.bones.len()
+    }
+
+    /// 43.
+    pub fn dof_count(&self) -> usize {
+        self.dof_names.len()
+    }
+
+    /// Every DoF's name, in [`Pose`] order (e.g. `root_ty`, `right_elbow_flexion`).
+    pub fn dof_names(&self) -> &[String] {
+        &self.dof_names
+    }
+
+    /// The index of the DoF named `name`.
+    pub fn dof_index(&self, name: &str) -> Option<usize> {
+        self.dof_names.iter().position(|n| n == name)
+    }
+
+    /// The limb as a chain for IK, in the limb's rest frame
+    /// ([`Character::limb_base_frame`]); its configuration is `&pose[limb_dofs(limb)]`.
+    /// Arms are [`Chain::arm`]; legs have the hip, knee and ankle limits of the
+    /// [limits](super::limits) and the toe tip `(0, toe, ankle_height)` in the ankle
+    /// frame as their end effector.
+    pub fn limb_chain(&self, limb: Limb) -> &Chain {
+        &self.chains[limb.index()]
+    }
+
+    /// The limb's DoFs in a [`Pose`].
+    pub fn limb_dofs(&self, limb: Limb) -> Range<usize> {
+        limb.dofs()
+    }
+
+    /// The limb's joints: base, mid, end and tip.
+    pub fn limb_joints(&self, limb: Limb) -> [usize; 4] {
+        limb.joints()
+    }
+
+    /// The world frame of the limb's chain base at `pose`: its base joint's frame before the
+    /// joint's own motions (parent frame · offset · rest rotation).
+    pub fn limb_base_frame(&self, limb: Limb, pose: &Pose) -> IsometryMatrix3<f64> {
+        self.limb_base_frame_in(limb, &self.world_frames(pose))
+    }
+
+    /// [`Character::limb_base_frame`] from world frames already computed
+    /// ([`Character::world_frames`]); only the frames above the limb matter.
+    pub fn limb_base_frame_in(
+        &self,
+        limb: Limb,
+        frames: &[IsometryMatrix3<f64>],
+    ) -> IsometryMatrix3<f64> {
+        let base = limb.joints()[0];
+        let j = &self.joints[base];
+        let mut frame = j.parent.map_or(IsometryMatrix3::identity(), |p| frames[p]);
+        frame.translation.vector += frame.rotation * j.offset;
+        frame.rotation *= j.rest;
+        frame
+    }
+
+    /// Standing at the origin, feet flat on y = 0, facing +Z, arms hanging: every DoF 0
+    /// except `root_ty` = [`Proportions::root_height`].
+    pub fn rest_pose(&self) -> Pose {
+        let mut pose = [0.0; DOF_COUNT];
+        pose[dof::ROOT_Y] = self.proportions.root_height();
+        pose
+    }
+
+    /// Forward kinematics: every joint's world frame (after its motions).
+    pub fn world_frames(&self, pose: &Pose) -> Vec<IsometryMatrix3<f64>> {
+        let mut out: Vec<IsometryMatrix3<f64>> = Vec::with_capacity(self.joints.len());
+        for j in &self.joints {
+            let mut frame = j.parent.map_or(IsometryMatrix3::identity(), |p| out[p]);
+            let mut k = j.first_dof;
+            let mut offset = j.offset;
+            if j.translates {
+                offset += Vector3::new(pose[k], pose[k + 1], pose[k + 2]);
+                k += 3;
+            }
+            frame.translation.vector += frame.rotation * offset;
+            frame.rotation *= j.rest;
+            for m in &j.motions {
+                frame.rotation *= motion_rotation(m, &pose[k..]);
+                k += m.dof_count();
+            }
+            out.push(frame);
+        }
+        out
+    }
+
+    /// Forward kinematics: every joint's world position, End Sites included, in
+    /// [`Character::joints`] order.
+    pub fn world_positions(&self, pose: &Pose) -> Vec<Point3<f64>> {
+        self.world_frames(pose)
+            .iter()
+            .map(|f| Point3::from(f.translation.vector))
+            .collect()
+    }
+}
+
+/// The rotation of one motion at DoF values `q` (its first one or two).
+pub(super) fn motion_rotation(m: &Motion, q: &[f64]) -> Rotation3<f64> {
+    match *m {
+        Motion::Revolute { axis, .. } => axis_rotation(axis, q[0]),
+        Motion::Swing { .. } => swing_rotation(q[0], q[1]),
+    }
+}

@@ -1,0 +1,144 @@
+//! Measuring a capture's skeleton for the character's [`Proportions`]
+//! ([`Proportions::from_skeleton`], [`Proportions::from_clip`]): limbs found by joint role
+//! ([`ArmJoints::find`], [`LegJoints::find`]), the head by name, the rest from
+//! [`Ratios::DRILLIS_CONTINI`].
+
+use kinergy_motion::limbs::{name_tokens, side_of};
+use kinergy_motion::{ArmJoints, LegJoints, MotionError, Side, Skeleton};
+
+use super::proportions::{
+    ArmSegments, LegSegments, Proportions, Ratios, SpineSegments, check_height,
+};
+use crate::error::{ReachError, Result, require};
+
+fn setting(field: &str, why: impl Into<String>) -> ReachError {
+    ReachError::Setting {
+        field: field.to_string(),
+        why: why.into(),
+    }
+}
+
+/// The `side` leg of a capture ([`LegJoints::find`]); a skeleton without one is a bad
+/// `skeleton` input, like its other missing parts.
+fn find_leg(skeleton: &Skeleton, side: Side) -> Result<LegJoints> {
+    LegJoints::find(skeleton, side).map_err(|e| match e {
+        MotionError::LegNotFound { .. } | MotionError::NoToe { .. } => {
+            setting("skeleton", e.to_string())
+        }
+        e => e.into(),
+    })
+}
+
+/// The proportions of `skeleton` at `pose` (the method of [`Proportions::from_clip`]).
+pub(super) fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
+    let zero = skeleton.world_positions(&skeleton.rest_pose())?;
+    let p = skeleton.world_positions(pose)?;
+    let d = |a: usize, b: usize| (p[a] - p[b]).norm();
+    let ratios = Ratios::DRILLIS_CONTINI;
+
+    let mut arms = Vec::with_capacity(2);
+    let mut shoulders = Vec::with_capacity(2);
+    for side in [Side::Right, Side::Left] {
+        let a = ArmJoints::find(skeleton, side)?;
+        let hand = a.hand.ok_or_else(|| {
+            setting(
+                "skeleton",
+                format!(
+                    "the {side} arm has no hand point (a child with a length) below its wrist `{}`",
+                    skeleton.joint(a.wrist).name
+                ),
+            )
+        })?;
+        arms.push(ArmSegments {
+            upper_arm: d(a.shoulder, a.elbow),
+            forearm: d(a.elbow, a.wrist),
+            hand: d(a.wrist, hand),
+        });
+        shoulders.push(a.shoulder);
+    }
+    let legs = [
+        find_leg(skeleton, Side::Right)?,
+        find_leg(skeleton, Side::Left)?,
+    ];
+    let head = (0..skeleton.joint_count())
+        .find(|&j| {
+            let joint = skeleton.joint(j);
+            let tokens = name_tokens(&joint.name);
+            !joint.end_site && tokens.iter().any(|t| t == "head") && side_of(&tokens).is_none()
+        })
+        .ok_or_else(|| {
+            setting(
+                "skeleton",
+                "no head joint (named like `Head`) to measure the height to",
+            )
+        })?;
+    let top = (head..skeleton.joint_count())
+        .filter(|&j| skeleton.is_ancestor_or_self(head, j))
+        .map(|j| zero[j].y)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let hips_y = 0.5 * (zero[legs[0].hip].y + zero[legs[1].hip].y);
+    let upper = top - hips_y;
+    require(
+        upper.is_finite() && upper > 0.0,
+        "skeleton",
+        format!(
+            "the top of the head (`{}`) is not above the hips in the zero pose",
+            skeleton.joint(head).name
+        ),
+    )?;
+    let mean_thigh_shank = 0.5
+        * legs
+            .iter()
+            .map(|l| d(l.hip, l.knee) + d(l.knee, l.ankle))
+            .sum::<f64>();
+    let height = (mean_thigh_shank + upper) / (1.0 - ratios.ankle_height);
+    check_height(height)?;
+    let ankle_height = ratios.ankle_height * height;
+    let mut leg_segments = Vec::with_capacity(2);
+    for (l, side) in legs.iter().zip(["right", "left"]) {
+        let foot = d(l.ankle, l.toe);
+        require(
+            foot > ankle_height,
+            "skeleton",
+            format!(
+                "the {side} foot (`{}` to `{}`, {foot} m) is shorter than the ankle height {ankle_height} m",
+                skeleton.joint(l.ankle).name,
+                skeleton.joint(l.toe).name
+            ),
+        )?;
+        leg_segments.push(LegSegments {
+            thigh: d(l.hip, l.knee),
+            shank: d(l.knee, l.ankle),
+            ankle_height,
+            toe: (foot * foot - ankle_height * ankle_height).sqrt(),
+            heel: ratios.heel * height,
+        });
+    }
+    let k = upper / ratios.spine_sum();
+    let mut spine = SpineSegments {
+        pelvis_rise: ratios.pelvis_rise * k,
+        sacrum: ratios.sacrum * k,
+        lumbar: ratios.lumbar * k,
+        thoracic: ratios.thoracic * k,
+        neck: ratios.neck * k,
+        head: ratios.head * k,
+        shoulder_drop: ratios.shoulder_drop * k,
+    };
+    let cervical = spine.pelvis_rise + spine.sacrum + spine.lumbar + spine.thoracic;
+    let shoulder_y = 0.5 * (zero[shoulders[0]].y + zero[shoulders[1]].y) - hips_y;
+    let drop = cervical - shoulder_y;
+    if drop >= 0.0 && drop < spine.thoracic {
+        spine.shoulder_drop = drop;
+    }
+    let proportions = Proportions {
+        right_arm: arms[0],
+        left_arm: arms[1],
+        right_leg: leg_segments[0],
+        left_leg: leg_segments[1],
+        spine,
+        shoulder_width: (zero[shoulders[0]] - zero[shoulders[1]]).norm(),
+        hip_width: (zero[legs[0].hip] - zero[legs[1].hip]).norm(),
+    };
+    proportions.validate()?;
+    Ok(proportions)
+}

@@ -1,0 +1,308 @@
+//! The arm controller (Huang, Kapadia & Terzopoulos §3.2, with [`crate::profile`]): the hand
+//! moves on the straight line from where it is when the arm controller starts to the target
+//! with the speed profile (the paper's ease-out by default); each frame the arm is solved by
+//! analytic IK with Kallmann's orbit-angle search in the current shoulder frame. A goal out
+//! of reach is replaced by the nearest reachable point on the shoulder→goal line, so an
+//! unreachable target ends at the nearest point.
+//!
+//! Beyond the paper, the arm moves continuously: each frame's orbit search starts at the
+//! previous frame's orbit angle ([`ArmFollower`]), and no arm DoF turns faster than
+//! [`ARM_MAX_SPEED`].
+
+use std::ops::Range;
+
+use kinergy_motion::Side;
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
+use kinergy_solver::analytic::{LimbIk, OrbitSearch, OrbitSense};
+
+use crate::character::{Character, Limb, Pose};
+use crate::error::{ReachError, Result};
+use crate::profile::SpeedProfile;
+
+/// The largest change of an arm DoF between frames before the orbit angle is chosen anew by
+/// posture (radians; a reach moves far less per frame).
+const ARM_JUMP: f64 = 0.2;
+
+/// The fastest an arm DoF turns, rad/s (peak elbow and shoulder speeds of fast human
+/// reaches are around 10 rad/s; ours stay below).
+const ARM_MAX_SPEED: f64 = 8.0;
+
+/// The arm's analytic IK: α = 0 the lowest elbow (world down) and growing α raising the
+/// elbow outward — a left-handed turn about the shoulder→wrist axis for the right arm.
+pub(super) fn arm_ik(character: &Character, arm: Limb) -> Result<LimbIk> {
+    let sense = match arm.side() {
+        Side::Right => OrbitSense::LeftHanded,
+        Side::Left => OrbitSense::RightHanded,
+    };
+    LimbIk::new(character.limb_chain(arm))
+        .map(|ik| ik.with_sense(sense))
+        .map_err(|e| ReachError::Setting {
+            field: "character.arm".into(),
+            why: e.to_string(),
+        })
+}
+
+/// The reaching arm over the frames of a reach: where the hand started, the last solution
+/// and orbit angle, and the previous frame's posture.
+#[derive(Debug, Clone)]
+pub(super) struct ArmFollower {
+    limb: Limb,
+    dofs: Range<usize>,
+    ik: LimbIk,
+    search: OrbitSearch,
+    /// Where the hand was when the arm controller started.
+    hand_start: Option<Point3<f64>>,
+    /// The last solution, kept when a later solve fails.
+    last: Option<[f64; 7]>,
+    /// The orbit angle of the previous frame's arm: each frame's search starts there, so the
+    /// elbow (and the arm's twist) moves continuously; before the first solve, the search
+    /// starts at the angle whose posture is closest to the resting arm.
+    alpha: Option<f64>,
+    /// The previous frame's arm DoFs (the rest pose's before the first frame).
+    previous: [f64; 7],
+}
+
+impl ArmFollower {
+    /// The `limb`'s follower, starting from `rest`.
+    pub(super) fn new(character: &Character, limb: Limb, rest: &Pose) -> Result<ArmFollower> {
+        let ik = arm_ik(character, limb)?;
+        let dofs = character.limb_dofs(limb);
+        Ok(ArmFollower {
+            limb,
+            previous: std::array::from_fn(|i| rest[dofs.start + i]),
+            dofs,
+            ik,
+            search: OrbitSearch::default(),
+            hand_start: None,
+            last: None,
+            alpha: None,
+        })
+    }
+
+    /// The hand (the chain's tip) in `pose` with the arm's base frame at `base`; `or` if the
+    /// chain cannot say.
+    pub(super) fn hand(
+        &self,
+        character: &Character,
+        base: &IsometryMatrix3<f64>,
+        pose: &Pose,
+        or: Point3<f64>,
+    ) -> Point3<f64> {
+        character
+            .limb_chain(self.limb)
+            .end_position(base, &pose[self.dofs.clone()])
+            .unwrap_or(or)
+    }
+
+    /// One pass of the arm controller, `elapsed` seconds after it started: the hand's goal
+    /// on its path to `target` (the path starting where the hand is at the first call), the
+    /// arm solved for it into `pose`. A failed solve keeps the last solution; on later passes
+    /// of a frame, one that gives nothing at all leaves the pose's arm alone. Returns the
+    /// orbit angle solved at, if any.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn follow(
+        &mut self,
+        character: &Character,
+        pose: &mut Pose,
+        base: &IsometryMatrix3<f64>,
+        target: &Point3<f64>,
+        profile: &SpeedProfile,
+        elapsed: f64,
+        first_pass: bool,
+    ) -> Option<f64> {
+        let hand_now = self.hand(character, base, pose, *target);
+        let start = *self.hand_start.get_or_insert(hand_now);
+        let goal = profile.position(&start, target, elapsed);
+        let near = match self.alpha {
+            Some(a) => Near::Alpha(a),
+            None => Near::Posture(self.previous),
+        };
+        let mut solved = solve_arm_near(&self.ik, base, &goal, &self.search, near);
+        // Through a straight arm the orbit angle's reference flips: when the posture jumps,
+        // take the angle closest to the previous frame's posture instead.
+        if let Some((_, q)) = solved
+            && (0..5).any(|i| (q[i] - self.previous[i]).abs() > ARM_JUMP)
+        {
+            let again = solve_arm_near(
+                &self.ik,
+                base,
+                &goal,
+                &self.search,
+                Near::Posture(self.previous),
+            );
+            if again.is_some() {
+                solved = again;
+            }
+        }
+        let q = solved.map(|(_, q)| q).or(self.last).unwrap_or_default();
+        if first_pass || q != [0.0; 7] {
+            pose[self.dofs.clone()].copy_from_slice(&q);
+        }
+        self.last = Some(q);
+        solved.map(|(a, _)| a)
+    }
+
+    /// Ends a frame of `dt` seconds: the orbit angle solved in it (`alpha`, if any) is where
+    /// the next frame's search starts, and no arm DoF of `pose` turns faster than
+    /// [`ARM_MAX_SPEED`] from the previous frame. True when that limit held the arm back.
+    pub(super) fn end_frame(&mut self, pose: &mut Pose, alpha: Option<f64>, dt: f64) -> bool {
+        if alpha.is_some() {
+            self.alpha = alpha;
+        }
+        // A human joint turns at most so fast: near full extension a millimetre of shoulder
+        // motion (a balance correction) swings the elbow by tens of degrees, which the arm
+        // then catches up with over a few frames instead of in one.
+        let max_step = ARM_MAX_SPEED * dt;
+        let mut limited = false;
+        for (value, before) in pose[self.dofs.clone()].iter_mut().zip(&self.previous) {
+            let change = *value - before;
+            if change.abs() > max_step {
+                *value = before + max_step.copysign(change);
+                limited = true;
+            }
+        }
+        limited
+    }
+
+    /// Keeps the frame's final arm posture (`pose`, clamped) as the previous one.
+    pub(super) fn settle(&mut self, pose: &Pose) {
+        self.previous = std::array::from_fn(|i| pose[self.dofs.start + i]);
+    }
+
+    /// The length of the hand's straight path: from where it started to `target` (0 before
+    /// the arm controller started).
+    pub(super) fn path_length(&self, target: &Point3<f64>) -> f64 {
+        self.hand_start.map_or(0.0, |h| (target - h).norm())
+    }
+}
+
+/// Where an arm's orbit search starts.
+#[derive(Debug, Clone, Copy)]
+enum Near {
+    /// The default start ([`OrbitSearch::start`]).
+    Default,
+    /// At this orbit angle (the previous frame's), with small increments.
+    Alpha(f64),
+    /// At the angle whose posture is closest to this one (in the shoulder and elbow DoFs).
+    Posture([f64; 7]),
+}
+
+/// The arm for the hand at `goal` (world), position mode with the orbit search; a goal out
+/// of reach is moved to the nearest reachable point on the shoulder→goal line.
+pub(super) fn solve_arm(
+    ik: &LimbIk,
+    base: &IsometryMatrix3<f64>,
+    goal: &Point3<f64>,
+    search: &OrbitSearch,
+) -> Option<[f64; 7]> {
+    solve_arm_near(ik, base, goal, search, Near::Default).map(|(_, q)| q)
+}
+
+/// [`solve_arm`] with the search starting [`Near`] a previous solution; returns the orbit
+/// angle too.
+fn solve_arm_near(
+    ik: &LimbIk,
+    base: &IsometryMatrix3<f64>,
+    goal: &Point3<f64>,
+    search: &OrbitSearch,
+    near: Near,
+) -> Option<(f64, [f64; 7])> {
+    let down = base.rotation.inverse() * -Vector3::y();
+    let ik = ik.clone().with_down(down).ok()?;
+    let local = base.inverse() * goal;
+    let r = local.coords.norm();
+    let solve = |p: &Point3<f64>| {
+        let start = match near {
+            Near::Default => None,
+            Near::Alpha(a) => Some(a),
+            Near::Posture(q0) => closest_alpha(&ik, p, &q0),
+        };
+        match start {
+            None => ik.solve_position(p, search).ok(),
+            Some(a) => {
+                // The range widens to include the start: continuity comes first.
+                let s = OrbitSearch {
+                    start: a,
+                    min: search.min.min(a),
+                    max: search.max.max(a),
+                    step: search.step.min(2f64.to_radians()),
+                    ..*search
+                };
+                ik.solve_position(p, &s)
+                    .or_else(|_| ik.solve_position(p, search))
+                    .ok()
+            }
+        }
+    };
+    const SCALES: [f64; 8] = [1.0, 0.999, 0.995, 0.99, 0.98, 0.96, 0.93, 0.9];
+    // The goal itself, or a point a little closer on the same line (a goal exactly at full
+    // extension can fail by rounding) ...
+    for scale in SCALES {
+        let p = if r > 1e-9 {
+            Point3::from(local.coords * scale)
+        } else {
+            local
+        };
+        if let Some(found) = solve(&p) {
+            return Some(found);
+        }
+    }
+    // ... and only then, out of reach, the point at the reach radius on that line.
+    let (_, outer) = ik.position_reach().unwrap_or_else(|| ik.wrist_reach());
+    if r > outer {
+        for scale in SCALES {
+            if let Some(found) = solve(&Point3::from(local.coords * (outer / r) * scale)) {
+                return Some(found);
+            }
+        }
+    }
+    None
+}
+
+/// The orbit angle, on a 5° grid over the whole circle, whose posture within the limits is
+/// closest to `q0` in the shoulder and elbow DoFs.
+fn closest_alpha(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7]) -> Option<f64> {
+    use std::f64::consts::PI;
+    (0..72)
+        .map(|k| -PI + (k as f64) * 5f64.to_radians())
+        .filter_map(|a| {
+            let q = ik.solve_position_at(p, a).ok()?;
+            ik.within_limits(&q).then(|| {
+                let d: f64 = (0..5).map(|i| (q[i] - q0[i]).powi(2)).sum();
+                (a, d)
+            })
+        })
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .map(|(a, _)| a)
+}
+
+/// The shoulder: the arm chain's base, in world.
+pub(super) fn shoulder_position(character: &Character, pose: &Pose, arm: Limb) -> Point3<f64> {
+    let f = character.limb_base_frame(arm, pose);
+    Point3::from(f.translation.vector)
+}
+
+/// The hand: the arm's fingertip joint, in world.
+pub(super) fn hand_position(character: &Character, pose: &Pose, arm: Limb) -> Point3<f64> {
+    let frames = character.world_frames(pose);
+    Point3::from(frames[arm.joints()[3]].translation.vector)
+}
+
+/// The hand's distance from `target` with the arm solved by [`solve_arm`] at `pose`.
+pub(super) fn arm_error(
+    character: &Character,
+    pose: &Pose,
+    arm: Limb,
+    ik: &LimbIk,
+    target: &Point3<f64>,
+) -> f64 {
+    let base = character.limb_base_frame(arm, pose);
+    match solve_arm(ik, &base, target, &OrbitSearch::default()) {
+        Some(q) => {
+            let mut p = *pose;
+            p[character.limb_dofs(arm)].copy_from_slice(&q);
+            (hand_position(character, &p, arm) - target).norm()
+        }
+        None => f64::INFINITY,
+    }
+}

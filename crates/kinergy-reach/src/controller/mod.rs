@@ -1,0 +1,89 @@
+//! The full-body reaching controllers and their scheduler (Huang, Kapadia & Terzopoulos §3–4;
+//! DESIGN §1.2).
+//!
+//! A reach is first **planned** from the rest posture — every decision made once, from the
+//! seeded generator — then **animated** frame by frame:
+//!
+//! - **Legs** ([`crate::steps`]): the target's horizontal distance from the reaching
+//!   shoulder against the CRR and MRR cylinders decides no step, a half step or a full step
+//!   and its length (eq. 9) toward `d_p`; the stepping foot follows the convex foot path,
+//!   the root the concave root path (a half step moves the root half the step). Planted feet
+//!   stay exactly where they are: every frame both legs are solved by analytic IK for their
+//!   foot frames.
+//! - **Spine twist**: the total twist θ is searched (1° steps) until the target's horizontal
+//!   direction from the shoulder lies within the comfortable reaching angle of the chest's
+//!   forward direction (eq. 6), and split equally over sacral, lumbar and thoracic joints
+//!   (eq. 5).
+//! - **Spine swing**: when the vertical shoulder–target distance exceeds the start swing
+//!   distance, or the arm cannot reach, the spine swings about `s = d × y` (eq. 7), the angle
+//!   raised in 1° steps (split equally over the three joints, within their limits) until the
+//!   arm can reach; the root moves by `r = −kφ d_p` (eq. 8, `k = r_max/φ_max`) to keep the
+//!   COM over the feet. **Squat or stoop**: when the shoulder is higher above the target than
+//!   the stoop range `arm length / flexibility`, the root is lowered by the excess (within
+//!   what the legs allow) before the swing is searched; a low flexibility stoops instead.
+//! - **Arm** ([`crate::profile`]): the hand moves on the straight line from where it is when
+//!   the arm controller starts to the target with the speed profile (the paper's ease-out by
+//!   default); each frame the arm is solved by analytic IK with Kallmann's orbit-angle search
+//!   in the current shoulder frame. A goal out of reach is replaced by the nearest reachable
+//!   point on the shoulder→goal line, so an unreachable target ends at the nearest point.
+//! - **Head**: turns toward the target at a bounded angular speed, then tracks it.
+//! - **Balance** (beyond the paper): after composing a frame, if the COM's ground projection
+//!   is less than `balance_margin` inside the support polygon, the root is shifted
+//!   horizontally to bring it back, and the limbs solved again.
+//! - **Scheduler**: state 0 starts the step; state 1 (the step has progressed `r_st`, or no
+//!   step) starts arm, head and twist; state 2 (the twist has progressed `r_tw`, or no
+//!   twist) starts swing, COM adjustment and squat; state 3 ends when the hand is at the
+//!   target and every controller has finished, or at the timeout.
+//!
+//! One (private) file per controller — `legs.rs`, `spine.rs`, `head.rs`, `arm.rs`,
+//! `balance.rs` — and `scheduler.rs`, which plans and animates; [`ReachSettings`] tune a
+//! reach and [`ReachReport`] says what happened.
+//!
+//! ```
+//! use kinergy_motion::nalgebra::Point3;
+//! use kinergy_reach::character::Character;
+//! use kinergy_reach::controller::{ReachSettings, ReachStop, reach_full_body};
+//!
+//! let character = Character::from_height(1.75)?;
+//! let target = Point3::new(0.3, 1.1, 0.4);
+//! let motion = reach_full_body(&character, target, &ReachSettings::default())?;
+//! assert_eq!(motion.report.stop, ReachStop::Reached);
+//! let clip = character.to_clip(&motion.poses, motion.frame_time)?;
+//! assert_eq!(clip.frame_count(), motion.report.frames);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod arm;
+mod balance;
+mod head;
+mod legs;
+mod report;
+mod scheduler;
+mod settings;
+mod spine;
+
+use kinergy_motion::nalgebra::Point3;
+
+pub use report::{Posture, ReachMotion, ReachReport, ReachStop};
+pub use settings::ReachSettings;
+
+use crate::character::Character;
+use crate::error::{Result, require};
+
+/// Synthesizes a full-body reach of `character` toward `target` (world meters) from the
+/// rest posture.
+pub fn reach_full_body(
+    character: &Character,
+    target: Point3<f64>,
+    settings: &ReachSettings,
+) -> Result<ReachMotion> {
+    settings.validate()?;
+    require(
+        target.coords.iter().all(|v| v.is_finite()),
+        "target",
+        "finite coordinates",
+    )?;
+    let rest = character.rest_pose();
+    let plan = scheduler::plan(character, &rest, target, settings)?;
+    scheduler::animate(character, &rest, &plan, settings)
+}

@@ -1,0 +1,107 @@
+//! What a full-body reach decided and achieved ([`ReachReport`]), why it ended
+//! ([`ReachStop`]), and the motion itself ([`ReachMotion`]).
+
+use std::fmt;
+
+use serde::{Serialize, Serializer};
+
+use crate::character::{Limb, Pose};
+use crate::steps::StepDecision;
+
+/// Why a reach ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReachStop {
+    /// The hand is within the tolerance of the target.
+    Reached,
+    /// Every controller finished with the hand at the nearest point it can reach.
+    Unreachable,
+    /// The timeout came first.
+    Timeout,
+}
+
+/// How the body lowered itself toward the target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Posture {
+    /// The root was lowered (the legs bent).
+    Squat,
+    /// The spine swung toward a target below the resting hand, legs straight.
+    Stoop,
+    /// Neither.
+    Upright,
+}
+
+impl Posture {
+    /// `squat`, `stoop` or `upright`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Posture::Squat => "squat",
+            Posture::Stoop => "stoop",
+            Posture::Upright => "upright",
+        }
+    }
+}
+
+impl fmt::Display for Posture {
+    /// Its [name](Posture::name).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl PartialEq<&str> for Posture {
+    /// Whether `name` is its [name](Posture::name).
+    fn eq(&self, name: &&str) -> bool {
+        self.name() == *name
+    }
+}
+
+/// What a reach decided and achieved. Serialized with each decision by its name.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReachReport {
+    /// The reaching arm: `right_arm` or `left_arm`.
+    pub arm: Limb,
+    /// The step decision: `none`, `half_left`, `half_right` or `full`.
+    #[serde(serialize_with = "step_name")]
+    pub step: StepDecision,
+    /// The step length, meters (0 without a step).
+    pub step_length: f64,
+    /// Horizontal shoulder–target distance at the start, meters.
+    pub horizontal_distance: f64,
+    /// Total spine twist, degrees.
+    pub twist_deg: f64,
+    /// Total spine swing, degrees.
+    pub swing_deg: f64,
+    /// How far the root was lowered to squat, meters (0: none).
+    pub squat_m: f64,
+    /// `squat`, `stoop` or `upright`.
+    pub posture: Posture,
+    /// Distance from the hand to the target on the last frame, meters.
+    pub final_error: f64,
+    /// Why it ended.
+    pub stop: ReachStop,
+    /// Frames written.
+    pub frames: usize,
+    /// Seconds.
+    pub duration: f64,
+    /// The smallest margin of the COM projection inside the support polygon over the reach,
+    /// meters (negative: outside).
+    pub min_balance_margin: f64,
+}
+
+/// A step decision in a report: by its [name](StepDecision::name).
+fn step_name<S: Serializer>(step: &StepDecision, serializer: S) -> Result<S::Ok, S::Error> {
+    serializer.serialize_str(step.name())
+}
+
+/// A synthesized reach.
+#[derive(Debug, Clone)]
+pub struct ReachMotion {
+    /// One pose per frame.
+    pub poses: Vec<Pose>,
+    /// Seconds per frame.
+    pub frame_time: f64,
+    /// What happened.
+    pub report: ReachReport,
+}

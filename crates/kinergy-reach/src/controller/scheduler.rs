@@ -1,0 +1,331 @@
+//! The scheduler (Huang, Kapadia & Terzopoulos §4): the reach planned once from the rest
+//! posture ([`plan`]: arm, step, twist, squat, swing, COM shift), then animated frame by frame
+//! ([`animate`]) with the controllers started by state:
+//!
+//! - state 0 starts the step;
+//! - state 1 (the step has progressed `r_st`, or no step) starts arm, head and twist;
+//! - state 2 (the twist has progressed `r_tw`, or no twist) starts swing, COM adjustment and
+//!   squat;
+//! - state 3 ends when the hand is at the target and every controller has finished, or at
+//!   the timeout.
+//!
+//! Each frame composes the root and spine, turns the head, then solves legs and arm and
+//! corrects the balance, at most ten passes.
+
+use kinergy_motion::Side;
+use kinergy_motion::nalgebra::{Point3, Vector3};
+
+use super::arm::{ArmFollower, arm_ik, hand_position, shoulder_position};
+use super::balance::{plan_com_shift, rebalance};
+use super::head::Head;
+use super::legs::{self, StepPlan, Stepping, leg_iks, lower_root_for_legs, solve_legs_in};
+use super::report::{Posture, ReachMotion, ReachReport, ReachStop};
+use super::settings::ReachSettings;
+use super::spine::{apply_swing, plan_squat, plan_swing, plan_twist, set_twist};
+use crate::character::{Character, Limb, Pose, dof, joint};
+use crate::error::Result;
+
+/// The plan: every decision, made once at the start.
+#[derive(Debug, Clone)]
+pub(super) struct Plan {
+    arm: Limb,
+    target: Point3<f64>,
+    step: StepPlan,
+    /// Total twist θ (radians, about world up) and swing φ (radians, about `axis`).
+    twist: f64,
+    swing: f64,
+    axis: Vector3<f64>,
+    squat: f64,
+    com_shift: Vector3<f64>,
+}
+
+/// Chooses the arm, the step, the twist, the squat and the swing, each from the posture the
+/// ones before it leave, and the COM shift the final posture needs.
+pub(super) fn plan(
+    character: &Character,
+    rest: &Pose,
+    target: Point3<f64>,
+    s: &ReachSettings,
+) -> Result<Plan> {
+    let frames = character.world_frames(rest);
+    let root = Point3::from(frames[joint::HIPS].translation.vector);
+    let side = s.arm.unwrap_or(if target.x >= root.x {
+        Side::Left
+    } else {
+        Side::Right
+    });
+    let arm = match side {
+        Side::Left => Limb::LeftArm,
+        Side::Right => Limb::RightArm,
+    };
+    let segments = character.proportions().arm(side);
+    let arm_length = segments.upper_arm + segments.forearm + segments.hand;
+    let step_settings = legs::step_settings(character, arm, s)?;
+    let shoulder = shoulder_position(character, rest, arm);
+    let step = legs::plan_step(
+        character,
+        &root,
+        &shoulder,
+        &target,
+        side,
+        &step_settings,
+        s.seed,
+    );
+    let mut pose = *rest;
+    let root_move = step.root_move();
+    pose[dof::ROOT_X] += step.direction.x * root_move;
+    pose[dof::ROOT_Z] += step.direction.z * root_move;
+
+    let twist = plan_twist(character, &pose, arm, &target, s.comfortable_angle);
+    set_twist(&mut pose, twist);
+    let squat = plan_squat(character, &pose, arm, &target, arm_length / s.flexibility);
+    pose[dof::ROOT_Y] -= squat;
+
+    let arm_ik = arm_ik(character, arm)?;
+    let k_com = s.r_max / s.phi_max;
+    let swing = plan_swing(
+        character,
+        &pose,
+        arm,
+        &arm_ik,
+        &target,
+        arm_length,
+        step.direction,
+        k_com,
+        s,
+    );
+    if swing.angle != 0.0 {
+        apply_swing(character, &mut pose, &swing.axis, swing.angle);
+    }
+    let feet = step.feet_after([frames[joint::RIGHT_FOOT], frames[joint::LEFT_FOOT]]);
+    let com_shift = plan_com_shift(
+        character,
+        &pose,
+        &feet,
+        arm,
+        &arm_ik,
+        &target,
+        -k_com * swing.angle.abs() * swing.dp,
+        s.balance_margin + 0.02,
+    )?;
+    Ok(Plan {
+        arm,
+        target,
+        step,
+        twist,
+        swing: swing.angle,
+        axis: swing.axis,
+        squat,
+        com_shift,
+    })
+}
+
+/// Smoothstep on [0, 1].
+pub(super) fn ease(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
+/// When the controllers start and how long they take, seconds.
+#[derive(Debug, Clone, Copy)]
+struct Timeline {
+    /// The step's end (0 without a step).
+    step_total: f64,
+    /// State 1: arm, head and twist start.
+    t_arm: f64,
+    /// The twist's duration (0 without a twist).
+    twist_time: f64,
+    /// State 2: swing, COM adjustment and squat start.
+    t_swing: f64,
+    /// Their duration (0 without any).
+    swing_time: f64,
+}
+
+impl Timeline {
+    fn new(plan: &Plan, step_total: f64, s: &ReachSettings) -> Timeline {
+        let t_arm = if plan.step.step.steps() {
+            s.r_st * step_total
+        } else {
+            0.0
+        };
+        let twist_time = if plan.twist != 0.0 { s.twist_time } else { 0.0 };
+        let swing_time = if plan.swing != 0.0 || plan.squat != 0.0 {
+            s.swing_time
+        } else {
+            0.0
+        };
+        Timeline {
+            step_total,
+            t_arm,
+            twist_time,
+            t_swing: t_arm + s.r_tw * twist_time,
+            swing_time,
+        }
+    }
+
+    /// The twist's progress at `t`, eased, in [0, 1].
+    fn twist_at(&self, t: f64) -> f64 {
+        if self.twist_time > 0.0 {
+            ease((t - self.t_arm) / self.twist_time)
+        } else {
+            1.0
+        }
+    }
+
+    /// The swing's (and COM shift's and squat's) progress at `t`, eased, in [0, 1].
+    fn swing_at(&self, t: f64) -> f64 {
+        if self.swing_time > 0.0 {
+            ease((t - self.t_swing) / self.swing_time)
+        } else {
+            1.0
+        }
+    }
+
+    /// Whether every controller but the arm has finished at `t`.
+    fn body_done(&self, t: f64) -> bool {
+        t >= self.t_swing + self.swing_time
+            && t >= self.step_total
+            && t >= self.t_arm + self.twist_time
+    }
+}
+
+/// The frame at `t` before its limbs: the root on its step path, shifted and lowered by the
+/// COM shift and the squat, and the spine twisted and swung as far as they have progressed.
+fn body_at(
+    character: &Character,
+    rest: &Pose,
+    plan: &Plan,
+    stepping: &Stepping,
+    timeline: &Timeline,
+    t: f64,
+) -> Pose {
+    let mut pose = *rest;
+    let root_path = stepping.root(t);
+    let tw = timeline.twist_at(t);
+    let sw = timeline.swing_at(t);
+    pose[dof::ROOT_X] = root_path.x + plan.com_shift.x * sw;
+    pose[dof::ROOT_Y] = root_path.y - plan.squat * sw;
+    pose[dof::ROOT_Z] = root_path.z + plan.com_shift.z * sw;
+    set_twist(&mut pose, plan.twist * tw);
+    if t >= timeline.t_swing && plan.swing != 0.0 {
+        apply_swing(character, &mut pose, &plan.axis, plan.swing * sw);
+    }
+    pose
+}
+
+/// Runs the scheduler frame by frame.
+pub(super) fn animate(
+    character: &Character,
+    rest: &Pose,
+    plan: &Plan,
+    s: &ReachSettings,
+) -> Result<ReachMotion> {
+    let dt = 1.0 / s.frame_rate;
+    let max_frames = (s.timeout / dt).ceil() as usize + 1;
+    let stepping = Stepping::new(character, rest, &plan.step, plan.arm, s)?;
+    let leg_iks = leg_iks(character)?;
+    let mut arm = ArmFollower::new(character, plan.arm, rest)?;
+    let timeline = Timeline::new(plan, stepping.total(), s);
+    let mut head = Head::default();
+    let mut poses = Vec::new();
+    let mut min_margin = f64::INFINITY;
+    let mut stop = ReachStop::Timeout;
+    let mut final_error = f64::INFINITY;
+    for frame in 0..max_frames {
+        let t = frame as f64 * dt;
+        let mut pose = body_at(character, rest, plan, &stepping, &timeline, t);
+        if t >= timeline.t_arm {
+            head.turn_toward(character, &pose, &plan.target, s.head_speed * dt);
+        }
+        head.apply(&mut pose);
+
+        // Limbs, then balance (at most nine corrections).
+        let feet = stepping.feet(t);
+        let mut error = f64::INFINITY;
+        let mut frame_alpha = None;
+        for pass in 0..10 {
+            lower_root_for_legs(character, &mut pose, &feet);
+            // The limbs' bases do not depend on the limbs: one FK serves all three.
+            let above = character.world_frames(&pose);
+            solve_legs_in(character, &mut pose, &above, &leg_iks, &feet);
+            let base = character.limb_base_frame_in(plan.arm, &above);
+            if t >= timeline.t_arm {
+                let elapsed = t - timeline.t_arm;
+                if let Some(a) = arm.follow(
+                    character,
+                    &mut pose,
+                    &base,
+                    &plan.target,
+                    &s.profile,
+                    elapsed,
+                    pass == 0,
+                ) {
+                    frame_alpha = Some(a);
+                }
+            }
+            error = (arm.hand(character, &base, &pose, plan.target) - plan.target).norm();
+            let balance = rebalance(
+                character,
+                &character.world_frames(&pose),
+                s.balance_margin,
+                1.5,
+            );
+            match balance.shift {
+                Some(shift) if pass < 9 => {
+                    pose[dof::ROOT_X] += shift.x;
+                    pose[dof::ROOT_Z] += shift.y;
+                }
+                _ => {
+                    min_margin = min_margin.min(balance.margin);
+                    break;
+                }
+            }
+        }
+        if arm.end_frame(&mut pose, frame_alpha, dt) {
+            error = (character.world_positions(&pose)[plan.arm.joints()[3]] - plan.target).norm();
+        }
+        final_error = error;
+        character.clamp_pose(&mut pose);
+        arm.settle(&pose);
+        poses.push(pose);
+        let hand_done = t >= timeline.t_arm + s.profile.duration(arm.path_length(&plan.target));
+        if timeline.body_done(t) && hand_done {
+            if error <= s.tolerance {
+                stop = ReachStop::Reached;
+                break;
+            }
+            // Hold a few frames to let the nearest point settle, then give up.
+            if t >= timeline.t_swing + timeline.swing_time + 0.25 && t >= timeline.t_arm + 0.25 {
+                stop = ReachStop::Unreachable;
+                break;
+            }
+        }
+    }
+    let frames = poses.len();
+    let report = ReachReport {
+        arm: plan.arm,
+        step: plan.step.step,
+        step_length: plan.step.length,
+        horizontal_distance: plan.step.horizontal_distance,
+        twist_deg: plan.twist.to_degrees(),
+        swing_deg: plan.swing.to_degrees(),
+        squat_m: plan.squat,
+        posture: if plan.squat > 0.0 {
+            Posture::Squat
+        } else if plan.swing != 0.0 && plan.target.y < hand_position(character, rest, plan.arm).y {
+            Posture::Stoop
+        } else {
+            Posture::Upright
+        },
+        final_error,
+        stop,
+        frames,
+        duration: frames as f64 * dt,
+        min_balance_margin: min_margin,
+    };
+    Ok(ReachMotion {
+        poses,
+        frame_time: dt,
+        report,
+    })
+}

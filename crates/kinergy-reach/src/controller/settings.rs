@@ -1,0 +1,133 @@
+//! The full-body reach's settings: every value it can be tuned with, the paper's where it
+//! gives one.
+
+use kinergy_motion::Side;
+use serde::Serialize;
+
+use crate::error::{Result, require};
+use crate::profile::SpeedProfile;
+use crate::steps::StepSettings;
+
+/// Everything a reach can be tuned with. Defaults follow the paper where it gives values.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ReachSettings {
+    /// Frames per second of the output.
+    pub frame_rate: f64,
+    /// The hand's speed profile along its straight path.
+    pub profile: SpeedProfile,
+    /// Stepping parameters; `None`: [`StepSettings::for_arm_length`] of the reaching arm.
+    pub steps: Option<StepSettings>,
+    /// Leg flexibility: the stoop range is arm length / flexibility (higher squats sooner).
+    pub flexibility: f64,
+    /// Fraction of the step after which the arm, head and twist start (`r_st`).
+    pub r_st: f64,
+    /// Fraction of the twist after which the swing, COM adjustment and squat start (`r_tw`).
+    pub r_tw: f64,
+    /// Half-width of the comfortable reaching angle about the chest's forward direction, rad.
+    pub comfortable_angle: f64,
+    /// Vertical shoulder–target distance beyond which the spine swings, meters.
+    pub start_swing_distance: f64,
+    /// φ_max of eq. 8, rad (also the largest total swing).
+    pub phi_max: f64,
+    /// |r_max| of eq. 8, meters.
+    pub r_max: f64,
+    /// Seconds one foot takes to step.
+    pub step_time: f64,
+    /// Seconds the twist takes.
+    pub twist_time: f64,
+    /// Seconds the swing, COM adjustment and squat take.
+    pub swing_time: f64,
+    /// Largest head turning speed, rad/s.
+    pub head_speed: f64,
+    /// The hand counts as at the target within this distance, meters.
+    pub tolerance: f64,
+    /// The reach ends after this many seconds even if the hand is not there.
+    pub timeout: f64,
+    /// The COM projection is kept at least this far inside the support polygon, meters.
+    pub balance_margin: f64,
+    /// The reaching arm; `None`: the arm on the target's side.
+    pub arm: Option<Side>,
+    /// Seed of the stepping decisions.
+    pub seed: u64,
+}
+
+impl Default for ReachSettings {
+    fn default() -> ReachSettings {
+        ReachSettings {
+            frame_rate: 120.0,
+            profile: SpeedProfile::default(),
+            steps: None,
+            flexibility: 1.0,
+            r_st: 0.5,
+            r_tw: 0.5,
+            comfortable_angle: 40f64.to_radians(),
+            start_swing_distance: 0.35,
+            phi_max: 120f64.to_radians(),
+            r_max: 0.1,
+            step_time: 0.6,
+            twist_time: 0.7,
+            swing_time: 0.9,
+            head_speed: 2.5,
+            tolerance: 0.01,
+            timeout: 8.0,
+            balance_margin: 0.01,
+            arm: None,
+            seed: 0,
+        }
+    }
+}
+
+impl ReachSettings {
+    /// Checks every setting, naming the field otherwise.
+    pub fn validate(&self) -> Result<()> {
+        let positive = |v: f64| v > 0.0 && v.is_finite();
+        let fraction = |v: f64| (0.0..=1.0).contains(&v);
+        require(
+            positive(self.frame_rate),
+            "frame_rate",
+            "a positive number of frames per second",
+        )?;
+        self.profile.validate()?;
+        if let Some(s) = &self.steps {
+            s.validate()?;
+        }
+        require(
+            positive(self.flexibility),
+            "flexibility",
+            "a positive number",
+        )?;
+        require(fraction(self.r_st), "r_st", "within [0, 1]")?;
+        require(fraction(self.r_tw), "r_tw", "within [0, 1]")?;
+        require(
+            self.comfortable_angle > 0.0 && self.comfortable_angle < std::f64::consts::PI,
+            "comfortable_angle",
+            "within (0, π) radians",
+        )?;
+        require(
+            self.start_swing_distance >= 0.0 && self.start_swing_distance.is_finite(),
+            "start_swing_distance",
+            "≥ 0 meters",
+        )?;
+        require(positive(self.phi_max), "phi_max", "a positive angle")?;
+        require(
+            self.r_max >= 0.0 && self.r_max.is_finite(),
+            "r_max",
+            "≥ 0 meters",
+        )?;
+        for (v, f) in [
+            (self.step_time, "step_time"),
+            (self.twist_time, "twist_time"),
+            (self.swing_time, "swing_time"),
+            (self.head_speed, "head_speed"),
+            (self.tolerance, "tolerance"),
+            (self.timeout, "timeout"),
+        ] {
+            require(positive(v), f, "a positive number")?;
+        }
+        require(
+            self.balance_margin >= 0.0 && self.balance_margin.is_finite(),
+            "balance_margin",
+            "≥ 0 meters",
+        )
+    }
+}

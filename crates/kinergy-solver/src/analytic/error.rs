@@ -1,0 +1,61 @@
+//! What can go wrong in the analytic limb IK.
+
+use super::limits::LimbDof;
+
+/// What can go wrong in the analytic limb IK.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnalyticError {
+    /// The wrist center (or, in position mode, the end effector) is outside the shell the
+    /// limb reaches: farther than the outer radius or closer than the inner one.
+    #[error(
+        "the target is {distance} m from the shoulder; the limb reaches from {inner} to {reach} m"
+    )]
+    Unreachable {
+        /// Distance from the shoulder, meters.
+        distance: f64,
+        /// Outer radius, meters (`L1 + L2` for the wrist center).
+        reach: f64,
+        /// Inner radius, meters (`|L1 − L2|` for the wrist center).
+        inner: f64,
+    },
+    /// No orbit angle tried gives a posture within the joint limits.
+    #[error(
+        "no orbit angle of the {tried} tried gives a posture within limits; at the best, α = {best_alpha} rad, the {dof} exceeds its limit by {excess} rad"
+    )]
+    LimitsViolated {
+        /// The orbit angle whose posture was closest to the limits (least total excess).
+        best_alpha: f64,
+        /// The DoF farthest outside its limits at `best_alpha`.
+        dof: LimbDof,
+        /// How far outside, radians (see [`Violation`](super::Violation)).
+        excess: f64,
+        /// Orbit angles tried.
+        tried: usize,
+    },
+    /// Postures within limits were found but the caller's predicate rejected all of them
+    /// (e.g. every one collides).
+    #[error(
+        "the {within_limits} postures within limits (of {tried} orbit angles tried) were all rejected"
+    )]
+    Rejected {
+        /// Postures that were within limits and rejected.
+        within_limits: usize,
+        /// Orbit angles tried.
+        tried: usize,
+    },
+    /// The chain is not a shoulder swing + twist, elbow flexion + twist, wrist swing limb.
+    #[error("unsupported chain: {0}")]
+    UnsupportedChain(String),
+    /// A goal, target or angle has NaN or infinite values.
+    #[error("{0} is not finite")]
+    NonFinite(String),
+    /// A setting is outside what it may be.
+    #[error("invalid `{field}`: {why}")]
+    Setting {
+        /// The setting, e.g. `OrbitSearch::step`.
+        field: &'static str,
+        /// What was expected.
+        why: String,
+    },
+}

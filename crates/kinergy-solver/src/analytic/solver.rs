@@ -1,0 +1,364 @@
+//! [`LimbIk`]: the limb read from its chain, and the solution at one α — the full pose
+//! (steps 4–5 of the module docs on top of [`super::placement`]'s steps 1–3) or the position
+//! only — and the orbit angle of a configuration.
+
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Unit, Vector3};
+use kinergy_motion::rotation::{Axis, axis_rotation, swing_rotation};
+use kinergy_motion::{Chain, Motion};
+
+use super::error::AnalyticError;
+use super::limits::{LimbLimits, middle};
+use super::orbit::OrbitSense;
+use super::placement::{Link, Placement, Prepared, fallback_for, tip};
+use super::swing_twist::{atan2, fast_swing_twist, swing_twist_of_columns, wrap};
+
+/// Analytic IK of one 7-DoF limb (arm or leg), built once from its [`Chain`].
+///
+/// Conventions:
+/// - Goals are in the chain's **base frame**: the goal's translation is the end effector's
+///   position, its rotation the wrist frame's orientation (the chain's last joint frame,
+///   [`kinergy_motion::Linearization::end_rotation`]).
+/// - α = 0 puts the elbow lowest: its direction from the shoulder→wrist axis has the most
+///   negative component along "up", i.e. points most along `down` (default: the base
+///   frame's −y, Y-up; [`LimbIk::with_down`] for legs or other frames). With the axis along
+///   `down` itself, the projection of `down × x` (or `down × z` when `down` is near x) is
+///   used instead. The elbow's height `−down · elbow` grows with |α| up to π; the sign of α
+///   is set by [`OrbitSense`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct LimbIk {
+    pub(super) shoulder: Vector3<f64>,
+    pub(super) upper: f64,
+    pub(super) forearm: f64,
+    pub(super) hand: Vector3<f64>,
+    pub(super) limits: LimbLimits,
+    pub(super) bend: f64,
+    pub(super) down: Unit<Vector3<f64>>,
+    pub(super) fallback: Unit<Vector3<f64>>,
+    pub(super) sense: OrbitSense,
+    pub(super) wrist_link: Link,
+    /// Position mode: the end effector as the distal link's tip with the elbow twist at
+    /// `rest_twist` and the wrist straight; `None` when that tip lies on the flexion axis.
+    pub(super) reach_link: Option<Link>,
+    pub(super) rest_twist: f64,
+}
+
+/// The limits of a revolute motion about `want`.
+fn revolute(m: &Motion, want: Axis) -> Option<(f64, f64)> {
+    match *m {
+        Motion::Revolute { axis, min, max } if axis == want => Some((min, max)),
+        _ => None,
+    }
+}
+
+/// The ellipse radii of a swing motion.
+fn swing(m: &Motion) -> Option<(f64, f64)> {
+    match *m {
+        Motion::Swing { rx, ry } => Some((rx, ry)),
+        _ => None,
+    }
+}
+
+/// The length of an offset along +z only.
+fn along_z(v: &Vector3<f64>) -> Option<f64> {
+    (v.x == 0.0 && v.y == 0.0 && v.z > 0.0).then_some(v.z)
+}
+
+/// `NonFinite` unless every entry of the goal frame is finite.
+fn finite_goal(goal: &IsometryMatrix3<f64>) -> Result<(), AnalyticError> {
+    let ok = goal.translation.vector.iter().all(|v| v.is_finite())
+        && goal.rotation.matrix().iter().all(|v| v.is_finite());
+    if ok {
+        Ok(())
+    } else {
+        Err(AnalyticError::NonFinite("the goal frame".into()))
+    }
+}
+
+/// `NonFinite` unless the orbit angle is finite.
+fn finite_alpha(alpha: f64) -> Result<(), AnalyticError> {
+    if alpha.is_finite() {
+        Ok(())
+    } else {
+        Err(AnalyticError::NonFinite("the orbit angle".into()))
+    }
+}
+
+impl LimbIk {
+    /// Reads the limb from `chain`: three joints without rest rotations — shoulder
+    /// `[Swing, Revolute Z]` at any offset, elbow `[Revolute X, Revolute Z]` at `(0, 0, L1)`,
+    /// wrist `[Swing]` at `(0, 0, L2)` — and any end-effector offset.
+    pub fn new(chain: &Chain) -> Result<LimbIk, AnalyticError> {
+        let unsupported = |why: String| Err(AnalyticError::UnsupportedChain(why));
+        let joints = chain.joints();
+        if joints.len() != 3 {
+            return unsupported(format!(
+                "expected 3 joints (shoulder, elbow, wrist), found {}",
+                joints.len()
+            ));
+        }
+        if let Some(j) = joints.iter().find(|j| j.rest != Rotation3::identity()) {
+            return unsupported(format!("joint `{}` has a rest rotation", j.name));
+        }
+        let (sh, el, wr) = (&joints[0], &joints[1], &joints[2]);
+        let shoulder = match &sh.motions[..] {
+            [a, b] => swing(a).zip(revolute(b, Axis::Z)),
+            _ => None,
+        };
+        let Some((shoulder_swing, shoulder_twist)) = shoulder else {
+            return unsupported(format!(
+                "`{}` must be a swing then a twist about z",
+                sh.name
+            ));
+        };
+        let elbow = match &el.motions[..] {
+            [a, b] => revolute(a, Axis::X).zip(revolute(b, Axis::Z)),
+            _ => None,
+        };
+        let Some((elbow_flexion, elbow_twist)) = elbow else {
+            return unsupported(format!(
+                "`{}` must be a revolute about x then one about z",
+                el.name
+            ));
+        };
+        let wrist_swing = match &wr.motions[..] {
+            [a] => swing(a),
+            _ => None,
+        };
+        let Some(wrist_swing) = wrist_swing else {
+            return unsupported(format!("`{}` must be a single swing", wr.name));
+        };
+        let (Some(upper), Some(forearm)) = (along_z(&el.offset), along_z(&wr.offset)) else {
+            return unsupported(
+                "the elbow and wrist offsets must lie along +z of the previous joint".into(),
+            );
+        };
+        let limits = LimbLimits {
+            shoulder_swing,
+            shoulder_twist,
+            elbow_flexion,
+            elbow_twist,
+            wrist_swing,
+        };
+        let bend = if elbow_flexion.1.abs() >= elbow_flexion.0.abs() {
+            1.0
+        } else {
+            -1.0
+        };
+        let hand = chain.end_effector();
+        let rest_twist = 0f64.clamp(elbow_twist.0, elbow_twist.1);
+        let Some(wrist_link) = Link::new(upper, Vector3::new(0.0, 0.0, forearm)) else {
+            return unsupported(format!(
+                "the forearm ({forearm} m) is negligible next to the upper limb ({upper} m)"
+            ));
+        };
+        let reach_link = Link::new(
+            upper,
+            Vector3::new(0.0, 0.0, forearm) + axis_rotation(Axis::Z, rest_twist) * hand,
+        );
+        let down = -Vector3::y_axis();
+        Ok(LimbIk {
+            shoulder: sh.offset,
+            upper,
+            forearm,
+            hand,
+            limits,
+            bend,
+            down,
+            fallback: fallback_for(&down),
+            sense: OrbitSense::default(),
+            wrist_link,
+            reach_link,
+            rest_twist,
+        })
+    }
+
+    /// The same limb with another "down" direction (base frame) for α = 0; e.g. a leg whose
+    /// base is Z-up takes `−z`.
+    pub fn with_down(mut self, down: Vector3<f64>) -> Result<LimbIk, AnalyticError> {
+        if !down.iter().all(|v| v.is_finite()) {
+            return Err(AnalyticError::NonFinite("the down direction".into()));
+        }
+        let Some(down) = Unit::try_new(down, 1e-12) else {
+            return Err(AnalyticError::Setting {
+                field: "LimbIk::down",
+                why: "a non-zero vector".into(),
+            });
+        };
+        self.down = down;
+        self.fallback = fallback_for(&down);
+        Ok(self)
+    }
+
+    /// The same limb with α turning the other way ([`OrbitSense`]).
+    pub fn with_sense(mut self, sense: OrbitSense) -> LimbIk {
+        self.sense = sense;
+        self
+    }
+
+    /// The limits read from the chain.
+    pub fn limits(&self) -> &LimbLimits {
+        &self.limits
+    }
+
+    /// Upper and lower link lengths `(L1, L2)`, meters.
+    pub fn lengths(&self) -> (f64, f64) {
+        (self.upper, self.forearm)
+    }
+
+    /// The bend sign σ: +1 when the elbow flexes positively (the arm's 0–150°), −1 when its
+    /// flexion limits lie mostly below zero (a knee modeled as −150–0°).
+    pub fn bend_sign(&self) -> f64 {
+        self.bend
+    }
+
+    /// The "down" direction of α = 0, base frame.
+    pub fn down(&self) -> Unit<Vector3<f64>> {
+        self.down
+    }
+
+    /// The distances from the shoulder between which the wrist center is reachable,
+    /// `(|L1 − L2|, L1 + L2)`.
+    pub fn wrist_reach(&self) -> (f64, f64) {
+        (self.wrist_link.inner, self.wrist_link.outer)
+    }
+
+    /// The distances from the shoulder between which position mode
+    /// ([`LimbIk::solve_position`]: the end effector, wrist straight) reaches, or `None`
+    /// when the chain has no position mode.
+    pub fn position_reach(&self) -> Option<(f64, f64)> {
+        self.reach_link.as_ref().map(|l| (l.inner, l.outer))
+    }
+
+    /// The configuration reaching `goal` (end-effector position + wrist orientation, base
+    /// frame) with orbit angle `alpha` radians, limits not checked. Reproduces the whole goal
+    /// for every reachable goal and every α (module docs, steps 1–5).
+    pub fn solve(
+        &self,
+        goal: &IsometryMatrix3<f64>,
+        alpha: f64,
+    ) -> Result<[f64; 7], AnalyticError> {
+        finite_alpha(alpha)?;
+        finite_goal(goal)?;
+        let rg = goal.rotation.matrix();
+        let w = goal.translation.vector - rg * self.hand - self.shoulder;
+        let d = w.norm();
+        Self::check_reach(&self.wrist_link, d)?;
+        let prepared = Prepared {
+            placement: self.place(&self.wrist_link, &w, d),
+            rg_t: rg.transpose(),
+        };
+        Ok(self.full_at(&prepared, alpha))
+    }
+
+    /// Position mode at a given α: the end effector at `target` (base frame) with the hand
+    /// continuing the forearm — wrist swing zero, elbow twist zero (or the value nearest zero
+    /// within its limits), so the palm's orientation follows the elbow plane. The orbit is
+    /// about the shoulder→`target` axis, α = 0 again the lowest elbow. With the wrist held
+    /// straight the reach is that of the links `L1` and `L2 z + h`: a target that needs the
+    /// wrist bent to be reached is `Unreachable` here.
+    pub fn solve_position_at(
+        &self,
+        target: &Point3<f64>,
+        alpha: f64,
+    ) -> Result<[f64; 7], AnalyticError> {
+        finite_alpha(alpha)?;
+        Ok(self.position_at(&self.prepare_target(target)?, alpha))
+    }
+
+    #[inline]
+    pub(super) fn prepare_goal(
+        &self,
+        goal: &IsometryMatrix3<f64>,
+    ) -> Result<Prepared, AnalyticError> {
+        finite_goal(goal)?;
+        let rg = *goal.rotation.matrix();
+        let w = goal.translation.vector - rg * self.hand - self.shoulder;
+        let d = w.norm();
+        Self::check_reach(&self.wrist_link, d)?;
+        Ok(Prepared {
+            placement: self.place(&self.wrist_link, &w, d),
+            rg_t: rg.transpose(),
+        })
+    }
+
+    #[inline]
+    pub(super) fn prepare_target(&self, target: &Point3<f64>) -> Result<Placement, AnalyticError> {
+        if !target.iter().all(|v| v.is_finite()) {
+            return Err(AnalyticError::NonFinite("the target".into()));
+        }
+        let Some(link) = &self.reach_link else {
+            return Err(AnalyticError::UnsupportedChain(
+                "position mode: the end effector lies on the elbow's flexion axis".into(),
+            ));
+        };
+        let rel = target.coords - self.shoulder;
+        let d = rel.norm();
+        Self::check_reach(link, d)?;
+        Ok(self.place(link, &rel, d))
+    }
+
+    /// Steps 3–5 of the module docs at one α.
+    #[inline]
+    pub(super) fn full_at(&self, prepared: &Prepared, alpha: f64) -> [f64; 7] {
+        let pl = &prepared.placement;
+        let rs = pl.shoulder(alpha);
+        let (sx, sy, t) = fast_swing_twist(&rs);
+        // R_f = R_s R_x(f): only its columns x and z are needed.
+        let fx = rs.column(0).into_owned();
+        let fz = rs.column(2) * pl.cf - rs.column(1) * pl.sf;
+        // Mᵀ = R_gᵀ R_f = swing(−w) R_z(−u) when M = R_z(u) swing(w): one swing–twist.
+        let mt_x = prepared.rg_t * fx;
+        let mt_z = prepared.rg_t * fz;
+        let (wx, wy, u) = swing_twist_of_columns(&mt_x, &mt_z);
+        let l = &self.limits;
+        [
+            sx,
+            sy,
+            wrap(t, middle(l.shoulder_twist)),
+            wrap(pl.f, middle(l.elbow_flexion)),
+            wrap(-u, middle(l.elbow_twist)),
+            -wx,
+            -wy,
+        ]
+    }
+
+    /// Position mode at one α.
+    #[inline]
+    pub(super) fn position_at(&self, pl: &Placement, alpha: f64) -> [f64; 7] {
+        let (sx, sy, t) = fast_swing_twist(&pl.shoulder(alpha));
+        let l = &self.limits;
+        [
+            sx,
+            sy,
+            wrap(t, middle(l.shoulder_twist)),
+            wrap(pl.f, middle(l.elbow_flexion)),
+            self.rest_twist,
+            0.0,
+            0.0,
+        ]
+    }
+
+    /// The orbit angle of a configuration, radians in [−π, π]: the direction of its elbow
+    /// about the shoulder→wrist-center axis (with a straight elbow, the direction the elbow
+    /// would move to when flexing by σ). `solve(FK(q), alpha_of(q))` gives `q` back.
+    pub fn alpha_of(&self, q: &[f64; 7]) -> f64 {
+        let rs = *(swing_rotation(q[0], q[1]) * axis_rotation(Axis::Z, q[2])).matrix();
+        let link = &self.wrist_link;
+        let (sf, cf) = q[3].sin_cos();
+        let p = tip(self.upper, &link.g, sf, cf);
+        // The elbow's side of the axis: +1 when the forearm bends toward −y (p'_y < 0).
+        let side = if p.y < 0.0 {
+            1.0
+        } else if p.y > 0.0 {
+            -1.0
+        } else {
+            self.bend
+        };
+        let (_, e1) = self.elbow_side(link, &p, side);
+        let rel = rs * p;
+        let n = self.axis(&rel, rel.norm(), link);
+        let m = rs * e1;
+        let (u, v) = self.orbit_basis(&n);
+        atan2(m.dot(&v), m.dot(&u))
+    }
+}
