@@ -2,6 +2,7 @@
 //! DESIGN §1.1):
 //!
 //! - [`segment`]: the reach segments of a clip from its hand-speed series (onset, peak, end);
+//! - [`manifest`]: the segments file — clips, frames, arm, label, person — read and written;
 //! - [`reach`]: a captured reach prepared for fitting — start posture, target, the person's
 //!   arm, the captured torso motion the synthesized arm rides on — and its score, the
 //!   joint-position motion distance;
@@ -21,6 +22,7 @@ pub mod baseline;
 pub mod error;
 pub mod field;
 pub mod fit;
+pub mod manifest;
 pub mod objective;
 pub mod reach;
 pub mod segment;
