@@ -6,7 +6,7 @@
 //!
 //! | column | required | content |
 //! |---|---|---|
-//! | `clip` | yes | the capture: a path relative to the segments file's folder, or absolute |
+//! | `clip` | yes | the capture: a path relative to the segments file's folder, or absolute (written relative when the two share a folder) |
 //! | `onset`, `end` | yes | the frames `onset..end`: numbered from 0, end excluded — the convention of "Frames" in [`crate::segment`], the `A..B` of `--frames` |
 //! | `arm` | yes | `right` or `left` |
 //! | `label` | no (`reach`) | `reach`, `return` or `other` |
@@ -60,11 +60,11 @@ pub struct ManifestRow {
 }
 
 impl ManifestRow {
-    /// A row for `clip` whose person is the clip's folder name.
+    /// A row for `clip` whose person is the clip's folder name ([`default_person`]).
     pub fn new(clip: impl Into<PathBuf>, frames: Range<usize>, arm: Side, label: Label) -> Self {
         let clip = clip.into();
         ManifestRow {
-            person: folder_name(&clip),
+            person: default_person(&clip),
             clip,
             frames,
             arm,
@@ -254,7 +254,7 @@ impl Manifest {
                 l => l.parse().map_err(|e: String| bad(format!("label: {e}")))?,
             };
             let person = match cell("person") {
-                "" => folder_name(&clip),
+                "" => default_person(&clip),
                 p => p.to_string(),
             };
             if let Some(first) = seen.insert((file_key(&clip), arm, onset, end), at) {
@@ -343,8 +343,9 @@ impl Manifest {
     }
 }
 
-/// The name of the folder holding `clip` (empty when there is none).
-fn folder_name(clip: &Path) -> String {
+/// Who moves in `clip` when nobody says: the name of the folder holding it (empty when there
+/// is none).
+pub fn default_person(clip: &Path) -> String {
     let absolute = std::path::absolute(clip).unwrap_or_else(|_| clip.to_path_buf());
     absolute
         .parent()
@@ -361,13 +362,16 @@ fn file_key(path: &Path) -> PathBuf {
 }
 
 /// `target` relative to the folder `base` (with `..` as needed); absolute when they share no
-/// root.
+/// folder.
 fn relative_to(base: &Path, target: &Path) -> PathBuf {
     let (base, target) = (file_key(base), file_key(target));
     let (b, t): (Vec<Component<'_>>, Vec<Component<'_>>) =
         (base.components().collect(), target.components().collect());
     let common = b.iter().zip(&t).take_while(|(x, y)| x == y).count();
-    if common == 0 {
+    if !b[..common]
+        .iter()
+        .any(|c| matches!(c, Component::Normal(_)))
+    {
         return target;
     }
     let mut out = PathBuf::new();
@@ -399,7 +403,7 @@ mod tests {
 
     #[test]
     fn the_person_is_the_folder_name() {
-        assert_eq!(folder_name(Path::new("/data/p01/r01.bvh")), "p01");
+        assert_eq!(default_person(Path::new("/data/p01/r01.bvh")), "p01");
         let row = ManifestRow::new("/data/p01/r01.bvh", 1..9, Side::Left, Label::Reach);
         assert_eq!(row.person, "p01");
     }
