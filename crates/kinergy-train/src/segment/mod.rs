@@ -45,9 +45,10 @@
 //!    1 cm; it is replaced by that extrapolation (the last frame likewise). A joint that
 //!    jumps for one frame and comes back — a capture glitch, a marker swap — would otherwise
 //!    read as a 13 m/s peak at 30 Hz for a 22 cm jump. Motion monotone in every coordinate
-//!    over three frames is its own median and passes bit for bit, as does any turn slower
-//!    than a right angle within one frame; the cubic puts a glitched frame back within a
-//!    fraction of a millimetre of a smooth path, so the segments do not move;
+//!    over three frames is its own median and passes bit for bit, as does a path that turns
+//!    by less than a right angle at every frame; the cubic puts a glitched frame back within
+//!    a fraction of a millimetre of a smooth path, so the segments do not move (one frame
+//!    that turns back sharply is indistinguishable from a glitch, and is treated as one);
 //! 3. speed by central differences, |p_{i+1} − p_{i−1}| / 2Δt, one-sided at the two ends
 //!    ([`speed_series`](kinergy_motion::speed_series));
 //! 4. a centred moving average over [`SegmentSettings::smoothing`] seconds (an odd number of
@@ -78,8 +79,8 @@
 //!    speed fell below r), so each side then continues while s keeps falling and stays above
 //!    `rest_speed`: the onset and end are where the hand has stopped accelerating or
 //!    decelerating. With the defaults a minimum-jerk reach between rests is found from where
-//!    its speed crosses 0.05 m/s to where it falls below it again. Motions shorter than [`min_duration`](SegmentSettings::min_duration) are
-//!    dropped.
+//!    its speed crosses 0.05 m/s to where it falls below it again. Motions shorter than
+//!    [`min_duration`](SegmentSettings::min_duration) are dropped.
 //! 2. **Sub-movements** — a motion is split at its deepest interior speed minimum m while
 //!    s_m ≤ [`split_ratio`](SegmentSettings::split_ratio) · min(highest s before m, highest
 //!    s after m), both of those being at least `min_peak_speed`: a reach made of a fast
@@ -93,6 +94,8 @@
 //!    of j along d_j (any part, when k runs into the clip's end). A run of at least 3
 //!    sub-movements each reversing the one before, with no *hold* between them (a rest of at
 //!    least [`hold`](SegmentSettings::hold) seconds), is oscillation: one `other` segment.
+//!    Arm swing, waving and dribbling reverse almost exactly (near 180°); a reach and its
+//!    return are two reversing sub-movements, so it takes a third to make an oscillation.
 //!    The others form chains: consecutive sub-movements with no hold and no reversal between
 //!    them are one movement (a brief stop — the gather and release of a basketball shot —
 //!    does not end it; a return does). The small sub-movements right after a chain, inside
