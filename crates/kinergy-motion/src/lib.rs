@@ -45,6 +45,7 @@ pub mod rotation;
 pub mod skeleton;
 pub mod trajectory;
 pub mod units;
+pub mod up;
 
 pub use arm::{ArmJoints, ArmLengths, Side};
 pub use chain::{Chain, ChainJoint, ChainPose, Linearization, Motion};
@@ -58,6 +59,7 @@ pub use rotation::Axis;
 pub use skeleton::{Dof, Joint, PositionReading, Skeleton};
 pub use trajectory::{Trajectory, motion_distance, speed_series};
 pub use units::{LengthUnit, UnitChoice};
+pub use up::{UpAxis, UpChoice, UpDetection};
 
 /// The linear-algebra crate of every public type here, re-exported so callers use the same version.
 pub use nalgebra;
