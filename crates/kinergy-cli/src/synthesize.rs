@@ -213,8 +213,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let out_clip = arm
         .to_clip(&clip, &synthesis, mode)
         .map_err(|e| Failure::input(&args.from, e))?;
-    kinergy_motion::write_clip(&args.output, &out_clip, &ExportOptions { unit: args.unit })
-        .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+    kinergy_motion::write_clip(
+        &args.output,
+        &out_clip,
+        &ExportOptions {
+            unit: args.unit,
+            ..Default::default()
+        },
+    )
+    .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
 
     let distance = match (&args.target, arm.synthesized_trajectory(&synthesis)) {
         (None, Ok(synthesized)) => motion_distance(&captured, &synthesized).ok(),

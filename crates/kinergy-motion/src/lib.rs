@@ -54,6 +54,7 @@ pub use convert::{
     ExportOptions, ImportOptions, ImportReport, PositionReadingChoice, clip_from_bvh, clip_to_bvh,
     read_clip, write_clip,
 };
+pub use convert::{ExportUp, RootReading, RootReadingBasis};
 pub use error::{MotionError, Result};
 pub use rotation::Axis;
 pub use skeleton::{Dof, Joint, PositionReading, Skeleton};
