@@ -41,6 +41,7 @@ pub mod chain;
 pub mod clip;
 pub mod convert;
 pub mod error;
+pub mod glitch;
 pub mod rotation;
 pub mod skeleton;
 pub mod trajectory;
@@ -56,6 +57,7 @@ pub use convert::{
 };
 pub use convert::{ExportUp, RootReading, RootReadingBasis};
 pub use error::{MotionError, Result};
+pub use glitch::{Glitch, GlitchOptions, find_glitches};
 pub use rotation::Axis;
 pub use skeleton::{Dof, Joint, PositionReading, Skeleton};
 pub use trajectory::{Trajectory, motion_distance, speed_series};
