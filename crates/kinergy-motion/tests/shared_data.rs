@@ -394,3 +394,20 @@ fn a_22_cm_glitch_in_a_bandai_hand_channel_is_found() {
     assert_eq!((found[0].frame, found[0].joint), (30, hand));
     assert_relative_eq!(found[0].size, 0.22, epsilon = 0.01);
 }
+
+#[test]
+fn a_glitch_does_not_make_the_next_frame_look_like_one() {
+    // Found on Character Creator's shot: with the body 22 cm off in frame 100, the thumb's
+    // own wobble in frame 101, measured against the displaced frame 100, passed for a glitch.
+    // Frames are now tested against their repaired predecessor.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/006_14.bvh");
+    let (clip, _) = read(&path);
+    let bad = edited(&clip, 100, |pose| pose[0] += 0.22);
+    let s = bad.skeleton();
+    let found: Vec<(usize, &str)> = find_glitches(&bad, &GlitchOptions::default())
+        .expect("glitches")
+        .iter()
+        .map(|g| (g.frame, s.joint(g.joint).name.as_str()))
+        .collect();
+    assert_eq!(found, [(76, "CC_Base_L_Thumb2"), (100, "CC_Base_Hip")]);
+}
