@@ -146,7 +146,7 @@ pub fn find_glitches(clip: &Clip, options: &GlitchOptions) -> Result<Vec<Glitch>
     let trajectory = clip.trajectory(&all)?;
     // glitched[f][j]: the detour of joint j at frame f, if it glitches.
     let mut glitched = vec![vec![None; n]; clip.frame_count()];
-    for j in 0..n {
+    for &j in &all {
         for (f, e) in path_glitches(&trajectory.path(j), options) {
             glitched[f][j] = Some(e);
         }
