@@ -191,7 +191,15 @@ fn round_trip_keeps_world_positions_on_every_fixture() {
         let (clip, report) = read_clip(&path, &ImportOptions::default()).expect("read");
         for unit in [LengthUnit::Centimeter, LengthUnit::Meter, report.unit] {
             let out = dir.path().join("out.bvh");
-            kinergy::motion::write_clip(&out, &clip, &ExportOptions { unit }).expect("write");
+            kinergy::motion::write_clip(
+                &out,
+                &clip,
+                &ExportOptions {
+                    unit,
+                    ..Default::default()
+                },
+            )
+            .expect("write");
             let options = ImportOptions {
                 unit: UnitChoice::Fixed(unit),
                 ..Default::default()
@@ -211,7 +219,13 @@ fn round_trip_keeps_world_positions_on_every_fixture() {
         // In the file's own unit the written values equal the read ones.
         let bvh = kinergy::bvh::read_file(&path, &Default::default()).expect("bvh");
         let (clip, report) = clip_from_bvh(&bvh, &ImportOptions::default()).expect("clip");
-        let out = clip_to_bvh(&clip, &ExportOptions { unit: report.unit });
+        let out = clip_to_bvh(
+            &clip,
+            &ExportOptions {
+                unit: report.unit,
+                ..Default::default()
+            },
+        );
         for (x, y) in bvh.motion.iter().zip(&out.motion) {
             assert_relative_eq!(x, y, epsilon = 1e-9, max_relative = 1e-12);
         }

@@ -44,6 +44,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 .map_err(|e| Failure::input(&args.input, e))?
         }
     };
-    kinergy_motion::write_clip(&args.output, &clip, &ExportOptions { unit: args.unit })
-        .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))
+    kinergy_motion::write_clip(
+        &args.output,
+        &clip,
+        &ExportOptions {
+            unit: args.unit,
+            ..Default::default()
+        },
+    )
+    .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))
 }

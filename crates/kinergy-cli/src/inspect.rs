@@ -2,7 +2,10 @@
 
 use std::path::PathBuf;
 
-use kinergy_motion::{ArmJoints, Clip, ImportReport, PositionReading, Side};
+use kinergy_motion::{
+    ArmJoints, Clip, GlitchOptions, ImportReport, PositionReading, RootReadingBasis, Side,
+    UpDetection, find_glitches,
+};
 use serde::Serialize;
 
 use std::fmt::Write as _;
@@ -40,8 +43,47 @@ struct Report {
     meters_per_unit: f64,
     extent_in_file_units: f64,
     root_reading: Option<&'static str>,
+    /// Why the root's channels were read so: the lowest point's height under each reading.
+    root_reading_reason: Option<RootReasonInfo>,
     position_readings: Vec<(String, &'static str)>,
+    /// The file's up axis (`y`, `z`, `x`, `-y`, …); the clip is read into Y-up either way.
+    up_axis: &'static str,
+    up_detected: bool,
+    /// `given`, `joint names`, `body shape` or `assumed`.
+    up_basis: &'static str,
+    #[serde(skip)]
+    up_detection: UpDetection,
+    /// Highest minus lowest joint along Y in the first frame, meters.
+    first_frame_height_m: Option<f64>,
+    /// The lowest joint's height in the first frame, meters.
+    first_frame_lowest_m: Option<f64>,
+    /// The thresholds glitches were found with.
+    glitch_min_size_m: f64,
+    glitch_min_ratio: f64,
+    glitches: Vec<GlitchInfo>,
     arms: Vec<ArmInfo>,
+}
+
+#[derive(Debug, Serialize)]
+struct RootReasonInfo {
+    #[serde(skip)]
+    kind: RootReadingBasis,
+    /// `given`, `nearer the ground`, `tie` or `no frames`.
+    basis: &'static str,
+    lowest_if_added_m: f64,
+    lowest_if_replaced_m: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct GlitchInfo {
+    frame: usize,
+    time_s: f64,
+    joint: String,
+    /// How far the joint is from the midpoint of its neighbours' positions, meters.
+    size_m: f64,
+    /// Joints of its subtree glitching with it (itself included), and the largest jump among them.
+    joints: usize,
+    largest_m: f64,
 }
 
 #[derive(Debug, Serialize)]
@@ -91,7 +133,19 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             })
             .collect(),
     };
-    let report = report(args, &clip, &import, arms);
+    let glitches = find_glitches(&clip, &GlitchOptions::default())
+        .map_err(|e| Failure::input(&args.file, e))?
+        .into_iter()
+        .map(|g| GlitchInfo {
+            frame: g.frame,
+            time_s: g.frame as f64 * clip.frame_time(),
+            joint: clip.skeleton().joint(g.joint).name.clone(),
+            size_m: g.size,
+            joints: g.joints,
+            largest_m: g.largest,
+        })
+        .collect();
+    let report = report(args, &clip, &import, arms, glitches);
     if args.json {
         print_json(&report)
     } else {
@@ -117,10 +171,11 @@ fn arm_info(clip: &Clip, found: kinergy_motion::Result<ArmJoints>, side: String)
         }
     };
     let lengths = arm.lengths(clip).ok();
+    // One-frame glitches would make two spikes of speed: the peak ignores them.
     let peak = clip
         .trajectory(&[arm.end_effector()])
         .ok()
-        .map(|t| t.speed(0))
+        .map(|t| t.speed_without_glitches(0, &GlitchOptions::default()))
         .and_then(|v| {
             v.iter()
                 .copied()
@@ -144,7 +199,13 @@ fn arm_info(clip: &Clip, found: kinergy_motion::Result<ArmJoints>, side: String)
     }
 }
 
-fn report(args: &Args, clip: &Clip, import: &ImportReport, arms: Vec<ArmInfo>) -> Report {
+fn report(
+    args: &Args,
+    clip: &Clip,
+    import: &ImportReport,
+    arms: Vec<ArmInfo>,
+    glitches: Vec<GlitchInfo>,
+) -> Report {
     let s = clip.skeleton();
     let reading = |r: PositionReading| match r {
         PositionReading::AddToOffset => "add",
@@ -155,6 +216,15 @@ fn report(args: &Args, clip: &Clip, import: &ImportReport, arms: Vec<ArmInfo>) -
         .dofs
         .iter()
         .any(|d| matches!(d, kinergy_motion::Dof::Translation(_)));
+    let first = clip
+        .frame(0)
+        .and_then(|pose| s.world_positions(pose).ok())
+        .map(|p| {
+            let ys = p.iter().map(|p| p.y);
+            let lo = ys.clone().fold(f64::INFINITY, f64::min);
+            (ys.fold(f64::NEG_INFINITY, f64::max) - lo, lo)
+        });
+    let glitch = GlitchOptions::default();
     Report {
         file: args.file.display().to_string(),
         joints: s
@@ -182,11 +252,26 @@ fn report(args: &Args, clip: &Clip, import: &ImportReport, arms: Vec<ArmInfo>) -
         meters_per_unit: import.unit.meters(),
         extent_in_file_units: import.extent_in_file_units,
         root_reading: root_has_positions.then(|| reading(s.joint(0).position_reading)),
+        root_reading_reason: import.root.map(|r| RootReasonInfo {
+            kind: r.basis,
+            basis: r.basis.name(),
+            lowest_if_added_m: r.lowest_if_added,
+            lowest_if_replaced_m: r.lowest_if_replaced,
+        }),
         position_readings: import
             .position_readings
             .iter()
             .map(|(n, r)| (n.clone(), reading(*r)))
             .collect(),
+        up_axis: import.up.name(),
+        up_detected: import.up_detected(),
+        up_basis: import.up_detection.name(),
+        up_detection: import.up_detection,
+        first_frame_height_m: first.map(|(h, _)| h),
+        first_frame_lowest_m: first.map(|(_, lo)| lo),
+        glitch_min_size_m: glitch.min_size,
+        glitch_min_ratio: glitch.min_ratio,
+        glitches,
         arms,
     }
 }
@@ -214,15 +299,29 @@ fn text(r: &Report) -> String {
         r.extent_in_file_units,
         r.extent_in_file_units * r.meters_per_unit
     );
+    let _ = writeln!(
+        o,
+        "  up         {} ({}; read into Y-up, --up to choose)",
+        r.up_axis,
+        match r.up_detection {
+            UpDetection::Given => "given".to_string(),
+            UpDetection::Assumed =>
+                "assumed: neither joint names nor the body's shape told".to_string(),
+            _ => format!("detected from the {}", r.up_basis),
+        }
+    );
     let _ = match r.root_reading {
         Some(reading) => writeln!(
             o,
-            "  root       position channels {} the OFFSET (--positions to choose)",
+            "  root       position channels {} the OFFSET{} (--positions to choose)",
             if reading == "add" {
                 "add to"
             } else {
                 "replace"
-            }
+            },
+            r.root_reading_reason
+                .as_ref()
+                .map_or_else(String::new, root_reason)
         ),
         None => writeln!(o, "  root       no position channels"),
     };
@@ -235,6 +334,54 @@ fn text(r: &Report) -> String {
             others.len(),
             replaced,
             others.len() - replaced
+        );
+    }
+    if let (Some(h), Some(lo)) = (r.first_frame_height_m, r.first_frame_lowest_m) {
+        let _ = writeln!(
+            o,
+            "  body       {h:.3} m from lowest to highest joint in the first frame; lowest {}",
+            height(lo)
+        );
+    }
+    let _ = match r.glitches.len() {
+        0 => writeln!(
+            o,
+            "  glitches   none (one-frame jumps of {:.0} cm or more)",
+            r.glitch_min_size_m * 100.0
+        ),
+        n => writeln!(
+            o,
+            "  glitches   {n} one-frame jump{} of {:.0} cm or more (hand speeds ignore them):",
+            if n == 1 { "" } else { "s" },
+            r.glitch_min_size_m * 100.0
+        ),
+    };
+    const SHOWN: usize = 20;
+    for g in r.glitches.iter().take(SHOWN) {
+        let _ = write!(
+            o,
+            "             frame {} ({:.3} s) {} jumps {:.1} cm",
+            g.frame,
+            g.time_s,
+            g.joint,
+            g.size_m * 100.0
+        );
+        let _ = if g.joints > 1 {
+            writeln!(
+                o,
+                ", with {} joints below it (up to {:.1} cm)",
+                g.joints - 1,
+                g.largest_m * 100.0
+            )
+        } else {
+            writeln!(o)
+        };
+    }
+    if r.glitches.len() > SHOWN {
+        let _ = writeln!(
+            o,
+            "             … and {} more (--json lists them all)",
+            r.glitches.len() - SHOWN
         );
     }
     for arm in &r.arms {
@@ -279,4 +426,33 @@ fn text(r: &Report) -> String {
         }
     }
     out
+}
+
+/// `"4.2 cm above y = 0"`, `"96.1 cm below y = 0"`.
+fn height(y: f64) -> String {
+    let cm = y * 100.0;
+    if cm.abs() < 0.05 {
+        "at y = 0".to_string()
+    } else if cm > 0.0 {
+        format!("{cm:.1} cm above y = 0")
+    } else {
+        format!("{:.1} cm below y = 0", -cm)
+    }
+}
+
+/// Why the root reads as it does: the lowest point under each reading.
+fn root_reason(r: &RootReasonInfo) -> String {
+    match r.kind {
+        RootReadingBasis::Given => " (given)".to_string(),
+        RootReadingBasis::NoFrames => " (no frames to measure)".to_string(),
+        RootReadingBasis::Tie => format!(
+            " (either way the lowest joint is {})",
+            height(r.lowest_if_added_m)
+        ),
+        _ => format!(
+            ": the lowest joint is {} added, {} replaced",
+            height(r.lowest_if_added_m),
+            height(r.lowest_if_replaced_m)
+        ),
+    }
 }

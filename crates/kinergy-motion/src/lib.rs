@@ -40,12 +40,14 @@ pub mod chain;
 pub mod clip;
 pub mod convert;
 pub mod error;
+pub mod glitch;
 pub mod limbs;
 pub mod rotation;
 pub mod side;
 pub mod skeleton;
 pub mod trajectory;
 pub mod units;
+pub mod up;
 
 pub use chain::{Chain, ChainJoint, ChainPose, Linearization, Motion};
 pub use clip::Clip;
@@ -53,13 +55,16 @@ pub use convert::{
     ExportOptions, ImportOptions, ImportReport, PositionReadingChoice, clip_from_bvh, clip_to_bvh,
     read_clip, write_clip,
 };
+pub use convert::{ExportUp, RootReading, RootReadingBasis};
 pub use error::{MotionError, Result};
+pub use glitch::{Glitch, GlitchOptions, find_glitches};
 pub use limbs::{ArmJoints, ArmLengths, LegJoints};
 pub use rotation::Axis;
 pub use side::Side;
 pub use skeleton::{Dof, Joint, PositionReading, Skeleton};
 pub use trajectory::{Trajectory, motion_distance, speed_series};
 pub use units::{LengthUnit, UnitChoice};
+pub use up::{UpAxis, UpChoice, UpDetection};
 
 /// The linear-algebra crate of every public type here, re-exported so callers use the same version.
 pub use nalgebra;

@@ -76,11 +76,18 @@ pub struct Joint {
 /// An immutable articulated skeleton: joints in parent-before-child order, each with an
 /// offset and DoFs. A pose is a `&[f64]` of [`Skeleton::dof_count`] values (radians, meters),
 /// joint after joint, each joint's DoFs in channel order.
+///
+/// Offsets and pose values are in the frame of the file the skeleton came from; a fixed
+/// rotation [`Skeleton::world_from_file`] (the identity for a Y-up file) turns that frame
+/// into Kinergy's Y-up world at the root, so a Z-up capture keeps its own joint values
+/// (and writes them back unchanged) while its world positions are Y-up.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Skeleton {
     joints: Vec<Joint>,
     first_dof: Vec<usize>,
     dof_count: usize,
+    /// `None` for the identity (a Y-up file), so FK of Y-up skeletons is unchanged bit for bit.
+    world_from_file: Option<Rotation3<f64>>,
 }
 
 impl Skeleton {
@@ -129,7 +136,22 @@ impl Skeleton {
             joints,
             first_dof,
             dof_count: n,
+            world_from_file: None,
         })
+    }
+
+    /// The same skeleton whose file frame is turned into the world by `world_from_file`
+    /// (applied at the root, before the root's own offset, translation and rotation).
+    pub fn with_world_from_file(mut self, world_from_file: Rotation3<f64>) -> Skeleton {
+        self.world_from_file =
+            (world_from_file != Rotation3::identity()).then_some(world_from_file);
+        self
+    }
+
+    /// The fixed rotation from the file's frame to Kinergy's Y-up world (the identity unless
+    /// the file was read with another up axis, see [`crate::up`]).
+    pub fn world_from_file(&self) -> Rotation3<f64> {
+        self.world_from_file.unwrap_or_else(Rotation3::identity)
     }
 
     /// The joints, parents before children.
@@ -249,7 +271,8 @@ impl Skeleton {
         }
     }
 
-    /// The transform of joint `j` relative to its parent: `T(offset + t) · R`.
+    /// The transform of joint `j` relative to its parent: `T(offset + t) · R`; for the root,
+    /// relative to the world: `W · T(offset + t) · R` with `W` = [`Skeleton::world_from_file`].
     pub fn local_transform(&self, j: usize, pose: &[f64]) -> IsometryMatrix3<f64> {
         let joint = &self.joints[j];
         let mut t = joint.offset;
@@ -261,6 +284,9 @@ impl Skeleton {
                 Dof::Translation(a) => t[a.index()] += v,
                 Dof::Rotation(a) => r *= axis_rotation(a, v),
             }
+        }
+        if let (None, Some(w)) = (joint.parent, self.world_from_file) {
+            return IsometryMatrix3::from_parts(Translation3::from(w * t), w * r);
         }
         IsometryMatrix3::from_parts(Translation3::from(t), r)
     }
@@ -331,7 +357,7 @@ impl Skeleton {
             let joint = &self.joints[j];
             let parent_rot = match joint.parent {
                 Some(pa) => *world[pa].rotation.matrix(),
-                None => nalgebra::Matrix3::identity(),
+                None => *self.world_from_file().matrix(),
             };
             let origin = world[j].translation.vector;
             let k = d - self.first_dof[j];
@@ -449,6 +475,36 @@ pub(crate) mod tests {
         assert_eq!(s.dof_name(0).as_deref(), Some("Hips.Xposition"));
         assert_eq!(s.dof_name(6).as_deref(), Some("Spine.Yrotation"));
         assert_eq!(s.dof_name(s.dof_count()), None);
+    }
+
+    #[test]
+    fn world_from_file_turns_the_whole_body_and_its_jacobian() {
+        let s = test_skeleton();
+        let w = crate::up::UpAxis::Z.world_from_file();
+        let turned = s.clone().with_world_from_file(w);
+        let pose: Vec<f64> = (0..s.dof_count()).map(|d| 0.1 * d as f64 - 0.7).collect();
+        let a = s.world_positions(&pose).expect("fk");
+        let b = turned.world_positions(&pose).expect("fk");
+        for (a, b) in a.iter().zip(&b) {
+            assert_relative_eq!(w * a, *b, epsilon = 1e-12);
+        }
+        let dofs: Vec<usize> = (0..s.dof_count()).collect();
+        let jac = turned.jacobian(&pose, 7, &dofs).expect("jacobian");
+        let h = 1e-6;
+        for d in dofs {
+            let (mut plus, mut minus) = (pose.clone(), pose.clone());
+            plus[d] += h;
+            minus[d] -= h;
+            let fd = (turned.world_positions(&plus).expect("fk")[7]
+                - turned.world_positions(&minus).expect("fk")[7])
+                / (2.0 * h);
+            assert_relative_eq!(jac.column(d).into_owned(), fd, epsilon = 1e-7);
+        }
+        assert_eq!(
+            s.with_world_from_file(Rotation3::identity())
+                .world_from_file(),
+            Rotation3::identity()
+        );
     }
 
     proptest! {

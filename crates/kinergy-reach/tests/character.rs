@@ -227,7 +227,15 @@ fn bvh_round_trip_keeps_every_joint_in_place() {
     let mut worst = 0.0f64;
     for unit in [LengthUnit::Centimeter, LengthUnit::Meter] {
         let path = dir.path().join(format!("character_{unit}.bvh"));
-        write_clip(&path, &clip, &ExportOptions { unit }).expect("write");
+        write_clip(
+            &path,
+            &clip,
+            &ExportOptions {
+                unit,
+                ..Default::default()
+            },
+        )
+        .expect("write");
         let (back, report) = read_clip(&path, &ImportOptions::default()).expect("read");
         assert_eq!(report.unit, unit, "the unit guess finds the written unit");
         assert_eq!(back.frame_count(), poses.len());

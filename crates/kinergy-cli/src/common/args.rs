@@ -19,10 +19,20 @@ pub struct ReadArgs {
     /// skeleton's size in its first frame).
     #[arg(long = "from-unit", default_value = "auto", value_name = "UNIT")]
     pub from_unit: UnitChoice,
-    /// How position channels combine with OFFSETs: auto (per joint: channels closer to the
-    /// OFFSET than to zero replace it, otherwise they add to it), add, or replace.
+    /// How position channels combine with OFFSETs: auto (non-root joints replace it; the root
+    /// takes the reading that puts the body's lowest point nearer the ground in the first
+    /// frame, add on a tie), add, or replace (every joint).
     #[arg(long, default_value = "auto", value_name = "READING")]
     pub positions: PositionReadingChoice,
+    /// The file's up axis: y, z, x (or -y, -z, -x), or auto (detected from the first frame).
+    /// Read into Kinergy's Y-up world either way.
+    #[arg(
+        long,
+        default_value = "auto",
+        value_name = "AXIS",
+        allow_hyphen_values = true
+    )]
+    pub up: kinergy_motion::UpChoice,
 }
 
 impl ReadArgs {
@@ -31,6 +41,7 @@ impl ReadArgs {
         let options = ImportOptions {
             unit: self.from_unit,
             position_reading: self.positions,
+            up: self.up,
         };
         kinergy_motion::read_clip(path, &options).map_err(|e| Failure::input(path, e))
     }
