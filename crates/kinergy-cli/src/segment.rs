@@ -1,26 +1,46 @@
-//! `kinergy segment`: the reach segments of a capture from its hand-speed series.
+//! `kinergy segment`: the labelled segments of captures — reach, return, other — from the
+//! hand's speed and direction, listed, and optionally written as a segments file.
+//!
+//! Frames are `onset..end`, numbered from 0, end excluded (see `kinergy_train::segment`):
+//! what this prints pastes into `--frames A..B`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use kinergy_train::segment::{SegmentSettings, find_segments, main_segment};
+use kinergy_motion::Side;
+use kinergy_train::manifest::{Manifest, ManifestRow, default_person};
+use kinergy_train::segment::{Segment, SegmentSettings, Selection, find_segments, main_index};
 use serde::Serialize;
 
 use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
 
+/// The frame convention, said once in every listing.
+const FRAMES: &str =
+    "frames onset..end: numbered from 0, end excluded, as --frames A..B takes them";
+
 /// Arguments of `kinergy segment`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The capture.
-    #[arg(value_name = "CLIP.bvh")]
-    pub clip: PathBuf,
+    /// Captures: BVH files, or folders searched for them.
+    #[arg(value_name = "CLIPS", required = true)]
+    pub clips: Vec<PathBuf>,
+    /// Which segments to list (and write): `main` (the main reach), `all` (every reach), or
+    /// one segment's number N as listed, counted from 0. Default: every segment, whatever its
+    /// label.
+    #[arg(long, value_name = "main|all|N")]
+    pub select: Option<Selection>,
+    /// Also write the listed segments to this segments file, atomically (CSV:
+    /// clip,onset,end,arm,label,person; clips relative to its folder, the person is the
+    /// clip's folder name). Edit it by hand as you like.
+    #[arg(long, value_name = "segments.csv")]
+    pub manifest: Option<PathBuf>,
     /// Measure the hand's speed in the world instead of relative to the shoulder (then torso
     /// motion and walking count as hand motion).
     #[arg(long)]
     pub world: bool,
-    /// Slowest peak hand speed that counts as a reach, m/s.
+    /// Slowest peak hand speed that counts as motion, m/s.
     #[arg(long, default_value_t = SegmentSettings::default().min_peak_speed, value_name = "M/S")]
     pub min_peak_speed: f64,
-    /// Print JSON.
+    /// Print JSON: one object for one clip, an array of them for several.
     #[arg(long)]
     pub json: bool,
     #[command(flatten)]
@@ -31,43 +51,113 @@ pub struct Args {
 
 #[derive(Serialize)]
 struct Row {
+    index: usize,
+    frames: String,
     onset: usize,
     peak: usize,
     end: usize,
+    label: &'static str,
+    truncated: bool,
+    truncated_start: bool,
+    truncated_end: bool,
     onset_s: f64,
     peak_s: f64,
-    end_s: f64,
     duration_s: f64,
     peak_speed_m_s: f64,
+    displacement_m: f64,
     main: bool,
 }
 
 #[derive(Serialize)]
 struct Report {
     clip: String,
+    person: String,
+    side: Side,
     arm: Vec<String>,
     frames: usize,
     frame_time_s: f64,
     speed: &'static str,
+    frame_convention: &'static str,
+    main: Option<usize>,
     segments: Vec<Row>,
 }
 
-/// Runs `kinergy segment`.
-pub fn run(args: &Args) -> Result<(), Failure> {
-    let (clip, _) = args.read.read(&args.clip)?;
-    let arm = args.arm.find(&clip, &args.clip)?;
-    let settings = SegmentSettings {
-        relative_to_shoulder: !args.world,
-        min_peak_speed: args.min_peak_speed,
-        ..SegmentSettings::default()
+/// Checks that `path` can be written: its folder exists and it is not a folder itself.
+fn check_output(path: &Path) -> Result<(), Failure> {
+    let folder = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if path.is_dir() {
+        return Err(Failure::Input(format!(
+            "--manifest {}: is a folder, not a file",
+            path.display()
+        )));
+    }
+    if !folder.is_dir() {
+        return Err(Failure::Input(format!(
+            "--manifest {}: no folder {} to write it in",
+            path.display(),
+            folder.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Segments one clip and keeps the selected ones (numbered as in the full list).
+fn segment_clip(
+    args: &Args,
+    path: &Path,
+    settings: &SegmentSettings,
+) -> Result<(Report, Vec<ManifestRow>), Failure> {
+    let (clip, _) = args.read.read(path)?;
+    let arm = args.arm.find(&clip, path)?;
+    let name = path.display().to_string();
+    let found = find_segments(&clip, &arm, settings).map_err(|e| Failure::input(path, e))?;
+    let main = main_index(&found);
+    let picked: Vec<(usize, Segment)> = match args.select {
+        None => found.iter().copied().enumerate().collect(),
+        Some(selection) => {
+            let chosen = kinergy_train::segment::select(&found, selection, &name)
+                .map_err(|e| Failure::Task(e.to_string()))?;
+            found
+                .iter()
+                .copied()
+                .enumerate()
+                .filter(|(_, s)| chosen.contains(s))
+                .collect()
+        }
     };
-    let name = args.clip.display().to_string();
-    let segments =
-        find_segments(&clip, &arm, &settings).map_err(|e| Failure::input(&args.clip, e))?;
-    let main = main_segment(&clip, &arm, &settings, &name).ok();
+    let side = arm.side.unwrap_or(args.arm.arm);
     let dt = clip.frame_time();
+    let rows = picked
+        .iter()
+        .map(|&(i, s)| Row {
+            index: i,
+            frames: format!("{}..{}", s.onset, s.end),
+            onset: s.onset,
+            peak: s.peak,
+            end: s.end,
+            label: s.label.as_str(),
+            truncated: s.truncated(),
+            truncated_start: s.truncated_start,
+            truncated_end: s.truncated_end,
+            onset_s: s.onset as f64 * dt,
+            peak_s: s.peak as f64 * dt,
+            duration_s: s.duration(dt),
+            peak_speed_m_s: s.peak_speed,
+            displacement_m: s.displacement,
+            main: main == Some(i),
+        })
+        .collect();
+    let manifest_rows: Vec<ManifestRow> = picked
+        .iter()
+        .map(|(_, s)| ManifestRow::new(path, s.frames(), side, s.label))
+        .collect();
     let report = Report {
-        clip: name.clone(),
+        clip: name,
+        person: default_person(path),
+        side,
         arm: arm
             .names(clip.skeleton())
             .into_iter()
@@ -80,50 +170,106 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         } else {
             "relative to the shoulder"
         },
-        segments: segments
-            .iter()
-            .map(|s| Row {
-                onset: s.onset,
-                peak: s.peak,
-                end: s.end,
-                onset_s: s.onset as f64 * dt,
-                peak_s: s.peak as f64 * dt,
-                end_s: s.end as f64 * dt,
-                duration_s: s.duration(dt),
-                peak_speed_m_s: s.peak_speed,
-                main: main.as_ref() == Some(s),
-            })
-            .collect(),
+        frame_convention: FRAMES,
+        main,
+        segments: rows,
     };
-    if args.json {
-        return print_json(&report);
-    }
-    let mut text = format!(
-        "{}: {} frames at {:.1} Hz, arm {}, hand speed {}\n",
+    Ok((report, manifest_rows))
+}
+
+fn text(report: &Report, settings: &SegmentSettings, selected: bool) -> String {
+    let mut out = format!(
+        "{}: {} frames at {:.1} Hz, {} arm {}, hand speed {}\n",
         report.clip,
         report.frames,
-        1.0 / dt,
+        1.0 / report.frame_time_s,
+        report.side,
         report.arm.join(" → "),
         report.speed
     );
     if report.segments.is_empty() {
-        text.push_str(&format!(
-            "no reach: the hand never moves faster than {} m/s for long enough\n",
-            settings.min_peak_speed
-        ));
-    } else {
-        text.push_str("  onset    peak     end   (frames)   duration  peak speed\n");
-        for r in &report.segments {
-            text.push_str(&format!(
-                "  {:>5}   {:>5}   {:>5}              {:>6.2} s  {:>6.2} m/s{}\n",
-                r.onset,
-                r.peak,
-                r.end,
-                r.duration_s,
-                r.peak_speed_m_s,
-                if r.main { "   ← main reach" } else { "" }
-            ));
-        }
+        out.push_str(&if selected {
+            "  no segment selected\n".to_string()
+        } else {
+            format!(
+                "  no segment: the hand never moves faster than {} m/s for {} s\n",
+                settings.min_peak_speed, settings.min_duration
+            )
+        });
+        return out;
     }
-    emit(&text)
+    out.push_str("     #  frames     label   peak  duration  peak speed  moves\n");
+    for r in &report.segments {
+        let cut = match (r.truncated_start, r.truncated_end) {
+            (true, true) => "  cut at both ends",
+            (true, false) => "  cut at start",
+            (false, true) => "  cut at end",
+            (false, false) => "",
+        };
+        out.push_str(&format!(
+            "  {:>4}  {:<9}  {:<6} {:>5}  {:>6.2} s  {:>6.2} m/s  {:.2} m{cut}{}\n",
+            r.index,
+            r.frames,
+            r.label,
+            r.peak,
+            r.duration_s,
+            r.peak_speed_m_s,
+            r.displacement_m,
+            if r.main { "  ← main reach" } else { "" }
+        ));
+    }
+    out
+}
+
+/// Runs `kinergy segment`.
+pub fn run(args: &Args) -> Result<(), Failure> {
+    if let Some(path) = &args.manifest {
+        check_output(path)?;
+    }
+    let settings = SegmentSettings {
+        relative_to_shoulder: !args.world,
+        min_peak_speed: args.min_peak_speed,
+        ..SegmentSettings::default()
+    };
+    settings
+        .validate()
+        .map_err(|e| Failure::Input(format!("--min-peak-speed {}: {e}", args.min_peak_speed)))?;
+    let clips = crate::reaches::collect_clips(&args.clips)?;
+    let mut reports = Vec::with_capacity(clips.len());
+    let mut rows = Vec::new();
+    for path in &clips {
+        let (report, clip_rows) = segment_clip(args, path, &settings)?;
+        reports.push(report);
+        rows.extend(clip_rows);
+    }
+    let written = match &args.manifest {
+        Some(path) => {
+            let manifest = Manifest::new(path, rows);
+            manifest
+                .write()
+                .map_err(|e| Failure::Task(format!("could not write the segments file: {e}")))?;
+            Some((path, manifest.rows().len()))
+        }
+        None => None,
+    };
+    if args.json {
+        return if reports.len() == 1 {
+            print_json(&reports[0])
+        } else {
+            print_json(&reports)
+        };
+    }
+    let mut out: Vec<String> = reports
+        .iter()
+        .map(|r| text(r, &settings, args.select.is_some()))
+        .collect();
+    out.push(format!("({FRAMES})\n"));
+    if let Some((path, n)) = written {
+        out.push(format!(
+            "{n} segment{} written to {}\n",
+            if n == 1 { "" } else { "s" },
+            path.display()
+        ));
+    }
+    emit(&out.join(""))
 }

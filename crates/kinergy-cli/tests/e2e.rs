@@ -303,7 +303,7 @@ fn walkthrough_segment_fit_synthesize_plot_animate() {
             s["end"].as_u64().expect("end"),
         );
         assert!(a < p && p < b, "not onset < peak < end: {s}");
-        assert!((b as usize) < clip.frame_count(), "{s}");
+        assert!((b as usize) <= clip.frame_count(), "{s}"); // end excluded
     }
     assert_eq!(segments.iter().filter(|s| s["main"] == true).count(), 1);
 

@@ -2,6 +2,7 @@
 //! DESIGN §1.1):
 //!
 //! - [`segment`]: the reach segments of a clip from its hand-speed series (onset, peak, end);
+//! - [`manifest`]: the segments file — clips, frames, arm, label, person — read and written;
 //! - [`captured`]: a captured reach prepared for fitting — start posture, target, the person's
 //!   arm, the captured torso motion the synthesized arm rides on — and its score, the
 //!   joint-position motion distance;
@@ -25,6 +26,7 @@ pub mod error;
 pub mod experiment;
 pub mod field;
 pub mod fit;
+pub mod manifest;
 pub mod objective;
 pub mod segment;
 pub mod synthetic;

@@ -1,0 +1,264 @@
+//! End-to-end tests of `kinergy segment`: labels and truncation printed, `--select`,
+//! `--manifest` over folders (read back by the library), frames that paste into `--frames`.
+
+mod common;
+use common::{assert_bad_input, fixture, json, kinergy, repo, stderr, stdout};
+
+use std::path::{Path, PathBuf};
+
+use kinergy_train::manifest::Manifest;
+use kinergy_train::segment::Label;
+
+fn utf8(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+/// Two persons' folders of synthetic-set clips: ann/{r01,r02}.bvh and bob/r01.bvh.
+fn persons() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let root = dir.path().join("people");
+    for (person, from) in [
+        ("ann", "p01/r01.bvh"),
+        ("ann", "p01/r02.bvh"),
+        ("bob", "p02/r01.bvh"),
+    ] {
+        let folder = root.join(person);
+        std::fs::create_dir_all(&folder).expect("folder");
+        let name = Path::new(from).file_name().expect("name");
+        std::fs::copy(repo().join("data-synthetic").join(from), folder.join(name)).expect("copy");
+    }
+    (dir, root)
+}
+
+// The listing says each segment's label, whether it is cut by the clip's ends, which is the
+// main reach, and the frame convention once.
+#[test]
+fn segment_prints_labels_truncation_and_the_convention() {
+    let clip = fixture("006_14.bvh");
+    let o = kinergy(&["segment", utf8(&clip)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = stdout(&o);
+    eprintln!("{text}");
+    for needle in [
+        "reach",
+        "return",
+        "cut at start",
+        "cut at end",
+        "← main reach",
+        "end excluded, as --frames A..B takes them",
+    ] {
+        assert!(text.contains(needle), "no `{needle}` in\n{text}");
+    }
+    let report = json(&kinergy(&["segment", utf8(&clip), "--json"]));
+    let segments = report["segments"].as_array().expect("segments");
+    let main = report["main"].as_u64().expect("a main reach") as usize;
+    assert_eq!(segments[main]["label"], "reach");
+    assert_eq!(segments[main]["main"], true);
+    for s in segments {
+        let (a, b) = (
+            s["onset"].as_u64().expect("onset"),
+            s["end"].as_u64().expect("end"),
+        );
+        assert_eq!(s["frames"], format!("{a}..{b}"));
+        assert_eq!(
+            s["truncated"].as_bool(),
+            Some(s["truncated_start"] == true || s["truncated_end"] == true)
+        );
+    }
+}
+
+// --select main|all|N: the main reach, every reach, the N-th segment counted from 0 (numbered
+// as in the full list); past the end a task failure naming the clip; not a selection: bad
+// input.
+#[test]
+fn select_takes_main_all_or_one_segment() {
+    let clip = fixture("006_14.bvh");
+    let clip = utf8(&clip);
+    let listed = |extra: &[&str]| {
+        let mut args = vec!["segment", clip, "--json"];
+        args.extend(extra);
+        let o = kinergy(&args);
+        assert_eq!(o.status.code(), Some(0), "{extra:?}: {}", stderr(&o));
+        json(&o)["segments"].as_array().expect("segments").clone()
+    };
+    let every = listed(&[]);
+    assert!(every.len() >= 3, "{every:?}");
+
+    let main = listed(&["--select", "main"]);
+    assert_eq!(main.len(), 1);
+    assert_eq!(main[0]["main"], true);
+
+    let reaches = listed(&["--select", "all"]);
+    let want: Vec<_> = every.iter().filter(|s| s["label"] == "reach").collect();
+    assert_eq!(reaches.iter().collect::<Vec<_>>(), want);
+
+    for (n, s) in every.iter().enumerate() {
+        let one = listed(&["--select", &n.to_string()]);
+        assert_eq!(one, std::slice::from_ref(s), "--select {n}");
+        assert_eq!(one[0]["index"], n);
+    }
+
+    let past = every.len().to_string();
+    let o = kinergy(&["segment", clip, "--select", &past]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(&format!("no segment #{past}")) && stderr(&o).contains("006_14.bvh"),
+        "{}",
+        stderr(&o)
+    );
+    // A walk has no reach: `main` fails, saying what there is.
+    let walk = fixture("cmu_12_01_walk.bvh");
+    let o = kinergy(&["segment", utf8(&walk), "--select", "main"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("no main reach"), "{}", stderr(&o));
+
+    let nowhere = Path::new("/nonexistent/never.csv");
+    assert_bad_input(
+        &["segment", clip, "--select", "first"],
+        "main, all or a segment number",
+        nowhere,
+    );
+}
+
+// `segment FOLDER --manifest F` writes every listed segment of every clip, with its person
+// (the clip's folder); the library reads it back as printed, and the frames paste into
+// `convert --frames A..B`.
+#[test]
+fn manifest_holds_what_segment_lists() {
+    let (dir, root) = persons();
+    let out = dir.path().join("segments.csv");
+    let o = kinergy(&["segment", utf8(&root), "--manifest", utf8(&out), "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let reports = json(&o);
+    let reports = reports.as_array().expect("one report per clip");
+    assert_eq!(reports.len(), 3);
+
+    let manifest = Manifest::read(&out).expect("the segments file reads back");
+    let rows = manifest.rows();
+    let listed: Vec<(String, String, String, String)> = reports
+        .iter()
+        .flat_map(|r| {
+            let clip = std::fs::canonicalize(r["clip"].as_str().expect("clip"))
+                .expect("clip")
+                .display()
+                .to_string();
+            let person = r["person"].as_str().expect("person").to_string();
+            r["segments"]
+                .as_array()
+                .expect("segments")
+                .iter()
+                .map(|s| {
+                    (
+                        clip.clone(),
+                        s["frames"].as_str().expect("frames").to_string(),
+                        s["label"].as_str().expect("label").to_string(),
+                        person.clone(),
+                    )
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let read: Vec<(String, String, String, String)> = rows
+        .iter()
+        .map(|r| {
+            (
+                std::fs::canonicalize(&r.clip)
+                    .expect("clip")
+                    .display()
+                    .to_string(),
+                format!("{}..{}", r.frames.start, r.frames.end),
+                r.label.to_string(),
+                r.person.clone(),
+            )
+        })
+        .collect();
+    assert_eq!(read, listed);
+    let persons: Vec<&str> = rows.iter().map(|r| r.person.as_str()).collect();
+    assert!(
+        persons.contains(&"ann") && persons.contains(&"bob"),
+        "{persons:?}"
+    );
+    // Clips are written relative to the file's folder.
+    let text = std::fs::read_to_string(&out).expect("text");
+    assert!(text.contains("people/ann/r01.bvh,"), "{text}");
+
+    // What segment printed pastes into --frames: the main reach of ann/r01 converts to exactly
+    // its frames.
+    let main = rows
+        .iter()
+        .find(|r| r.label == Label::Reach && r.clip.ends_with("ann/r01.bvh"))
+        .expect("a reach in ann/r01");
+    let cut = dir.path().join("cut.bvh");
+    let frames = format!("{}..{}", main.frames.start, main.frames.end);
+    let o = kinergy(&[
+        "convert",
+        utf8(&main.clip),
+        "--frames",
+        &frames,
+        "-o",
+        utf8(&cut),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (clip, _) = kinergy_motion::read_clip(&cut, &Default::default()).expect("cut");
+    assert_eq!(clip.frame_count(), main.frames.len());
+
+    // --select main: one row per clip, each a reach.
+    let main_only = dir.path().join("main.csv");
+    let o = kinergy(&[
+        "segment",
+        utf8(&root),
+        "--select",
+        "main",
+        "--manifest",
+        utf8(&main_only),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("3 segments written to"),
+        "{}",
+        stdout(&o)
+    );
+    let m = Manifest::read(&main_only).expect("read");
+    assert_eq!(m.rows().len(), 3);
+    assert!(m.rows().iter().all(|r| r.label == Label::Reach));
+}
+
+// Bad output paths and a clip without the arm are bad input, checked before any file is
+// written; a selection that fails on one clip writes nothing.
+#[test]
+fn manifest_bad_input_writes_nothing() {
+    let (dir, root) = persons();
+    let clip = root.join("ann/r01.bvh");
+    let no_folder = dir.path().join("none/segments.csv");
+    assert_bad_input(
+        &["segment", utf8(&clip), "--manifest", utf8(&no_folder)],
+        "no folder",
+        &no_folder,
+    );
+    assert_bad_input(
+        &["segment", utf8(&clip), "--manifest", utf8(dir.path())],
+        "is a folder",
+        &dir.path().join("never"),
+    );
+    let missing = dir.path().join("missing.bvh");
+    let out = dir.path().join("segments.csv");
+    assert_bad_input(
+        &["segment", utf8(&missing), "--manifest", utf8(&out)],
+        "missing.bvh",
+        &out,
+    );
+    // A clip with no reach among others: `--select main` fails on it and writes no file.
+    let walk = root.join("walk.bvh");
+    std::fs::copy(fixture("cmu_12_01_walk.bvh"), &walk).expect("copy");
+    let o = kinergy(&[
+        "segment",
+        utf8(&root),
+        "--select",
+        "main",
+        "--manifest",
+        utf8(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("walk.bvh"), "{}", stderr(&o));
+    assert!(!out.exists(), "a partial segments file was written");
+}

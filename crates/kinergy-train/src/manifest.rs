@@ -1,0 +1,410 @@
+//! The segments file: which frames of which captures are a person's segments, one row per
+//! segment, written by `kinergy segment CLIPS --manifest segments.csv`, edited by hand, read
+//! by the commands that fit.
+//!
+//! CSV with a header naming the columns, in any order:
+//!
+//! | column | required | content |
+//! |---|---|---|
+//! | `clip` | yes | the capture: a path relative to the segments file's folder, or absolute (written relative when the two share a folder) |
+//! | `onset`, `end` | yes | the frames `onset..end`: numbered from 0, end excluded — the convention of "Frames" in [`crate::segment`], the `A..B` of `--frames` |
+//! | `arm` | yes | `right` or `left` |
+//! | `label` | no (`reach`) | `reach`, `return` or `other` |
+//! | `person` | no (the clip's folder name) | who moves |
+//!
+//! One row per line (a field may be quoted, `"a, b"`, but not span lines); lines starting
+//! with `#` are comments; blank lines and spaces around fields are ignored.
+//! [`Manifest::read`] checks everything it can without reading the captures — the columns,
+//! that each clip exists, the numbers, the arm and the label, no row twice — and
+//! [`Manifest::resolve`] checks a row's frames against its clip once that is read. Every error
+//! names the file and, for a row, its line.
+//!
+//! ```
+//! use kinergy_train::manifest::Manifest;
+//!
+//! let dir = tempfile::tempdir()?;
+//! std::fs::write(dir.path().join("take1.bvh"), "")?; // the file must exist
+//! let path = dir.path().join("segments.csv");
+//! std::fs::write(&path, "# mine\nclip,onset,end,arm\ntake1.bvh,3,40,left\n")?;
+//! let manifest = Manifest::read(&path)?;
+//! let row = &manifest.rows()[0];
+//! assert_eq!((row.frames.clone(), row.line), (3..40, Some(3)));
+//! assert_eq!(row.label.as_str(), "reach");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::collections::HashMap;
+use std::fmt;
+use std::ops::Range;
+use std::path::{Component, Path, PathBuf};
+
+use kinergy_motion::{Clip, Side};
+
+use crate::segment::Label;
+
+/// One row: a segment of one clip.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ManifestRow {
+    /// The capture, as found on disk (relative paths joined to the segments file's folder).
+    pub clip: PathBuf,
+    /// The segment's frames, `onset..end`, end excluded.
+    pub frames: Range<usize>,
+    /// Which arm.
+    pub arm: Side,
+    /// Reach, return or other.
+    pub label: Label,
+    /// Who moves.
+    pub person: String,
+    /// The line of the segments file the row was read from (1-based), if it was read.
+    pub line: Option<usize>,
+}
+
+impl ManifestRow {
+    /// A row for `clip` whose person is the clip's folder name ([`default_person`]).
+    pub fn new(clip: impl Into<PathBuf>, frames: Range<usize>, arm: Side, label: Label) -> Self {
+        let clip = clip.into();
+        ManifestRow {
+            person: default_person(&clip),
+            clip,
+            frames,
+            arm,
+            label,
+            line: None,
+        }
+    }
+}
+
+/// What went wrong with a segments file: the file, the line when a row is at fault, and what.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ManifestError {
+    /// The segments file.
+    pub path: PathBuf,
+    /// The line (1-based), when the error is about one.
+    pub line: Option<usize>,
+    /// What is wrong.
+    pub why: String,
+}
+
+impl fmt::Display for ManifestError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.line {
+            Some(line) => write!(f, "{} line {line}: {}", self.path.display(), self.why),
+            None => write!(f, "{}: {}", self.path.display(), self.why),
+        }
+    }
+}
+
+impl std::error::Error for ManifestError {}
+
+/// A segments file: its path and its rows, in file order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Manifest {
+    path: PathBuf,
+    rows: Vec<ManifestRow>,
+}
+
+const COLUMNS: [&str; 6] = ["clip", "onset", "end", "arm", "label", "person"];
+
+impl Manifest {
+    /// A segments file to be written at `path`.
+    pub fn new(path: impl Into<PathBuf>, rows: Vec<ManifestRow>) -> Manifest {
+        Manifest {
+            path: path.into(),
+            rows,
+        }
+    }
+
+    /// The file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The rows, in file order.
+    pub fn rows(&self) -> &[ManifestRow] {
+        &self.rows
+    }
+
+    /// The rows of one clip (compared as files on disk), in file order.
+    pub fn rows_for<'a>(&'a self, clip: &Path) -> impl Iterator<Item = &'a ManifestRow> + 'a {
+        let key = file_key(clip);
+        self.rows.iter().filter(move |r| file_key(&r.clip) == key)
+    }
+
+    /// Reads and checks the segments file at `path` (see the [module docs](self)).
+    pub fn read(path: &Path) -> Result<Manifest, ManifestError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ManifestError {
+            path: path.to_path_buf(),
+            line: None,
+            why: e.to_string(),
+        })?;
+        Manifest::parse(&text, path)
+    }
+
+    /// Reads and checks segments-file `text` as if it were the file at `path` (clips are found
+    /// relative to its folder; errors name it).
+    pub fn parse(text: &str, path: &Path) -> Result<Manifest, ManifestError> {
+        let fail = |line: Option<usize>, why: String| ManifestError {
+            path: path.to_path_buf(),
+            line,
+            why,
+        };
+        let folder = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        // One record per line, split by the csv crate (quotes, doubled quotes), so every row
+        // knows its line; comment and blank lines are skipped.
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l))
+            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+        let fields = |line: usize, l: &str| -> Result<Vec<String>, ManifestError> {
+            let mut reader = csv::ReaderBuilder::new()
+                .has_headers(false)
+                .trim(csv::Trim::All)
+                .from_reader(l.as_bytes());
+            let mut record = csv::StringRecord::new();
+            reader
+                .read_record(&mut record)
+                .map_err(|e| fail(Some(line), format!("unreadable: {e}")))?;
+            Ok(record.iter().map(str::to_string).collect())
+        };
+        let Some((header_at, header_text)) = lines.next() else {
+            return Err(fail(
+                None,
+                format!("no header: expected the columns {}", COLUMNS.join(",")),
+            ));
+        };
+        let header = fields(header_at, header_text)?;
+        let header_line = Some(header_at);
+        let mut column: HashMap<&str, usize> = HashMap::new();
+        for (i, name) in header.iter().enumerate() {
+            let known = COLUMNS.iter().find(|c| c.eq_ignore_ascii_case(name));
+            let Some(&known) = known else {
+                return Err(fail(
+                    header_line,
+                    format!("unknown column `{name}`: expected {}", COLUMNS.join(", ")),
+                ));
+            };
+            if column.insert(known, i).is_some() {
+                return Err(fail(header_line, format!("column `{known}` appears twice")));
+            }
+        }
+        for required in &COLUMNS[..4] {
+            if !column.contains_key(required) {
+                return Err(fail(
+                    header_line,
+                    format!("no `{required}` column (required: clip, onset, end, arm)"),
+                ));
+            }
+        }
+
+        let mut rows = Vec::new();
+        let mut seen: HashMap<(PathBuf, Side, usize, usize), usize> = HashMap::new();
+        for (at, l) in lines {
+            let record = fields(at, l)?;
+            let line = Some(at);
+            if record.len() != header.len() {
+                return Err(fail(
+                    line,
+                    format!(
+                        "{} fields where the header has {}",
+                        record.len(),
+                        header.len()
+                    ),
+                ));
+            }
+            let cell = |name: &str| {
+                column
+                    .get(name)
+                    .and_then(|&i| record.get(i))
+                    .map_or("", String::as_str)
+            };
+            let bad = |why: String| fail(line, why);
+
+            let text = cell("clip");
+            if text.is_empty() {
+                return Err(bad("empty `clip`".into()));
+            }
+            let clip = folder.join(text);
+            if !clip.is_file() {
+                return Err(bad(format!(
+                    "clip `{text}`: no such file ({})",
+                    clip.display()
+                )));
+            }
+            let frame = |name: &str| {
+                let v = cell(name);
+                v.parse::<usize>()
+                    .map_err(|_| bad(format!("{name} `{v}` is not a frame number (0, 1, 2, …)")))
+            };
+            let (onset, end) = (frame("onset")?, frame("end")?);
+            if onset >= end {
+                return Err(bad(format!(
+                    "frames {onset}..{end} are empty: the end is excluded, so it must be above \
+                     the onset"
+                )));
+            }
+            let arm: Side = cell("arm")
+                .parse()
+                .map_err(|e: String| bad(format!("arm: {e}")))?;
+            let label = match cell("label") {
+                "" => Label::Reach,
+                l => l.parse().map_err(|e: String| bad(format!("label: {e}")))?,
+            };
+            let person = match cell("person") {
+                "" => default_person(&clip),
+                p => p.to_string(),
+            };
+            if let Some(first) = seen.insert((file_key(&clip), arm, onset, end), at) {
+                return Err(bad(format!(
+                    "repeats line {first}: the same clip, arm and frames {onset}..{end}"
+                )));
+            }
+            rows.push(ManifestRow {
+                clip,
+                frames: onset..end,
+                arm,
+                label,
+                person,
+                line,
+            });
+        }
+        Ok(Manifest {
+            path: path.to_path_buf(),
+            rows,
+        })
+    }
+
+    /// The frames of `row` in `clip` (the capture the row names, read), checked: they must lie
+    /// inside the clip. The error names the segments file and the row's line.
+    pub fn resolve(&self, row: &ManifestRow, clip: &Clip) -> Result<Range<usize>, ManifestError> {
+        let n = clip.frame_count();
+        if row.frames.end > n {
+            return Err(ManifestError {
+                path: self.path.clone(),
+                line: row.line,
+                why: format!(
+                    "frames {}..{} are outside {}, which has {n} frames (0..{n})",
+                    row.frames.start,
+                    row.frames.end,
+                    row.clip.display()
+                ),
+            });
+        }
+        Ok(row.frames.clone())
+    }
+
+    /// The file's text: a comment saying the frame convention, the header, one line per row,
+    /// clips relative to the file's folder where they can be.
+    pub fn to_csv(&self) -> String {
+        let folder = self
+            .path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let mut writer = csv::Writer::from_writer(Vec::new());
+        let mut out = String::from(
+            "# kinergy segments: frames onset..end are numbered from 0, end excluded (--frames A..B)\n",
+        );
+        let mut write = || -> csv::Result<()> {
+            writer.write_record(COLUMNS)?;
+            for r in &self.rows {
+                let clip = relative_to(folder, &r.clip);
+                writer.write_record([
+                    clip.to_string_lossy().as_ref(),
+                    &r.frames.start.to_string(),
+                    &r.frames.end.to_string(),
+                    &r.arm.to_string(),
+                    r.label.as_str(),
+                    &r.person,
+                ])?;
+            }
+            writer.flush()?;
+            Ok(())
+        };
+        // Writing to memory fails only on a bug; the rows are plain strings.
+        let written = write().is_ok();
+        debug_assert!(written);
+        if let Ok(bytes) = writer.into_inner() {
+            out.push_str(&String::from_utf8_lossy(&bytes));
+        }
+        out
+    }
+
+    /// Writes [`Manifest::to_csv`] to the file's path, atomically.
+    pub fn write(&self) -> Result<(), ManifestError> {
+        kinergy_io::write_atomic(&self.path, self.to_csv().as_bytes()).map_err(|e| ManifestError {
+            path: self.path.clone(),
+            line: None,
+            why: e.to_string(),
+        })
+    }
+}
+
+/// Who moves in `clip` when nobody says: the name of the folder holding it (empty when there
+/// is none).
+pub fn default_person(clip: &Path) -> String {
+    let absolute = std::path::absolute(clip).unwrap_or_else(|_| clip.to_path_buf());
+    absolute
+        .parent()
+        .and_then(Path::file_name)
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// The file `path` names, for comparing paths: canonical when it exists, absolute otherwise.
+fn file_key(path: &Path) -> PathBuf {
+    std::fs::canonicalize(path)
+        .or_else(|_| std::path::absolute(path))
+        .unwrap_or_else(|_| path.to_path_buf())
+}
+
+/// `target` relative to the folder `base` (with `..` as needed); absolute when they share no
+/// folder.
+fn relative_to(base: &Path, target: &Path) -> PathBuf {
+    let (base, target) = (file_key(base), file_key(target));
+    let (b, t): (Vec<Component<'_>>, Vec<Component<'_>>) =
+        (base.components().collect(), target.components().collect());
+    let common = b.iter().zip(&t).take_while(|(x, y)| x == y).count();
+    if !b[..common]
+        .iter()
+        .any(|c| matches!(c, Component::Normal(_)))
+    {
+        return target;
+    }
+    let mut out = PathBuf::new();
+    for _ in common..b.len() {
+        out.push("..");
+    }
+    out.extend(&t[common..]);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn relative_paths_climb_where_needed() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let a = dir.path().join("a");
+        let b = dir.path().join("b/c");
+        std::fs::create_dir_all(&a).expect("a");
+        std::fs::create_dir_all(&b).expect("b");
+        std::fs::write(b.join("x.bvh"), "").expect("x");
+        assert_eq!(relative_to(&a, &b.join("x.bvh")), Path::new("../b/c/x.bvh"));
+        assert_eq!(
+            relative_to(dir.path(), &b.join("x.bvh")),
+            Path::new("b/c/x.bvh")
+        );
+    }
+
+    #[test]
+    fn the_person_is_the_folder_name() {
+        assert_eq!(default_person(Path::new("/data/p01/r01.bvh")), "p01");
+        let row = ManifestRow::new("/data/p01/r01.bvh", 1..9, Side::Left, Label::Reach);
+        assert_eq!(row.person, "p01");
+    }
+}
