@@ -14,6 +14,11 @@ mod inspect;
 mod plan;
 mod plot;
 mod reach;
+/// The old home of [`common::collect_clips`], which `segment.rs` (merged from before the move,
+/// and being changed on another branch) still names.
+mod reaches {
+    pub use crate::common::collect_clips;
+}
 mod segment;
 mod synth;
 mod synthesize;

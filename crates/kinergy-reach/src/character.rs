@@ -149,7 +149,8 @@ use std::sync::Arc;
 
 use kinergy_motion::rotation::{Axis, axis_rotation, euler_angles, swing_rotation, unwrap_near};
 use kinergy_motion::{
-    ArmJoints, Chain, ChainJoint, Clip, Dof, Joint, Motion, PositionReading, Side, Skeleton,
+    ArmJoints, ArmLengths, Chain, ChainJoint, Clip, Dof, Joint, Motion, PositionReading, Side,
+    Skeleton,
 };
 use nalgebra::{IsometryMatrix3, Matrix3, Point2, Point3, Rotation3, Vector3};
 use serde::{Deserialize, Serialize};
@@ -628,7 +629,10 @@ impl Proportions {
     }
 
     /// Measured on a capture: bone lengths in the clip's first frame (position channels may
-    /// stretch bones), widths and heights in the skeleton's zero pose (assumed upright, Y up).
+    /// stretch bones), widths and heights in the skeleton's zero pose when it is upright (the
+    /// head above the hips, Y up), else in the first frame (Bandai Namco's zero pose lies
+    /// along +X). A wrist without a hand point below it gets a hand
+    /// [`kinergy_motion::arm::HAND_PER_FOREARM`] × its forearm long.
     ///
     /// Best effort by joint role: arms by [`ArmJoints::find`] (shoulder→elbow, elbow→wrist,
     /// wrist→hand point); legs by names (`UpLeg`/`UpperLeg`/`Thigh`/`Hip` →
@@ -896,19 +900,16 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
     let mut shoulders = Vec::with_capacity(2);
     for side in [Side::Right, Side::Left] {
         let a = ArmJoints::find(skeleton, side)?;
-        let hand = a.hand.ok_or_else(|| {
-            setting(
-                "skeleton",
-                format!(
-                    "the {side} arm has no hand point (a child with a length) below its wrist `{}`",
-                    skeleton.joint(a.wrist).name
-                ),
-            )
-        })?;
-        arms.push(ArmSegments {
+        let measured = ArmLengths {
             upper_arm: d(a.shoulder, a.elbow),
             forearm: d(a.elbow, a.wrist),
-            hand: d(a.wrist, hand),
+            hand: a.hand.map_or(0.0, |h| d(a.wrist, h)),
+        };
+        // A wrist with no hand point below it (Bandai's Hand_R) gets the default hand.
+        arms.push(ArmSegments {
+            upper_arm: measured.upper_arm,
+            forearm: measured.forearm,
+            hand: measured.hand_or_default(),
         });
         shoulders.push(a.shoulder);
     }
@@ -931,6 +932,20 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
                 "no head joint (named like `Head`) to measure the height to",
             )
         })?;
+    // Skeletons whose zero pose is not upright (Bandai Namco's lies along +X) are measured
+    // upright in the clip's first frame instead.
+    let above_hips = |q: &[Point3<f64>]| {
+        let top = (head..skeleton.joint_count())
+            .filter(|&j| skeleton.is_ancestor_or_self(head, j))
+            .map(|j| q[j].y)
+            .fold(f64::NEG_INFINITY, f64::max);
+        top - 0.5 * (q[legs[0].hip].y + q[legs[1].hip].y)
+    };
+    let zero = if above_hips(&zero) > 0.0 || above_hips(&p) <= 0.0 {
+        zero
+    } else {
+        p.clone()
+    };
     let top = (head..skeleton.joint_count())
         .filter(|&j| skeleton.is_ancestor_or_self(head, j))
         .map(|j| zero[j].y)
