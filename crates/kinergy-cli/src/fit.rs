@@ -10,9 +10,7 @@ use kinergy_train::anneal::{Checkpoint, Control, CsvLog, Observer, Progress};
 use kinergy_train::fit::{Fit, NestedRun};
 use serde::Serialize;
 
-use crate::common::{
-    Bar, CaptureArgs, Failure, SearchArgs, collect_clips, emit, print_json, train_failure,
-};
+use crate::common::{Bar, CaptureArgs, Failure, SearchArgs, emit, print_json, train_failure};
 
 /// Set by Ctrl-C: the running fit stops after its current iteration and checkpoints.
 pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
@@ -29,8 +27,9 @@ pub enum Per {
 /// Arguments of `kinergy fit`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Captures: BVH files or folders of them.
-    #[arg(value_name = "CLIPS", required = true)]
+    /// Captures: BVH files or folders of them. With `--segments` they may be left out (the
+    /// segments file names the clips); given, they keep only the rows of those clips.
+    #[arg(value_name = "CLIPS", required_unless_present = "segments")]
     pub clips: Vec<PathBuf>,
     /// The synergy model to fit.
     #[arg(long, value_name = "sa|sb|sc|sd")]
@@ -119,7 +118,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "--checkpoint-every 0: expected at least 1".into(),
         ));
     }
-    let clips = collect_clips(&args.clips)?;
+    let clips = args.reach.clips(&args.clips)?;
     let reaches = args.reach.load_all(&clips)?;
     let settings = args.search.settings();
     settings
@@ -139,6 +138,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Per::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
     };
     let several = groups.len() > 1;
+    // Several reaches of one clip fitted one by one go to `<clip>_<onset>-<end>.json`.
+    let repeated = |name: &str| groups.iter().filter(|g| g[0].name() == name).count() > 1;
     if several && args.checkpoint.is_some() {
         return Err(Failure::Input(
             "--checkpoint works on one fit at a time: use --per person or one clip".into(),
@@ -187,8 +188,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             }));
         }
         let output = if several {
-            args.output
-                .join(format!("{}.json", stem(Path::new(group[0].name()))))
+            let first = &group[0];
+            let stem = stem(Path::new(first.name()));
+            args.output.join(if repeated(first.name()) {
+                format!(
+                    "{stem}_{}-{}.json",
+                    first.frames().start,
+                    first.frames().end
+                )
+            } else {
+                format!("{stem}.json")
+            })
         } else {
             args.output.clone()
         };
@@ -224,6 +234,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 m.start_score_m * 1e3,
                 m.evaluations,
                 m.status
+            ));
+        }
+        for reach in &r.reaches {
+            text.push_str(&format!(
+                "  {}  frames {}..{}{}  {:.3} mm\n",
+                reach.clip,
+                reach.frames[0],
+                reach.frames[1],
+                reach
+                    .arm
+                    .as_ref()
+                    .and_then(|a| a.side)
+                    .map_or_else(String::new, |s| format!("  {s} arm")),
+                reach.distance_m * 1e3
             ));
         }
         for v in &r.nested_violations {

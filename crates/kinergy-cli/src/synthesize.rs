@@ -7,11 +7,12 @@
 
 use std::path::PathBuf;
 
-use kinergy_motion::{ExportOptions, LengthUnit, motion_distance};
+use kinergy_motion::{ExportOptions, LengthUnit, Side, motion_distance};
 use kinergy_solver::{
     BaseMode, Controller, Model, OptimizerKind, ParamSpace, ParamsFile, StopReason, Synergy,
 };
 use kinergy_train::CapturedReach;
+use kinergy_train::segment::{SegmentSettings, Selection, find_segments, select};
 use serde::Serialize;
 
 use crate::common::{ArmArgs, Failure, ReadArgs, emit, parse_point, print_json};
@@ -52,6 +53,10 @@ pub struct Args {
     /// `kinergy fit` picks it by default) or `A..B` (0-based, end excluded).
     #[arg(long, default_value = "fit", value_name = "fit|all|auto|A..B")]
     frames: String,
+    /// Instead of `--frames`, a labelled segment of the capture: `main` (its main reach, as
+    /// `--frames auto`) or `N` (segment N as `kinergy segment` lists them, from 0).
+    #[arg(long, value_name = "main|N", conflicts_with = "frames")]
+    select: Option<Selection>,
     /// ε: the target counts as reached within this many meters.
     #[arg(long, default_value_t = 0.005, value_name = "M")]
     tolerance: f64,
@@ -66,9 +71,20 @@ pub struct Args {
     json: bool,
     #[command(flatten)]
     read: ReadArgs,
-    #[command(flatten)]
-    arm: ArmArgs,
+    /// Which arm. Default: the one the --params file was fitted on (its `fit.reaches[].arm`),
+    /// else right. A capture arm that differs from the fitted one (the other side, or bones
+    /// more than 10 % longer or shorter) gets a warning.
+    #[arg(long, value_name = "SIDE")]
+    arm: Option<Side>,
+    /// The arm's joints by name, overriding the search: clavicle,shoulder,elbow,wrist (or
+    /// shoulder,elbow,wrist).
+    #[arg(long, value_delimiter = ',', value_name = "JOINTS")]
+    chain: Option<Vec<String>>,
 }
+
+/// Bones of the capture's arm and the fitted one differing by more than this fraction get a
+/// warning.
+const ARM_LENGTH_TOLERANCE: f64 = 0.10;
 
 #[derive(Debug, Serialize)]
 struct Report {
@@ -94,20 +110,50 @@ struct Report {
 
 /// Runs `kinergy synthesize`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    let params = match &args.params {
+        Some(path) => Some(ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?),
+        None => None,
+    };
+    let same_clip = |clip: &str| {
+        let clip = std::path::Path::new(clip);
+        clip == args.from
+            || matches!(
+                (clip.canonicalize(), args.from.canonicalize()),
+                (Ok(a), Ok(b)) if a == b
+            )
+    };
+    let record = params.as_ref().and_then(|p| p.fit.as_ref());
+    let fitted_arm = record.and_then(|r| r.arm(same_clip));
     let (whole, _) = args.read.read(&args.from)?;
-    let joints = args.arm.find(&whole, &args.from)?;
-    let frames = match args.frames.as_str() {
-        "fit" => fitted_frames(args).unwrap_or(0..whole.frame_count()),
-        "all" => 0..whole.frame_count(),
-        "auto" => kinergy_train::segment::main_segment(
-            &whole,
-            &joints,
-            &kinergy_train::segment::SegmentSettings::default(),
-            &args.from.display().to_string(),
-        )
-        .map_err(|e| Failure::input(&args.from, e))?
-        .frames(),
-        text => crate::common::parse_frames(text)?,
+    let arm_args = ArmArgs {
+        arm: args
+            .arm
+            .or(fitted_arm.and_then(|a| a.side))
+            .unwrap_or(Side::Right),
+        chain: args.chain.clone(),
+    };
+    let joints = arm_args.find(&whole, &args.from)?;
+    let segment = |selection: Selection| -> Result<std::ops::Range<usize>, Failure> {
+        let name = args.from.display().to_string();
+        let segments = find_segments(&whole, &joints, &SegmentSettings::default())
+            .map_err(|e| Failure::input(&args.from, e))?;
+        let picked =
+            select(&segments, selection, &name).map_err(|e| Failure::input(&args.from, e))?;
+        Ok(picked[0].frames())
+    };
+    let frames = match (args.select, args.frames.as_str()) {
+        (Some(Selection::All), _) => {
+            return Err(Failure::Input(
+                "--select all: synthesize makes one reach; pick main or a segment number".into(),
+            ));
+        }
+        (Some(selection), _) => segment(selection)?,
+        (None, "fit") => record
+            .and_then(|r| r.reach(same_clip))
+            .map_or(0..whole.frame_count(), |r| r.frames()),
+        (None, "all") => 0..whole.frame_count(),
+        (None, "auto") => segment(Selection::Main)?,
+        (None, text) => crate::common::parse_frames(text)?,
     };
     if frames.end > whole.frame_count() || frames.len() < 2 {
         return Err(Failure::Input(format!(
@@ -127,16 +173,39 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let reach = CapturedReach::new(&name, &whole, &joints, frames.clone(), mode)
         .map_err(|e| Failure::input(&args.from, e))?;
     let dof_names = reach.dof_names();
+    if let Some(fitted) = fitted_arm {
+        let here = reach.fitted_arm();
+        let other_side = matches!((fitted.side, here.side), (Some(a), Some(b)) if a != b);
+        let difference = fitted.length_difference(here);
+        if other_side || difference > ARM_LENGTH_TOLERANCE {
+            eprintln!(
+                "warning: the parameters were fitted on a {} arm ({}; upper arm {:.3} m, forearm \
+                 {:.3} m) and drive a {} arm ({}; {:.3} m, {:.3} m){}",
+                side_name(fitted.side),
+                fitted.joints.join(" → "),
+                fitted.upper_arm_m,
+                fitted.forearm_m,
+                side_name(here.side),
+                here.joints.join(" → "),
+                here.upper_arm_m,
+                here.forearm_m,
+                if difference > ARM_LENGTH_TOLERANCE {
+                    format!(": bones differ by up to {:.0} %", difference * 100.0)
+                } else {
+                    String::new()
+                }
+            );
+        }
+    }
 
-    let (optimizer, synergy) = match &args.params {
-        Some(path) => {
-            let file = ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?;
+    let (optimizer, synergy) = match (&params, &args.params) {
+        (Some(file), Some(path)) => {
             let synergy = file
                 .synergy_for(&dof_names)
                 .map_err(|e| Failure::input(path, e))?;
             (file.optimizer, synergy)
         }
-        None => {
+        _ => {
             let space = ParamSpace::new(args.model, &dof_names, Default::default())
                 .map_err(|e| Failure::Input(e.to_string()))?;
             let synergy = Synergy::new(&space, &space.neutral())
@@ -233,21 +302,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
 }
 
-/// The frames the parameters file records for this capture (`fit.reaches[].frames` of the
-/// reach whose `clip` is the same file), if any.
-fn fitted_frames(args: &Args) -> Option<std::ops::Range<usize>> {
-    let path = args.params.as_ref()?;
-    let text = std::fs::read_to_string(path).ok()?;
-    let file = ParamsFile::from_json(&text).ok()?;
-    let same = |clip: &str| {
-        let clip = std::path::Path::new(clip);
-        clip == args.from
-            || matches!(
-                (clip.canonicalize(), args.from.canonicalize()),
-                (Ok(a), Ok(b)) if a == b
-            )
-    };
-    Some(file.fit?.reach(same)?.frames())
+fn side_name(side: Option<Side>) -> String {
+    side.map_or_else(|| "named".to_string(), |s| s.to_string())
 }
 
 /// Shoulder to end effector, fully stretched.

@@ -7,7 +7,10 @@
 //!   "score_m": 0.0484, "start_score_m": 0.0694,
 //!   "evaluations": 4000, "iterations": 499, "status": "budget_spent",
 //!   "seed": 15755400384260043838,
-//!   "reaches": [ { "clip": "p01/r09.bvh", "frames": [7, 87], "distance_m": 0.0484 } ],
+//!   "reaches": [ { "clip": "p01/r09.bvh", "frames": [7, 87], "distance_m": 0.0484,
+//!                  "arm": { "side": "left", "joints": ["LeftShoulder", "LeftArm", "LeftForeArm",
+//!                           "LeftHand", "LeftHandEnd"],
+//!                           "upper_arm_m": 0.28, "forearm_m": 0.26, "hand_m": 0.09 } } ],
 //!   "per": "clip",
 //!   "nested": [ { "model": "sa", "score_m": 0.0984, "evaluations": 760 }, … ]
 //! }
@@ -15,12 +18,14 @@
 //!
 //! Fields added after the first version are `Option`s that are left out of the JSON when
 //! absent, so files written before them still read and files without them are written as
-//! before; the arm the values were fitted on (side, joint names, bone lengths) is meant to
-//! join them that way. Keys the record does not know are ignored.
+//! before; the arm each reach was fitted on (side, joint names, bone lengths: [`FittedArm`])
+//! is one of them. Keys the record does not know are ignored.
 
 use std::ops::Range;
 
 use serde::{Deserialize, Serialize};
+
+use kinergy_motion::Side;
 
 use crate::synergy::Model;
 
@@ -57,6 +62,17 @@ impl FitRecord {
     pub fn reach(&self, is_clip: impl Fn(&str) -> bool) -> Option<&FittedReach> {
         self.reaches.iter().find(|r| is_clip(&r.clip))
     }
+
+    /// The arm the values were fitted on: that of the reach on the clip `is_clip` recognizes,
+    /// else the first reach's that records one; `None` in files written before arms were
+    /// recorded.
+    pub fn arm(&self, is_clip: impl Fn(&str) -> bool) -> Option<&FittedArm> {
+        self.reaches
+            .iter()
+            .find(|r| is_clip(&r.clip) && r.arm.is_some())
+            .or_else(|| self.reaches.iter().find(|r| r.arm.is_some()))
+            .and_then(|r| r.arm.as_ref())
+    }
 }
 
 /// One captured reach a fit scored.
@@ -68,6 +84,45 @@ pub struct FittedReach {
     pub frames: [usize; 2],
     /// The fitted values' motion distance on this reach, meters.
     pub distance_m: f64,
+    /// The arm the reach was captured with (absent in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arm: Option<FittedArm>,
+}
+
+/// The captured arm a reach was fitted on: which side, its joints, its bones.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FittedArm {
+    /// Right or left (absent when the joints were named by hand and their side is unclear).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side: Option<Side>,
+    /// The chain's joint names in the capture, clavicle (if any) to hand point (if any).
+    pub joints: Vec<String>,
+    /// Shoulder to elbow on the reach's first frame, meters.
+    pub upper_arm_m: f64,
+    /// Elbow to wrist, meters.
+    pub forearm_m: f64,
+    /// Wrist to the hand point, meters (0 when the wrist has none).
+    pub hand_m: f64,
+}
+
+impl FittedArm {
+    /// The largest relative difference between this arm's bones and `other`'s (upper arm,
+    /// forearm, and the hand when both have one), e.g. 0.12 for 12 %.
+    pub fn length_difference(&self, other: &FittedArm) -> f64 {
+        let rel = |a: f64, b: f64| {
+            if a.max(b) > 0.0 {
+                (a - b).abs() / a.max(b)
+            } else {
+                0.0
+            }
+        };
+        let mut d =
+            rel(self.upper_arm_m, other.upper_arm_m).max(rel(self.forearm_m, other.forearm_m));
+        if self.hand_m > 0.0 && other.hand_m > 0.0 {
+            d = d.max(rel(self.hand_m, other.hand_m));
+        }
+        d
+    }
 }
 
 impl FittedReach {
@@ -174,5 +229,28 @@ mod tests {
             serde_json::from_str::<FitRecord>(&text).expect("back"),
             bare
         );
+    }
+
+    #[test]
+    fn arms_are_recorded_per_reach_and_compared_by_bone() {
+        let mut record: FitRecord = serde_json::from_str(WRITTEN).expect("record");
+        assert_eq!(record.arm(|_| true), None);
+        let arm = FittedArm {
+            side: Some(Side::Left),
+            joints: vec!["LeftArm".into(), "LeftForeArm".into(), "LeftHand".into()],
+            upper_arm_m: 0.30,
+            forearm_m: 0.25,
+            hand_m: 0.0,
+        };
+        record.reaches[0].arm = Some(arm.clone());
+        let text = serde_json::to_string(&record).expect("json");
+        let back: FitRecord = serde_json::from_str(&text).expect("back");
+        assert_eq!(back.arm(|c| c.ends_with("other.bvh")), Some(&arm));
+        let longer = FittedArm {
+            upper_arm_m: 0.36,
+            hand_m: 0.08,
+            ..arm.clone()
+        };
+        approx::assert_relative_eq!(arm.length_difference(&longer), 0.06 / 0.36);
     }
 }

@@ -47,7 +47,7 @@ pub use controller::{
     ArmTask, Base, Controller, ControllerSettings, LimitHandling, StallRule, StopReason, Synthesis,
 };
 pub use error::{Result, SolverError};
-pub use fit_record::{FitGrouping, FitRecord, FittedReach, StageScore};
+pub use fit_record::{FitGrouping, FitRecord, FittedArm, FittedReach, StageScore};
 pub use optimizer::{
     DampedLeastSquares, NormalizedTranspose, Optimizer, OptimizerKind, PseudoInverse, StepScratch,
     Transpose,

@@ -13,8 +13,8 @@ use std::ops::Range;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, Trajectory, motion_distance};
 use kinergy_solver::{
-    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, Optimizer, StopReason,
-    Synergy, Synthesis, Task,
+    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FittedArm, Optimizer,
+    StopReason, Synergy, Synthesis, Task,
 };
 
 use crate::error::{Result, TrainError};
@@ -33,6 +33,7 @@ pub struct CapturedReach {
     target: Point3<f64>,
     captured: Trajectory,
     frame_time: f64,
+    fitted_arm: FittedArm,
 }
 
 impl CapturedReach {
@@ -63,6 +64,18 @@ impl CapturedReach {
         }
         let segment = clip.slice(frames.clone())?;
         let arm = CaptureArm::new(&segment, joints)?;
+        let lengths = joints.lengths(&segment)?;
+        let fitted_arm = FittedArm {
+            side: joints.side,
+            joints: joints
+                .names(clip.skeleton())
+                .into_iter()
+                .map(String::from)
+                .collect(),
+            upper_arm_m: lengths.upper_arm,
+            forearm_m: lengths.forearm,
+            hand_m: lengths.hand,
+        };
         let captured = arm.captured_trajectory(&segment)?;
         let last = captured.frame(captured.frame_count() - 1);
         let target = *last
@@ -77,6 +90,7 @@ impl CapturedReach {
             target,
             captured,
             frame_time: clip.frame_time(),
+            fitted_arm,
         })
     }
 
@@ -103,6 +117,12 @@ impl CapturedReach {
     /// The hand's captured position on the segment's last frame, world meters.
     pub fn target(&self) -> Point3<f64> {
         self.target
+    }
+
+    /// The captured arm as a parameters file records it: side, joint names, bone lengths on
+    /// the reach's first frame.
+    pub fn fitted_arm(&self) -> &FittedArm {
+        &self.fitted_arm
     }
 
     /// The synthesis arm made from the capture.

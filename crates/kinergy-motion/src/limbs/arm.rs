@@ -33,7 +33,10 @@ pub struct ArmJoints {
     pub wrist: usize,
     /// A point on the hand beyond the wrist, used as the end effector: the middle finger's
     /// base, an End Site, the index finger's base or a finger-base joint, in that order of
-    /// preference; `None` when the wrist has no child.
+    /// preference; `None` when the wrist has no child with a length (Bandai Namco's `Hand_R`,
+    /// whose End Site has offset 0 in some sets). Without one the wrist is the end effector
+    /// ([`ArmJoints::end_effector`]) and a hand length, where one is needed, is
+    /// [`ArmLengths::hand_or_default`].
     pub hand: Option<usize>,
 }
 
@@ -48,10 +51,26 @@ pub struct ArmLengths {
     pub hand: f64,
 }
 
+/// The hand's length (wrist to fingertip) per unit of forearm length, used where an arm has
+/// no hand point below its wrist (Bandai Namco's `Hand_R` ends in an End Site of length 0, or
+/// nothing): Drillis & Contini's hand 0.108 H over forearm 0.146 H (Winter, *Biomechanics and
+/// Motor Control of Human Movement*, Fig. 4.1), about 0.74.
+pub const HAND_PER_FOREARM: f64 = 0.108 / 0.146;
+
 impl ArmLengths {
     /// Upper arm + forearm + hand.
     pub fn total(&self) -> f64 {
         self.upper_arm + self.forearm + self.hand
+    }
+
+    /// The hand's length: the measured one, or, without a hand point (`hand` 0),
+    /// [`HAND_PER_FOREARM`] × the forearm.
+    pub fn hand_or_default(&self) -> f64 {
+        if self.hand > 0.0 {
+            self.hand
+        } else {
+            HAND_PER_FOREARM * self.forearm
+        }
     }
 }
 

@@ -4,7 +4,8 @@
 //! [`Ratios::DRILLIS_CONTINI`].
 
 use kinergy_motion::limbs::{name_tokens, side_of};
-use kinergy_motion::{ArmJoints, LegJoints, MotionError, Side, Skeleton};
+use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::{ArmJoints, ArmLengths, LegJoints, MotionError, Side, Skeleton};
 
 use super::proportions::{
     ArmSegments, LegSegments, Proportions, Ratios, SpineSegments, check_height,
@@ -40,19 +41,16 @@ pub(super) fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> 
     let mut shoulders = Vec::with_capacity(2);
     for side in [Side::Right, Side::Left] {
         let a = ArmJoints::find(skeleton, side)?;
-        let hand = a.hand.ok_or_else(|| {
-            setting(
-                "skeleton",
-                format!(
-                    "the {side} arm has no hand point (a child with a length) below its wrist `{}`",
-                    skeleton.joint(a.wrist).name
-                ),
-            )
-        })?;
-        arms.push(ArmSegments {
+        let measured = ArmLengths {
             upper_arm: d(a.shoulder, a.elbow),
             forearm: d(a.elbow, a.wrist),
-            hand: d(a.wrist, hand),
+            hand: a.hand.map_or(0.0, |h| d(a.wrist, h)),
+        };
+        // A wrist with no hand point below it (Bandai's Hand_R) gets the default hand.
+        arms.push(ArmSegments {
+            upper_arm: measured.upper_arm,
+            forearm: measured.forearm,
+            hand: measured.hand_or_default(),
         });
         shoulders.push(a.shoulder);
     }
@@ -72,6 +70,20 @@ pub(super) fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> 
                 "no head joint (named like `Head`) to measure the height to",
             )
         })?;
+    // Skeletons whose zero pose is not upright (Bandai Namco's lies along +X) are measured
+    // upright in the clip's first frame instead.
+    let above_hips = |q: &[Point3<f64>]| {
+        let top = (head..skeleton.joint_count())
+            .filter(|&j| skeleton.is_ancestor_or_self(head, j))
+            .map(|j| q[j].y)
+            .fold(f64::NEG_INFINITY, f64::max);
+        top - 0.5 * (q[legs[0].hip].y + q[legs[1].hip].y)
+    };
+    let zero = if above_hips(&zero) > 0.0 || above_hips(&p) <= 0.0 {
+        zero
+    } else {
+        p.clone()
+    };
     let top = (head..skeleton.joint_count())
         .filter(|&j| skeleton.is_ancestor_or_self(head, j))
         .map(|j| zero[j].y)

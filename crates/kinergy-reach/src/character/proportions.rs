@@ -292,7 +292,10 @@ impl Proportions {
     }
 
     /// Measured on a capture: bone lengths in the clip's first frame (position channels may
-    /// stretch bones), widths and heights in the skeleton's zero pose (assumed upright, Y up).
+    /// stretch bones), widths and heights in the skeleton's zero pose when it is upright (the
+    /// head above the hips, Y up), else in the first frame (Bandai Namco's zero pose lies
+    /// along +X). A wrist without a hand point below it gets a hand
+    /// [`kinergy_motion::limbs::HAND_PER_FOREARM`] × its forearm long.
     ///
     /// Best effort by joint role: arms by [`ArmJoints::find`] (shoulder→elbow, elbow→wrist,
     /// wrist→hand point); legs by [`LegJoints::find`] (`UpLeg`/`UpperLeg`/`Thigh`/`Hip` →

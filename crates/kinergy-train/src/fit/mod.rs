@@ -141,6 +141,7 @@ impl Fit {
                     clip: r.name().to_string(),
                     frames: [r.frames().start, r.frames().end],
                     distance_m,
+                    arm: Some(r.fitted_arm().clone()),
                 })
                 .collect(),
             per: None,

@@ -1,0 +1,370 @@
+//! End-to-end tests of real captures as they come: `fit --segments` and `--select`, the arm a
+//! parameters file records and `synthesize --params` drives, and skeletons whose wrist has no
+//! hand point (Bandai Namco) in `reach --person`.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{assert_bad_input, json, kinergy, repo, stderr, stdout};
+use kinergy_motion::{ImportOptions, read_clip};
+
+/// A clip of the synthetic set.
+fn synthetic(name: &str) -> PathBuf {
+    repo()
+        .join("data-synthetic/p01")
+        .join(name)
+        .canonicalize()
+        .expect("data-synthetic/p01 clip")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+/// A segments file in `dir` with `rows` under the header `clip,onset,end,arm`.
+fn manifest(dir: &Path, rows: &[String]) -> PathBuf {
+    let path = dir.join("segments.csv");
+    let mut text = String::from("clip,onset,end,arm\n");
+    for r in rows {
+        text.push_str(r);
+        text.push('\n');
+    }
+    std::fs::write(&path, text).expect("write segments file");
+    path
+}
+
+/// The two synthetic reaches of p01: r01 with the right arm, r02 with the left.
+fn two_arms(dir: &Path) -> PathBuf {
+    manifest(
+        dir,
+        &[
+            format!("{},4,72,right", synthetic("r01.bvh").display()),
+            format!("{},1,54,left", synthetic("r02.bvh").display()),
+        ],
+    )
+}
+
+fn fit(extra: &[&str]) -> std::process::Output {
+    let mut args = vec!["fit", "--model", "sa", "--budget", "30", "--seed", "3"];
+    args.extend(extra);
+    kinergy(&args)
+}
+
+#[test]
+fn fit_takes_frames_and_arms_from_a_segments_file() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let segments = two_arms(dir.path());
+    let out = dir.path().join("p.json");
+    let o = fit(&["--segments", s(&segments), "-o", s(&out), "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let report = json(&o);
+    let reaches = report["reaches"].as_array().expect("reaches");
+    assert_eq!(reaches.len(), 2);
+    assert_eq!(reaches[0]["frames"], serde_json::json!([4, 72]));
+    assert_eq!(reaches[0]["arm"]["side"], "right");
+    assert_eq!(reaches[1]["frames"], serde_json::json!([1, 54]));
+    assert_eq!(reaches[1]["arm"]["side"], "left");
+    assert_eq!(reaches[1]["arm"]["joints"][1], "LeftArm");
+    assert!(reaches[1]["arm"]["upper_arm_m"].as_f64().expect("length") > 0.1);
+    // The parameters file records the same.
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).expect("params")).expect("json");
+    assert_eq!(file["fit"]["reaches"], report["reaches"]);
+
+    // The text names every reach's frames as `segment` prints them, and its distance.
+    let o = fit(&["--segments", s(&segments), "-o", s(&out)]);
+    let text = stdout(&o);
+    assert!(text.contains("frames 4..72  right arm"), "{text}");
+    assert!(text.contains("frames 1..54  left arm"), "{text}");
+    assert_eq!(
+        text.lines()
+            .filter(|l| l.contains("  frames ") && l.ends_with(" mm"))
+            .count(),
+        2,
+        "{text}"
+    );
+
+    // CLIPS given keep only their rows.
+    let o = fit(&[
+        s(&synthetic("r02.bvh")),
+        "--segments",
+        s(&segments),
+        "-o",
+        s(&out),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let reaches = json(&o)["reaches"].as_array().expect("reaches").clone();
+    assert_eq!(reaches.len(), 1);
+    assert_eq!(reaches[0]["arm"]["side"], "left");
+}
+
+#[test]
+fn select_picks_the_segments_of_each_clip() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("p.json");
+    let clip = synthetic("r08.bvh"); // an `other` segment 61..74, then the main reach 74..151
+    let frames = |select: &str| {
+        let o = fit(&[s(&clip), "--select", select, "-o", s(&out), "--json"]);
+        assert_eq!(o.status.code(), Some(0), "{select}: {}", stderr(&o));
+        json(&o)["reaches"]
+            .as_array()
+            .expect("reaches")
+            .iter()
+            .map(|r| r["frames"].clone())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(frames("main"), [serde_json::json!([74, 151])]);
+    assert_eq!(frames("all"), [serde_json::json!([74, 151])]);
+    assert_eq!(frames("0"), [serde_json::json!([61, 74])]);
+    let out = dir.path().join("bad.json");
+    assert_bad_input(
+        &[
+            "fit",
+            s(&clip),
+            "--model",
+            "sa",
+            "--select",
+            "7",
+            "-o",
+            s(&out),
+        ],
+        "no segment #7",
+        &out,
+    );
+    assert_bad_input(
+        &[
+            "fit",
+            s(&clip),
+            "--model",
+            "sa",
+            "--select",
+            "0",
+            "--frames",
+            "1..9",
+            "-o",
+            s(&out),
+        ],
+        "--frames",
+        &out,
+    );
+}
+
+/// A skeleton with a right arm only, two frames at rest.
+const ONE_ARM: &str = "HIERARCHY\nROOT Chest\n{\n OFFSET 0 140 0\n CHANNELS 3 Zrotation Xrotation Yrotation\n \
+    JOINT RightShoulder\n {\n  OFFSET -5 10 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  \
+    JOINT RightArm\n  {\n   OFFSET -15 0 0\n   CHANNELS 3 Zrotation Xrotation Yrotation\n   \
+    JOINT RightForeArm\n   {\n    OFFSET -28 0 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    \
+    JOINT RightHand\n    {\n     OFFSET -26 0 0\n     CHANNELS 3 Zrotation Xrotation Yrotation\n     \
+    End Site\n     {\n      OFFSET -9 0 0\n     }\n    }\n   }\n  }\n }\n}\n\
+    MOTION\nFrames: 2\nFrame Time: 0.0333333\n\
+    0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n0 0 0 0 0 0 0 0 0 0 0 0 0 0 0\n";
+
+#[test]
+fn bad_segments_files_are_refused_naming_the_file_and_line() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("p.json");
+    let one_arm = dir.path().join("one_arm.bvh");
+    std::fs::write(&one_arm, ONE_ARM).expect("write");
+    let r01 = synthetic("r01.bvh");
+    let cases = [
+        // An unknown clip (line 3).
+        (
+            vec![
+                format!("{},4,72,right", r01.display()),
+                "nowhere.bvh,1,20,right".to_string(),
+            ],
+            "line 3",
+            "nowhere.bvh",
+        ),
+        // A window outside the clip (77 frames).
+        (
+            vec![format!("{},4,200,right", r01.display())],
+            "line 2",
+            "outside",
+        ),
+        // An arm the skeleton lacks.
+        (
+            vec![
+                format!("{},4,72,right", r01.display()),
+                "one_arm.bvh,0,2,left".to_string(),
+            ],
+            "line 3",
+            "left",
+        ),
+    ];
+    for (rows, line, what) in cases {
+        let segments = manifest(dir.path(), &rows);
+        let name = segments.display().to_string();
+        for command in ["fit", "compare"] {
+            let mut args = vec![command, "--segments", s(&segments), "-o", s(&out)];
+            if command == "fit" {
+                args.extend(["--model", "sa"]);
+            } else {
+                // compare names its clips (its default folder is another matter).
+                args.extend([s(&r01), s(&one_arm)]);
+            }
+            let o = kinergy(&args);
+            let err = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{rows:?} {command}: {err}");
+            assert!(
+                err.contains(&name) && err.contains(line) && err.contains(what),
+                "{rows:?} {command}: `{err}` should name {name}, {line} and {what}"
+            );
+            assert!(!out.exists(), "{command} wrote output on bad input");
+            let _ = std::fs::remove_dir_all(&out);
+        }
+    }
+}
+
+/// World position of joint `name` on every frame of the BVH at `path`.
+fn track(path: &Path, name: &str) -> Vec<[f64; 3]> {
+    let (clip, _) = read_clip(path, &ImportOptions::default()).expect("read");
+    let j = clip.skeleton().require_joint(name).expect("joint");
+    (0..clip.frame_count())
+        .map(|i| {
+            let p = clip
+                .skeleton()
+                .world_positions(clip.frame(i).expect("frame"))
+                .expect("fk")[j];
+            [p.x, p.y, p.z]
+        })
+        .collect()
+}
+
+/// The farthest joint `name` of the BVH at `out` gets from its place in `capture`, frame i of
+/// `out` against frame `first + i` of `capture`, over the frames both have.
+fn off_capture(out: &Path, capture: &Path, name: &str, first: usize) -> f64 {
+    let (a, b) = (track(out, name), track(capture, name));
+    a.iter()
+        .zip(&b[first..])
+        .map(|(p, q)| {
+            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn synthesize_drives_the_arm_the_parameters_were_fitted_on() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let params = dir.path().join("left.json");
+    let clip = synthetic("r02.bvh"); // a left-hand reach
+    let o = fit(&[s(&clip), "--arm", "left", "-o", s(&params)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+
+    let left = dir.path().join("left.bvh");
+    let o = kinergy(&[
+        "synthesize",
+        "--from",
+        s(&clip),
+        "--params",
+        s(&params),
+        "-o",
+        s(&left),
+        "--json",
+    ]);
+    // Exit 1 when a 30-evaluation fit stops short of the target: the motion is written.
+    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+    assert_eq!(json(&o)["arm"][1], "LeftArm");
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    // The left arm is synthesized: it leaves the capture's path (frames 1..54).
+    assert_eq!(json(&o)["capture_frames"], serde_json::json!([1, 54]));
+    let left_off = off_capture(&left, &clip, "LeftHand", 1);
+    assert!(
+        left_off > 1e-3,
+        "the left hand is {left_off} m off the capture"
+    );
+
+    // --arm given wins, with a one-line warning that the arm is not the fitted one.
+    let right = dir.path().join("right.bvh");
+    let o = kinergy(&[
+        "synthesize",
+        "--from",
+        s(&clip),
+        "--params",
+        s(&params),
+        "--arm",
+        "right",
+        "-o",
+        s(&right),
+        "--json",
+    ]);
+    assert_eq!(json(&o)["arm"][1], "RightArm");
+    let warning: Vec<String> = stderr(&o)
+        .lines()
+        .filter(|l| l.contains("warning"))
+        .map(String::from)
+        .collect();
+    assert_eq!(warning.len(), 1, "{}", stderr(&o));
+    assert!(
+        warning[0].contains("left arm") && warning[0].contains("right arm"),
+        "{warning:?}"
+    );
+}
+
+#[test]
+fn synthesize_warns_when_the_bones_differ_from_the_fitted_arm() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let params = dir.path().join("p.json");
+    let o = fit(&[s(&synthetic("r01.bvh")), "-o", s(&params)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // Another person, another arm: p02 is 15 % taller than p01.
+    let other = repo()
+        .join("data-synthetic/p02/r01.bvh")
+        .canonicalize()
+        .expect("p02");
+    let o = kinergy(&[
+        "synthesize",
+        "--from",
+        s(&other),
+        "--params",
+        s(&params),
+        "-o",
+        s(&dir.path().join("o.bvh")),
+    ]);
+    assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+    let err = stderr(&o);
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("warning")).collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(lines[0].contains("bones differ"), "{err}");
+}
+
+/// A Bandai Namco capture from the shared folder, or `None` (saying why) where it is absent.
+fn shared(folder: &str, name: &str) -> Option<PathBuf> {
+    let p = repo().join("../shared/data").join(folder).join(name);
+    if p.exists() {
+        Some(p)
+    } else {
+        eprintln!(
+            "skipping: {} is absent (the Bandai Namco captures are never committed)",
+            p.display()
+        );
+        None
+    }
+}
+
+#[test]
+fn reach_person_takes_bandai_skeletons_without_a_hand_point() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (folder, name) in [
+        ("real-bvh", "dataset-1_guide_normal_001.bvh"),
+        ("bandai-raise-left", "active_001.bvh"),
+    ] {
+        let Some(person) = shared(folder, name) else {
+            continue;
+        };
+        let out = dir.path().join(format!("{folder}.bvh"));
+        let o = kinergy(&[
+            "reach",
+            "--target",
+            "0.3,1.3,0.4",
+            "--person",
+            s(&person),
+            "-o",
+            s(&out),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{name}: {}", stderr(&o));
+        assert!(out.exists());
+    }
+}
