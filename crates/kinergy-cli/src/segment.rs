@@ -234,7 +234,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     settings
         .validate()
         .map_err(|e| Failure::Input(format!("--min-peak-speed {}: {e}", args.min_peak_speed)))?;
-    let clips = crate::reaches::collect_clips(&args.clips)?;
+    let clips = crate::common::collect_clips(&args.clips)?;
     let mut reports = Vec::with_capacity(clips.len());
     let mut rows = Vec::new();
     for path in &clips {
