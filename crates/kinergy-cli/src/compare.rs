@@ -125,8 +125,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         (Per::Clip, Some(_)) => {
             return Err(Failure::Input(
-                "--holdout needs --per person (per clip, the field is left one target out)"
-                    .into(),
+                "--holdout needs --per person (per clip, the field is left one target out)".into(),
             ));
         }
     };

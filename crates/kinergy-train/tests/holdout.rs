@@ -3,7 +3,8 @@
 //! beats the other's and the neutral parameters on its held-out reach; the split, the rows
 //! and the tables are what the design says, the same on any thread count; a person with too
 //! few takes is named. On the Bandai Namco captures (CC BY-NC, read from `../shared/data/`
-//! and skipped, saying so, where absent), fitted S_C beats neutral on held-out takes.
+//! and skipped, saying so, where absent), fitted S_C beats neutral on held-out takes and each
+//! style's own vector beats the other's.
 
 use std::path::{Path, PathBuf};
 
@@ -132,7 +133,10 @@ fn own_vectors_beat_the_other_persons_and_neutral_on_held_out_reaches() {
     assert_eq!(summary.own_vector_wins(), [true, true]);
     // The diagonal is the own S_C row; the last line is every person together.
     for (i, p) in summary.persons.iter().enumerate() {
-        assert_eq!(summary.cross[i][i], distance(&results, p, &fitted(p, Model::Sc)));
+        assert_eq!(
+            summary.cross[i][i],
+            distance(&results, p, &fitted(p, Model::Sc))
+        );
     }
     assert_eq!(summary.own.len(), 3);
     assert_eq!(summary.own[2].person, None);
@@ -219,7 +223,12 @@ fn bandai_fitted_sc_beats_neutral_on_held_out_takes() {
     let results = run_holdout(&takes, &s, &|| {}).expect("holdout");
     let summary = HoldoutSummary::of(&results, &s);
     let all = summary.own.last().expect("all");
-    let sc = all.models.iter().find(|(m, _)| *m == Model::Sc).expect("S_C").1;
+    let sc = all
+        .models
+        .iter()
+        .find(|(m, _)| *m == Model::Sc)
+        .expect("S_C")
+        .1;
     eprintln!(
         "held out: neutral {:.1} mm, own S_C {:.1} mm; cross {:?}",
         all.neutral.mean * 1e3,
@@ -227,6 +236,12 @@ fn bandai_fitted_sc_beats_neutral_on_held_out_takes() {
         summary.cross
     );
     assert_eq!(all.neutral.count, 2);
+    assert_eq!(
+        summary.own_vector_wins(),
+        [true, true],
+        "{:?}",
+        summary.cross
+    );
     assert!(
         sc.mean < all.neutral.mean,
         "fitted S_C {} m, neutral {} m",

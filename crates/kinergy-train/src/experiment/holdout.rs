@@ -269,7 +269,11 @@ pub fn group_by_person(takes: &[Take]) -> Vec<(String, Vec<usize>)> {
 /// first person that has too few: a bad input, found before any fit.
 pub fn check_split(takes: &[Take], holdout: usize) -> Result<()> {
     require(!takes.is_empty(), "takes", "at least one take")?;
-    require(holdout >= 1, "holdout", "at least 1 take held out per person")?;
+    require(
+        holdout >= 1,
+        "holdout",
+        "at least 1 take held out per person",
+    )?;
     for (person, members) in group_by_person(takes) {
         if members.len() <= holdout {
             return Err(TrainError::Setting {
