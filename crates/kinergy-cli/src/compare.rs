@@ -17,6 +17,14 @@
 //! `DIR/fig4.svg|png` (mean with min–max bars). Clips are fitted in parallel; every
 //! number but `seconds` is the same on any thread count. The experiment itself is
 //! [`kinergy_train::experiment`]; this command reads the options and renders its results.
+//!
+//! With `--per person --holdout K` it runs the held-out experiment instead ([`holdout`]):
+//! per person (`--person folder|prefix`), `--models` fitted on all but the last K takes in
+//! name order, scored on those K against neutral parameters and every other person's vector;
+//! `DIR/holdout.csv` (`person,clip,fitted_on,model,optimizer,distance_m,frames`, `fitted_on`
+//! empty for the neutral parameters) and `DIR/summary.md`.
+
+mod holdout;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -56,6 +64,18 @@ pub struct Args {
     /// Output folder for results.csv, summary.md and the charts fig3/fig4 (.svg and .png).
     #[arg(short, long, default_value = "compare-out", value_name = "DIR")]
     pub output: PathBuf,
+    /// What one vector is fitted to: each clip (the paper's experiment), or each person's
+    /// training takes (needs `--holdout`).
+    #[arg(long, default_value = "clip", value_name = "clip|person")]
+    pub per: Per,
+    /// With `--per person`: hold out the last K takes of each person (in name order), fit on
+    /// the rest and report the held-out takes' distances.
+    #[arg(long, value_name = "K")]
+    pub holdout: Option<usize>,
+    /// With `--per person`: who a take belongs to — its folder, or its file name up to the
+    /// last `_` (`active_003.bvh` → `active`).
+    #[arg(long, default_value = "folder", value_name = "folder|prefix")]
+    pub person: holdout::PersonBy,
     /// Print the summary as JSON too.
     #[arg(long)]
     pub json: bool,
@@ -63,6 +83,15 @@ pub struct Args {
     pub search: SearchArgs,
     #[command(flatten)]
     pub reach: CaptureArgs,
+}
+
+/// What one vector is fitted to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Per {
+    /// Each clip.
+    Clip,
+    /// Each person's training takes.
+    Person,
 }
 
 /// One fit's row of results.csv.
@@ -81,6 +110,28 @@ struct CsvRow<'a> {
 /// Runs `kinergy compare`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.search.apply_threads()?;
+    let holdout = match (args.per, args.holdout) {
+        (Per::Clip, None) => None,
+        (Per::Person, Some(0)) => {
+            return Err(Failure::Input(
+                "--holdout 0: hold out at least 1 take per person".into(),
+            ));
+        }
+        (Per::Person, Some(k)) => Some(k),
+        (Per::Person, None) => {
+            return Err(Failure::Input(
+                "--per person needs --holdout K (the takes held out per person)".into(),
+            ));
+        }
+        (Per::Clip, Some(_)) => {
+            return Err(Failure::Input(
+                "--holdout needs --per person (per clip, the field is left one target out)".into(),
+            ));
+        }
+    };
+    if args.models.is_empty() {
+        return Err(Failure::Input("--models needs at least one model".into()));
+    }
     let paths = if args.clips.is_empty() {
         let default = PathBuf::from(DEFAULT_DATA);
         if !default.is_dir() {
@@ -94,6 +145,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     };
     let clips = collect_clips(&paths)?;
     let reaches = args.reach.load_all(&clips)?;
+    if let Some(k) = holdout {
+        return holdout::run(args, reaches, k);
+    }
     let settings = ExperimentSettings {
         models: args.models.clone(),
         optimizers: args.optimizers.clone(),

@@ -434,3 +434,121 @@ fn synthesize_replays_by_default_the_frames_a_fit_scored() {
     );
     assert!((a - b).abs() < 1e-12, "{a} vs {b}");
 }
+
+/// Two synthetic persons (folders) of two takes each, copied from `data-synthetic/`.
+fn two_synthetic_persons(dir: &Path) -> std::path::PathBuf {
+    let set = dir.join("set");
+    for person in ["p01", "p02"] {
+        std::fs::create_dir_all(set.join(person)).expect("mkdir");
+        for take in ["r01.bvh", "r02.bvh"] {
+            std::fs::copy(
+                repo().join("data-synthetic").join(person).join(take),
+                set.join(person).join(take),
+            )
+            .expect("copy");
+        }
+    }
+    set
+}
+
+#[test]
+fn compare_per_person_holdout_writes_both_tables() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let set = two_synthetic_persons(dir.path());
+    let out = dir.path().join("out");
+    let o = kinergy(&[
+        "compare",
+        set.to_str().expect("utf-8"),
+        "--per",
+        "person",
+        "--holdout",
+        "1",
+        "--budget",
+        "100",
+        "-o",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("holdout.csv")).expect("holdout.csv");
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("person,clip,fitted_on,model,optimizer,distance_m,frames")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // Per person's held-out take (r02): neutral, own S_A–S_D, the other's S_C.
+    assert_eq!(rows.len(), 2 * (1 + 4 + 1), "{csv}");
+    for r in &rows {
+        assert!(r[1].ends_with("r02.bvh"), "{r:?}");
+        let d: f64 = r[5].parse().expect("distance");
+        assert!(d.is_finite() && d > 0.0, "{r:?}");
+    }
+    assert_eq!(rows.iter().filter(|r| r[2].is_empty()).count(), 2);
+    let md = std::fs::read_to_string(out.join("summary.md")).expect("summary.md");
+    for section in [
+        "## Own vector against neutral",
+        "## Person × person",
+        "## In sample",
+        "| **all** | 2 / 2 |",
+    ] {
+        assert!(md.contains(section), "no `{section}` in {md}");
+    }
+    assert!(!md.contains("NaN") && !md.contains("inf"), "{md}");
+    // --json: the same tables, finite.
+    let o = kinergy(&[
+        "compare",
+        set.to_str().expect("utf-8"),
+        "--per",
+        "person",
+        "--holdout",
+        "1",
+        "--budget",
+        "100",
+        "--json",
+        "-o",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let report = json(&o);
+    let cross = report["cross"].as_array().expect("cross");
+    assert_eq!(cross.len(), 2);
+    for row in cross {
+        for v in row.as_array().expect("row") {
+            assert!(v.as_f64().expect("number").is_finite(), "{report}");
+        }
+    }
+    assert_eq!(report["own"].as_array().expect("own").len(), 3);
+    assert_eq!(report["cross_model"], "sc");
+}
+
+#[test]
+fn compare_holdout_of_all_of_a_persons_takes_is_bad_input() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let set = two_synthetic_persons(dir.path());
+    let out = dir.path().join("out");
+    let (set, out_s) = (set.to_str().expect("utf-8"), out.to_str().expect("utf-8"));
+    assert_bad_input(
+        &[
+            "compare",
+            set,
+            "--per",
+            "person",
+            "--holdout",
+            "2",
+            "-o",
+            out_s,
+        ],
+        "p01` has 2 takes",
+        &out,
+    );
+    assert_bad_input(
+        &["compare", set, "--per", "person", "-o", out_s],
+        "--holdout",
+        &out,
+    );
+    assert_bad_input(
+        &["compare", set, "--holdout", "1", "-o", out_s],
+        "--per person",
+        &out,
+    );
+}

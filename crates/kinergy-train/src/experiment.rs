@@ -14,9 +14,20 @@
 //!   predicted from the other clips' Fig. 3 fits by the field over targets, scored on the clip
 //!   (leave one target out).
 //!
+//! - **Held-out takes** — per person, models fitted on all but the last K takes, scored on
+//!   those K against neutral parameters and against the other persons' vectors
+//!   ([`run_holdout`], module `holdout`).
+//!
 //! [`run`] returns one [`Row`] per fit and the nested fits that ended worse than their
 //! poorer model; [`Summary::of`] condenses the rows into the tables of the figures. Clips are
 //! fitted in parallel; every number but the seconds is the same on any thread count.
+
+mod holdout;
+
+pub use holdout::{
+    HoldoutLine, HoldoutResults, HoldoutRow, HoldoutSettings, HoldoutSummary, Params, PersonFit,
+    Take, check_split, group_by_person, run_holdout,
+};
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

@@ -1,0 +1,374 @@
+//! `kinergy compare --per person --holdout K`: per person, the models fitted on all but the
+//! last K takes (in name order) and scored on those K, against neutral parameters and against
+//! every other person's vector. The experiment is [`kinergy_train::experiment::run_holdout`];
+//! this module says who each take belongs to and renders `DIR/holdout.csv`,
+//! `DIR/summary.md` and `--json`.
+
+use std::path::Path;
+use std::time::Instant;
+
+use kinergy_solver::Model;
+use kinergy_train::CapturedReach;
+use kinergy_train::experiment::{
+    self, HoldoutResults, HoldoutSettings, HoldoutSummary, Stats, Take,
+};
+use serde::Serialize;
+
+use super::{Args, model_label};
+use crate::common::{Bar, Failure, emit, print_json, train_failure};
+
+/// Who a take belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PersonBy {
+    /// The clip's folder (`data-synthetic/p01/r03.bvh` → `data-synthetic/p01`).
+    Folder,
+    /// The clip's file name up to its last `_` (`active_003.bvh` → `active`).
+    Prefix,
+}
+
+impl PersonBy {
+    /// The person of `reach` (named by its clip's path).
+    pub fn person(self, reach: &CapturedReach) -> String {
+        let path = Path::new(reach.name());
+        match self {
+            PersonBy::Folder => {
+                let folder = experiment::person_of(reach);
+                if folder.as_os_str().is_empty() {
+                    ".".into()
+                } else {
+                    folder.display().to_string()
+                }
+            }
+            PersonBy::Prefix => {
+                let stem = path
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                match stem.rsplit_once('_') {
+                    Some((prefix, _)) if !prefix.is_empty() => prefix.to_string(),
+                    _ => stem,
+                }
+            }
+        }
+    }
+}
+
+/// One held-out take's row of holdout.csv.
+#[derive(Debug, Serialize)]
+struct CsvRow<'a> {
+    person: &'a str,
+    clip: &'a str,
+    /// Whose training takes the vector was fitted on; empty for the neutral parameters.
+    fitted_on: &'a str,
+    model: &'static str,
+    optimizer: &'static str,
+    distance_m: f64,
+    frames: usize,
+}
+
+/// Runs the held-out experiment on `reaches` with the options of `args` (`holdout` ≥ 1).
+pub fn run(args: &Args, reaches: Vec<CapturedReach>, holdout: usize) -> Result<(), Failure> {
+    let takes: Vec<Take> = reaches
+        .into_iter()
+        .map(|reach| Take {
+            person: args.person.person(&reach),
+            reach,
+        })
+        .collect();
+    let cross_model = HoldoutSettings::default_cross_model(&args.models)
+        .ok_or_else(|| Failure::Input("--models needs at least one model".into()))?;
+    let settings = HoldoutSettings {
+        holdout,
+        models: args.models.clone(),
+        optimizer: args.optimizer,
+        cross_model,
+        fit: args.search.settings(),
+    };
+    settings
+        .fit
+        .anneal
+        .validate()
+        .map_err(|e| Failure::Input(e.to_string()))?;
+    experiment::check_split(&takes, holdout)
+        .map_err(|e| Failure::Input(format!("--holdout {holdout}: {}", why(&e))))?;
+    std::fs::create_dir_all(&args.output).map_err(|e| Failure::input(&args.output, e))?;
+    let persons = experiment::group_by_person(&takes).len();
+    let clock = Instant::now();
+    let bar = Bar::counting(persons as u64, "persons");
+    let results = experiment::run_holdout(&takes, &settings, &|| bar.inc());
+    bar.finish();
+    let results = results.map_err(train_failure)?;
+    let seconds = clock.elapsed().as_secs_f64();
+
+    let csv_path = args.output.join("holdout.csv");
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in &results.rows {
+        w.serialize(CsvRow {
+            person: &r.person,
+            clip: &r.clip,
+            fitted_on: r.params.fitted_on().unwrap_or(""),
+            model: r.params.model().name(),
+            optimizer: settings.optimizer.name(),
+            distance_m: r.distance_m,
+            frames: r.frames,
+        })
+        .map_err(|e| Failure::Task(format!("holdout.csv: {e}")))?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| Failure::Task(format!("holdout.csv: {e}")))?;
+    kinergy_io::write_atomic(&csv_path, &bytes)
+        .map_err(|e| Failure::Task(format!("{}: {e}", csv_path.display())))?;
+
+    let summary = HoldoutSummary::of(&results, &settings);
+    let report = Report::new(&summary, &results, &settings, takes.len(), seconds);
+    let markdown = markdown(&report, &summary, &results, &settings);
+    let md_path = args.output.join("summary.md");
+    kinergy_io::write_atomic(&md_path, markdown.as_bytes())
+        .map_err(|e| Failure::Task(format!("{}: {e}", md_path.display())))?;
+    if args.json {
+        return print_json(&report);
+    }
+    emit(&format!(
+        "{markdown}\nwritten: {}, {}\n",
+        csv_path.display(),
+        md_path.display()
+    ))
+}
+
+/// A setting error's reason without the field name (the flag is named instead).
+fn why(e: &kinergy_train::TrainError) -> String {
+    match e {
+        kinergy_train::TrainError::Setting { why, .. } => why.clone(),
+        other => other.to_string(),
+    }
+}
+
+/// One person's split and in-sample scores, as `--json` prints it.
+#[derive(Debug, Serialize)]
+struct SplitReport {
+    person: String,
+    train: Vec<String>,
+    held_out: Vec<String>,
+    /// Each model's mean distance on the training takes, meters.
+    train_scores: Vec<(String, f64)>,
+    /// Each model's fitted vector.
+    values: Vec<(String, Vec<f64>)>,
+    evaluations: usize,
+    seconds: f64,
+}
+
+/// One line of the own-vector table, as `--json` prints it.
+#[derive(Debug, Serialize)]
+struct LineReport {
+    /// `null`: all persons' held-out takes together.
+    person: Option<String>,
+    neutral: Stats,
+    models: Vec<(String, Stats)>,
+}
+
+/// The held-out summary as `--json` prints it.
+#[derive(Debug, Serialize)]
+struct Report {
+    takes: usize,
+    holdout: usize,
+    optimizer: &'static str,
+    seconds: f64,
+    budget: usize,
+    seed: u64,
+    splits: Vec<SplitReport>,
+    own: Vec<LineReport>,
+    cross_model: &'static str,
+    persons: Vec<String>,
+    /// `cross[i][j]`: person i's vector on person j's held-out takes, mean distance, meters.
+    cross: Vec<Vec<f64>>,
+    /// Per person: whether its own vector is the best on its held-out takes.
+    own_vector_wins: Vec<bool>,
+}
+
+impl Report {
+    fn new(
+        summary: &HoldoutSummary,
+        results: &HoldoutResults,
+        settings: &HoldoutSettings,
+        takes: usize,
+        seconds: f64,
+    ) -> Report {
+        let name = |m: Model| m.name().to_string();
+        Report {
+            takes,
+            holdout: settings.holdout,
+            optimizer: settings.optimizer.name(),
+            seconds,
+            budget: settings.fit.anneal.max_evaluations,
+            seed: settings.fit.anneal.seed,
+            splits: results
+                .fits
+                .iter()
+                .map(|f| SplitReport {
+                    person: f.person.clone(),
+                    train: f.train.clone(),
+                    held_out: f.held_out.clone(),
+                    train_scores: f.models.iter().map(|(m, _, s)| (name(*m), *s)).collect(),
+                    values: f
+                        .models
+                        .iter()
+                        .map(|(m, v, _)| (name(*m), v.clone()))
+                        .collect(),
+                    evaluations: f.evaluations,
+                    seconds: f.seconds,
+                })
+                .collect(),
+            own: summary
+                .own
+                .iter()
+                .map(|l| LineReport {
+                    person: l.person.clone(),
+                    neutral: l.neutral,
+                    models: l.models.iter().map(|(m, s)| (name(*m), *s)).collect(),
+                })
+                .collect(),
+            cross_model: summary.cross_model.name(),
+            persons: summary.persons.clone(),
+            cross: summary.cross.clone(),
+            own_vector_wins: summary.own_vector_wins(),
+        }
+    }
+}
+
+/// summary.md of the held-out experiment: the own-vector table, the person × person table
+/// and the in-sample scores.
+fn markdown(
+    report: &Report,
+    summary: &HoldoutSummary,
+    results: &HoldoutResults,
+    settings: &HoldoutSettings,
+) -> String {
+    let mm = |v: f64| format!("{:.2}", v * 1e3);
+    let anneal = &settings.fit.anneal;
+    let persons = summary.persons.len();
+    let mut md = String::new();
+    md.push_str("# Per person, on held-out takes\n\n");
+    md.push_str(&format!(
+        "{} takes of {persons} person{}; per person the last {} take{} in name order held out, the models fitted (nested) on the rest; {}; simulated annealing, {} evaluations per fit, population {}, seed {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand) of the held-out takes, each synthesized from its own start posture to its own target, in millimeters.\n\n",
+        report.takes,
+        if persons == 1 { "" } else { "s" },
+        settings.holdout,
+        if settings.holdout == 1 { "" } else { "s" },
+        settings.optimizer.name().to_uppercase(),
+        anneal.max_evaluations,
+        anneal.population,
+        anneal.seed,
+        report.seconds
+    ));
+    let models: Vec<Model> = summary
+        .own
+        .first()
+        .map(|l| l.models.iter().map(|(m, _)| *m).collect())
+        .unwrap_or_default();
+    md.push_str("## Own vector against neutral — held-out takes, mean (min–max)\n\n| person | takes fitted / held out | neutral (S_A, g = 1) |");
+    for m in &models {
+        md.push_str(&format!(" {} |", model_label(*m)));
+    }
+    md.push_str(" best against neutral |\n|---|---|---|");
+    md.push_str(&"---|".repeat(models.len() + 1));
+    md.push('\n');
+    let cell = |s: &Stats| format!("{} ({}–{})", mm(s.mean), mm(s.min), mm(s.max));
+    for line in &summary.own {
+        let split = match &line.person {
+            Some(p) => results
+                .fits
+                .iter()
+                .find(|f| &f.person == p)
+                .map_or("—".into(), |f| {
+                    format!("{} / {}", f.train.len(), f.held_out.len())
+                }),
+            None => {
+                let train: usize = results.fits.iter().map(|f| f.train.len()).sum();
+                let held: usize = results.fits.iter().map(|f| f.held_out.len()).sum();
+                format!("{train} / {held}")
+            }
+        };
+        let name = line
+            .person
+            .as_deref()
+            .map_or("**all**".to_string(), |p| format!("`{p}`"));
+        md.push_str(&format!("| {name} | {split} | {} |", cell(&line.neutral)));
+        for (_, s) in &line.models {
+            md.push_str(&format!(" {} |", cell(s)));
+        }
+        let best = line
+            .models
+            .iter()
+            .min_by(|a, b| a.1.mean.total_cmp(&b.1.mean))
+            .map_or("—".into(), |(m, s)| {
+                format!(
+                    "{} {:+.0} %",
+                    model_label(*m),
+                    100.0 * (s.mean / line.neutral.mean - 1.0)
+                )
+            });
+        md.push_str(&format!(" {best} |\n"));
+    }
+    let cm = model_label(summary.cross_model);
+    md.push_str(&format!(
+        "\n## Person × person — each person's {cm} vector on every person's held-out takes, mean\n\n| vector of ↓ · takes of → |"
+    ));
+    for p in &summary.persons {
+        md.push_str(&format!(" `{p}` |"));
+    }
+    md.push_str("\n|---|");
+    md.push_str(&"---|".repeat(persons));
+    md.push('\n');
+    for (i, p) in summary.persons.iter().enumerate() {
+        md.push_str(&format!("| `{p}` |"));
+        for j in 0..persons {
+            let v = mm(summary.cross[i][j]);
+            if i == j {
+                md.push_str(&format!(" **{v}** |"));
+            } else {
+                md.push_str(&format!(" {v} |"));
+            }
+        }
+        md.push('\n');
+    }
+    let wins = summary.own_vector_wins();
+    let losers: Vec<&str> = summary
+        .persons
+        .iter()
+        .zip(&wins)
+        .filter(|(_, w)| !**w)
+        .map(|(p, _)| p.as_str())
+        .collect();
+    md.push_str(&format!(
+        "\nThe diagonal (bold) is the person's own vector. Own vector best on its own held-out takes: {} of {persons}{}.\n",
+        wins.iter().filter(|w| **w).count(),
+        if losers.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " (not for {})",
+                losers
+                    .iter()
+                    .map(|p| format!("`{p}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        }
+    ));
+    md.push_str("\n## In sample — the same vectors on the training takes, mean\n\n| person |");
+    for m in &models {
+        md.push_str(&format!(" {} |", model_label(*m)));
+    }
+    md.push_str("\n|---|");
+    md.push_str(&"---|".repeat(models.len()));
+    md.push('\n');
+    for f in &results.fits {
+        md.push_str(&format!("| `{}` |", f.person));
+        for (_, _, score) in &f.models {
+            md.push_str(&format!(" {} |", mm(*score)));
+        }
+        md.push('\n');
+    }
+    md
+}
