@@ -28,7 +28,7 @@ use std::str::FromStr;
 
 use nalgebra::{Matrix3, Point3, Rotation3, Vector3};
 
-use crate::arm::name_tokens;
+use crate::limbs::name_tokens;
 use crate::rotation::Axis;
 use crate::skeleton::Skeleton;
 

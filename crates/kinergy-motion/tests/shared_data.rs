@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use approx::assert_relative_eq;
-use kinergy_motion::arm::name_tokens;
+use kinergy_motion::limbs::name_tokens;
 use kinergy_motion::up::{up_by_names, up_by_shape};
 use kinergy_motion::{
     Clip, ExportOptions, GlitchOptions, ImportOptions, PositionReading, RootReadingBasis, UpAxis,
