@@ -7,6 +7,9 @@
 //! - [`Synergy`] in a [`ParamSpace`]: Δθ'_i = φ_i(t)·g_i·Δθ_i, the models [`Model`] S_A–S_D
 //!   with named, bounded parameters; [`ParamsFile`] is their JSON file.
 //! - [`Controller`]: Θ ← clamp(Θ + S(t)·O(ΔX)) each frame, with a typed [`StopReason`].
+//! - [`ReachSphere`]: near full extension the elbow takes the distance by the law of cosines
+//!   and the optimizer the rest ([`reachability`]), so reaches to the edge of the arm's reach
+//!   end on their target and targets beyond it stretched toward them.
 //! - [`CaptureArm`]: the 7-DoF chain of a captured arm with the person's bone lengths, its
 //!   base riding on the captured shoulder, the captured start posture, and the way back to
 //!   the capture's skeleton for BVH output.
@@ -37,6 +40,7 @@ pub mod controller;
 pub mod error;
 pub mod optimizer;
 pub mod params;
+pub mod reachability;
 pub mod synergy;
 pub mod task;
 
@@ -50,5 +54,6 @@ pub use optimizer::{
     Transpose,
 };
 pub use params::{FORMAT_VERSION, ParamsFile};
+pub use reachability::ReachSphere;
 pub use synergy::{Bounds, Interval, Model, ParamKind, ParamSpace, Synergy, sig};
 pub use task::{Task, TaskError};
