@@ -65,8 +65,8 @@
 //! Every step still goes through the synergy transform, the limit handling and the clamp,
 //! so a zero gain still freezes its DoF.
 
-use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3, Point3, Rotation3, Unit, Vector3};
-use kinergy_motion::rotation::{left_jacobian, swing_to, unwrap_near};
+use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3, Point3, Rotation3, Vector3};
+use kinergy_motion::rotation::swing_to;
 use kinergy_motion::{Chain, Linearization, Motion};
 
 use crate::optimizer::{Optimizer, pseudo_inverse_3};
@@ -209,7 +209,11 @@ impl ReachSphere {
         if cos_needed < NONE_ABOVE.cos() || r <= tiny || d <= tiny {
             return None;
         }
-        let weight = 1.0 - smoothstep(cos_needed.min(1.0).acos(), FULL_BELOW, NONE_ABOVE);
+        let weight = if cos_needed >= FULL_BELOW.cos() {
+            1.0
+        } else {
+            1.0 - smoothstep(cos_needed.acos(), FULL_BELOW, NONE_ABOVE)
+        };
         let (c0, amp, psi) = self.hinge_sinusoid(lin);
         if amp <= tiny * tiny {
             return None;
@@ -219,36 +223,53 @@ impl ReachSphere {
         let b = h - e;
         let b_perp = b - w * w.dot(&b);
 
-        // 1. The hinge: the law-of-cosines angle (within its limits) nearest the goal.
+        // 1. The hinge: the law-of-cosines angle nearest where it is, within its limits; when
+        // both lie beyond them, the limit whose distance is closest to d'.
         let phi = q[self.hinge];
         let (lo, hi) = (self.hinge_limits.0 - phi, self.hinge_limits.1 - phi);
-        let r_at = |delta: f64| (c0 + amp * (delta - psi).cos()).max(0.0).sqrt();
-        let half = ((d_goal * d_goal - c0) / amp).clamp(-1.0, 1.0).acos();
-        let mut best: (f64, f64, f64) = (f64::INFINITY, 0.0, r);
-        for candidate in [
-            unwrap_near(psi + half, 0.0),
-            unwrap_near(psi - half, 0.0),
-            lo,
-            hi,
-        ] {
-            let delta = candidate.clamp(lo, hi);
-            let reached = r_at(delta);
-            let miss = (reached - d_goal).abs();
-            if miss < best.0 - tiny || (miss <= best.0 + tiny && delta.abs() < best.1.abs()) {
-                best = (miss, delta, reached);
+        let c = (d_goal * d_goal - c0) / amp;
+        let half = c.clamp(-1.0, 1.0).acos();
+        let wrap = |x: f64| {
+            use std::f64::consts::{PI, TAU};
+            if x > PI {
+                x - TAU
+            } else if x <= -PI {
+                x + TAU
+            } else {
+                x
             }
-        }
-        let (_, gap, r_hinge) = best;
+        };
+        let within = [wrap(psi + half), wrap(psi - half)]
+            .into_iter()
+            .filter(|x| (lo..=hi).contains(x))
+            .min_by(|a, b| a.abs().total_cmp(&b.abs()));
+        let r_at = |delta: f64| (c0 + amp * (delta - psi).cos()).max(0.0).sqrt();
+        let (gap, r_hinge) = match within {
+            Some(delta) if c.abs() <= 1.0 => (delta, d_goal),
+            Some(delta) => (delta, r_at(delta)),
+            None => {
+                let (r_lo, r_hi) = (r_at(lo), r_at(hi));
+                if (r_lo - d_goal).abs() <= (r_hi - d_goal).abs() {
+                    (lo, r_lo)
+                } else {
+                    (hi, r_hi)
+                }
+            }
+        };
         let column_sq = b_perp.norm_squared();
         let hinge_step = optimizer.drive_step(column_sq, gap, dt);
-        let mut moved =
-            Rotation3::from_axis_angle(&Unit::new_unchecked(w), weight * hinge_step) * b - b;
+        // Rodrigues: the hand turned about the hinge by w × its step.
+        let (sin, cos) = (weight * hinge_step).sin_cos();
+        let mut moved = b_perp * (cos - 1.0) + w.cross(&b) * sin;
 
-        // 2. The wrist, when the hinge alone falls short.
+        // 2. The wrist, when the hinge alone falls short; without one the optimizer keeps
+        // that part of the distance.
         let mut wrist_step = [0.0; 2];
+        let mut residual = d_goal - r_hinge;
         if let Some((k, j)) = self.wrist
             && r_hinge < d_goal - tiny
         {
+            residual = 0.0;
             let pw = lin.joints[j];
             let (big_a, big_b) = ((e - s).norm() + (pw - e).norm(), (h - pw).norm());
             let bend = q[k].hypot(q[k + 1]);
@@ -270,7 +291,12 @@ impl ReachSphere {
         let t_hat = tv / d;
         let cos_alpha = h_hat.dot(&t_hat).clamp(-1.0, 1.0);
         let toward = t_hat - h_hat * cos_alpha;
-        let alpha = toward.norm().atan2(cos_alpha);
+        // α = ∠(ĥ, t̂) matters from 90° on, where cos α < 0.
+        let alpha = if cos_alpha < 0.0 {
+            toward.norm().atan2(cos_alpha)
+        } else {
+            0.0
+        };
         let behind = weight * smoothstep(alpha, BEHIND_FROM, BEHIND_FULLY);
         // The target pulled onto the reach sphere when it lies beyond.
         let cartesian = tv * (d_goal / d) - hv;
@@ -294,10 +320,12 @@ impl ReachSphere {
             weight,
             hinge_step,
             wrist_step,
-            // 4. The optimizer's share: the error without its radial part.
-            error: guided - h_hat * (guided.dot(&h_hat) * weight),
+            // 4. The optimizer's share: the error without the radial part the hinge and
+            // wrist take.
+            error: guided - h_hat * ((guided.dot(&h_hat) - residual) * weight),
             // 3. What the shoulder cancels.
             side: moved - h_hat * moved.dot(&h_hat),
+            radial: h_hat,
             progress,
         })
     }
@@ -330,9 +358,22 @@ impl ReachSphere {
         let local = base_rotation.inverse() * h_hat;
         let (hx, hy) = swing_to(&local);
         let (tx, ty) = swing_to(&(base_rotation.inverse() * t_hat));
-        let ds = Vector3::new(tx - hx, ty - hy, 0.0);
-        // d/dε exp([v + ε ds]×) z = (J_l(v) ds) × exp([v]×) z.
-        let moved = base_rotation * (left_jacobian(&Vector3::new(hx, hy, 0.0)) * ds).cross(&local);
+        let (v, ds) = (
+            Vector3::new(hx, hy, 0.0),
+            Vector3::new(tx - hx, ty - hy, 0.0),
+        );
+        // d/dε exp([v + ε ds]×) z = (J_l(v) ds) × exp([v]×) z, with
+        // J_l(v) x = x + a v × x + b v × (v × x), a = (1 − cos θ)/θ², b = (θ − sin θ)/θ³.
+        let t2 = v.norm_squared();
+        let (a, b) = if t2 < 1e-8 {
+            (0.5 - t2 / 24.0, 1.0 / 6.0 - t2 / 120.0)
+        } else {
+            let t = t2.sqrt();
+            let (sin, cos) = t.sin_cos();
+            ((1.0 - cos) / t2, (t - sin) / (t2 * t))
+        };
+        let vx = v.cross(&ds);
+        let moved = base_rotation * (ds + vx * a + v.cross(&vx) * b).cross(&local);
         let tangent = moved - h_hat * moved.dot(h_hat);
         let norm = tangent.norm();
         (norm > 1e-9).then(|| (tangent / norm, ds.norm()))
@@ -353,6 +394,8 @@ pub(crate) struct Guidance {
     error: Vector3<f64>,
     /// The tangential hand displacement of the weighted hinge and wrist steps.
     side: Vector3<f64>,
+    /// ĥ, the unit shoulder → hand direction.
+    radial: Vector3<f64>,
     progress: f64,
 }
 
@@ -388,13 +431,21 @@ impl Guidance {
             step[k] += w * self.wrist_step[0];
             step[k + 1] += w * self.wrist_step[1];
         }
+        // The shoulder's columns ω × (h − s) span the plane across ĥ: its minimum-norm step
+        // for the tangential −side is J_sᵀ (J_s J_sᵀ)⁺ (−side), and on that plane
+        // (J_s J_sᵀ)⁺ is the inverse of J_s J_sᵀ + κ ĥ ĥᵀ (any κ > 0): a closed-form 3 × 3
+        // inverse instead of an eigen-decomposition.
         let mut g = Matrix3::zeros();
         for c in lin.linear.column_iter().take(self.shoulder_dofs) {
             g.ger(1.0, &c, &c, 1.0);
         }
-        // The shoulder's rank-2 tangential part; its third singular value (rotation about
-        // the shoulder → hand line) is zero and dropped.
-        let y = pseudo_inverse_3(&g, &(-self.side), 1e-3);
+        let kappa = g.trace();
+        let filled = g + self.radial * self.radial.transpose() * kappa;
+        let y = match filled.try_inverse() {
+            Some(inverse) if filled.determinant() > 1e-9 * kappa.powi(3) => inverse * -self.side,
+            // A shoulder that no longer spans the plane (a DoF locked on its limit).
+            _ => pseudo_inverse_3(&g, &(-self.side), 1e-3),
+        };
         for (s, c) in step
             .iter_mut()
             .zip(lin.linear.column_iter())
