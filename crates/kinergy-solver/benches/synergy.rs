@@ -1,7 +1,8 @@
-//! Per-frame cost of the synergy controller, a whole 1-s reach, the 3 × 3 pseudo-inverse
-//! against a general SVD, and — side by side in the same run — openrr's `k`
-//! `JacobianIkSolver` on the same 7-DoF arm and the same 10,000 random reachable targets
-//! (TRAC-IK's protocol: success rate and mean time per solve, failures included).
+//! Per-frame cost of the synergy controller, a whole 1-s reach (to an ordinary target and
+//! to one at 99% of the arm's reach), the 3 × 3 pseudo-inverse against a general SVD, and —
+//! side by side in the same run — openrr's `k` `JacobianIkSolver` on the same 7-DoF arm and
+//! the same 10,000 random reachable targets (TRAC-IK's protocol: success rate and mean time
+//! per solve, failures included).
 //!
 //! `cargo bench -p kinergy-solver --bench synergy`
 //!
@@ -82,18 +83,28 @@ fn frame(c: &mut Criterion) {
     group.finish();
 }
 
-/// A whole 1-s reach at 120 Hz (120 steps, 121 frames recorded) with S_C.
+/// A whole 1-s reach at 120 Hz (120 steps, 121 frames recorded) with S_C: to an ordinary
+/// target (81% of the arm's reach away: the paper's loop), and to a stretched one (99%:
+/// the controller guides every frame, `kinergy_solver::reachability`).
 fn reach(c: &mut Criterion) {
+    let near = Point3::new(0.1, -0.25, 0.45);
+    let stretched = Point3::from(near.coords * (0.99 * (UPPER + FORE + HAND) / near.coords.norm()));
+    reach_to(c, "reach_1s_120hz", near);
+    reach_to(c, "reach_1s_120hz_stretched", stretched);
+}
+
+fn reach_to(c: &mut Criterion, group: &str, local_target: Point3<f64>) {
     let arm = Chain::arm(UPPER, FORE, HAND).expect("arm");
     let base = Base::Fixed(base());
     let start = [1.2, 0.3, 0.0, 0.6, 0.0, 0.0, 0.0];
     let settings = ControllerSettings {
         max_frames: 121,
+        min_frames: 121,
         tolerance: 1e-9,
         ..ControllerSettings::at_frame_time(1.0 / 120.0)
     };
-    let target = Task::Position(base.at(0) * Point3::new(0.1, -0.25, 0.45));
-    let mut group = c.benchmark_group("reach_1s_120hz");
+    let target = Task::Position(base.at(0) * local_target);
+    let mut group = c.benchmark_group(group);
     for kind in OptimizerKind::ALL {
         let controller =
             Controller::new(kind.default_optimizer(), sc_synergy(&arm), settings).expect("ok");

@@ -1,12 +1,17 @@
 //! The synergy controller: iterative IK where each iteration is one frame of the motion
 //! (Aubry et al. 2009, Fig. 1), with the synergy transform between optimizer and
 //! integration: Θ ← clamp(Θ + S(t) · O(ΔX)).
+//!
+//! Beyond the paper, a position target near or beyond the edge of an arm's reach sphere is
+//! guided ([`crate::reachability`]): the elbow (then the wrist) takes the distance by the law
+//! of cosines, the optimizer O the rest, so fully extended reaches end on their target.
 
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
 use kinergy_motion::{Chain, Linearization, Motion, Trajectory};
 
 use crate::error::{Result, SolverError, require};
 use crate::optimizer::{Optimizer, StepScratch};
+use crate::reachability::{Guidance, ReachSphere};
 use crate::synergy::Synergy;
 use crate::task::Task;
 
@@ -144,7 +149,9 @@ pub enum StopReason {
     /// The frame budget ran out first.
     MaxFrames,
     /// No progress any more: the target is out of reach (or the limits block the way); the
-    /// motion ends at the closest point it reached.
+    /// motion ends at the closest point it reached. A target beyond an arm's full reach ends
+    /// this way with the arm stretched toward it, at the reachable point nearest it
+    /// ([`crate::reachability`]).
     Stalled,
     /// A step produced NaN or infinity; the motion ends at the last finite frame.
     NonFinite,
@@ -278,7 +285,8 @@ impl Controller {
     /// Synthesizes the reach frame by frame: frame 0 is the start posture; each frame
     /// computes ΔX, Δθ = O(ΔX), Δθ' = S(t)Δθ at t = frame · frame_time, and Θ ←
     /// clamp(Θ + Δθ'). Ends when the task error is below ε (and `min_frames` exist), the
-    /// budget runs out, progress stalls or a step is not finite.
+    /// budget runs out, progress stalls or a step is not finite. Near the reach sphere's edge
+    /// Δθ is guided ([`crate::reachability`]) and the stall rule watches the guided error.
     pub fn synthesize(&self, arm: &ArmTask<'_>) -> Result<Synthesis> {
         let chain = arm.chain;
         let n = chain.dof_count();
@@ -314,6 +322,7 @@ impl Controller {
         let mut step = vec![0.0; n];
         let mut locks = vec![Lock::Free; n];
         let per = chain.joints().len() + 1;
+        let sphere = ReachSphere::of(chain);
         let mut out = Synthesis {
             frame_time: dt,
             dof_count: n,
@@ -337,7 +346,20 @@ impl Controller {
             out.points.extend_from_slice(&lin.joints);
             out.points.push(lin.end);
             out.final_error = e;
-            errors.push(e);
+            // Near the reach sphere's edge the controller guides the step (see
+            // `reachability`), and the stall rule watches the guided error.
+            let guidance = match (&sphere, arm.task) {
+                (Some(sphere), Task::Position(t)) => sphere.guide(
+                    &q,
+                    &lin,
+                    &t,
+                    &arm.base.at(frame).rotation,
+                    &self.optimizer,
+                    dt,
+                ),
+                _ => None,
+            };
+            errors.push(guidance.as_ref().map_or(e, Guidance::progress));
             let frames = frame + 1;
             let long_enough = frames >= s.min_frames;
             if e < s.tolerance && long_enough {
@@ -365,6 +387,7 @@ impl Controller {
                 &q,
                 &mut lin,
                 &error,
+                guidance.as_ref(),
                 frame as f64 * dt,
                 &mut scratch,
                 &mut locks,
@@ -395,6 +418,7 @@ impl Controller {
         q: &[f64],
         lin: &mut Linearization,
         error: &crate::task::TaskError,
+        guidance: Option<&Guidance>,
         t: f64,
         scratch: &mut StepScratch,
         locks: &mut [Lock],
@@ -402,8 +426,22 @@ impl Controller {
     ) {
         let dt = self.settings.frame_time;
         locks.fill(Lock::Free);
+        let guided;
+        let error = match guidance {
+            Some(g) => {
+                g.hand_over(lin);
+                guided = g.optimizer_error();
+                &guided
+            }
+            None => error,
+        };
         loop {
             self.optimizer.step(lin, error, dt, scratch, step);
+            if let Some(g) = guidance
+                && locks[g.hinge()] != Lock::Blocked
+            {
+                g.drive(lin, step);
+            }
             // A sliding swing's first column holds the tangent direction: its step is the
             // coefficient u along it.
             for k in 0..locks.len() {

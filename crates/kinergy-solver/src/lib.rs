@@ -8,6 +8,9 @@
 //!   with named, bounded parameters; [`ParamsFile`] is their JSON file, with the
 //!   [`FitRecord`] of how they were fitted.
 //! - [`Controller`]: Θ ← clamp(Θ + S(t)·O(ΔX)) each frame, with a typed [`StopReason`].
+//! - [`ReachSphere`]: near full extension the elbow takes the distance by the law of cosines
+//!   and the optimizer the rest ([`reachability`]), so reaches to the edge of the arm's reach
+//!   end on their target and targets beyond it stretched toward them.
 //! - [`CaptureArm`]: the 7-DoF chain of a captured arm with the person's bone lengths, its
 //!   base riding on the captured shoulder, the captured start posture, and the way back to
 //!   the capture's skeleton for BVH output.
@@ -39,6 +42,7 @@ pub mod error;
 pub mod fit_record;
 pub mod optimizer;
 pub mod params;
+pub mod reachability;
 pub mod synergy;
 pub mod task;
 
@@ -53,5 +57,6 @@ pub use optimizer::{
     Transpose,
 };
 pub use params::{FORMAT_VERSION, ParamsFile};
+pub use reachability::ReachSphere;
 pub use synergy::{Bounds, Interval, Model, ParamKind, ParamSpace, Synergy, sig};
 pub use task::{Task, TaskError};

@@ -20,6 +20,10 @@
 //! A position + orientation task stacks the weighted angular rows under J (6 × n) and uses
 //! the 6 × 6 Gram matrix's symmetric eigen-decomposition. (nalgebra's `svd(true, true)` is
 //! avoided: it returns wrong singular values on some inputs, dimforge/nalgebra#1172.)
+//!
+//! Near full extension the radial direction of J vanishes; the controller then hands the
+//! distance to the elbow by the law of cosines ([`crate::reachability`]) and gives these
+//! formulas the rest of the error.
 
 use std::fmt;
 use std::str::FromStr;
@@ -275,6 +279,30 @@ impl Optimizer {
                 // (its smallest eigenvalue is at least μ²).
                 let y = adjugate_solve(&damped, dx).unwrap_or_else(Vector3::zeros);
                 transpose_into(j, &y, o.rate * dt, out);
+            }
+        }
+    }
+
+    /// The optimizer's step for a single DoF whose Jacobian column c has squared norm
+    /// `column_sq` and which should move by `gap` radians (ΔX = c·gap): exactly what
+    /// [`Optimizer::step`] gives on that one-column problem — JT rate·dt·|c|²·gap, NJT
+    /// min(speed·dt, |gap|) toward the gap (the line minimum is the gap itself), SVD
+    /// rate·dt·gap (0 when |c| is below the threshold), DLS rate·dt·|c|²/(|c|² + μ²)·gap.
+    /// The controller moves the elbow and wrist by it near the reach sphere's edge
+    /// ([`crate::reachability`]), so they keep the optimizer's pace.
+    pub(crate) fn drive_step(&self, column_sq: f64, gap: f64, dt: f64) -> f64 {
+        match *self {
+            Optimizer::Jt(o) => o.rate * dt * column_sq * gap,
+            Optimizer::Njt(o) => gap.signum() * (o.speed * dt).min(gap.abs()),
+            Optimizer::Svd(o) => {
+                if column_sq >= o.threshold * o.threshold {
+                    o.rate * dt * gap
+                } else {
+                    0.0
+                }
+            }
+            Optimizer::Dls(o) => {
+                o.rate * dt * column_sq / (column_sq + o.damping * o.damping) * gap
             }
         }
     }
@@ -571,6 +599,26 @@ mod tests {
             // The linearized error never grows.
             let after = dx - mul_into(&j, &got);
             assert!(after.norm() <= dx.norm() * (1.0 + 1e-12));
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn drive_step_is_the_step_on_a_single_column(
+            c in proptest::collection::vec(-1.0f64..1.0, 3),
+            gap in -2.0f64..2.0,
+            dt in 0.001f64..0.1,
+        ) {
+            let j = Matrix3xX::from_column_slice(&c);
+            let column_sq = j.column(0).norm_squared();
+            prop_assume!(column_sq > 1e-6);
+            let dx = j.column(0) * gap;
+            for kind in OptimizerKind::ALL {
+                let o = kind.default_optimizer();
+                let got = o.drive_step(column_sq, gap, dt);
+                let want = step(o, &j, dx, dt)[0];
+                assert_relative_eq!(got, want, epsilon = 1e-12, max_relative = 1e-9);
+            }
         }
     }
 
