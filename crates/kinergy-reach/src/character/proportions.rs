@@ -295,7 +295,7 @@ impl Proportions {
     /// stretch bones), widths and heights in the skeleton's zero pose when it is upright (the
     /// head above the hips, Y up), else in the first frame (Bandai Namco's zero pose lies
     /// along +X). A wrist without a hand point below it gets a hand
-    /// [`kinergy_motion::limbs::HAND_PER_FOREARM`] × its forearm long.
+    /// [`kinergy_motion::limbs::arm::HAND_PER_FOREARM`] × its forearm long.
     ///
     /// Best effort by joint role: arms by [`ArmJoints::find`] (shoulder→elbow, elbow→wrist,
     /// wrist→hand point); legs by [`LegJoints::find`] (`UpLeg`/`UpperLeg`/`Thigh`/`Hip` →
