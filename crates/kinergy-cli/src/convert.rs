@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use kinergy_motion::{ExportOptions, LengthUnit};
+use kinergy_motion::{ExportOptions, ExportUp, LengthUnit};
 
 use crate::common::{Failure, ReadArgs};
 
@@ -22,8 +22,22 @@ pub struct Args {
     /// `kinergy segment`.
     #[arg(long, value_name = "A..B")]
     frames: Option<String>,
+    /// Up axis of the written file: `as-read` keeps the file's own axis (its joint values
+    /// are written as read), `y` bakes the turn into the root so the file is Y-up (what
+    /// Blender and three.js expect from BVH).
+    #[arg(long = "up-out", default_value = "as-read", value_name = "AXIS")]
+    up_out: UpOut,
     #[command(flatten)]
     read: ReadArgs,
+}
+
+/// The written file's up axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum UpOut {
+    /// The axis the file was read with.
+    AsRead,
+    /// Y up.
+    Y,
 }
 
 /// Runs `kinergy convert`.
@@ -49,7 +63,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         &clip,
         &ExportOptions {
             unit: args.unit,
-            ..Default::default()
+            up: match args.up_out {
+                UpOut::AsRead => ExportUp::AsRead,
+                UpOut::Y => ExportUp::Y,
+            },
         },
     )
     .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))

@@ -230,3 +230,32 @@ fn inspect_reports_an_injected_glitch_and_its_hand_speed_ignores_it() {
         );
     }
 }
+
+#[test]
+fn convert_up_out_y_writes_a_y_up_file_with_the_same_body() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("zup.bvh");
+    std::fs::write(&path, ZUP).expect("write");
+    let kept = dir.path().join("kept.bvh");
+    let turned = dir.path().join("turned.bvh");
+    let o = kinergy(&["convert", utf8(&path), "-o", utf8(&kept)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = kinergy(&["convert", utf8(&path), "--up-out", "y", "-o", utf8(&turned)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+
+    // Written as read, the file stays Z-up; turned, it is Y-up and read as such without
+    // detection's help: the same 1.8 m body standing on y = 0.
+    let o = kinergy(&["inspect", utf8(&kept), "--json"]);
+    assert_eq!(json(&o)["up_axis"], "z");
+    for args in [
+        vec!["inspect", utf8(&turned), "--json"],
+        vec!["inspect", utf8(&turned), "--json", "--up", "y"],
+    ] {
+        let o = kinergy(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let v = json(&o);
+        assert_eq!(v["up_axis"], "y");
+        approx::assert_relative_eq!(f(&v["first_frame_height_m"]), 1.8, epsilon = 1e-9);
+        approx::assert_relative_eq!(f(&v["first_frame_lowest_m"]), 0.0, epsilon = 1e-9);
+    }
+}
