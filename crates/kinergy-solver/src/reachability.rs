@@ -326,6 +326,7 @@ impl ReachSphere {
             // 3. What the shoulder cancels.
             side: moved - h_hat * moved.dot(&h_hat),
             radial: h_hat,
+            residual,
             progress,
         })
     }
@@ -396,6 +397,8 @@ pub(crate) struct Guidance {
     side: Vector3<f64>,
     /// ĥ, the unit shoulder → hand direction.
     radial: Vector3<f64>,
+    /// The distance the hinge and wrist cannot take, left in the optimizer's error.
+    residual: f64,
     progress: f64,
 }
 
@@ -415,11 +418,21 @@ impl Guidance {
         TaskError::position(self.error)
     }
 
-    /// Hands the hinge over: its Jacobian columns scaled by 1 − w.
+    /// Hands the hinge over: its Jacobian columns scaled by 1 − w. When the distance is
+    /// wholly the hinge's and wrist's (w = 1, nothing left over) the optimizer works across
+    /// ĥ only: the radial row is removed from its Jacobian (J ← (I − ĥĥᵀ) J) as from its
+    /// error, so no pseudo-inverse amplifies the other DoFs' vanishing radial parts.
     pub(crate) fn hand_over(&self, lin: &mut Linearization) {
         let keep = 1.0 - self.weight;
         lin.linear.column_mut(self.hinge).scale_mut(keep);
         lin.angular.column_mut(self.hinge).scale_mut(keep);
+        if self.weight >= 1.0 && self.residual == 0.0 {
+            let radial = self.radial;
+            for mut c in lin.linear.column_iter_mut() {
+                let along = radial.dot(&c);
+                c -= radial * along;
+            }
+        }
     }
 
     /// Adds the hinge and wrist steps and the shoulder's compensation to the optimizer's
