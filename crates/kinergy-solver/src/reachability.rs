@@ -39,7 +39,7 @@
 //!    JT λ·dt·|c|²·gap, NJT min(speed·dt, |gap|), SVD rate·dt·gap, DLS
 //!    rate·dt·|c|²/(|c|² + μ²)·gap). Its step is (1 − w) × the optimizer's + w × this one,
 //!    and the optimizer sees its column scaled by 1 − w.
-//! 2. *Then the wrist.* When the hinge alone cannot reach d' (the wrist is bent), the wrist
+//! 2. *Then the wrist.* When the hinge alone cannot reach d' (the wrist is bent), a wrist
 //!    swing straightens toward the bend β* = arccos((d'² − A² − B²) / 2AB) that reaches d'
 //!    with a straight elbow (A = shoulder–elbow + elbow–wrist, B = wrist–hand; the swing's
 //!    bend is |(s_x, s_y)|), at the elbow's rate.
@@ -47,9 +47,13 @@
 //!    across the radial direction; the shoulder's minimum-norm rotation J_sᵀ(J_s J_sᵀ)⁺
 //!    undoes w × that tangential displacement in the same frame, so the pair moves the hand
 //!    radially only (to first order).
-//! 4. *The optimizer gets the rest:* E − w (E·ĥ) ĥ, the guided error E without its radial
-//!    part (ĥ the unit shoulder → hand direction), which the shoulder and the other DoFs
-//!    serve well conditioned. E is the Cartesian error to the target on the sphere,
+//! 4. *The optimizer gets the rest:* E − w (E·ĥ − ρ) ĥ, the guided error E without the
+//!    radial part the hinge and wrist take (ĥ the unit shoulder → hand direction; ρ the
+//!    distance they cannot take, 0 when there is a wrist swing to straighten), which the
+//!    shoulder and the other DoFs serve well conditioned. With w = 1 and ρ = 0 its Jacobian
+//!    loses its radial row as well (J ← (I − ĥĥᵀ) J): no pseudo-inverse then amplifies the
+//!    other DoFs' vanishing radial parts, and the SVD's Gram, exactly of rank 2, is
+//!    inverted in closed form. E is the Cartesian error to the target on the sphere,
 //!    t' − h (= ΔX for a target within reach), except:
 //! 5. *for targets behind the hand* (α = ∠(ĥ, t̂) beyond 90°, fully from 120°; weight
 //!    w_α = w · smoothstep((α − 90°) / 30°)), E = (1 − w_α)(t' − h) + w_α ((d' − r) ĥ + r σ ê):
