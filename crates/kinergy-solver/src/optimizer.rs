@@ -456,6 +456,9 @@ pub(crate) fn pseudo_inverse_3(
     {
         return y;
     }
+    if let Some(y) = rank_two_solve(g, dx, trace, t2) {
+        return y;
+    }
     let eig = SymmetricEigen::new(*g);
     let mut y = Vector3::zeros();
     for (i, &l) in eig.eigenvalues.iter().enumerate() {
@@ -465,6 +468,44 @@ pub(crate) fn pseudo_inverse_3(
         }
     }
     y
+}
+
+/// `G⁺ ΔX` in closed form when `g` is exactly of rank 2 (to rounding) with both non-zero
+/// eigenvalues at least `t2`: a Jacobian whose radial row the controller removed near full
+/// extension ([`crate::reachability`]), or the exactly stretched arm. The adjugate of such a
+/// G is λ₁λ₂ n nᵀ for its unit null vector n, and on the plane across n,
+/// G⁺ = (G + κ n nᵀ)⁻¹ − n nᵀ / κ for any κ > 0 (here the trace). `None` otherwise.
+fn rank_two_solve(
+    g: &Matrix3<f64>,
+    dx: &Vector3<f64>,
+    trace: f64,
+    t2: f64,
+) -> Option<Vector3<f64>> {
+    let adjugate = [
+        g.column(1).cross(&g.column(2)),
+        g.column(2).cross(&g.column(0)),
+        g.column(0).cross(&g.column(1)),
+    ];
+    // λ₁λ₂: the adjugate's trace, the sum of the principal 2 × 2 minors.
+    let product = adjugate[0].x + adjugate[1].y + adjugate[2].z;
+    let widest = adjugate
+        .iter()
+        .max_by(|a, b| a.norm_squared().total_cmp(&b.norm_squared()))?;
+    let norm = widest.norm();
+    if norm <= f64::MIN_POSITIVE || product <= 0.0 {
+        return None;
+    }
+    let n = widest / norm;
+    if (g * n).norm() > 1e-12 * trace {
+        return None;
+    }
+    // The smaller kept eigenvalue, λ = (tr − √(tr² − 4p)) / 2 written without cancellation.
+    let smaller = 2.0 * product / (trace + (trace * trace - 4.0 * product).max(0.0).sqrt());
+    if smaller < t2 {
+        return None;
+    }
+    let y = adjugate_solve(&(g + n * n.transpose() * trace), dx)?;
+    Some(y - n * (n.dot(dx) / trace))
 }
 
 #[cfg(test)]
@@ -603,6 +644,40 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn the_rank_two_closed_form_is_the_pseudo_inverse(
+            j in jacobian(),
+            n in proptest::collection::vec(-1.0f64..1.0, 3),
+            e in proptest::collection::vec(-1.0f64..1.0, 3),
+        ) {
+            // J with its row along n removed: G = J Jᵀ is exactly of rank 2.
+            let n = Vector3::from_column_slice(&n);
+            prop_assume!(n.norm() > 0.1);
+            let n = n.normalize();
+            let mut j = j;
+            for mut c in j.column_iter_mut() {
+                let along = n.dot(&c);
+                c -= n * along;
+            }
+            let g = gram(&j);
+            let dx = Vector3::from_column_slice(&e);
+            let t2 = 1e-6;
+            let eig = SymmetricEigen::new(g);
+            prop_assume!(eig.eigenvalues.iter().filter(|&&l| l >= 1e-3).count() == 2);
+            let mut want = Vector3::zeros();
+            for (i, &l) in eig.eigenvalues.iter().enumerate() {
+                if l >= t2 {
+                    let v = eig.eigenvectors.column(i);
+                    want += v * (v.dot(&dx) / l);
+                }
+            }
+            let got = rank_two_solve(&g, &dx, g.trace(), t2).expect("rank 2");
+            assert_relative_eq!(got, want, epsilon = 1e-9, max_relative = 1e-9);
+            // A full-rank G is never taken for rank 2.
+            let full = g + n * n.transpose() * 1e-3;
+            prop_assert!(rank_two_solve(&full, &dx, full.trace(), t2).is_none());
+        }
+
         #[test]
         fn drive_step_is_the_step_on_a_single_column(
             c in proptest::collection::vec(-1.0f64..1.0, 3),

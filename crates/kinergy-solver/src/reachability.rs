@@ -39,7 +39,7 @@
 //!    JT λ·dt·|c|²·gap, NJT min(speed·dt, |gap|), SVD rate·dt·gap, DLS
 //!    rate·dt·|c|²/(|c|² + μ²)·gap). Its step is (1 − w) × the optimizer's + w × this one,
 //!    and the optimizer sees its column scaled by 1 − w.
-//! 2. *Then the wrist.* When the hinge alone cannot reach d' (the wrist is bent), the wrist
+//! 2. *Then the wrist.* When the hinge alone cannot reach d' (the wrist is bent), a wrist
 //!    swing straightens toward the bend β* = arccos((d'² − A² − B²) / 2AB) that reaches d'
 //!    with a straight elbow (A = shoulder–elbow + elbow–wrist, B = wrist–hand; the swing's
 //!    bend is |(s_x, s_y)|), at the elbow's rate.
@@ -47,9 +47,13 @@
 //!    across the radial direction; the shoulder's minimum-norm rotation J_sᵀ(J_s J_sᵀ)⁺
 //!    undoes w × that tangential displacement in the same frame, so the pair moves the hand
 //!    radially only (to first order).
-//! 4. *The optimizer gets the rest:* E − w (E·ĥ) ĥ, the guided error E without its radial
-//!    part (ĥ the unit shoulder → hand direction), which the shoulder and the other DoFs
-//!    serve well conditioned. E is the Cartesian error to the target on the sphere,
+//! 4. *The optimizer gets the rest:* E − w (E·ĥ − ρ) ĥ, the guided error E without the
+//!    radial part the hinge and wrist take (ĥ the unit shoulder → hand direction; ρ the
+//!    distance they cannot take, 0 when there is a wrist swing to straighten), which the
+//!    shoulder and the other DoFs serve well conditioned. With w = 1 and ρ = 0 its Jacobian
+//!    loses its radial row as well (J ← (I − ĥĥᵀ) J): no pseudo-inverse then amplifies the
+//!    other DoFs' vanishing radial parts, and the SVD's Gram, exactly of rank 2, is
+//!    inverted in closed form. E is the Cartesian error to the target on the sphere,
 //!    t' − h (= ΔX for a target within reach), except:
 //! 5. *for targets behind the hand* (α = ∠(ĥ, t̂) beyond 90°, fully from 120°; weight
 //!    w_α = w · smoothstep((α − 90°) / 30°)), E = (1 − w_α)(t' − h) + w_α ((d' − r) ĥ + r σ ê):
@@ -326,6 +330,7 @@ impl ReachSphere {
             // 3. What the shoulder cancels.
             side: moved - h_hat * moved.dot(&h_hat),
             radial: h_hat,
+            residual,
             progress,
         })
     }
@@ -396,6 +401,8 @@ pub(crate) struct Guidance {
     side: Vector3<f64>,
     /// ĥ, the unit shoulder → hand direction.
     radial: Vector3<f64>,
+    /// The distance the hinge and wrist cannot take, left in the optimizer's error.
+    residual: f64,
     progress: f64,
 }
 
@@ -415,11 +422,21 @@ impl Guidance {
         TaskError::position(self.error)
     }
 
-    /// Hands the hinge over: its Jacobian columns scaled by 1 − w.
+    /// Hands the hinge over: its Jacobian columns scaled by 1 − w. When the distance is
+    /// wholly the hinge's and wrist's (w = 1, nothing left over) the optimizer works across
+    /// ĥ only: the radial row is removed from its Jacobian (J ← (I − ĥĥᵀ) J) as from its
+    /// error, so no pseudo-inverse amplifies the other DoFs' vanishing radial parts.
     pub(crate) fn hand_over(&self, lin: &mut Linearization) {
         let keep = 1.0 - self.weight;
         lin.linear.column_mut(self.hinge).scale_mut(keep);
         lin.angular.column_mut(self.hinge).scale_mut(keep);
+        if self.weight >= 1.0 && self.residual == 0.0 {
+            let radial = self.radial;
+            for mut c in lin.linear.column_iter_mut() {
+                let along = radial.dot(&c);
+                c -= radial * along;
+            }
+        }
     }
 
     /// Adds the hinge and wrist steps and the shoulder's compensation to the optimizer's
