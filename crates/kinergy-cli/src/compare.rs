@@ -36,9 +36,7 @@ use kinergy_train::experiment::{
 };
 use serde::Serialize;
 
-use crate::common::{
-    Bar, CaptureArgs, Failure, SearchArgs, collect_clips, emit, print_json, train_failure,
-};
+use crate::common::{Bar, CaptureArgs, Failure, SearchArgs, emit, print_json, train_failure};
 
 /// The folder `compare` uses when no clips are given.
 pub const DEFAULT_DATA: &str = "data-synthetic";
@@ -72,10 +70,11 @@ pub struct Args {
     /// the rest and report the held-out takes' distances.
     #[arg(long, value_name = "K")]
     pub holdout: Option<usize>,
-    /// With `--per person`: who a take belongs to — its folder, or its file name up to the
-    /// last `_` (`active_003.bvh` → `active`).
-    #[arg(long, default_value = "folder", value_name = "folder|prefix")]
-    pub person: holdout::PersonBy,
+    /// With `--per person`: who a take belongs to — its folder, its file name up to the
+    /// last `_` (`active_003.bvh` → `active`), or the `person` column of `--segments`.
+    /// Default: `segments` when a segments file is given, else `folder`.
+    #[arg(long, value_name = "folder|prefix|segments")]
+    pub person: Option<holdout::PersonBy>,
     /// Print the summary as JSON too.
     #[arg(long)]
     pub json: bool,
@@ -132,7 +131,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if args.models.is_empty() {
         return Err(Failure::Input("--models needs at least one model".into()));
     }
-    let paths = if args.clips.is_empty() {
+    let paths = if args.clips.is_empty() && args.reach.segments.is_none() {
         let default = PathBuf::from(DEFAULT_DATA);
         if !default.is_dir() {
             return Err(Failure::Input(format!(
@@ -143,11 +142,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     } else {
         args.clips.clone()
     };
-    let clips = collect_clips(&paths)?;
-    let reaches = args.reach.load_all(&clips)?;
+    let clips = args.reach.clips(&paths)?;
     if let Some(k) = holdout {
+        let reaches = args.reach.load_all_with_persons(&clips)?;
         return holdout::run(args, reaches, k);
     }
+    if args.person.is_some() {
+        return Err(Failure::Input(
+            "--person needs --per person --holdout K".into(),
+        ));
+    }
+    let reaches = args.reach.load_all(&clips)?;
     let settings = ExperimentSettings {
         models: args.models.clone(),
         optimizers: args.optimizers.clone(),

@@ -249,7 +249,9 @@ fn off_capture(out: &Path, capture: &Path, name: &str, first: usize) -> f64 {
 fn synthesize_drives_the_arm_the_parameters_were_fitted_on() {
     let dir = tempfile::tempdir().expect("tempdir");
     let params = dir.path().join("left.json");
-    let clip = synthetic("r02.bvh"); // a left-hand reach
+    // The synthetic reaches are right-hand reaches; in r02 the body squats and the idle
+    // left arm moves 0.29 m, which `segment --arm left` lists as a reach (frames 1..54).
+    let clip = synthetic("r02.bvh");
     let o = fit(&[s(&clip), "--arm", "left", "-o", s(&params)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 
@@ -275,6 +277,14 @@ fn synthesize_drives_the_arm_the_parameters_were_fitted_on() {
         left_off > 1e-3,
         "the left hand is {left_off} m off the capture"
     );
+    // The rest of the body is the capture's on every frame, past the segment's end too
+    // (the right arm goes on reaching until frame 102 of 109).
+    let frames = track(&left, "RightForeArm").len();
+    assert!(frames > 54, "the synthesis lasts {frames} frames");
+    for joint in ["RightForeArm", "RightHand", "Head", "LeftShoulder"] {
+        let off = off_capture(&left, &clip, joint, 1);
+        assert!(off < 1e-6, "{joint} is {off} m off the capture");
+    }
 
     // --arm given wins, with a one-line warning that the arm is not the fitted one.
     let right = dir.path().join("right.bvh");

@@ -552,3 +552,123 @@ fn compare_holdout_of_all_of_a_persons_takes_is_bad_input() {
         &out,
     );
 }
+
+#[test]
+fn compare_holdout_takes_clips_and_persons_from_a_segments_file() {
+    // Four takes in one folder; the segments file's person column says who moves, crossing
+    // the folders they were copied from (p01's r01 with p02's r02 and vice versa).
+    let dir = tempfile::tempdir().expect("tempdir");
+    let set = dir.path().join("takes");
+    std::fs::create_dir_all(&set).expect("mkdir");
+    let segments = dir.path().join("segments.csv");
+    let listing = dir.path().join("listing.csv");
+    let mut clips = Vec::new();
+    for (person, take) in [
+        ("p01", "r01"),
+        ("p01", "r02"),
+        ("p02", "r01"),
+        ("p02", "r02"),
+    ] {
+        let to = set.join(format!("{person}_{take}.bvh"));
+        std::fs::copy(
+            repo()
+                .join("data-synthetic")
+                .join(person)
+                .join(format!("{take}.bvh")),
+            &to,
+        )
+        .expect("copy");
+        clips.push(to.to_str().expect("utf-8").to_string());
+    }
+    let mut args = vec!["segment", "--manifest", listing.to_str().expect("utf-8")];
+    args.extend(clips.iter().map(String::as_str));
+    let o = kinergy(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let listed = std::fs::read_to_string(&listing).expect("segments file");
+    let mut edited = String::new();
+    for line in listed.lines() {
+        let person = if line.contains("p01_r01") || line.contains("p02_r02") {
+            "alice"
+        } else {
+            "bob"
+        };
+        match line.rsplit_once(',') {
+            Some((row, _)) if line.contains(".bvh") => {
+                edited.push_str(&format!("{row},{person}\n"));
+            }
+            _ => edited.push_str(&format!("{line}\n")),
+        }
+    }
+    std::fs::write(&segments, &edited).expect("write segments");
+    let out = dir.path().join("out");
+    let o = kinergy(&[
+        "compare",
+        "--segments",
+        segments.to_str().expect("utf-8"),
+        "--per",
+        "person",
+        "--holdout",
+        "1",
+        "--models",
+        "sa,sc",
+        "--budget",
+        "60",
+        "-o",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{edited}\n{}", text(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("holdout.csv")).expect("holdout.csv");
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    // Held out: the last take of each person in name order.
+    let held: std::collections::BTreeSet<(&str, &str)> = rows
+        .iter()
+        .map(|r| (r[0], r[1].rsplit('/').next().unwrap_or("")))
+        .collect();
+    let expected: std::collections::BTreeSet<(&str, &str)> =
+        [("alice", "p02_r02.bvh"), ("bob", "p02_r01.bvh")].into();
+    assert_eq!(held, expected, "{csv}");
+    // --person folder puts every take in one person: with 4 takes and K = 1 it still runs,
+    // but names the folder.
+    let o = kinergy(&[
+        "compare",
+        "--segments",
+        segments.to_str().expect("utf-8"),
+        "--per",
+        "person",
+        "--person",
+        "folder",
+        "--holdout",
+        "1",
+        "--models",
+        "sa",
+        "--budget",
+        "30",
+        "-o",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("holdout.csv")).expect("holdout.csv");
+    assert!(csv.lines().skip(1).all(|l| l.contains("takes,")), "{csv}");
+    // Naming the column without a segments file is bad input.
+    assert_bad_input(
+        &[
+            "compare",
+            &clips[0],
+            &clips[1],
+            "--per",
+            "person",
+            "--person",
+            "segments",
+            "--holdout",
+            "1",
+            "-o",
+            out.join("x").to_str().expect("utf-8"),
+        ],
+        "--person segments needs --segments",
+        &out.join("x"),
+    );
+}

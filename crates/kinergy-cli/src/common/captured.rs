@@ -107,10 +107,23 @@ impl CaptureArgs {
     /// fitted: with `--segments` every error names the segments file and the row's line (a
     /// clip that cannot be read, frames outside it, an arm its skeleton lacks).
     pub fn load_all(&self, clips: &[PathBuf]) -> Result<Vec<CapturedReach>, Failure> {
+        Ok(self
+            .load_all_with_persons(clips)?
+            .into_iter()
+            .map(|(reach, _)| reach)
+            .collect())
+    }
+
+    /// [`load_all`](Self::load_all), each reach with the person its segments-file row names
+    /// (`None` without `--segments`).
+    pub fn load_all_with_persons(
+        &self,
+        clips: &[PathBuf],
+    ) -> Result<Vec<(CapturedReach, Option<String>)>, Failure> {
         let Some(path) = &self.segments else {
             let mut out = Vec::new();
             for c in clips {
-                out.extend(self.load(c)?);
+                out.extend(self.load(c)?.into_iter().map(|r| (r, None)));
             }
             return Ok(out);
         };
@@ -143,7 +156,7 @@ impl CaptureArgs {
                     .map_err(|e| Failure::Input(format!("{}: {e}", at(row))))?;
                 let reach = CapturedReach::new(&name, &clip, &arm, frames, self.mode())
                     .map_err(|e| Failure::Input(format!("{}: {}: {e}", at(row), c.display())))?;
-                out.push(reach);
+                out.push((reach, Some(row.person.clone())));
             }
         }
         if out.is_empty() {

@@ -24,13 +24,19 @@ pub enum PersonBy {
     Folder,
     /// The clip's file name up to its last `_` (`active_003.bvh` → `active`).
     Prefix,
+    /// The `person` column of the segments file (`--segments`).
+    Segments,
 }
 
 impl PersonBy {
-    /// The person of `reach` (named by its clip's path).
-    pub fn person(self, reach: &CapturedReach) -> String {
+    /// The person of `reach` (named by its clip's path); `listed` is the person its
+    /// segments-file row names, if any.
+    pub fn person(self, reach: &CapturedReach, listed: Option<&str>) -> Result<String, Failure> {
         let path = Path::new(reach.name());
-        match self {
+        Ok(match self {
+            PersonBy::Segments => listed
+                .ok_or_else(|| Failure::Input("--person segments needs --segments FILE".into()))?
+                .to_string(),
             PersonBy::Folder => {
                 let folder = experiment::person_of(reach);
                 if folder.as_os_str().is_empty() {
@@ -49,7 +55,7 @@ impl PersonBy {
                     _ => stem,
                 }
             }
-        }
+        })
     }
 }
 
@@ -67,14 +73,26 @@ struct CsvRow<'a> {
 }
 
 /// Runs the held-out experiment on `reaches` with the options of `args` (`holdout` ≥ 1).
-pub fn run(args: &Args, reaches: Vec<CapturedReach>, holdout: usize) -> Result<(), Failure> {
-    let takes: Vec<Take> = reaches
+/// Each reach comes with the person its segments-file row names (`None` without one).
+pub fn run(
+    args: &Args,
+    reaches: Vec<(CapturedReach, Option<String>)>,
+    holdout: usize,
+) -> Result<(), Failure> {
+    let by = args.person.unwrap_or(if args.reach.segments.is_some() {
+        PersonBy::Segments
+    } else {
+        PersonBy::Folder
+    });
+    let takes = reaches
         .into_iter()
-        .map(|reach| Take {
-            person: args.person.person(&reach),
-            reach,
+        .map(|(reach, listed)| {
+            Ok(Take {
+                person: by.person(&reach, listed.as_deref())?,
+                reach,
+            })
         })
-        .collect();
+        .collect::<Result<Vec<Take>, Failure>>()?;
     let cross_model = HoldoutSettings::default_cross_model(&args.models)
         .ok_or_else(|| Failure::Input("--models needs at least one model".into()))?;
     let settings = HoldoutSettings {
