@@ -38,12 +38,13 @@ enum Command {
     Inspect(inspect::Args),
     /// Read a BVH file and write it back (optionally in another unit), atomically.
     #[command(
-        after_help = "Examples:\n  kinergy convert in.bvh -o out.bvh --unit m\n  kinergy convert capture.bvh --frames 7..87 -o reach.bvh"
+        after_help = "Examples:\n  kinergy convert in.bvh -o out.bvh --unit m\n  kinergy convert capture.bvh --frames 5..88 -o reach.bvh"
     )]
     Convert(convert::Args),
-    /// Find the reach segments of a capture from its hand speed: onset, peak, end.
+    /// Find the segments of captures' hand speed and label them reach, return or other
+    /// (frames onset..end, peak); optionally write them as an editable segments file.
     #[command(
-        after_help = "Examples:\n  kinergy segment tests/data/006_14.bvh\n  kinergy segment reach.bvh --arm left --json"
+        after_help = "Examples:\n  kinergy segment tests/data/006_14.bvh\n  kinergy segment reach.bvh --arm left --json\n  kinergy segment takes/ --arm left --select all --manifest segments.csv"
     )]
     Segment(segment::Args),
     /// Make the synthetic motion-capture set: persons × reaches, with manifest.csv.
