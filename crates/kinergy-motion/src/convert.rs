@@ -38,7 +38,7 @@ use nalgebra::{Point3, Rotation3, Vector3};
 
 use crate::clip::Clip;
 use crate::error::{MotionError, Result};
-use crate::rotation::{Axis, euler_angles, euler_rotation, unwrap_near};
+use crate::rotation::{Axis, euler_angles, euler_rotation, nearest_euler};
 use crate::skeleton::{Dof, Joint, PositionReading, Skeleton};
 use crate::units::{LengthUnit, UnitChoice};
 use crate::up::{UpAxis, UpChoice, UpDetection, detect_up};
@@ -424,24 +424,6 @@ fn y_up_root_dofs(dofs: &[Dof]) -> Vec<Dof> {
     out
 }
 
-/// Of the two Tait–Bryan solutions (α, β, γ) and (α + π, π − β, γ + π), each unwrapped
-/// towards `near`, the one closest to `near`.
-fn closest_euler(angles: [f64; 3], near: [f64; 3]) -> [f64; 3] {
-    use std::f64::consts::PI;
-    let [a, b, c] = angles;
-    let mut best = angles;
-    let mut best_d = f64::INFINITY;
-    for cand in [[a, b, c], [a + PI, PI - b, c + PI]] {
-        let un = [0, 1, 2].map(|k| unwrap_near(cand[k], near[k]));
-        let d: f64 = un.iter().zip(&near).map(|(x, y)| (x - y).powi(2)).sum();
-        if d < best_d {
-            best_d = d;
-            best = un;
-        }
-    }
-    best
-}
-
 /// The clip as a BVH document: degrees, `options.unit`, each joint's position channels
 /// written the way they were read ([`crate::PositionReading`]), in the file's own up axis or
 /// Y up ([`ExportOptions::up`]).
@@ -550,7 +532,7 @@ fn push_y_up_root(
         [a, b, c] if axes[..] == order[..] => [a, b, c],
         _ => [0.0; 3],
     });
-    let new_angles = euler_angles(order, &r).map_or(near, |e| closest_euler(e, near));
+    let new_angles = euler_angles(order, &r).map_or(near, |e| nearest_euler(e, near));
     let t = w * t;
     let o = w * root.offset;
     let mut k = 0;
