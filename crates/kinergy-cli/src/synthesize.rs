@@ -156,8 +156,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         (None, text) => crate::common::parse_frames(text)?,
     };
     if frames.end > whole.frame_count() || frames.len() < 2 {
+        // Name where the window came from: the option, or the parameters file's record.
+        let source = match (&args.params, args.select, args.frames.as_str()) {
+            (Some(path), None, "fit") => format!("{}: `fit.reaches` frames", path.display()),
+            _ => "--frames".to_string(),
+        };
         return Err(Failure::Input(format!(
-            "--frames {}..{}: {} has {} frames and a reach needs at least 2",
+            "{source} {}..{}: {} has {} frames and a reach needs at least 2",
             frames.start,
             frames.end,
             args.from.display(),

@@ -102,14 +102,14 @@ impl JsonError {
     }
 }
 
-/// serde_json's message without the " at line L column C" it appends.
+/// serde_json's message without the " at line L column C" it appends, quoting at most
+/// [`crate::MAX_QUOTED_CHARS`] characters of the input (a damaged file may hold a string
+/// of any size, which serde_json's message would repeat whole).
 fn bare_message(e: &serde_json::Error) -> String {
     let text = e.to_string();
     let suffix = format!(" at line {} column {}", e.line(), e.column());
-    match text.strip_suffix(&suffix) {
-        Some(bare) => bare.to_string(),
-        None => text,
-    }
+    let bare = text.strip_suffix(&suffix).unwrap_or(&text);
+    crate::clip_text(bare, 2 * crate::MAX_QUOTED_CHARS).into_owned()
 }
 
 /// Refuses a `format_version` other than `expected` (for formats that decode the
@@ -139,7 +139,7 @@ pub fn parse_versioned<T: DeserializeOwned>(text: &str, expected: u32) -> Result
     drop(value);
     let de = &mut serde_json::Deserializer::from_str(text);
     serde_path_to_error::deserialize(de).map_err(|e| {
-        let field = e.path().to_string();
+        let field = crate::clip_text(&e.path().to_string(), crate::MAX_QUOTED_CHARS).into_owned();
         let inner = e.into_inner();
         JsonError::Field {
             field,
@@ -189,6 +189,20 @@ mod tests {
     fn reads_a_good_document() {
         let doc = parse(r#"{"format_version": 1, "items": [{"size": 2.5}]}"#).unwrap();
         assert_eq!(doc.items, vec![Item { size: 2.5 }]);
+    }
+
+    #[test]
+    fn errors_never_quote_a_huge_input_whole() {
+        let huge = "A".repeat(5_000_000);
+        for text in [
+            format!(r#"{{"format_version": 1, "items": [{{"size": "{huge}"}}]}}"#),
+            format!(r#"{{"format_version": 1, "items": [{{"{huge}": 1}}]}}"#),
+        ] {
+            let e = parse(&text).unwrap_err();
+            let shown = e.to_string();
+            assert!(shown.len() < 1000, "{} bytes", shown.len());
+            assert!(shown.contains("more characters"), "{shown}");
+        }
     }
 
     #[test]

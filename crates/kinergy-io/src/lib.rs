@@ -4,7 +4,8 @@
 //!   part (temporary file in the same folder, sync, rename);
 //! - [`json`] (feature `json`, on by default): versioned JSON documents — the parameters
 //!   file, checkpoints, scenes, fields — read with one rule for `format_version` and one
-//!   error shape naming the line and column or the field, written pretty and atomically.
+//!   error shape naming the line and column or the field, written pretty and atomically;
+//! - [`clip_text`]: how much of an input a message may quote.
 //!
 //! std + serde only, so the format crates at the bottom of the workspace can use it.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
@@ -12,7 +13,9 @@
 mod atomic;
 #[cfg(feature = "json")]
 pub mod json;
+mod text;
 
 pub use atomic::write_atomic;
 #[cfg(feature = "json")]
 pub use json::{JsonError, check_version, parse_versioned, to_pretty_json, write_json};
+pub use text::{MAX_QUOTED_CHARS, clip_text};

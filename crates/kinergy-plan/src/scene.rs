@@ -282,6 +282,14 @@ struct SlideFile {
     travel: f64,
 }
 
+/// The largest coordinate and size a scene may hold, meters: a room is meters across, and
+/// beyond this the collision checks' f32 arithmetic (parry3d) loses the centimeters a
+/// reach needs — a box of half extent 1e100 would be silently missed.
+pub const MAX_SCENE_EXTENT: f64 = 1000.0;
+
+/// The most objects a scene may hold.
+pub const MAX_SCENE_OBJECTS: usize = 10_000;
+
 /// Validation errors name the file and the field.
 struct Check<'a> {
     path: &'a Path,
@@ -304,11 +312,28 @@ impl Check<'_> {
         }
     }
 
+    /// A point, meters: finite and within ±[`MAX_SCENE_EXTENT`].
+    fn coordinates(&self, field: &str, v: &[f64]) -> Result<()> {
+        self.finite(field, v)?;
+        if v.iter().all(|x| x.abs() <= MAX_SCENE_EXTENT) {
+            Ok(())
+        } else {
+            Err(self.fail(
+                field,
+                format!("expected coordinates within ±{MAX_SCENE_EXTENT} m, found {v:?}"),
+            ))
+        }
+    }
+
+    /// A size, meters: finite, > 0 and at most [`MAX_SCENE_EXTENT`].
     fn positive(&self, field: &str, v: f64) -> Result<f64> {
-        if v.is_finite() && v > 0.0 {
+        if v.is_finite() && v > 0.0 && v <= MAX_SCENE_EXTENT {
             Ok(v)
         } else {
-            Err(self.fail(field, format!("expected a finite number > 0, found {v}")))
+            Err(self.fail(
+                field,
+                format!("expected a number > 0 and ≤ {MAX_SCENE_EXTENT} (meters), found {v}"),
+            ))
         }
     }
 
@@ -383,8 +408,11 @@ fn build_shape(
         },
         ShapeKind::Capsule => {
             let half_height = f.half_height.ok_or_else(|| need("half_height"))?;
-            if !(half_height.is_finite() && half_height >= 0.0) {
-                return Err(check.fail(&at("shape.half_height"), "expected a finite number ≥ 0"));
+            if !(half_height.is_finite() && (0.0..=MAX_SCENE_EXTENT).contains(&half_height)) {
+                return Err(check.fail(
+                    &at("shape.half_height"),
+                    format!("expected a number ≥ 0 and ≤ {MAX_SCENE_EXTENT} (meters), found {half_height}"),
+                ));
             }
             Shape::Capsule {
                 half_height,
@@ -405,6 +433,20 @@ fn build_shape(
                     *v = Point3::from(v.coords * scale);
                 }
             }
+            if let Some(k) = mesh
+                .vertices
+                .iter()
+                .position(|v| v.coords.amax() > MAX_SCENE_EXTENT)
+            {
+                return Err(check.fail(
+                    &at("shape.file"),
+                    format!(
+                        "vertex {} of {} lies beyond ±{MAX_SCENE_EXTENT} m (after scale {scale})",
+                        k + 1,
+                        full.display()
+                    ),
+                ));
+            }
             Shape::Mesh {
                 file: full,
                 mesh: Arc::new(mesh),
@@ -420,6 +462,15 @@ impl SceneFile {
             Some(c) => check.positive("character.height", c.height)?,
             None => 1.75,
         };
+        if self.objects.len() > MAX_SCENE_OBJECTS {
+            return Err(check.fail(
+                "objects",
+                format!(
+                    "{} objects: a scene holds at most {MAX_SCENE_OBJECTS}",
+                    self.objects.len()
+                ),
+            ));
+        }
         let mut objects: Vec<SceneObject> = Vec::with_capacity(self.objects.len());
         for (i, o) in self.objects.into_iter().enumerate() {
             let at = |f: &str| format!("objects[{i}].{f}");
@@ -427,9 +478,15 @@ impl SceneFile {
                 return Err(check.fail(&at("name"), "an object needs a name"));
             }
             if objects.iter().any(|p| p.name == o.name) {
-                return Err(check.fail(&at("name"), format!("`{}` is used twice", o.name)));
+                return Err(check.fail(
+                    &at("name"),
+                    format!(
+                        "`{}` is used twice",
+                        kinergy_io::clip_text(&o.name, kinergy_io::MAX_QUOTED_CHARS)
+                    ),
+                ));
             }
-            check.finite(&at("position"), &o.position)?;
+            check.coordinates(&at("position"), &o.position)?;
             let rotation = check.rotation(&at("rotation"), o.rotation)?;
             let pose =
                 Isometry3::from_parts(Translation3::from(Vector3::from(o.position)), rotation);
@@ -437,7 +494,7 @@ impl SceneFile {
             let grasp = match o.grasp {
                 None => None,
                 Some(g) => {
-                    check.finite(&at("grasp.position"), &g.position)?;
+                    check.coordinates(&at("grasp.position"), &g.position)?;
                     let hand = match g.hand {
                         None => HandShape::grip(),
                         Some(HandFile::Preset(name)) => HandShape::preset(&name).ok_or_else(|| {
@@ -533,6 +590,19 @@ mod tests {
             (
                 GOOD.replace("[1, 2, 3]", "[1, -2, 3]"),
                 "objects[0].shape.half_extents[1]",
+            ),
+            // Sizes and coordinates a collision check in f32 could not honour.
+            (
+                GOOD.replace("[1, 2, 3]", "[1, 1e100, 3]"),
+                "objects[0].shape.half_extents[1]",
+            ),
+            (
+                GOOD.replace("[0, 1, 2]", "[0, 1, 2000]"),
+                "objects[0].position",
+            ),
+            (
+                GOOD.replace("\"radius\": 0.5", "\"radius\": 5e3"),
+                "objects[1].shape.radius",
             ),
             (
                 GOOD.replace("\"sphere\"", "\"cone\""),

@@ -58,6 +58,53 @@ pub struct FitRecord {
 }
 
 impl FitRecord {
+    /// Checks what a damaged or hand-edited record could get wrong and the values' use
+    /// depends on: every reach's frames `[start, end)` with start < end (a reach has frames),
+    /// every distance and score finite and ≥ 0, every recorded bone finite and > 0 (the hand
+    /// ≥ 0). Returns the first field that is wrong (`fit.reaches[2].frames`) and why.
+    pub fn check(&self) -> Result<(), (String, String)> {
+        let distance = |field: String, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err((field, format!("is {v}: expected a finite distance ≥ 0")))
+            }
+        };
+        distance("fit.score_m".into(), self.score_m)?;
+        distance("fit.start_score_m".into(), self.start_score_m)?;
+        for (i, reach) in self.reaches.iter().enumerate() {
+            let [start, end] = reach.frames;
+            if start >= end {
+                return Err((
+                    format!("fit.reaches[{i}].frames"),
+                    format!("is [{start}, {end}]: expected [start, end) with start < end"),
+                ));
+            }
+            distance(format!("fit.reaches[{i}].distance_m"), reach.distance_m)?;
+            if let Some(arm) = &reach.arm {
+                for (name, v, min) in [
+                    ("upper_arm_m", arm.upper_arm_m, f64::MIN_POSITIVE),
+                    ("forearm_m", arm.forearm_m, f64::MIN_POSITIVE),
+                    ("hand_m", arm.hand_m, 0.0),
+                ] {
+                    if !(v.is_finite() && v >= min) {
+                        return Err((
+                            format!("fit.reaches[{i}].arm.{name}"),
+                            format!(
+                                "is {v}: expected a finite length{}",
+                                if min > 0.0 { " > 0" } else { " ≥ 0" }
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        for (i, stage) in self.nested.iter().flatten().enumerate() {
+            distance(format!("fit.nested[{i}].score_m"), stage.score_m)?;
+        }
+        Ok(())
+    }
+
     /// The reach fitted on the clip that `is_clip` recognizes by its name, if any.
     pub fn reach(&self, is_clip: impl Fn(&str) -> bool) -> Option<&FittedReach> {
         self.reaches.iter().find(|r| is_clip(&r.clip))

@@ -75,6 +75,11 @@ impl ParamsFile {
         file.optimizer.validate()?;
         file.space()?;
         file.values()?;
+        if let Some(record) = &file.fit {
+            record
+                .check()
+                .map_err(|(field, why)| SolverError::ParamsFile(format!("`{field}` {why}")))?;
+        }
         Ok(file)
     }
 
@@ -188,6 +193,37 @@ mod tests {
             (json.replace("\"o\": 0.0", "\"o\": \"soon\""), "values.o"),
         ];
         for (text, expected) in cases {
+            let err = ParamsFile::from_json(&text).expect_err(expected);
+            assert!(err.to_string().contains(expected), "{expected}: {err}");
+        }
+        // A fit record's frames and lengths are checked too.
+        let record = |frames: &str, upper: &str| {
+            let mut v: serde_json::Value = serde_json::from_str(&json).expect("json");
+            v["fit"] = serde_json::from_str(&format!(
+                r#"{{"method": "simulated_annealing", "score_m": 0.01, "start_score_m": 0.02,
+                    "evaluations": 8, "iterations": 0, "status": "converged", "seed": 1,
+                    "reaches": [{{"clip": "a.bvh", "frames": {frames}, "distance_m": 0.01,
+                      "arm": {{"joints": ["s", "e", "w"], "upper_arm_m": {upper},
+                               "forearm_m": 0.25, "hand_m": 0.0}}}}]}}"#
+            ))
+            .expect("record");
+            v.to_string()
+        };
+        assert!(ParamsFile::from_json(&record("[3, 40]", "0.3")).is_ok());
+        for (text, expected) in [
+            (
+                record("[40, 3]", "0.3"),
+                "`fit.reaches[0].frames` is [40, 3]",
+            ),
+            (record("[5, 5]", "0.3"), "`fit.reaches[0].frames`"),
+            (record("[-1, 10]", "0.3"), "fit.reaches[0].frames"),
+            (record("[1.5, 20]", "0.3"), "fit.reaches[0].frames"),
+            (
+                record("[3, 40]", "0.0"),
+                "`fit.reaches[0].arm.upper_arm_m` is 0",
+            ),
+            (record("[3, 40]", "-2"), "arm.upper_arm_m"),
+        ] {
             let err = ParamsFile::from_json(&text).expect_err(expected);
             assert!(err.to_string().contains(expected), "{expected}: {err}");
         }

@@ -76,6 +76,21 @@ pub struct AnnealSettings {
     pub seed: u64,
 }
 
+impl AnnealSettings {
+    /// The names of the settings in which `self` and `other` differ.
+    pub fn differences(&self, other: &AnnealSettings) -> Vec<String> {
+        let (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) =
+            (serde_json::to_value(self), serde_json::to_value(other))
+        else {
+            return vec!["settings".into()];
+        };
+        a.iter()
+            .filter(|&(k, v)| b.get(k) != Some(v))
+            .map(|(k, _)| k.clone())
+            .collect()
+    }
+}
+
 impl Default for AnnealSettings {
     fn default() -> AnnealSettings {
         AnnealSettings {
@@ -235,34 +250,214 @@ impl AnnealState {
         })
     }
 
-    /// Reads a state written by [`AnnealState::save`].
+    /// Reads a state written by [`AnnealState::save`], refusing a damaged one (see
+    /// [`AnnealState::check`]).
     pub fn load(path: &Path) -> Result<AnnealState> {
-        let bad = |why: String| TrainError::Checkpoint {
-            path: path.to_path_buf(),
-            why,
-        };
-        let text = std::fs::read_to_string(path).map_err(|source| TrainError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let state: AnnealState = kinergy_io::parse_versioned(&text, CHECKPOINT_VERSION)
-            .map_err(|e| bad(e.to_string()))?;
-        let n = state.lower.len();
-        let consistent = state.upper.len() == n
-            && state.best_x.len() == n
-            && state.members.len() == state.settings.population
-            && state.members.iter().all(|m| m.x.len() == n);
-        if !consistent {
-            return Err(bad("its vectors' lengths do not agree".into()));
-        }
-        state.settings.validate()?;
+        let state: AnnealState = read_checkpoint(path)?;
+        state
+            .check()
+            .map_err(|(field, why)| TrainError::Checkpoint {
+                path: path.to_path_buf(),
+                why: format!("`{field}` {why}"),
+            })?;
         Ok(state)
+    }
+
+    /// Checks everything a checkpoint says against the annealer's invariants, so that a
+    /// damaged or hand-edited file is refused by name instead of resumed into a different
+    /// run (or a panic): valid settings; bounds finite, ordered and of one length n; exactly
+    /// `population` members, each of n values within the bounds, a cost ≥ 0, a step within
+    /// the settings' and adaptation counts below `adapt_every`; `evaluations` =
+    /// population × (iteration + 1) within the budget; the history one mean per iteration;
+    /// the temperature finite, ≥ 0 and no higher than the schedule allows; the best vector
+    /// within the bounds and no worse than any member. Returns the first field that is
+    /// wrong (its path in the JSON) and what is wrong with it.
+    pub fn check(&self) -> std::result::Result<(), (String, String)> {
+        let fail = |field: &str, why: String| Err((field.to_string(), why));
+        let s = &self.settings;
+        if let Err(e) = s.validate() {
+            return fail("settings", e.to_string());
+        }
+        let n = self.lower.len();
+        if n == 0 {
+            return fail("lower", "is empty: the problem has no parameter".into());
+        }
+        if self.upper.len() != n {
+            return fail(
+                "upper",
+                format!("has {} values, `lower` {n}", self.upper.len()),
+            );
+        }
+        for (i, (lo, hi)) in self.lower.iter().zip(&self.upper).enumerate() {
+            if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+                return fail(
+                    &format!("lower[{i}]/upper[{i}]"),
+                    format!("are {lo} and {hi}: expected finite bounds, lower ≤ upper"),
+                );
+            }
+        }
+        let within = |x: &[f64]| {
+            x.iter()
+                .zip(self.lower.iter().zip(&self.upper))
+                .position(|(v, (lo, hi))| !(v >= lo && v <= hi))
+        };
+        let cost_ok = |c: f64| c >= 0.0; // NaN fails; f64::MAX marks a failed evaluation
+        if self.members.len() != s.population {
+            return fail(
+                "members",
+                format!(
+                    "has {} members, the settings' population is {}",
+                    self.members.len(),
+                    s.population
+                ),
+            );
+        }
+        let (step_lo, step_hi) = (s.min_step, s.max_step);
+        for (m, member) in self.members.iter().enumerate() {
+            let at = |f: &str| format!("members[{m}].{f}");
+            if member.x.len() != n {
+                return fail(
+                    &at("x"),
+                    format!("has {} values, expected {n}", member.x.len()),
+                );
+            }
+            if let Some(i) = within(&member.x) {
+                return fail(
+                    &format!("members[{m}].x[{i}]"),
+                    format!(
+                        "is {}, outside its bounds [{}, {}]",
+                        member.x[i], self.lower[i], self.upper[i]
+                    ),
+                );
+            }
+            if !cost_ok(member.cost) {
+                return fail(&at("cost"), format!("is {}: expected ≥ 0", member.cost));
+            }
+            if !(member.step >= step_lo && member.step <= step_hi) {
+                return fail(
+                    &at("step"),
+                    format!(
+                        "is {}, outside [min_step, max_step] = [{step_lo}, {step_hi}]",
+                        member.step
+                    ),
+                );
+            }
+            if member.proposed >= s.adapt_every || member.accepted > member.proposed {
+                return fail(
+                    &at("proposed"),
+                    format!(
+                        "{} proposed and {} accepted: expected accepted ≤ proposed < adapt_every ({})",
+                        member.proposed, member.accepted, s.adapt_every
+                    ),
+                );
+            }
+        }
+        let expected = self
+            .iteration
+            .checked_add(1)
+            .and_then(|k| k.checked_mul(s.population));
+        if expected != Some(self.evaluations) {
+            return fail(
+                "evaluations",
+                format!(
+                    "is {} after {} iterations of {} members: expected population × (iteration + 1)",
+                    self.evaluations, self.iteration, s.population
+                ),
+            );
+        }
+        if self.evaluations > s.max_evaluations {
+            return fail(
+                "evaluations",
+                format!(
+                    "is {}, beyond the budget of {}",
+                    self.evaluations, s.max_evaluations
+                ),
+            );
+        }
+        if self.mean_history.len() != self.iteration + 1 {
+            return fail(
+                "mean_history",
+                format!(
+                    "has {} means after {} iterations: expected one more than the iterations",
+                    self.mean_history.len(),
+                    self.iteration
+                ),
+            );
+        }
+        if let Some(i) = self.mean_history.iter().position(|&c| !cost_ok(c)) {
+            return fail(
+                &format!("mean_history[{i}]"),
+                format!("is {}: expected ≥ 0", self.mean_history[i]),
+            );
+        }
+        // The schedule: T_k = T₀ cᵏ with T₀ = temperature × the mean of the initial finite
+        // costs, which is at most the initial mean over all members.
+        let t = self.temperature;
+        let initial = self.mean_history[0];
+        let exponent = i32::try_from(self.iteration).unwrap_or(i32::MAX);
+        let ceiling = if initial < f64::MAX {
+            s.temperature * initial * s.cooling.powi(exponent) * (1.0 + 1e-9)
+        } else {
+            f64::INFINITY
+        };
+        if !(t.is_finite() && t >= 0.0 && t <= ceiling) || (s.temperature == 0.0 && t != 0.0) {
+            return fail(
+                "temperature",
+                format!(
+                    "is {t}: the schedule allows at most {ceiling:.6e} after {} iterations",
+                    self.iteration
+                ),
+            );
+        }
+        if self.best_x.len() != n {
+            return fail(
+                "best_x",
+                format!("has {} values, expected {n}", self.best_x.len()),
+            );
+        }
+        if let Some(i) = within(&self.best_x) {
+            return fail(
+                &format!("best_x[{i}]"),
+                format!(
+                    "is {}, outside its bounds [{}, {}]",
+                    self.best_x[i], self.lower[i], self.upper[i]
+                ),
+            );
+        }
+        let best_member = self
+            .members
+            .iter()
+            .map(|m| m.cost)
+            .fold(f64::INFINITY, f64::min);
+        if !cost_ok(self.best_cost) || self.best_cost > best_member {
+            return fail(
+                "best_cost",
+                format!(
+                    "is {}: expected ≥ 0 and no worse than the best member ({best_member})",
+                    self.best_cost
+                ),
+            );
+        }
+        Ok(())
     }
 
     /// The population's current mean cost.
     pub fn mean_cost(&self) -> f64 {
         mean_cost(&self.members)
     }
+}
+
+/// Reads and decodes a checkpoint file of either kind (versioned JSON), naming the file in
+/// errors. The caller checks what it holds.
+pub(crate) fn read_checkpoint<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path).map_err(|source| TrainError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    kinergy_io::parse_versioned(&text, CHECKPOINT_VERSION).map_err(|e| TrainError::Checkpoint {
+        path: path.to_path_buf(),
+        why: e.to_string(),
+    })
 }
 
 /// What an observer sees after every iteration.
@@ -523,14 +718,14 @@ impl Annealer {
         };
         if state.settings != self.settings {
             return Err(bad(format!(
-                "it was written with other settings ({:?}); resume with the same ones",
-                state.settings
+                "it was written with other settings (its {} differ); resume with the same ones",
+                state.settings.differences(&self.settings).join(", ")
             )));
         }
         if state.tag != tag {
             return Err(bad(format!(
                 "it belongs to another problem (`{}`, not `{tag}`)",
-                state.tag
+                kinergy_io::clip_text(&state.tag, kinergy_io::MAX_QUOTED_CHARS)
             )));
         }
         let (lower, upper) = cost.bounds();

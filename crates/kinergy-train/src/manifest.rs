@@ -184,7 +184,11 @@ impl Manifest {
             let Some(&known) = known else {
                 return Err(fail(
                     header_line,
-                    format!("unknown column `{name}`: expected {}", COLUMNS.join(", ")),
+                    format!(
+                        "unknown column `{}`: expected {}",
+                        quote(name),
+                        COLUMNS.join(", ")
+                    ),
                 ));
             };
             if column.insert(known, i).is_some() {
@@ -230,14 +234,19 @@ impl Manifest {
             let clip = folder.join(text);
             if !clip.is_file() {
                 return Err(bad(format!(
-                    "clip `{text}`: no such file ({})",
-                    clip.display()
+                    "clip `{}`: no such file ({})",
+                    quote(text),
+                    quote(&clip.display().to_string())
                 )));
             }
             let frame = |name: &str| {
                 let v = cell(name);
-                v.parse::<usize>()
-                    .map_err(|_| bad(format!("{name} `{v}` is not a frame number (0, 1, 2, …)")))
+                v.parse::<usize>().map_err(|_| {
+                    bad(format!(
+                        "{name} `{}` is not a frame number (0, 1, 2, …)",
+                        quote(v)
+                    ))
+                })
             };
             let (onset, end) = (frame("onset")?, frame("end")?);
             if onset >= end {
@@ -246,12 +255,20 @@ impl Manifest {
                      the onset"
                 )));
             }
-            let arm: Side = cell("arm")
-                .parse()
-                .map_err(|e: String| bad(format!("arm: {e}")))?;
+            let arm: Side = cell("arm").parse().map_err(|_| {
+                bad(format!(
+                    "arm `{}`: expected right or left",
+                    quote(cell("arm"))
+                ))
+            })?;
             let label = match cell("label") {
                 "" => Label::Reach,
-                l => l.parse().map_err(|e: String| bad(format!("label: {e}")))?,
+                l => l.parse().map_err(|_| {
+                    bad(format!(
+                        "label `{}`: expected reach, return or other",
+                        quote(l)
+                    ))
+                })?,
             };
             let person = match cell("person") {
                 "" => default_person(&clip),
@@ -341,6 +358,11 @@ impl Manifest {
             why: e.to_string(),
         })
     }
+}
+
+/// A cell as an error may quote it (at most [`kinergy_io::MAX_QUOTED_CHARS`] characters).
+fn quote(cell: &str) -> std::borrow::Cow<'_, str> {
+    kinergy_io::clip_text(cell, kinergy_io::MAX_QUOTED_CHARS)
 }
 
 /// Who moves in `clip` when nobody says: the name of the folder holding it (empty when there

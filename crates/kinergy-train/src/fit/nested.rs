@@ -121,18 +121,96 @@ pub struct NestedCheckpoint {
 }
 
 impl NestedCheckpoint {
-    /// Reads a checkpoint, naming the file in errors.
+    /// Reads a checkpoint, naming the file in errors, and refuses a damaged one: the
+    /// problem's settings valid, every finished stage consistent with them, the running
+    /// stage's state checked as [`AnnealState::check`] does (fields named by their path,
+    /// `current.members[3].x`).
     pub fn load(path: &Path) -> Result<NestedCheckpoint> {
-        let bad = |why: String| TrainError::Checkpoint {
-            path: path.to_path_buf(),
-            why,
-        };
-        let text = std::fs::read_to_string(path).map_err(|source| TrainError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        kinergy_io::parse_versioned(&text, crate::anneal::CHECKPOINT_VERSION)
-            .map_err(|e| bad(e.to_string()))
+        let checkpoint: NestedCheckpoint = crate::anneal::read_checkpoint(path)?;
+        checkpoint
+            .check()
+            .map_err(|(field, why)| TrainError::Checkpoint {
+                path: path.to_path_buf(),
+                why: format!("`{field}` {why}"),
+            })?;
+        Ok(checkpoint)
+    }
+
+    /// See [`NestedCheckpoint::load`]: the first field that is wrong and why.
+    pub fn check(&self) -> std::result::Result<(), (String, String)> {
+        let anneal = &self.problem.anneal;
+        if let Err(e) = anneal.validate() {
+            return Err(("problem.anneal".into(), e.to_string()));
+        }
+        if self.completed.len() > self.problem.models.len() {
+            return Err((
+                "completed".into(),
+                format!(
+                    "has {} stages for {} models",
+                    self.completed.len(),
+                    self.problem.models.len()
+                ),
+            ));
+        }
+        for (i, stage) in self.completed.iter().enumerate() {
+            let at = |f: &str| format!("completed[{i}].{f}");
+            if stage.model != self.problem.models[i] {
+                return Err((
+                    at("model"),
+                    format!(
+                        "is {}, the problem's model {i} is {}",
+                        stage.model.name(),
+                        self.problem.models[i].name()
+                    ),
+                ));
+            }
+            if let Some(k) = stage.values.iter().position(|v| !v.is_finite()) {
+                return Err((
+                    format!("completed[{i}].values[{k}]"),
+                    "is not a finite number".into(),
+                ));
+            }
+            for (name, score) in [("score", stage.score), ("start_score", stage.start_score)] {
+                if score.is_nan() || score < 0.0 {
+                    return Err((at(name), format!("is {score}: expected ≥ 0")));
+                }
+            }
+            let expected = stage
+                .iterations
+                .checked_add(1)
+                .and_then(|k| k.checked_mul(anneal.population));
+            if expected != Some(stage.evaluations) || stage.evaluations > anneal.max_evaluations {
+                return Err((
+                    at("evaluations"),
+                    format!(
+                        "is {} after {} iterations: expected population × (iterations + 1) within the budget of {}",
+                        stage.evaluations, stage.iterations, anneal.max_evaluations
+                    ),
+                ));
+            }
+            if matches!(stage.status, Status::Running | Status::Interrupted) {
+                return Err((
+                    at("status"),
+                    format!(
+                        "is {}: a finished stage converged or spent its budget",
+                        stage.status.name()
+                    ),
+                ));
+            }
+        }
+        match &self.current {
+            Some(_) if self.completed.len() == self.problem.models.len() => Err((
+                "current".into(),
+                format!(
+                    "holds a running stage after all {} stages are done",
+                    self.completed.len()
+                ),
+            )),
+            Some(state) => state
+                .check()
+                .map_err(|(f, why)| (format!("current.{f}"), why)),
+            None => Ok(()),
+        }
     }
 
     fn save(&self, path: &Path) -> Result<()> {
@@ -261,6 +339,44 @@ impl NestedRun<'_> {
                     "checkpoint.completed",
                     "the same models in the same order",
                 )?;
+                let damaged = |field: &str, why: String| TrainError::Checkpoint {
+                    path: path.map(Path::to_path_buf).unwrap_or_default(),
+                    why: format!("`completed[{i}].{field}` {why}"),
+                };
+                let dimension = crate::objective::CostFunction::dimension(&objective);
+                if stage.values.len() != dimension {
+                    return Err(damaged(
+                        "values",
+                        format!(
+                            "has {} values; {} has {dimension}",
+                            stage.values.len(),
+                            model.name()
+                        ),
+                    ));
+                }
+                let (lower, upper) = crate::objective::CostFunction::bounds(&objective);
+                if let Some(k) = (0..dimension)
+                    .find(|&k| !(stage.values[k] >= lower[k] && stage.values[k] <= upper[k]))
+                {
+                    return Err(damaged(
+                        &format!("values[{k}]"),
+                        format!(
+                            "is {}, outside its bounds [{}, {}]",
+                            stage.values[k], lower[k], upper[k]
+                        ),
+                    ));
+                }
+                let seed = self.settings.anneal_for(model).seed;
+                if stage.seed != seed {
+                    return Err(damaged(
+                        "seed",
+                        format!(
+                            "is {}, this fit's {} stage runs with {seed}",
+                            stage.seed,
+                            model.name()
+                        ),
+                    ));
+                }
                 fits.push(Fit::from_stage(stage, &objective)?);
                 continue;
             }
