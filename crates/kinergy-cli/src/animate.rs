@@ -527,6 +527,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             paths.len()
         )));
     }
+    {
+        use crate::common::{Output, check_outputs};
+        let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
+        inputs.extend(paths.iter().map(PathBuf::as_path));
+        check_outputs(
+            &inputs,
+            &[
+                Output::File("-o", &args.output),
+                Output::File("--strip", &strip),
+            ],
+        )?;
+    }
     let names = labels(&paths);
     let mut tracks = Vec::with_capacity(paths.len());
     let mut rows = Vec::with_capacity(paths.len());
