@@ -164,8 +164,14 @@ fn refused(case: &str, args: &[String], needle: &str) {
     let o = kinergy(&args);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{case}: {args:?}: {err}");
-    assert!(err.contains(needle), "{case}: `{err}` does not say {needle:?}");
-    assert!(!err.contains("panicked") && !err.contains("Os {"), "{case}: {err}");
+    assert!(
+        err.contains(needle),
+        "{case}: `{err}` does not say {needle:?}"
+    );
+    assert!(
+        !err.contains("panicked") && !err.contains("Os {"),
+        "{case}: {err}"
+    );
 }
 
 /// A fresh folder with the case's input in `x/`; returns (folder, input).
@@ -205,12 +211,7 @@ fn an_output_that_is_an_input_is_refused_however_spelled() {
     for case in cases() {
         let (dir, input) = setup(&case);
         let before = std::fs::read(&input).unwrap();
-        let respelled = dir
-            .path()
-            .join("x")
-            .join("..")
-            .join("x")
-            .join(case.input);
+        let respelled = dir.path().join("x").join("..").join("x").join(case.input);
         for out in [&input, &respelled] {
             let args = (case.args)(input.to_str().unwrap(), out.to_str().unwrap(), dir.path());
             let needle = if case.folder {
@@ -260,7 +261,11 @@ fn an_output_onto_dev_null_is_refused_and_the_device_stays() {
         // Some commands refuse the name first (it must end in .gif, .svg…): exit 2 either way.
         assert_eq!(o.status.code(), Some(2), "{}: {}", case.name, stderr(&o));
         let m = std::fs::metadata(null).unwrap();
-        assert!(m.file_type().is_char_device(), "{}: /dev/null replaced", case.name);
+        assert!(
+            m.file_type().is_char_device(),
+            "{}: /dev/null replaced",
+            case.name
+        );
     }
 }
 
@@ -284,7 +289,11 @@ fn an_output_onto_a_fifo_is_refused_and_the_fifo_stays() {
         };
         refused(case.name, &args, needle);
         let m = std::fs::symlink_metadata(&fifo).unwrap();
-        assert!(m.file_type().is_fifo(), "{}: the FIFO was replaced", case.name);
+        assert!(
+            m.file_type().is_fifo(),
+            "{}: the FIFO was replaced",
+            case.name
+        );
     }
 }
 
@@ -411,7 +420,10 @@ impl SmallDisk {
             .output()
             .map_err(|e| format!("mount: {e}"))?;
         if !o.status.success() {
-            return Err(format!("mount: {}", String::from_utf8_lossy(&o.stderr).trim()));
+            return Err(format!(
+                "mount: {}",
+                String::from_utf8_lossy(&o.stderr).trim()
+            ));
         }
         Ok(SmallDisk { dir })
     }
@@ -448,5 +460,8 @@ fn a_full_disk_during_synth_says_disk_full_and_leaves_no_folder() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let left: Vec<_> = std::fs::read_dir(&set).unwrap().collect();
     assert_eq!(left.len(), 1);
-    assert_eq!(std::fs::read_to_string(set.join("mine.txt")).unwrap(), "keep me");
+    assert_eq!(
+        std::fs::read_to_string(set.join("mine.txt")).unwrap(),
+        "keep me"
+    );
 }
