@@ -480,33 +480,6 @@ fn labels(paths: &[PathBuf]) -> Vec<String> {
     out
 }
 
-/// A path next to `path` for a finished picture waiting for its partner, keeping the
-/// extension (the drawing helpers choose the format by it).
-fn staged(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.animate.{ext}", std::process::id()))
-}
-
-/// A failure about a staged picture, told about the path the user gave.
-fn about(failure: Failure, staged: &Path, path: &Path) -> Failure {
-    let (staged, path) = (staged.display().to_string(), path.display().to_string());
-    match failure {
-        Failure::Input(m) => Failure::Input(m.replace(&staged, &path)),
-        Failure::Task(m) => Failure::Task(m.replace(&staged, &path)),
-    }
-}
-
-fn rename(from: &Path, to: &Path) -> Result<(), Failure> {
-    std::fs::rename(from, to).map_err(|e| Failure::Task(format!("{}: {e}", to.display())))
-}
-
 /// Runs `kinergy animate`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     let is_gif = args
@@ -554,6 +527,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             paths.len()
         )));
     }
+    {
+        use crate::common::{Output, check_outputs};
+        let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
+        inputs.extend(paths.iter().map(PathBuf::as_path));
+        check_outputs(
+            &inputs,
+            &[
+                Output::File("-o", &args.output),
+                Output::File("--strip", &strip),
+            ],
+        )?;
+    }
     let names = labels(&paths);
     let mut tracks = Vec::with_capacity(paths.len());
     let mut rows = Vec::with_capacity(paths.len());
@@ -585,37 +570,24 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
     // Both pictures are finished under temporary names first, so that a failure leaves
     // neither behind.
-    let (gif_temp, strip_temp) = (staged(&args.output), staged(&strip));
     // A bar on the terminal only (indicatif hides it when stderr is not one).
     let bar = crate::common::Bar::counting(frames as u64, "frames");
-    let written = draw::save_gif(&gif_temp, size, frames, delay_ms, |k, root| {
+    let staged = draw::stage_gif(&args.output, size, frames, delay_ms, |k, root| {
         bar.inc();
         draw_scene(root, &scene, &[k as f64 / fps])
-    })
-    .map_err(|e| about(e, &gif_temp, &args.output))
-    .and_then(|()| {
-        draw::save(
-            &Strip {
-                scene: &scene,
-                times: &times,
-            },
-            &strip_temp,
-            strip_size,
-        )
-        .map_err(|e| about(e, &strip_temp, &strip))
-    })
-    .and_then(|()| rename(&strip_temp, &strip))
-    .and_then(|()| {
-        rename(&gif_temp, &args.output).inspect_err(|_| {
-            let _ = std::fs::remove_file(&strip);
-        })
     });
     bar.finish();
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&gif_temp);
-        let _ = std::fs::remove_file(&strip_temp);
-        return Err(e);
-    }
+    let gif = staged?;
+    let strip_file = draw::stage(
+        &Strip {
+            scene: &scene,
+            times: &times,
+        },
+        &strip,
+        strip_size,
+    )?;
+    draw::commit(strip_file)?;
+    draw::commit(gif)?;
 
     let report = Report {
         output: args.output.display().to_string(),

@@ -143,6 +143,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         args.clips.clone()
     };
     let clips = args.reach.clips(&paths)?;
+    {
+        use crate::common::{Output, check_outputs};
+        let mut inputs: Vec<&std::path::Path> = paths.iter().map(PathBuf::as_path).collect();
+        inputs.extend(clips.iter().map(PathBuf::as_path));
+        inputs.extend(args.reach.segments.as_deref());
+        check_outputs(&inputs, &[Output::Folder("-o", &args.output)])?;
+    }
     if let Some(k) = holdout {
         let reaches = args.reach.load_all_with_persons(&clips)?;
         return holdout::run(args, reaches, k);

@@ -42,6 +42,10 @@ enum UpOut {
 
 /// Runs `kinergy convert`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    crate::common::check_outputs(
+        &[&args.input],
+        &[crate::common::Output::File("-o", &args.output)],
+    )?;
     let (clip, _) = args.read.read(&args.input)?;
     let clip = match &args.frames {
         None => clip,

@@ -2,9 +2,12 @@
 //! the two chart kinds the commands draw (lines over time, means with min–max bars).
 
 use std::error::Error;
-use std::path::{Path, PathBuf};
+use std::io::Write as _;
+use std::path::Path;
 use std::sync::Once;
 
+use image::ImageEncoder as _;
+use kinergy_io::AtomicFile;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
@@ -82,36 +85,28 @@ pub trait Figure {
         DB::ErrorType: 'static;
 }
 
-/// A temporary path next to `path` keeping its extension (plotters picks the bitmap encoder
-/// from it), for an atomic rename once the picture is complete.
-fn temp_next_to(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "picture".into());
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()))
+/// A failure writing the picture `path`.
+fn failed(path: &Path, e: impl std::fmt::Display) -> Failure {
+    Failure::Task(format!("{}: {e}", path.display()))
 }
 
-/// Moves a finished temporary file into place, or removes it after a failure.
-fn finish(temp: &Path, path: &Path, result: DrawResult) -> Result<(), Failure> {
-    let result = result
-        .map_err(|e| e.to_string())
-        .and_then(|()| std::fs::rename(temp, path).map_err(|e| e.to_string()));
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(temp);
-        return Err(Failure::Task(format!("{}: {e}", path.display())));
-    }
-    Ok(())
+/// Starts the staged file of the picture `path`.
+fn start(path: &Path) -> Result<AtomicFile, Failure> {
+    AtomicFile::create(path).map_err(|e| failed(path, e))
 }
 
-/// Draws `figure` into `path` (SVG or PNG by its extension), written atomically.
-pub fn save(figure: &impl Figure, path: &Path, size: (u32, u32)) -> Result<(), Failure> {
+/// Puts a staged picture in place.
+pub fn commit(staged: AtomicFile) -> Result<(), Failure> {
+    let path = staged.path().to_path_buf();
+    staged.commit().map_err(|e| failed(&path, e))
+}
+
+/// Draws `figure` for `path` (SVG or PNG by its extension) into a temporary file beside it,
+/// not yet in place: [`commit`] it, or drop it to leave `path` as it was.
+pub fn stage(figure: &impl Figure, path: &Path, size: (u32, u32)) -> Result<AtomicFile, Failure> {
     register_fonts();
-    match Format::of(path, "-o")? {
+    let format = Format::of(path, "-o")?;
+    let bytes = match format {
         Format::Svg => {
             let mut text = String::new();
             {
@@ -119,44 +114,62 @@ pub fn save(figure: &impl Figure, path: &Path, size: (u32, u32)) -> Result<(), F
                 figure
                     .draw(&root)
                     .and_then(|()| root.present().map_err(|e| e.into()))
-                    .map_err(|e| Failure::Task(format!("{}: {e}", path.display())))?;
+                    .map_err(|e| failed(path, e))?;
             }
-            kinergy_io::write_atomic(path, text.as_bytes())
-                .map_err(|e| Failure::Task(format!("{}: {e}", path.display())))
+            text.into_bytes()
         }
         Format::Png => {
-            let temp = temp_next_to(path);
-            let result = (|| -> DrawResult {
-                let root = BitMapBackend::new(&temp, size).into_drawing_area();
-                figure.draw(&root)?;
-                root.present()?;
-                Ok(())
-            })();
-            finish(&temp, path, result)
+            // Rendered in memory, encoded into the staged file: no encoder writes the path.
+            let pixels = usize::try_from(u64::from(size.0) * u64::from(size.1) * 3)
+                .map_err(|e| failed(path, e))?;
+            let mut rgb = vec![0u8; pixels];
+            {
+                let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+                figure
+                    .draw(&root)
+                    .and_then(|()| root.present().map_err(|e| e.into()))
+                    .map_err(|e| failed(path, e))?;
+            }
+            let mut png = Vec::new();
+            image::codecs::png::PngEncoder::new(&mut png)
+                .write_image(&rgb, size.0, size.1, image::ColorType::Rgb8)
+                .map_err(|e| failed(path, e))?;
+            png
         }
-    }
+    };
+    let mut staged = start(path)?;
+    staged.write_all(&bytes).map_err(|e| failed(path, e))?;
+    Ok(staged)
 }
 
-/// Draws `frames` frames into an animated GIF at `path` (`delay_ms` per frame), written
-/// atomically; `frame(k, root)` draws frame `k`.
-pub fn save_gif(
+/// Draws `figure` into `path` (SVG or PNG by its extension), written atomically.
+pub fn save(figure: &impl Figure, path: &Path, size: (u32, u32)) -> Result<(), Failure> {
+    commit(stage(figure, path, size)?)
+}
+
+/// Draws `frames` frames of an animated GIF for `path` (`delay_ms` per frame) into a
+/// temporary file beside it, not yet in place (see [`stage`]); `frame(k, root)` draws frame
+/// `k`.
+pub fn stage_gif(
     path: &Path,
     size: (u32, u32),
     frames: usize,
     delay_ms: u32,
     frame: impl Fn(usize, &DrawingArea<BitMapBackend<'_>, Shift>) -> DrawResult,
-) -> Result<(), Failure> {
+) -> Result<AtomicFile, Failure> {
     register_fonts();
-    let temp = temp_next_to(path);
-    let result = (|| -> DrawResult {
-        let root = BitMapBackend::gif(&temp, size, delay_ms)?.into_drawing_area();
+    let staged = start(path)?;
+    // The GIF encoder writes a path: it truncates and fills the staged temporary file.
+    (|| -> DrawResult {
+        let root = BitMapBackend::gif(staged.temp_path(), size, delay_ms)?.into_drawing_area();
         for k in 0..frames {
             frame(k, &root)?;
             root.present()?;
         }
         Ok(())
-    })();
-    finish(&temp, path, result)
+    })()
+    .map_err(|e| failed(path, e))?;
+    Ok(staged)
 }
 
 /// One line of a [`LineChart`].

@@ -145,6 +145,25 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "--checkpoint works on one fit at a time: use --per person or one clip".into(),
         ));
     }
+    {
+        use crate::common::{Output, check_outputs};
+        let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
+        inputs.extend(clips.iter().map(PathBuf::as_path));
+        inputs.extend(args.reach.segments.as_deref());
+        let mut outputs = vec![if several {
+            Output::Folder("-o", &args.output)
+        } else {
+            Output::File("-o", &args.output)
+        }];
+        // Resumed, the checkpoint is read, then rewritten: it is an output like any other.
+        outputs.extend(
+            args.checkpoint
+                .as_deref()
+                .map(|p| Output::File("--checkpoint", p)),
+        );
+        outputs.extend(args.log.as_deref().map(|p| Output::File("--log", p)));
+        check_outputs(&inputs, &outputs)?;
+    }
     if several {
         std::fs::create_dir_all(&args.output).map_err(|e| Failure::input(&args.output, e))?;
     }

@@ -170,6 +170,10 @@ fn plan_failure(e: PlanError) -> Failure {
 
 /// Runs `kinergy plan`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    crate::common::check_outputs(
+        &[&args.scene],
+        &[crate::common::Output::File("-o", &args.output)],
+    )?;
     let scene = Scene::read(&args.scene).map_err(|e| Failure::input(&args.scene, e))?;
     let limb = match args.arm {
         Side::Right => Limb::RightArm,

@@ -103,6 +103,14 @@ fn speed(args: &SpeedArgs) -> Result<(), Failure> {
             paths.len()
         )));
     }
+    {
+        use crate::common::{Output, check_outputs};
+        let mut inputs: Vec<&std::path::Path> = args.clips.iter().map(|p| p.as_path()).collect();
+        inputs.extend(paths.iter().map(|p| p.as_path()));
+        let mut outputs = vec![Output::File("-o", &args.output)];
+        outputs.extend(args.csv.as_deref().map(|p| Output::File("--csv", p)));
+        check_outputs(&inputs, &outputs)?;
+    }
     let settings = SegmentSettings {
         smoothing: args.smoothing,
         relative_to_shoulder: args.relative,

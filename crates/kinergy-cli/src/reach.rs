@@ -68,6 +68,10 @@ struct Report<'a> {
 
 /// Runs `kinergy reach`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    crate::common::check_outputs(
+        &args.person.iter().map(|p| p.as_path()).collect::<Vec<_>>(),
+        &[crate::common::Output::File("-o", &args.output)],
+    )?;
     let target = parse_point(&args.target, "--target")?;
     let proportions = match &args.person {
         Some(path) => {

@@ -82,28 +82,6 @@ struct Report {
     segments: Vec<Row>,
 }
 
-/// Checks that `path` can be written: its folder exists and it is not a folder itself.
-fn check_output(path: &Path) -> Result<(), Failure> {
-    let folder = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    if path.is_dir() {
-        return Err(Failure::Input(format!(
-            "--manifest {}: is a folder, not a file",
-            path.display()
-        )));
-    }
-    if !folder.is_dir() {
-        return Err(Failure::Input(format!(
-            "--manifest {}: no folder {} to write it in",
-            path.display(),
-            folder.display()
-        )));
-    }
-    Ok(())
-}
-
 /// Segments one clip and keeps the selected ones (numbered as in the full list).
 fn segment_clip(
     args: &Args,
@@ -223,8 +201,11 @@ fn text(report: &Report, settings: &SegmentSettings, selected: bool) -> String {
 
 /// Runs `kinergy segment`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    let clips = crate::common::collect_clips(&args.clips)?;
     if let Some(path) = &args.manifest {
-        check_output(path)?;
+        let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
+        inputs.extend(clips.iter().map(PathBuf::as_path));
+        crate::common::check_outputs(&inputs, &[crate::common::Output::File("--manifest", path)])?;
     }
     let settings = SegmentSettings {
         relative_to_shoulder: !args.world,
@@ -234,7 +215,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     settings
         .validate()
         .map_err(|e| Failure::Input(format!("--min-peak-speed {}: {e}", args.min_peak_speed)))?;
-    let clips = crate::common::collect_clips(&args.clips)?;
     let mut reports = Vec::with_capacity(clips.len());
     let mut rows = Vec::new();
     for path in &clips {

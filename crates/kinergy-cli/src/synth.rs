@@ -1,10 +1,12 @@
 //! `kinergy synth`: the synthetic motion-capture set.
 
-use std::path::PathBuf;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
 
+use kinergy_reach::ReachError;
 use kinergy_reach::synth::{SynthSettings, make_set};
 
-use crate::common::{Failure, emit};
+use crate::common::{Failure, Output, check_outputs, emit};
 
 /// Arguments of `kinergy synth`.
 #[derive(Debug, clap::Args)]
@@ -28,13 +30,36 @@ pub struct Args {
 
 /// Runs `kinergy synth`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    check_outputs(&[], &[Output::Folder("-o", &args.output)])?;
+    let before = Written::before(&args.output);
+    let result = write_set(args);
+    if result.is_err() {
+        before.undo(&args.output);
+    }
+    let rows = result?;
+    let manifest = args.output.join("manifest.csv");
+    emit(&format!(
+        "{} clips of {} persons in {} (seed {}), manifest {}\n",
+        rows,
+        args.persons,
+        args.output.display(),
+        args.seed,
+        manifest.display()
+    ))
+}
+
+/// Writes the clips and the manifest; the number of clips.
+fn write_set(args: &Args) -> Result<usize, Failure> {
     let settings = SynthSettings {
         persons: args.persons,
         reaches: args.reaches,
         seed: args.seed,
         frame_rate: args.frame_rate,
     };
-    let rows = make_set(&args.output, &settings).map_err(|e| Failure::Input(e.to_string()))?;
+    let rows = make_set(&args.output, &settings).map_err(|e| match e {
+        ReachError::Io { .. } => Failure::Task(e.to_string()),
+        _ => Failure::Input(e.to_string()),
+    })?;
     let mut w = csv::Writer::from_writer(Vec::new());
     for r in &rows {
         w.serialize(r)
@@ -46,12 +71,63 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let manifest = args.output.join("manifest.csv");
     kinergy_io::write_atomic(&manifest, &bytes)
         .map_err(|e| Failure::Task(format!("{}: {e}", manifest.display())))?;
-    emit(&format!(
-        "{} clips of {} persons in {} (seed {}), manifest {}\n",
-        rows.len(),
-        args.persons,
-        args.output.display(),
-        args.seed,
-        manifest.display()
-    ))
+    Ok(rows.len())
+}
+
+/// What was in the output folder before a run, so that a failed run removes what it
+/// wrote and nothing else.
+enum Written {
+    /// The folder did not exist: a failed run removes it.
+    NewFolder,
+    /// The folder existed with these entries (its own and its subfolders').
+    Existing(BTreeSet<PathBuf>),
+}
+
+impl Written {
+    fn before(dir: &Path) -> Written {
+        if !dir.exists() {
+            return Written::NewFolder;
+        }
+        let mut found = BTreeSet::new();
+        walk(dir, &mut found);
+        Written::Existing(found)
+    }
+
+    /// Removes what the run added (best effort: the run's error is what gets reported).
+    fn undo(&self, dir: &Path) {
+        match self {
+            Written::NewFolder => {
+                let _ = std::fs::remove_dir_all(dir);
+            }
+            Written::Existing(before) => {
+                let mut now = BTreeSet::new();
+                walk(dir, &mut now);
+                // Deepest first, so added folders are empty when their turn comes.
+                let added: Vec<&PathBuf> = now.difference(before).collect();
+                for path in added.into_iter().rev() {
+                    if path.is_dir() {
+                        let _ = std::fs::remove_dir(path);
+                    } else {
+                        let _ = std::fs::remove_file(path);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The entries of `dir` and of its subfolders one level down (the set's layout).
+fn walk(dir: &Path, out: &mut BTreeSet<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if entry.file_type().is_ok_and(|t| t.is_dir())
+            && let Ok(inner) = std::fs::read_dir(&path)
+        {
+            out.extend(inner.flatten().map(|e| e.path()));
+        }
+        out.insert(path);
+    }
 }

@@ -110,6 +110,9 @@ struct Report {
 
 /// Runs `kinergy synthesize`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    let mut inputs = vec![args.from.as_path()];
+    inputs.extend(args.params.as_deref());
+    crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
     let params = match &args.params {
         Some(path) => Some(ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?),
         None => None,

@@ -312,7 +312,8 @@ fn animate_bad_input_exits_2_naming_the_problem_and_leaves_no_file() {
         assert_eq!(listing(dir.path()), ["broken.bvh"], "{args:?} left a file");
     }
 
-    // A strip that cannot be written is a failed task: the finished GIF is not kept either.
+    // A strip that cannot be written is refused before any drawing (outputs are checked
+    // first): bad input, and no GIF either.
     let nowhere = dir.path().join("no-such-folder/strip.png");
     let o = kinergy(&[
         "animate",
@@ -327,8 +328,9 @@ fn animate_bad_input_exits_2_naming_the_problem_and_leaves_no_file() {
         "96x72",
     ]);
     let message = stderr(&o);
-    assert_eq!(o.status.code(), Some(1), "{message}");
+    assert_eq!(o.status.code(), Some(2), "{message}");
     assert!(message.contains(utf8(&nowhere)), "{message}");
+    assert!(message.contains("does not exist"), "{message}");
     assert_eq!(
         listing(dir.path()),
         ["broken.bvh"],

@@ -232,7 +232,7 @@ fn manifest_bad_input_writes_nothing() {
     let no_folder = dir.path().join("none/segments.csv");
     assert_bad_input(
         &["segment", utf8(&clip), "--manifest", utf8(&no_folder)],
-        "no folder",
+        "does not exist",
         &no_folder,
     );
     assert_bad_input(

@@ -1,47 +1,264 @@
-//! Atomic file replacement.
+//! Atomic file replacement, and the rule for its temporary files.
+//!
+//! Every file Kinergy writes is first written under a temporary name in the same folder,
+//! `.<name>.<pid>.<n>.tmp` (`<pid>` the writing process, `<n>` a counter), synced, then
+//! renamed over `<name>`: readers see the old file or the new one, never a part. A failure
+//! removes the temporary file and leaves `<name>` untouched.
+//!
+//! **No debris.** A process killed mid-write cannot remove its temporary file. So before
+//! writing `<name>`, a writer removes the *stale* temporaries of `<name>`: files named
+//! exactly `.<name>.<pid>.<n>.tmp` whose process is gone. On Linux (where `/proc` is
+//! mounted) "gone" means `/proc/<pid>` does not exist; elsewhere, and where `/proc` is not
+//! available, a temporary file counts as stale once it has not been modified for an hour
+//! ([`STALE_AFTER`]). Files of another name, of a live process, and this process's own are
+//! never touched, so concurrent writers of one file do not disturb each other.
+//!
+//! **Full disk.** An error because the file system is full (`ENOSPC`) is reported with the
+//! kind [`io::ErrorKind::StorageFull`] and the text "disk full (no space left on device)",
+//! see [`describe_full_disk`].
+//!
+//! Whole files go through [`write_atomic`]; files made piece by piece (logs, pictures an
+//! encoder writes to a path) through [`AtomicFile`].
 
 use std::ffi::{OsStr, OsString};
 use std::fs::{self, File, OpenOptions};
-use std::io::{self, Write as _};
+use std::io::{self, Read as _, Seek as _, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
 
 /// Distinguishes temporary files of concurrent writes from one process.
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
+/// Where a process's liveness cannot be checked, a temporary file untouched for this long
+/// is taken to be a killed writer's and removed.
+pub const STALE_AFTER: Duration = Duration::from_secs(3600);
+
+/// What a full disk is called in every message.
+const DISK_FULL: &str = "disk full (no space left on device)";
+
 /// Replaces `path` atomically: write a temporary file in the same directory, sync it,
 /// rename it over `path` (keeping an existing file's permissions), then sync the directory
 /// (best effort). Readers see the old file or the new one, never a part; on failure the
-/// temporary file is removed and `path` is untouched.
+/// temporary file is removed and `path` is untouched. Stale temporaries of `path` are
+/// removed first (see the [module docs](self)).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
-    let Some(file_name) = path.file_name() else {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "the path does not name a file",
-        ));
-    };
-    let (temp_path, mut file) = create_temp(dir, file_name)?;
-    if let Ok(existing) = fs::metadata(path) {
-        // Keep the replaced file's permissions; a failure here is not worth failing for.
-        let _ = file.set_permissions(existing.permissions());
+    let mut file = AtomicFile::create(path)?;
+    file.write_all(bytes).map_err(describe_full_disk)?;
+    file.commit()
+}
+
+/// The error with a clear message when it says the disk is full (`ENOSPC`, or the kind
+/// [`io::ErrorKind::StorageFull`]): kind `StorageFull`, text "disk full (no space left on
+/// device)". Other errors are returned as they are.
+pub fn describe_full_disk(e: io::Error) -> io::Error {
+    if is_disk_full(&e) && e.to_string() != DISK_FULL {
+        io::Error::new(io::ErrorKind::StorageFull, DISK_FULL)
+    } else {
+        e
     }
-    let result = file
-        .write_all(bytes)
-        .and_then(|()| file.sync_all())
-        .and_then(|()| {
-            drop(file);
-            fs::rename(&temp_path, path)
-        });
-    if let Err(source) = result {
-        let _ = fs::remove_file(&temp_path);
-        return Err(source);
+}
+
+/// Whether `e` says the file system is full.
+pub fn is_disk_full(e: &io::Error) -> bool {
+    // ENOSPC is 28 on Linux, the BSDs and macOS.
+    e.kind() == io::ErrorKind::StorageFull || (cfg!(unix) && e.raw_os_error() == Some(28))
+}
+
+/// A file being written under a temporary name next to its destination; it appears at the
+/// destination, complete, on [`commit`](AtomicFile::commit) (or at each
+/// [`publish`](AtomicFile::publish)). Dropped uncommitted, the temporary file is removed
+/// and the destination is left as it was.
+#[derive(Debug)]
+pub struct AtomicFile {
+    target: PathBuf,
+    dir: PathBuf,
+    file_name: OsString,
+    temp: PathBuf,
+    file: Option<File>,
+}
+
+impl AtomicFile {
+    /// Starts writing `path`: removes stale temporaries of `path`, then creates a new, empty
+    /// temporary file beside it. Fails if `path` names no file or its folder is missing.
+    pub fn create(path: &Path) -> io::Result<AtomicFile> {
+        let dir = match path.parent() {
+            Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let Some(file_name) = path.file_name() else {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "the path does not name a file",
+            ));
+        };
+        remove_stale_temporaries(&dir, file_name);
+        let (temp, file) = create_temp(&dir, file_name).map_err(describe_full_disk)?;
+        if let Ok(existing) = fs::metadata(path) {
+            // Keep the replaced file's permissions; a failure here is not worth failing for.
+            let _ = file.set_permissions(existing.permissions());
+        }
+        Ok(AtomicFile {
+            target: path.to_path_buf(),
+            dir,
+            file_name: file_name.to_os_string(),
+            temp,
+            file: Some(file),
+        })
     }
-    sync_dir(dir);
-    Ok(())
+
+    /// The temporary file, for encoders that insist on a path (they may truncate and
+    /// rewrite it; the file stays the same).
+    pub fn temp_path(&self) -> &Path {
+        &self.temp
+    }
+
+    /// The destination.
+    pub fn path(&self) -> &Path {
+        &self.target
+    }
+
+    /// Syncs the temporary file and renames it over the destination, then syncs the folder
+    /// (best effort).
+    pub fn commit(mut self) -> io::Result<()> {
+        self.rename_into_place()?;
+        Ok(())
+    }
+
+    /// Makes what was written so far appear at the destination, complete, and goes on
+    /// writing after it (into a new temporary file holding a copy): for logs that must be
+    /// whole at each checkpoint. Costs a copy of the file.
+    pub fn publish(&mut self) -> io::Result<()> {
+        let mut published = self.rename_into_place()?;
+        let (temp, mut next) =
+            create_temp(&self.dir, &self.file_name).map_err(describe_full_disk)?;
+        self.temp = temp;
+        let copied = published
+            .seek(io::SeekFrom::Start(0))
+            .and_then(|_| io::copy(&mut published, &mut next))
+            .map_err(describe_full_disk);
+        self.file = Some(next);
+        copied.map(|_| ())
+    }
+
+    fn rename_into_place(&mut self) -> io::Result<File> {
+        let Some(mut file) = self.file.take() else {
+            return Err(io::Error::other("the file was already committed"));
+        };
+        let result = file
+            .flush()
+            .and_then(|()| file.sync_all())
+            .and_then(|()| fs::rename(&self.temp, &self.target))
+            .map_err(describe_full_disk);
+        if let Err(e) = result {
+            let _ = fs::remove_file(&self.temp);
+            return Err(e);
+        }
+        sync_dir(&self.dir);
+        Ok(file)
+    }
+
+    /// Appends the content of the existing destination (if any) to the temporary file:
+    /// to continue a log. Returns whether there was one.
+    pub fn copy_existing(&mut self) -> io::Result<bool> {
+        let Some(file) = self.file.as_mut() else {
+            return Err(io::Error::other("the file was already committed"));
+        };
+        match File::open(&self.target) {
+            Ok(mut existing) => {
+                let mut bytes = Vec::new();
+                existing.read_to_end(&mut bytes)?;
+                file.write_all(&bytes).map_err(describe_full_disk)?;
+                Ok(true)
+            }
+            Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(false),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match self.file.as_mut() {
+            Some(file) => file.write(buf).map_err(describe_full_disk),
+            None => Err(io::Error::other("the file was already committed")),
+        }
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        match self.file.as_mut() {
+            Some(file) => file.flush().map_err(describe_full_disk),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.file.take().is_some() {
+            let _ = fs::remove_file(&self.temp);
+        }
+    }
+}
+
+/// The name of a temporary file of `file_name` written by process `pid`.
+fn temp_name(file_name: &OsStr, pid: u32, n: u64) -> OsString {
+    let mut name = OsString::from(".");
+    name.push(file_name);
+    name.push(format!(".{pid}.{n}.tmp"));
+    name
+}
+
+/// The process that wrote `name`, if it is a temporary file of `file_name` by our rule.
+fn temp_owner(name: &OsStr, file_name: &OsStr) -> Option<u32> {
+    let name = name.to_str()?;
+    let file_name = file_name.to_str()?;
+    let rest = name
+        .strip_prefix('.')?
+        .strip_prefix(file_name)?
+        .strip_prefix('.')?
+        .strip_suffix(".tmp")?;
+    let (pid, n) = rest.split_once('.')?;
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    (digits(pid) && digits(n)).then(|| pid.parse().ok())?
+}
+
+/// Whether process `pid` is known to be gone; `None` where this cannot be told.
+fn process_gone(pid: u32) -> Option<bool> {
+    if cfg!(target_os = "linux") && Path::new("/proc/self").exists() {
+        Some(!Path::new("/proc").join(pid.to_string()).exists())
+    } else {
+        None
+    }
+}
+
+/// Removes the temporaries of `file_name` in `dir` left by killed writers (best effort).
+fn remove_stale_temporaries(dir: &Path, file_name: &OsStr) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    let me = std::process::id();
+    for entry in entries.flatten() {
+        let Some(pid) = temp_owner(&entry.file_name(), file_name) else {
+            continue;
+        };
+        if pid == me {
+            continue;
+        }
+        let stale = match process_gone(pid) {
+            Some(gone) => gone,
+            None => entry
+                .metadata()
+                .and_then(|m| m.modified())
+                .ok()
+                .and_then(|t| t.elapsed().ok())
+                .is_some_and(|age| age >= STALE_AFTER),
+        };
+        let is_file = entry.file_type().is_ok_and(|t| t.is_file());
+        if stale && is_file {
+            let _ = fs::remove_file(entry.path());
+        }
+    }
 }
 
 /// Creates a new, unique temporary file `.<name>.<pid>.<n>.tmp` in `dir`.
@@ -49,11 +266,9 @@ fn create_temp(dir: &Path, file_name: &OsStr) -> io::Result<(PathBuf, File)> {
     let mut attempts = 0u32;
     loop {
         let n = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
-        let mut name = OsString::from(".");
-        name.push(file_name);
-        name.push(format!(".{}.{n}.tmp", std::process::id()));
-        let temp_path = dir.join(name);
+        let temp_path = dir.join(temp_name(file_name, std::process::id(), n));
         match OpenOptions::new()
+            .read(true)
             .write(true)
             .create_new(true)
             .open(&temp_path)
@@ -80,7 +295,103 @@ fn sync_dir(dir: &Path) {
 
 #[cfg(test)]
 mod tests {
-    use super::write_atomic;
+    use super::{AtomicFile, describe_full_disk, is_disk_full, temp_owner, write_atomic};
+    use std::ffi::OsStr;
+    use std::io::Write as _;
+
+    fn names(dir: &std::path::Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_stale_temporary_of_a_dead_process_is_removed_before_writing() {
+        let dir = tempfile::tempdir().unwrap();
+        // PIDs on Linux stay below 2^22, so 999999 is free unless pid_max was raised.
+        assert!(!std::path::Path::new("/proc/999999").exists());
+        std::fs::write(dir.path().join(".out.bvh.999999.0.tmp"), b"half a file").unwrap();
+        write_atomic(&dir.path().join("out.bvh"), b"whole").unwrap();
+        assert_eq!(names(dir.path()), ["out.bvh"]);
+    }
+
+    #[test]
+    fn temporaries_of_live_processes_and_other_names_are_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let live = format!(".out.bvh.{}.77.tmp", std::process::id());
+        for name in [live.as_str(), ".other.bvh.999999.0.tmp", ".out.bvh.x.0.tmp"] {
+            std::fs::write(dir.path().join(name), b"keep").unwrap();
+        }
+        write_atomic(&dir.path().join("out.bvh"), b"whole").unwrap();
+        assert_eq!(names(dir.path()).len(), 4);
+    }
+
+    #[test]
+    fn temporary_names_are_parsed_exactly() {
+        let name = OsStr::new("out.bvh");
+        assert_eq!(temp_owner(OsStr::new(".out.bvh.12.3.tmp"), name), Some(12));
+        assert_eq!(temp_owner(OsStr::new(".out.bvh.12.tmp"), name), None);
+        assert_eq!(temp_owner(OsStr::new(".out.bvh.x.12.3.tmp"), name), None);
+        assert_eq!(temp_owner(OsStr::new(".out.bvhh.12.3.tmp"), name), None);
+        assert_eq!(temp_owner(OsStr::new("out.bvh.12.3.tmp"), name), None);
+    }
+
+    #[test]
+    fn an_uncommitted_file_leaves_the_destination_and_no_temporary() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("log.csv");
+        std::fs::write(&path, b"old").unwrap();
+        let mut file = AtomicFile::create(&path).unwrap();
+        file.write_all(b"new, unfinished").unwrap();
+        drop(file);
+        assert_eq!(std::fs::read(&path).unwrap(), b"old");
+        assert_eq!(names(dir.path()), ["log.csv"]);
+    }
+
+    #[test]
+    fn publish_shows_what_was_written_and_writing_goes_on() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("log.csv");
+        std::fs::write(&path, b"a\n").unwrap();
+        let mut file = AtomicFile::create(&path).unwrap();
+        assert!(file.copy_existing().unwrap());
+        file.write_all(b"b\n").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"a\n");
+        file.publish().unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"a\nb\n");
+        file.write_all(b"c\n").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"a\nb\n");
+        file.commit().unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"a\nb\nc\n");
+        assert_eq!(names(dir.path()), ["log.csv"]);
+    }
+
+    #[test]
+    fn a_full_disk_is_called_so() {
+        let e = describe_full_disk(std::io::Error::from_raw_os_error(28));
+        assert!(is_disk_full(&e));
+        assert_eq!(e.kind(), std::io::ErrorKind::StorageFull);
+        assert_eq!(e.to_string(), "disk full (no space left on device)");
+        let other = describe_full_disk(std::io::Error::from_raw_os_error(2));
+        assert_eq!(other.kind(), std::io::ErrorKind::NotFound);
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn writing_to_dev_full_says_disk_full() {
+        let Ok(mut f) = std::fs::OpenOptions::new().write(true).open("/dev/full") else {
+            return;
+        };
+        let e = f.write_all(b"x").and_then(|()| f.flush()).unwrap_err();
+        assert_eq!(
+            describe_full_disk(e).to_string(),
+            "disk full (no space left on device)"
+        );
+    }
 
     #[test]
     fn replaces_content_and_leaves_no_temporary_file() {

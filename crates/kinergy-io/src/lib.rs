@@ -1,7 +1,9 @@
 //! File I/O shared by every Kinergy crate, in one place:
 //!
 //! - [`write_atomic`]: replace a file so readers see the old content or the new, never a
-//!   part (temporary file in the same folder, sync, rename);
+//!   part (temporary file in the same folder, sync, rename), and [`AtomicFile`] for files
+//!   written piece by piece; stale temporaries of killed writers are removed (see
+//!   [`atomic`] for the rule);
 //! - [`json`] (feature `json`, on by default): versioned JSON documents — the parameters
 //!   file, checkpoints, scenes, fields — read with one rule for `format_version` and one
 //!   error shape naming the line and column or the field, written pretty and atomically;
@@ -10,12 +12,12 @@
 //! std + serde only, so the format crates at the bottom of the workspace can use it.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
-mod atomic;
+pub mod atomic;
 #[cfg(feature = "json")]
 pub mod json;
 mod text;
 
-pub use atomic::write_atomic;
+pub use atomic::{AtomicFile, STALE_AFTER, describe_full_disk, is_disk_full, write_atomic};
 #[cfg(feature = "json")]
 pub use json::{JsonError, check_version, parse_versioned, to_pretty_json, write_json};
 pub use text::{MAX_QUOTED_CHARS, clip_text};

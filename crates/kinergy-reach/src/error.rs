@@ -17,6 +17,14 @@ pub enum ReachError {
         /// What was expected.
         why: String,
     },
+    /// A file or folder could not be written (a full disk says "disk full").
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file or folder.
+        path: std::path::PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
 }
 
 /// Shorthand for results of this crate.

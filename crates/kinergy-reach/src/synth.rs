@@ -137,9 +137,9 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
         "frame_rate",
         "a positive number of frames per second",
     )?;
-    let io = |path: &Path, e: std::io::Error| ReachError::Setting {
-        field: "output".into(),
-        why: format!("{}: {e}", path.display()),
+    let io = |path: &Path, e: std::io::Error| ReachError::Io {
+        path: path.to_path_buf(),
+        source: kinergy_io::describe_full_disk(e),
     };
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
     let mut rows = Vec::new();

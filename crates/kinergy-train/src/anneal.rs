@@ -515,31 +515,31 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
 /// A CSV log of the run, one row per iteration:
 /// `iteration,evaluations,temperature,best_cost,mean_cost,acceptance`. Write errors are kept
 /// and reported by [`CsvLog::finish`].
+///
+/// The log is written atomically (see [`kinergy_io::atomic`]): rows go to a temporary file
+/// beside it, which replaces the log at each checkpoint and on [`CsvLog::finish`]. So the
+/// file at its path is always whole: the previous log, or this run's up to its last
+/// checkpoint (the iteration a resumed run continues from), or this run's complete log. A
+/// log dropped without `finish` leaves the file as it last was.
 #[derive(Debug)]
 pub struct CsvLog {
     path: PathBuf,
-    out: Option<std::io::BufWriter<std::fs::File>>,
+    out: Option<kinergy_io::AtomicFile>,
     error: Option<std::io::Error>,
 }
 
 impl CsvLog {
-    /// Creates the log (with its header), or appends to it when `append` (a resumed run).
+    /// Starts the log (with its header), or continues the existing one when `append` (a
+    /// resumed run).
     pub fn create(path: &Path, append: bool) -> Result<CsvLog> {
         use std::io::Write;
         let io = |source| TrainError::Io {
             path: path.to_path_buf(),
             source,
         };
-        let exists = append && path.exists();
-        let file = std::fs::OpenOptions::new()
-            .create(true)
-            .write(true)
-            .append(append)
-            .truncate(!append)
-            .open(path)
-            .map_err(io)?;
-        let mut out = std::io::BufWriter::new(file);
-        if !exists {
+        let mut out = kinergy_io::AtomicFile::create(path).map_err(io)?;
+        let continued = append && out.copy_existing().map_err(io)?;
+        if !continued {
             writeln!(
                 out,
                 "iteration,evaluations,temperature,best_cost,mean_cost,acceptance"
@@ -553,13 +553,13 @@ impl CsvLog {
         })
     }
 
-    /// Flushes the log; the first write error, if any.
+    /// Puts the complete log in place; the first write error, if any.
     pub fn finish(mut self) -> Result<()> {
-        use std::io::Write;
-        if let Some(mut out) = self.out.take()
-            && let Err(e) = out.flush()
+        if let Some(out) = self.out.take()
+            && self.error.is_none()
+            && let Err(e) = out.commit()
         {
-            self.error.get_or_insert(e);
+            self.error = Some(e);
         }
         match self.error.take() {
             Some(source) => Err(TrainError::Io {
@@ -583,6 +583,17 @@ impl Observer for CsvLog {
                 "{},{},{},{},{},{}",
                 p.iteration, p.evaluations, p.temperature, p.best_cost, p.mean_cost, p.acceptance
             )
+        {
+            self.error = Some(e);
+        }
+    }
+
+    fn on_checkpoint(&mut self, _path: &Path, _iteration: usize) {
+        if self.error.is_some() {
+            return;
+        }
+        if let Some(out) = self.out.as_mut()
+            && let Err(e) = out.publish()
         {
             self.error = Some(e);
         }

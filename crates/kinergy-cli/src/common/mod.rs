@@ -1,6 +1,7 @@
 //! What the subcommands share: failures with exit codes, output on stdout, the options
 //! several subcommands take ([`args`]), clip paths ([`clips`]), captured reaches from the
-//! command line ([`captured`]) and the progress bar ([`progress`]).
+//! command line ([`captured`]), the progress bar ([`progress`]) and the checks every output
+//! passes before any work ([`outputs`]).
 
 use std::fmt;
 use std::path::Path;
@@ -8,11 +9,13 @@ use std::path::Path;
 pub mod args;
 pub mod captured;
 pub mod clips;
+pub mod outputs;
 pub mod progress;
 
 pub use args::{ArmArgs, ReadArgs, SearchArgs, parse_frames, parse_point, parse_size};
 pub use captured::CaptureArgs;
 pub use clips::collect_clips;
+pub use outputs::{Output, check_outputs};
 pub use progress::Bar;
 
 /// Why a command stopped: bad input (exit 2) or a task that could not be done (exit 1).

@@ -1,0 +1,243 @@
+//! Outputs checked before any work: every subcommand that writes calls [`check_outputs`]
+//! first, so a run that could only end in a lost input or an unwritable file stops at once
+//! (exit 2), having written nothing.
+//!
+//! Refused:
+//! - an output whose folder does not exist (or is not a folder);
+//! - an output file that exists and is not a regular file (a folder, a device such as
+//!   `/dev/null`, a FIFO, a socket): atomic replacement would put a file in its place;
+//! - an output folder that exists and is not a folder;
+//! - an output that is one of the inputs, however spelled (`./x/../a.bvh`, a symbolic or
+//!   hard link): compared by canonical path and, where the file exists, by device and inode;
+//! - two outputs that are the same file (`--checkpoint` equal to `-o`).
+
+use std::fs::{self, Metadata};
+use std::path::{Path, PathBuf};
+
+use super::Failure;
+
+/// One output of a command: the option that names it and its path.
+#[derive(Debug, Clone, Copy)]
+pub enum Output<'a> {
+    /// A file, written (atomically) or replaced.
+    File(&'a str, &'a Path),
+    /// A folder the command writes files into; it may be created, its parent must exist.
+    Folder(&'a str, &'a Path),
+}
+
+impl<'a> Output<'a> {
+    fn option(&self) -> &'a str {
+        match *self {
+            Output::File(option, _) | Output::Folder(option, _) => option,
+        }
+    }
+
+    fn path(&self) -> &'a Path {
+        match *self {
+            Output::File(_, path) | Output::Folder(_, path) => path,
+        }
+    }
+}
+
+/// A file's identity: its canonical path (for a file still to be made, its folder's
+/// canonical path and its name) and, when it exists, its device and inode.
+#[derive(Debug, PartialEq)]
+struct Identity {
+    path: PathBuf,
+    inode: Option<(u64, u64)>,
+}
+
+impl Identity {
+    fn of(path: &Path) -> Option<Identity> {
+        if let Ok(canonical) = fs::canonicalize(path) {
+            let inode = fs::metadata(&canonical).ok().and_then(|m| inode(&m));
+            return Some(Identity {
+                path: canonical,
+                inode,
+            });
+        }
+        let name = path.file_name()?;
+        let folder = fs::canonicalize(folder_of(path)).ok()?;
+        Some(Identity {
+            path: folder.join(name),
+            inode: None,
+        })
+    }
+
+    fn same(&self, other: &Identity) -> bool {
+        self.path == other.path || (self.inode.is_some() && self.inode == other.inode)
+    }
+}
+
+#[cfg(unix)]
+fn inode(m: &Metadata) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt;
+    Some((m.dev(), m.ino()))
+}
+
+#[cfg(not(unix))]
+fn inode(_: &Metadata) -> Option<(u64, u64)> {
+    None
+}
+
+/// The folder `path` is written in.
+fn folder_of(path: &Path) -> &Path {
+    path.parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
+}
+
+/// What a file that is not a regular file is, for messages.
+fn kind(m: &Metadata) -> &'static str {
+    let t = m.file_type();
+    if t.is_dir() {
+        return "a folder";
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_char_device() || t.is_block_device() {
+            return "a device";
+        }
+        if t.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    "not a regular file"
+}
+
+/// Checks `outputs` before any work (see the [module docs](self)): each one's folder
+/// exists, an existing file output is a regular file (an existing folder output a folder),
+/// none is one of `inputs` (files or folders, however spelled), and no two are the same.
+/// Inputs that do not exist are ignored here (reading them reports them).
+pub fn check_outputs(inputs: &[&Path], outputs: &[Output<'_>]) -> Result<(), Failure> {
+    let inputs: Vec<(&Path, Identity)> = inputs
+        .iter()
+        .filter_map(|p| Identity::of(p).map(|id| (*p, id)))
+        .collect();
+    let mut seen: Vec<(Output<'_>, Identity)> = Vec::with_capacity(outputs.len());
+    for &output in outputs {
+        let (option, path) = (output.option(), output.path());
+        let named = || format!("{option} {}", path.display());
+        let folder = folder_of(path);
+        match fs::metadata(folder) {
+            Ok(m) if m.is_dir() => {}
+            Ok(_) => {
+                return Err(Failure::Input(format!(
+                    "{}: {} is not a folder",
+                    named(),
+                    folder.display()
+                )));
+            }
+            Err(_) => {
+                return Err(Failure::Input(format!(
+                    "{}: the folder {} does not exist",
+                    named(),
+                    folder.display()
+                )));
+            }
+        }
+        if let Ok(m) = fs::metadata(path) {
+            match output {
+                Output::File(..) if !m.is_file() => {
+                    return Err(Failure::Input(format!(
+                        "{}: exists and is {}, not a regular file: name a new or a regular file",
+                        named(),
+                        kind(&m)
+                    )));
+                }
+                Output::Folder(..) if !m.is_dir() => {
+                    return Err(Failure::Input(format!(
+                        "{}: exists and is not a folder",
+                        named()
+                    )));
+                }
+                _ => {}
+            }
+        }
+        let Some(id) = Identity::of(path) else {
+            return Err(Failure::Input(format!("{}: does not name a file", named())));
+        };
+        if let Output::File(..) = output
+            && let Some((input, _)) = inputs.iter().find(|(_, i)| i.same(&id))
+        {
+            let also = if *input == path {
+                String::new()
+            } else {
+                format!(" ({})", input.display())
+            };
+            return Err(Failure::Input(format!(
+                "{}: is one of the inputs{also}; writing it would replace it: choose another output",
+                named()
+            )));
+        }
+        if let Some((first, _)) = seen.iter().find(|(_, i)| i.same(&id)) {
+            return Err(Failure::Input(format!(
+                "{}: is also the {} output: choose different files",
+                named(),
+                first.option()
+            )));
+        }
+        seen.push((output, id));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Failure, Output, check_outputs};
+
+    fn refused(r: Result<(), Failure>) -> String {
+        match r {
+            Err(Failure::Input(m)) => m,
+            other => panic!("expected bad input, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_new_file_in_an_existing_folder_is_fine() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in.bvh");
+        std::fs::write(&input, "x").unwrap();
+        let out = dir.path().join("out.bvh");
+        check_outputs(&[&input], &[Output::File("-o", &out)]).unwrap();
+    }
+
+    #[test]
+    fn the_input_under_another_spelling_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("x")).unwrap();
+        let input = dir.path().join("x").join("in.bvh");
+        std::fs::write(&input, "x").unwrap();
+        let other = dir.path().join("x").join("..").join("x").join("in.bvh");
+        let m = refused(check_outputs(&[&input], &[Output::File("-o", &other)]));
+        assert!(m.contains("is one of the inputs"), "{m}");
+    }
+
+    #[test]
+    fn two_outputs_that_are_one_file_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("p.json");
+        let b = dir.path().join(".").join("p.json");
+        let m = refused(check_outputs(
+            &[],
+            &[Output::File("-o", &a), Output::File("--checkpoint", &b)],
+        ));
+        assert!(m.contains("is also the -o output"), "{m}");
+    }
+
+    #[test]
+    fn a_missing_folder_and_a_folder_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("nope").join("out.bvh");
+        let m = refused(check_outputs(&[], &[Output::File("-o", &missing)]));
+        assert!(m.contains("does not exist"), "{m}");
+        let m = refused(check_outputs(&[], &[Output::File("-o", dir.path())]));
+        assert!(m.contains("a folder"), "{m}");
+        check_outputs(&[], &[Output::Folder("-o", dir.path())]).unwrap();
+        check_outputs(&[], &[Output::Folder("-o", &dir.path().join("new"))]).unwrap();
+    }
+}
