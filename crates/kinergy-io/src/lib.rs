@@ -6,13 +6,21 @@
 //!   file, checkpoints, scenes, fields — read with one rule for `format_version` and one
 //!   error shape naming the line and column or the field, written pretty and atomically.
 //!
+//! - [`read_limited`] / [`read_to_string_limited`]: bounded input, regular files only, so
+//!   no file (or `/dev/zero`, or a FIFO) makes a command read without end.
+//!
 //! std + serde only, so the format crates at the bottom of the workspace can use it.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 mod atomic;
 #[cfg(feature = "json")]
 pub mod json;
+pub mod read;
 
 pub use atomic::write_atomic;
 #[cfg(feature = "json")]
 pub use json::{JsonError, check_version, parse_versioned, to_pretty_json, write_json};
+pub use read::{
+    MAX_CAPTURE_BYTES, MAX_JSON_BYTES, MIB, describe_file_type, format_limit, not_regular,
+    read_limited, read_to_string_limited,
+};

@@ -241,7 +241,7 @@ impl AnnealState {
             path: path.to_path_buf(),
             why,
         };
-        let text = std::fs::read_to_string(path).map_err(|source| TrainError::Io {
+        let text = kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES).map_err(|source| TrainError::Io {
             path: path.to_path_buf(),
             source,
         })?;
