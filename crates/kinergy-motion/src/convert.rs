@@ -79,6 +79,9 @@ pub struct ImportOptions {
     pub position_reading: PositionReadingChoice,
     /// The file's up axis, or detected from its first frame.
     pub up: UpChoice,
+    /// The largest file [`read_clip`] reads, bytes; `None`:
+    /// [`kinergy_bvh::MAX_FILE_BYTES`] (256 MiB).
+    pub max_file_bytes: Option<u64>,
 }
 
 /// Why the root's position channels were read as they were.
@@ -343,9 +346,17 @@ pub fn clip_from_bvh(bvh: &Bvh, options: &ImportOptions) -> Result<(Clip, Import
     ))
 }
 
-/// Reads a BVH file as a clip; errors name the file (and line, for parse errors).
+/// Reads a BVH file as a clip; errors name the file (and line, for parse errors). Only
+/// regular files up to [`ImportOptions::max_file_bytes`] are read (see
+/// [`kinergy_bvh::read_file`]).
 pub fn read_clip(path: &Path, options: &ImportOptions) -> Result<(Clip, ImportReport)> {
-    let bvh = kinergy_bvh::read_file(path, &kinergy_bvh::ReadOptions::default())?;
+    let read = kinergy_bvh::ReadOptions {
+        max_file_bytes: options
+            .max_file_bytes
+            .unwrap_or(kinergy_bvh::MAX_FILE_BYTES),
+        ..kinergy_bvh::ReadOptions::default()
+    };
+    let bvh = kinergy_bvh::read_file(path, &read)?;
     clip_from_bvh(&bvh, options)
 }
 

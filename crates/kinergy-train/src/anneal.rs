@@ -241,10 +241,12 @@ impl AnnealState {
             path: path.to_path_buf(),
             why,
         };
-        let text = kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES).map_err(|source| TrainError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES).map_err(
+            |source| TrainError::Io {
+                path: path.to_path_buf(),
+                source,
+            },
+        )?;
         let state: AnnealState = kinergy_io::parse_versioned(&text, CHECKPOINT_VERSION)
             .map_err(|e| bad(e.to_string()))?;
         let n = state.lower.len();

@@ -8,11 +8,13 @@ use std::path::Path;
 pub mod args;
 pub mod captured;
 pub mod clips;
+pub mod limits;
 pub mod progress;
 
 pub use args::{ArmArgs, ReadArgs, SearchArgs, parse_frames, parse_point, parse_size};
 pub use captured::CaptureArgs;
 pub use clips::collect_clips;
+pub use limits::{check_optional, check_range};
 pub use progress::Bar;
 
 /// Why a command stopped: bad input (exit 2) or a task that could not be done (exit 1).
