@@ -84,7 +84,7 @@ pub struct Args {
     #[arg(long, default_value_t = 6, value_name = "N")]
     pub strip_frames: usize,
     /// The GIF's size in pixels (each side 64 to 3840, and at most 400 million pixels in all
-    /// its frames); the strip is N times as wide (at most 32768 pixels wide and 64 million
+    /// its frames); the strip is N times as wide (at most 32768 pixels wide and 100 million
     /// pixels), as high.
     #[arg(long, default_value = "640x480", value_name = "WxH")]
     pub size: String,

@@ -45,8 +45,9 @@ pub const PICTURE_SIDE: (u32, u32) = (64, 3840);
 /// `animate`: GIF width × height × frames (frames = duration × fps + 1), at most: about
 /// 52 s of clip at the default 640x480 and 25 fps.
 pub const MAX_GIF_PIXELS: u64 = 400_000_000;
-/// `animate`: the film strip's width × height, at most.
-pub const MAX_STRIP_PIXELS: u64 = 64_000_000;
+/// `animate`: the film strip's width × height, at most (its bitmap, 3 bytes a pixel, is
+/// held in memory).
+pub const MAX_STRIP_PIXELS: u64 = 100_000_000;
 
 /// `plot speed --smoothing`, seconds.
 pub const PLOT_SMOOTHING: (f64, f64) = (0.0, 10.0);
