@@ -743,12 +743,38 @@ Frame Time: 0.0333333
     }
 
     #[test]
+    fn read_clip_honours_the_file_size_limit() {
+        let dir = std::env::temp_dir().join(format!("kinergy-motion-limit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("small.bvh");
+        std::fs::write(&path, SMALL).expect("write");
+        let len = SMALL.len() as u64;
+        let fits = ImportOptions {
+            max_file_bytes: Some(len),
+            ..ImportOptions::default()
+        };
+        assert!(read_clip(&path, &fits).is_ok());
+        let over = ImportOptions {
+            max_file_bytes: Some(len - 1),
+            ..ImportOptions::default()
+        };
+        let e = read_clip(&path, &over).expect_err("over the limit");
+        assert!(
+            matches!(&e, MotionError::Bvh(kinergy_bvh::Error::Io { source, .. })
+                if source.kind() == std::io::ErrorKind::FileTooLarge),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
     fn forced_readings_and_units() {
         let bvh = kinergy_bvh::parse(SMALL).expect("parse");
         let opts = ImportOptions {
             unit: UnitChoice::Fixed(LengthUnit::Meter),
             position_reading: PositionReadingChoice::Replace,
             up: UpChoice::Fixed(UpAxis::Y),
+            ..ImportOptions::default()
         };
         let (clip, report) = clip_from_bvh(&bvh, &opts).expect("clip");
         assert!(!report.unit_guessed);
