@@ -145,6 +145,30 @@ pub enum ParseErrorKind {
         /// The value as written.
         found: String,
     },
+    /// A frame time outside [`MIN_FRAME_TIME`](crate::MIN_FRAME_TIME) to
+    /// [`MAX_FRAME_TIME`](crate::MAX_FRAME_TIME) seconds (10 kHz to 0.1 Hz): a rate no
+    /// capture has, and one that would make "seconds ÷ frame time" frame counts unbounded.
+    #[error(
+        "frame time `{found}` is out of range: expected {} to {} seconds (10 kHz to 0.1 Hz)",
+        crate::MIN_FRAME_TIME,
+        crate::MAX_FRAME_TIME
+    )]
+    FrameTimeOutOfRange {
+        /// The value as written.
+        found: String,
+    },
+    /// In a file written one frame per line (its first motion line holds exactly one
+    /// frame), a line holding another number of values. Reported at the line: at its
+    /// first surplus value, or at its last value when it holds too few.
+    #[error(
+        "{values} values on this line, but the skeleton has {channels} channels (one frame per line)"
+    )]
+    LineValues {
+        /// The number of values on the line.
+        values: usize,
+        /// The number of values in a frame.
+        channels: usize,
+    },
     /// A number that is NaN or infinite, or overflows `f64` (`nan`, `inf`, `1e999`).
     #[error("`{value}` is not a finite number")]
     NonFinite {
@@ -301,8 +325,14 @@ pub enum WriteError {
         /// 0-based channel within the frame.
         channel: usize,
     },
-    /// A frame time that is not finite and greater than zero.
-    #[error("frame time {value} is not a finite number greater than 0")]
+    /// A frame time outside [`MIN_FRAME_TIME`](crate::MIN_FRAME_TIME) to
+    /// [`MAX_FRAME_TIME`](crate::MAX_FRAME_TIME) seconds (or not finite): the reader would
+    /// refuse the file.
+    #[error(
+        "frame time {value} is not a number of seconds from {} to {}",
+        crate::MIN_FRAME_TIME,
+        crate::MAX_FRAME_TIME
+    )]
     BadFrameTime {
         /// The frame time.
         value: f64,

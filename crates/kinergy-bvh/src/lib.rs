@@ -24,8 +24,8 @@ mod write;
 
 pub use document::{Bvh, Channel, Joint};
 pub use error::{Error, ParseError, ParseErrorKind, WriteError};
-pub use options::{FrameCountPolicy, ReadOptions};
-pub use read::MAX_DEPTH;
+pub use options::{FrameCountPolicy, MAX_FILE_BYTES, ReadOptions};
+pub use read::{MAX_DEPTH, MAX_FRAME_TIME, MIN_FRAME_TIME};
 
 /// Parses BVH text strictly: `parse_with(text, &ReadOptions::default())`.
 pub fn parse(text: &str) -> Result<Bvh, ParseError> {
@@ -44,11 +44,17 @@ pub fn parse_bytes(bytes: &[u8], options: &ReadOptions) -> Result<Bvh, ParseErro
 }
 
 /// Reads and parses a BVH file. Errors name the file.
+///
+/// Only a regular file is read (a device, FIFO or folder is an [`Error::Io`] of kind
+/// `InvalidInput` saying what it is, refused before it is opened), and at most
+/// [`ReadOptions::max_file_bytes`] of it (one byte more is an [`Error::Io`] of kind
+/// `FileTooLarge`).
 pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Bvh, Error> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+    let bytes =
+        kinergy_io::read_limited(path, options.max_file_bytes).map_err(|source| Error::Io {
+            path: path.to_owned(),
+            source,
+        })?;
     parse_bytes(&bytes, options).map_err(|source| Error::Parse {
         path: path.to_owned(),
         source,

@@ -1,11 +1,27 @@
 //! How strictly to read.
 
+/// The default [`ReadOptions::max_file_bytes`]: 256 MiB.
+pub const MAX_FILE_BYTES: u64 = kinergy_io::MAX_CAPTURE_BYTES;
+
 /// Options for [`parse_with`](crate::parse_with), [`parse_bytes`](crate::parse_bytes) and
-/// [`read_file`](crate::read_file). The default is strict.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+/// [`read_file`](crate::read_file). The default is strict, with files up to
+/// [`MAX_FILE_BYTES`].
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ReadOptions {
     /// What to do when the `Frames:` count disagrees with the motion data.
     pub frame_count: FrameCountPolicy,
+    /// [`read_file`](crate::read_file) refuses a file holding more bytes than this
+    /// (an [`Error::Io`](crate::Error::Io) of kind `FileTooLarge`), checked while reading.
+    pub max_file_bytes: u64,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        ReadOptions {
+            frame_count: FrameCountPolicy::default(),
+            max_file_bytes: MAX_FILE_BYTES,
+        }
+    }
 }
 
 /// What to do when the header's `Frames:` count disagrees with the motion data.

@@ -5,11 +5,20 @@ use std::num::NonZeroUsize;
 use crate::document::{Bvh, Channel, Joint};
 use crate::error::{ParseError, ParseErrorKind};
 use crate::options::{FrameCountPolicy, ReadOptions};
-use crate::scan::{Scanner, Token, is_space, parse_count, parse_fast, parse_number, shorten};
+use crate::scan::{
+    Scanner, Token, is_line_break, is_space, line_breaks_before, parse_count, parse_fast,
+    parse_number, shorten,
+};
 
 /// The deepest nesting of joints (the root is at depth 1) the reader accepts and the
 /// writer produces.
 pub const MAX_DEPTH: usize = 1024;
+
+/// The shortest frame time the reader accepts (and the writer writes), seconds: 10 kHz.
+pub const MIN_FRAME_TIME: f64 = 1e-4;
+
+/// The longest frame time the reader accepts (and the writer writes), seconds: 0.1 Hz.
+pub const MAX_FRAME_TIME: f64 = 10.0;
 
 /// What a joint body may contain, for error messages.
 const BODY: &str = "OFFSET, CHANNELS, JOINT, End Site or `}`";
@@ -35,9 +44,9 @@ pub(crate) fn parse_bytes(bytes: &[u8], options: &ReadOptions) -> Result<Bvh, Pa
             // The prefix is valid UTF-8 by construction.
             let text = std::str::from_utf8(valid).unwrap_or_default();
             let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-            let line_start = text.rfind('\n').map_or(0, |i| i.saturating_add(1));
+            let (breaks, line_start) = line_breaks_before(text.as_bytes(), text.len());
             Err(ParseError {
-                line: text.matches('\n').count().saturating_add(1),
+                line: breaks.saturating_add(1),
                 column: text
                     .get(line_start..)
                     .map_or(1, |s| s.chars().count().saturating_add(1)),
@@ -360,7 +369,15 @@ impl<'a> Parser<'a> {
         self.scanner.label(&["Frame", "Time"], "`Frame Time:`")?;
         let time_token = self.require("a frame time")?;
         let frame_time = match parse_number(time_token.text) {
-            Some(t) if t.is_finite() && t > 0.0 => t,
+            Some(t) if (MIN_FRAME_TIME..=MAX_FRAME_TIME).contains(&t) => t,
+            Some(t) if t.is_finite() && t > 0.0 => {
+                return Err(self.scanner.error_at(
+                    &time_token,
+                    ParseErrorKind::FrameTimeOutOfRange {
+                        found: time_token.found(),
+                    },
+                ));
+            }
             _ => {
                 return Err(self.scanner.error_at(
                     &time_token,
@@ -410,14 +427,25 @@ impl<'a> Parser<'a> {
         let rest = self.scanner.rest();
         let mut i = 0usize;
         let mut last_value = start;
+        // One frame per line or not, decided by the first line holding values: then every
+        // line must hold one frame, and a line that does not is reported on that line.
+        let mut lines = LineCheck::new(channels.get());
         loop {
             while let Some(&b) = rest.get(i) {
                 if !is_space(b) {
                     break;
                 }
+                if is_line_break(rest, i)
+                    && let Some((pos, values)) = lines.end_line()
+                {
+                    return Err(self.line_values(start, pos, values, channels.get()));
+                }
                 i = i.saturating_add(1);
             }
             let Some(tail) = rest.get(i..).filter(|t| !t.is_empty()) else {
+                if let Some((pos, values)) = lines.end_of_text() {
+                    return Err(self.line_values(start, pos, values, channels.get()));
+                }
                 break;
             };
             let token_pos = start.saturating_add(i);
@@ -460,6 +488,9 @@ impl<'a> Parser<'a> {
             };
             motion.push(value);
             last_value = token_pos;
+            if let Some((pos, values)) = lines.value(token_pos.saturating_sub(start)) {
+                return Err(self.line_values(start, pos, values, channels.get()));
+            }
         }
         self.scanner.set_pos_untracked(start.saturating_add(i));
 
@@ -489,6 +520,88 @@ impl<'a> Parser<'a> {
     }
 }
 
+/// The one-frame-per-line rule of the motion section. Positions are offsets into the
+/// motion text.
+struct LineCheck {
+    channels: usize,
+    /// `Some(true)` once the first line holding values held exactly one frame.
+    one_per_line: Option<bool>,
+    /// Values on the current line so far.
+    values: usize,
+    /// Where the current line's first surplus value (value `channels + 1`) is, or its last.
+    at: usize,
+    /// A line with too few values, reported when another value follows it (at the end of
+    /// the text it is a partial frame instead).
+    short: Option<(usize, usize)>,
+}
+
+impl LineCheck {
+    fn new(channels: usize) -> Self {
+        LineCheck {
+            channels,
+            one_per_line: None,
+            values: 0,
+            at: 0,
+            short: None,
+        }
+    }
+
+    /// A value at offset `pos` on the current line: `Some((offset, values))` when a line
+    /// with too few values came before it.
+    #[inline]
+    fn value(&mut self, pos: usize) -> Option<(usize, usize)> {
+        if self.short.is_some() {
+            return self.short;
+        }
+        self.values = self.values.saturating_add(1);
+        if self.values <= self.channels.saturating_add(1) {
+            self.at = pos;
+        }
+        None
+    }
+
+    /// The current line ends: `Some((offset, values))` when it breaks the rule.
+    #[inline]
+    fn end_line(&mut self) -> Option<(usize, usize)> {
+        let values = std::mem::take(&mut self.values);
+        if values == 0 {
+            return None;
+        }
+        match self.one_per_line {
+            None => {
+                self.one_per_line = Some(values == self.channels);
+                None
+            }
+            Some(true) if values > self.channels => Some((self.at, values)),
+            Some(true) if values < self.channels => {
+                self.short = Some((self.at, values));
+                None
+            }
+            Some(_) => None,
+        }
+    }
+
+    /// The text ends: a last line with too many values breaks the rule; one with too few
+    /// is left to the partial-frame check.
+    fn end_of_text(&mut self) -> Option<(usize, usize)> {
+        if self.values > self.channels {
+            self.end_line()
+        } else {
+            None
+        }
+    }
+}
+
+impl Parser<'_> {
+    /// [`ParseErrorKind::LineValues`] at offset `pos` of the motion text at `start`.
+    fn line_values(&self, start: usize, pos: usize, values: usize, channels: usize) -> ParseError {
+        self.scanner.error_at_pos(
+            start.saturating_add(pos),
+            ParseErrorKind::LineValues { values, channels },
+        )
+    }
+}
+
 impl Open {
     fn new(joint: usize, end_site: bool) -> Self {
         Open {
@@ -504,5 +617,147 @@ impl Open {
 fn set_top(stack: &mut [Open], f: impl FnOnce(&mut Open)) {
     if let Some(top) = stack.last_mut() {
         f(top);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A root with 6 channels and a joint with 3: 9 values a frame, motion from line 14.
+    fn text(frames: &[&str], frame_time: &str) -> String {
+        let mut t = String::from(
+            "HIERARCHY\nROOT Hips\n{\n\tOFFSET 0 0 0\n\tCHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n\tJOINT Spine\n\t{\n\t\tOFFSET 0 10 0\n\t\tCHANNELS 3 Zrotation Yrotation Xrotation\n\t\tEnd Site\n\t\t{\n\t\t\tOFFSET 0 5 0\n\t\t}\n\t}\n}\nMOTION\n",
+        );
+        t.push_str(&format!(
+            "Frames: {}\nFrame Time: {frame_time}\n",
+            frames.len()
+        ));
+        for f in frames {
+            t.push_str(f);
+            t.push('\n');
+        }
+        t
+    }
+
+    const FRAME: &str = "0 90 0 0 0 0 1 2 3";
+
+    fn error(text: &str) -> ParseError {
+        parse_str(text, &ReadOptions::default()).unwrap_err()
+    }
+
+    #[test]
+    fn cr_only_line_endings_read_as_the_lf_file() {
+        let lf = text(&[FRAME, FRAME, FRAME], "0.0333333");
+        let cr = lf.replace('\n', "\r");
+        let crlf = lf.replace('\n', "\r\n");
+        let want = parse_str(&lf, &ReadOptions::default()).unwrap();
+        for other in [&cr, &crlf] {
+            let got = parse_str(other, &ReadOptions::default()).unwrap();
+            assert!(got.same_content(&want));
+            assert_eq!(
+                got.joints.iter().map(|j| j.line).collect::<Vec<_>>(),
+                want.joints.iter().map(|j| j.line).collect::<Vec<_>>()
+            );
+        }
+    }
+
+    #[test]
+    fn cr_only_errors_name_the_same_line_as_lf() {
+        let lf = text(&[FRAME, "0 90 0 0 0 x 1 2 3", FRAME], "0.0333333");
+        let e = error(&lf);
+        assert_eq!(e.line, 20);
+        assert_eq!(error(&lf.replace('\n', "\r")), e);
+        let bad_name = lf.replace("JOINT Spine", "JOINT");
+        assert_eq!(error(&bad_name.replace('\n', "\r")), error(&bad_name));
+    }
+
+    #[test]
+    fn a_surplus_value_is_reported_on_its_line() {
+        let e = error(&text(
+            &[FRAME, FRAME, "0 90 0 0 0 0 1 2 3 4", FRAME],
+            "0.0333333",
+        ));
+        assert_eq!(e.line, 21);
+        assert_eq!(
+            e.kind,
+            ParseErrorKind::LineValues {
+                values: 10,
+                channels: 9
+            }
+        );
+        assert_eq!(e.column, 20, "at the surplus value");
+        // On the last line too, and on a line one short then one long (which would
+        // otherwise read as two shifted frames).
+        let e = error(&text(&[FRAME, "0 90 0 0 0 0 1 2 3 4"], "0.0333333"));
+        assert_eq!(
+            (e.line, e.kind.clone()),
+            (
+                20,
+                ParseErrorKind::LineValues {
+                    values: 10,
+                    channels: 9
+                }
+            )
+        );
+        let e = error(&text(
+            &[FRAME, "0 90 0 0 0 0 1 2", "0 90 0 0 0 0 1 2 3 4"],
+            "0.0333333",
+        ));
+        assert_eq!(
+            (e.line, e.kind),
+            (
+                20,
+                ParseErrorKind::LineValues {
+                    values: 8,
+                    channels: 9
+                }
+            )
+        );
+    }
+
+    #[test]
+    fn wrapped_and_several_frames_per_line_still_read() {
+        let wrapped = text(
+            &["0 90 0 0", "0 0 1 2 3 0 90 0", "0 0 0 1 2 3"],
+            "0.0333333",
+        );
+        let wrapped = wrapped.replace("Frames: 3", "Frames: 2");
+        assert_eq!(
+            parse_str(&wrapped, &ReadOptions::default())
+                .unwrap()
+                .frame_count,
+            2
+        );
+        let two = format!("{FRAME} {FRAME}");
+        let both = text(&[&two], "0.0333333").replace("Frames: 1", "Frames: 2");
+        assert_eq!(
+            parse_str(&both, &ReadOptions::default())
+                .unwrap()
+                .frame_count,
+            2
+        );
+    }
+
+    #[test]
+    fn frame_times_outside_the_range_are_refused_on_their_line() {
+        for t in ["1e-300", "0.00009", "11", "1e300"] {
+            let e = error(&text(&[FRAME], t));
+            assert_eq!(e.line, 18, "{t}");
+            assert_eq!(
+                e.kind,
+                ParseErrorKind::FrameTimeOutOfRange { found: t.into() }
+            );
+        }
+        for t in ["0.0001", "10", "0.0083333"] {
+            assert!(
+                parse_str(&text(&[FRAME], t), &ReadOptions::default()).is_ok(),
+                "{t}"
+            );
+        }
+        assert!(matches!(
+            error(&text(&[FRAME], "0")).kind,
+            ParseErrorKind::BadFrameTime { .. }
+        ));
     }
 }

@@ -15,10 +15,36 @@ pub(crate) fn is_space(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0B | 0x0C)
 }
 
-/// Separators that do not end a line.
+/// Separators that do not end a line (a CR does only when no LF follows it).
 #[inline]
 fn is_inline_space(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | 0x0B | 0x0C)
+}
+
+/// Whether the byte at `i` ends a line: an LF, or a CR that no LF follows (old Mac OS
+/// files end lines with CR alone; in CRLF the LF ends the line).
+#[inline]
+pub(crate) fn is_line_break(bytes: &[u8], i: usize) -> bool {
+    match bytes.get(i) {
+        Some(b'\n') => true,
+        Some(b'\r') => bytes.get(i.saturating_add(1)) != Some(&b'\n'),
+        _ => false,
+    }
+}
+
+/// The number of line breaks ([`is_line_break`]) in `bytes[..end]` and the offset just
+/// after the last one (0 if none).
+pub(crate) fn line_breaks_before(bytes: &[u8], end: usize) -> (usize, usize) {
+    let end = end.min(bytes.len());
+    let mut count = 0usize;
+    let mut line_start = 0usize;
+    for i in 0..end {
+        if is_line_break(bytes, i) {
+            count = count.saturating_add(1);
+            line_start = i.saturating_add(1);
+        }
+    }
+    (count, line_start)
 }
 
 /// A whitespace-free run of the text and where it starts.
@@ -104,8 +130,9 @@ impl<'a> Scanner<'a> {
             if !is_space(b) {
                 break;
             }
+            let breaks = is_line_break(self.bytes, self.pos);
             self.pos = self.pos.saturating_add(1);
-            if b == b'\n' {
+            if breaks {
                 self.line = self.line.saturating_add(1);
                 self.line_start = self.pos;
             }
@@ -115,7 +142,7 @@ impl<'a> Scanner<'a> {
     /// Skips separators that do not end the line.
     pub fn skip_inline_space(&mut self) {
         while let Some(&b) = self.bytes.get(self.pos) {
-            if !is_inline_space(b) {
+            if !is_inline_space(b) || is_line_break(self.bytes, self.pos) {
                 break;
             }
             self.pos = self.pos.saturating_add(1);
@@ -153,7 +180,8 @@ impl<'a> Scanner<'a> {
     pub fn next_token_inline(&mut self) -> Option<Token<'a>> {
         self.skip_inline_space();
         match self.bytes.get(self.pos) {
-            None | Some(b'\n') => None,
+            None => None,
+            Some(_) if is_line_break(self.bytes, self.pos) => None,
             Some(_) => Some(self.take_token()),
         }
     }
@@ -220,12 +248,7 @@ impl<'a> Scanner<'a> {
     /// An error at byte offset `pos`, counting lines from the start of the text. Only for
     /// the motion section, where lines are not tracked while scanning.
     pub fn error_at_pos(&self, pos: usize, kind: ParseErrorKind) -> ParseError {
-        let before = self.bytes.get(..pos).unwrap_or(self.bytes);
-        let newlines = before.iter().filter(|&&b| b == b'\n').count();
-        let line_start = before
-            .iter()
-            .rposition(|&b| b == b'\n')
-            .map_or(0, |i| i.saturating_add(1));
+        let (newlines, line_start) = line_breaks_before(self.bytes, pos);
         ParseError {
             line: newlines.saturating_add(1),
             column: self.column(line_start, pos),

@@ -16,7 +16,8 @@ impl Bvh {
     /// * every joint's `first_channel` is the number of channels of the joints before it,
     ///   and no joint lists a channel twice;
     /// * `motion.len() == frame_count * channel_count()`;
-    /// * offsets and motion values are finite, and `frame_time` is finite and `> 0`;
+    /// * offsets and motion values are finite, and `frame_time` is within
+    ///   [`MIN_FRAME_TIME`](crate::MIN_FRAME_TIME)..=[`MAX_FRAME_TIME`](crate::MAX_FRAME_TIME);
     /// * joint names are non-empty, not `{` or `}`, and without whitespace or control
     ///   characters; End Sites have no name, no channels and no children.
     ///
@@ -113,7 +114,7 @@ impl Bvh {
                 channel: bad.checked_rem(channels).unwrap_or(0),
             });
         }
-        if !(self.frame_time.is_finite() && self.frame_time > 0.0) {
+        if !(crate::MIN_FRAME_TIME..=crate::MAX_FRAME_TIME).contains(&self.frame_time) {
             return Err(WriteError::BadFrameTime {
                 value: self.frame_time,
             });

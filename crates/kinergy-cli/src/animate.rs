@@ -10,16 +10,14 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde::Serialize;
 
-use crate::common::collect_clips;
-use crate::common::{Failure, ReadArgs, emit, print_json};
+use crate::common::limits;
+use crate::common::{Failure, ReadArgs, check_range, collect_clips, emit, parse_size, print_json};
 use crate::draw::{self, DrawResult, FONT, Figure, Format};
 
 /// The most clips one picture holds: one palette colour each.
 const MAX_CLIPS: usize = 8;
 /// The widest film strip, pixels (its bitmap is held in memory).
 const MAX_STRIP_WIDTH: u64 = 32_768;
-/// The smallest and largest side of the GIF (and of a strip panel), pixels.
-const SIZE_RANGE: std::ops::RangeInclusive<u32> = 64..=4096;
 /// The margin around the figures' common bounding box, as a part of its larger side.
 const MARGIN: f64 = 0.06;
 /// The length of a legend entry's colour line, pixels.
@@ -85,7 +83,9 @@ pub struct Args {
     /// longest clip.
     #[arg(long, default_value_t = 6, value_name = "N")]
     pub strip_frames: usize,
-    /// The GIF's size in pixels (each side 64 to 4096); the strip is N times as wide, as high.
+    /// The GIF's size in pixels (each side 64 to 3840, and at most 400 million pixels in all
+    /// its frames); the strip is N times as wide (at most 32768 pixels wide and 100 million
+    /// pixels), as high.
     #[arg(long, default_value = "640x480", value_name = "WxH")]
     pub size: String,
     /// Print the report as JSON.
@@ -435,11 +435,6 @@ impl Figure for Strip<'_> {
     }
 }
 
-/// `WxH` → (W, H), each side within [`SIZE_RANGE`].
-fn parse_size(text: &str) -> Result<(u32, u32), Failure> {
-    crate::common::parse_size(text, SIZE_RANGE)
-}
-
 /// Labels for the clips: their file stems, with as many parent folders as it takes to tell
 /// them apart (`p01/r01`, `p02/r01`).
 fn labels(paths: &[PathBuf]) -> Vec<String> {
@@ -497,18 +492,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .clone()
         .unwrap_or_else(|| args.output.with_extension("png"));
     Format::of(&strip, "--strip")?;
-    if !(1..=100).contains(&args.fps) {
-        return Err(Failure::Input(format!(
-            "--fps {}: must be 1 to 100 frames per second",
-            args.fps
-        )));
-    }
-    if !(1..=24).contains(&args.strip_frames) {
-        return Err(Failure::Input(format!(
-            "--strip-frames {}: must be 1 to 24 snapshots",
-            args.strip_frames
-        )));
-    }
+    args.read.check()?;
+    check_range("--fps", args.fps, limits::ANIMATE_FPS)?;
+    check_range(
+        "--strip-frames",
+        args.strip_frames,
+        limits::ANIMATE_STRIP_FRAMES,
+    )?;
     let size = parse_size(&args.size)?;
     let strip_width = u64::from(size.0) * args.strip_frames as u64;
     if strip_width > MAX_STRIP_WIDTH {
@@ -516,6 +506,16 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "--strip-frames {} × --size width {} = {strip_width} pixels: the strip may be at \
              most {MAX_STRIP_WIDTH} pixels wide",
             args.strip_frames, size.0
+        )));
+    }
+    let strip_pixels = strip_width * u64::from(size.1);
+    if strip_pixels > limits::MAX_STRIP_PIXELS {
+        return Err(Failure::Input(format!(
+            "--strip-frames {} × --size {}: the strip would have {strip_pixels} pixels, at \
+             most {} are drawn; lower --size or --strip-frames",
+            args.strip_frames,
+            args.size,
+            limits::MAX_STRIP_PIXELS
         )));
     }
     let strip_size = (u32::try_from(strip_width).unwrap_or(u32::MAX), size.1);
@@ -564,6 +564,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     };
 
     let frames = gif_frame_count(duration, args.fps);
+    let gif_pixels = u64::from(size.0)
+        .saturating_mul(u64::from(size.1))
+        .saturating_mul(frames as u64);
+    if gif_pixels > limits::MAX_GIF_PIXELS {
+        return Err(Failure::Input(format!(
+            "--size {} × {frames} frames (--fps {} over {duration:.2} s): {gif_pixels} pixels \
+             to draw, at most {} are; lower --size or --fps",
+            args.size,
+            args.fps,
+            limits::MAX_GIF_PIXELS
+        )));
+    }
     let fps = f64::from(args.fps);
     let delay_ms = (1000.0 / fps).round() as u32;
     let times = strip_times(duration, args.strip_frames);

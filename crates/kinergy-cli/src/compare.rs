@@ -36,7 +36,9 @@ use kinergy_train::experiment::{
 };
 use serde::Serialize;
 
-use crate::common::{Bar, CaptureArgs, Failure, SearchArgs, emit, print_json, train_failure};
+use crate::common::{
+    Bar, CaptureArgs, Failure, SearchArgs, check_optional, emit, limits, print_json, train_failure,
+};
 
 /// The folder `compare` uses when no clips are given.
 pub const DEFAULT_DATA: &str = "data-synthetic";
@@ -66,7 +68,7 @@ pub struct Args {
     /// training takes (needs `--holdout`).
     #[arg(long, default_value = "clip", value_name = "clip|person")]
     pub per: Per,
-    /// With `--per person`: hold out the last K takes of each person (in name order), fit on
+    /// With `--per person`: hold out the last K takes of each person (1 to 1000, in name order), fit on
     /// the rest and report the held-out takes' distances.
     #[arg(long, value_name = "K")]
     pub holdout: Option<usize>,
@@ -108,6 +110,9 @@ struct CsvRow<'a> {
 
 /// Runs `kinergy compare`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    args.search.check()?;
+    args.reach.read.check()?;
+    check_optional("--holdout", args.holdout, limits::HOLDOUT)?;
     args.search.apply_threads()?;
     let holdout = match (args.per, args.holdout) {
         (Per::Clip, None) => None,

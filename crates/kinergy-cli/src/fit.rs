@@ -10,7 +10,9 @@ use kinergy_train::anneal::{Checkpoint, Control, CsvLog, Observer, Progress};
 use kinergy_train::fit::{Fit, NestedRun};
 use serde::Serialize;
 
-use crate::common::{Bar, CaptureArgs, Failure, SearchArgs, emit, print_json, train_failure};
+use crate::common::{
+    Bar, CaptureArgs, Failure, SearchArgs, check_range, emit, limits, print_json, train_failure,
+};
 
 /// Set by Ctrl-C: the running fit stops after its current iteration and checkpoints.
 pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
@@ -52,7 +54,7 @@ pub struct Args {
     /// Ctrl-C.
     #[arg(long, value_name = "F")]
     pub checkpoint: Option<PathBuf>,
-    /// Iterations between checkpoints.
+    /// Iterations between checkpoints, 1 to 1000000.
     #[arg(long, default_value_t = 20, value_name = "N")]
     pub checkpoint_every: usize,
     /// Continue the fit saved in `--checkpoint` (same clips and settings); the result is bit
@@ -112,12 +114,14 @@ struct FitReport {
 
 /// Runs `kinergy fit`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    args.search.check()?;
+    args.reach.read.check()?;
+    check_range(
+        "--checkpoint-every",
+        args.checkpoint_every,
+        limits::CHECKPOINT_EVERY,
+    )?;
     args.search.apply_threads()?;
-    if args.checkpoint_every == 0 {
-        return Err(Failure::Input(
-            "--checkpoint-every 0: expected at least 1".into(),
-        ));
-    }
     let clips = args.reach.clips(&args.clips)?;
     let reaches = args.reach.load_all(&clips)?;
     let settings = args.search.settings();

@@ -14,7 +14,7 @@ use kinergy_reach::character::Limb;
 use nalgebra::{Isometry3, Point3, Quaternion, UnitQuaternion};
 use serde::Serialize;
 
-use crate::common::{Failure, emit, print_json};
+use crate::common::{Failure, check_optional, check_range, emit, limits, print_json};
 
 /// A manipulation task.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -54,7 +54,7 @@ pub struct Args {
     /// Where a relocated object's origin goes, world meters.
     #[arg(long, value_name = "x,y,z", allow_hyphen_values = true)]
     pub to: Option<String>,
-    /// How far a drawer moves, meters.
+    /// How far a drawer moves, meters, -2 to 2.
     #[arg(long, default_value_t = 0.2, value_name = "D")]
     pub distance: f64,
     /// The acting arm: right or left.
@@ -63,7 +63,7 @@ pub struct Args {
     /// Seed of the planner's random stream (same seed, same motion).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Time budget of each planned phase, milliseconds (the iteration budget, 5000, applies
+    /// Time budget of each planned phase, milliseconds, 1 to 600000 (the iteration budget, 5000, applies
     /// too; a search stopped by time depends on the machine's speed).
     #[arg(long, value_name = "N")]
     pub budget_ms: Option<u64>,
@@ -170,6 +170,8 @@ fn plan_failure(e: PlanError) -> Failure {
 
 /// Runs `kinergy plan`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    check_range("--distance", args.distance, limits::PLAN_DISTANCE)?;
+    check_optional("--budget-ms", args.budget_ms, limits::PLAN_BUDGET_MS)?;
     crate::common::check_outputs(
         &[&args.scene],
         &[crate::common::Output::File("-o", &args.output)],

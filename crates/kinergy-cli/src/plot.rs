@@ -9,7 +9,9 @@ use std::path::PathBuf;
 use kinergy_train::segment::{SegmentSettings, hand_speed};
 use serde::Serialize;
 
-use crate::common::{ArmArgs, Failure, ReadArgs, collect_clips, emit, parse_size, print_json};
+use crate::common::{
+    ArmArgs, Failure, ReadArgs, check_range, collect_clips, emit, limits, parse_size, print_json,
+};
 use crate::draw::{LineChart, Series, save};
 
 /// Arguments of `kinergy plot`.
@@ -45,13 +47,13 @@ pub struct SpeedArgs {
     /// The hand's speed relative to the shoulder (the arm's own motion) instead of in world.
     #[arg(long)]
     pub relative: bool,
-    /// Moving-average window, seconds (0: the raw central differences).
+    /// Moving-average window, seconds, 0 to 10 (0: the raw central differences).
     #[arg(long, default_value_t = 0.0, value_name = "S")]
     pub smoothing: f64,
     /// The chart's title.
     #[arg(long, default_value = "Hand speed", value_name = "TEXT")]
     pub title: String,
-    /// Picture size in pixels, `WIDTHxHEIGHT`.
+    /// Picture size in pixels, `WIDTHxHEIGHT`, each side 64 to 3840.
     #[arg(long, default_value = "900x500", value_name = "WxH")]
     pub size: String,
     /// Print a summary as JSON.
@@ -89,13 +91,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
 fn speed(args: &SpeedArgs) -> Result<(), Failure> {
     crate::draw::Format::of(&args.output, "-o")?;
-    let size = parse_size(&args.size, 64..=8192)?;
-    if !args.smoothing.is_finite() || args.smoothing < 0.0 {
-        return Err(Failure::Input(format!(
-            "--smoothing {}: expected seconds ≥ 0",
-            args.smoothing
-        )));
-    }
+    args.read.check()?;
+    let size = parse_size(&args.size)?;
+    check_range("--smoothing", args.smoothing, limits::PLOT_SMOOTHING)?;
     let paths = collect_clips(&args.clips)?;
     if paths.len() > 12 {
         return Err(Failure::Input(format!(

@@ -8,7 +8,7 @@ use kinergy_reach::controller::{ReachSettings, ReachStop, reach_full_body};
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use serde::Serialize;
 
-use crate::common::{Failure, ReadArgs, emit, parse_point, print_json};
+use crate::common::{Failure, ReadArgs, check_range, emit, limits, parse_point, print_json};
 
 /// The hand's speed profile.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -29,10 +29,10 @@ pub struct Args {
     /// A BVH capture whose skeleton gives the character's proportions.
     #[arg(long, value_name = "FILE", conflicts_with = "height")]
     pub person: Option<PathBuf>,
-    /// The character's height, meters (proportions from anthropometric ratios).
+    /// The character's height, meters, 0.5 to 2.5 (proportions from anthropometric ratios).
     #[arg(long, default_value_t = 1.75, value_name = "H")]
     pub height: f64,
-    /// Leg flexibility: higher squats, lower stoops.
+    /// Leg flexibility, 0.1 to 10: higher squats, lower stoops.
     #[arg(long, default_value_t = 1.0, value_name = "F")]
     pub flexibility: f64,
     /// The reaching arm (default: the one on the target's side).
@@ -44,7 +44,7 @@ pub struct Args {
     /// Seed of the stepping decisions.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// The longest reach, seconds.
+    /// The longest reach, seconds, 0.1 to 60.
     #[arg(long, default_value_t = 8.0, value_name = "S")]
     pub timeout: f64,
     /// Where to write the clip (BVH at 120 Hz, centimeters, written atomically).
@@ -68,6 +68,10 @@ struct Report<'a> {
 
 /// Runs `kinergy reach`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    args.read.check()?;
+    check_range("--height", args.height, limits::REACH_HEIGHT)?;
+    check_range("--flexibility", args.flexibility, limits::REACH_FLEXIBILITY)?;
+    check_range("--timeout", args.timeout, limits::REACH_TIMEOUT)?;
     crate::common::check_outputs(
         &args.person.iter().map(|p| p.as_path()).collect::<Vec<_>>(),
         &[crate::common::Output::File("-o", &args.output)],

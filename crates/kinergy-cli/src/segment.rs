@@ -11,7 +11,7 @@ use kinergy_train::manifest::{Manifest, ManifestRow, default_person};
 use kinergy_train::segment::{Segment, SegmentSettings, Selection, find_segments, main_index};
 use serde::Serialize;
 
-use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
+use crate::common::{ArmArgs, Failure, ReadArgs, check_range, emit, limits, print_json};
 
 /// The frame convention, said once in every listing.
 const FRAMES: &str =
@@ -37,7 +37,7 @@ pub struct Args {
     /// motion and walking count as hand motion).
     #[arg(long)]
     pub world: bool,
-    /// Slowest peak hand speed that counts as motion, m/s.
+    /// Slowest peak hand speed that counts as motion, m/s, 0.001 to 50.
     #[arg(long, default_value_t = SegmentSettings::default().min_peak_speed, value_name = "M/S")]
     pub min_peak_speed: f64,
     /// Print JSON: one object for one clip, an array of them for several.
@@ -201,6 +201,12 @@ fn text(report: &Report, settings: &SegmentSettings, selected: bool) -> String {
 
 /// Runs `kinergy segment`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    args.read.check()?;
+    check_range(
+        "--min-peak-speed",
+        args.min_peak_speed,
+        limits::MIN_PEAK_SPEED,
+    )?;
     let clips = crate::common::collect_clips(&args.clips)?;
     if let Some(path) = &args.manifest {
         let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use kinergy_reach::ReachError;
 use kinergy_reach::synth::{SynthSettings, make_set};
 
-use crate::common::{Failure, Output, check_outputs, emit};
+use crate::common::{Failure, Output, check_outputs, check_range, emit, limits};
 
 /// Arguments of `kinergy synth`.
 #[derive(Debug, clap::Args)]
@@ -14,22 +14,25 @@ pub struct Args {
     /// Output folder: one subfolder per person, and manifest.csv.
     #[arg(short, long, default_value = "data-synthetic", value_name = "DIR")]
     pub output: PathBuf,
-    /// Persons.
+    /// Persons, 1 to 100.
     #[arg(long, default_value_t = SynthSettings::default().persons, value_name = "N")]
     pub persons: usize,
-    /// Reaches per person.
+    /// Reaches per person, 1 to 100.
     #[arg(long, default_value_t = SynthSettings::default().reaches, value_name = "N")]
     pub reaches: usize,
     /// Seed of everything (the same seed writes the same files byte for byte).
     #[arg(long, default_value_t = SynthSettings::default().seed)]
     pub seed: u64,
-    /// Frames per second.
+    /// Frames per second, 1 to 1000.
     #[arg(long, default_value_t = SynthSettings::default().frame_rate, value_name = "HZ")]
     pub frame_rate: f64,
 }
 
 /// Runs `kinergy synth`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    check_range("--persons", args.persons, limits::SYNTH_PERSONS)?;
+    check_range("--reaches", args.reaches, limits::SYNTH_REACHES)?;
+    check_range("--frame-rate", args.frame_rate, limits::SYNTH_FRAME_RATE)?;
     check_outputs(&[], &[Output::Folder("-o", &args.output)])?;
     let before = Written::before(&args.output);
     let result = write_set(args);

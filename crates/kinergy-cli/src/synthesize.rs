@@ -15,7 +15,9 @@ use kinergy_train::CapturedReach;
 use kinergy_train::segment::{SegmentSettings, Selection, find_segments, select};
 use serde::Serialize;
 
-use crate::common::{ArmArgs, Failure, ReadArgs, emit, parse_point, print_json};
+use crate::common::{
+    ArmArgs, Failure, ReadArgs, check_range, emit, limits, parse_point, print_json,
+};
 
 /// Arguments of `kinergy synthesize`.
 #[derive(Debug, clap::Args)]
@@ -57,10 +59,10 @@ pub struct Args {
     /// `--frames auto`) or `N` (segment N as `kinergy segment` lists them, from 0).
     #[arg(long, value_name = "main|N", conflicts_with = "frames")]
     select: Option<Selection>,
-    /// ε: the target counts as reached within this many meters.
+    /// ε: the target counts as reached within this many meters (0.00001 to 1).
     #[arg(long, default_value_t = 0.005, value_name = "M")]
     tolerance: f64,
-    /// Longest motion synthesized, seconds.
+    /// Longest motion synthesized, seconds (0.01 to 60).
     #[arg(long, default_value_t = 10.0, value_name = "S")]
     max_seconds: f64,
     /// Length unit of the written file: m, cm, mm, in or cmu.
@@ -110,6 +112,13 @@ struct Report {
 
 /// Runs `kinergy synthesize`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    args.read.check()?;
+    check_range("--tolerance", args.tolerance, limits::TOLERANCE_M)?;
+    check_range(
+        "--max-seconds",
+        args.max_seconds,
+        limits::SYNTHESIZE_SECONDS,
+    )?;
     let mut inputs = vec![args.from.as_path()];
     inputs.extend(args.params.as_deref());
     crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
@@ -227,18 +236,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         None => (reach, "the capture's final hand position"),
     };
     let target = reach.target();
-    if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
-        return Err(Failure::Input(format!(
-            "--tolerance {}: expected a positive number of meters",
-            args.tolerance
-        )));
-    }
-    if !(args.max_seconds.is_finite() && args.max_seconds > 0.0) {
-        return Err(Failure::Input(format!(
-            "--max-seconds {}: expected a positive number of seconds",
-            args.max_seconds
-        )));
-    }
     let settings = reach.open_settings(args.tolerance, args.max_seconds, args.stop_at_reach);
     let controller =
         Controller::new(optimizer, synergy, settings).map_err(|e| Failure::Input(e.to_string()))?;

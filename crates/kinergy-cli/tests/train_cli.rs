@@ -367,7 +367,7 @@ fn training_commands_reject_bad_input_with_exit_2() {
         ),
         (
             vec!["fit", clip, "--model", "sa", "--budget", "0", "-o", out_s],
-            "max_evaluations",
+            "--budget 0: expected 1 to",
         ),
         (vec!["fit", clip, "--model", "se", "-o", out_s], "se"),
         (

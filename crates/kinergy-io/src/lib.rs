@@ -7,7 +7,9 @@
 //! - [`json`] (feature `json`, on by default): versioned JSON documents — the parameters
 //!   file, checkpoints, scenes, fields — read with one rule for `format_version` and one
 //!   error shape naming the line and column or the field, written pretty and atomically;
-//! - [`clip_text`]: how much of an input a message may quote.
+//! - [`clip_text`]: how much of an input a message may quote;
+//! - [`read_limited`] / [`read_to_string_limited`]: bounded input, regular files only, so
+//!   no file (or `/dev/zero`, or a FIFO) makes a command read without end.
 //!
 //! std + serde only, so the format crates at the bottom of the workspace can use it.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
@@ -15,9 +17,14 @@
 pub mod atomic;
 #[cfg(feature = "json")]
 pub mod json;
+pub mod read;
 mod text;
 
 pub use atomic::{AtomicFile, STALE_AFTER, describe_full_disk, is_disk_full, write_atomic};
 #[cfg(feature = "json")]
 pub use json::{JsonError, check_version, parse_versioned, to_pretty_json, write_json};
+pub use read::{
+    MAX_CAPTURE_BYTES, MAX_JSON_BYTES, MIB, describe_file_type, format_limit, not_regular,
+    read_limited, read_to_string_limited,
+};
 pub use text::{MAX_QUOTED_CHARS, clip_text};

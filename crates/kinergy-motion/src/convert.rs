@@ -79,6 +79,9 @@ pub struct ImportOptions {
     pub position_reading: PositionReadingChoice,
     /// The file's up axis, or detected from its first frame.
     pub up: UpChoice,
+    /// The largest file [`read_clip`] reads, bytes; `None`:
+    /// [`kinergy_bvh::MAX_FILE_BYTES`] (256 MiB).
+    pub max_file_bytes: Option<u64>,
 }
 
 /// Why the root's position channels were read as they were.
@@ -343,9 +346,17 @@ pub fn clip_from_bvh(bvh: &Bvh, options: &ImportOptions) -> Result<(Clip, Import
     ))
 }
 
-/// Reads a BVH file as a clip; errors name the file (and line, for parse errors).
+/// Reads a BVH file as a clip; errors name the file (and line, for parse errors). Only
+/// regular files up to [`ImportOptions::max_file_bytes`] are read (see
+/// [`kinergy_bvh::read_file`]).
 pub fn read_clip(path: &Path, options: &ImportOptions) -> Result<(Clip, ImportReport)> {
-    let bvh = kinergy_bvh::read_file(path, &kinergy_bvh::ReadOptions::default())?;
+    let read = kinergy_bvh::ReadOptions {
+        max_file_bytes: options
+            .max_file_bytes
+            .unwrap_or(kinergy_bvh::MAX_FILE_BYTES),
+        ..kinergy_bvh::ReadOptions::default()
+    };
+    let bvh = kinergy_bvh::read_file(path, &read)?;
     clip_from_bvh(&bvh, options)
 }
 
@@ -732,12 +743,38 @@ Frame Time: 0.0333333
     }
 
     #[test]
+    fn read_clip_honours_the_file_size_limit() {
+        let dir = std::env::temp_dir().join(format!("kinergy-motion-limit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("small.bvh");
+        std::fs::write(&path, SMALL).expect("write");
+        let len = SMALL.len() as u64;
+        let fits = ImportOptions {
+            max_file_bytes: Some(len),
+            ..ImportOptions::default()
+        };
+        assert!(read_clip(&path, &fits).is_ok());
+        let over = ImportOptions {
+            max_file_bytes: Some(len - 1),
+            ..ImportOptions::default()
+        };
+        let e = read_clip(&path, &over).expect_err("over the limit");
+        assert!(
+            matches!(&e, MotionError::Bvh(kinergy_bvh::Error::Io { source, .. })
+                if source.kind() == std::io::ErrorKind::FileTooLarge),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
     fn forced_readings_and_units() {
         let bvh = kinergy_bvh::parse(SMALL).expect("parse");
         let opts = ImportOptions {
             unit: UnitChoice::Fixed(LengthUnit::Meter),
             position_reading: PositionReadingChoice::Replace,
             up: UpChoice::Fixed(UpAxis::Y),
+            ..ImportOptions::default()
         };
         let (clip, report) = clip_from_bvh(&bvh, &opts).expect("clip");
         assert!(!report.unit_guessed);

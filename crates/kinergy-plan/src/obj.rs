@@ -76,10 +76,13 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<Mesh> {
 /// [`PlanError::Io`] naming the path when the file cannot be read, otherwise the errors
 /// of [`parse_obj`].
 pub fn read_obj(path: &Path) -> Result<Mesh> {
-    let bytes = std::fs::read(path).map_err(|source| PlanError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes =
+        kinergy_io::read_limited(path, kinergy_io::MAX_CAPTURE_BYTES).map_err(|source| {
+            PlanError::Io {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?;
     parse_obj(&String::from_utf8_lossy(&bytes), path)
 }
 

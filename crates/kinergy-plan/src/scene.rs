@@ -151,10 +151,12 @@ impl Scene {
 
     /// Reads a scene file (meshes relative to its folder).
     pub fn read(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|source| PlanError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES).map_err(
+            |source| PlanError::Io {
+                path: path.to_path_buf(),
+                source,
+            },
+        )?;
         let dir = path.parent().unwrap_or(Path::new("."));
         Scene::parse(&text, path, dir)
     }

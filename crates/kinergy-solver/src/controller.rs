@@ -79,12 +79,18 @@ impl Default for StallRule {
     }
 }
 
+/// The most frames one synthesis may run ([`ControllerSettings::max_frames`]): 600,000,
+/// e.g. 10 minutes at 1 kHz. Frame counts computed as seconds ÷ frame time are clamped to
+/// it, so memory stays bounded whatever the rate.
+pub const MAX_FRAMES: usize = 600_000;
+
 /// How the controller runs.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ControllerSettings {
     /// Seconds per frame (synthesize at the capture's rate to compare frame by frame).
     pub frame_time: f64,
-    /// The motion ends with [`StopReason::MaxFrames`] after this many frames.
+    /// The motion ends with [`StopReason::MaxFrames`] after this many frames (1 to
+    /// [`MAX_FRAMES`]).
     pub max_frames: usize,
     /// ε: the target is reached when the task error is below this, meters.
     pub tolerance: f64,
@@ -104,7 +110,9 @@ impl ControllerSettings {
         ControllerSettings {
             frame_time,
             max_frames: if frame_time > 0.0 && frame_time.is_finite() {
-                (10.0 / frame_time).ceil() as usize + 1
+                ((10.0 / frame_time).ceil() as usize)
+                    .saturating_add(1)
+                    .min(MAX_FRAMES)
             } else {
                 1
             },
@@ -122,7 +130,11 @@ impl ControllerSettings {
             "frame_time",
             "a positive number of seconds",
         )?;
-        require(self.max_frames >= 1, "max_frames", "at least 1")?;
+        require(
+            (1..=MAX_FRAMES).contains(&self.max_frames),
+            "max_frames",
+            "1 to 600000",
+        )?;
         require(
             self.tolerance.is_finite() && self.tolerance > 0.0,
             "tolerance",

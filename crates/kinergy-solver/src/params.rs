@@ -85,7 +85,7 @@ impl ParamsFile {
 
     /// Reads and checks a file.
     pub fn read(path: &Path) -> Result<ParamsFile> {
-        let text = std::fs::read_to_string(path)
+        let text = kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES)
             .map_err(|e| SolverError::ParamsFile(format!("cannot read {}: {e}", path.display())))?;
         ParamsFile::from_json(&text).map_err(|e| match e {
             SolverError::ParamsFile(m) => {

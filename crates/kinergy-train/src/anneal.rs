@@ -450,10 +450,13 @@ impl AnnealState {
 /// Reads and decodes a checkpoint file of either kind (versioned JSON), naming the file in
 /// errors. The caller checks what it holds.
 pub(crate) fn read_checkpoint<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
-    let text = std::fs::read_to_string(path).map_err(|source| TrainError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text =
+        kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES).map_err(|source| {
+            TrainError::Io {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?;
     kinergy_io::parse_versioned(&text, CHECKPOINT_VERSION).map_err(|e| TrainError::Checkpoint {
         path: path.to_path_buf(),
         why: e.to_string(),

@@ -193,7 +193,8 @@ impl CapturedReach {
         stop_at_reach: bool,
     ) -> ControllerSettings {
         ControllerSettings {
-            max_frames: ((max_seconds / self.frame_time).ceil() as usize).max(1),
+            max_frames: ((max_seconds / self.frame_time).ceil() as usize)
+                .clamp(1, kinergy_solver::controller::MAX_FRAMES),
             tolerance,
             min_frames: if stop_at_reach { 0 } else { self.frame_count() },
             ..ControllerSettings::at_frame_time(self.frame_time)

@@ -132,11 +132,14 @@ impl Manifest {
 
     /// Reads and checks the segments file at `path` (see the [module docs](self)).
     pub fn read(path: &Path) -> Result<Manifest, ManifestError> {
-        let text = std::fs::read_to_string(path).map_err(|e| ManifestError {
-            path: path.to_path_buf(),
-            line: None,
-            why: e.to_string(),
-        })?;
+        let text =
+            kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES).map_err(|e| {
+                ManifestError {
+                    path: path.to_path_buf(),
+                    line: None,
+                    why: e.to_string(),
+                }
+            })?;
         Manifest::parse(&text, path)
     }
 

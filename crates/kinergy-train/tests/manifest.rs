@@ -140,7 +140,10 @@ fn every_bad_row_names_the_file_and_the_line() {
             "ann/r1.bvh,0,10,middle,reach,x",
             "arm `middle`: expected right or left",
         ),
-        ("ann/r1.bvh,0,10,left,wave,x", "label `wave`: expected reach, return or other"),
+        (
+            "ann/r1.bvh,0,10,left,wave,x",
+            "label `wave`: expected reach, return or other",
+        ),
         (
             "ann/r1.bvh,0,10,left,reach",
             "5 fields where the header has 6",

@@ -11,6 +11,7 @@ use crate::common::{QUIRKS_DIR, quirk, read};
 use Channel::{Xposition, Xrotation, Yposition, Yrotation, Zposition, Zrotation};
 
 const LENIENT: ReadOptions = ReadOptions {
+    max_file_bytes: kinergy_bvh::MAX_FILE_BYTES,
     frame_count: FrameCountPolicy::AcceptCompleteFrames,
 };
 

@@ -12,6 +12,7 @@ use rand::{RngExt, SeedableRng};
 use crate::common::{QUIRKS_DIR, real_files, trimmed};
 
 const LENIENT: ReadOptions = ReadOptions {
+    max_file_bytes: kinergy_bvh::MAX_FILE_BYTES,
     frame_count: FrameCountPolicy::AcceptCompleteFrames,
 };
 

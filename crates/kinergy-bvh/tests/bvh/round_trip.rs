@@ -103,10 +103,10 @@ fn finite_f64() -> impl Strategy<Value = f64> {
 }
 
 fn positive_frame_time() -> impl Strategy<Value = f64> {
-    use proptest::num::f64 as f;
     prop_oneof![
         3 => prop::sample::select(vec![0.0083333, 0.016667, 0.0333333, 1.0 / 120.0, 0.04]),
-        1 => (f::POSITIVE | f::NORMAL | f::SUBNORMAL).prop_filter("positive", |t| *t > 0.0),
+        1 => prop::sample::select(vec![kinergy_bvh::MIN_FRAME_TIME, kinergy_bvh::MAX_FRAME_TIME]),
+        1 => kinergy_bvh::MIN_FRAME_TIME..=kinergy_bvh::MAX_FRAME_TIME,
     ]
 }
 

@@ -11,6 +11,7 @@ use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::fit::FitSettings;
 
 use super::Failure;
+use super::limits::{self, check_optional, check_range};
 
 /// Options for reading a capture, shared by every subcommand that reads BVH.
 #[derive(Debug, clap::Args)]
@@ -33,17 +34,45 @@ pub struct ReadArgs {
         allow_hyphen_values = true
     )]
     pub up: kinergy_motion::UpChoice,
+    /// The largest BVH file read, MiB (1 to 4096): a larger file is refused while reading.
+    #[arg(long, default_value_t = limits::DEFAULT_INPUT_MB, value_name = "N")]
+    pub max_input_mb: u64,
 }
 
 impl ReadArgs {
-    /// Reads the clip at `path` with these options; errors name the file.
+    /// Checks the options' ranges (before any work).
+    pub fn check(&self) -> Result<(), Failure> {
+        check_range("--max-input-mb", self.max_input_mb, limits::MAX_INPUT_MB)
+    }
+
+    /// Reads the clip at `path` with these options; errors name the file (and, for a file
+    /// over the size limit, the flag that raises it).
     pub fn read(&self, path: &Path) -> Result<(Clip, ImportReport), Failure> {
+        self.check()?;
         let options = ImportOptions {
             unit: self.from_unit,
             position_reading: self.positions,
             up: self.up,
+            max_file_bytes: Some(self.max_input_mb.saturating_mul(kinergy_io::MIB)),
         };
-        kinergy_motion::read_clip(path, &options).map_err(|e| Failure::input(path, e))
+        kinergy_motion::read_clip(path, &options).map_err(|e| {
+            let too_large = matches!(
+                &e,
+                kinergy_motion::MotionError::Bvh(kinergy_bvh::Error::Io { source, .. })
+                    if source.kind() == std::io::ErrorKind::FileTooLarge
+            );
+            if too_large {
+                Failure::Input(format!(
+                    "{}: larger than the {} MiB limit of --max-input-mb; raise it with \
+                     --max-input-mb N (up to {})",
+                    path.display(),
+                    self.max_input_mb,
+                    limits::MAX_INPUT_MB.1
+                ))
+            } else {
+                Failure::input(path, e)
+            }
+        })
     }
 }
 
@@ -79,21 +108,31 @@ pub struct SearchArgs {
     /// Seed of every random draw (same seed, same result, on any thread count).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Threads (default: all cores). The result does not depend on it.
+    /// Threads, 1 to 1024 (default: all cores). The result does not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
-    /// Evaluation budget per model fit (each evaluation synthesizes every reach once).
+    /// Evaluation budget per model fit, 1 to 10000000 (each evaluation synthesizes every
+    /// reach once).
     #[arg(long, default_value_t = AnnealSettings::default().max_evaluations, value_name = "N")]
     pub budget: usize,
-    /// Members of the annealing population.
+    /// Members of the annealing population, 1 to 1000.
     #[arg(long, default_value_t = AnnealSettings::default().population, value_name = "N")]
     pub population: usize,
-    /// Initial temperature relative to the initial mean score (0: the paper's greedy rule).
+    /// Initial temperature relative to the initial mean score, 0 to 1000000 (0: the paper's
+    /// greedy rule).
     #[arg(long, default_value_t = AnnealSettings::default().temperature, value_name = "T")]
     pub temperature: f64,
 }
 
 impl SearchArgs {
+    /// Checks the options' ranges (before any work).
+    pub fn check(&self) -> Result<(), Failure> {
+        check_optional("--threads", self.threads, limits::THREADS)?;
+        check_range("--budget", self.budget, limits::BUDGET)?;
+        check_range("--population", self.population, limits::POPULATION)?;
+        check_range("--temperature", self.temperature, limits::TEMPERATURE)
+    }
+
     /// Fit settings from the flags.
     pub fn settings(&self) -> FitSettings {
         FitSettings {
@@ -108,12 +147,10 @@ impl SearchArgs {
         }
     }
 
-    /// Sizes rayon's global pool.
+    /// Checks the options ([`SearchArgs::check`]), then sizes rayon's global pool.
     pub fn apply_threads(&self) -> Result<(), Failure> {
+        self.check()?;
         if let Some(n) = self.threads {
-            if n == 0 {
-                return Err(Failure::Input("--threads 0: expected at least 1".into()));
-            }
             rayon::ThreadPoolBuilder::new()
                 .num_threads(n)
                 .build_global()
@@ -166,8 +203,9 @@ pub fn parse_frames(text: &str) -> Result<std::ops::Range<usize>, Failure> {
     Ok(a..b)
 }
 
-/// `WxH` → (W, H) pixels, each side within `range`; errors name `--size`.
-pub fn parse_size(text: &str, range: std::ops::RangeInclusive<u32>) -> Result<(u32, u32), Failure> {
+/// `WxH` → (W, H) pixels, each side within [`limits::PICTURE_SIDE`]; errors name `--size`.
+pub fn parse_size(text: &str) -> Result<(u32, u32), Failure> {
+    let range = limits::PICTURE_SIDE.0..=limits::PICTURE_SIDE.1;
     let bad = |why: &str| Failure::Input(format!("--size `{text}`: {why}"));
     let (w, h) = text
         .split_once(['x', 'X'])

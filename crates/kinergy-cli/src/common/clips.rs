@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 use super::Failure;
 
 /// The BVH files named: files as given, folders expanded to the `*.bvh` files in them and
-/// in their subfolders (sorted by path). An empty result or a missing path is bad input.
+/// in their subfolders (sorted by path). An empty result, a missing path or one that is
+/// neither a file nor a folder (a device, a FIFO) is bad input.
 pub fn collect_clips(paths: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
     let mut out = Vec::new();
     for p in paths {
@@ -22,6 +23,13 @@ pub fn collect_clips(paths: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
             out.extend(found);
         } else if p.is_file() {
             out.push(p.clone());
+        } else if let Ok(metadata) = std::fs::metadata(p) {
+            // A device or FIFO: say what it is (reading it could block or never end).
+            return Err(Failure::Input(format!(
+                "{}: not a regular file ({})",
+                p.display(),
+                kinergy_io::describe_file_type(&metadata)
+            )));
         } else {
             return Err(Failure::Input(format!(
                 "{}: no such file or folder",

@@ -9,12 +9,14 @@ use std::path::Path;
 pub mod args;
 pub mod captured;
 pub mod clips;
+pub mod limits;
 pub mod outputs;
 pub mod progress;
 
 pub use args::{ArmArgs, ReadArgs, SearchArgs, parse_frames, parse_point, parse_size};
 pub use captured::CaptureArgs;
 pub use clips::collect_clips;
+pub use limits::{check_optional, check_range};
 pub use outputs::{Output, check_outputs};
 pub use progress::Bar;
 

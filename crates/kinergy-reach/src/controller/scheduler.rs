@@ -221,7 +221,9 @@ pub(super) fn animate(
     s: &ReachSettings,
 ) -> Result<ReachMotion> {
     let dt = 1.0 / s.frame_rate;
-    let max_frames = (s.timeout / dt).ceil() as usize + 1;
+    let max_frames = ((s.timeout / dt).ceil() as usize)
+        .saturating_add(1)
+        .min(kinergy_solver::controller::MAX_FRAMES);
     let stepping = Stepping::new(character, rest, &plan.step, plan.arm, s)?;
     let leg_iks = leg_iks(character)?;
     let mut arm = ArmFollower::new(character, plan.arm, rest)?;
