@@ -7,7 +7,10 @@
 //!
 //! Beyond the paper, the arm moves continuously: each frame's orbit search starts at the
 //! previous frame's orbit angle ([`ArmFollower`]), and no arm DoF turns faster than
-//! [`ARM_MAX_SPEED`].
+//! [`ARM_MAX_SPEED`] — the whole step scaled, so the arm keeps its direction of motion. (From
+//! the hanging, straight arm the analytic solution flexes the elbow like the square root of
+//! the hand's travel; clamping each DoF alone let the shoulder swing on while the elbow was
+//! held back, and the hand jumped sideways at 2.5 m/s in the first frames.)
 
 use std::ops::Range;
 
@@ -153,15 +156,22 @@ impl ArmFollower {
         // motion (a balance correction) swings the elbow by tens of degrees, which the arm
         // then catches up with over a few frames instead of in one.
         let max_step = ARM_MAX_SPEED * dt;
-        let mut limited = false;
-        for (value, before) in pose[self.dofs.clone()].iter_mut().zip(&self.previous) {
-            let change = *value - before;
-            if change.abs() > max_step {
-                *value = before + max_step.copysign(change);
-                limited = true;
-            }
+        let largest = pose[self.dofs.clone()]
+            .iter()
+            .zip(&self.previous)
+            .map(|(v, b)| (v - b).abs())
+            .fold(0.0, f64::max);
+        if largest <= max_step {
+            return false;
         }
-        limited
+        // The whole step is scaled, not each DoF clamped: the arm keeps the direction of its
+        // motion in joint space (clamping the elbow alone while the shoulder swings on would
+        // throw the hand sideways).
+        let scale = max_step / largest;
+        for (value, before) in pose[self.dofs.clone()].iter_mut().zip(&self.previous) {
+            *value = before + (*value - before) * scale;
+        }
+        true
     }
 
     /// Keeps the frame's final arm posture (`pose`, clamped) as the previous one.
