@@ -137,7 +137,9 @@ fn feature_edges(triangles: &[[Point3<f64>; 3]]) -> Vec<[Point3<f64>; 2]> {
         let q = |v: f64| (v * 1e4).round() as i64;
         (q(p.x), q(p.y), q(p.z))
     };
-    let mut normals: HashMap<_, (usize, Vec<Vector3<f64>>, [Point3<f64>; 2])> = HashMap::new();
+    // Per edge (by its corners' keys): how many triangles share it, their normals, the edge.
+    type Sharing = (usize, Vec<Vector3<f64>>, [Point3<f64>; 2]);
+    let mut normals: HashMap<_, Sharing> = HashMap::new();
     for t in triangles {
         let n = (t[1] - t[0]).cross(&(t[2] - t[0]));
         let n = n.try_normalize(1e-15).unwrap_or_else(Vector3::zeros);
@@ -259,10 +261,8 @@ pub fn clip_line([a, b]: [Flat; 2], (x0, y0, x1, y1): (f64, f64, f64, f64)) -> O
             }
         }
     }
-    (t0 <= t1).then(|| {
-        [
-            (a.0 + t0 * dx, a.1 + t0 * dy),
-            (a.0 + t1 * dx, a.1 + t1 * dy),
-        ]
-    })
+    (t0 <= t1).then_some([
+        (a.0 + t0 * dx, a.1 + t0 * dy),
+        (a.0 + t1 * dx, a.1 + t1 * dy),
+    ])
 }
