@@ -1,17 +1,26 @@
 //! `kinergy animate`: clips as superposed stick figures, synchronized by time (the paper's
-//! Fig. 6: captured vs S_A vs S_C) — an animated GIF and a film strip of snapshots.
+//! Fig. 6: captured vs S_A vs S_C) — an animated GIF and a film strip of snapshots — with,
+//! optionally, the scene a `plan` output moves in and the objects it carries (Kallmann's
+//! Fig. 5).
+//!
+//! What is drawn of a skeleton is decided by [`draw::bones`]: body bones full width, finger
+//! bones thin, face joints, a reference root and zero-length bones not at all. The view is
+//! fitted to the drawn joints over all frames (and to carried objects), with a margin; the
+//! scene is drawn clipped to it.
 
 use std::error::Error;
 use std::path::{Path, PathBuf};
 
 use kinergy_motion::Clip;
-use nalgebra::Point3;
+use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::common::limits;
 use crate::common::{Failure, ReadArgs, check_range, collect_clips, emit, parse_size, print_json};
+use crate::draw::bones::{BoneKind, Role, StickFigure};
+use crate::draw::shapes::{Flat, Solid, clip_line, clip_polygon};
 use crate::draw::{self, DrawResult, FONT, Figure, Format};
 
 /// The most clips one picture holds: one palette colour each.
@@ -76,7 +85,8 @@ pub struct Args {
     #[arg(long, default_value_t = 25, value_name = "N")]
     pub fps: u32,
     /// The film strip: snapshots side by side in one row under one legend, PNG or SVG by the
-    /// extension; default: the GIF's path with .png. Always written.
+    /// extension; default: the GIF's path with .png. Always written. Its text and lines are
+    /// larger than the GIF's (made to be read when the strip is shown page-wide).
     #[arg(long, value_name = "FILE.png")]
     pub strip: Option<PathBuf>,
     /// Snapshots in the film strip, 1 to 24, evenly spaced in time from 0 to the end of the
@@ -88,6 +98,14 @@ pub struct Args {
     /// pixels), as high.
     #[arg(long, default_value = "640x480", value_name = "WxH")]
     pub size: String,
+    /// A scene (the JSON file `kinergy plan --scene` reads) drawn behind the figures: boxes,
+    /// spheres and capsules as filled outlines, meshes as filled triangles with their edges.
+    #[arg(long, value_name = "S.json")]
+    pub scene: Option<PathBuf>,
+    /// The JSON report of the `kinergy plan ... --json` that made the clip: the objects it
+    /// moves are drawn where they are on every frame (with the first clip's timing).
+    #[arg(long, value_name = "REPORT.json", requires = "scene")]
+    pub report: Option<PathBuf>,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -101,6 +119,12 @@ struct ClipRow {
     label: String,
     frames: usize,
     duration_s: f64,
+    /// Body bones drawn on the first frame.
+    body_bones: usize,
+    /// Finger bones (drawn thin) on the first frame.
+    finger_bones: usize,
+    /// Joints not drawn: a reference root and face joints.
+    not_drawn: Vec<String>,
 }
 
 #[derive(Serialize)]
@@ -115,63 +139,200 @@ struct Report {
     size: [u32; 2],
     strip_size: [u32; 2],
     strip_times_s: Vec<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    scene: Option<String>,
+    /// Objects drawn moving, from `--report`.
+    moving_objects: Vec<String>,
 }
 
-/// One clip's stick figure over time, projected on the screen.
+/// One clip's stick figure over time.
 struct Track {
     label: String,
     frame_time: f64,
     joints: usize,
-    /// Screen positions (meters), frame after frame, `joints` per frame.
-    points: Vec<(f64, f64)>,
-    /// (parent, child) joint pairs: every bone, End Sites included.
-    bones: Vec<(usize, usize)>,
-    /// The joints drawn as dots (not End Sites).
-    dots: Vec<usize>,
+    /// World positions (meters), frame after frame, `joints` per frame.
+    world: Vec<Point3<f64>>,
+    /// What is drawn of the skeleton.
+    figure: StickFigure,
 }
 
 impl Track {
-    fn new(clip: &Clip, path: &Path, label: String, view: View) -> Result<Track, Failure> {
-        let skeleton = clip.skeleton();
-        let joints = skeleton.joint_count();
-        let mut points = Vec::with_capacity(joints * clip.frame_count());
-        for pose in clip.frames() {
-            let world = skeleton
-                .world_positions(pose)
-                .map_err(|e| Failure::input(path, e))?;
-            points.extend(world.iter().map(|p| view.project(p)));
-        }
+    fn new(clip: &Clip, path: &Path, label: String) -> Result<Track, Failure> {
+        let joints = clip.skeleton().joint_count();
         if clip.frame_count() == 0 || joints == 0 {
             return Err(Failure::input(path, "the clip has no frames to draw"));
         }
-        let bones = skeleton
-            .joints()
-            .iter()
-            .enumerate()
-            .filter_map(|(j, joint)| joint.parent.map(|p| (p, j)))
-            .collect();
-        let dots = skeleton
-            .joints()
-            .iter()
-            .enumerate()
-            .filter(|(_, joint)| !joint.end_site)
-            .map(|(j, _)| j)
-            .collect();
+        let (figure, world) = StickFigure::of(clip).map_err(|e| Failure::input(path, e))?;
         Ok(Track {
             label,
             frame_time: clip.frame_time(),
             joints,
-            points,
-            bones,
-            dots,
+            world,
+            figure,
         })
     }
 
     /// The pose at time `t`, seconds: the nearest frame, the last one after the end.
-    fn at(&self, t: f64) -> &[(f64, f64)] {
-        let i = nearest_frame(t, self.frame_time, self.points.len() / self.joints);
-        &self.points[i * self.joints..(i + 1) * self.joints]
+    fn at(&self, t: f64) -> &[Point3<f64>] {
+        let i = nearest_frame(t, self.frame_time, self.world.len() / self.joints);
+        &self.world[i * self.joints..(i + 1) * self.joints]
     }
+
+    /// The drawn joints' positions over all frames (what the view is fitted to).
+    fn drawn_points(&self) -> impl Iterator<Item = &Point3<f64>> + '_ {
+        let roles = self.figure.roles();
+        self.world
+            .iter()
+            .enumerate()
+            .filter(move |(i, _)| matches!(roles[i % self.joints], Role::Body | Role::Finger))
+            .map(|(_, p)| p)
+    }
+}
+
+/// Where a scene object is: fixed, or on every frame of a plan.
+enum Placement {
+    Fixed(Isometry3<f64>),
+    Moving {
+        frame_time: f64,
+        poses: Vec<Isometry3<f64>>,
+    },
+}
+
+/// One scene object ready to draw.
+struct Prop {
+    name: String,
+    solid: Solid,
+    placement: Placement,
+}
+
+impl Prop {
+    fn pose(&self, t: f64) -> &Isometry3<f64> {
+        match &self.placement {
+            Placement::Fixed(p) => p,
+            Placement::Moving { frame_time, poses } => {
+                &poses[nearest_frame(t, *frame_time, poses.len())]
+            }
+        }
+    }
+
+    fn moving(&self) -> bool {
+        matches!(self.placement, Placement::Moving { .. })
+    }
+
+    /// A moving object's outline points over all its frames (the view is fitted to them).
+    fn moving_points(&self, view: View) -> Vec<(f64, f64)> {
+        match &self.placement {
+            Placement::Fixed(_) => Vec::new(),
+            Placement::Moving { poses, .. } => poses
+                .iter()
+                .flat_map(|pose| {
+                    let outline = self.solid.outline(pose, |p| view.project(p));
+                    outline.fills.into_iter().flatten()
+                })
+                .collect(),
+        }
+    }
+}
+
+/// What `animate` reads of a `kinergy plan --json` report.
+#[derive(Deserialize)]
+struct PlanReport {
+    frame_time_s: Option<f64>,
+    #[serde(default)]
+    objects: Vec<PlanObject>,
+}
+
+#[derive(Deserialize)]
+struct PlanObject {
+    name: String,
+    poses: Option<Vec<PlanPose>>,
+}
+
+#[derive(Deserialize)]
+struct PlanPose {
+    position_m: [f64; 3],
+    rotation_xyzw: [f64; 4],
+}
+
+/// The most poses an object's track may hold (a plan of an hour at 1000 Hz is fewer).
+const MAX_OBJECT_POSES: usize = 4_000_000;
+
+/// Reads the scene `path` and, with `report`, the poses of the objects a plan moved.
+fn read_props(path: &Path, report: Option<&Path>, max_input_mb: u64) -> Result<Vec<Prop>, Failure> {
+    let plan_scene = kinergy_plan::scene::Scene::read(path).map_err(|e| Failure::input(path, e))?;
+    let mut props: Vec<Prop> = plan_scene
+        .objects
+        .iter()
+        .map(|o| Prop {
+            name: o.name.clone(),
+            solid: Solid::new(&o.shape),
+            placement: Placement::Fixed(o.pose),
+        })
+        .collect();
+    let Some(report_path) = report else {
+        return Ok(props);
+    };
+    let bad = |why: String| Failure::input(report_path, why);
+    let text =
+        kinergy_io::read_to_string_limited(report_path, max_input_mb.saturating_mul(1 << 20))
+            .map_err(|e| Failure::input(report_path, e))?;
+    let plan: PlanReport = serde_json::from_str(&text).map_err(|e| {
+        bad(format!(
+            "not a `kinergy plan --json` report: {}",
+            kinergy_io::clip_text(&e.to_string(), 120)
+        ))
+    })?;
+    let frame_time = plan.frame_time_s.ok_or_else(|| {
+        bad("the report has no frame_time_s: it was written by an older kinergy; run `kinergy plan ... --json` again".into())
+    })?;
+    if !(frame_time.is_finite() && frame_time > 0.0) {
+        return Err(bad(format!(
+            "frame_time_s {frame_time}: expected a number > 0"
+        )));
+    }
+    for object in plan.objects {
+        let shown = kinergy_io::clip_text(&object.name, 120);
+        let Some(prop) = props.iter_mut().find(|p| p.name == object.name) else {
+            return Err(bad(format!(
+                "object `{shown}` is not in the scene {}",
+                path.display()
+            )));
+        };
+        let poses = object.poses.ok_or_else(|| {
+            bad(format!("object `{shown}` has no per-frame poses: the report was written by an older kinergy; run `kinergy plan ... --json` again"))
+        })?;
+        if poses.is_empty() || poses.len() > MAX_OBJECT_POSES {
+            return Err(bad(format!(
+                "object `{shown}`: {} poses, expected 1 to {MAX_OBJECT_POSES}",
+                poses.len()
+            )));
+        }
+        let poses = poses
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let [x, y, z] = p.position_m;
+                let [qx, qy, qz, qw] = p.rotation_xyzw;
+                let q = Quaternion::new(qw, qx, qy, qz);
+                let finite = p
+                    .position_m
+                    .iter()
+                    .chain(&p.rotation_xyzw)
+                    .all(|v| v.is_finite());
+                if !finite || q.norm() < 1e-9 {
+                    return Err(bad(format!(
+                        "object `{shown}` pose {k}: expected finite numbers and a non-zero rotation"
+                    )));
+                }
+                Ok(Isometry3::from_parts(
+                    Translation3::new(x, y, z),
+                    UnitQuaternion::from_quaternion(q),
+                ))
+            })
+            .collect::<Result<Vec<_>, Failure>>()?;
+        prop.placement = Placement::Moving { frame_time, poses };
+    }
+    Ok(props)
 }
 
 /// The frame nearest to `t` seconds in a clip of `count` frames, clamped to the clip.
@@ -268,19 +429,44 @@ impl Mapping {
 
     /// The pixel of a screen point (y grows downward), or `None` if it is not finite.
     fn pixel(&self, (u, v): (f64, f64)) -> Option<(i32, i32)> {
-        let x = self.pixel_centre.0 + (u - self.centre.0) * self.scale;
-        let y = self.pixel_centre.1 - (v - self.centre.1) * self.scale;
+        let (x, y) = self.pixel_f((u, v));
         (x.is_finite() && y.is_finite()).then(|| (x.round() as i32, y.round() as i32))
+    }
+
+    /// The pixel of a screen point, unrounded (y grows downward).
+    fn pixel_f(&self, (u, v): (f64, f64)) -> (f64, f64) {
+        (
+            self.pixel_centre.0 + (u - self.centre.0) * self.scale,
+            self.pixel_centre.1 - (v - self.centre.1) * self.scale,
+        )
     }
 }
 
-/// Everything a picture needs: the clips' tracks, their common box, the text size.
+/// Everything a picture needs: the clips' tracks, the scene's objects, their common box.
 struct Scene {
     tracks: Vec<Track>,
+    props: Vec<Prop>,
     bounds: Bounds,
     view: View,
+}
+
+/// Text and line sizes of one picture, pixels.
+#[derive(Debug, Clone, Copy)]
+struct Style {
     font_px: i32,
     line_px: u32,
+}
+
+impl Style {
+    /// Sizes for panels `height` pixels high: text 1/`per_text` of it, lines 1/`per_line`.
+    fn for_height(height: u32, per_text: u32, per_line: u32) -> Style {
+        Style {
+            font_px: i32::try_from(height / per_text)
+                .unwrap_or(i32::MAX)
+                .clamp(10, 64),
+            line_px: (height / per_line).clamp(1, 8),
+        }
+    }
 }
 
 fn text_style(px: i32, colour: RGBColor) -> TextStyle<'static> {
@@ -299,19 +485,21 @@ struct Legend {
 fn layout_legend<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     scene: &Scene,
+    style: Style,
 ) -> Result<Legend, Box<dyn Error>>
 where
     DB::ErrorType: 'static,
 {
     let width = i32::try_from(root.dim_in_pixel().0)?;
-    let fs = scene.font_px;
+    let fs = style.font_px;
     let row = fs + fs / 2;
-    let style = text_style(fs, BLACK);
+    let text = text_style(fs, BLACK);
+    let swatch = SWATCH * fs / 16;
     let (mut x, mut y) = (8, 4);
     let mut spots = Vec::with_capacity(scene.tracks.len());
     for track in &scene.tracks {
-        let (tw, _) = root.estimate_text_size(&track.label, &style)?;
-        let entry = SWATCH + 5 + i32::try_from(tw)?;
+        let (tw, _) = root.estimate_text_size(&track.label, &text)?;
+        let entry = swatch + 5 + i32::try_from(tw)?;
         if x > 8 && x + entry > width - 8 {
             x = 8;
             y += row;
@@ -329,25 +517,27 @@ where
 fn draw_scene<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     scene: &Scene,
+    style: Style,
     times: &[f64],
 ) -> DrawResult
 where
     DB::ErrorType: 'static,
 {
     root.fill(&WHITE)?;
-    let legend = layout_legend(root, scene)?;
+    let legend = layout_legend(root, scene, style)?;
     let (top, rest) = root.split_vertically(legend.height);
-    let fs = scene.font_px;
+    let fs = style.font_px;
+    let swatch = SWATCH * fs / 16;
     for (i, (track, &(x, y))) in scene.tracks.iter().zip(&legend.spots).enumerate() {
         let c = draw::colour(i);
         let mid = y + fs / 2 + 1;
         top.draw(&PathElement::new(
-            vec![(x, mid), (x + SWATCH, mid)],
-            c.stroke_width(3),
+            vec![(x, mid), (x + swatch, mid)],
+            c.stroke_width((style.line_px + 2).max(3)),
         ))?;
         top.draw(&Text::new(
             track.label.as_str(),
-            (x + SWATCH + 5, y),
+            (x + swatch + 5, y),
             text_style(fs, c),
         ))?;
     }
@@ -365,15 +555,66 @@ where
                 RGBColor(200, 200, 200).stroke_width(1),
             ))?;
         }
-        draw_panel(panel, scene, t)?;
+        draw_panel(panel, scene, style, t)?;
     }
     Ok(())
 }
 
-/// Draws every clip's stick figure at time `t` with the time in the bottom-left corner.
+/// Light fills and darker edges of the scene's fixed and moving objects.
+const FIXED_FILL: RGBColor = RGBColor(228, 228, 228);
+const FIXED_EDGE: RGBColor = RGBColor(150, 150, 150);
+const MOVING_FILL: RGBColor = RGBColor(240, 200, 120);
+const MOVING_EDGE: RGBColor = RGBColor(150, 95, 0);
+
+/// Draws the scene's objects at time `t`: fixed ones first, moving ones over them, each
+/// clipped to the panel's figure area `(x0, y0, x1, y1)`, pixels.
+fn draw_props<DB: DrawingBackend>(
+    panel: &DrawingArea<DB, Shift>,
+    scene: &Scene,
+    map: &Mapping,
+    area: (f64, f64, f64, f64),
+    t: f64,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let px = |p: Flat| map.pixel_f(p);
+    let round = |p: Flat| (p.0.round() as i32, p.1.round() as i32);
+    for moving in [false, true] {
+        let (fill, edge) = if moving {
+            (MOVING_FILL, MOVING_EDGE)
+        } else {
+            (FIXED_FILL, FIXED_EDGE)
+        };
+        for prop in scene.props.iter().filter(|p| p.moving() == moving) {
+            let outline = prop.solid.outline(prop.pose(t), |p| scene.view.project(p));
+            for polygon in &outline.fills {
+                let pixels: Vec<Flat> = polygon.iter().map(|&p| px(p)).collect();
+                let clipped = clip_polygon(&pixels, area);
+                if clipped.len() >= 3 {
+                    let points: Vec<(i32, i32)> = clipped.into_iter().map(round).collect();
+                    panel.draw(&Polygon::new(points, fill.filled()))?;
+                }
+            }
+            for line in &outline.lines {
+                if let Some([a, b]) = clip_line([px(line[0]), px(line[1])], area) {
+                    panel.draw(&PathElement::new(
+                        vec![round(a), round(b)],
+                        edge.stroke_width(1),
+                    ))?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Draws the scene and every clip's stick figure at time `t` with the time in the
+/// bottom-left corner.
 fn draw_panel<DB: DrawingBackend>(
     panel: &DrawingArea<DB, Shift>,
     scene: &Scene,
+    style: Style,
     t: f64,
 ) -> DrawResult
 where
@@ -381,9 +622,10 @@ where
 {
     let (w, h) = panel.dim_in_pixel();
     let (w, h) = (i32::try_from(w)?, i32::try_from(h)?);
-    let fs = scene.font_px;
-    let label_band = fs + 8;
-    let map = Mapping::fit(&scene.bounds, (4, 2, w - 4, h - label_band));
+    let fs = style.font_px;
+    let label_band = fs + fs / 2;
+    let figure_area = (4, 2, w - 4, h - label_band);
+    let map = Mapping::fit(&scene.bounds, figure_area);
     let b = &scene.bounds;
     // The floor, where the box holds it.
     if scene.view != View::Top && b.v0 < 0.0 && 0.0 < b.v1 {
@@ -396,17 +638,29 @@ where
             ))?;
         }
     }
-    let line = scene.line_px;
+    if !scene.props.is_empty() {
+        let area = (0.0, 0.0, f64::from(w - 1), f64::from(h - label_band));
+        draw_props(panel, scene, &map, area, t)?;
+    }
+    let line = style.line_px;
     let dot = line as i32 + 1;
     for (i, track) in scene.tracks.iter().enumerate() {
         let c = draw::colour(i);
-        let pixels: Vec<Option<(i32, i32)>> = track.at(t).iter().map(|&p| map.pixel(p)).collect();
-        for &(p, j) in &track.bones {
-            if let (Some(a), Some(b)) = (pixels[p], pixels[j]) {
-                panel.draw(&PathElement::new(vec![a, b], c.stroke_width(line)))?;
+        let world = track.at(t);
+        let pixels: Vec<Option<(i32, i32)>> = world
+            .iter()
+            .map(|p| map.pixel(scene.view.project(p)))
+            .collect();
+        for segment in track.figure.world_segments(world) {
+            if let (Some(a), Some(b)) = (pixels[segment.parent], pixels[segment.child]) {
+                let width = match segment.kind {
+                    BoneKind::Body => line,
+                    BoneKind::Finger => 1,
+                };
+                panel.draw(&PathElement::new(vec![a, b], c.stroke_width(width)))?;
             }
         }
-        for &j in &track.dots {
+        for &j in track.figure.dots() {
             if let Some(p) = pixels[j] {
                 panel.draw(&Circle::new(p, dot, c.filled()))?;
             }
@@ -414,7 +668,7 @@ where
     }
     panel.draw(&Text::new(
         format!("t = {t:.2} s"),
-        (6, h - label_band + 3),
+        (6, h - label_band + fs / 4),
         text_style(fs, BLACK),
     ))?;
     Ok(())
@@ -423,6 +677,7 @@ where
 /// The film strip: snapshots side by side under one legend.
 struct Strip<'a> {
     scene: &'a Scene,
+    style: Style,
     times: &'a [f64],
 }
 
@@ -431,7 +686,7 @@ impl Figure for Strip<'_> {
     where
         DB::ErrorType: 'static,
     {
-        draw_scene(root, self.scene, self.times)
+        draw_scene(root, self.scene, self.style, self.times)
     }
 }
 
@@ -531,6 +786,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         use crate::common::{Output, check_outputs};
         let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
         inputs.extend(paths.iter().map(PathBuf::as_path));
+        inputs.extend(args.scene.as_deref());
+        inputs.extend(args.report.as_deref());
         check_outputs(
             &inputs,
             &[
@@ -546,22 +803,59 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     for (path, label) in paths.iter().zip(names) {
         let (clip, _) = args.read.read(path)?;
         duration = duration.max(clip.duration());
+        let track = Track::new(&clip, path, label.clone())?;
+        let first = &track.world[..track.joints];
+        let (mut body_bones, mut finger_bones) = (0, 0);
+        for (_, _, kind) in track.figure.bones(first) {
+            match kind {
+                BoneKind::Body => body_bones += 1,
+                BoneKind::Finger => finger_bones += 1,
+            }
+        }
+        let skeleton = clip.skeleton();
         rows.push(ClipRow {
             path: path.display().to_string(),
-            label: label.clone(),
+            label,
             frames: clip.frame_count(),
             duration_s: clip.duration(),
+            body_bones,
+            finger_bones,
+            not_drawn: track
+                .figure
+                .roles()
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| matches!(r, Role::Face | Role::Reference))
+                .map(|(j, _)| skeleton.joint(j).name.clone())
+                .collect(),
         });
-        tracks.push(Track::new(&clip, path, label, args.view)?);
+        tracks.push(track);
     }
-    let bounds = Bounds::around(tracks.iter().flat_map(|t| t.points.iter().copied()));
+    let props = match &args.scene {
+        Some(path) => read_props(path, args.report.as_deref(), args.read.max_input_mb)?,
+        None => Vec::new(),
+    };
+    let moving_objects: Vec<String> = props
+        .iter()
+        .filter(|p| p.moving())
+        .map(|p| p.name.clone())
+        .collect();
+    let view = args.view;
+    let bounds = Bounds::around(
+        tracks
+            .iter()
+            .flat_map(|t| t.drawn_points().map(|p| view.project(p)))
+            .chain(props.iter().flat_map(|p| p.moving_points(view))),
+    );
     let scene = Scene {
         tracks,
+        props,
         bounds,
-        view: args.view,
-        font_px: (i32::try_from(size.1).unwrap_or(i32::MAX) / 30).clamp(10, 32),
-        line_px: (size.1 / 240).max(1),
+        view,
     };
+    // The GIF is seen at its size; the strip is usually shown shrunk to a page's width.
+    let gif_style = Style::for_height(size.1, 24, 200);
+    let strip_style = Style::for_height(size.1, 13, 120);
 
     let frames = gif_frame_count(duration, args.fps);
     let gif_pixels = u64::from(size.0)
@@ -586,13 +880,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let bar = crate::common::Bar::counting(frames as u64, "frames");
     let staged = draw::stage_gif(&args.output, size, frames, delay_ms, |k, root| {
         bar.inc();
-        draw_scene(root, &scene, &[k as f64 / fps])
+        draw_scene(root, &scene, gif_style, &[k as f64 / fps])
     });
     bar.finish();
     let gif = staged?;
     let strip_file = draw::stage(
         &Strip {
             scene: &scene,
+            style: strip_style,
             times: &times,
         },
         &strip,
@@ -612,6 +907,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         size: [size.0, size.1],
         strip_size: [strip_size.0, strip_size.1],
         strip_times_s: times,
+        scene: args.scene.as_ref().map(|p| p.display().to_string()),
+        moving_objects,
     };
     if args.json {
         print_json(&report)

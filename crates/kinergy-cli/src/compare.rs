@@ -261,6 +261,7 @@ fn draw_charts(results: &Results, args: &Args) -> Result<Vec<PathBuf>, Failure> 
             args.optimizer.name().to_uppercase(),
             results.clip_count()
         ),
+        x_label: "synergy model".into(),
         y_label: "motion distance to the capture (mm)".into(),
         series: vec!["mean, min–max".into()],
         groups: models
@@ -273,6 +274,7 @@ fn draw_charts(results: &Results, args: &Args) -> Result<Vec<PathBuf>, Failure> 
     };
     let fig4 = BarChart {
         title: "Fig. 4: optimizers with S_A and S_C".into(),
+        x_label: "optimizer".into(),
         y_label: "motion distance to the capture (mm)".into(),
         series: vec!["S_A".into(), "S_C".into()],
         groups: args

@@ -1,5 +1,6 @@
 //! Pictures: the embedded font, the palette, SVG / PNG / GIF output written atomically, and
-//! the two chart kinds the commands draw (lines over time, means with min–max bars).
+//! the two chart kinds the commands draw (lines over time, means with min–max bars); in
+//! [`bones`] which bones a stick figure draws, in [`shapes`] how scene objects are projected.
 
 use std::error::Error;
 use std::io::Write as _;
@@ -14,6 +15,9 @@ use plotters::style::FontStyle;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::common::Failure;
+
+pub mod bones;
+pub mod shapes;
 
 /// A drawing error, boxed (plotters' errors are generic over the backend).
 pub type DrawResult = Result<(), Box<dyn Error>>;
@@ -172,6 +176,17 @@ pub fn stage_gif(
     Ok(staged)
 }
 
+/// Text sizes grow with the picture's height (sizes below are for 500 pixels), so a large
+/// chart is as readable as a small one.
+fn font_scale<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>) -> f64 {
+    (f64::from(root.dim_in_pixel().1) / 500.0).clamp(0.6, 4.0)
+}
+
+/// `px` pixels at a 500-pixel-high picture, scaled by `scale`.
+fn scaled(px: f64, scale: f64) -> u32 {
+    (px * scale).round().max(1.0) as u32
+}
+
 /// One line of a [`LineChart`].
 #[derive(Debug, Clone)]
 pub struct Series {
@@ -238,34 +253,39 @@ impl Figure for LineChart {
                 .flat_map(|s| s.points.iter().map(|p| p.1)),
             true,
         );
+        let k = font_scale(root);
         let mut chart = ChartBuilder::on(root)
-            .caption(&self.title, (FONT, 22))
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(60)
+            .caption(&self.title, (FONT, scaled(22.0, k)))
+            .margin(scaled(12.0, k))
+            .x_label_area_size(scaled(44.0, k))
+            .y_label_area_size(scaled(60.0, k))
             .build_cartesian_2d(x0..x1, y0..y1)?;
         chart
             .configure_mesh()
             .x_desc(&self.x_label)
             .y_desc(&self.y_label)
-            .label_style((FONT, 14))
-            .axis_desc_style((FONT, 16))
+            .label_style((FONT, scaled(14.0, k)))
+            .axis_desc_style((FONT, scaled(16.0, k)))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
         for (i, s) in self.series.iter().enumerate() {
             let c = colour(i);
             chart
-                .draw_series(LineSeries::new(s.points.iter().copied(), c.stroke_width(2)))?
+                .draw_series(LineSeries::new(
+                    s.points.iter().copied(),
+                    c.stroke_width(scaled(2.0, k)),
+                ))?
                 .label(&s.name)
                 .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                    let w = scaled(20.0, k) as i32;
+                    PathElement::new(vec![(x, y), (x + w, y)], c.stroke_width(scaled(2.0, k)))
                 });
         }
         chart
             .configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.4))
-            .label_font((FONT, 14))
+            .label_font((FONT, scaled(14.0, k)))
             .position(SeriesLabelPosition::UpperRight)
             .draw()?;
         Ok(())
@@ -290,6 +310,8 @@ pub struct Bar {
 pub struct BarChart {
     /// The title.
     pub title: String,
+    /// The x axis title: what the groups are.
+    pub x_label: String,
     /// The y axis label, with its unit.
     pub y_label: String,
     /// The series' legend entries (one colour each).
@@ -313,19 +335,21 @@ impl Figure for BarChart {
         let top = if top > 0.0 { top * 1.12 } else { 1.0 };
         let n = self.groups.len().max(1);
         let per = self.series.len().max(1) as f64;
+        let k = font_scale(root);
         let mut chart = ChartBuilder::on(root)
-            .caption(&self.title, (FONT, 22))
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(60)
+            .caption(&self.title, (FONT, scaled(22.0, k)))
+            .margin(scaled(12.0, k))
+            .x_label_area_size(scaled(64.0, k))
+            .y_label_area_size(scaled(60.0, k))
             .build_cartesian_2d(0.0..n as f64, 0.0..top)?;
         chart
             .configure_mesh()
             .disable_x_mesh()
             .x_labels(0)
+            .x_desc(&self.x_label)
             .y_desc(&self.y_label)
-            .label_style((FONT, 14))
-            .axis_desc_style((FONT, 16))
+            .label_style((FONT, scaled(14.0, k)))
+            .axis_desc_style((FONT, scaled(16.0, k)))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
         let width = 0.8 / per;
@@ -346,7 +370,10 @@ impl Figure for BarChart {
                     Rectangle::new([(x, 0.0), (x + width * 0.9, b.mean)], c.mix(0.85).filled())
                 }))?
                 .label(name)
-                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], c.filled()));
+                .legend(move |(x, y)| {
+                    let (w, h) = (scaled(14.0, k) as i32, scaled(5.0, k) as i32);
+                    Rectangle::new([(x, y - h), (x + w, y + h)], c.filled())
+                });
             chart.draw_series(bars.iter().map(|&(x, b)| {
                 let mid = x + width * 0.45;
                 PathElement::new(vec![(mid, b.min), (mid, b.max)], BLACK.stroke_width(1))
@@ -358,18 +385,19 @@ impl Figure for BarChart {
             }))?;
         }
         // The group labels, centred under each group (plotters would place numeric ticks).
-        let style = TextStyle::from((FONT, 16).into_font())
+        let style = TextStyle::from((FONT, scaled(16.0, k)).into_font())
             .color(&BLACK)
             .pos(Pos::new(HPos::Center, VPos::Top));
         for (g, (label, _)) in self.groups.iter().enumerate() {
             let (x, y) = chart.backend_coord(&(g as f64 + 0.5, 0.0));
-            root.draw(&Text::new(label.clone(), (x, y + 10), style.clone()))?;
+            let below = scaled(10.0, k) as i32;
+            root.draw(&Text::new(label.clone(), (x, y + below), style.clone()))?;
         }
         chart
             .configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.4))
-            .label_font((FONT, 14))
+            .label_font((FONT, scaled(14.0, k)))
             .position(SeriesLabelPosition::UpperRight)
             .draw()?;
         Ok(())

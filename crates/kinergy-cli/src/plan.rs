@@ -107,6 +107,9 @@ struct ObjectReport {
     name: String,
     start: PoseReport,
     end: PoseReport,
+    /// The object's world pose on every frame of the written BVH (`kinergy animate
+    /// --report` draws it moving with the hand).
+    poses: Vec<PoseReport>,
 }
 
 #[derive(Serialize)]
@@ -117,6 +120,7 @@ struct Report {
     task: String,
     seed: u64,
     frames: usize,
+    frame_time_s: f64,
     duration_s: f64,
     phases: Vec<PhaseReport>,
     objects: Vec<ObjectReport>,
@@ -251,6 +255,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         task,
         seed: args.seed,
         frames: motion.poses.len(),
+        frame_time_s: motion.frame_time,
         duration_s: motion.duration(),
         phases: motion
             .phases
@@ -279,6 +284,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                     name: t.name.clone(),
                     start: pose_report(t.poses.first()?),
                     end: pose_report(t.poses.last()?),
+                    poses: t.poses.iter().map(pose_report).collect(),
                 })
             })
             .collect(),

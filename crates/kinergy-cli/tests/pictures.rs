@@ -1,0 +1,388 @@
+//! Pictures that show the motion: the bones `animate` draws (no reference root, no
+//! zero-length bone, fingers thin, face not drawn) and the scene it draws behind them.
+
+mod common;
+use common::{fixture, json, kinergy, repo, stderr};
+
+#[allow(dead_code)] // the CLI's drawing module, compiled here to test what it decides
+#[path = "../src/draw/bones.rs"]
+mod bones;
+#[allow(dead_code)]
+#[path = "../src/draw/shapes.rs"]
+mod shapes;
+
+use std::path::{Path, PathBuf};
+
+use approx::assert_relative_eq;
+use bones::{BoneKind, MIN_BONE_M, Role, Segment, StickFigure};
+use kinergy_motion::Clip;
+use kinergy_plan::scene::Shape;
+use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion, Vector3};
+use shapes::Solid;
+
+fn read(path: &Path) -> Clip {
+    kinergy_motion::read_clip(path, &Default::default())
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .0
+}
+
+/// Every frame's drawn segments.
+fn all_segments(clip: &Clip) -> (StickFigure, Vec<Vec<Segment>>) {
+    let (figure, world) = StickFigure::of(clip).expect("fk");
+    let n = clip.skeleton().joint_count();
+    let frames = world.chunks(n).map(|w| figure.world_segments(w)).collect();
+    (figure, frames)
+}
+
+fn name(clip: &Clip, j: usize) -> String {
+    clip.skeleton().joint(j).name.to_ascii_lowercase()
+}
+
+fn says_finger(name: &str) -> bool {
+    ["finger", "thumb", "index", "middle", "ring", "pinky"]
+        .iter()
+        .any(|p| name.contains(p))
+}
+
+/// No segment shorter than [`MIN_BONE_M`].
+fn assert_no_zero_length(frames: &[Vec<Segment>], what: &str) {
+    for (k, segments) in frames.iter().enumerate() {
+        for s in segments {
+            let length = nalgebra::distance(&s.from, &s.to);
+            assert!(
+                length >= MIN_BONE_M,
+                "{what} frame {k}: {s:?} is {length} m long"
+            );
+        }
+    }
+}
+
+fn bandai_clips() -> Option<Vec<PathBuf>> {
+    let dir = repo().join("../shared/data/bandai-raise-left");
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        eprintln!(
+            "skipped: {} is absent (Bandai Namco captures are not committed)",
+            dir.display()
+        );
+        return None;
+    };
+    let mut clips: Vec<PathBuf> = entries
+        .filter_map(|e| Some(e.ok()?.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "bvh"))
+        .collect();
+    clips.sort();
+    clips.truncate(3);
+    Some(clips)
+}
+
+#[test]
+fn bandai_reference_root_and_zero_length_end_sites_are_not_drawn() {
+    let Some(clips) = bandai_clips() else { return };
+    assert!(!clips.is_empty(), "no Bandai captures found");
+    for path in &clips {
+        let clip = read(path);
+        let what = path.display().to_string();
+        let (figure, frames) = all_segments(&clip);
+        assert_eq!(figure.roles()[0], Role::Reference, "{what}: joint_Root");
+        assert!(
+            !figure.dots().contains(&0),
+            "{what}: the root's dot is drawn"
+        );
+        assert_no_zero_length(&frames, &what);
+        for (k, segments) in frames.iter().enumerate() {
+            // 21 joints below joint_Root: 20 bones between them; the 5 End Sites have zero
+            // offsets.
+            assert_eq!(segments.len(), 20, "{what} frame {k}");
+            for s in segments {
+                assert!(s.parent != 0 && s.child != 0, "{what} frame {k}: {s:?}");
+                assert_eq!(s.kind, BoneKind::Body);
+                for end in [s.from, s.to] {
+                    assert!(
+                        end.coords.norm() > 0.1,
+                        "{what} frame {k}: a segment touches the origin: {s:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn cmu_fixtures_draw_fingers_thin_and_no_zero_length_bone() {
+    let mut seen_fingers = 0;
+    let dir = repo().join("tests/data");
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("tests/data")
+        .filter_map(|e| Some(e.ok()?.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "bvh"))
+        .collect();
+    paths.sort();
+    assert!(!paths.is_empty());
+    for path in &paths {
+        let clip = read(path);
+        let what = path.display().to_string();
+        let (figure, frames) = all_segments(&clip);
+        assert!(
+            !figure.roles().contains(&Role::Reference),
+            "{what}: a body root taken for a reference"
+        );
+        assert_no_zero_length(&frames, &what);
+        let body = frames[0]
+            .iter()
+            .filter(|s| s.kind == BoneKind::Body)
+            .count();
+        assert!(body >= 15, "{what}: only {body} body bones");
+        for s in &frames[0] {
+            let child = name(&clip, s.child);
+            let expected = if says_finger(&child) {
+                BoneKind::Finger
+            } else {
+                BoneKind::Body
+            };
+            // A finger's End Site inherits its parent's role.
+            if s.kind == BoneKind::Finger {
+                seen_fingers += 1;
+                let parent = name(&clip, s.parent);
+                assert!(
+                    says_finger(&child) || says_finger(&parent),
+                    "{what}: {child}"
+                );
+            } else {
+                assert_eq!(s.kind, expected, "{what}: {child}");
+            }
+        }
+        for &d in figure.dots() {
+            assert!(!says_finger(&name(&clip, d)), "{what}: a finger dot");
+        }
+    }
+    assert!(
+        seen_fingers > 0,
+        "the CMU fixtures have finger joints (LeftFingerBase, LThumb)"
+    );
+}
+
+/// Runs `kinergy plan` relocating the bookshelf's blue book; returns the BVH and the report.
+fn relocate(dir: &Path) -> (PathBuf, PathBuf) {
+    let bvh = dir.join("relocate.bvh");
+    let report = dir.join("relocate.json");
+    let scene = repo().join("examples/bookshelf/scene.json");
+    let o = kinergy(&[
+        "plan",
+        "--scene",
+        scene.to_str().expect("utf-8"),
+        "--task",
+        "relocate",
+        "--object",
+        "blue_book",
+        "--to",
+        "-0.22,1.49,0.50",
+        "-o",
+        bvh.to_str().expect("utf-8"),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::write(&report, &o.stdout).expect("write report");
+    (bvh, report)
+}
+
+#[test]
+fn plan_output_draws_fingers_thin_and_reports_the_books_poses() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (bvh, report) = relocate(dir.path());
+    let clip = read(&bvh);
+    let (figure, frames) = all_segments(&clip);
+    assert_no_zero_length(&frames, "plan");
+    assert!(!figure.roles().contains(&Role::Reference));
+    let fingers = frames[0]
+        .iter()
+        .filter(|s| s.kind == BoneKind::Finger)
+        .count();
+    let body = frames[0].len() - fingers;
+    // Two hands of five three-joint fingers, each finger's bones from the hand: 15 a hand,
+    // plus their End Sites.
+    assert!(fingers >= 30, "{fingers} finger bones");
+    assert!(body >= 15, "{body} body bones");
+    for s in &frames[0] {
+        let finger = says_finger(&name(&clip, s.child)) || says_finger(&name(&clip, s.parent));
+        assert_eq!(
+            s.kind == BoneKind::Finger,
+            finger,
+            "{}",
+            name(&clip, s.child)
+        );
+    }
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&report).expect("report")).expect("json");
+    let book = &report["objects"][0];
+    assert_eq!(book["name"], "blue_book");
+    let poses = book["poses"].as_array().expect("poses");
+    assert_eq!(poses.len(), clip.frame_count());
+    assert_relative_eq!(
+        report["frame_time_s"].as_f64().expect("frame time"),
+        clip.frame_time(),
+        epsilon = 1e-9
+    );
+    assert_eq!(poses.last(), Some(&book["end"]));
+}
+
+#[test]
+fn a_box_projects_to_its_side_and_a_mesh_to_its_feature_edges() {
+    let side = |p: &Point3<f64>| (p.z, p.y);
+    let pose = Isometry3::from_parts(Translation3::new(0.0, 1.0, 0.5), UnitQuaternion::identity());
+    let b = Solid::new(&Shape::Box {
+        half_extents: Vector3::new(0.1, 0.2, 0.3),
+    });
+    let outline = b.outline(&pose, side);
+    assert_eq!(outline.fills.len(), 1);
+    let hull = &outline.fills[0];
+    assert_eq!(hull.len(), 4, "{hull:?}");
+    for &(u, v) in hull {
+        assert_relative_eq!((u - 0.5).abs(), 0.3, epsilon = 1e-12);
+        assert_relative_eq!((v - 1.0).abs(), 0.2, epsilon = 1e-12);
+    }
+    assert_eq!(outline.lines.len(), 4);
+
+    let sphere = Solid::new(&Shape::Sphere { radius: 0.1 }).outline(&pose, side);
+    for &(u, v) in &sphere.fills[0] {
+        assert_relative_eq!(
+            ((u - 0.5).powi(2) + (v - 1.0).powi(2)).sqrt(),
+            0.1,
+            epsilon = 1e-9
+        );
+    }
+
+    let scene = kinergy_plan::scene::Scene::read(&repo().join("examples/bookshelf/scene.json"))
+        .expect("scene");
+    let shelf = scene.object("shelf").expect("shelf");
+    let outline = Solid::new(&shelf.shape).outline(&shelf.pose, side);
+    let triangles = shelf.shape.triangle_count();
+    assert!(!outline.lines.is_empty());
+    assert!(
+        outline.lines.len() < triangles,
+        "{} feature edges for {triangles} triangles: the tessellation is drawn",
+        outline.lines.len()
+    );
+    // Seen from the side the shelf spans its depth (z 0.40–0.70) and height (0–1.9 m).
+    let (mut lo, mut hi) = (
+        (f64::INFINITY, f64::INFINITY),
+        (f64::NEG_INFINITY, f64::NEG_INFINITY),
+    );
+    for &(u, v) in outline.fills.iter().flatten() {
+        lo = (lo.0.min(u), lo.1.min(v));
+        hi = (hi.0.max(u), hi.1.max(v));
+    }
+    assert_relative_eq!(lo.0, 0.40, epsilon = 1e-6);
+    assert_relative_eq!(hi.0, 0.70, epsilon = 1e-6);
+    assert_relative_eq!(lo.1, 0.0, epsilon = 1e-6);
+    assert_relative_eq!(hi.1, 1.9, epsilon = 1e-6);
+}
+
+/// The strip's pixels of exactly `colour` between 30 % and 80 % of its height (away from the
+/// legend and the time stamps, whose anti-aliased text has greys): their count and mean x, y
+/// per snapshot.
+fn pixels_of(png: &Path, colour: [u8; 3], panels: u32) -> Vec<(usize, f64, f64)> {
+    let img = image::open(png).expect("png").to_rgb8();
+    let width = img.width() / panels;
+    let mut out = vec![(0usize, 0.0, 0.0); panels as usize];
+    let rows = img.height() * 3 / 10..img.height() * 8 / 10;
+    for (x, y, p) in img.enumerate_pixels() {
+        if p.0 == colour && rows.contains(&y) {
+            let k = ((x / width) as usize).min(panels as usize - 1);
+            out[k].0 += 1;
+            out[k].1 += f64::from(x % width);
+            out[k].2 += f64::from(y);
+        }
+    }
+    out.into_iter()
+        .map(|(n, x, y)| (n, x / n.max(1) as f64, y / n.max(1) as f64))
+        .collect()
+}
+
+#[test]
+fn animate_draws_the_scene_and_the_book_moving_with_the_hand() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (bvh, report) = relocate(dir.path());
+    let scene = repo().join("examples/bookshelf/scene.json");
+    let s = |p: &Path| p.to_str().expect("utf-8").to_string();
+    let run = |extra: &[String], name: &str| -> PathBuf {
+        let strip = dir.path().join(format!("{name}.png"));
+        let mut args = vec![
+            "animate".to_string(),
+            s(&bvh),
+            "--view".into(),
+            "side".into(),
+            "--fps".into(),
+            "1".into(),
+            "--size".into(),
+            "200x200".into(),
+            "--strip-frames".into(),
+            "2".into(),
+            "-o".into(),
+            s(&dir.path().join(format!("{name}.gif"))),
+            "--strip".into(),
+            s(&strip),
+            "--json".into(),
+        ];
+        args.extend_from_slice(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = kinergy(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        strip
+    };
+    let bare = run(&[], "bare");
+    let with_scene = run(&["--scene".into(), s(&scene)], "scene");
+    let moving = run(
+        &["--scene".into(), s(&scene), "--report".into(), s(&report)],
+        "moving",
+    );
+    let shelf_grey = [228, 228, 228];
+    let book = [240, 200, 120];
+    assert!(pixels_of(&bare, shelf_grey, 2).iter().all(|p| p.0 == 0));
+    let grey = pixels_of(&with_scene, shelf_grey, 2);
+    assert!(
+        grey.iter().all(|p| p.0 > 200),
+        "the shelf is not drawn: {grey:?}"
+    );
+    // In the side view the shelf stands in front of the character: right of its middle.
+    assert!(grey.iter().all(|p| p.1 > 100.0), "{grey:?}");
+    assert!(pixels_of(&with_scene, book, 2).iter().all(|p| p.0 == 0));
+    // With the report the book is drawn, first on the middle shelf, last on the top one.
+    let books = pixels_of(&moving, book, 2);
+    assert!(
+        books.iter().all(|p| p.0 > 10),
+        "the book is not drawn: {books:?}"
+    );
+    assert!(
+        books[1].2 < books[0].2 - 5.0,
+        "the book did not go up: {books:?}"
+    );
+}
+
+#[test]
+fn animate_report_needs_a_scene_and_objects_in_it() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let clip = fixture("006_14.bvh");
+    let report = dir.path().join("r.json");
+    std::fs::write(
+        &report,
+        r#"{"frame_time_s": 0.1, "objects": [{"name": "teapot", "poses": [{"position_m": [0,0,0], "rotation_xyzw": [0,0,0,1]}]}]}"#,
+    )
+    .expect("write");
+    let gif = dir.path().join("a.gif");
+    let (c, r, g) = (
+        clip.to_str().expect("utf-8"),
+        report.to_str().expect("utf-8"),
+        gif.to_str().expect("utf-8"),
+    );
+    common::assert_bad_input(&["animate", c, "--report", r, "-o", g], "--scene", &gif);
+    let scene = repo().join("examples/bookshelf/scene.json");
+    let sc = scene.to_str().expect("utf-8");
+    common::assert_bad_input(
+        &["animate", c, "--scene", sc, "--report", r, "-o", g],
+        "teapot",
+        &gif,
+    );
+    let o = kinergy(&["animate", c, "--scene", sc, "-o", g, "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(json(&o)["moving_objects"], serde_json::json!([]));
+}
