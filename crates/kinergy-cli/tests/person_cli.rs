@@ -104,7 +104,11 @@ fn fit_takes_frames_and_arms_from_a_segments_file() {
 fn select_picks_the_segments_of_each_clip() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("p.json");
-    let clip = synthetic("r08.bvh"); // an `other` segment 61..74, then the main reach 74..151
+    // p04/r12: an `other` segment 37..53, a short reach 53..79, then the main reach 86..185.
+    let clip = repo()
+        .join("data-synthetic/p04/r12.bvh")
+        .canonicalize()
+        .expect("p04/r12");
     let frames = |select: &str| {
         let o = fit(&[s(&clip), "--select", select, "-o", s(&out), "--json"]);
         assert_eq!(o.status.code(), Some(0), "{select}: {}", stderr(&o));
@@ -115,9 +119,12 @@ fn select_picks_the_segments_of_each_clip() {
             .map(|r| r["frames"].clone())
             .collect::<Vec<_>>()
     };
-    assert_eq!(frames("main"), [serde_json::json!([74, 151])]);
-    assert_eq!(frames("all"), [serde_json::json!([74, 151])]);
-    assert_eq!(frames("0"), [serde_json::json!([61, 74])]);
+    assert_eq!(frames("main"), [serde_json::json!([86, 185])]);
+    assert_eq!(
+        frames("all"),
+        [serde_json::json!([53, 79]), serde_json::json!([86, 185])]
+    );
+    assert_eq!(frames("0"), [serde_json::json!([37, 53])]);
     let out = dir.path().join("bad.json");
     assert_bad_input(
         &[
