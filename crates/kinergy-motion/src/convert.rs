@@ -23,8 +23,8 @@
 //! The reading is recorded on each joint ([`crate::PositionReading`]). Export writes
 //! position channels the one way every reader agrees on ([`clip_to_bvh`]): the channels hold
 //! the joint's whole translation and replace its OFFSET, and a root with position channels
-//! gets a zero OFFSET, so reading it back (by Kinergy, Blender or three.js) gives the same
-//! joint positions whichever way its channels are read.
+//! gets a zero OFFSET, so reading it back (by Kinergy, Blender, or three.js for the root)
+//! gives the same joint positions whichever way its channels are read.
 //!
 //! # Up axis
 //! Z-up and X-up files (and upside-down ones) are detected from the first frame
@@ -496,12 +496,14 @@ enum RotationWriting {
 }
 
 /// The clip as a BVH document: degrees, `options.unit`, in the file's own up axis or Y up
-/// ([`ExportOptions::up`]), read alike by Kinergy, Blender and three.js:
+/// ([`ExportOptions::up`]), read alike by Kinergy and Blender (and by three.js's
+/// `BVHLoader`, which adds OFFSETs to position channels, when only the root has them):
 ///
 /// - every joint has no rotation channels or three about distinct axes, and no position
-///   channels or all three (see [`written_dofs`]);
+///   channels or all three (one or two rotation axes are completed with zero channels; any
+///   other rotation list is re-expressed as `Zrotation Xrotation Yrotation`);
 /// - position channels hold the joint's whole translation (OFFSET + displacement), so they
-///   *replace* the OFFSET, as Blender and three.js read them; the root, whose channels
+///   *replace* the OFFSET, as Blender reads them; the root, whose channels
 ///   Kinergy may read either way ([`crate::PositionReading`]), is written with a zero OFFSET
 ///   when it has position channels, so both readings agree.
 pub fn clip_to_bvh(clip: &Clip, options: &ExportOptions) -> Bvh {
