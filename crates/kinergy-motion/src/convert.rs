@@ -20,8 +20,11 @@
 //!   OFFSET replaces. [`ImportReport::root`] records the choice and both heights.
 //!
 //! [`PositionReadingChoice::Add`] and [`PositionReadingChoice::Replace`] force every joint.
-//! The reading is recorded on each joint ([`crate::PositionReading`]) so export writes the
-//! channels back the same way.
+//! The reading is recorded on each joint ([`crate::PositionReading`]). Export writes
+//! position channels the one way every reader agrees on ([`clip_to_bvh`]): the channels hold
+//! the joint's whole translation and replace its OFFSET, and a root with position channels
+//! gets a zero OFFSET, so reading it back (by Kinergy, Blender, or three.js for the root)
+//! gives the same joint positions whichever way its channels are read.
 //!
 //! # Up axis
 //! Z-up and X-up files (and upside-down ones) are detected from the first frame
@@ -435,30 +438,103 @@ fn y_up_root_dofs(dofs: &[Dof]) -> Vec<Dof> {
     out
 }
 
-/// The clip as a BVH document: degrees, `options.unit`, each joint's position channels
-/// written the way they were read ([`crate::PositionReading`]), in the file's own up axis or
-/// Y up ([`ExportOptions::up`]).
+/// The channels a joint is written with, so that every reader (Kinergy's, Blender's,
+/// three.js's) reads the same pose: no position channels or all three, and no rotation
+/// channels or three about distinct axes (Blender's importer refuses any other count).
+///
+/// A joint already so is written as it is (a round trip keeps its channels). Otherwise its
+/// positions become `Xposition Yposition Zposition`; one or two distinct rotation axes are
+/// completed with the missing axes (written as zeros, so the rotation is unchanged); any
+/// other rotation list (a repeated axis, more than three) becomes `Zrotation Xrotation
+/// Yrotation`, the angles re-expressed frame by frame.
+fn written_dofs(dofs: &[Dof]) -> (Vec<Dof>, RotationWriting) {
+    let mut positions = Vec::with_capacity(3);
+    let mut rotations = Vec::with_capacity(3);
+    for d in dofs {
+        match *d {
+            Dof::Translation(a) => positions.push(a),
+            Dof::Rotation(a) => rotations.push(a),
+        }
+    }
+    let distinct = |axes: &[Axis]| axes.iter().enumerate().all(|(i, a)| !axes[..i].contains(a));
+    let positions_ok = positions.is_empty() || (positions.len() == 3 && distinct(&positions));
+    let rotations_ok = rotations.is_empty() || (rotations.len() == 3 && distinct(&rotations));
+    if positions_ok && rotations_ok {
+        return (dofs.to_vec(), RotationWriting::AsIs);
+    }
+    let mut out = Vec::with_capacity(6);
+    if !positions.is_empty() {
+        out.extend([Axis::X, Axis::Y, Axis::Z].map(Dof::Translation));
+    }
+    let writing = if rotations.is_empty() {
+        RotationWriting::Completed
+    } else if rotations.len() <= 3 && distinct(&rotations) {
+        let mut order = rotations.clone();
+        order.extend(
+            [Axis::X, Axis::Y, Axis::Z]
+                .into_iter()
+                .filter(|a| !rotations.contains(a)),
+        );
+        out.extend(order.into_iter().map(Dof::Rotation));
+        RotationWriting::Completed
+    } else {
+        out.extend([Axis::Z, Axis::X, Axis::Y].map(Dof::Rotation));
+        RotationWriting::Reexpressed
+    };
+    (out, writing)
+}
+
+/// How a joint's rotation channel values are found from its DoF values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RotationWriting {
+    /// The joint's own DoFs, in their order.
+    AsIs,
+    /// Each channel takes the value of the DoF about its axis, 0 where there is none.
+    Completed,
+    /// The joint's rotation re-expressed in the channels' order.
+    Reexpressed,
+}
+
+/// The clip as a BVH document: degrees, `options.unit`, in the file's own up axis or Y up
+/// ([`ExportOptions::up`]), read alike by Kinergy and Blender (and by three.js's
+/// `BVHLoader`, which adds OFFSETs to position channels, when only the root has them):
+///
+/// - every joint has no rotation channels or three about distinct axes, and no position
+///   channels or all three (one or two rotation axes are completed with zero channels; any
+///   other rotation list is re-expressed as `Zrotation Xrotation Yrotation`);
+/// - position channels hold the joint's whole translation (OFFSET + displacement), so they
+///   *replace* the OFFSET, as Blender reads them; the root, whose channels
+///   Kinergy may read either way ([`crate::PositionReading`]), is written with a zero OFFSET
+///   when it has position channels, so both readings agree.
 pub fn clip_to_bvh(clip: &Clip, options: &ExportOptions) -> Bvh {
     let s = clip.skeleton();
     let scale = 1.0 / options.unit.meters();
     let w = s.world_from_file();
     let bake = options.up == ExportUp::Y && w != Rotation3::identity();
-    let dofs_of = |ji: usize| -> Vec<Dof> {
-        let dofs = &s.joint(ji).dofs;
-        if bake && ji == 0 {
-            y_up_root_dofs(dofs)
-        } else {
-            dofs.clone()
-        }
-    };
-    let mut first = 0;
-    let joints: Vec<kinergy_bvh::Joint> = s
+    let layouts: Vec<(Vec<Dof>, RotationWriting)> = s
         .joints()
         .iter()
         .enumerate()
         .map(|(ji, j)| {
-            let channels: Vec<Channel> = dofs_of(ji).into_iter().map(dof_channel).collect();
-            let offset = if bake && ji == 0 {
+            if bake && ji == 0 {
+                (y_up_root_dofs(&j.dofs), RotationWriting::AsIs)
+            } else {
+                written_dofs(&j.dofs)
+            }
+        })
+        .collect();
+    let mut first = 0;
+    let joints: Vec<kinergy_bvh::Joint> = s
+        .joints()
+        .iter()
+        .zip(&layouts)
+        .enumerate()
+        .map(|(ji, (j, (dofs, _)))| {
+            let channels: Vec<Channel> = dofs.iter().map(|&d| dof_channel(d)).collect();
+            let translates = dofs.iter().any(|d| matches!(d, Dof::Translation(_)));
+            let offset = if ji == 0 && translates {
+                Vector3::zeros()
+            } else if bake && ji == 0 {
                 w * j.offset
             } else {
                 j.offset
@@ -476,32 +552,77 @@ pub fn clip_to_bvh(clip: &Clip, options: &ExportOptions) -> Bvh {
             bj
         })
         .collect();
-    let root_dofs = dofs_of(0);
-    let mut previous: Option<[f64; 3]> = None;
+    let mut previous: Vec<Option<[f64; 3]>> = vec![None; s.joint_count()];
     let mut motion = Vec::with_capacity(clip.frame_count() * first);
     for pose in clip.frames() {
-        for (ji, j) in s.joints().iter().enumerate() {
+        for (ji, (j, (dofs, writing))) in s.joints().iter().zip(&layouts).enumerate() {
             let values = &pose[s.dof_range(ji)];
             if bake && ji == 0 {
-                previous = Some(push_y_up_root(
+                previous[0] = Some(push_y_up_root(
                     j,
                     values,
-                    &root_dofs,
+                    dofs,
                     w,
                     scale,
-                    previous,
+                    previous[0],
                     &mut motion,
                 ));
                 continue;
             }
+            let mut t = j.offset;
             for (d, &v) in j.dofs.iter().zip(values) {
-                motion.push(match d {
-                    Dof::Rotation(_) => v.to_degrees(),
-                    Dof::Translation(a) => match j.position_reading {
-                        PositionReading::AddToOffset => v * scale,
-                        PositionReading::ReplaceOffset => (v + j.offset[a.index()]) * scale,
-                    },
-                });
+                if let Dof::Translation(a) = d {
+                    t[a.index()] += v;
+                }
+            }
+            match writing {
+                RotationWriting::AsIs => {
+                    for (d, &v) in j.dofs.iter().zip(values) {
+                        motion.push(match d {
+                            Dof::Rotation(_) => v.to_degrees(),
+                            Dof::Translation(a) => t[a.index()] * scale,
+                        });
+                    }
+                }
+                RotationWriting::Completed => {
+                    for d in dofs {
+                        motion.push(match d {
+                            Dof::Translation(a) => t[a.index()] * scale,
+                            Dof::Rotation(a) => j
+                                .dofs
+                                .iter()
+                                .zip(values)
+                                .find(|(dj, _)| **dj == Dof::Rotation(*a))
+                                .map_or(0.0, |(_, v)| v.to_degrees()),
+                        });
+                    }
+                }
+                RotationWriting::Reexpressed => {
+                    let (axes, angles): (Vec<Axis>, Vec<f64>) = j
+                        .dofs
+                        .iter()
+                        .zip(values)
+                        .filter_map(|(d, &v)| match d {
+                            Dof::Rotation(a) => Some((*a, v)),
+                            Dof::Translation(_) => None,
+                        })
+                        .unzip();
+                    let r = euler_rotation(&axes, &angles);
+                    let order = [Axis::Z, Axis::X, Axis::Y];
+                    let near = previous[ji].unwrap_or([0.0; 3]);
+                    let e = euler_angles(order, &r).map_or(near, |e| nearest_euler(e, near));
+                    previous[ji] = Some(e);
+                    let mut k = 0;
+                    for d in dofs {
+                        motion.push(match d {
+                            Dof::Translation(a) => t[a.index()] * scale,
+                            Dof::Rotation(_) => {
+                                k += 1;
+                                e[k - 1].to_degrees()
+                            }
+                        });
+                    }
+                }
             }
         }
     }
@@ -553,16 +674,14 @@ fn push_y_up_root(
                 k += 1;
                 new_angles[k - 1].to_degrees()
             }
-            Dof::Translation(a) => match root.position_reading {
-                PositionReading::AddToOffset => t[a.index()] * scale,
-                PositionReading::ReplaceOffset => (t[a.index()] + o[a.index()]) * scale,
-            },
+            // The whole translation: the root's OFFSET is written as zero.
+            Dof::Translation(a) => (t[a.index()] + o[a.index()]) * scale,
         });
     }
     new_angles
 }
 
-/// Writes a clip as a BVH file, atomically (a temporary file renamed into place).
+/// Writes a clip as a BVH file ([`clip_to_bvh`]), atomically (a temporary file renamed into place).
 pub fn write_clip(path: &Path, clip: &Clip, options: &ExportOptions) -> Result<()> {
     kinergy_bvh::write_file(path, &clip_to_bvh(clip, options)).map_err(MotionError::from)
 }
@@ -732,14 +851,142 @@ Frame Time: 0.0333333
     }
 
     #[test]
-    fn export_writes_channels_back_as_read() {
+    fn export_writes_positions_replacing_the_offset_and_a_zero_root_offset() {
         let bvh = kinergy_bvh::parse(SMALL).expect("parse");
         let (clip, _) = clip_from_bvh(&bvh, &ImportOptions::default()).expect("clip");
         let out = clip_to_bvh(&clip, &ExportOptions::default());
-        for (a, b) in bvh.motion.iter().zip(&out.motion) {
+        assert_eq!(out.joints[3].name, None);
+        // The root's channels were added to `OFFSET 0 100 0`: written whole on a zero OFFSET,
+        // which Blender's replacing and Kinergy's adding read alike.
+        assert_eq!(out.joints[0].offset, [0.0; 3]);
+        assert_eq!(out.joints[1].offset, bvh.joints[1].offset);
+        for f in 0..2 {
+            let (a, b) = (bvh.frame(f).expect("frame"), out.frame(f).expect("frame"));
+            for k in 0..a.len() {
+                let shift = if k < 3 { bvh.joints[0].offset[k] } else { 0.0 };
+                assert_relative_eq!(a[k] + shift, b[k], epsilon = 1e-9);
+            }
+        }
+        // Read back: the same joints where they were; written again: the same document.
+        let (back, report) = clip_from_bvh(&out, &ImportOptions::default()).expect("clip");
+        assert_eq!(report.root.map(|r| r.basis), Some(RootReadingBasis::Tie));
+        for (a, b) in world(&clip).iter().zip(&world(&back)) {
+            assert_relative_eq!(a, b, epsilon = 1e-12);
+        }
+        assert!(clip_to_bvh(&back, &ExportOptions::default()).same_content(&out));
+    }
+
+    #[test]
+    fn joints_with_one_or_two_rotations_or_partial_positions_get_three_channels() {
+        // A finger bending about Z only (Blender refused `CHANNELS 1`: "KeyError: (1, None,
+        // None)"), a wrist with two axes, a knuckle translating along X only and a root
+        // translating along Y only.
+        let text = "HIERARCHY
+ROOT Hips
+{
+  OFFSET 1 90 2
+  CHANNELS 2 Yposition Yrotation
+  JOINT Finger
+  {
+    OFFSET 0 10 0
+    CHANNELS 1 Zrotation
+    JOINT Wrist
+    {
+      OFFSET 0 8 1
+      CHANNELS 2 Xrotation Zrotation
+      JOINT Knuckle
+      {
+        OFFSET 0 4 0
+        CHANNELS 3 Xposition Zrotation Xrotation
+        End Site
+        {
+          OFFSET 0 3 0
+        }
+      }
+    }
+  }
+}
+MOTION
+Frames: 3
+Frame Time: 0.0333333
+1 10 20 30 40 1 50 60
+2 20 -30 40 -50 2 60 -70
+3 30 40 -50 60 3 -70 80
+";
+        let bvh = kinergy_bvh::parse(text).expect("parse");
+        let opts = ImportOptions {
+            unit: UnitChoice::Fixed(LengthUnit::Centimeter),
+            up: UpChoice::Fixed(UpAxis::Y),
+            ..Default::default()
+        };
+        let (clip, _) = clip_from_bvh(&bvh, &opts).expect("clip");
+        let out = clip_to_bvh(&clip, &ExportOptions::default());
+        let names =
+            |j: &kinergy_bvh::Joint| -> Vec<&str> { j.channels.iter().map(|c| c.name()).collect() };
+        use Channel::*;
+        let want: [&[Channel]; 4] = [
+            &[
+                Xposition, Yposition, Zposition, Yrotation, Xrotation, Zrotation,
+            ],
+            &[Zrotation, Xrotation, Yrotation],
+            &[Xrotation, Zrotation, Yrotation],
+            &[
+                Xposition, Yposition, Zposition, Zrotation, Xrotation, Yrotation,
+            ],
+        ];
+        for (j, want) in out.joints.iter().zip(want) {
+            assert_eq!(j.channels, want, "{:?}", names(j));
+        }
+        assert_eq!(out.joints[0].offset, [0.0; 3]);
+        // The completed channels are zeros; the root's are its whole translation (its Y
+        // channel replaced the OFFSET's 90 cm: that stands the body on the ground).
+        let f0 = out.frame(0).expect("frame");
+        let want = [1.0, 1.0, 2.0, 10.0, 0.0, 0.0, 20.0, 0.0, 0.0];
+        for (a, b) in f0.iter().zip(want) {
+            assert_relative_eq!(*a, b, epsilon = 1e-12);
+        }
+        let (back, _) = clip_from_bvh(&out, &opts).expect("clip");
+        for (a, b) in world(&clip).iter().zip(&world(&back)) {
+            assert_relative_eq!(a, b, epsilon = 1e-12);
+        }
+        // Round trip: the second writing is the first.
+        assert!(clip_to_bvh(&back, &ExportOptions::default()).same_content(&out));
+    }
+
+    #[test]
+    fn a_joint_rotating_twice_about_one_axis_is_written_in_three_distinct_axes() {
+        let joint = |name: &str, parent, offset, dofs| Joint {
+            name: String::from(name),
+            parent,
+            offset,
+            dofs,
+            end_site: false,
+            position_reading: PositionReading::ReplaceOffset,
+        };
+        let z = Dof::Rotation(Axis::Z);
+        let x = Dof::Rotation(Axis::X);
+        let skeleton = Skeleton::new(vec![
+            joint("Root", None, Vector3::new(0.0, 1.0, 0.0), vec![z, x, z]),
+            Joint {
+                end_site: true,
+                ..joint("Root_End", Some(0), Vector3::new(0.0, 0.2, 0.1), vec![])
+            },
+        ])
+        .expect("skeleton");
+        let values = vec![0.3, 0.4, 0.5, 2.9, -0.2, 3.0, -3.0, 0.1, -2.9];
+        let clip = Clip::new(Arc::new(skeleton), 0.1, values).expect("clip");
+        let out = clip_to_bvh(&clip, &ExportOptions::default());
+        use Channel::{Xrotation, Yrotation, Zrotation};
+        assert_eq!(out.joints[0].channels, [Zrotation, Xrotation, Yrotation]);
+        let opts = ImportOptions {
+            unit: UnitChoice::Fixed(LengthUnit::Centimeter),
+            up: UpChoice::Fixed(UpAxis::Y),
+            ..Default::default()
+        };
+        let (back, _) = clip_from_bvh(&out, &opts).expect("clip");
+        for (a, b) in world(&clip).iter().zip(&world(&back)) {
             assert_relative_eq!(a, b, epsilon = 1e-9);
         }
-        assert_eq!(out.joints[3].name, None);
     }
 
     #[test]
@@ -874,8 +1121,15 @@ Frame Time: 0.0333333
                     up: ExportUp::AsRead,
                 },
             );
-            for (a, b) in bvh.motion.iter().zip(&same.motion) {
-                assert_relative_eq!(a, b, epsilon = 1e-9);
+            // (The root's OFFSET moved into its position channels, the first three.)
+            let n = bvh.channel_count();
+            for (k, (a, b)) in bvh.motion.iter().zip(&same.motion).enumerate() {
+                let shift = if k % n < 3 {
+                    bvh.joints[0].offset[k % n]
+                } else {
+                    0.0
+                };
+                assert_relative_eq!(a + shift, b, epsilon = 1e-9);
             }
             // Written Y up, read again: Y up, the same world positions.
             let y = clip_to_bvh(

@@ -32,8 +32,9 @@ impl Dof {
 /// How a joint's BVH position channels relate to its `OFFSET`.
 ///
 /// Inside a [`Skeleton`] a joint's translation is always `offset + t` with `t` the values of
-/// its translation DoFs; this records how the file's channel values map to `t`, so export
-/// writes them back the way the file had them.
+/// its translation DoFs; this records how the file's channel values were mapped to `t`.
+/// Export ([`crate::clip_to_bvh`]) always writes channels that replace the OFFSET (and a
+/// zero OFFSET on a root with position channels), the reading every importer shares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum PositionReading {
     /// The channels are a displacement added to the OFFSET (`t = channel`); Character
