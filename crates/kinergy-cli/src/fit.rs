@@ -49,7 +49,12 @@ pub struct Args {
     /// Where to write the parameters (JSON, atomically). Ending in `/` (`-o fits/`) it names
     /// a folder, as `--out-dir` does; several results (`--per clip` over several reaches)
     /// need a folder.
-    #[arg(short, long, value_name = "params.json", required_unless_present = "out_dir")]
+    #[arg(
+        short,
+        long,
+        value_name = "params.json",
+        required_unless_present = "out_dir"
+    )]
     pub output: Option<PathBuf>,
     /// A folder that receives one file per fit, named by the clip's path from the clips'
     /// common folder (`p01/r01.json`; `p01/r01_<onset>-<end>.json` for several reaches of
@@ -306,7 +311,9 @@ fn destination(args: &Args, several: bool) -> Result<(&Path, bool), Failure> {
         return Ok((dir, true));
     }
     let Some(output) = &args.output else {
-        return Err(Failure::Input("name an output: -o FILE or --out-dir DIR".into()));
+        return Err(Failure::Input(
+            "name an output: -o FILE or --out-dir DIR".into(),
+        ));
     };
     let folder = output
         .as_os_str()
@@ -352,9 +359,17 @@ fn output_names(groups: &[Vec<CapturedReach>]) -> Vec<PathBuf> {
                 .file_stem()
                 .map_or_else(|| "clip".into(), |s| s.to_string_lossy().into_owned());
             let first = &group[0];
-            let repeated = groups.iter().filter(|g| g[0].name() == first.name()).count() > 1;
+            let repeated = groups
+                .iter()
+                .filter(|g| g[0].name() == first.name())
+                .count()
+                > 1;
             let name = if repeated {
-                format!("{stem}_{}-{}.json", first.frames().start, first.frames().end)
+                format!(
+                    "{stem}_{}-{}.json",
+                    first.frames().start,
+                    first.frames().end
+                )
             } else {
                 format!("{stem}.json")
             };

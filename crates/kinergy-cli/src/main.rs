@@ -24,7 +24,7 @@ mod synthesize;
     name = "kinergy",
     version,
     about = "Learn how a person reaches from BVH captures and synthesize reaches in that style.",
-    after_help = "A walk-through:\n  kinergy inspect capture.bvh\n  kinergy fit capture.bvh --model sc --per clip -o sc.json\n  kinergy synthesize --from capture.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy plot speed capture.bvh sc.bvh -o speed.svg\n  kinergy animate capture.bvh sc.bvh -o overlay.gif --view side\n\nExit codes: 0 done, 1 the task failed (e.g. unreachable), 2 bad input."
+    after_help = "A walk-through:\n  kinergy inspect capture.bvh\n  kinergy fit capture.bvh --model sc --per clip -o sc.json\n  kinergy synthesize capture.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy plot speed capture.bvh sc.bvh -o speed.svg\n  kinergy animate capture.bvh sc.bvh -o overlay.gif --view side\n\nExit codes: 0 done, 1 the task failed (e.g. unreachable), 2 bad input."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -68,7 +68,7 @@ enum Command {
     /// Synthesize one reach with the synergy controller from a capture's first frame to its
     /// final hand position (or --target), written on the capture's skeleton.
     #[command(
-        after_help = "Examples:\n  kinergy synthesize --from reach.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy synthesize --from reach.bvh --model sc --optimizer svd -o out.bvh\n  kinergy synthesize --from reach.bvh --params me.json --target 0.3,1.2,0.4 -o out.bvh --json"
+        after_help = "Examples:\n  kinergy synthesize reach.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy synthesize reach.bvh --model sc --optimizer svd -o out.bvh\n  kinergy synthesize reach.bvh --params me.json --target 0.3,1.2,0.4 -o out.bvh --json"
     )]
     Synthesize(synthesize::Args),
     /// Synthesize one full-body reach (steps, spine, head, arm) toward a target, as BVH.

@@ -192,6 +192,16 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         settings.rrt.budget.time = Some(Duration::from_millis(ms));
     }
+    if let (Some(name), Some(_)) = (&args.object, args.task)
+        && scene.object(name).is_none()
+    {
+        let known: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+        return Err(Failure::Input(format!(
+            "--object: {} (in {})",
+            crate::common::names::unknown("object", name, &known),
+            args.scene.display()
+        )));
+    }
     let triangles = scene.triangle_count();
     let planner = Planner::new(scene, settings).map_err(plan_failure)?;
     let need_object = || {

@@ -94,3 +94,153 @@ fn fit_per_clip_onto_one_file_asks_for_a_folder() {
     );
     assert!(!dir.path().join("x").exists());
 }
+
+/// The test capture with its right arm renamed out of recognition (`CC_Base_X_…`): a
+/// skeleton with only a left arm.
+fn left_armed(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(fixture("006_14.bvh")).unwrap();
+    let path = dir.join("left_only.bvh");
+    std::fs::write(&path, text.replace("CC_Base_R_", "CC_Base_X_")).unwrap();
+    path
+}
+
+#[test]
+fn no_right_arm_suggests_the_left_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let clip = left_armed(dir.path());
+    let before = std::fs::read(&clip).unwrap();
+    let out = dir.path().join("p.json");
+    let args = [
+        "fit",
+        clip.to_str().unwrap(),
+        "--model",
+        "sa",
+        "--budget",
+        "10",
+    ];
+    let mut with_out = args.to_vec();
+    with_out.extend(["-o", out.to_str().unwrap()]);
+    assert_bad_input(&with_out, "use --arm left", &out);
+    assert_eq!(std::fs::read(&clip).unwrap(), before);
+}
+
+#[test]
+fn reach_hints_name_only_its_own_options() {
+    let dir = tempfile::tempdir().unwrap();
+    let clip = left_armed(dir.path());
+    let out = dir.path().join("r.bvh");
+    let o = kinergy(&[
+        "reach",
+        "--person",
+        clip.to_str().unwrap(),
+        "--target",
+        "0.3,1.1,0.4",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(!err.contains("--chain"), "reach has no --chain: {err}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_misspelt_chain_joint_gets_did_you_mean_and_the_list() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p.json");
+    let clip = fixture("006_14.bvh");
+    let args = [
+        "fit",
+        clip.to_str().unwrap(),
+        "--model",
+        "sa",
+        "--chain",
+        "CC_Base_R_Upperarm,CC_Base_R_Forarm,CC_Base_R_Hand",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    assert_bad_input(&args, "did you mean `CC_Base_R_Forearm`?", &out);
+    assert_bad_input(&args, "joints: CC_Base_Hip,", &out);
+}
+
+#[test]
+fn a_misspelt_object_gets_did_you_mean_and_the_list() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("g.bvh");
+    let scene = common::repo().join("examples/bookshelf/scene.json");
+    let args = [
+        "plan",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--task",
+        "grasp",
+        "--object",
+        "gray_book",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    assert_bad_input(&args, "did you mean `grey_book`?", &out);
+    assert_bad_input(&args, "objects: floor, shelf,", &out);
+}
+
+#[test]
+fn an_unreachable_reach_target_is_beyond_reach_not_timed_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.bvh");
+    let o = kinergy(&["reach", "--target", "3,1,0", "-o", out.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("beyond reach by 1."), "{err}");
+    assert!(
+        !err.contains("timed out") && !err.contains("timeout"),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_unreachable_synthesize_target_is_beyond_reach() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.bvh");
+    let clip = fixture("006_14.bvh");
+    let o = kinergy(&[
+        "synthesize",
+        clip.to_str().unwrap(),
+        "--target",
+        "3,1,0",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("beyond reach by 2."), "{err}");
+    assert!(err.contains("the arm is 6"), "{err}");
+}
+
+#[test]
+fn synthesize_takes_the_capture_positionally_or_as_from_not_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let clip = fixture("006_14.bvh");
+    let clip = clip.to_str().unwrap();
+    for (k, args) in [vec![clip], vec!["--from", clip]].into_iter().enumerate() {
+        let out = dir.path().join(format!("s{k}.bvh"));
+        let mut all = vec!["synthesize"];
+        all.extend(args);
+        all.extend(["--stop-at-reach", "-o", out.to_str().unwrap()]);
+        let o = kinergy(&all);
+        assert!(o.status.code() != Some(2), "{all:?}: {}", stderr(&o));
+        assert!(out.is_file(), "{all:?}");
+    }
+    let out = dir.path().join("both.bvh");
+    assert_bad_input(
+        &[
+            "synthesize",
+            clip,
+            "--from",
+            clip,
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        "cannot be used with",
+        &out,
+    );
+}

@@ -10,6 +10,7 @@ pub mod args;
 pub mod captured;
 pub mod clips;
 pub mod limits;
+pub mod names;
 pub mod outputs;
 pub mod progress;
 
@@ -84,4 +85,22 @@ pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
         E::Checkpoint { .. } | E::Setting { .. } | E::Reach { .. } => Failure::Input(e.to_string()),
         _ => Failure::Task(e.to_string()),
     }
+}
+
+/// A length for people: three significant digits, in mm below 1 m (`4.20 mm`, `931 mm`,
+/// `1.54 m`).
+pub fn length(meters: f64) -> String {
+    let (value, unit) = if meters.abs() < 1.0 {
+        (meters * 1e3, "mm")
+    } else {
+        (meters, "m")
+    };
+    let digits = if value.abs() >= 100.0 {
+        0
+    } else if value.abs() >= 10.0 {
+        1
+    } else {
+        2
+    };
+    format!("{value:.digits$} {unit}")
 }
