@@ -244,3 +244,21 @@ fn synthesize_takes_the_capture_positionally_or_as_from_not_both() {
         &out,
     );
 }
+
+#[test]
+fn a_budget_below_the_population_names_the_options() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p.json");
+    let clip = fixture("006_14.bvh");
+    let args = [
+        "fit",
+        clip.to_str().unwrap(),
+        "--model",
+        "sa",
+        "--budget",
+        "5",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    assert_bad_input(&args, "--budget 5: at least --population (8)", &out);
+}

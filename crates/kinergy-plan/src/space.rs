@@ -204,7 +204,7 @@ fn parry_shape(shape: &Shape, grow: f64) -> Result<SharedShape> {
                 TriMesh::new(vertices, mesh.triangles.clone()).map_err(|e| PlanError::Obj {
                     path: file.clone(),
                     line: 0,
-                    why: format!("not a usable triangle mesh: {e:?}"),
+                    why: format!("not a usable triangle mesh: {e}"),
                 })?;
             SharedShape::new(mesh)
         }

@@ -168,7 +168,15 @@ impl SearchArgs {
         check_optional("--threads", self.threads, limits::THREADS)?;
         check_range("--budget", self.budget, limits::BUDGET)?;
         check_range("--population", self.population, limits::POPULATION)?;
-        check_range("--temperature", self.temperature, limits::TEMPERATURE)
+        check_range("--temperature", self.temperature, limits::TEMPERATURE)?;
+        if self.budget < self.population {
+            return Err(Failure::Input(format!(
+                "--budget {}: at least --population ({}), the evaluations of the first \
+                 generation",
+                self.budget, self.population
+            )));
+        }
+        Ok(())
     }
 
     /// Fit settings from the flags.
