@@ -29,6 +29,10 @@ mod synthesize;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Print no report on standard output (errors still go to standard error, and `-o -`
+    /// still writes its data there).
+    #[arg(short, long, global = true)]
+    quiet: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -38,7 +42,7 @@ enum Command {
     Inspect(inspect::Args),
     /// Read a BVH file and write it back (optionally in another unit), atomically.
     #[command(
-        after_help = "Examples:\n  kinergy convert in.bvh -o out.bvh --unit m\n  kinergy convert capture.bvh --frames 5..88 -o reach.bvh"
+        after_help = "Examples:\n  kinergy convert in.bvh -o out.bvh --unit m\n  kinergy convert capture.bvh --frames 5..88 -o reach.bvh\n  kinergy convert capture.bvh --unit m -o - | less"
     )]
     Convert(convert::Args),
     /// Find the segments of captures' hand speed and label them reach, return or other
@@ -97,6 +101,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    common::set_quiet(cli.quiet);
     let result = match cli.command {
         Command::Inspect(args) => inspect::run(&args),
         Command::Convert(args) => convert::run(&args),

@@ -252,8 +252,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let clip = motion
         .to_clip(planner.character())
         .map_err(|e| Failure::Task(e.to_string()))?;
-    kinergy_motion::write_clip(&args.output, &clip, &Default::default())
-        .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+    crate::common::write_clip(&args.output, &clip, &Default::default())?;
     let report = Report {
         output: args.output.display().to_string(),
         scene: args.scene.display().to_string(),

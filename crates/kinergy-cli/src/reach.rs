@@ -106,8 +106,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let clip = character
         .to_clip(&motion.poses, motion.frame_time)
         .map_err(|e| Failure::Task(e.to_string()))?;
-    kinergy_motion::write_clip(&args.output, &clip, &Default::default())
-        .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+    crate::common::write_clip(&args.output, &clip, &Default::default())?;
     let r = &motion.report;
     let report = Report {
         output: args.output.display().to_string(),

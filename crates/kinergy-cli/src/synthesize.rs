@@ -252,15 +252,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let out_clip = reach
         .to_clip(&whole, &synthesis)
         .map_err(|e| Failure::input(from, e))?;
-    kinergy_motion::write_clip(
+    crate::common::write_clip(
         &args.output,
         &out_clip,
         &ExportOptions {
             unit: args.unit,
             ..Default::default()
         },
-    )
-    .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+    )?;
 
     let arm = reach.arm();
     let distance = match (&args.target, arm.synthesized_trajectory(&synthesis)) {

@@ -262,3 +262,110 @@ fn a_budget_below_the_population_names_the_options() {
     ];
     assert_bad_input(&args, "--budget 5: at least --population (8)", &out);
 }
+
+#[test]
+fn dash_writes_the_bvh_to_standard_output_and_leaves_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let clip = fixture("006_14.bvh");
+    let clip = clip.to_str().unwrap();
+    for args in [
+        vec!["convert", clip, "--unit", "m", "-o", "-"],
+        vec!["synthesize", clip, "--stop-at-reach", "-o", "-"],
+        vec!["reach", "--target", "0.3,1.1,0.4", "-o", "-"],
+    ] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_kinergy"))
+            .args(&args)
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+        let out = common::stdout(&o);
+        assert!(out.starts_with("HIERARCHY"), "{args:?}: {out:.200}");
+        assert!(out.contains("\nMOTION"), "{args:?}");
+        assert!(
+            !dir.path().join("-").exists(),
+            "{args:?} wrote a file named -"
+        );
+    }
+    let out = dir.path().join("-");
+    assert_bad_input(
+        &["convert", clip, "-o", "-", "--json"],
+        "both write to standard output",
+        &out,
+    );
+}
+
+#[test]
+fn quiet_prints_no_report_but_still_the_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.bvh");
+    let o = kinergy(&[
+        "--quiet",
+        "reach",
+        "--target",
+        "0.3,1.1,0.4",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(o.stdout.is_empty(), "{}", common::stdout(&o));
+    assert!(out.is_file());
+    let o = kinergy(&[
+        "reach",
+        "-q",
+        "--target",
+        "3,1,0",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(o.stdout.is_empty());
+    assert!(stderr(&o).contains("beyond reach"), "{}", stderr(&o));
+}
+
+#[test]
+fn convert_json_reports_what_it_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c.bvh");
+    let clip = fixture("006_14.bvh");
+    let o = kinergy(&[
+        "convert",
+        clip.to_str().unwrap(),
+        "--frames",
+        "5..88",
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let report = common::json(&o);
+    assert_eq!(report["frames"], 83);
+    assert_eq!(report["unit"], "cm");
+    assert!(out.is_file());
+}
+
+#[test]
+fn an_unreachable_plan_target_is_beyond_reach_in_plain_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p.bvh");
+    let scene = common::repo().join("examples/bookshelf/scene.json");
+    let o = kinergy(&[
+        "plan",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--target",
+        "0.3,1.0,0.3",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("beyond reach by 0.0"), "{err}");
+    // Millimetres at most: no float printed with all its digits.
+    assert!(
+        !err.split(|c: char| !c.is_ascii_digit() && c != '.')
+            .any(|n| n.split('.').nth(1).is_some_and(|f| f.len() > 3)),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

@@ -66,11 +66,52 @@ pub fn print_json(value: &impl serde::Serialize) -> Result<(), Failure> {
     emit(&text)
 }
 
-/// Writes `text` to stdout. A closed pipe (`kinergy inspect … | head`) is not an error.
+/// Set by `--quiet`: reports are not printed (errors still go to stderr, and data asked
+/// for on stdout with `-o -` is still written).
+static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Turns the stdout report off (`--quiet`) or on.
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Writes the report `text` to stdout, unless `--quiet`. A closed pipe
+/// (`kinergy inspect … | head`) is not an error.
 pub fn emit(text: &str) -> Result<(), Failure> {
+    if QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        return Ok(());
+    }
+    emit_data(text.as_bytes())
+}
+
+/// Whether `path` is `-`: standard output instead of a file.
+pub fn is_stdout(path: &std::path::Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// Writes `clip` as BVH to `path`, atomically, or to standard output for `-` (then the
+/// report is not printed: the data has stdout). Errors name the file.
+pub fn write_clip(
+    path: &Path,
+    clip: &kinergy_motion::Clip,
+    options: &kinergy_motion::ExportOptions,
+) -> Result<(), Failure> {
+    if is_stdout(path) {
+        set_quiet(true);
+        let text = kinergy_bvh::to_string(&kinergy_motion::clip_to_bvh(clip, options))
+            .map_err(|e| Failure::Task(format!("could not write the BVH: {e}")))?;
+        return emit_data(text.as_bytes());
+    }
+    kinergy_motion::write_clip(path, clip, options)
+        .map_err(|e| Failure::Task(format!("{}: {e}", path.display())))
+}
+
+/// Writes data asked for on stdout (`-o -`), `--quiet` or not. A closed pipe is not an
+/// error.
+pub fn emit_data(bytes: &[u8]) -> Result<(), Failure> {
     use std::io::Write;
     let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+    match out.write_all(bytes).and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
             Err(Failure::Task(format!("could not write to stdout: {e}")))
         }
