@@ -369,3 +369,60 @@ fn an_unreachable_plan_target_is_beyond_reach_in_plain_numbers() {
     );
     assert!(!out.exists());
 }
+
+/// `kinergy plan` on the bookshelf example with `args`, writing to `out`.
+fn plan_bookshelf(args: &[&str], out: &Path) -> std::process::Output {
+    let scene = common::repo().join("examples/bookshelf/scene.json");
+    let mut all = vec!["plan", "--scene", scene.to_str().unwrap()];
+    all.extend(args);
+    all.extend(["-o", out.to_str().unwrap()]);
+    kinergy(&all)
+}
+
+#[test]
+fn relocating_into_mid_air_or_into_another_object_fails_saying_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = common::repo().join("examples/bookshelf/scene.json");
+    let before = std::fs::read(&scene).unwrap();
+    let out = dir.path().join("r.bvh");
+    for (to, why) in [
+        ("-0.22,1.3,0.2", "nothing would hold it up"),
+        ("-0.22,1.55,0.50", "nothing would hold it up"),
+        ("-0.12,1.115,0.50", "intersect `grey_book`"),
+    ] {
+        let o = plan_bookshelf(
+            &["--task", "relocate", "--object", "blue_book", "--to", to],
+            &out,
+        );
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "--to {to}: {err}");
+        assert!(
+            err.contains("cannot place `blue_book` there") && err.contains(why),
+            "{err}"
+        );
+        assert!(!out.exists(), "--to {to} left an output");
+    }
+    assert_eq!(std::fs::read(&scene).unwrap(), before);
+    // Resting on the board, as the README does it: placed.
+    let o = plan_bookshelf(
+        &[
+            "--task",
+            "relocate",
+            "--object",
+            "blue_book",
+            "--to",
+            "-0.22,1.49,0.50",
+        ],
+        &out,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+#[test]
+fn the_bookshelf_grey_book_is_graspable() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("g.bvh");
+    let o = plan_bookshelf(&["--task", "grasp", "--object", "grey_book"], &out);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(out.is_file());
+}
