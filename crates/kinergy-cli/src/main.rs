@@ -2,7 +2,7 @@
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 mod animate;
 mod common;
@@ -97,6 +97,15 @@ enum Command {
         after_help = "Examples:\n  kinergy animate capture.bvh sa.bvh sc.bvh -o overlay.gif --view side\n  kinergy animate data-synthetic/p01/r01.bvh data-synthetic/p01/r02.bvh -o pair.gif --fps 12 --strip pair.svg --strip-frames 8 --json"
     )]
     Animate(animate::Args),
+    /// Print the shell completion script for bash, zsh, fish, elvish or PowerShell.
+    #[command(
+        after_help = "Examples:\n  kinergy completions bash > ~/.local/share/bash-completion/completions/kinergy\n  kinergy completions zsh > ~/.zfunc/_kinergy\n  kinergy completions fish > ~/.config/fish/completions/kinergy.fish"
+    )]
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
 }
 
 fn main() -> ExitCode {
@@ -114,6 +123,11 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Animate(args) => animate::run(&args),
+        Command::Completions { shell } => {
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "kinergy", &mut script);
+            common::emit_data(&script)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

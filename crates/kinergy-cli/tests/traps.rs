@@ -426,3 +426,17 @@ fn the_bookshelf_grey_book_is_graspable() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(out.is_file());
 }
+
+#[test]
+fn completions_for_bash_zsh_and_fish_name_the_subcommands() {
+    for shell in ["bash", "zsh", "fish"] {
+        let o = kinergy(&["completions", shell]);
+        assert_eq!(o.status.code(), Some(0), "{shell}: {}", stderr(&o));
+        let script = common::stdout(&o);
+        for word in ["synthesize", "relocate", "out-dir", "quiet"] {
+            assert!(script.contains(word), "{shell}: no {word}");
+        }
+    }
+    let o = kinergy(&["completions", "tcsh"]);
+    assert_eq!(o.status.code(), Some(2));
+}
