@@ -88,7 +88,7 @@ pub trait Figure {
 
 /// A failure writing the picture `path`.
 fn failed(path: &Path, e: impl std::fmt::Display) -> Failure {
-    Failure::Task(format!("{}: {e}", path.display()))
+    Failure::task(path, e)
 }
 
 /// A drawing failure writing the picture `path`, said without Rust's Debug text.

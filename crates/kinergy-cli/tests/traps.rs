@@ -440,3 +440,16 @@ fn completions_for_bash_zsh_and_fish_name_the_subcommands() {
     let o = kinergy(&["completions", "tcsh"]);
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+#[cfg(target_os = "linux")]
+fn a_failed_write_names_the_path_once() {
+    // /proc exists, so the output passes the checks before work; no file can be made in it.
+    let clip = fixture("006_14.bvh");
+    let out = "/proc/kinergy-traps.bvh";
+    let o = kinergy(&["convert", clip.to_str().unwrap(), "-o", out]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.matches(out).count(), 1, "{err}");
+    assert!(!err.contains("Os {"), "{err}");
+}

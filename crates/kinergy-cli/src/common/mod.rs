@@ -41,13 +41,22 @@ impl Failure {
 
     /// Bad input concerning `path`.
     pub fn input(path: &Path, e: impl fmt::Display) -> Failure {
-        let text = e.to_string();
-        // Library errors about files already name them.
-        if text.contains(&*path.to_string_lossy()) {
-            Failure::Input(text)
-        } else {
-            Failure::Input(format!("{}: {text}", path.display()))
-        }
+        Failure::Input(naming(path, e))
+    }
+
+    /// A failed task concerning `path` (e.g. writing it).
+    pub fn task(path: &Path, e: impl fmt::Display) -> Failure {
+        Failure::Task(naming(path, e))
+    }
+}
+
+/// `e` naming `path` once: library errors about files already name them.
+fn naming(path: &Path, e: impl fmt::Display) -> String {
+    let text = e.to_string();
+    if text.contains(&*path.to_string_lossy()) {
+        text
+    } else {
+        format!("{}: {text}", path.display())
     }
 }
 
@@ -102,8 +111,7 @@ pub fn write_clip(
             .map_err(|e| Failure::Task(format!("could not write the BVH: {e}")))?;
         return emit_data(text.as_bytes());
     }
-    kinergy_motion::write_clip(path, clip, options)
-        .map_err(|e| Failure::Task(format!("{}: {e}", path.display())))
+    kinergy_motion::write_clip(path, clip, options).map_err(|e| Failure::task(path, e))
 }
 
 /// Writes data asked for on stdout (`-o -`), `--quiet` or not. A closed pipe is not an
