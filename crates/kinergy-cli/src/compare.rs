@@ -208,15 +208,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let bytes = w
         .into_inner()
         .map_err(|e| Failure::Task(format!("results.csv: {e}")))?;
-    kinergy_io::write_atomic(&csv_path, &bytes)
-        .map_err(|e| Failure::Task(format!("{}: {e}", csv_path.display())))?;
+    kinergy_io::write_atomic(&csv_path, &bytes).map_err(|e| Failure::task(&csv_path, e))?;
 
     let summary = Summary::of(&results, &settings);
     let report = SummaryReport::new(&summary, &results, &settings, reaches.len(), seconds);
     let markdown = markdown(&report, &summary, &settings);
     let md_path = args.output.join("summary.md");
     kinergy_io::write_atomic(&md_path, markdown.as_bytes())
-        .map_err(|e| Failure::Task(format!("{}: {e}", md_path.display())))?;
+        .map_err(|e| Failure::task(&md_path, e))?;
     let charts = draw_charts(&results, args)?;
     if args.json {
         return print_json(&report);

@@ -5,16 +5,33 @@ use std::path::PathBuf;
 
 use kinergy_motion::{ExportOptions, ExportUp, LengthUnit};
 
-use crate::common::{Failure, ReadArgs};
+use serde::Serialize;
+
+use crate::common::{Failure, ReadArgs, is_stdout, print_json};
+
+/// What `kinergy convert --json` prints.
+#[derive(Serialize)]
+struct Report {
+    input: String,
+    output: String,
+    frames: usize,
+    frame_time_s: f64,
+    joints: usize,
+    unit: String,
+}
 
 /// Arguments of `kinergy convert`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The BVH file to read.
     input: PathBuf,
-    /// Where to write (written to a temporary file, then renamed into place).
+    /// Where to write (written to a temporary file, then renamed into place); `-` writes
+    /// the BVH to standard output.
     #[arg(short, long, value_name = "FILE")]
     output: PathBuf,
+    /// Print a report of what was written as JSON (not with `-o -`).
+    #[arg(long)]
+    json: bool,
     /// Length unit of the written file: m, cm, mm, in or cmu.
     #[arg(long, default_value = "cm", value_name = "UNIT")]
     unit: LengthUnit,
@@ -42,6 +59,12 @@ enum UpOut {
 
 /// Runs `kinergy convert`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    let to_stdout = is_stdout(&args.output);
+    if to_stdout && args.json {
+        return Err(Failure::Input(
+            "--json and -o - both write to standard output: write the BVH to a file".into(),
+        ));
+    }
     crate::common::check_outputs(
         &[&args.input],
         &[crate::common::Output::File("-o", &args.output)],
@@ -62,16 +85,24 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 .map_err(|e| Failure::input(&args.input, e))?
         }
     };
-    kinergy_motion::write_clip(
-        &args.output,
-        &clip,
-        &ExportOptions {
-            unit: args.unit,
-            up: match args.up_out {
-                UpOut::AsRead => ExportUp::AsRead,
-                UpOut::Y => ExportUp::Y,
-            },
+    let options = ExportOptions {
+        unit: args.unit,
+        up: match args.up_out {
+            UpOut::AsRead => ExportUp::AsRead,
+            UpOut::Y => ExportUp::Y,
         },
-    )
-    .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))
+    };
+    crate::common::write_clip(&args.output, &clip, &options)?;
+    if args.json {
+        print_json(&Report {
+            input: args.input.display().to_string(),
+            output: args.output.display().to_string(),
+            frames: clip.frame_count(),
+            frame_time_s: clip.frame_time(),
+            joints: clip.skeleton().joints().len(),
+            unit: args.unit.name().to_string(),
+        })
+    } else {
+        Ok(())
+    }
 }

@@ -13,6 +13,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters_backend::DrawingErrorKind;
 
 use crate::common::Failure;
 
@@ -91,7 +92,36 @@ pub trait Figure {
 
 /// A failure writing the picture `path`.
 fn failed(path: &Path, e: impl std::fmt::Display) -> Failure {
-    Failure::Task(format!("{}: {e}", path.display()))
+    Failure::task(path, e)
+}
+
+/// A drawing failure writing the picture `path`, said without Rust's Debug text.
+fn drawing_failed(path: &Path, e: &(dyn Error + 'static)) -> Failure {
+    failed(path, plain(e))
+}
+
+/// The bitmap backend's error type (plotters does not export its name).
+type BitmapError = <BitMapBackend<'static> as DrawingBackend>::ErrorType;
+
+/// A drawing error as people read it. plotters' bitmap backend displays its errors with
+/// Rust's Debug formatting (`IOError(Os { code: 28, kind: StorageFull, … })`): say the I/O
+/// error inside instead.
+fn plain(e: &(dyn Error + 'static)) -> String {
+    let bitmap = e.downcast_ref::<BitmapError>().or_else(|| {
+        match e.downcast_ref::<DrawingAreaErrorKind<BitmapError>>() {
+            Some(DrawingAreaErrorKind::BackendError(DrawingErrorKind::DrawingError(b))) => Some(b),
+            _ => None,
+        }
+    });
+    match bitmap {
+        Some(BitmapError::IOError(io)) => io.to_string(),
+        Some(BitmapError::InvalidBuffer) => "the picture's pixel buffer has the wrong size".into(),
+        Some(other) => other.source().map_or_else(
+            || "the picture could not be encoded".into(),
+            |s| s.to_string(),
+        ),
+        None => e.to_string(),
+    }
 }
 
 /// Starts the staged file of the picture `path`.
@@ -118,7 +148,7 @@ pub fn stage(figure: &impl Figure, path: &Path, size: (u32, u32)) -> Result<Atom
                 figure
                     .draw(&root)
                     .and_then(|()| root.present().map_err(|e| e.into()))
-                    .map_err(|e| failed(path, e))?;
+                    .map_err(|e| drawing_failed(path, &*e))?;
             }
             text.into_bytes()
         }
@@ -132,7 +162,7 @@ pub fn stage(figure: &impl Figure, path: &Path, size: (u32, u32)) -> Result<Atom
                 figure
                     .draw(&root)
                     .and_then(|()| root.present().map_err(|e| e.into()))
-                    .map_err(|e| failed(path, e))?;
+                    .map_err(|e| drawing_failed(path, &*e))?;
             }
             let mut png = Vec::new();
             image::codecs::png::PngEncoder::new(&mut png)
@@ -172,7 +202,7 @@ pub fn stage_gif(
         }
         Ok(())
     })()
-    .map_err(|e| failed(path, e))?;
+    .map_err(|e| drawing_failed(path, &*e))?;
     Ok(staged)
 }
 
@@ -401,5 +431,29 @@ impl Figure for BarChart {
             .position(SeriesLabelPosition::UpperRight)
             .draw()?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod plain_tests {
+    use super::{BitmapError, plain};
+    use plotters::prelude::DrawingAreaErrorKind;
+    use plotters_backend::DrawingErrorKind;
+
+    #[test]
+    fn a_full_disk_while_drawing_is_said_without_debug_text() {
+        let io = || std::io::Error::from(std::io::ErrorKind::StorageFull);
+        let direct: Box<dyn std::error::Error> = Box::new(BitmapError::IOError(io()));
+        let wrapped: Box<dyn std::error::Error> = Box::new(DrawingAreaErrorKind::BackendError(
+            DrawingErrorKind::DrawingError(BitmapError::IOError(io())),
+        ));
+        for e in [direct, wrapped] {
+            let text = plain(&*e);
+            assert!(
+                !text.contains("IOError") && !text.contains("kind:"),
+                "{text}"
+            );
+            assert_eq!(text, io().to_string());
+        }
     }
 }

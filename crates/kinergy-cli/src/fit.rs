@@ -46,10 +46,21 @@ pub struct Args {
     /// first (S_A → S_B → S_C → S_D), each starting from the previous solution.
     #[arg(long)]
     pub no_nested: bool,
-    /// Where to write the parameters (JSON, atomically); with `--per clip` and several clips,
-    /// a folder that receives one `<clip>.json` per clip.
-    #[arg(short, long, value_name = "params.json")]
-    pub output: PathBuf,
+    /// Where to write the parameters (JSON, atomically). Ending in `/` (`-o fits/`) it names
+    /// a folder, as `--out-dir` does; several results (`--per clip` over several reaches)
+    /// need a folder.
+    #[arg(
+        short,
+        long,
+        value_name = "params.json",
+        required_unless_present = "out_dir"
+    )]
+    pub output: Option<PathBuf>,
+    /// A folder that receives one file per fit, named by the clip's path from the clips'
+    /// common folder (`p01/r01.json`; `p01/r01_<onset>-<end>.json` for several reaches of
+    /// one clip). It is created if missing; its parent must exist.
+    #[arg(long, value_name = "DIR", conflicts_with = "output")]
+    pub out_dir: Option<PathBuf>,
     /// Checkpoint file, written atomically every `--checkpoint-every` iterations and on
     /// Ctrl-C.
     #[arg(long, value_name = "F")]
@@ -142,8 +153,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Per::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
     };
     let several = groups.len() > 1;
-    // Several reaches of one clip fitted one by one go to `<clip>_<onset>-<end>.json`.
-    let repeated = |name: &str| groups.iter().filter(|g| g[0].name() == name).count() > 1;
+    let (dest, folder) = destination(args, several)?;
+    let names = if folder {
+        output_names(&groups)
+    } else {
+        Vec::new()
+    };
     if several && args.checkpoint.is_some() {
         return Err(Failure::Input(
             "--checkpoint works on one fit at a time: use --per person or one clip".into(),
@@ -154,10 +169,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
         inputs.extend(clips.iter().map(PathBuf::as_path));
         inputs.extend(args.reach.segments.as_deref());
-        let mut outputs = vec![if several {
-            Output::Folder("-o", &args.output)
+        let option = if args.out_dir.is_some() {
+            "--out-dir"
         } else {
-            Output::File("-o", &args.output)
+            "-o"
+        };
+        let mut outputs = vec![if folder {
+            Output::Folder(option, dest)
+        } else {
+            Output::File(option, dest)
         }];
         // Resumed, the checkpoint is read, then rewritten: it is an output like any other.
         outputs.extend(
@@ -168,8 +188,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         outputs.extend(args.log.as_deref().map(|p| Output::File("--log", p)));
         check_outputs(&inputs, &outputs)?;
     }
-    if several {
-        std::fs::create_dir_all(&args.output).map_err(|e| Failure::input(&args.output, e))?;
+    if folder {
+        std::fs::create_dir_all(dest).map_err(|e| Failure::input(dest, e))?;
     }
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .map_err(|e| Failure::Task(format!("cannot watch for Ctrl-C: {e}")))?;
@@ -179,7 +199,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         None => None,
     };
     let mut reports = Vec::new();
-    for group in &groups {
+    for (g, group) in groups.iter().enumerate() {
         let run = NestedRun {
             reaches: group,
             models: &models,
@@ -210,20 +230,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 None => "interrupted (no --checkpoint: nothing saved)".into(),
             }));
         }
-        let output = if several {
-            let first = &group[0];
-            let stem = stem(Path::new(first.name()));
-            args.output.join(if repeated(first.name()) {
-                format!(
-                    "{stem}_{}-{}.json",
-                    first.frames().start,
-                    first.frames().end
-                )
-            } else {
-                format!("{stem}.json")
-            })
+        let output = if folder {
+            let path = dest.join(&names[g]);
+            if let Some(parent) = path.parent() {
+                std::fs::create_dir_all(parent).map_err(|e| Failure::input(parent, e))?;
+            }
+            path
         } else {
-            args.output.clone()
+            dest.to_path_buf()
         };
         let fits = &outcome.fits;
         if fits.fits.is_empty() {
@@ -290,10 +304,96 @@ impl Per {
     }
 }
 
-fn stem(path: &Path) -> String {
-    path.file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "clip".into())
+/// Where the results go and whether it is a folder: `--out-dir`, or `-o` ending in a path
+/// separator, is a folder; a plain `-o` is one file, refused when there are several results.
+fn destination(args: &Args, several: bool) -> Result<(&Path, bool), Failure> {
+    if let Some(dir) = &args.out_dir {
+        return Ok((dir, true));
+    }
+    let Some(output) = &args.output else {
+        return Err(Failure::Input(
+            "name an output: -o FILE or --out-dir DIR".into(),
+        ));
+    };
+    let folder = output
+        .as_os_str()
+        .to_string_lossy()
+        .ends_with(std::path::is_separator);
+    if several && !folder {
+        let dir = output.with_extension("");
+        return Err(Failure::Input(format!(
+            "-o {}: --per clip gives several fits here and -o names one file: name a folder \
+             with a trailing slash (-o {}/) or --out-dir {}, or fit them together with \
+             --per person",
+            output.display(),
+            dir.display(),
+            dir.display()
+        )));
+    }
+    Ok((output, folder))
+}
+
+/// Each group's file name inside the output folder: its clip's path from the clips' common
+/// folder with `.json` for `.bvh` (`p01/r01.json`), so clips with one name in different
+/// folders keep their own results; several reaches of one clip add their frames
+/// (`r01_120-245.json`).
+fn output_names(groups: &[Vec<CapturedReach>]) -> Vec<PathBuf> {
+    let paths: Vec<PathBuf> = groups
+        .iter()
+        .map(|g| {
+            let p = Path::new(g[0].name());
+            std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf())
+        })
+        .collect();
+    let common = common_folder(&paths);
+    groups
+        .iter()
+        .zip(&paths)
+        .map(|(group, path)| {
+            let relative = path.strip_prefix(&common).unwrap_or(path);
+            let relative = relative
+                .components()
+                .filter(|c| matches!(c, std::path::Component::Normal(_)))
+                .collect::<PathBuf>();
+            let stem = relative
+                .file_stem()
+                .map_or_else(|| "clip".into(), |s| s.to_string_lossy().into_owned());
+            let first = &group[0];
+            let repeated = groups
+                .iter()
+                .filter(|g| g[0].name() == first.name())
+                .count()
+                > 1;
+            let name = if repeated {
+                format!(
+                    "{stem}_{}-{}.json",
+                    first.frames().start,
+                    first.frames().end
+                )
+            } else {
+                format!("{stem}.json")
+            };
+            relative.with_file_name(name)
+        })
+        .collect()
+}
+
+/// The deepest folder that holds every one of `paths`.
+fn common_folder(paths: &[PathBuf]) -> PathBuf {
+    let mut common: Option<PathBuf> = None;
+    for path in paths {
+        let folder = path.parent().unwrap_or(Path::new(""));
+        common = Some(match common {
+            None => folder.to_path_buf(),
+            Some(c) => c
+                .components()
+                .zip(folder.components())
+                .take_while(|(a, b)| a == b)
+                .map(|(a, _)| a)
+                .collect(),
+        });
+    }
+    common.unwrap_or_default()
 }
 
 fn report(

@@ -116,7 +116,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Some(names) => {
             let names: Vec<&str> = names.iter().map(String::as_str).collect();
             let arm = ArmJoints::from_names(clip.skeleton(), &names)
-                .map_err(|e| Failure::input(&args.file, e))?;
+                .map_err(|e| crate::common::args::arm_failure(e, &clip, &args.file, None))?;
             let side = arm
                 .side
                 .map_or_else(|| "given".to_string(), |s| s.to_string());

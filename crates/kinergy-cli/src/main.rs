@@ -2,7 +2,7 @@
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 mod animate;
 mod common;
@@ -24,11 +24,15 @@ mod synthesize;
     name = "kinergy",
     version,
     about = "Learn how a person reaches from BVH captures and synthesize reaches in that style.",
-    after_help = "A walk-through:\n  kinergy inspect capture.bvh\n  kinergy fit capture.bvh --model sc --per clip -o sc.json\n  kinergy synthesize --from capture.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy plot speed capture.bvh sc.bvh -o speed.svg\n  kinergy animate capture.bvh sc.bvh -o overlay.gif --view side\n\nExit codes: 0 done, 1 the task failed (e.g. unreachable), 2 bad input."
+    after_help = "A walk-through:\n  kinergy inspect capture.bvh\n  kinergy fit capture.bvh --model sc --per clip -o sc.json\n  kinergy synthesize capture.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy plot speed capture.bvh sc.bvh -o speed.svg\n  kinergy animate capture.bvh sc.bvh -o overlay.gif --view side\n\nExit codes: 0 done, 1 the task failed (e.g. unreachable), 2 bad input."
 )]
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Print no report on standard output (errors still go to standard error, and `-o -`
+    /// still writes its data there).
+    #[arg(short, long, global = true)]
+    quiet: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -38,7 +42,7 @@ enum Command {
     Inspect(inspect::Args),
     /// Read a BVH file and write it back (optionally in another unit), atomically.
     #[command(
-        after_help = "Examples:\n  kinergy convert in.bvh -o out.bvh --unit m\n  kinergy convert capture.bvh --frames 5..88 -o reach.bvh"
+        after_help = "Examples:\n  kinergy convert in.bvh -o out.bvh --unit m\n  kinergy convert capture.bvh --frames 5..88 -o reach.bvh\n  kinergy convert capture.bvh --unit m -o - | less"
     )]
     Convert(convert::Args),
     /// Find the segments of captures' hand speed and label them reach, return or other
@@ -68,7 +72,7 @@ enum Command {
     /// Synthesize one reach with the synergy controller from a capture's first frame to its
     /// final hand position (or --target), written on the capture's skeleton.
     #[command(
-        after_help = "Examples:\n  kinergy synthesize --from reach.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy synthesize --from reach.bvh --model sc --optimizer svd -o out.bvh\n  kinergy synthesize --from reach.bvh --params me.json --target 0.3,1.2,0.4 -o out.bvh --json"
+        after_help = "Examples:\n  kinergy synthesize reach.bvh --params sc.json --frames auto -o sc.bvh\n  kinergy synthesize reach.bvh --model sc --optimizer svd -o out.bvh\n  kinergy synthesize reach.bvh --params me.json --target 0.3,1.2,0.4 -o out.bvh --json"
     )]
     Synthesize(synthesize::Args),
     /// Synthesize one full-body reach (steps, spine, head, arm) toward a target, as BVH.
@@ -93,10 +97,20 @@ enum Command {
         after_help = "Examples:\n  kinergy animate capture.bvh sa.bvh sc.bvh -o overlay.gif --view side\n  kinergy animate data-synthetic/p01/r01.bvh data-synthetic/p01/r02.bvh -o pair.gif --fps 12 --strip pair.svg --strip-frames 8 --json"
     )]
     Animate(animate::Args),
+    /// Print the shell completion script for bash, zsh, fish, elvish or PowerShell.
+    #[command(
+        after_help = "Examples:\n  kinergy completions bash > ~/.local/share/bash-completion/completions/kinergy\n  kinergy completions zsh > ~/.zfunc/_kinergy\n  kinergy completions fish > ~/.config/fish/completions/kinergy.fish"
+    )]
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    common::set_quiet(cli.quiet);
     let result = match cli.command {
         Command::Inspect(args) => inspect::run(&args),
         Command::Convert(args) => convert::run(&args),
@@ -109,6 +123,11 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Animate(args) => animate::run(&args),
+        Command::Completions { shell } => {
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "kinergy", &mut script);
+            common::emit_data(&script)
+        }
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -196,6 +196,16 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         settings.rrt.budget.time = Some(Duration::from_millis(ms));
     }
+    if let (Some(name), Some(_)) = (&args.object, args.task)
+        && scene.object(name).is_none()
+    {
+        let known: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+        return Err(Failure::Input(format!(
+            "--object: {} (in {})",
+            crate::common::names::unknown("object", name, &known),
+            args.scene.display()
+        )));
+    }
     let triangles = scene.triangle_count();
     let planner = Planner::new(scene, settings).map_err(plan_failure)?;
     let need_object = || {
@@ -246,8 +256,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let clip = motion
         .to_clip(planner.character())
         .map_err(|e| Failure::Task(e.to_string()))?;
-    kinergy_motion::write_clip(&args.output, &clip, &Default::default())
-        .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+    crate::common::write_clip(&args.output, &clip, &Default::default())?;
     let report = Report {
         output: args.output.display().to_string(),
         scene: args.scene.display().to_string(),

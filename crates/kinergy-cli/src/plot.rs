@@ -164,7 +164,7 @@ fn speed(args: &SpeedArgs) -> Result<(), Failure> {
         && let Err(e) = kinergy_io::write_atomic(csv_path, csv.as_bytes())
     {
         let _ = std::fs::remove_file(&args.output);
-        return Err(Failure::Task(format!("{}: {e}", csv_path.display())));
+        return Err(Failure::task(csv_path, e));
     }
     let report = Report {
         output: args.output.display().to_string(),

@@ -8,7 +8,9 @@ use kinergy_reach::controller::{ReachSettings, ReachStop, reach_full_body};
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use serde::Serialize;
 
-use crate::common::{Failure, ReadArgs, check_range, emit, limits, parse_point, print_json};
+use crate::common::{
+    Failure, ReadArgs, check_range, emit, length, limits, parse_point, print_json,
+};
 
 /// The hand's speed profile.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -104,8 +106,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let clip = character
         .to_clip(&motion.poses, motion.frame_time)
         .map_err(|e| Failure::Task(e.to_string()))?;
-    kinergy_motion::write_clip(&args.output, &clip, &Default::default())
-        .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+    crate::common::write_clip(&args.output, &clip, &Default::default())?;
     let r = &motion.report;
     let report = Report {
         output: args.output.display().to_string(),
@@ -113,17 +114,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         target_m: [target.x, target.y, target.z],
         reach: r,
     };
+    let ending = Ending::of(&character, &motion);
     if args.json {
         print_json(&report)?;
     } else {
         emit(&format!(
-            "{}: {} ({} frames, {:.2} s), arm {}, step {} ({:.2} m), twist {:.0}°, swing {:.0}°, {} (squat {:.2} m), hand {:.1} mm from the target\n",
+            "{}: {} ({} frames, {:.2} s), arm {}, step {} ({:.2} m), twist {:.0}°, swing {:.0}°, {} (squat {:.2} m), hand {} from the target\n",
             report.output,
-            match r.stop {
-                ReachStop::Reached => "reached",
-                ReachStop::Unreachable => "unreachable: ended at the nearest point",
-                ReachStop::Timeout => "timed out",
-            },
+            ending.short(),
             r.frames,
             r.duration,
             r.arm,
@@ -133,20 +131,66 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             r.swing_deg,
             r.posture,
             r.squat_m,
-            r.final_error * 1e3
+            length(r.final_error)
         ))?;
     }
-    if r.stop == ReachStop::Reached {
-        Ok(())
-    } else {
-        Err(Failure::Task(format!(
-            "the target was not reached ({}): the motion written to {} ends {:.1} mm from it",
-            match r.stop {
-                ReachStop::Unreachable => "unreachable",
-                _ => "timeout",
-            },
-            args.output.display(),
-            r.final_error * 1e3
-        )))
+    match ending {
+        Ending::Reached => Ok(()),
+        Ending::Beyond(by) => Err(Failure::Task(format!(
+            "the target is beyond reach by {}: the motion written to {} ends with the hand at \
+             the nearest point it reaches",
+            length(by),
+            args.output.display()
+        ))),
+        Ending::StillMoving => Err(Failure::Task(format!(
+            "the hand was still moving when --timeout {} s ran out, {} from the target: the \
+             motion written to {} stops there; raise --timeout",
+            args.timeout,
+            length(r.final_error),
+            args.output.display()
+        ))),
+    }
+}
+
+/// How a reach ended, for people.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Ending {
+    Reached,
+    /// The hand came to rest this many meters short of the target.
+    Beyond(f64),
+    /// The timeout came while the hand still moved.
+    StillMoving,
+}
+
+impl Ending {
+    /// A reach that was not reached is beyond reach when its hand came to rest short of the
+    /// target, or when the timeout found it creeping so slowly that it could not close the gap:
+    /// over its last second it moved less than a tenth of the distance left (a far target's
+    /// ease-out keeps the stretched hand inching on for seconds).
+    fn of(character: &Character, motion: &kinergy_reach::controller::ReachMotion) -> Ending {
+        let r = &motion.report;
+        if r.stop == ReachStop::Reached {
+            return Ending::Reached;
+        }
+        let wrist = r.arm.joints()[3];
+        let last = motion.poses.len();
+        let window = ((1.0 / motion.frame_time).ceil() as usize).max(1);
+        let settled = last > window && {
+            let hand = |k: usize| character.world_positions(&motion.poses[k])[wrist];
+            (hand(last - 1) - hand(last - 1 - window)).norm() < 0.1 * r.final_error
+        };
+        if r.stop == ReachStop::Unreachable || settled {
+            Ending::Beyond(r.final_error)
+        } else {
+            Ending::StillMoving
+        }
+    }
+
+    fn short(self) -> String {
+        match self {
+            Ending::Reached => "reached".into(),
+            Ending::Beyond(by) => format!("beyond reach by {}", length(by)),
+            Ending::StillMoving => "timed out with the hand still moving".into(),
+        }
     }
 }

@@ -72,8 +72,7 @@ fn write_set(args: &Args) -> Result<usize, Failure> {
         .into_inner()
         .map_err(|e| Failure::Task(format!("manifest.csv: {e}")))?;
     let manifest = args.output.join("manifest.csv");
-    kinergy_io::write_atomic(&manifest, &bytes)
-        .map_err(|e| Failure::Task(format!("{}: {e}", manifest.display())))?;
+    kinergy_io::write_atomic(&manifest, &bytes).map_err(|e| Failure::task(&manifest, e))?;
     Ok(rows.len())
 }
 

@@ -23,8 +23,11 @@ use crate::common::{
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The capture: the reach starts from its first frame, its torso motion is replayed.
-    #[arg(long, value_name = "CLIP.bvh")]
-    from: PathBuf,
+    #[arg(value_name = "CLIP.bvh", required_unless_present = "from")]
+    clip: Option<PathBuf>,
+    /// The capture, given as an option (the older spelling of CLIP; not both).
+    #[arg(long, value_name = "CLIP.bvh", conflicts_with = "clip")]
+    from: Option<PathBuf>,
     /// Where to write the synthesized motion (BVH, written atomically).
     #[arg(short, long, value_name = "OUT.bvh")]
     output: PathBuf,
@@ -113,13 +116,18 @@ struct Report {
 /// Runs `kinergy synthesize`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.read.check()?;
+    let Some(from) = args.clip.as_deref().or(args.from.as_deref()) else {
+        return Err(Failure::Input(
+            "name the capture: kinergy synthesize CLIP.bvh …".into(),
+        ));
+    };
     check_range("--tolerance", args.tolerance, limits::TOLERANCE_M)?;
     check_range(
         "--max-seconds",
         args.max_seconds,
         limits::SYNTHESIZE_SECONDS,
     )?;
-    let mut inputs = vec![args.from.as_path()];
+    let mut inputs = vec![from];
     inputs.extend(args.params.as_deref());
     crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
     let params = match &args.params {
@@ -128,15 +136,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     };
     let same_clip = |clip: &str| {
         let clip = std::path::Path::new(clip);
-        clip == args.from
+        clip == from
             || matches!(
-                (clip.canonicalize(), args.from.canonicalize()),
+                (clip.canonicalize(), from.canonicalize()),
                 (Ok(a), Ok(b)) if a == b
             )
     };
     let record = params.as_ref().and_then(|p| p.fit.as_ref());
     let fitted_arm = record.and_then(|r| r.arm(same_clip));
-    let (whole, _) = args.read.read(&args.from)?;
+    let (whole, _) = args.read.read(from)?;
     let arm_args = ArmArgs {
         arm: args
             .arm
@@ -144,13 +152,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .unwrap_or(Side::Right),
         chain: args.chain.clone(),
     };
-    let joints = arm_args.find(&whole, &args.from)?;
+    let joints = arm_args.find(&whole, from)?;
     let segment = |selection: Selection| -> Result<std::ops::Range<usize>, Failure> {
-        let name = args.from.display().to_string();
+        let name = from.display().to_string();
         let segments = find_segments(&whole, &joints, &SegmentSettings::default())
-            .map_err(|e| Failure::input(&args.from, e))?;
-        let picked =
-            select(&segments, selection, &name).map_err(|e| Failure::input(&args.from, e))?;
+            .map_err(|e| Failure::input(from, e))?;
+        let picked = select(&segments, selection, &name).map_err(|e| Failure::input(from, e))?;
         Ok(picked[0].frames())
     };
     let frames = match (args.select, args.frames.as_str()) {
@@ -177,18 +184,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "{source} {}..{}: {} has {} frames and a reach needs at least 2",
             frames.start,
             frames.end,
-            args.from.display(),
+            from.display(),
             whole.frame_count()
         )));
     }
-    let name = args.from.display().to_string();
+    let name = from.display().to_string();
     let mode = if args.fixed_base {
         BaseMode::Fixed
     } else {
         BaseMode::Replay
     };
     let reach = CapturedReach::new(&name, &whole, &joints, frames.clone(), mode)
-        .map_err(|e| Failure::input(&args.from, e))?;
+        .map_err(|e| Failure::input(from, e))?;
     let dof_names = reach.dof_names();
     if let Some(fitted) = fitted_arm {
         let here = reach.fitted_arm();
@@ -244,16 +251,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .map_err(|e| Failure::Task(e.to_string()))?;
     let out_clip = reach
         .to_clip(&whole, &synthesis)
-        .map_err(|e| Failure::input(&args.from, e))?;
-    kinergy_motion::write_clip(
+        .map_err(|e| Failure::input(from, e))?;
+    crate::common::write_clip(
         &args.output,
         &out_clip,
         &ExportOptions {
             unit: args.unit,
             ..Default::default()
         },
-    )
-    .map_err(|e| Failure::Task(format!("{}: {e}", args.output.display())))?;
+    )?;
 
     let arm = reach.arm();
     let distance = match (&args.target, arm.synthesized_trajectory(&synthesis)) {
@@ -297,8 +303,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     } else {
         emit(&text(&report))?;
     }
+    let beyond = report.shoulder_to_target_m - report.arm_length_m;
     match synthesis.stop {
         StopReason::Reached => Ok(()),
+        _ if beyond > 0.0 => Err(Failure::Task(format!(
+            "the target is beyond reach by {}: it is {} from the shoulder on the last frame and \
+             the arm is {} long; the motion written to {} ends with the hand {} from it",
+            crate::common::length(beyond),
+            crate::common::length(report.shoulder_to_target_m),
+            crate::common::length(report.arm_length_m),
+            args.output.display(),
+            crate::common::length(synthesis.final_error)
+        ))),
         stop => Err(Failure::Task(format!(
             "the target was not reached ({stop}): the motion written to {} ends {:.1} mm from it",
             args.output.display(),

@@ -35,7 +35,7 @@ pub enum MotionError {
     },
     /// No arm chain with the usual joint names was found.
     #[error(
-        "no {side} arm chain found (clavicle → upper arm → forearm → hand); arm-like joints: {}; name the joints with --chain clavicle,shoulder,elbow,wrist",
+        "no {side} arm chain found (clavicle → upper arm → forearm → hand); arm-like joints: {}",
         if .candidates.is_empty() { "none".to_string() } else { .candidates.join(", ") }
     )]
     ArmNotFound {

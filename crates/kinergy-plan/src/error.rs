@@ -60,6 +60,15 @@ pub enum PlanError {
         /// The first colliding pair, e.g. `right_forearm × shelf`.
         contact: String,
     },
+    /// An object would not stand where it is to be placed: it would intersect another object
+    /// or float with nothing under it.
+    #[error("cannot place `{object}` there: {why}")]
+    Placement {
+        /// The object placed.
+        object: String,
+        /// What is wrong with the place.
+        why: String,
+    },
     /// No posture of the arm reaches the goal within the joint limits, whatever the
     /// collisions.
     #[error("the goal is unreachable: {why}")]
@@ -106,6 +115,7 @@ impl PlanError {
         matches!(
             self,
             PlanError::StartInCollision { .. }
+                | PlanError::Placement { .. }
                 | PlanError::GoalUnreachable { .. }
                 | PlanError::GoalInCollision { .. }
                 | PlanError::NoPath { .. }

@@ -322,7 +322,13 @@ impl Check<'_> {
         } else {
             Err(self.fail(
                 field,
-                format!("expected coordinates within ±{MAX_SCENE_EXTENT} m, found {v:?}"),
+                format!(
+                    "expected coordinates within ±{MAX_SCENE_EXTENT} m, found {}",
+                    v.iter()
+                        .map(|x| format!("{x}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
             ))
         }
     }

@@ -204,7 +204,7 @@ fn parry_shape(shape: &Shape, grow: f64) -> Result<SharedShape> {
                 TriMesh::new(vertices, mesh.triangles.clone()).map_err(|e| PlanError::Obj {
                     path: file.clone(),
                     line: 0,
-                    why: format!("not a usable triangle mesh: {e:?}"),
+                    why: format!("not a usable triangle mesh: {e}"),
                 })?;
             SharedShape::new(mesh)
         }
@@ -223,6 +223,51 @@ fn collider(o: &SceneObject) -> Result<Collider> {
         max,
         ignored: false,
     })
+}
+
+/// How far below a placed object its support may be, meters: it settles that far.
+pub const SUPPORT_GAP: f64 = 0.005;
+
+/// How deep a placed object may sink into another before it counts as intersecting it,
+/// meters (resting contact is not an intersection).
+pub const PLACE_TOLERANCE: f64 = 0.002;
+
+/// Checks that object `name` of `scene`, placed at `pose`, would stand there: it intersects
+/// no other object by more than [`PLACE_TOLERANCE`], and another object lies within
+/// [`SUPPORT_GAP`] below it (the object lowered that far touches it). A mesh object is
+/// tested unshrunk.
+pub fn check_placement(scene: &Scene, name: &str, pose: &Isometry3<f64>) -> Result<()> {
+    let index = scene.object_index(name).ok_or_else(|| PlanError::Setting {
+        field: "object".into(),
+        why: format!("the scene has no object `{name}`"),
+    })?;
+    let inner = parry_shape(&scene.objects[index].shape, -PLACE_TOLERANCE)?;
+    let at = to_parry(pose);
+    let lowered = to_parry(&(Translation3::new(0.0, -(SUPPORT_GAP + PLACE_TOLERANCE), 0.0) * pose));
+    let fail = |why: String| PlanError::Placement {
+        object: name.to_string(),
+        why,
+    };
+    let mut supported = false;
+    for (k, other) in scene.objects.iter().enumerate() {
+        if k == index {
+            continue;
+        }
+        let c = collider(other)?;
+        if hit(&at, inner.as_ref(), &c.pose, c.shape.as_ref()) {
+            return Err(fail(format!("it would intersect `{}`", other.name)));
+        }
+        supported |= hit(&lowered, inner.as_ref(), &c.pose, c.shape.as_ref());
+    }
+    if supported {
+        Ok(())
+    } else {
+        Err(fail(format!(
+            "nothing would hold it up: no surface lies within {:.0} mm below it (give --to a \
+             height where it rests on a support)",
+            SUPPORT_GAP * 1e3
+        )))
+    }
 }
 
 fn overlaps(a: &(Point3<f64>, Point3<f64>), min: &Point3<f64>, max: &Point3<f64>) -> bool {

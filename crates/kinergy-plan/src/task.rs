@@ -295,10 +295,17 @@ impl Planner {
     }
 
     /// Move the object `name` so that its origin ends at `to` (same orientation): grasp
-    /// it, plan the transfer with it in the hand, release it and retreat.
+    /// it, plan the transfer with it in the hand, release it and retreat. A place where it
+    /// would not stand (floating, or inside another object) is refused first
+    /// ([`check_placement`](crate::space::check_placement)).
     pub fn relocate(&self, name: &str, to: &Point3<f64>) -> Result<Manipulation> {
         if !to.iter().all(|v| v.is_finite()) {
             return Err(PlanError::NonFinite("the destination".into()));
+        }
+        // Refused before any planning: an object left floating or inside another.
+        if let Some(object) = self.scene.object(name) {
+            let dest = Isometry3::from_parts(Translation3::from(to.coords), object.pose.rotation);
+            crate::space::check_placement(&self.scene, name, &dest)?;
         }
         let mut b = self.builder()?;
         let grasp = b.grasp(name)?;

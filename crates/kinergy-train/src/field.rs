@@ -743,7 +743,7 @@ impl TryFrom<FieldFile> for ParamField {
         require(
             file.names == space.names(),
             "names",
-            format!("{:?} for this model and chain", space.names()),
+            format!("{} for this model and chain", space.names().join(", ")),
         )?;
         file.settings.validate()?;
         require(

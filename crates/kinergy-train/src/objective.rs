@@ -76,9 +76,9 @@ impl Objective {
                 return Err(TrainError::Reach {
                     clip: r.name().to_string(),
                     why: format!(
-                        "its arm's DoFs {:?} differ from the parameters' {:?}",
-                        r.dof_names(),
-                        space.dof_names()
+                        "its arm's DoFs ({}) differ from the parameters' ({})",
+                        r.dof_names().join(", "),
+                        space.dof_names().join(", ")
                     ),
                 });
             }

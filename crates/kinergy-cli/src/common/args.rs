@@ -5,7 +5,8 @@ use std::path::Path;
 
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{
-    ArmJoints, Clip, ImportOptions, ImportReport, PositionReadingChoice, Side, UnitChoice,
+    ArmJoints, Clip, ImportOptions, ImportReport, MotionError, PositionReadingChoice, Side,
+    UnitChoice,
 };
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::fit::FitSettings;
@@ -89,7 +90,9 @@ pub struct ArmArgs {
 }
 
 impl ArmArgs {
-    /// The arm's joints in `clip` (read from `path`, named in errors).
+    /// The arm's joints in `clip` (read from `path`, named in errors). An unknown `--chain`
+    /// joint gets "did you mean …"; an arm not found, the other arm (`--arm left`) when the
+    /// skeleton has it, and `--chain`.
     pub fn find(&self, clip: &Clip, path: &Path) -> Result<ArmJoints, Failure> {
         let found = match &self.chain {
             Some(names) => {
@@ -98,7 +101,42 @@ impl ArmArgs {
             }
             None => ArmJoints::find(clip.skeleton(), self.arm),
         };
-        found.map_err(|e| Failure::input(path, e))
+        found.map_err(|e| arm_failure(e, clip, path, Some(self.arm)))
+    }
+}
+
+/// An arm that could not be found in `clip` (read from `path`), said for the command line:
+/// an unknown `--chain` joint with "did you mean …" and the skeleton's joints; an arm not
+/// found with the other arm when the skeleton has it (`side` is the one asked for with
+/// `--arm`) and `--chain`.
+pub fn arm_failure(e: MotionError, clip: &Clip, path: &Path, side: Option<Side>) -> Failure {
+    match e {
+        MotionError::UnknownJoint { name, available } => {
+            let known: Vec<&str> = available.iter().map(String::as_str).collect();
+            Failure::input(
+                path,
+                format!("--chain: {}", super::names::unknown("joint", &name, &known)),
+            )
+        }
+        e @ MotionError::ArmNotFound { .. } => Failure::input(
+            path,
+            format!(
+                "{e}{}; or name its joints with --chain clavicle,shoulder,elbow,wrist",
+                side.map_or_else(String::new, |s| other_arm_hint(clip, s))
+            ),
+        ),
+        e => Failure::input(path, e),
+    }
+}
+
+/// "; this skeleton has a left arm: use --arm left" when the arm not found on `side` is
+/// found on the other side, else nothing.
+pub fn other_arm_hint(clip: &Clip, side: Side) -> String {
+    let other = side.opposite();
+    if ArmJoints::find(clip.skeleton(), other).is_ok() {
+        format!("; this skeleton has a {other} arm: use --arm {other}")
+    } else {
+        String::new()
     }
 }
 
@@ -130,7 +168,15 @@ impl SearchArgs {
         check_optional("--threads", self.threads, limits::THREADS)?;
         check_range("--budget", self.budget, limits::BUDGET)?;
         check_range("--population", self.population, limits::POPULATION)?;
-        check_range("--temperature", self.temperature, limits::TEMPERATURE)
+        check_range("--temperature", self.temperature, limits::TEMPERATURE)?;
+        if self.budget < self.population {
+            return Err(Failure::Input(format!(
+                "--budget {}: at least --population ({}), the evaluations of the first \
+                 generation",
+                self.budget, self.population
+            )));
+        }
+        Ok(())
     }
 
     /// Fit settings from the flags.

@@ -10,6 +10,7 @@ pub mod args;
 pub mod captured;
 pub mod clips;
 pub mod limits;
+pub mod names;
 pub mod outputs;
 pub mod progress;
 
@@ -40,13 +41,22 @@ impl Failure {
 
     /// Bad input concerning `path`.
     pub fn input(path: &Path, e: impl fmt::Display) -> Failure {
-        let text = e.to_string();
-        // Library errors about files already name them.
-        if text.contains(&*path.to_string_lossy()) {
-            Failure::Input(text)
-        } else {
-            Failure::Input(format!("{}: {text}", path.display()))
-        }
+        Failure::Input(naming(path, e))
+    }
+
+    /// A failed task concerning `path` (e.g. writing it).
+    pub fn task(path: &Path, e: impl fmt::Display) -> Failure {
+        Failure::Task(naming(path, e))
+    }
+}
+
+/// `e` naming `path` once: library errors about files already name them.
+fn naming(path: &Path, e: impl fmt::Display) -> String {
+    let text = e.to_string();
+    if text.contains(&*path.to_string_lossy()) {
+        text
+    } else {
+        format!("{}: {text}", path.display())
     }
 }
 
@@ -65,11 +75,51 @@ pub fn print_json(value: &impl serde::Serialize) -> Result<(), Failure> {
     emit(&text)
 }
 
-/// Writes `text` to stdout. A closed pipe (`kinergy inspect … | head`) is not an error.
+/// Set by `--quiet`: reports are not printed (errors still go to stderr, and data asked
+/// for on stdout with `-o -` is still written).
+static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Turns the stdout report off (`--quiet`) or on.
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Writes the report `text` to stdout, unless `--quiet`. A closed pipe
+/// (`kinergy inspect … | head`) is not an error.
 pub fn emit(text: &str) -> Result<(), Failure> {
+    if QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        return Ok(());
+    }
+    emit_data(text.as_bytes())
+}
+
+/// Whether `path` is `-`: standard output instead of a file.
+pub fn is_stdout(path: &std::path::Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// Writes `clip` as BVH to `path`, atomically, or to standard output for `-` (then the
+/// report is not printed: the data has stdout). Errors name the file.
+pub fn write_clip(
+    path: &Path,
+    clip: &kinergy_motion::Clip,
+    options: &kinergy_motion::ExportOptions,
+) -> Result<(), Failure> {
+    if is_stdout(path) {
+        set_quiet(true);
+        let text = kinergy_bvh::to_string(&kinergy_motion::clip_to_bvh(clip, options))
+            .map_err(|e| Failure::Task(format!("could not write the BVH: {e}")))?;
+        return emit_data(text.as_bytes());
+    }
+    kinergy_motion::write_clip(path, clip, options).map_err(|e| Failure::task(path, e))
+}
+
+/// Writes data asked for on stdout (`-o -`), `--quiet` or not. A closed pipe is not an
+/// error.
+pub fn emit_data(bytes: &[u8]) -> Result<(), Failure> {
     use std::io::Write;
     let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+    match out.write_all(bytes).and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
             Err(Failure::Task(format!("could not write to stdout: {e}")))
         }
@@ -84,4 +134,22 @@ pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
         E::Checkpoint { .. } | E::Setting { .. } | E::Reach { .. } => Failure::Input(e.to_string()),
         _ => Failure::Task(e.to_string()),
     }
+}
+
+/// A length for people: three significant digits, in mm below 1 m (`4.20 mm`, `931 mm`,
+/// `1.54 m`).
+pub fn length(meters: f64) -> String {
+    let (value, unit) = if meters.abs() < 1.0 {
+        (meters * 1e3, "mm")
+    } else {
+        (meters, "m")
+    };
+    let digits = if value.abs() >= 100.0 {
+        0
+    } else if value.abs() >= 10.0 {
+        1
+    } else {
+        2
+    };
+    format!("{value:.digits$} {unit}")
 }

@@ -10,6 +10,8 @@
 //! - an output that is one of the inputs, however spelled (`./x/../a.bvh`, a symbolic or
 //!   hard link): compared by canonical path and, where the file exists, by device and inode;
 //! - two outputs that are the same file (`--checkpoint` equal to `-o`).
+//!
+//! A file output `-` is standard output and passes.
 
 use std::fs::{self, Metadata};
 use std::path::{Path, PathBuf};
@@ -121,6 +123,11 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[Output<'_>]) -> Result<(), Fai
     let mut seen: Vec<(Output<'_>, Identity)> = Vec::with_capacity(outputs.len());
     for &output in outputs {
         let (option, path) = (output.option(), output.path());
+        if let Output::File(..) = output
+            && super::is_stdout(path)
+        {
+            continue; // `-o -`: standard output
+        }
         let named = || format!("{option} {}", path.display());
         let folder = folder_of(path);
         match fs::metadata(folder) {

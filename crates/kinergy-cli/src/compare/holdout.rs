@@ -135,15 +135,14 @@ pub fn run(
     let bytes = w
         .into_inner()
         .map_err(|e| Failure::Task(format!("holdout.csv: {e}")))?;
-    kinergy_io::write_atomic(&csv_path, &bytes)
-        .map_err(|e| Failure::Task(format!("{}: {e}", csv_path.display())))?;
+    kinergy_io::write_atomic(&csv_path, &bytes).map_err(|e| Failure::task(&csv_path, e))?;
 
     let summary = HoldoutSummary::of(&results, &settings);
     let report = Report::new(&summary, &results, &settings, takes.len(), seconds);
     let markdown = markdown(&report, &summary, &results, &settings);
     let md_path = args.output.join("summary.md");
     kinergy_io::write_atomic(&md_path, markdown.as_bytes())
-        .map_err(|e| Failure::Task(format!("{}: {e}", md_path.display())))?;
+        .map_err(|e| Failure::task(&md_path, e))?;
     if args.json {
         return print_json(&report);
     }

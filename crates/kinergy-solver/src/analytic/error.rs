@@ -9,7 +9,10 @@ pub enum AnalyticError {
     /// The wrist center (or, in position mode, the end effector) is outside the shell the
     /// limb reaches: farther than the outer radius or closer than the inner one.
     #[error(
-        "the target is {distance} m from the shoulder; the limb reaches from {inner} to {reach} m"
+        "the target is {} by {:.3} m: it is {distance:.3} m from the shoulder and the limb reaches \
+         from {inner:.3} to {reach:.3} m",
+        if .distance > .reach { "beyond reach" } else { "too close to reach" },
+        if .distance > .reach { .distance - .reach } else { .inner - .distance }
     )]
     Unreachable {
         /// Distance from the shoulder, meters.
@@ -21,7 +24,9 @@ pub enum AnalyticError {
     },
     /// No orbit angle tried gives a posture within the joint limits.
     #[error(
-        "no orbit angle of the {tried} tried gives a posture within limits; at the best, α = {best_alpha} rad, the {dof} exceeds its limit by {excess} rad"
+        "no orbit angle of the {tried} tried gives a posture within limits; at the best, α = {:.1}°, the {dof} exceeds its limit by {:.1}°",
+        .best_alpha.to_degrees(),
+        .excess.to_degrees()
     )]
     LimitsViolated {
         /// The orbit angle whose posture was closest to the limits (least total excess).
