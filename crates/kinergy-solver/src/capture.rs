@@ -57,9 +57,6 @@ pub struct CaptureArm {
     widened: Vec<String>,
     /// Chain frame → captured world rotation, for shoulder, elbow, wrist.
     align: [Rotation3<f64>; 3],
-    /// The base frame's rotation in the shoulder's parent frame (A of the module
-    /// documentation).
-    align_base: Rotation3<f64>,
 }
 
 impl CaptureArm {
@@ -166,28 +163,7 @@ impl CaptureArm {
             captured,
             widened,
             align: [align[0], align[1], align[2]],
-            align_base,
         })
-    }
-
-    /// The same arm with the base frames of `after` appended: `after` holds the capture's
-    /// frames that follow this arm's clip (same skeleton), so a replayed base goes on as
-    /// captured when a synthesis outlasts the clip, instead of holding its last frame. The
-    /// start posture, the captured motion and the limits stay those of this arm's clip.
-    pub fn followed_by(mut self, after: &Clip) -> Result<CaptureArm> {
-        let skeleton = after.skeleton();
-        let parent = skeleton.joint(self.joints.shoulder).parent;
-        let mut world = Vec::new();
-        self.bases.reserve(after.frame_count());
-        for pose in after.frames() {
-            skeleton.fk_into(pose, &mut world)?;
-            let parent_rot = parent.map_or(Rotation3::identity(), |p| world[p].rotation);
-            self.bases.push(IsometryMatrix3::from_parts(
-                world[self.joints.shoulder].translation,
-                parent_rot * self.align_base,
-            ));
-        }
-        Ok(self)
     }
 
     /// The captured arm's joints.

@@ -63,12 +63,7 @@ impl CapturedReach {
             return Err(bad("a reach needs at least 2 frames".into()));
         }
         let segment = clip.slice(frames.clone())?;
-        let mut arm = CaptureArm::new(&segment, joints)?;
-        if frames.end < clip.frame_count() {
-            // A synthesis that outlasts the segment rides on the capture's torso as it goes
-            // on; fitting syntheses are exactly the segment's length and never see it.
-            arm = arm.followed_by(&clip.slice(frames.end..clip.frame_count())?)?;
-        }
+        let arm = CaptureArm::new(&segment, joints)?;
         let lengths = joints.lengths(&segment)?;
         let fitted_arm = FittedArm {
             side: joints.side,
@@ -213,11 +208,12 @@ impl CapturedReach {
     }
 
     /// A synthesis of this reach as a clip on the capture's skeleton: `clip` is the clip the
-    /// reach was taken from. The rest of the body moves as captured from the reach's onset
-    /// (on past the segment's end when the synthesis is longer, held after the clip's end),
-    /// as the base did.
+    /// reach was taken from. The rest of the body moves as captured over the segment and, when
+    /// the synthesis is longer, holds the segment's last frame, as the base does: what the
+    /// capture does after the segment (walking away, the next gesture) is not this reach's, and
+    /// a base that went on with it could carry the shoulder away from the target.
     pub fn to_clip(&self, clip: &Clip, synthesis: &Synthesis) -> Result<Clip> {
-        let segment = clip.slice(self.frames.start..clip.frame_count())?;
+        let segment = clip.slice(self.frames.clone())?;
         Ok(self.arm.to_clip(&segment, synthesis, self.mode)?)
     }
 
