@@ -191,9 +191,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let seconds = clock.elapsed().as_secs_f64();
 
     let csv_path = args.output.join("results.csv");
-    let mut w = csv::Writer::from_writer(Vec::new());
-    for r in &results.rows {
-        w.serialize(CsvRow {
+    crate::common::write_csv(
+        &csv_path,
+        results.rows.iter().map(|r| CsvRow {
             clip: &r.clip,
             model: r.model.name(),
             optimizer: r.optimizer.name(),
@@ -202,13 +202,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             frames: r.frames,
             evaluations: r.evaluations,
             seconds: r.seconds,
-        })
-        .map_err(|e| Failure::Task(format!("results.csv: {e}")))?;
-    }
-    let bytes = w
-        .into_inner()
-        .map_err(|e| Failure::Task(format!("results.csv: {e}")))?;
-    kinergy_io::write_atomic(&csv_path, &bytes).map_err(|e| Failure::task(&csv_path, e))?;
+        }),
+    )?;
 
     let summary = Summary::of(&results, &settings);
     let report = SummaryReport::new(&summary, &results, &settings, reaches.len(), seconds);

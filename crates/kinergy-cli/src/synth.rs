@@ -63,16 +63,7 @@ fn write_set(args: &Args) -> Result<usize, Failure> {
         ReachError::Io { .. } => Failure::Task(e.to_string()),
         _ => Failure::Input(e.to_string()),
     })?;
-    let mut w = csv::Writer::from_writer(Vec::new());
-    for r in &rows {
-        w.serialize(r)
-            .map_err(|e| Failure::Task(format!("manifest.csv: {e}")))?;
-    }
-    let bytes = w
-        .into_inner()
-        .map_err(|e| Failure::Task(format!("manifest.csv: {e}")))?;
-    let manifest = args.output.join("manifest.csv");
-    kinergy_io::write_atomic(&manifest, &bytes).map_err(|e| Failure::task(&manifest, e))?;
+    crate::common::write_csv(&args.output.join("manifest.csv"), &rows)?;
     Ok(rows.len())
 }
 

@@ -68,6 +68,23 @@ impl fmt::Display for Failure {
     }
 }
 
+/// Writes `rows` as CSV (a header from the row type's fields) to `path`, atomically.
+pub fn write_csv<T: serde::Serialize>(
+    path: &Path,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<(), Failure> {
+    let name = path.display();
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for row in rows {
+        w.serialize(row)
+            .map_err(|e| Failure::Task(format!("{name}: {e}")))?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| Failure::Task(format!("{name}: {e}")))?;
+    kinergy_io::write_atomic(path, &bytes).map_err(|e| Failure::task(path, e))
+}
+
 /// Prints a value as pretty JSON on stdout.
 pub fn print_json(value: &impl serde::Serialize) -> Result<(), Failure> {
     let text = kinergy_io::to_pretty_json(value)

@@ -119,9 +119,9 @@ pub fn run(
     let seconds = clock.elapsed().as_secs_f64();
 
     let csv_path = args.output.join("holdout.csv");
-    let mut w = csv::Writer::from_writer(Vec::new());
-    for r in &results.rows {
-        w.serialize(CsvRow {
+    crate::common::write_csv(
+        &csv_path,
+        results.rows.iter().map(|r| CsvRow {
             person: &r.person,
             clip: &r.clip,
             fitted_on: r.params.fitted_on().unwrap_or(""),
@@ -129,13 +129,8 @@ pub fn run(
             optimizer: settings.optimizer.name(),
             distance_m: r.distance_m,
             frames: r.frames,
-        })
-        .map_err(|e| Failure::Task(format!("holdout.csv: {e}")))?;
-    }
-    let bytes = w
-        .into_inner()
-        .map_err(|e| Failure::Task(format!("holdout.csv: {e}")))?;
-    kinergy_io::write_atomic(&csv_path, &bytes).map_err(|e| Failure::task(&csv_path, e))?;
+        }),
+    )?;
 
     let summary = HoldoutSummary::of(&results, &settings);
     let report = Report::new(&summary, &results, &settings, takes.len(), seconds);
