@@ -47,7 +47,7 @@ pub struct Args {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// The longest reach, seconds, 0.1 to 60.
-    #[arg(long, default_value_t = 8.0, value_name = "S")]
+    #[arg(long, default_value_t = ReachSettings::default().timeout, value_name = "S")]
     pub timeout: f64,
     /// Where to write the clip (BVH at 120 Hz, centimeters, written atomically).
     #[arg(short, long, value_name = "OUT.bvh")]
@@ -140,14 +140,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "the target is beyond reach by {}: the motion written to {} ends with the hand at \
              the nearest point it reaches",
             length(by),
-            args.output.display()
+            crate::common::shown(&args.output)
         ))),
         Ending::StillMoving => Err(Failure::Task(format!(
             "the hand was still moving when --timeout {} s ran out, {} from the target: the \
              motion written to {} stops there; raise --timeout",
             args.timeout,
             length(r.final_error),
-            args.output.display()
+            crate::common::shown(&args.output)
         ))),
     }
 }

@@ -30,7 +30,8 @@ pub struct Args {
     pub select: Option<Selection>,
     /// Also write the listed segments to this segments file, atomically (CSV:
     /// clip,onset,end,arm,label,person; clips relative to its folder, the person is the
-    /// clip's folder name). Edit it by hand as you like.
+    /// clip's folder name). Edit it by hand as you like. `-` writes it to standard output
+    /// (clips relative to the current folder) instead of the listing.
     #[arg(long, value_name = "segments.csv")]
     pub manifest: Option<PathBuf>,
     /// Measure the hand's speed in the world instead of relative to the shoulder (then torso
@@ -208,7 +209,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         limits::MIN_PEAK_SPEED,
     )?;
     let clips = crate::common::collect_clips(&args.clips)?;
-    if let Some(path) = &args.manifest {
+    let manifest_to_stdout = args
+        .manifest
+        .as_deref()
+        .is_some_and(crate::common::is_stdout);
+    if manifest_to_stdout && args.json {
+        return Err(Failure::Input(
+            "--manifest - and --json both want standard output: write the segments file to a \
+             path, or drop --json"
+                .into(),
+        ));
+    }
+    if let Some(path) = args.manifest.as_deref().filter(|_| !manifest_to_stdout) {
         let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
         inputs.extend(clips.iter().map(PathBuf::as_path));
         crate::common::check_outputs(&inputs, &[crate::common::Output::File("--manifest", path)])?;
@@ -227,6 +239,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let (report, clip_rows) = segment_clip(args, path, &settings)?;
         reports.push(report);
         rows.extend(clip_rows);
+    }
+    if manifest_to_stdout {
+        // Clips relative to the current folder, as a file written here would list them.
+        let here = std::env::current_dir()
+            .map_err(|e| Failure::Task(format!("the current folder: {e}")))?
+            .join("segments.csv");
+        crate::common::set_quiet(true);
+        return crate::common::emit_data(Manifest::new(here, rows).to_csv().as_bytes());
     }
     let written = match &args.manifest {
         Some(path) => {

@@ -312,12 +312,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             crate::common::length(beyond),
             crate::common::length(report.shoulder_to_target_m),
             crate::common::length(report.arm_length_m),
-            args.output.display(),
+            crate::common::shown(&args.output),
             crate::common::length(synthesis.final_error)
         ))),
         stop => Err(Failure::Task(format!(
             "the target was not reached ({stop}): the motion written to {} ends {:.1} mm from it",
-            args.output.display(),
+            crate::common::shown(&args.output),
             synthesis.final_error * 1000.0
         ))),
     }

@@ -15,15 +15,18 @@ use std::process::Command;
 
 use common::{kinergy, repo, stderr};
 
-/// Bone heads further from Kinergy's joints than this (file units) fail the test.
-///
-/// Not the 1e-4 asked for in issue 14: Blender evaluates poses in single precision, and on
-/// Character Creator's 100-joint rig (centimeters) its toes land up to 4.9e-4 cm from the
-/// exact (f64) joints; Blender's own NATIVE and QUATERNION imports of that file already
-/// disagree by 1.7e-4 cm. Every other kind of file stays within 9e-5. A misread file (an
-/// OFFSET added instead of replaced, a missing or misordered channel) is off by millimetres
-/// or more, so 1e-3 still catches every one.
-const TOLERANCE: f64 = 1e-3;
+/// Bone heads further from Kinergy's joints than this (file units) fail the test, as issue 14
+/// asks — unless Blender's own two readings of the file (native Euler and quaternion
+/// rotations) already differ by more than a quarter of it: Blender evaluates poses in single
+/// precision, and on Character Creator's 100-joint rig (centimeters) its two readings differ
+/// by 1.7e-4 cm and its toes land up to 4.9e-4 cm from the exact (f64) joints. Such a file is
+/// held to [`NOISE_FACTOR`] × Blender's own disagreement instead. A misread file (an OFFSET
+/// added instead of replaced, a missing or misordered channel) is off by millimetres or more.
+const TOLERANCE: f64 = 1e-4;
+
+/// How many times Blender's own disagreement between its two readings of a file the bone
+/// heads may lie from Kinergy's joints, where that is more than [`TOLERANCE`].
+const NOISE_FACTOR: f64 = 4.0;
 
 /// `blender` on PATH, if there is one.
 fn blender() -> Option<PathBuf> {
@@ -171,10 +174,24 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
     files
 }
 
-/// What the script wrote for one file: bone names and heads (file units, file axes).
+/// What the script wrote for one file: bone names and heads (file units, file axes), from the
+/// native and the quaternion import.
 struct Imported {
     bones: Vec<String>,
     frames: Vec<Vec<[f64; 3]>>,
+    frames_quaternion: Vec<Vec<[f64; 3]>>,
+}
+
+impl Imported {
+    /// The largest distance between a bone head of the native and of the quaternion import.
+    fn own_noise(&self) -> f64 {
+        self.frames
+            .iter()
+            .zip(&self.frames_quaternion)
+            .flat_map(|(a, b)| a.iter().zip(b))
+            .map(|(p, q)| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt())
+            .fold(0.0, f64::max)
+    }
 }
 
 fn imported(path: &Path) -> Imported {
@@ -189,13 +206,19 @@ fn imported(path: &Path) -> Imported {
     let point = |p: &serde_json::Value| -> [f64; 3] {
         [0, 1, 2].map(|k| p[k].as_f64().expect("coordinate"))
     };
-    let frames = v["frames"]
-        .as_array()
-        .expect("frames")
-        .iter()
-        .map(|f| f.as_array().expect("frame").iter().map(point).collect())
-        .collect();
-    Imported { bones, frames }
+    let frames = |key: &str| -> Vec<Vec<[f64; 3]>> {
+        v[key]
+            .as_array()
+            .expect("frames")
+            .iter()
+            .map(|f| f.as_array().expect("frame").iter().map(point).collect())
+            .collect()
+    };
+    Imported {
+        bones,
+        frames: frames("frames"),
+        frames_quaternion: frames("frames_quaternion"),
+    }
 }
 
 /// The largest distance between a bone head and its joint, and where.
@@ -280,18 +303,25 @@ fn blender_imports_every_file_kinergy_writes_with_kinergys_joint_positions() {
     let mut failed = Vec::new();
     for ((kind, file), out) in files.iter().zip(&outs) {
         assert!(out.is_file(), "{kind}: Blender wrote nothing:\n{log}");
-        let worst = deviation(kind, file, &imported(out));
+        let blender = imported(out);
+        let worst = deviation(kind, file, &blender);
+        let noise = blender.own_noise();
+        let allowed = TOLERANCE.max(NOISE_FACTOR * noise);
         eprintln!(
-            "blender test: {kind}: bone heads within {:.2e} of the file's unit",
+            "blender test: {kind}: bone heads within {:.2e} of the file's unit \
+             (Blender's own two readings differ by {noise:.2e}; allowed {allowed:.1e})",
             worst.distance
         );
-        if worst.distance > TOLERANCE {
-            failed.push(format!("{kind}: {:.3e} at {}", worst.distance, worst.at));
+        if worst.distance > allowed {
+            failed.push(format!(
+                "{kind}: {:.3e} (allowed {allowed:.1e}) at {}",
+                worst.distance, worst.at
+            ));
         }
     }
     assert!(
         failed.is_empty(),
-        "bone heads further than {TOLERANCE:e} from Kinergy's joints:\n{}",
+        "bone heads further than allowed from Kinergy's joints:\n{}",
         failed.join("\n")
     );
 }

@@ -34,15 +34,52 @@ fn manifest(dir: &Path, rows: &[String]) -> PathBuf {
     path
 }
 
-/// The two synthetic reaches of p01: r01 with the right arm, r02 with the left.
-fn two_arms(dir: &Path) -> PathBuf {
-    manifest(
+/// A left-hand reach of the synthetic character, written by `kinergy reach --arm left` into
+/// `dir` (the synthetic set reaches with the right hand; its idle left arm hangs), and the
+/// main reach's frames as `segment --arm left` finds them.
+fn left_reach(dir: &Path) -> (PathBuf, [u64; 2]) {
+    let out = dir.join("left.bvh");
+    let o = kinergy(&[
+        "reach",
+        "--arm",
+        "left",
+        "--target",
+        "0.35,1.1,0.4",
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = kinergy(&[
+        "segment",
+        s(&out),
+        "--arm",
+        "left",
+        "--select",
+        "main",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let segment = &json(&o)["segments"][0];
+    let frames = [0, 1].map(|k| {
+        segment[["onset", "end"][k]]
+            .as_u64()
+            .expect("segment frames")
+    });
+    (out, frames)
+}
+
+/// Two reaches: p01/r01 with the right arm and [`left_reach`] with the left, in a segments
+/// file in `dir`; the left reach's clip and frames.
+fn two_arms(dir: &Path) -> (PathBuf, PathBuf, [u64; 2]) {
+    let (left, frames) = left_reach(dir);
+    let segments = manifest(
         dir,
         &[
             format!("{},4,72,right", synthetic("r01.bvh").display()),
-            format!("{},1,54,left", synthetic("r02.bvh").display()),
+            format!("{},{},{},left", left.display(), frames[0], frames[1]),
         ],
-    )
+    );
+    (segments, left, frames)
 }
 
 fn fit(extra: &[&str]) -> std::process::Output {
@@ -54,7 +91,7 @@ fn fit(extra: &[&str]) -> std::process::Output {
 #[test]
 fn fit_takes_frames_and_arms_from_a_segments_file() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let segments = two_arms(dir.path());
+    let (segments, left, left_frames) = two_arms(dir.path());
     let out = dir.path().join("p.json");
     let o = fit(&["--segments", s(&segments), "-o", s(&out), "--json"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
@@ -63,7 +100,7 @@ fn fit_takes_frames_and_arms_from_a_segments_file() {
     assert_eq!(reaches.len(), 2);
     assert_eq!(reaches[0]["frames"], serde_json::json!([4, 72]));
     assert_eq!(reaches[0]["arm"]["side"], "right");
-    assert_eq!(reaches[1]["frames"], serde_json::json!([1, 54]));
+    assert_eq!(reaches[1]["frames"], serde_json::json!(left_frames));
     assert_eq!(reaches[1]["arm"]["side"], "left");
     assert_eq!(reaches[1]["arm"]["joints"][1], "LeftArm");
     assert!(reaches[1]["arm"]["upper_arm_m"].as_f64().expect("length") > 0.1);
@@ -76,7 +113,8 @@ fn fit_takes_frames_and_arms_from_a_segments_file() {
     let o = fit(&["--segments", s(&segments), "-o", s(&out)]);
     let text = stdout(&o);
     assert!(text.contains("frames 4..72  right arm"), "{text}");
-    assert!(text.contains("frames 1..54  left arm"), "{text}");
+    let left_text = format!("frames {}..{}  left arm", left_frames[0], left_frames[1]);
+    assert!(text.contains(&left_text), "{text}");
     assert_eq!(
         text.lines()
             .filter(|l| l.contains("  frames ") && l.ends_with(" mm"))
@@ -87,7 +125,7 @@ fn fit_takes_frames_and_arms_from_a_segments_file() {
 
     // CLIPS given keep only their rows.
     let o = fit(&[
-        s(&synthetic("r02.bvh")),
+        s(&left),
         "--segments",
         s(&segments),
         "-o",
@@ -104,7 +142,8 @@ fn fit_takes_frames_and_arms_from_a_segments_file() {
 fn select_picks_the_segments_of_each_clip() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("p.json");
-    // p04/r12: an `other` segment 37..53, a short reach 53..79, then the main reach 86..185.
+    // p04/r12 (a full step and a squat): an `other` segment 52..86 while the body steps, then
+    // the main reach 86..190.
     let clip = repo()
         .join("data-synthetic/p04/r12.bvh")
         .canonicalize()
@@ -119,12 +158,9 @@ fn select_picks_the_segments_of_each_clip() {
             .map(|r| r["frames"].clone())
             .collect::<Vec<_>>()
     };
-    assert_eq!(frames("main"), [serde_json::json!([86, 185])]);
-    assert_eq!(
-        frames("all"),
-        [serde_json::json!([53, 79]), serde_json::json!([86, 185])]
-    );
-    assert_eq!(frames("0"), [serde_json::json!([37, 53])]);
+    assert_eq!(frames("main"), [serde_json::json!([86, 190])]);
+    assert_eq!(frames("all"), [serde_json::json!([86, 190])]);
+    assert_eq!(frames("0"), [serde_json::json!([52, 86])]);
     let out = dir.path().join("bad.json");
     assert_bad_input(
         &[
@@ -256,13 +292,13 @@ fn off_capture(out: &Path, capture: &Path, name: &str, first: usize) -> f64 {
 fn synthesize_drives_the_arm_the_parameters_were_fitted_on() {
     let dir = tempfile::tempdir().expect("tempdir");
     let params = dir.path().join("left.json");
-    // The synthetic reaches are right-hand reaches; in r02 the body squats and the idle
-    // left arm moves 0.29 m, which `segment --arm left` lists as a reach (frames 1..54).
-    let clip = synthetic("r02.bvh");
+    // A left-hand reach of the synthetic character (the synthetic set's reaches are right-hand
+    // ones, its idle left arm hangs), fitted with the left arm.
+    let (clip, frames) = left_reach(dir.path());
     let o = fit(&[s(&clip), "--arm", "left", "-o", s(&params)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 
-    let left = dir.path().join("left.bvh");
+    let left = dir.path().join("synthesized.bvh");
     let o = kinergy(&[
         "synthesize",
         "--from",
@@ -277,27 +313,26 @@ fn synthesize_drives_the_arm_the_parameters_were_fitted_on() {
     assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
     assert_eq!(json(&o)["arm"][1], "LeftArm");
     assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
-    // The left arm is synthesized: it leaves the capture's path (frames 1..54).
-    assert_eq!(json(&o)["capture_frames"], serde_json::json!([1, 54]));
-    let left_off = off_capture(&left, &clip, "LeftHand", 1);
+    // The left arm is synthesized: it leaves the capture's path over the segment.
+    assert_eq!(json(&o)["capture_frames"], serde_json::json!(frames));
+    let first = frames[0] as usize;
+    let last = frames[1] as usize - 1;
+    let left_off = off_capture(&left, &clip, "LeftHand", first);
     assert!(
         left_off > 1e-3,
         "the left hand is {left_off} m off the capture"
     );
-    // The rest of the body is the capture's over the segment (frames 1..54) and then holds
-    // the segment's last frame while the synthesized arm finishes (the capture's own right
-    // arm goes on reaching until frame 102: not this reach's motion).
-    let frames = track(&left, "RightForeArm").len();
-    assert!(frames > 53, "the synthesis lasts {frames} frames");
+    // The rest of the body is the capture's over the segment and then holds the segment's
+    // last frame while the synthesized arm finishes.
     for joint in ["RightForeArm", "RightHand", "Head", "LeftShoulder"] {
         let (out, capture) = (track(&left, joint), track(&clip, joint));
         for (i, p) in out.iter().enumerate() {
-            let q = capture[1 + i.min(52)];
+            let q = capture[(first + i).min(last)];
             let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
             assert!(
                 d < 1e-6,
                 "{joint} frame {i} is {d} m off the capture's frame {}",
-                1 + i.min(52)
+                (first + i).min(last)
             );
         }
     }

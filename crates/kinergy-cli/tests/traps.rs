@@ -293,6 +293,77 @@ fn dash_writes_the_bvh_to_standard_output_and_leaves_no_file() {
         "both write to standard output",
         &out,
     );
+
+    // A motion that ends short of its target still goes to stdout, and the message says
+    // where it went in words, not as `-`.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_kinergy"))
+        .args(["reach", "--target", "3,1,0", "-o", "-"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(common::stdout(&o).starts_with("HIERARCHY"));
+    let message = stderr(&o);
+    assert!(
+        message.contains("beyond reach") && message.contains("written to standard output"),
+        "{message}"
+    );
+    assert!(!message.contains("written to -"), "{message}");
+}
+
+#[test]
+fn segment_writes_its_segments_file_to_standard_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let clip = common::repo().join("data-synthetic/p01/r09.bvh");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_kinergy"))
+        .args(["segment", clip.to_str().unwrap(), "--manifest", "-"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let csv = common::stdout(&o);
+    let lines: Vec<&str> = csv.lines().collect();
+    assert!(lines[0].starts_with("# kinergy segments"), "{csv}");
+    assert_eq!(lines[1], "clip,onset,end,arm,label,person", "{csv}");
+    // Only the file: no listing mixed in, and clips relative to the current folder, so the
+    // printed file reads back from here.
+    assert_eq!(lines.len(), 3, "{csv}");
+    assert!(lines[2].ends_with(",6,88,right,reach,p01"), "{csv}");
+    assert!(!dir.path().join("-").exists());
+    let segments = dir.path().join("segments.csv");
+    std::fs::write(&segments, &csv).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_kinergy"))
+        .args([
+            "fit",
+            "--segments",
+            "segments.csv",
+            "--model",
+            "sa",
+            "--budget",
+            "16",
+        ])
+        .args(["-o", "p.json", "--json"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        common::json(&o)["reaches"][0]["frames"],
+        serde_json::json!([6, 88])
+    );
+
+    let out = dir.path().join("-");
+    assert_bad_input(
+        &[
+            "segment",
+            clip.to_str().unwrap(),
+            "--manifest",
+            "-",
+            "--json",
+        ],
+        "both want standard output",
+        &out,
+    );
 }
 
 #[test]

@@ -115,6 +115,15 @@ pub fn is_stdout(path: &std::path::Path) -> bool {
     path.as_os_str() == "-"
 }
 
+/// How messages name an output: its path, or `standard output` for `-`.
+pub fn shown(path: &Path) -> String {
+    if is_stdout(path) {
+        "standard output".into()
+    } else {
+        path.display().to_string()
+    }
+}
+
 /// Writes `clip` as BVH to `path`, atomically, or to standard output for `-` (then the
 /// report is not printed: the data has stdout). Errors name the file.
 pub fn write_clip(

@@ -7,8 +7,10 @@ Run headless:
 Several FILE OUT pairs share one Blender launch. Each file is imported as an animator would
 (File > Import > Motion Capture: forward -Z, up Y, scale 1, native rotation order, first
 frame 1), each frame evaluated with `scene.frame_set`, and each bone's head taken in world
-space and turned back into the file's axes: Blender (x, y, z) = BVH (x, -z, y). OUT holds
-{"file", "bones": [name...], "frames": [[[x, y, z] per bone] per frame]} in the file's unit.
+space and turned back into the file's axes: Blender (x, y, z) = BVH (x, -z, y). Each file is
+imported a second time with quaternion rotations, whose bone heads differ from the native
+import's only by Blender's single-precision rounding. OUT holds {"file", "bones": [name...],
+"frames": [[[x, y, z] per bone] per frame], "frames_quaternion": ...} in the file's unit.
 
 The BVH importer of Debian's Blender 3.4 opens files with mode 'rU', which Python 3.11
 refuses: `open` is wrapped to drop the 'U'.
@@ -52,9 +54,9 @@ def clear_scene():
         bpy.data.actions.remove(action)
 
 
-def import_one(path, out):
+def heads(path, rotate_mode):
+    """Every bone's head on every frame of `path` imported with `rotate_mode`."""
     clear_scene()
-    started = time.monotonic()
     result = bpy.ops.import_anim.bvh(
         filepath=path,
         target="ARMATURE",
@@ -64,7 +66,7 @@ def import_one(path, out):
         update_scene_fps=False,
         update_scene_duration=False,
         use_cyclic=False,
-        rotate_mode="NATIVE",
+        rotate_mode=rotate_mode,
         axis_forward="-Z",
         axis_up="Y",
     )
@@ -86,8 +88,27 @@ def import_one(path, out):
             # Blender (x, y, z) = BVH (x, -z, y).
             row.append([h.x, h.z, -h.y])
         frames.append(row)
+    return bones, frames
+
+
+def import_one(path, out):
+    started = time.monotonic()
+    bones, frames = heads(path, "NATIVE")
+    # The same file with quaternion rotations: where Blender's two readings differ is its own
+    # single-precision noise for this file.
+    quaternion_bones, quaternion_frames = heads(path, "QUATERNION")
+    if quaternion_bones != bones:
+        raise RuntimeError(f"{path}: the quaternion import made other bones")
     with _open(out, "w") as f:
-        json.dump({"file": path, "bones": bones, "frames": frames}, f)
+        json.dump(
+            {
+                "file": path,
+                "bones": bones,
+                "frames": frames,
+                "frames_quaternion": quaternion_frames,
+            },
+            f,
+        )
     print(
         f"kinergy-blender: {path}: {len(bones)} bones, {len(frames)} frames, "
         f"{time.monotonic() - started:.2f} s",

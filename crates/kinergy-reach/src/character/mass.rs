@@ -19,7 +19,10 @@
 //! the ankle frame), and a heel point `(0, −heel, ankle_height)` in the ankle frame: at rest
 //! both lie on y = 0, the toe `toe` ahead of the ankle and the heel `heel` behind it
 //! ([`Character::foot_points`]). The support polygon is the convex hull in x–z of the foot
-//! points in contact: those within [`CONTACT_TOLERANCE`] of the lowest one.
+//! points in contact: those within [`CONTACT_TOLERANCE`] of the lowest one. A foot whose toe
+//! tip is in contact while its heel is raised (tiptoe) stands on its forefoot: the toes bend
+//! at the ball of the foot ([`BALL`]), which stays on the ground, so the polygon keeps the
+//! forefoot's area rather than collapsing to the line of the toe tips.
 
 use nalgebra::{IsometryMatrix3, Point2, Point3, Vector3};
 
@@ -30,6 +33,10 @@ use super::proportions::LegSegments;
 /// How far above the lowest foot point (meters) a heel or toe still counts as touching the
 /// ground, for the support polygon.
 pub const CONTACT_TOLERANCE: f64 = 0.01;
+
+/// Where the ball of the foot (the metatarsal heads) lies, as a fraction of the way from the
+/// ankle to the toe tip (as for the foot's centre of mass).
+pub const BALL: f64 = 0.7;
 
 /// Foot breadth as a fraction of height (Drillis & Contini: 0.055).
 pub const FOOT_BREADTH: f64 = 0.055;
@@ -207,8 +214,8 @@ impl Character {
 
     /// The support polygon: the convex hull in x–z of the feet's soles — each heel and toe
     /// point widened sideways by half the foot breadth ([`FOOT_BREADTH`] of the height) —
-    /// of the points within [`CONTACT_TOLERANCE`] of the lowest. One foot on the ground
-    /// gives its sole's rectangle, not a line.
+    /// of the points within [`CONTACT_TOLERANCE`] of the lowest, and on tiptoe the ball of
+    /// the foot ([`BALL`]). One foot on the ground gives its sole's rectangle, not a line.
     pub fn support_polygon(&self, pose: &Pose) -> SupportPolygon {
         self.support_polygon_in(&self.world_frames(pose))
     }
@@ -217,23 +224,33 @@ impl Character {
     pub fn support_polygon_in(&self, f: &[IsometryMatrix3<f64>]) -> SupportPolygon {
         let half = 0.5 * FOOT_BREADTH * self.proportions.height();
         let p = &self.proportions;
-        let mut points = Vec::with_capacity(8);
-        for (ankle, leg) in [
+        // Per foot: heel corners, toe-tip corners, and the ball's corners (the metatarsal
+        // heads, 0.7 of the way from the ankle to the toe tip).
+        let soles = [
             (joint::RIGHT_FOOT, &p.right_leg),
             (joint::LEFT_FOOT, &p.left_leg),
-        ] {
-            for y in [-leg.heel, leg.toe] {
-                for x in [-half, half] {
-                    points.push(f[ankle] * Point3::new(x, y, leg.ankle_height));
-                }
-            }
-        }
-        let lowest = points.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
-        let contact: Vec<Point2<f64>> = points
+        ]
+        .map(|(ankle, leg)| {
+            [-leg.heel, leg.toe, BALL * leg.toe]
+                .map(|y| [-half, half].map(|x| f[ankle] * Point3::new(x, y, leg.ankle_height)))
+        });
+        let lowest = soles
             .iter()
-            .filter(|p| p.y <= lowest + CONTACT_TOLERANCE)
-            .map(|p| Point2::new(p.x, p.z))
-            .collect();
+            .flat_map(|sole| sole[..2].iter().flatten())
+            .map(|p| p.y)
+            .fold(f64::INFINITY, f64::min);
+        let touches = |p: &Point3<f64>| p.y <= lowest + CONTACT_TOLERANCE;
+        let mut contact = Vec::with_capacity(12);
+        for [heel, toe, ball] in &soles {
+            let ground = |p: &Point3<f64>| Point2::new(p.x, p.z);
+            contact.extend(heel.iter().filter(|p| touches(p)).map(ground));
+            let toe_down: Vec<_> = toe.iter().filter(|p| touches(p)).map(ground).collect();
+            if toe_down.len() == toe.len() {
+                // On tiptoe the toes bend at the ball, which stays on the ground.
+                contact.extend(ball.iter().map(ground));
+            }
+            contact.extend(toe_down);
+        }
         SupportPolygon::hull(&contact)
     }
 }

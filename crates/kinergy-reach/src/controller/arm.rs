@@ -15,7 +15,7 @@
 use std::ops::Range;
 
 use kinergy_motion::Side;
-use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
 use kinergy_solver::analytic::{LimbIk, OrbitSearch, OrbitSense};
 
 use crate::character::{Character, Limb, Pose};
@@ -29,6 +29,13 @@ const ARM_JUMP: f64 = 0.2;
 /// The fastest an arm DoF turns, rad/s (peak elbow and shoulder speeds of fast human
 /// reaches are around 10 rad/s; ours stay below).
 const ARM_MAX_SPEED: f64 = 8.0;
+
+/// The fastest the reaching hand moves relative to its shoulder, m/s (human reaches peak
+/// around 1–2 m/s; the body's own motion adds to it).
+const HAND_MAX_SPEED: f64 = 2.0;
+
+/// How long the reaching arm's speed limit takes to rise to [`ARM_MAX_SPEED`], seconds.
+const ARM_SPEED_RAMP: f64 = 0.5;
 
 /// The arm's analytic IK: α = 0 the lowest elbow (world down) and growing α raising the
 /// elbow outward — a left-handed turn about the shoulder→wrist axis for the right arm.
@@ -63,6 +70,8 @@ pub(super) struct ArmFollower {
     alpha: Option<f64>,
     /// The previous frame's arm DoFs (the rest pose's before the first frame).
     previous: [f64; 7],
+    /// Upper arm + forearm + hand, meters.
+    length: f64,
 }
 
 impl ArmFollower {
@@ -70,8 +79,10 @@ impl ArmFollower {
     pub(super) fn new(character: &Character, limb: Limb, rest: &Pose) -> Result<ArmFollower> {
         let ik = arm_ik(character, limb)?;
         let dofs = character.limb_dofs(limb);
+        let segments = character.proportions().arm(limb.side());
         Ok(ArmFollower {
             limb,
+            length: segments.upper_arm + segments.forearm + segments.hand,
             previous: std::array::from_fn(|i| rest[dofs.start + i]),
             dofs,
             ik,
@@ -148,27 +159,53 @@ impl ArmFollower {
     /// Ends a frame of `dt` seconds: the orbit angle solved in it (`alpha`, if any) is where
     /// the next frame's search starts, and no arm DoF of `pose` turns faster than
     /// [`ARM_MAX_SPEED`] from the previous frame. True when that limit held the arm back.
-    pub(super) fn end_frame(&mut self, pose: &mut Pose, alpha: Option<f64>, dt: f64) -> bool {
+    ///
+    /// The limit rises from a tenth to all of it over the arm's first [`ARM_SPEED_RAMP`]
+    /// seconds (`elapsed`): an arm starts gently, and the first solution of a reach that
+    /// starts mid-step can lie a few degrees from the resting arm.
+    ///
+    /// The hand, too, moves at most [`HAND_MAX_SPEED`] relative to the shoulder (a goal far
+    /// from the hand — one beyond reach, whose nearest point swings round — would otherwise be
+    /// chased at the joints' top speed).
+    pub(super) fn end_frame(
+        &mut self,
+        character: &Character,
+        pose: &mut Pose,
+        alpha: Option<f64>,
+        elapsed: f64,
+        dt: f64,
+    ) -> bool {
         if alpha.is_some() {
             self.alpha = alpha;
         }
-        // A human joint turns at most so fast: near full extension a millimetre of shoulder
-        // motion (a balance correction) swings the elbow by tens of degrees, which the arm
-        // then catches up with over a few frames instead of in one.
-        let max_step = ARM_MAX_SPEED * dt;
-        let largest = pose[self.dofs.clone()]
+        let ramp = (elapsed / ARM_SPEED_RAMP).clamp(0.1, 1.0);
+        let values = &mut pose[self.dofs.clone()];
+        let held = limit_speed(values, &self.previous, ramp * ARM_MAX_SPEED * dt);
+        let largest = HAND_MAX_SPEED * dt;
+        // No DoF moves the hand further than the arm's length times its turn: most frames
+        // need no forward kinematics to know the hand is slow enough.
+        let turned: f64 = values
             .iter()
             .zip(&self.previous)
             .map(|(v, b)| (v - b).abs())
-            .fold(0.0, f64::max);
-        if largest <= max_step {
-            return false;
+            .sum();
+        if self.length * turned <= largest {
+            return held;
         }
-        // The whole step is scaled, not each DoF clamped: the arm keeps the direction of its
-        // motion in joint space (clamping the elbow alone while the shoulder swings on would
-        // throw the hand sideways).
-        let scale = max_step / largest;
-        for (value, before) in pose[self.dofs.clone()].iter_mut().zip(&self.previous) {
+        let chain = character.limb_chain(self.limb);
+        let shoulder = IsometryMatrix3::identity();
+        let (Ok(from), Ok(to)) = (
+            chain.end_position(&shoulder, &self.previous),
+            chain.end_position(&shoulder, values),
+        ) else {
+            return held;
+        };
+        let moved = (to - from).norm();
+        if moved <= largest {
+            return held;
+        }
+        let scale = largest / moved;
+        for (value, before) in values.iter_mut().zip(&self.previous) {
             *value = before + (*value - before) * scale;
         }
         true
@@ -184,6 +221,138 @@ impl ArmFollower {
     pub(super) fn path_length(&self, target: &Point3<f64>) -> f64 {
         self.hand_start.map_or(0.0, |h| (target - h).norm())
     }
+}
+
+/// Holds the arm DoFs `values` to at most `max_step` radians from `previous`; true when they
+/// were held back.
+fn limit_speed(values: &mut [f64], previous: &[f64; 7], max_step: f64) -> bool {
+    // A human joint turns at most so fast: near full extension a millimetre of shoulder
+    // motion (a balance correction) swings the elbow by tens of degrees, which the arm then
+    // catches up with over a few frames instead of in one.
+    let largest = values
+        .iter()
+        .zip(previous)
+        .map(|(v, b)| (v - b).abs())
+        .fold(0.0, f64::max);
+    if largest <= max_step {
+        return false;
+    }
+    // The whole step is scaled, not each DoF clamped: the arm keeps the direction of its
+    // motion in joint space (clamping the elbow alone while the shoulder swings on would throw
+    // the hand sideways).
+    let scale = max_step / largest;
+    for (value, before) in values.iter_mut().zip(previous) {
+        *value = before + (*value - before) * scale;
+    }
+    true
+}
+
+/// The arm that does not reach: it hangs from its shoulder under its own weight while the
+/// body steps, twists, bends and squats. Its hand is held where it hangs at rest relative to
+/// the shoulder, turned with the trunk about the vertical, a little closer so the elbow
+/// relaxes, and never lower than [`IDLE_HAND_CLEARANCE`] above the floor; the arm is solved
+/// for it by the same analytic IK as the reaching arm, continuous from frame to frame and no
+/// faster than [`ARM_MAX_SPEED`]. (Left at its rest angles the arm would stick out straight
+/// behind a bending trunk.)
+#[derive(Debug, Clone)]
+pub(super) struct IdleArm {
+    dofs: Range<usize>,
+    ik: LimbIk,
+    search: OrbitSearch,
+    /// The hand's offset from the shoulder at rest, world, shortened by [`IDLE_RELAX`].
+    hang: Vector3<f64>,
+    /// The trunk's heading at rest: the shoulder frame's x axis on the ground.
+    heading: Vector3<f64>,
+    /// The previous frame's arm DoFs (the rest pose's before the first frame).
+    previous: [f64; 7],
+    /// The previous frame's orbit angle.
+    alpha: Option<f64>,
+    /// The last goal in the arm's base frame and the arm solved for it.
+    solved: Option<(Point3<f64>, [f64; 7])>,
+}
+
+/// How much closer to the shoulder the idle hand hangs than the straight arm at rest (a
+/// relaxed elbow bends a little, and a straight arm is the IK's singular posture).
+const IDLE_RELAX: f64 = 0.995;
+
+/// The lowest the idle hand goes, meters above the floor (y = 0).
+pub(super) const IDLE_HAND_CLEARANCE: f64 = 0.1;
+
+impl IdleArm {
+    /// The `limb`'s idle arm, hanging as in `rest`.
+    pub(super) fn new(character: &Character, limb: Limb, rest: &Pose) -> Result<IdleArm> {
+        let ik = arm_ik(character, limb)?;
+        let dofs = character.limb_dofs(limb);
+        let base = character.limb_base_frame(limb, rest);
+        let hand = character
+            .limb_chain(limb)
+            .end_position(&base, &rest[dofs.clone()])
+            .unwrap_or_else(|_| Point3::from(base.translation.vector));
+        Ok(IdleArm {
+            previous: std::array::from_fn(|i| rest[dofs.start + i]),
+            dofs,
+            ik,
+            search: OrbitSearch::default(),
+            hang: (hand.coords - base.translation.vector) * IDLE_RELAX,
+            heading: ground_heading(&base),
+            alpha: None,
+            solved: None,
+        })
+    }
+
+    /// Solves the idle arm into `pose`, the arm's base frame at `base`; keeps the pose's arm
+    /// when nothing is found. Returns the orbit angle solved at, if any. The goal depends on
+    /// the base's rotation only (and on its height near the floor): while the trunk keeps
+    /// its orientation — the root shifted for balance, the body stepping upright — the last
+    /// solution is reused.
+    pub(super) fn hang(&mut self, pose: &mut Pose, base: &IsometryMatrix3<f64>) -> Option<f64> {
+        let now = ground_heading(base);
+        let yaw = self.heading.cross(&now).y.atan2(self.heading.dot(&now));
+        let turned = Rotation3::from_axis_angle(&Vector3::y_axis(), yaw) * self.hang;
+        let mut goal = Point3::from(base.translation.vector + turned);
+        goal.y = goal.y.max(IDLE_HAND_CLEARANCE);
+        let local = base.inverse() * goal;
+        if let Some((last, q)) = self.solved
+            && (last - local).norm() < 1e-9
+        {
+            pose[self.dofs.clone()].copy_from_slice(&q);
+            return self.alpha;
+        }
+        let near = match self.alpha {
+            Some(a) => Near::Alpha(a),
+            None => Near::Posture(self.previous),
+        };
+        let (alpha, q) = solve_arm_near(&self.ik, base, &goal, &self.search, near)?;
+        pose[self.dofs.clone()].copy_from_slice(&q);
+        self.solved = Some((local, q));
+        Some(alpha)
+    }
+
+    /// Ends a frame of `dt` seconds as [`ArmFollower::end_frame`] does, and keeps the frame's
+    /// posture as the previous one.
+    pub(super) fn end_frame(&mut self, pose: &mut Pose, alpha: Option<f64>, dt: f64) {
+        if alpha.is_some() {
+            self.alpha = alpha;
+        }
+        limit_speed(
+            &mut pose[self.dofs.clone()],
+            &self.previous,
+            ARM_MAX_SPEED * dt,
+        );
+    }
+
+    /// Keeps the frame's final arm posture (`pose`, clamped) as the previous one.
+    pub(super) fn settle(&mut self, pose: &Pose) {
+        self.previous = std::array::from_fn(|i| pose[self.dofs.start + i]);
+    }
+}
+
+/// The direction of a frame's x axis on the ground (x if it points straight up or down).
+fn ground_heading(frame: &IsometryMatrix3<f64>) -> Vector3<f64> {
+    let x = frame.rotation * Vector3::x();
+    Vector3::new(x.x, 0.0, x.z)
+        .try_normalize(1e-9)
+        .unwrap_or_else(Vector3::x)
 }
 
 /// Where an arm's orbit search starts.

@@ -4,7 +4,8 @@
 //! exactly where they are.
 //!
 //! Each stepping foot first waits while the root moves over the other foot (a weight shift,
-//! the first 40 % of `step_time`), then swings on the convex foot path; in a full step the
+//! the first 40 % of `step_time` or longer, so the root moves at most [`ROOT_SPEED`]), then
+//! swings on the convex foot path; in a full step the
 //! second foot swings after the first has landed and the weight has shifted again. The root
 //! moves on eased keyframes — over the stance foot before each swing, dipping a little while
 //! a foot is in the air, and to its end (half the step for a half step) — with the knees bent
@@ -21,6 +22,10 @@ use super::settings::ReachSettings;
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::{ReachError, Result};
 use crate::steps::{self, StepDecision, StepSettings};
+
+/// The fastest the root moves between stance feet, m/s (the weight shift before a swing
+/// lasts longer when the root has further to go).
+const ROOT_SPEED: f64 = 1.0;
 
 /// The root's drop while stepping, as a fraction of the leg length.
 const STEP_KNEE_BEND: f64 = 0.12;
@@ -140,11 +145,8 @@ pub(super) struct Stepping {
     /// The ankle frames at rest, `[right, left]`.
     feet_rest: [IsometryMatrix3<f64>; 2],
     step_vec: Vector3<f64>,
-    /// Which feet step, and in which order (indices into `feet_rest`).
-    moves: [bool; 2],
-    order: [usize; 2],
-    swing_part: f64,
-    step_time: f64,
+    /// When each foot swings, `(start, end)` seconds; `None` for a foot that stays.
+    windows: [Option<(f64, f64)>; 2],
     /// Eased keyframes `(time, position)` of the root; held after the last.
     root_keys: Vec<(f64, Point3<f64>)>,
     /// When the last foot has landed and the root arrived, seconds (0 without a step).
@@ -184,14 +186,10 @@ impl Stepping {
                 ([true, true], [lead, 1 - lead])
             }
         };
-        // Each foot's step: a weight shift (the first 40 % of `step_time`) then the swing.
+        // Each foot's step: a weight shift (at least the first 40 % of `step_time`, longer
+        // when the root has far to go) then the swing.
         let shift_part = 0.4 * s.step_time;
         let swing_part = s.step_time - shift_part;
-        let step_total = match step.step {
-            StepDecision::NoStep => 0.0,
-            StepDecision::HalfStep { .. } => s.step_time + shift_part,
-            StepDecision::FullStep => 2.0 * s.step_time + shift_part,
-        };
         let root_move = match step.step {
             StepDecision::NoStep => Vector3::zeros(),
             StepDecision::HalfStep { .. } => 0.5 * step_vec,
@@ -216,27 +214,34 @@ impl Stepping {
                 c.z,
             )
         };
+        // A shift of the root to `to` lasts long enough for the eased root to stay below
+        // ROOT_SPEED (smoothstep peaks at 1.5 × its mean speed).
+        let shift_time = |from: &Point3<f64>, to: &Point3<f64>| {
+            shift_part.max(1.5 * (to - from).norm() / ROOT_SPEED)
+        };
         let mut root_keys = vec![(0.0, root_rest)];
-        if step_total > 0.0 {
+        let mut windows = [None; 2];
+        if step.step.steps() {
             let mut landed = [false, false];
             for &i in order.iter().filter(|&&i| moves[i]) {
-                let (a, b) = swing_window(order, i, s.step_time);
+                let (t0, from) = root_keys.last().copied().unwrap_or((0.0, root_rest));
                 let stance = sole(1 - i, landed[1 - i]);
+                let a = t0 + shift_time(&from, &stance);
+                let b = a + swing_part;
                 root_keys.push((a, stance));
                 root_keys.push((b, stance));
+                windows[i] = Some((a, b));
                 landed[i] = true;
             }
-            let end = root_keys.last().map_or(0.0, |k| k.0) + shift_part;
-            root_keys.push((end, root_rest + root_move));
+            let (t0, from) = root_keys.last().copied().unwrap_or((0.0, root_rest));
+            let end = root_rest + root_move;
+            root_keys.push((t0 + shift_time(&from, &end), end));
         }
         let total = root_keys.last().map_or(0.0, |k| k.0);
         Ok(Stepping {
             feet_rest,
             step_vec,
-            moves,
-            order,
-            swing_part,
-            step_time: s.step_time,
+            windows,
             root_keys,
             total,
             root_rest,
@@ -249,14 +254,22 @@ impl Stepping {
         self.total
     }
 
+    /// When the last foot lands, seconds (0 without a step).
+    pub(super) fn landed(&self) -> f64 {
+        self.windows
+            .iter()
+            .flatten()
+            .map(|w| w.1)
+            .fold(0.0, f64::max)
+    }
+
     /// The ankle frames `[right, left]` at `t`: a stepping foot waits out its weight shift,
     /// then swings on the foot path.
     pub(super) fn feet(&self, t: f64) -> [IsometryMatrix3<f64>; 2] {
         [0, 1].map(|i| {
             let mut f = self.feet_rest[i];
-            if self.moves[i] && self.total > 0.0 {
-                let (a, _) = swing_window(self.order, i, self.step_time);
-                let u = ((t - a) / self.swing_part).clamp(0.0, 1.0);
+            if let Some((a, b)) = self.windows[i] {
+                let u = ((t - a) / (b - a)).clamp(0.0, 1.0);
                 let from = Point3::from(f.translation.vector);
                 let to = from + self.step_vec;
                 let p = steps::foot_path(from, to, self.settings.foot_lift, u);
@@ -272,8 +285,7 @@ impl Stepping {
             // Static balance: the root moves over the stance foot before each swing, stays
             // there while the other foot is in the air (dipping a little), and ends midway.
             let mut p = keyed(&self.root_keys, t);
-            for (i, _) in self.moves.iter().enumerate().filter(|(_, m)| **m) {
-                let (a, b) = swing_window(self.order, i, self.step_time);
+            for &(a, b) in self.windows.iter().flatten() {
                 if t > a && t < b {
                     let u = (t - a) / (b - a);
                     p.y -= self.settings.root_dip * (std::f64::consts::PI * u).sin();
@@ -300,16 +312,6 @@ fn keyed(keys: &[(f64, Point3<f64>)], t: f64) -> Point3<f64> {
         }
     }
     keys.last().map_or(Point3::origin(), |k| k.1)
-}
-
-/// When foot `i` swings: `(start, end)` seconds. The first foot of `order` swings after one
-/// weight shift, the second after the first has landed and the weight has shifted again.
-fn swing_window(order: [usize; 2], i: usize, step_time: f64) -> (f64, f64) {
-    let shift = 0.4 * step_time;
-    let swing = step_time - shift;
-    let k = if order[0] == i { 0.0 } else { 1.0 };
-    let a = shift + k * step_time;
-    (a, a + swing)
 }
 
 /// 0 for the right foot, 1 for the left (the order of the feet arrays).
@@ -346,19 +348,39 @@ pub(super) fn lower_root_for_legs(
     pose: &mut Pose,
     feet: &[IsometryMatrix3<f64>; 2],
 ) {
+    let mut frames = character.world_frames(pose);
+    lower_root_for_legs_in(character, pose, &mut frames, feet);
+}
+
+/// [`lower_root_for_legs`] with the pose's world `frames` already computed; they are moved
+/// down with the root (lowering the root translates every joint).
+pub(super) fn lower_root_for_legs_in(
+    character: &Character,
+    pose: &mut Pose,
+    frames: &mut [IsometryMatrix3<f64>],
+    feet: &[IsometryMatrix3<f64>; 2],
+) {
+    let mut lowered = 0.0;
     for (i, leg) in [Limb::RightLeg, Limb::LeftLeg].into_iter().enumerate() {
         let segments = character.proportions().leg(leg.side());
         let reach = 0.985 * (segments.thigh + segments.shank);
-        let hip = character.limb_base_frame(leg, pose).translation.vector;
+        let hip = character.limb_base_frame_in(leg, frames).translation.vector;
+        let hip_y = hip.y - lowered;
         let ankle = feet[i].translation.vector;
         let h = ((hip.x - ankle.x).powi(2) + (hip.z - ankle.z).powi(2)).sqrt();
         if h >= reach {
             continue;
         }
         let allowed = (reach * reach - h * h).sqrt();
-        let vertical = hip.y - ankle.y;
+        let vertical = hip_y - ankle.y;
         if vertical > allowed {
-            pose[dof::ROOT_Y] -= vertical - allowed;
+            lowered += vertical - allowed;
+        }
+    }
+    if lowered > 0.0 {
+        pose[dof::ROOT_Y] -= lowered;
+        for f in frames.iter_mut() {
+            f.translation.vector.y -= lowered;
         }
     }
 }

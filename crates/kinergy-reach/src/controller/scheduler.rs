@@ -5,25 +5,30 @@
 //! - state 0 starts the step;
 //! - state 1 (the step has progressed `r_st`, or no step) starts arm, head and twist;
 //! - state 2 (the twist has progressed `r_tw`, or no twist) starts swing, COM adjustment and
-//!   squat;
+//!   squat — the squat, beyond the paper, not before the last foot has landed;
 //! - state 3 ends when the hand is at the target and every controller has finished, or at
 //!   the timeout.
 //!
-//! Each frame composes the root and spine, turns the head, then solves legs and arm and
-//! corrects the balance, at most ten passes.
+//! Each frame composes the root and spine, turns the head, then solves the legs, the reaching
+//! arm and the idle arm (hanging, [`IdleArm`]) and corrects the balance, at most ten passes;
+//! the balance correction is carried from frame to frame and moves the root at most
+//! [`BALANCE_SPEED`].
 
 use kinergy_motion::Side;
-use kinergy_motion::nalgebra::{Point3, Vector3};
+use kinergy_motion::nalgebra::{Point3, Vector2, Vector3};
 
-use super::arm::{ArmFollower, arm_ik, hand_position, shoulder_position};
+use super::arm::{ArmFollower, IdleArm, arm_ik, hand_position, shoulder_position};
 use super::balance::{plan_com_shift, rebalance};
 use super::head::Head;
-use super::legs::{self, StepPlan, Stepping, leg_iks, lower_root_for_legs, solve_legs_in};
+use super::legs::{self, StepPlan, Stepping, leg_iks, lower_root_for_legs_in, solve_legs_in};
 use super::report::{Posture, ReachMotion, ReachReport, ReachStop};
 use super::settings::ReachSettings;
 use super::spine::{apply_swing, plan_squat, plan_swing, plan_twist, set_twist};
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::Result;
+
+/// The fastest the balance correction moves the root, m/s.
+const BALANCE_SPEED: f64 = 0.5;
 
 /// The plan: every decision, made once at the start.
 #[derive(Debug, Clone)]
@@ -139,10 +144,13 @@ struct Timeline {
     t_swing: f64,
     /// Their duration (0 without any).
     swing_time: f64,
+    /// When the squat starts: with the swing, but not before the last foot has landed (a
+    /// squat on one leg would drop the root further to keep the swinging foot reachable).
+    t_squat: f64,
 }
 
 impl Timeline {
-    fn new(plan: &Plan, step_total: f64, s: &ReachSettings) -> Timeline {
+    fn new(plan: &Plan, step_total: f64, landed: f64, s: &ReachSettings) -> Timeline {
         let t_arm = if plan.step.step.steps() {
             s.r_st * step_total
         } else {
@@ -154,12 +162,14 @@ impl Timeline {
         } else {
             0.0
         };
+        let t_swing = t_arm + s.r_tw * twist_time;
         Timeline {
             step_total,
             t_arm,
             twist_time,
-            t_swing: t_arm + s.r_tw * twist_time,
+            t_swing,
             swing_time,
+            t_squat: t_swing.max(landed),
         }
     }
 
@@ -181,9 +191,18 @@ impl Timeline {
         }
     }
 
+    /// The squat's progress at `t`, eased, in [0, 1].
+    fn squat_at(&self, t: f64) -> f64 {
+        if self.swing_time > 0.0 {
+            ease((t - self.t_squat) / self.swing_time)
+        } else {
+            1.0
+        }
+    }
+
     /// Whether every controller but the arm has finished at `t`.
     fn body_done(&self, t: f64) -> bool {
-        t >= self.t_swing + self.swing_time
+        t >= self.t_squat + self.swing_time
             && t >= self.step_total
             && t >= self.t_arm + self.twist_time
     }
@@ -204,7 +223,7 @@ fn body_at(
     let tw = timeline.twist_at(t);
     let sw = timeline.swing_at(t);
     pose[dof::ROOT_X] = root_path.x + plan.com_shift.x * sw;
-    pose[dof::ROOT_Y] = root_path.y - plan.squat * sw;
+    pose[dof::ROOT_Y] = root_path.y - plan.squat * timeline.squat_at(t);
     pose[dof::ROOT_Z] = root_path.z + plan.com_shift.z * sw;
     set_twist(&mut pose, plan.twist * tw);
     if t >= timeline.t_swing && plan.swing != 0.0 {
@@ -227,15 +246,26 @@ pub(super) fn animate(
     let stepping = Stepping::new(character, rest, &plan.step, plan.arm, s)?;
     let leg_iks = leg_iks(character)?;
     let mut arm = ArmFollower::new(character, plan.arm, rest)?;
-    let timeline = Timeline::new(plan, stepping.total(), s);
+    let idle_limb = match plan.arm {
+        Limb::LeftArm => Limb::RightArm,
+        _ => Limb::LeftArm,
+    };
+    let mut idle = IdleArm::new(character, idle_limb, rest)?;
+    let timeline = Timeline::new(plan, stepping.total(), stepping.landed(), s);
     let mut head = Head::default();
     let mut poses = Vec::new();
     let mut min_margin = f64::INFINITY;
     let mut stop = ReachStop::Timeout;
     let mut final_error = f64::INFINITY;
+    // The balance correction of the root (x, z) carried from frame to frame.
+    let mut correction = Vector2::zeros();
     for frame in 0..max_frames {
         let t = frame as f64 * dt;
         let mut pose = body_at(character, rest, plan, &stepping, &timeline, t);
+        let planned = Vector2::new(pose[dof::ROOT_X], pose[dof::ROOT_Z]);
+        let planned_height = pose[dof::ROOT_Y];
+        pose[dof::ROOT_X] += correction.x;
+        pose[dof::ROOT_Z] += correction.y;
         if t >= timeline.t_arm {
             head.turn_toward(character, &pose, &plan.target, s.head_speed * dt);
         }
@@ -245,10 +275,14 @@ pub(super) fn animate(
         let feet = stepping.feet(t);
         let mut error = f64::INFINITY;
         let mut frame_alpha = None;
+        let mut idle_alpha = None;
+        let mut frame_margin = f64::INFINITY;
         for pass in 0..10 {
-            lower_root_for_legs(character, &mut pose, &feet);
+            // The root as low as the legs need where it is now (not where a pass before put it).
+            pose[dof::ROOT_Y] = planned_height;
             // The limbs' bases do not depend on the limbs: one FK serves all three.
-            let above = character.world_frames(&pose);
+            let mut above = character.world_frames(&pose);
+            lower_root_for_legs_in(character, &mut pose, &mut above, &feet);
             solve_legs_in(character, &mut pose, &above, &leg_iks, &feet);
             let base = character.limb_base_frame_in(plan.arm, &above);
             if t >= timeline.t_arm {
@@ -265,6 +299,10 @@ pub(super) fn animate(
                     frame_alpha = Some(a);
                 }
             }
+            if let Some(a) = idle.hang(&mut pose, &character.limb_base_frame_in(idle_limb, &above))
+            {
+                idle_alpha = Some(a);
+            }
             error = (arm.hand(character, &base, &pose, plan.target) - plan.target).norm();
             let balance = rebalance(
                 character,
@@ -278,17 +316,57 @@ pub(super) fn animate(
                     pose[dof::ROOT_Z] += shift.y;
                 }
                 _ => {
-                    min_margin = min_margin.min(balance.margin);
+                    frame_margin = balance.margin;
                     break;
                 }
             }
         }
-        if arm.end_frame(&mut pose, frame_alpha, dt) {
+        // The correction moves the root no faster than BALANCE_SPEED: a support polygon that
+        // changes at once (a heel rising) is followed over a few frames, not in one jump.
+        let wanted = Vector2::new(pose[dof::ROOT_X], pose[dof::ROOT_Z]) - planned;
+        let change = wanted - correction;
+        let largest = BALANCE_SPEED * dt;
+        if change.norm() > largest {
+            correction += change * (largest / change.norm());
+            pose[dof::ROOT_X] = planned.x + correction.x;
+            pose[dof::ROOT_Z] = planned.y + correction.y;
+            pose[dof::ROOT_Y] = planned_height;
+            let mut above = character.world_frames(&pose);
+            lower_root_for_legs_in(character, &mut pose, &mut above, &feet);
+            solve_legs_in(character, &mut pose, &above, &leg_iks, &feet);
+            let base = character.limb_base_frame_in(plan.arm, &above);
+            if t >= timeline.t_arm {
+                let elapsed = t - timeline.t_arm;
+                if let Some(a) = arm.follow(
+                    character,
+                    &mut pose,
+                    &base,
+                    &plan.target,
+                    &s.profile,
+                    elapsed,
+                    false,
+                ) {
+                    frame_alpha = Some(a);
+                }
+            }
+            if let Some(a) = idle.hang(&mut pose, &character.limb_base_frame_in(idle_limb, &above))
+            {
+                idle_alpha = Some(a);
+            }
+            error = (arm.hand(character, &base, &pose, plan.target) - plan.target).norm();
+            frame_margin = rebalance(character, &character.world_frames(&pose), 0.0, 1.0).margin;
+        } else {
+            correction = wanted;
+        }
+        min_margin = min_margin.min(frame_margin);
+        if arm.end_frame(character, &mut pose, frame_alpha, t - timeline.t_arm, dt) {
             error = (character.world_positions(&pose)[plan.arm.joints()[3]] - plan.target).norm();
         }
+        idle.end_frame(&mut pose, idle_alpha, dt);
         final_error = error;
         character.clamp_pose(&mut pose);
         arm.settle(&pose);
+        idle.settle(&pose);
         poses.push(pose);
         let hand_done = t >= timeline.t_arm + s.profile.duration(arm.path_length(&plan.target));
         if timeline.body_done(t) && hand_done {
@@ -297,7 +375,7 @@ pub(super) fn animate(
                 break;
             }
             // Hold a few frames to let the nearest point settle, then give up.
-            if t >= timeline.t_swing + timeline.swing_time + 0.25 && t >= timeline.t_arm + 0.25 {
+            if t >= timeline.t_squat + timeline.swing_time + 0.25 && t >= timeline.t_arm + 0.25 {
                 stop = ReachStop::Unreachable;
                 break;
             }

@@ -69,7 +69,7 @@ impl Default for ReachSettings {
             swing_time: 0.9,
             head_speed: 2.5,
             tolerance: 0.01,
-            timeout: 8.0,
+            timeout: 10.0,
             balance_margin: 0.01,
             arm: None,
             seed: 0,
