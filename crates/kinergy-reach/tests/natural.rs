@@ -111,6 +111,7 @@ fn the_hand_leaves_its_rest_smoothly() {
 fn no_hand_flies_and_the_idle_hand_stays_below_the_hip_on_a_grid_of_reaches() {
     let c = Character::from_height(1.75).expect("character");
     let mut checked = 0;
+    let (mut fastest_seen, mut highest_idle) = (0.0_f64, f64::NEG_INFINITY);
     for x in [-0.6, -0.3, 0.0, 0.3, 0.6] {
         for y in [0.15, 0.6, 1.0, 1.5, 1.9] {
             for z in [-0.5, 0.3, 0.7, 1.1] {
@@ -126,11 +127,17 @@ fn no_hand_flies_and_the_idle_hand_stays_below_the_hip_on_a_grid_of_reaches() {
                     "{target:?}: the idle hand rises {:.3} m above the hip",
                     s.idle_above_hip
                 );
+                fastest_seen = fastest_seen.max(fastest);
+                highest_idle = highest_idle.max(s.idle_above_hip);
                 checked += 1;
             }
         }
     }
     assert_eq!(checked, 100);
+    eprintln!(
+        "grid: fastest hand {fastest_seen:.2} m/s, idle hand at most {highest_idle:.3} m \
+         above the hip"
+    );
 }
 
 fn synthetic_set() -> PathBuf {
@@ -153,6 +160,7 @@ fn no_hand_flies_and_the_idle_hand_stays_below_the_hip_in_the_synthetic_set() {
     };
     let (clip_col, x_col) = (column("clip"), column("target_x"));
     let mut checked = 0;
+    let (mut fastest_seen, mut highest_idle) = (0.0_f64, f64::NEG_INFINITY);
     for line in lines {
         let cells: Vec<&str> = line.split(',').collect();
         let target = Point3::new(
@@ -199,7 +207,13 @@ fn no_hand_flies_and_the_idle_hand_stays_below_the_hip_in_the_synthetic_set() {
             path.display(),
             seen.idle_above_hip
         );
+        fastest_seen = fastest_seen.max(fastest);
+        highest_idle = highest_idle.max(seen.idle_above_hip);
         checked += 1;
     }
     assert_eq!(checked, 56, "the synthetic set has 4 persons × 14 reaches");
+    eprintln!(
+        "data-synthetic: fastest hand {fastest_seen:.2} m/s, idle hand at most \
+         {highest_idle:.3} m above the hip"
+    );
 }
