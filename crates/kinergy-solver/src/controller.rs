@@ -302,39 +302,14 @@ impl Controller {
     pub fn synthesize(&self, arm: &ArmTask<'_>) -> Result<Synthesis> {
         let chain = arm.chain;
         let n = chain.dof_count();
-        if arm.start.len() != n {
-            return Err(kinergy_motion::MotionError::PoseLength {
-                expected: n,
-                found: arm.start.len(),
-            }
-            .into());
-        }
-        if self.synergy.dof_count() != n {
-            return Err(SolverError::Setting {
-                field: "synergy".into(),
-                why: format!(
-                    "made for {} DoFs, the chain has {n}",
-                    self.synergy.dof_count()
-                ),
-            });
-        }
-        if !arm.start.iter().all(|v| v.is_finite()) {
-            return Err(SolverError::NonFinite("the start posture".into()));
-        }
         arm.base.validate()?;
         arm.task.validate()?;
+        let mut stepper = self.stepper(chain, arm.start)?;
 
         let s = &self.settings;
         let dt = s.frame_time;
         let window = ((s.stall.window / dt).ceil() as usize).max(1);
-        let mut q = arm.start.to_vec();
-        chain.clamp(&mut q);
-        let mut lin = Linearization::default();
-        let mut scratch = StepScratch::default();
-        let mut step = vec![0.0; n];
-        let mut locks = vec![Lock::Free; n];
         let per = chain.joints().len() + 1;
-        let sphere = ReachSphere::of(chain);
         let mut out = Synthesis {
             frame_time: dt,
             dof_count: n,
@@ -347,31 +322,17 @@ impl Controller {
         let mut errors: Vec<f64> = Vec::with_capacity(s.max_frames.min(4096));
         let mut frame = 0;
         loop {
-            chain.linearize_into(arm.base.at(frame), &q, &mut lin)?;
-            let error = arm.task.error(&lin);
-            let e = error.norm();
+            let seen = stepper.observe(arm.base.at(frame), &arm.task)?;
+            let e = seen.error;
             if !e.is_finite() {
                 out.stop = StopReason::NonFinite;
                 break;
             }
-            out.configurations.extend_from_slice(&q);
-            out.points.extend_from_slice(&lin.joints);
-            out.points.push(lin.end);
+            out.configurations.extend_from_slice(&stepper.q);
+            out.points.extend_from_slice(&stepper.lin.joints);
+            out.points.push(stepper.lin.end);
             out.final_error = e;
-            // Near the reach sphere's edge the controller guides the step (see
-            // `reachability`), and the stall rule watches the guided error.
-            let guidance = match (&sphere, arm.task) {
-                (Some(sphere), Task::Position(t)) => sphere.guide(
-                    &q,
-                    &lin,
-                    &t,
-                    &arm.base.at(frame).rotation,
-                    &self.optimizer,
-                    dt,
-                ),
-                _ => None,
-            };
-            errors.push(guidance.as_ref().map_or(e, Guidance::progress));
+            errors.push(seen.progress);
             let frames = frame + 1;
             let long_enough = frames >= s.min_frames;
             if e < s.tolerance && long_enough {
@@ -394,28 +355,54 @@ impl Controller {
                 out.stop = StopReason::Stalled;
                 break;
             }
-            self.limited_step(
-                chain,
-                &q,
-                &mut lin,
-                &error,
-                guidance.as_ref(),
-                frame as f64 * dt,
-                &mut scratch,
-                &mut locks,
-                &mut step,
-            );
-            if !step.iter().all(|v| v.is_finite()) {
+            if !stepper.advance() {
                 out.stop = StopReason::NonFinite;
                 break;
             }
-            for (qi, d) in q.iter_mut().zip(&step) {
-                *qi += d;
-            }
-            clamp_moved(chain, &mut q, &step);
             frame += 1;
         }
         Ok(out)
+    }
+
+    /// The controller run one frame at a time ([`ArmStepper`]) on `chain` from `start`
+    /// (clamped into the limits): for a caller that moves the chain's base itself, frame by
+    /// frame, such as a full-body character whose trunk a scheduler moves. [`Controller::
+    /// synthesize`] is this stepper with its stop rules.
+    pub fn stepper(&self, chain: &Chain, start: &[f64]) -> Result<ArmStepper> {
+        let n = chain.dof_count();
+        if start.len() != n {
+            return Err(kinergy_motion::MotionError::PoseLength {
+                expected: n,
+                found: start.len(),
+            }
+            .into());
+        }
+        if self.synergy.dof_count() != n {
+            return Err(SolverError::Setting {
+                field: "synergy".into(),
+                why: format!(
+                    "made for {} DoFs, the chain has {n}",
+                    self.synergy.dof_count()
+                ),
+            });
+        }
+        if !start.iter().all(|v| v.is_finite()) {
+            return Err(SolverError::NonFinite("the start posture".into()));
+        }
+        let mut q = start.to_vec();
+        chain.clamp(&mut q);
+        Ok(ArmStepper {
+            controller: self.clone(),
+            chain: chain.clone(),
+            sphere: ReachSphere::of(chain),
+            q,
+            lin: Linearization::default(),
+            scratch: StepScratch::default(),
+            step: vec![0.0; n],
+            locks: vec![Lock::Free; n],
+            frame: 0,
+            pending: None,
+        })
     }
 
     /// Δθ' = S(t)·O(ΔX) for the current frame; with [`LimitHandling::Deactivate`], solved
@@ -477,6 +464,117 @@ impl Controller {
         {
             *s = 0.0;
         }
+    }
+}
+
+/// The synergy controller one frame at a time, on a base the caller moves (made by
+/// [`Controller::stepper`]). Each frame the caller says where the base is
+/// ([`ArmStepper::observe`]: the task error of the current configuration there), then
+/// [`ArmStepper::advance`]s it: Θ ← clamp(Θ + S(t)·O(ΔX)) at t = frame · frame_time — exactly
+/// the step of [`Controller::synthesize`], which is built on it. The stop rules are the
+/// caller's.
+#[derive(Debug, Clone)]
+pub struct ArmStepper {
+    controller: Controller,
+    chain: Chain,
+    sphere: Option<ReachSphere>,
+    q: Vec<f64>,
+    lin: Linearization,
+    scratch: StepScratch,
+    step: Vec<f64>,
+    locks: Vec<Lock>,
+    frame: usize,
+    /// The last observation's task error and guidance, for the next advance.
+    pending: Option<(crate::task::TaskError, Option<Guidance>)>,
+}
+
+/// What [`ArmStepper::observe`] sees on a frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Observation {
+    /// The task error's norm (meters for a position task).
+    pub error: f64,
+    /// The error the stall rule watches: the guided error near the reach sphere's edge, the
+    /// task error elsewhere.
+    pub progress: f64,
+}
+
+impl ArmStepper {
+    /// The current configuration.
+    pub fn configuration(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// Frames advanced so far.
+    pub fn frame(&self) -> usize {
+        self.frame
+    }
+
+    /// The chain the stepper moves.
+    pub fn chain(&self) -> &Chain {
+        &self.chain
+    }
+
+    /// Replaces the configuration (clamped into the limits), e.g. after the caller clamped
+    /// the arm into limits of its own; the next frame steps from there.
+    pub fn set_configuration(&mut self, q: &[f64]) {
+        if q.len() == self.q.len() && q.iter().all(|v| v.is_finite()) {
+            self.q.copy_from_slice(q);
+            self.chain.clamp(&mut self.q);
+            self.pending = None;
+        }
+    }
+
+    /// The task error of the current configuration with the chain's base at `base`; keeps
+    /// what the next [`ArmStepper::advance`] needs.
+    pub fn observe(&mut self, base: &IsometryMatrix3<f64>, task: &Task) -> Result<Observation> {
+        self.chain.linearize_into(base, &self.q, &mut self.lin)?;
+        let error = task.error(&self.lin);
+        let e = error.norm();
+        // Near the reach sphere's edge the controller guides the step (see `reachability`),
+        // and the stall rule watches the guided error.
+        let guidance = match (&self.sphere, task) {
+            (Some(sphere), Task::Position(t)) => sphere.guide(
+                &self.q,
+                &self.lin,
+                t,
+                &base.rotation,
+                &self.controller.optimizer,
+                self.controller.settings.frame_time,
+            ),
+            _ => None,
+        };
+        let progress = guidance.as_ref().map_or(e, Guidance::progress);
+        self.pending = Some((error, guidance));
+        Ok(Observation { error: e, progress })
+    }
+
+    /// One frame's step from the last observation: Θ ← clamp(Θ + S(t)·O(ΔX)). False (and
+    /// the configuration unchanged) when the step is not finite or nothing was observed.
+    pub fn advance(&mut self) -> bool {
+        let Some((error, guidance)) = self.pending.take() else {
+            return false;
+        };
+        let t = self.frame as f64 * self.controller.settings.frame_time;
+        self.controller.limited_step(
+            &self.chain,
+            &self.q,
+            &mut self.lin,
+            &error,
+            guidance.as_ref(),
+            t,
+            &mut self.scratch,
+            &mut self.locks,
+            &mut self.step,
+        );
+        if !self.step.iter().all(|v| v.is_finite()) {
+            return false;
+        }
+        for (qi, d) in self.q.iter_mut().zip(&self.step) {
+            *qi += d;
+        }
+        clamp_moved(&self.chain, &mut self.q, &self.step);
+        self.frame += 1;
+        true
     }
 }
 

@@ -48,7 +48,8 @@ pub mod task;
 
 pub use capture::{BaseMode, CaptureArm};
 pub use controller::{
-    ArmTask, Base, Controller, ControllerSettings, LimitHandling, StallRule, StopReason, Synthesis,
+    ArmStepper, ArmTask, Base, Controller, ControllerSettings, LimitHandling, Observation,
+    StallRule, StopReason, Synthesis,
 };
 pub use error::{Result, SolverError};
 pub use fit_record::{FitGrouping, FitRecord, FittedArm, FittedReach, StageScore};
