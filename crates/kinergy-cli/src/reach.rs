@@ -4,8 +4,11 @@ use std::path::PathBuf;
 
 use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
-use kinergy_reach::controller::{ReachSettings, ReachStop, reach_full_body};
+use kinergy_reach::controller::{
+    ArmDrive, ReachSettings, ReachStop, arm_dof_names, reach_full_body_driven,
+};
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
+use kinergy_solver::ParamsFile;
 use serde::Serialize;
 
 use crate::common::{
@@ -55,6 +58,12 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+    /// A person's parameters (`kinergy fit -o person.json`): their synergy controller drives
+    /// the reaching arm instead of --profile and the analytic IK, riding the body the
+    /// scheduler moves; the analytic IK finishes the last centimeters where it cannot (the
+    /// report says when).
+    #[arg(long, value_name = "person.json")]
+    pub params: Option<PathBuf>,
     #[command(flatten)]
     pub read: ReadArgs,
 }
@@ -75,7 +84,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     check_range("--flexibility", args.flexibility, limits::REACH_FLEXIBILITY)?;
     check_range("--timeout", args.timeout, limits::REACH_TIMEOUT)?;
     crate::common::check_outputs(
-        &args.person.iter().map(|p| p.as_path()).collect::<Vec<_>>(),
+        &args
+            .person
+            .iter()
+            .chain(&args.params)
+            .map(|p| p.as_path())
+            .collect::<Vec<_>>(),
         &[crate::common::Output::File("-o", &args.output)],
     )?;
     let target = parse_point(&args.target, "--target")?;
@@ -101,7 +115,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         },
         ..ReachSettings::default()
     };
-    let motion = reach_full_body(&character, target, &settings)
+    let drive = match &args.params {
+        Some(path) => {
+            let file = ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?;
+            let synergy = file
+                .synergy_for(&arm_dof_names(&character))
+                .map_err(|e| Failure::input(path, e))?;
+            ArmDrive::Synergy {
+                optimizer: file.optimizer,
+                synergy,
+            }
+        }
+        None => ArmDrive::Profile,
+    };
+    let motion = reach_full_body_driven(&character, target, &settings, &drive)
         .map_err(|e| Failure::Input(e.to_string()))?;
     let clip = character
         .to_clip(&motion.poses, motion.frame_time)
@@ -133,6 +160,23 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             r.squat_m,
             length(r.final_error)
         ))?;
+        if let Some(h) = &r.hand_over {
+            let finish = match h.analytic_at_s {
+                None => "plain IK finished".to_string(),
+                Some(at) => {
+                    format!("plain IK stalled too, the analytic IK finished from {at:.2} s")
+                }
+            };
+            emit(&format!(
+                "the person's synergy arm drove the hand to {} of the target and handed it over \
+                 at {:.2} s ({}); {finish}\n",
+                length(h.distance_m),
+                h.at_s,
+                h.why.name().replace('_', " ")
+            ))?;
+        } else if r.arm_drive == "synergy" {
+            emit("the person's synergy arm drove the hand all the way\n")?;
+        }
     }
     match ending {
         Ending::Reached => Ok(()),

@@ -142,8 +142,8 @@ fn fit_takes_frames_and_arms_from_a_segments_file() {
 fn select_picks_the_segments_of_each_clip() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("p.json");
-    // p04/r12 (a full step and a squat): an `other` segment 52..86 while the body steps, then
-    // the main reach 86..190.
+    // p04/r12 (a full step and a squat): a first reach 52..94 while the body steps, then the
+    // main reach 94..190.
     let clip = repo()
         .join("data-synthetic/p04/r12.bvh")
         .canonicalize()
@@ -158,9 +158,12 @@ fn select_picks_the_segments_of_each_clip() {
             .map(|r| r["frames"].clone())
             .collect::<Vec<_>>()
     };
-    assert_eq!(frames("main"), [serde_json::json!([86, 190])]);
-    assert_eq!(frames("all"), [serde_json::json!([86, 190])]);
-    assert_eq!(frames("0"), [serde_json::json!([52, 86])]);
+    assert_eq!(frames("main"), [serde_json::json!([94, 190])]);
+    assert_eq!(
+        frames("all"),
+        [serde_json::json!([52, 94]), serde_json::json!([94, 190])]
+    );
+    assert_eq!(frames("0"), [serde_json::json!([52, 94])]);
     let out = dir.path().join("bad.json");
     assert_bad_input(
         &[
@@ -428,4 +431,59 @@ fn reach_person_takes_bandai_skeletons_without_a_hand_point() {
         assert_eq!(o.status.code(), Some(0), "{name}: {}", stderr(&o));
         assert!(out.exists());
     }
+}
+
+/// `reach --params`: the person's synergy drives the arm (said in the report), a parameters
+/// file for another chain or a damaged one is refused naming the file, and the output is not
+/// written.
+#[test]
+fn reach_with_a_persons_params_drives_the_arm_with_their_synergy() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let params = repo().join("tests/data/params/synthetic-p01-r09-sc.json");
+    let out = dir.path().join("r.bvh");
+    let o = kinergy(&[
+        "reach",
+        "--target",
+        "0.25,1.1,0.35",
+        "--params",
+        s(&params),
+        "-o",
+        s(&out),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let report = json(&o);
+    assert_eq!(report["arm_drive"], "synergy");
+    assert!(report["final_error"].as_f64().expect("error") < 0.01);
+    assert!(report["hand_over"].is_null(), "{report}");
+    assert!(out.is_file());
+    let o = kinergy(&[
+        "reach",
+        "--target",
+        "0.25,1.1,0.35",
+        "-o",
+        s(&out),
+        "--json",
+    ]);
+    assert_eq!(json(&o)["arm_drive"], "profile");
+
+    // A parameters file made for a 3-DoF chain.
+    let text = std::fs::read_to_string(&params).expect("params");
+    let mut v: serde_json::Value = serde_json::from_str(&text).expect("json");
+    v["dof_names"] = serde_json::json!(["a", "b", "c"]);
+    let other = dir.path().join("other.json");
+    std::fs::write(&other, v.to_string()).expect("write");
+    let out = dir.path().join("none.bvh");
+    let o = kinergy(&[
+        "reach",
+        "--target",
+        "0.25,1.1,0.35",
+        "--params",
+        s(&other),
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("other.json"), "{}", stderr(&o));
+    assert!(!out.exists());
 }

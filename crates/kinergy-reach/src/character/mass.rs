@@ -20,9 +20,11 @@
 //! both lie on y = 0, the toe `toe` ahead of the ankle and the heel `heel` behind it
 //! ([`Character::foot_points`]). The support polygon is the convex hull in x–z of the foot
 //! points in contact: those within [`CONTACT_TOLERANCE`] of the lowest one. A foot whose toe
-//! tip is in contact while its heel is raised (tiptoe) stands on its forefoot: the toes bend
-//! at the ball of the foot ([`BALL`]), which stays on the ground, so the polygon keeps the
-//! forefoot's area rather than collapsing to the line of the toe tips.
+//! tip is in contact while its heel is raised stands on its forefoot: the support's rear edge
+//! moves from the heel to the ball of the foot ([`BALL`]) as the heel rises by
+//! [`HEEL_RELEASE`] (the weight leaves the heel gradually), and on tiptoe the toes bend at the
+//! ball, which stays on the ground — the polygon shrinks continuously rather than collapsing
+//! to the line of the toe tips.
 
 use nalgebra::{IsometryMatrix3, Point2, Point3, Vector3};
 
@@ -37,6 +39,10 @@ pub const CONTACT_TOLERANCE: f64 = 0.01;
 /// Where the ball of the foot (the metatarsal heads) lies, as a fraction of the way from the
 /// ankle to the toe tip (as for the foot's centre of mass).
 pub const BALL: f64 = 0.7;
+
+/// How high the heel rises (meters) before the support's rear edge has moved from the heel
+/// to the ball of the foot.
+pub const HEEL_RELEASE: f64 = 0.03;
 
 /// Foot breadth as a fraction of height (Drillis & Contini: 0.055).
 pub const FOOT_BREADTH: f64 = 0.055;
@@ -214,8 +220,9 @@ impl Character {
 
     /// The support polygon: the convex hull in x–z of the feet's soles — each heel and toe
     /// point widened sideways by half the foot breadth ([`FOOT_BREADTH`] of the height) —
-    /// of the points within [`CONTACT_TOLERANCE`] of the lowest, and on tiptoe the ball of
-    /// the foot ([`BALL`]). One foot on the ground gives its sole's rectangle, not a line.
+    /// of the points within [`CONTACT_TOLERANCE`] of the lowest; a rising heel gives way to the
+    /// ball of the foot ([`BALL`], [`HEEL_RELEASE`]). One foot on the ground gives its sole's
+    /// rectangle, not a line.
     pub fn support_polygon(&self, pose: &Pose) -> SupportPolygon {
         self.support_polygon_in(&self.world_frames(pose))
     }
@@ -243,11 +250,17 @@ impl Character {
         let mut contact = Vec::with_capacity(12);
         for [heel, toe, ball] in &soles {
             let ground = |p: &Point3<f64>| Point2::new(p.x, p.z);
-            contact.extend(heel.iter().filter(|p| touches(p)).map(ground));
             let toe_down: Vec<_> = toe.iter().filter(|p| touches(p)).map(ground).collect();
             if toe_down.len() == toe.len() {
-                // On tiptoe the toes bend at the ball, which stays on the ground.
-                contact.extend(ball.iter().map(ground));
+                // Standing on the toes: the support's rear edge moves from the heel to the
+                // ball of the foot as the heel rises (the weight leaves the heel gradually),
+                // and on tiptoe the toes bend at the ball, which stays on the ground.
+                for (h, b) in heel.iter().zip(ball) {
+                    let u = ((h.y - lowest) / HEEL_RELEASE).clamp(0.0, 1.0);
+                    contact.push(ground(h) + (ground(b) - ground(h)) * u);
+                }
+            } else {
+                contact.extend(heel.iter().filter(|p| touches(p)).map(ground));
             }
             contact.extend(toe_down);
         }

@@ -216,6 +216,15 @@ impl ArmFollower {
         self.previous = std::array::from_fn(|i| pose[self.dofs.start + i]);
     }
 
+    /// Takes the arm over as it is in `pose` (from another driver): the next
+    /// [`ArmFollower::follow`] starts a new straight path where the hand is then.
+    pub(super) fn resume_from(&mut self, pose: &Pose) {
+        self.settle(pose);
+        self.hand_start = None;
+        self.last = None;
+        self.alpha = None;
+    }
+
     /// The length of the hand's straight path: from where it started to `target` (0 before
     /// the arm controller started).
     pub(super) fn path_length(&self, target: &Point3<f64>) -> f64 {

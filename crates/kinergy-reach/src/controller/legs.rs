@@ -423,16 +423,32 @@ pub(super) fn solve_legs_in(
             }
         };
         // Flat foot first; if the ankle cannot take it, the heel rises about the planted toe
-        // (toe-off), in 5° steps up to 60°.
+        // (toe-off): the first of 5° steps up to 60° that works, then halved five times
+        // toward the last that did not (to 0.16°), so the heel rises smoothly over frames.
+        let tilted = |pitch: f64| {
+            IsometryMatrix3::from_parts(
+                goal_world.translation,
+                goal_world.rotation * Rotation3::from_axis_angle(&Vector3::x_axis(), pitch),
+            )
+        };
         let mut q = solve(&goal_world);
         let mut pitch = 0.0f64;
         while q.is_none() && pitch < 60f64.to_radians() {
             pitch += 5f64.to_radians();
-            let tilted = IsometryMatrix3::from_parts(
-                goal_world.translation,
-                goal_world.rotation * Rotation3::from_axis_angle(&Vector3::x_axis(), pitch),
-            );
-            q = solve(&tilted);
+            q = solve(&tilted(pitch));
+        }
+        if q.is_some() && pitch > 0.0 {
+            let (mut failing, mut working) = (pitch - 5f64.to_radians(), pitch);
+            for _ in 0..5 {
+                let middle = 0.5 * (failing + working);
+                match solve(&tilted(middle)) {
+                    Some(found) => {
+                        working = middle;
+                        q = Some(found);
+                    }
+                    None => failing = middle,
+                }
+            }
         }
         let q = match q {
             Some(q) => q,

@@ -35,6 +35,18 @@
 //!   twist) starts swing, COM adjustment and squat; state 3 ends when the hand is at the
 //!   target and every controller has finished, or at the timeout.
 //!
+//! # Arm driven by a person's synergy
+//! With [`ArmDrive::Synergy`] ([`reach_full_body_driven`]) the scheduler decides and moves
+//! the body as above, and the reaching arm is driven from state 1 on by a person's fitted
+//! synergy controller (their model, optimizer and values, from `kinergy fit`) instead of the
+//! profile and the analytic IK: each frame the controller steps from where the trunk has
+//! carried the shoulder, in the convention it was fitted in (the capture arm's base: z out
+//! of the shoulder, y up), its arm clamped into the character's limits. Where it cannot
+//! finish — progress stalled for [`STALL_WINDOW`] once the body has stopped, more than
+//! [`SYNERGY_TIME`], a step not finite — plain inverse kinematics (damped least squares from
+//! the posture the synergy left) takes the hand the last centimeters, and
+//! [`ReachReport::hand_over`] says so.
+//!
 //! One (private) file per controller — `legs.rs`, `spine.rs`, `head.rs`, `arm.rs`,
 //! `balance.rs` — and `scheduler.rs`, which plans and animates; [`ReachSettings`] tune a
 //! reach and [`ReachReport`] says what happened.
@@ -61,21 +73,35 @@ mod report;
 mod scheduler;
 mod settings;
 mod spine;
+mod synergy;
 
 use kinergy_motion::nalgebra::Point3;
 
-pub use report::{Posture, ReachMotion, ReachReport, ReachStop};
+pub use report::{HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop};
 pub use settings::ReachSettings;
+pub use synergy::{ArmDrive, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, arm_dof_names};
 
 use crate::character::Character;
 use crate::error::{Result, require};
 
 /// Synthesizes a full-body reach of `character` toward `target` (world meters) from the
-/// rest posture.
+/// rest posture, the arm on the speed profile ([`ArmDrive::Profile`]).
 pub fn reach_full_body(
     character: &Character,
     target: Point3<f64>,
     settings: &ReachSettings,
+) -> Result<ReachMotion> {
+    reach_full_body_driven(character, target, settings, &ArmDrive::Profile)
+}
+
+/// [`reach_full_body`] with the reaching arm driven by `drive`: with
+/// [`ArmDrive::Synergy`], a person's synergy controller moves the arm on the body the
+/// scheduler moves (module [`synergy`](self#arm-driven-by-a-persons-synergy)).
+pub fn reach_full_body_driven(
+    character: &Character,
+    target: Point3<f64>,
+    settings: &ReachSettings,
+    drive: &ArmDrive,
 ) -> Result<ReachMotion> {
     settings.validate()?;
     require(
@@ -85,5 +111,5 @@ pub fn reach_full_body(
     )?;
     let rest = character.rest_pose();
     let plan = scheduler::plan(character, &rest, target, settings)?;
-    scheduler::animate(character, &rest, &plan, settings)
+    scheduler::animate(character, &rest, &plan, settings, drive)
 }

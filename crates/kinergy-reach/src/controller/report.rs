@@ -88,6 +88,49 @@ pub struct ReachReport {
     /// The smallest margin of the COM projection inside the support polygon over the reach,
     /// meters (negative: outside).
     pub min_balance_margin: f64,
+    /// What drove the reaching arm: `profile` (the speed profile and analytic IK) or
+    /// `synergy` (a person's synergy controller).
+    pub arm_drive: &'static str,
+    /// When plain IK took the hand over from the synergy controller, if it did.
+    pub hand_over: Option<HandOver>,
+}
+
+/// Plain inverse kinematics taking the hand over from a person's synergy controller for the
+/// last centimeters (see [`super::ArmDrive::Synergy`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct HandOver {
+    /// When, seconds from the reach's start.
+    pub at_s: f64,
+    /// How far the hand was from the target then, meters.
+    pub distance_m: f64,
+    /// Why.
+    pub why: HandOverWhy,
+    /// When plain IK stalled too and the analytic IK finished, seconds from the reach's start
+    /// (`None`: plain IK finished).
+    pub analytic_at_s: Option<f64>,
+}
+
+/// Why the synergy controller handed the hand over.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HandOverWhy {
+    /// Its progress stalled once the body had stopped (a joint limit, a singular posture).
+    Stalled,
+    /// It drove longer than [`super::SYNERGY_TIME`].
+    TooLong,
+    /// Its step was not finite.
+    NotFinite,
+}
+
+impl HandOverWhy {
+    /// `stalled`, `too_long` or `not_finite`.
+    pub fn name(self) -> &'static str {
+        match self {
+            HandOverWhy::Stalled => "stalled",
+            HandOverWhy::TooLong => "too_long",
+            HandOverWhy::NotFinite => "not_finite",
+        }
+    }
 }
 
 /// A step decision in a report: by its [name](StepDecision::name).

@@ -21,14 +21,23 @@ use super::arm::{ArmFollower, IdleArm, arm_ik, hand_position, shoulder_position}
 use super::balance::{plan_com_shift, rebalance};
 use super::head::Head;
 use super::legs::{self, StepPlan, Stepping, leg_iks, lower_root_for_legs_in, solve_legs_in};
-use super::report::{Posture, ReachMotion, ReachReport, ReachStop};
+use super::report::{HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop};
 use super::settings::ReachSettings;
 use super::spine::{apply_swing, plan_squat, plan_swing, plan_twist, set_twist};
+use super::synergy::{ArmDrive, STALL_WINDOW, SYNERGY_TIME, SynergyArm};
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::Result;
+use crate::profile::{BellTiming, SpeedProfile};
+
+/// The hand's mean speed when the analytic IK finishes a reach the synergy arm and plain IK
+/// could not, m/s.
+const FINAL_APPROACH_SPEED: f64 = 0.3;
 
 /// The fastest the balance correction moves the root, m/s.
 const BALANCE_SPEED: f64 = 0.5;
+
+/// The fastest it moves the root when the COM would otherwise leave the support polygon, m/s.
+const URGENT_BALANCE_SPEED: f64 = 1.5;
 
 /// The plan: every decision, made once at the start.
 #[derive(Debug, Clone)]
@@ -232,12 +241,23 @@ fn body_at(
     pose
 }
 
-/// Runs the scheduler frame by frame.
+/// Who drives the reaching arm on a frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Driver {
+    /// The speed profile, the arm solved by analytic IK; the profile's clock started at this
+    /// time.
+    Profile(f64),
+    /// The person's synergy controller (or, after a hand-over, plain IK from its posture).
+    Synergy,
+}
+
+/// Runs the scheduler frame by frame, the reaching arm driven by `drive`.
 pub(super) fn animate(
     character: &Character,
     rest: &Pose,
     plan: &Plan,
     s: &ReachSettings,
+    drive: &ArmDrive,
 ) -> Result<ReachMotion> {
     let dt = 1.0 / s.frame_rate;
     let max_frames = ((s.timeout / dt).ceil() as usize)
@@ -246,6 +266,18 @@ pub(super) fn animate(
     let stepping = Stepping::new(character, rest, &plan.step, plan.arm, s)?;
     let leg_iks = leg_iks(character)?;
     let mut arm = ArmFollower::new(character, plan.arm, rest)?;
+    let mut synergy: Option<SynergyArm> = None;
+    let mut hand_over: Option<HandOver> = None;
+    // When plain IK, after a hand-over, stalled too: from then on the analytic IK finishes on
+    // a minimum-jerk path.
+    let mut gave_up: Option<f64> = None;
+    let approach = SpeedProfile::minimum_jerk(BellTiming::MeanSpeed {
+        speed: FINAL_APPROACH_SPEED,
+    })?;
+    let stall_window = ((STALL_WINDOW / dt).ceil() as usize).max(1);
+    // The synergy arm has arrived within half the tolerance (it approaches its target
+    // asymptotically: stopping at the tolerance would stop it still moving).
+    let arrived = 0.5 * s.tolerance;
     let idle_limb = match plan.arm {
         Limb::LeftArm => Limb::RightArm,
         _ => Limb::LeftArm,
@@ -271,6 +303,40 @@ pub(super) fn animate(
         }
         head.apply(&mut pose);
 
+        // The reaching arm's driver: the profile from the arm controller's start, or the
+        // person's synergy controller (started on this frame's body) until a hand-over.
+        let driver = match (drive, gave_up) {
+            (_, Some(from)) => Driver::Profile(from),
+            (ArmDrive::Synergy { .. }, None) if t >= timeline.t_arm => Driver::Synergy,
+            _ => Driver::Profile(timeline.t_arm),
+        };
+        if driver == Driver::Synergy {
+            if synergy.is_none()
+                && let ArmDrive::Synergy {
+                    optimizer,
+                    synergy: person,
+                } = drive
+            {
+                synergy = Some(SynergyArm::new(
+                    character,
+                    plan.arm,
+                    rest,
+                    &pose,
+                    plan.target,
+                    optimizer,
+                    person,
+                    dt,
+                )?);
+            }
+            if let Some(arm) = synergy.as_mut() {
+                arm.pose_arm(&mut pose);
+            }
+        }
+        let profile = match gave_up {
+            Some(_) => &approach,
+            None => &s.profile,
+        };
+
         // Limbs, then balance (at most nine corrections).
         let feet = stepping.feet(t);
         let mut error = f64::INFINITY;
@@ -285,15 +351,17 @@ pub(super) fn animate(
             lower_root_for_legs_in(character, &mut pose, &mut above, &feet);
             solve_legs_in(character, &mut pose, &above, &leg_iks, &feet);
             let base = character.limb_base_frame_in(plan.arm, &above);
-            if t >= timeline.t_arm {
-                let elapsed = t - timeline.t_arm;
+            if let Driver::Profile(from) = driver
+                && t >= from
+                && t >= timeline.t_arm
+            {
                 if let Some(a) = arm.follow(
                     character,
                     &mut pose,
                     &base,
                     &plan.target,
-                    &s.profile,
-                    elapsed,
+                    profile,
+                    t - from,
                     pass == 0,
                 ) {
                     frame_alpha = Some(a);
@@ -322,53 +390,121 @@ pub(super) fn animate(
             }
         }
         // The correction moves the root no faster than BALANCE_SPEED: a support polygon that
-        // changes at once (a heel rising) is followed over a few frames, not in one jump.
+        // changes at once (a heel rising) is followed over a few frames, not in one jump —
+        // faster (URGENT_BALANCE_SPEED) when the COM would otherwise leave the polygon.
         let wanted = Vector2::new(pose[dof::ROOT_X], pose[dof::ROOT_Z]) - planned;
         let change = wanted - correction;
-        let largest = BALANCE_SPEED * dt;
-        if change.norm() > largest {
-            correction += change * (largest / change.norm());
-            pose[dof::ROOT_X] = planned.x + correction.x;
-            pose[dof::ROOT_Z] = planned.y + correction.y;
-            pose[dof::ROOT_Y] = planned_height;
-            let mut above = character.world_frames(&pose);
-            lower_root_for_legs_in(character, &mut pose, &mut above, &feet);
-            solve_legs_in(character, &mut pose, &above, &leg_iks, &feet);
-            let base = character.limb_base_frame_in(plan.arm, &above);
-            if t >= timeline.t_arm {
-                let elapsed = t - timeline.t_arm;
-                if let Some(a) = arm.follow(
-                    character,
-                    &mut pose,
-                    &base,
-                    &plan.target,
-                    &s.profile,
-                    elapsed,
-                    false,
-                ) {
-                    frame_alpha = Some(a);
+        if change.norm() > BALANCE_SPEED * dt {
+            let before = correction;
+            for speed in [BALANCE_SPEED, URGENT_BALANCE_SPEED] {
+                let largest = speed * dt;
+                correction = if change.norm() > largest {
+                    before + change * (largest / change.norm())
+                } else {
+                    wanted
+                };
+                pose[dof::ROOT_X] = planned.x + correction.x;
+                pose[dof::ROOT_Z] = planned.y + correction.y;
+                pose[dof::ROOT_Y] = planned_height;
+                let mut above = character.world_frames(&pose);
+                lower_root_for_legs_in(character, &mut pose, &mut above, &feet);
+                solve_legs_in(character, &mut pose, &above, &leg_iks, &feet);
+                let base = character.limb_base_frame_in(plan.arm, &above);
+                if let Driver::Profile(from) = driver
+                    && t >= from
+                    && t >= timeline.t_arm
+                {
+                    if let Some(a) = arm.follow(
+                        character,
+                        &mut pose,
+                        &base,
+                        &plan.target,
+                        profile,
+                        t - from,
+                        false,
+                    ) {
+                        frame_alpha = Some(a);
+                    }
+                }
+                if let Some(a) =
+                    idle.hang(&mut pose, &character.limb_base_frame_in(idle_limb, &above))
+                {
+                    idle_alpha = Some(a);
+                }
+                error = (arm.hand(character, &base, &pose, plan.target) - plan.target).norm();
+                frame_margin =
+                    rebalance(character, &character.world_frames(&pose), 0.0, 1.0).margin;
+                if frame_margin >= 0.0 {
+                    break;
                 }
             }
-            if let Some(a) = idle.hang(&mut pose, &character.limb_base_frame_in(idle_limb, &above))
-            {
-                idle_alpha = Some(a);
-            }
-            error = (arm.hand(character, &base, &pose, plan.target) - plan.target).norm();
-            frame_margin = rebalance(character, &character.world_frames(&pose), 0.0, 1.0).margin;
         } else {
             correction = wanted;
         }
         min_margin = min_margin.min(frame_margin);
-        if arm.end_frame(character, &mut pose, frame_alpha, t - timeline.t_arm, dt) {
+        if let Driver::Profile(from) = driver
+            && arm.end_frame(
+                character,
+                &mut pose,
+                frame_alpha,
+                t - from.max(timeline.t_arm),
+                dt,
+            )
+        {
             error = (character.world_positions(&pose)[plan.arm.joints()[3]] - plan.target).norm();
         }
         idle.end_frame(&mut pose, idle_alpha, dt);
-        final_error = error;
         character.clamp_pose(&mut pose);
+        if let (Driver::Synergy, Some(synergy_arm)) = (driver, synergy.as_mut()) {
+            // The controller sees this frame's final body and arm, and steps.
+            let base = character.limb_base_frame(plan.arm, &pose);
+            let seen = synergy_arm.end_frame(&pose, &base)?;
+            error = seen.unwrap_or(error);
+            let stalled =
+                error > arrived && timeline.body_done(t) && synergy_arm.stalled(stall_window);
+            if hand_over.is_some() {
+                // Plain IK cannot close the gap either (the two chains' limits disagree): the
+                // analytic IK finishes, in the character's own limits.
+                if seen.is_none() || stalled {
+                    gave_up = Some(t + dt);
+                    arm.resume_from(&pose);
+                    if let Some(h) = hand_over.as_mut() {
+                        h.analytic_at_s = gave_up;
+                    }
+                }
+            } else {
+                let why = if seen.is_none() {
+                    Some(HandOverWhy::NotFinite)
+                } else if stalled {
+                    Some(HandOverWhy::Stalled)
+                } else if error > arrived && t - timeline.t_arm >= SYNERGY_TIME {
+                    Some(HandOverWhy::TooLong)
+                } else {
+                    None
+                };
+                if let Some(why) = why {
+                    hand_over = Some(HandOver {
+                        at_s: t + dt,
+                        distance_m: error,
+                        why,
+                        analytic_at_s: None,
+                    });
+                    synergy_arm.hand_over(dt)?;
+                }
+            }
+        }
+        final_error = error;
         arm.settle(&pose);
         idle.settle(&pose);
         poses.push(pose);
-        let hand_done = t >= timeline.t_arm + s.profile.duration(arm.path_length(&plan.target));
+        let hand_done = match driver {
+            // After a hand-over, within the tolerance: plain IK closes in slowest at the end.
+            Driver::Synergy if hand_over.is_some() => error <= s.tolerance,
+            Driver::Synergy => error <= arrived,
+            Driver::Profile(from) => {
+                t >= from.max(timeline.t_arm) + profile.duration(arm.path_length(&plan.target))
+            }
+        };
         if timeline.body_done(t) && hand_done {
             if error <= s.tolerance {
                 stop = ReachStop::Reached;
@@ -402,6 +538,8 @@ pub(super) fn animate(
         frames,
         duration: frames as f64 * dt,
         min_balance_margin: min_margin,
+        arm_drive: drive.name(),
+        hand_over,
     };
     Ok(ReachMotion {
         poses,

@@ -1,0 +1,353 @@
+//! The reaching arm driven by a person's synergy controller (Aubry et al.; issue 16) instead
+//! of the speed profile and the analytic IK: the scheduler moves the body as always, and each
+//! frame the person's controller takes one step toward the target from where the trunk has
+//! carried the shoulder ([`kinergy_solver::ArmStepper`]) — the same step a fit replays on a
+//! captured torso.
+//!
+//! # Conventions
+//! The person's parameters were fitted on [`kinergy_solver::CaptureArm`]'s chain, whose base
+//! rides the clavicle with z pointing sideways out of the shoulder, y up and x = y × z (at
+//! rest) — its zero swing is the arm raised sideways. The character's own arm chain (the same
+//! [`kinergy_motion::Chain::arm`], same bone lengths) has its base turned so that its zero is
+//! the hanging arm. Both bases ride the clavicle, so one constant rotation `K` (character
+//! base → capture base) relates them: the controller runs in the capture convention, on the
+//! base `R_character · K`, and its shoulder rotation is carried over as
+//! `R_character_shoulder = K · R_capture_shoulder` (split again into swing and twist); elbow
+//! and wrist DoFs are the same in both.
+//!
+//! # Limits
+//! The character's limits are the character's: a configuration the controller reaches is
+//! clamped into them, and the controller continues from the clamped arm. The controller's own
+//! chain keeps the default limits in its convention, as the fitted arm had them (it slides
+//! along them rather than stalling). The synergy arm has arrived when the hand is within half
+//! the reach's tolerance.
+//!
+//! # Hand-over
+//! Where the synergy arm alone cannot finish — its progress stalls for [`STALL_WINDOW`]
+//! seconds once the body has stopped, its step is not finite, or [`SYNERGY_TIME`] seconds
+//! pass — plain inverse kinematics takes the hand the last centimeters from the posture the
+//! synergy left: the same controller with damped least squares and no synergy (every gain 1,
+//! no timing), so the arm keeps its posture and only closes the gap. (The analytic IK's
+//! solution for the target can lie far from that posture in joint space: going there, the
+//! hand of a real capture's synergy swung 0.99 m away before coming back.) The report says
+//! when and from how far ([`super::HandOver`]).
+
+use std::ops::Range;
+
+use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3, Point3, Rotation3, Vector3};
+use kinergy_motion::rotation::{swing_rotation, swing_twist, unwrap_near};
+use kinergy_solver::{
+    ArmStepper, Controller, ControllerSettings, Optimizer, OptimizerKind, StallRule, Synergy, Task,
+};
+
+use crate::character::{Character, Limb, Pose, joint};
+use crate::error::{ReachError, Result};
+
+/// How long (seconds) the synergy arm's progress may stall, once the body has stopped,
+/// before the analytic IK takes over.
+pub const STALL_WINDOW: f64 = 0.25;
+
+/// The least progress (meters) over [`STALL_WINDOW`] that is not a stall.
+pub const STALL_PROGRESS: f64 = 1e-4;
+
+/// The longest the synergy arm drives (seconds after it started) before the analytic IK
+/// takes over.
+pub const SYNERGY_TIME: f64 = 6.0;
+
+/// What drives the reaching arm.
+#[derive(Debug, Clone, Default)]
+pub enum ArmDrive {
+    /// The speed profile of [`super::ReachSettings::profile`] along the straight line to the
+    /// target, the arm solved by analytic IK every frame (Huang et al.).
+    #[default]
+    Profile,
+    /// A person's synergy controller: their optimizer and synergy (model and values), as a
+    /// parameters file holds them ([`kinergy_solver::ParamsFile::synergy_for`] with
+    /// [`arm_dof_names`]).
+    Synergy {
+        /// Turns the task error into a joint step.
+        optimizer: Optimizer,
+        /// The person's synergy.
+        synergy: Synergy,
+    },
+}
+
+impl ArmDrive {
+    /// `profile` or `synergy`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ArmDrive::Profile => "profile",
+            ArmDrive::Synergy { .. } => "synergy",
+        }
+    }
+}
+
+/// The DoF names of the character's arm chain (the same as a captured arm's), in order: what
+/// a parameters file's `dof_names` must be.
+pub fn arm_dof_names(character: &Character) -> Vec<String> {
+    character
+        .limb_chain(Limb::RightArm)
+        .dof_names()
+        .map(String::from)
+        .collect()
+}
+
+/// The capture-convention base of `limb` at rest, as [`kinergy_solver::CaptureArm`] builds it:
+/// z the horizontal direction from the root to the shoulder, y up, x = y × z.
+fn capture_base_at_rest(character: &Character, limb: Limb, rest: &Pose) -> Result<Matrix3<f64>> {
+    let frames = character.world_frames(rest);
+    let shoulder = frames[limb.joints()[0]].translation.vector;
+    let mut lateral = shoulder - frames[joint::HIPS].translation.vector;
+    lateral.y = 0.0;
+    let z = lateral
+        .try_normalize(1e-6)
+        .ok_or_else(|| ReachError::Setting {
+            field: "character".into(),
+            why: format!("the {} shoulder lies above the root", limb.name()),
+        })?;
+    let up = Vector3::y();
+    let z = (z - up * z.dot(&up)).normalize();
+    let x = up.cross(&z).normalize();
+    let y = z.cross(&x);
+    Ok(Matrix3::from_columns(&[x, y, z]))
+}
+
+/// The reaching arm on the person's synergy controller, frame by frame.
+#[derive(Debug, Clone)]
+pub(super) struct SynergyArm {
+    dofs: Range<usize>,
+    stepper: ArmStepper,
+    /// Character base → capture base (constant: both ride the clavicle).
+    k: Rotation3<f64>,
+    /// The last twist given to the character's shoulder (unwrapped against it).
+    twist: f64,
+    task: Task,
+    target: Point3<f64>,
+    /// The progress of every frame so far (for the stall rule).
+    progress: Vec<f64>,
+}
+
+impl SynergyArm {
+    /// The synergy arm of `limb` toward `target`, starting from the arm of `pose` (the frame
+    /// the arm controller starts on), at `frame_time`.
+    pub(super) fn new(
+        character: &Character,
+        limb: Limb,
+        rest: &Pose,
+        pose: &Pose,
+        target: Point3<f64>,
+        optimizer: &Optimizer,
+        synergy: &Synergy,
+        frame_time: f64,
+    ) -> Result<SynergyArm> {
+        let setting = |e: kinergy_solver::SolverError| ReachError::Setting {
+            field: "params".into(),
+            why: e.to_string(),
+        };
+        let settings = ControllerSettings {
+            stall: StallRule::default(),
+            ..ControllerSettings::at_frame_time(frame_time)
+        };
+        let controller =
+            Controller::new(optimizer.clone(), synergy.clone(), settings).map_err(setting)?;
+        let character_base = character.limb_base_frame(limb, rest).rotation;
+        let capture_base = capture_base_at_rest(character, limb, rest)?;
+        let k =
+            Rotation3::from_matrix_unchecked(character_base.matrix().transpose() * capture_base);
+        let dofs = character.limb_dofs(limb);
+        let q: [f64; 7] = std::array::from_fn(|i| pose[dofs.start + i]);
+        let start = to_capture(&k, &q);
+        let stepper = controller
+            .stepper(character.limb_chain(limb), &start)
+            .map_err(setting)?;
+        Ok(SynergyArm {
+            dofs,
+            stepper,
+            k,
+            twist: q[2],
+            task: Task::Position(target),
+            target,
+            progress: Vec::new(),
+        })
+    }
+
+    /// Hands the arm over to plain inverse kinematics (damped least squares, no synergy) from
+    /// where it is (module docs); its progress is watched afresh.
+    pub(super) fn hand_over(&mut self, frame_time: f64) -> Result<()> {
+        let setting = |e: kinergy_solver::SolverError| ReachError::Setting {
+            field: "hand-over".into(),
+            why: e.to_string(),
+        };
+        let chain = self.stepper.chain().clone();
+        let controller = Controller::new(
+            OptimizerKind::Dls.default_optimizer(),
+            Synergy::identity(chain.dof_count()),
+            ControllerSettings::at_frame_time(frame_time),
+        )
+        .map_err(setting)?;
+        self.stepper = controller
+            .stepper(&chain, self.stepper.configuration())
+            .map_err(setting)?;
+        self.progress.clear();
+        Ok(())
+    }
+
+    /// Puts the controller's current arm into `pose` (character DoFs).
+    pub(super) fn pose_arm(&mut self, pose: &mut Pose) {
+        let q = to_character(&self.k, self.stepper.configuration(), self.twist);
+        self.twist = q[2];
+        pose[self.dofs.clone()].copy_from_slice(&q);
+    }
+
+    /// Ends a frame whose final posture is `pose` (the arm clamped into the character's
+    /// limits) with the arm's base at `base` (the character's convention): the controller
+    /// continues from the clamped arm, sees this frame's error and takes its step. Returns the
+    /// hand–target distance of the arm in `pose`, or `None` when the step was not finite.
+    pub(super) fn end_frame(
+        &mut self,
+        pose: &Pose,
+        base: &IsometryMatrix3<f64>,
+    ) -> Result<Option<f64>> {
+        let q: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
+        let shown = to_character(&self.k, self.stepper.configuration(), self.twist);
+        if q.iter().zip(&shown).any(|(a, b)| (a - b).abs() > 1e-12) {
+            self.stepper.set_configuration(&to_capture(&self.k, &q));
+        }
+        let capture_base = IsometryMatrix3::from_parts(base.translation, base.rotation * self.k);
+        let seen = self
+            .stepper
+            .observe(&capture_base, &self.task)
+            .map_err(|e| ReachError::Setting {
+                field: "params".into(),
+                why: e.to_string(),
+            })?;
+        self.progress.push(seen.progress);
+        if !seen.error.is_finite() || !self.stepper.advance() {
+            return Ok(None);
+        }
+        // The distance of the arm shown (the controller's own chain clamps into its own
+        // limits, which can leave its arm a little off the character's).
+        let shown =
+            self.stepper
+                .chain()
+                .end_position(base, &q)
+                .map_err(|e| ReachError::Setting {
+                    field: "character.arm".into(),
+                    why: e.to_string(),
+                })?;
+        Ok(Some((shown - self.target).norm()))
+    }
+
+    /// True when, over the last `window` frames, the hand got no closer than
+    /// [`STALL_PROGRESS`]: the worst error of the window's first half against the best of its
+    /// second half (a limit clamping the arm can make the error jump for a frame; a reach
+    /// still closing in is not a stall).
+    pub(super) fn stalled(&self, window: usize) -> bool {
+        let n = self.progress.len();
+        if n <= window || window < 2 {
+            return false;
+        }
+        let recent = &self.progress[n - window..];
+        let (first, second) = recent.split_at(window / 2);
+        let worst = first.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
+        let best = second.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+        worst - best < STALL_PROGRESS
+    }
+}
+
+/// The capture-convention arm `q` (shoulder swing x, y, twist; elbow, wrist) as the
+/// character's DoFs, the twist unwrapped near `twist`.
+fn to_character(k: &Rotation3<f64>, q: &[f64], twist: f64) -> [f64; 7] {
+    let shoulder =
+        k * swing_rotation(q[0], q[1]) * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
+    let (sx, sy, tau) = swing_twist(&shoulder);
+    let mut out = [0.0; 7];
+    out[0] = sx;
+    out[1] = sy;
+    out[2] = unwrap_near(tau, twist);
+    out[3..].copy_from_slice(&q[3..7]);
+    out
+}
+
+/// The character's arm DoFs `q` in the capture convention.
+fn to_capture(k: &Rotation3<f64>, q: &[f64; 7]) -> Vec<f64> {
+    let shoulder = k.inverse()
+        * swing_rotation(q[0], q[1])
+        * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
+    let (sx, sy, tau) = swing_twist(&shoulder);
+    let mut out = vec![sx, sy, tau];
+    out.extend_from_slice(&q[3..]);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn character() -> Character {
+        Character::from_height(1.75).expect("character")
+    }
+
+    /// The capture-convention chain on the capture base puts every arm point where the
+    /// character's chain on its own base does, for arms in many postures (an independent
+    /// check of K and of both conversions).
+    #[test]
+    fn both_conventions_place_the_arm_alike() {
+        let c = character();
+        let rest = c.rest_pose();
+        for limb in [Limb::RightArm, Limb::LeftArm] {
+            let k = {
+                let b = c.limb_base_frame(limb, &rest).rotation;
+                let w = capture_base_at_rest(&c, limb, &rest).expect("base");
+                Rotation3::from_matrix_unchecked(b.matrix().transpose() * w)
+            };
+            let chain = c.limb_chain(limb);
+            let mut pose = rest;
+            for (i, q) in [
+                [0.0; 7],
+                [0.4, -0.3, 0.2, 0.9, 0.1, 0.2, -0.1],
+                [-0.8, 0.5, -0.6, 1.4, -0.3, -0.4, 0.2],
+                [1.2, 0.9, 1.0, 0.3, 0.5, 0.0, 0.1],
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                pose[3] = 0.1 * i as f64;
+                pose[10] = -0.2 * i as f64;
+                let base = c.limb_base_frame(limb, &pose);
+                let capture_base = IsometryMatrix3::from_parts(base.translation, base.rotation * k);
+                let qc = to_capture(&k, &q);
+                let ours = chain.fk(&base, &q).expect("fk");
+                let theirs = chain.fk(&capture_base, &qc).expect("fk");
+                for (a, b) in ours.frames.iter().zip(&theirs.frames) {
+                    let moved = (a.translation.vector - b.translation.vector).norm();
+                    let turned = (a.rotation.matrix() - b.rotation.matrix()).norm();
+                    assert!(moved < 1e-12 && turned < 1e-9, "{limb:?} {q:?}: {a} vs {b}");
+                }
+                assert!((ours.end - theirs.end).norm() < 1e-12);
+                let back = to_character(&k, &qc, q[2]);
+                for (a, b) in back.iter().zip(&q) {
+                    assert!((a - b).abs() < 1e-9, "{limb:?}: {back:?} vs {q:?}");
+                }
+            }
+        }
+    }
+
+    /// At rest the character's hanging arm is, in the capture convention, the arm hanging
+    /// down: its upper arm along −y of the capture base.
+    #[test]
+    fn the_hanging_arm_hangs_in_the_capture_convention_too() {
+        let c = character();
+        let rest = c.rest_pose();
+        for limb in [Limb::RightArm, Limb::LeftArm] {
+            let b = c.limb_base_frame(limb, &rest).rotation;
+            let w = capture_base_at_rest(&c, limb, &rest).expect("base");
+            let k = Rotation3::from_matrix_unchecked(b.matrix().transpose() * w);
+            let q = to_capture(&k, &[0.0; 7]);
+            let upper = swing_rotation(q[0], q[1])
+                * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2])
+                * Vector3::z();
+            assert!((upper - -Vector3::y()).norm() < 1e-9, "{limb:?}: {upper}");
+        }
+    }
+}
