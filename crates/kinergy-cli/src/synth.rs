@@ -4,7 +4,11 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use kinergy_reach::ReachError;
-use kinergy_reach::synth::{SynthSettings, make_set};
+use kinergy_reach::controller::{ArmDrive, arm_dof_names};
+use kinergy_reach::synth::{SynthSettings, make_set_driven};
+use kinergy_solver::ParamsFile;
+use kinergy_train::manifest::{Manifest, ManifestRow as SegmentRow};
+use kinergy_train::segment::Label;
 
 use crate::common::{Failure, Output, check_outputs, check_range, emit, limits};
 
@@ -26,6 +30,12 @@ pub struct Args {
     /// Frames per second, 1 to 1000.
     #[arg(long, default_value_t = SynthSettings::default().frame_rate, value_name = "HZ")]
     pub frame_rate: f64,
+    /// A person's parameters (`kinergy fit -o person.json`): every reaching arm is driven by
+    /// their synergy controller (`reach --params`), a set in their style; DIR/segments.csv
+    /// then lists the frames each clip's arm was driven by the synergy, for `kinergy fit
+    /// --segments` (a fit should recover the motion).
+    #[arg(long, value_name = "person.json")]
+    pub params: Option<PathBuf>,
 }
 
 /// Runs `kinergy synth`.
@@ -33,9 +43,25 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     check_range("--persons", args.persons, limits::SYNTH_PERSONS)?;
     check_range("--reaches", args.reaches, limits::SYNTH_REACHES)?;
     check_range("--frame-rate", args.frame_rate, limits::SYNTH_FRAME_RATE)?;
-    check_outputs(&[], &[Output::Folder("-o", &args.output)])?;
+    let inputs: Vec<&Path> = args.params.iter().map(PathBuf::as_path).collect();
+    check_outputs(&inputs, &[Output::Folder("-o", &args.output)])?;
+    let drive = match &args.params {
+        Some(path) => {
+            let file = ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?;
+            let character = kinergy_reach::character::Character::from_height(1.75)
+                .map_err(|e| Failure::Task(e.to_string()))?;
+            let synergy = file
+                .synergy_for(&arm_dof_names(&character))
+                .map_err(|e| Failure::input(path, e))?;
+            ArmDrive::Synergy {
+                optimizer: file.optimizer,
+                synergy,
+            }
+        }
+        None => ArmDrive::Profile,
+    };
     let before = Written::before(&args.output);
-    let result = write_set(args);
+    let result = write_set(args, &drive);
     if result.is_err() {
         before.undo(&args.output);
     }
@@ -51,19 +77,39 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     ))
 }
 
-/// Writes the clips and the manifest; the number of clips.
-fn write_set(args: &Args) -> Result<usize, Failure> {
+/// Writes the clips and the manifest (and, with --params, the segments file); the number of
+/// clips.
+fn write_set(args: &Args, drive: &ArmDrive) -> Result<usize, Failure> {
     let settings = SynthSettings {
         persons: args.persons,
         reaches: args.reaches,
         seed: args.seed,
         frame_rate: args.frame_rate,
     };
-    let rows = make_set(&args.output, &settings).map_err(|e| match e {
+    let made = make_set_driven(&args.output, &settings, drive).map_err(|e| match e {
         ReachError::Io { .. } => Failure::Task(e.to_string()),
         _ => Failure::Input(e.to_string()),
     })?;
+    let rows: Vec<_> = made.iter().map(|(row, _)| row.clone()).collect();
     crate::common::write_csv(&args.output.join("manifest.csv"), &rows)?;
+    if matches!(drive, ArmDrive::Synergy { .. }) {
+        let path = args.output.join("segments.csv");
+        let segments = made
+            .iter()
+            .map(|(row, frames)| SegmentRow {
+                person: row.person.clone(),
+                ..SegmentRow::new(
+                    args.output.join(&row.clip),
+                    frames.clone(),
+                    kinergy_motion::Side::Right,
+                    Label::Reach,
+                )
+            })
+            .collect();
+        Manifest::new(&path, segments)
+            .write()
+            .map_err(|e| Failure::Task(e.to_string()))?;
+    }
     Ok(rows.len())
 }
 

@@ -15,6 +15,7 @@
 //! person) at [`SynthSettings::frame_rate`], written in centimeters with channel values
 //! rounded to 4 decimals (0.1 mm, 0.0001°) to keep the set small, and `DIR/manifest.csv`.
 
+use std::ops::Range;
 use std::path::Path;
 
 use kinergy_motion::Side;
@@ -24,7 +25,7 @@ use rand::{RngExt, SeedableRng};
 use serde::Serialize;
 
 use crate::character::{Character, Proportions};
-use crate::controller::{ReachSettings, ReachStop, reach_full_body};
+use crate::controller::{ArmDrive, ReachSettings, ReachStop, reach_full_body_driven};
 use crate::error::{ReachError, Result, require};
 use crate::profile::{BellTiming, SpeedProfile};
 use crate::steps::StepSettings;
@@ -130,6 +131,22 @@ struct Person {
 
 /// Writes the set into `dir` (created if needed). Returns the manifest rows.
 pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>> {
+    Ok(make_set_driven(dir, settings, &ArmDrive::Profile)?
+        .into_iter()
+        .map(|(row, _)| row)
+        .collect())
+}
+
+/// [`make_set`] with every reaching arm driven by `drive` — with [`ArmDrive::Synergy`], a set
+/// in one person's style (the same persons' bodies and the same targets, drawn again only
+/// where a reach is not reached). Returns each clip's manifest row and the frames its arm
+/// was driven by the synergy (from the arm controller's start to the end, or to the
+/// hand-over; the arm controller's frames for [`ArmDrive::Profile`]).
+pub fn make_set_driven(
+    dir: &Path,
+    settings: &SynthSettings,
+    drive: &ArmDrive,
+) -> Result<Vec<(ManifestRow, Range<usize>)>> {
     require(settings.persons >= 1, "persons", "at least 1")?;
     require(settings.reaches >= 1, "reaches", "at least 1")?;
     require(
@@ -190,7 +207,7 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
                     seed,
                     ..ReachSettings::default()
                 };
-                let motion = reach_full_body(&character, target, &reach_settings)?;
+                let motion = reach_full_body_driven(&character, target, &reach_settings, drive)?;
                 if motion.report.stop == ReachStop::Reached {
                     made = Some((motion, target, seed));
                     break;
@@ -217,28 +234,35 @@ pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>
             })?;
             kinergy_io::write_atomic(&path, &bytes).map_err(|e| io(&path, e))?;
             let rep = &motion.report;
-            rows.push(ManifestRow {
-                clip: format!("{id}/{name}"),
-                person: id.clone(),
-                height_m: person.height,
-                flexibility: person.flexibility,
-                mean_speed_m_s: person.mean_speed,
-                r_st: person.r_st,
-                r_tw: person.r_tw,
-                p_max: person.p_max,
-                kind,
-                target_x: target.x,
-                target_y: target.y,
-                target_z: target.z,
-                step: rep.step.name().to_string(),
-                step_length_m: rep.step_length,
-                twist_deg: rep.twist_deg,
-                swing_deg: rep.swing_deg,
-                squat_m: rep.squat_m,
-                final_error_m: rep.final_error,
-                frames: rep.frames,
-                seed,
+            let driven_end = rep.hand_over.map_or(rep.frames, |h| {
+                ((h.at_s * settings.frame_rate).round() as usize).min(rep.frames)
             });
+            let driven = rep.arm_onset_frame.min(driven_end)..driven_end;
+            rows.push((
+                ManifestRow {
+                    clip: format!("{id}/{name}"),
+                    person: id.clone(),
+                    height_m: person.height,
+                    flexibility: person.flexibility,
+                    mean_speed_m_s: person.mean_speed,
+                    r_st: person.r_st,
+                    r_tw: person.r_tw,
+                    p_max: person.p_max,
+                    kind,
+                    target_x: target.x,
+                    target_y: target.y,
+                    target_z: target.z,
+                    step: rep.step.name().to_string(),
+                    step_length_m: rep.step_length,
+                    twist_deg: rep.twist_deg,
+                    swing_deg: rep.swing_deg,
+                    squat_m: rep.squat_m,
+                    final_error_m: rep.final_error,
+                    frames: rep.frames,
+                    seed,
+                },
+                driven,
+            ));
         }
     }
     Ok(rows)

@@ -359,8 +359,10 @@ fn start_posture(
 }
 
 /// `chain` with every limit widened to include the configurations `qs` (one after the
-/// other, `dof_count` values each); the widened DoF names.
-fn widen_to_include(chain: &Chain, qs: &[f64]) -> Result<(Chain, Vec<String>)> {
+/// other, `dof_count` values each); the widened DoF names. (A captured arm's start, or a
+/// full-body character's hanging arm seen in the capture convention, can lie outside the
+/// default limits: a controller clamping it would jump the arm on its first frame.)
+pub fn widen_to_include(chain: &Chain, qs: &[f64]) -> Result<(Chain, Vec<String>)> {
     let n = chain.dof_count();
     let mut widened: Vec<usize> = Vec::new();
     let mut chain = chain.clone();

@@ -46,7 +46,7 @@ pub mod reachability;
 pub mod synergy;
 pub mod task;
 
-pub use capture::{BaseMode, CaptureArm};
+pub use capture::{BaseMode, CaptureArm, widen_to_include};
 pub use controller::{
     ArmStepper, ArmTask, Base, Controller, ControllerSettings, LimitHandling, Observation,
     StallRule, StopReason, Synthesis,

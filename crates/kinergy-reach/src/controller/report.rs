@@ -88,6 +88,8 @@ pub struct ReachReport {
     /// The smallest margin of the COM projection inside the support polygon over the reach,
     /// meters (negative: outside).
     pub min_balance_margin: f64,
+    /// The first frame the arm controller ran on (state 1).
+    pub arm_onset_frame: usize,
     /// What drove the reaching arm: `profile` (the speed profile and analytic IK) or
     /// `synergy` (a person's synergy controller).
     pub arm_drive: &'static str,

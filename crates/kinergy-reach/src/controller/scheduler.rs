@@ -538,6 +538,9 @@ pub(super) fn animate(
         frames,
         duration: frames as f64 * dt,
         min_balance_margin: min_margin,
+        arm_onset_frame: (0..frames)
+            .find(|&k| k as f64 * dt >= timeline.t_arm)
+            .unwrap_or(frames),
         arm_drive: drive.name(),
         hand_over,
     };

@@ -18,8 +18,9 @@
 //! # Limits
 //! The character's limits are the character's: a configuration the controller reaches is
 //! clamped into them, and the controller continues from the clamped arm. The controller's own
-//! chain keeps the default limits in its convention, as the fitted arm had them (it slides
-//! along them rather than stalling). The synergy arm has arrived when the hand is within half
+//! chain keeps the default limits in its convention, widened to include the start as a
+//! captured arm's are (the hanging arm's twist lies beyond them), so it slides along them
+//! rather than stalling. The synergy arm has arrived when the hand is within half
 //! the reach's tolerance.
 //!
 //! # Hand-over
@@ -34,13 +35,15 @@
 
 use std::ops::Range;
 
-use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3, Point3, Rotation3, Vector3};
+use kinergy_motion::limbs::ArmJoints;
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
 use kinergy_motion::rotation::{swing_rotation, swing_twist, unwrap_near};
 use kinergy_solver::{
-    ArmStepper, Controller, ControllerSettings, Optimizer, OptimizerKind, StallRule, Synergy, Task,
+    ArmStepper, BaseMode, CaptureArm, Controller, ControllerSettings, Optimizer, OptimizerKind,
+    StallRule, Synergy, Task, widen_to_include,
 };
 
-use crate::character::{Character, Limb, Pose, joint};
+use crate::character::{Character, Limb, Pose};
 use crate::error::{ReachError, Result};
 
 /// How long (seconds) the synergy arm's progress may stall, once the body has stopped,
@@ -92,24 +95,36 @@ pub fn arm_dof_names(character: &Character) -> Vec<String> {
         .collect()
 }
 
-/// The capture-convention base of `limb` at rest, as [`kinergy_solver::CaptureArm`] builds it:
-/// z the horizontal direction from the root to the shoulder, y up, x = y × z.
-fn capture_base_at_rest(character: &Character, limb: Limb, rest: &Pose) -> Result<Matrix3<f64>> {
-    let frames = character.world_frames(rest);
-    let shoulder = frames[limb.joints()[0]].translation.vector;
-    let mut lateral = shoulder - frames[joint::HIPS].translation.vector;
-    lateral.y = 0.0;
-    let z = lateral
-        .try_normalize(1e-6)
-        .ok_or_else(|| ReachError::Setting {
-            field: "character".into(),
-            why: format!("the {} shoulder lies above the root", limb.name()),
-        })?;
-    let up = Vector3::y();
-    let z = (z - up * z.dot(&up)).normalize();
-    let x = up.cross(&z).normalize();
-    let y = z.cross(&x);
-    Ok(Matrix3::from_columns(&[x, y, z]))
+/// `K`, the rotation from the character's base of `limb` to the capture-convention base a fit
+/// of the character's own motion would use: made exactly as the fit makes it, by a
+/// [`CaptureArm`] on the exported rest posture (both bases ride the clavicle, so `K` holds
+/// on every frame).
+fn capture_rotation(character: &Character, limb: Limb, rest: &Pose) -> Result<Rotation3<f64>> {
+    let setting = |why: String| ReachError::Setting {
+        field: "character".into(),
+        why,
+    };
+    let clip = character.to_clip(std::slice::from_ref(rest), 1.0 / 60.0)?;
+    let joints =
+        ArmJoints::find(clip.skeleton(), limb.side()).map_err(|e| setting(e.to_string()))?;
+    let capture = CaptureArm::new(&clip, &joints).map_err(|e| setting(e.to_string()))?;
+    let capture_base = capture.base(BaseMode::Fixed).at(0).rotation;
+    let character_base = character.limb_base_frame(limb, rest).rotation;
+    Ok(character_base.inverse() * capture_base)
+}
+
+/// The arm of `limb` in `pose` as a fit of the exported motion reads it: [`CaptureArm`]'s
+/// configuration of the arm's joint positions, in the capture convention.
+fn read_as_captured(character: &Character, limb: Limb, pose: &Pose) -> Result<Vec<f64>> {
+    let setting = |why: String| ReachError::Setting {
+        field: "character".into(),
+        why,
+    };
+    let clip = character.to_clip(std::slice::from_ref(pose), 1.0 / 60.0)?;
+    let joints =
+        ArmJoints::find(clip.skeleton(), limb.side()).map_err(|e| setting(e.to_string()))?;
+    let capture = CaptureArm::new(&clip, &joints).map_err(|e| setting(e.to_string()))?;
+    Ok(capture.start().to_vec())
 }
 
 /// The reaching arm on the person's synergy controller, frame by frame.
@@ -150,21 +165,20 @@ impl SynergyArm {
         };
         let controller =
             Controller::new(optimizer.clone(), synergy.clone(), settings).map_err(setting)?;
-        let character_base = character.limb_base_frame(limb, rest).rotation;
-        let capture_base = capture_base_at_rest(character, limb, rest)?;
-        let k =
-            Rotation3::from_matrix_unchecked(character_base.matrix().transpose() * capture_base);
+        let k = capture_rotation(character, limb, rest)?;
         let dofs = character.limb_dofs(limb);
         let q: [f64; 7] = std::array::from_fn(|i| pose[dofs.start + i]);
-        let start = to_capture(&k, &q);
-        let stepper = controller
-            .stepper(character.limb_chain(limb), &start)
-            .map_err(setting)?;
+        // The start a fit of this motion reads from the arm's joint positions (a straight
+        // arm's twist is not in its positions: the fit reads it as 0, and so starts the
+        // synergy here), with the limits widened to include it, as a captured arm's are.
+        let start = read_as_captured(character, limb, pose)?;
+        let (chain, _) = widen_to_include(character.limb_chain(limb), &start).map_err(setting)?;
+        let stepper = controller.stepper(&chain, &start).map_err(setting)?;
         Ok(SynergyArm {
             dofs,
             stepper,
             k,
-            twist: q[2],
+            twist: to_character(&k, &start, q[2])[2],
             task: Task::Position(target),
             target,
             progress: Vec::new(),
@@ -296,11 +310,7 @@ mod tests {
         let c = character();
         let rest = c.rest_pose();
         for limb in [Limb::RightArm, Limb::LeftArm] {
-            let k = {
-                let b = c.limb_base_frame(limb, &rest).rotation;
-                let w = capture_base_at_rest(&c, limb, &rest).expect("base");
-                Rotation3::from_matrix_unchecked(b.matrix().transpose() * w)
-            };
+            let k = capture_rotation(&c, limb, &rest).expect("K");
             let chain = c.limb_chain(limb);
             let mut pose = rest;
             for (i, q) in [
@@ -340,14 +350,25 @@ mod tests {
         let c = character();
         let rest = c.rest_pose();
         for limb in [Limb::RightArm, Limb::LeftArm] {
-            let b = c.limb_base_frame(limb, &rest).rotation;
-            let w = capture_base_at_rest(&c, limb, &rest).expect("base");
-            let k = Rotation3::from_matrix_unchecked(b.matrix().transpose() * w);
+            let k = capture_rotation(&c, limb, &rest).expect("K");
             let q = to_capture(&k, &[0.0; 7]);
             let upper = swing_rotation(q[0], q[1])
                 * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2])
                 * Vector3::z();
             assert!((upper - -Vector3::y()).norm() < 1e-9, "{limb:?}: {upper}");
+            // A fit of the exported motion reads the same arm (the straight arm's twist aside:
+            // not in its positions): every joint in the same place.
+            let read = read_as_captured(&c, limb, &rest).expect("read");
+            let base = c.limb_base_frame(limb, &rest);
+            let capture_base = IsometryMatrix3::from_parts(base.translation, base.rotation * k);
+            let chain = c.limb_chain(limb);
+            let ours = chain.fk(&capture_base, &q).expect("fk");
+            let theirs = chain.fk(&capture_base, &read).expect("fk");
+            for (a, b) in ours.frames.iter().zip(&theirs.frames) {
+                let d = (a.translation.vector - b.translation.vector).norm();
+                assert!(d < 1e-9, "{limb:?}: {read:?} vs {q:?}");
+            }
+            assert!((ours.end - theirs.end).norm() < 1e-9);
         }
     }
 }
