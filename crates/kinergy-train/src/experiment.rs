@@ -383,8 +383,9 @@ pub fn persons(reaches: &[CapturedReach]) -> Vec<(PathBuf, Vec<usize>)> {
 }
 
 /// Leave one target out with the parameter field, per person: for each clip, S_C parameters
-/// from the field of the person's other Fig. 3 S_C fits (`sc`, one per reach), scored on the
-/// clip; one row per clip of a person with at least two such fits.
+/// from the field of the person's other Fig. 3 S_C fits (`sc`, one per reach; targets in the
+/// arm's base frame, [`CapturedReach::local_target`]), scored on the clip; one row per clip
+/// of a person with at least two such fits.
 fn field_rows(
     reaches: &[CapturedReach],
     sc: &[Option<Vec<f64>>],
@@ -404,7 +405,7 @@ fn field_rows(
         )?;
         let samples: Vec<_> = members
             .iter()
-            .map(|&i| (reaches[i].target(), sc[i].clone().unwrap_or_default()))
+            .map(|&i| (reaches[i].local_target(), sc[i].clone().unwrap_or_default()))
             .collect();
         let clock = Instant::now();
         let loo = leave_one_out(&space, &samples, &FieldSettings::default(), |k, params| {
