@@ -72,7 +72,7 @@
 //!
 //! ```
 //! use kinergy_motion::nalgebra::Point3;
-//! use kinergy_solver::ParamSpace;
+//! use kinergy_solver::{Bounds, Model, ParamSpace};
 //! use kinergy_train::field::{FieldSettings, ParamField};
 //!
 //! let space = ParamSpace::new(Model::Sa, &["elbow".to_string()], Bounds::default()).unwrap();
