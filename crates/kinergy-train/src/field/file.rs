@@ -1,39 +1,4 @@
-//! The field file: a person's parameter field as a product (`kinergy fit CLIPS --per person
-//! --field -o field.json`). Everything needed to run the person's synergy controller toward a
-//! new target: the field (model, DoFs, bounds, kernel settings, the bandwidth chosen and the
-//! leave-one-out scores it was chosen by), the optimizer, and per sample the reach it was
-//! fitted on (clip, frames, the arm: side, joints, bones), its own fit's distance, its target
-//! and its fitted vector.
-//!
-//! **Targets are in the arm's base frame** on the reach's first frame: meters, origin at the
-//! shoulder, z lateral outward, y up, x = y × z (the capture convention of
-//! [`kinergy_solver::CaptureArm`]; [`CapturedReach::local_target`]). A person may stand
-//! anywhere and face any way in their captures; the target's place relative to the shoulder is
-//! what the style depends on. One field holds one arm's reaches (the frame is not mirrored).
-//!
-//! ```json
-//! {
-//!   "format_version": 2,
-//!   "model": "sc",
-//!   "optimizer": { "kind": "svd", "rate": 4.0, "threshold": 0.01 },
-//!   "dof_names": ["shoulder_swing_x", "…"],
-//!   "bounds": { "gain": { "lower": -5.0, "upper": 5.0 }, "…": "…" },
-//!   "names": ["g_shoulder_swing_x", "…", "s", "o"],
-//!   "settings": { "bandwidth": "auto", "regression": "nadaraya_watson" },
-//!   "bandwidth": 0.21,
-//!   "selection": [ { "bandwidth": 0.053, "loo_error": 0.12 }, "…" ],
-//!   "samples": [
-//!     { "clip": "p01/r01.bvh", "frames": [4, 72],
-//!       "arm": { "side": "right", "joints": ["…"], "upper_arm_m": 0.3, "forearm_m": 0.25,
-//!                "hand_m": 0.08 },
-//!       "distance_m": 0.012, "target": [0.05, -0.31, 0.22], "values": [1.2, "…"] }
-//!   ]
-//! }
-//! ```
-//!
-//! Format 1 (before this one) held world targets and no optimizer; it is refused with a
-//! message saying to run `kinergy fit --field` again. Reading checks everything a damaged or
-//! hand-edited file could get wrong and names the field (`samples[2].values`).
+//! The field file ([`FieldFile`]): a person's parameter field as a product.
 
 use std::path::Path;
 
@@ -54,7 +19,42 @@ use crate::objective::Objective;
 /// The format version of a field file this crate writes and reads.
 pub const FIELD_FORMAT_VERSION: u32 = 2;
 
-/// A person's parameter field with what running it needs (see the [module docs](self)).
+/// A person's parameter field as a product (`kinergy fit CLIPS --per person
+/// --field -o field.json`). Everything needed to run the person's synergy controller toward a
+/// new target: the field (model, DoFs, bounds, kernel settings, the bandwidth chosen and the
+/// leave-one-out scores it was chosen by), the optimizer, and per sample the reach it was
+/// fitted on (clip, frames, the arm: side, joints, bones), its own fit's distance, its target
+/// and its fitted vector.
+///
+/// **Targets are in the arm's base frame** on the reach's first frame: meters, origin at the
+/// shoulder, z lateral outward, y up, x = y × z (the capture convention of
+/// [`kinergy_solver::CaptureArm`]; [`CapturedReach::local_target`]). A person may stand
+/// anywhere and face any way in their captures; the target's place relative to the shoulder is
+/// what the style depends on. One field holds one arm's reaches (the frame is not mirrored).
+///
+/// ```json
+/// {
+///   "format_version": 2,
+///   "model": "sc",
+///   "optimizer": { "kind": "svd", "rate": 4.0, "threshold": 0.01 },
+///   "dof_names": ["shoulder_swing_x", "…"],
+///   "bounds": { "gain": { "lower": -5.0, "upper": 5.0 }, "…": "…" },
+///   "names": ["g_shoulder_swing_x", "…", "s", "o"],
+///   "settings": { "bandwidth": "auto", "regression": "nadaraya_watson" },
+///   "bandwidth": 0.21,
+///   "selection": [ { "bandwidth": 0.053, "loo_error": 0.12 }, "…" ],
+///   "samples": [
+///     { "clip": "p01/r01.bvh", "frames": [4, 72],
+///       "arm": { "side": "right", "joints": ["…"], "upper_arm_m": 0.3, "forearm_m": 0.25,
+///                "hand_m": 0.08 },
+///       "distance_m": 0.012, "target": [0.05, -0.31, 0.22], "values": [1.2, "…"] }
+///   ]
+/// }
+/// ```
+///
+/// Format 1 (before this one) held world targets and no optimizer; it is refused with a
+/// message saying to run `kinergy fit --field` again. Reading checks everything a damaged or
+/// hand-edited file could get wrong and names the field (`samples[2].values`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct FieldFile {
     field: ParamField,
@@ -453,7 +453,7 @@ impl Doc {
             ));
         }
         for (i, s) in self.selection.iter().enumerate() {
-            if !positive(s.bandwidth) || !(s.loo_error.is_finite() && s.loo_error >= 0.0) {
+            if !(positive(s.bandwidth) && s.loo_error.is_finite() && s.loo_error >= 0.0) {
                 return Err(err(
                     &format!("selection[{i}]"),
                     "expected a bandwidth > 0 and a leave-one-out error ≥ 0, both finite".into(),
