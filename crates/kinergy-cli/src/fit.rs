@@ -52,8 +52,8 @@ pub struct Args {
     /// Fit each reach on its own (nested, as `--per clip` does), then the person's parameter
     /// field over the reaches' targets (in the arm's base frame on each reach's first frame;
     /// kernel bandwidth chosen by leave-one-out), and write it as a field file to `-o FILE`:
-    /// `synthesize` (and `reach`, `plan`) take it where they take a parameters file and
-    /// predict the person's vector for the target at hand. One arm per field.
+    /// `synthesize --params` takes it where it takes a parameters file and predicts the
+    /// person's vector for the target at hand. One arm per field.
     #[arg(long, conflicts_with_all = ["out_dir", "checkpoint"])]
     pub field: bool,
     /// Where to write the parameters (JSON, atomically). Ending in `/` (`-o fits/`) it names
