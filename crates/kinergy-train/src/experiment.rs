@@ -15,7 +15,8 @@
 //!   (leave one target out).
 //!
 //! - **Held-out takes** — per person, models fitted on all but the last K takes, scored on
-//!   those K against neutral parameters and against the other persons' vectors
+//!   those K against neutral parameters, against the other persons' vectors, and (with
+//!   [`HoldoutSettings::field`]) the person's parameter field against their single vector
 //!   ([`run_holdout`], module `holdout`).
 //!
 //! [`run`] returns one [`Row`] per fit and the nested fits that ended worse than their
@@ -25,8 +26,8 @@
 mod holdout;
 
 pub use holdout::{
-    HoldoutLine, HoldoutResults, HoldoutRow, HoldoutSettings, HoldoutSummary, Params, PersonFit,
-    Take, check_split, group_by_person, run_holdout,
+    FieldLine, HoldoutLine, HoldoutResults, HoldoutRow, HoldoutSettings, HoldoutSummary, Params,
+    PersonFit, Take, check_split, group_by_person, run_holdout,
 };
 
 use std::collections::BTreeSet;
