@@ -1,5 +1,8 @@
 //! `kinergy fit`: fit synergy parameters to captured reaches by simulated annealing, per
-//! clip or per person, and write the parameters file.
+//! clip or per person, and write the parameters file; with `--field`, each reach on its own
+//! and the person's parameter field over their targets, written as a field file ([`field`]).
+
+mod field;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -7,7 +10,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use kinergy_solver::{FitGrouping, FittedReach, Model, OptimizerKind};
 use kinergy_train::CapturedReach;
 use kinergy_train::anneal::{Checkpoint, Control, CsvLog, Observer, Progress};
-use kinergy_train::fit::{Fit, NestedRun};
+use kinergy_train::fit::{Fit, FitSettings, NestedFit, NestedRun};
 use serde::Serialize;
 
 use crate::common::{
@@ -46,6 +49,13 @@ pub struct Args {
     /// first (S_A → S_B → S_C → S_D), each starting from the previous solution.
     #[arg(long)]
     pub no_nested: bool,
+    /// Fit each reach on its own (nested, as `--per clip` does), then the person's parameter
+    /// field over the reaches' targets (in the arm's base frame on each reach's first frame;
+    /// kernel bandwidth chosen by leave-one-out), and write it as a field file to `-o FILE`:
+    /// `synthesize --params` takes it where it takes a parameters file and predicts the
+    /// person's vector for the target at hand. One arm per field.
+    #[arg(long, conflicts_with_all = ["out_dir", "checkpoint"])]
+    pub field: bool,
     /// Where to write the parameters (JSON, atomically). Ending in `/` (`-o fits/`) it names
     /// a folder, as `--out-dir` does; several results (`--per clip` over several reaches)
     /// need a folder.
@@ -148,12 +158,28 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .filter(|m| *m <= args.model)
             .collect()
     };
-    let groups: Vec<Vec<CapturedReach>> = match args.per {
-        Per::Person => vec![reaches],
-        Per::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
+    if args.field && args.per == Per::Clip {
+        return Err(Failure::Input(
+            "--field fits one field per person (each reach on its own inside it): drop \
+             --per clip"
+                .into(),
+        ));
+    }
+    if args.field {
+        field::check_one_arm(&reaches)?;
+    }
+    let groups: Vec<Vec<CapturedReach>> = match (args.per, args.field) {
+        (Per::Person, false) => vec![reaches],
+        _ => reaches.into_iter().map(|r| vec![r]).collect(),
     };
-    let several = groups.len() > 1;
+    let several = groups.len() > 1 && !args.field;
     let (dest, folder) = destination(args, several)?;
+    if args.field && folder {
+        return Err(Failure::Input(format!(
+            "-o {}: --field writes one field file: name it (-o field.json)",
+            dest.display()
+        )));
+    }
     let names = if folder {
         output_names(&groups)
     } else {
@@ -198,38 +224,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Some(p) => Some(CsvLog::create(p, args.resume).map_err(|e| Failure::Input(e.to_string()))?),
         None => None,
     };
+    if args.field {
+        let mut fits = Vec::with_capacity(groups.len());
+        for group in &groups {
+            fits.push(run_group(args, group, &models, &settings, log.as_mut())?);
+        }
+        if let Some(log) = log {
+            log.finish().map_err(|e| Failure::Task(e.to_string()))?;
+        }
+        let reaches: Vec<CapturedReach> = groups.into_iter().flatten().collect();
+        return field::finish(args, dest, &reaches, &fits, &settings);
+    }
     let mut reports = Vec::new();
     for (g, group) in groups.iter().enumerate() {
-        let run = NestedRun {
-            reaches: group,
-            models: &models,
-            optimizer: args.optimizer.default_optimizer(),
-            settings: &settings,
-        };
-        let mut bar = Bar::new((settings.anneal.max_evaluations * models.len()) as u64);
-        let control = Control {
-            checkpoint: args.checkpoint.as_ref().map(|p| p as &dyn Checkpoint),
-            checkpoint_every: args.checkpoint_every,
-            interrupt: Some(&INTERRUPTED),
-        };
-        let mut hook = InterruptAfter {
-            left: args.interrupt_after,
-        };
-        let outcome = match log.as_mut() {
-            Some(log) => run.run(&mut ((&mut bar, &mut hook), log), &control, args.resume),
-            None => run.run(&mut (&mut bar, &mut hook), &control, args.resume),
-        };
-        bar.finish();
-        let outcome = outcome.map_err(train_failure)?;
-        if outcome.interrupted {
-            return Err(Failure::Task(match &args.checkpoint {
-                Some(p) => format!(
-                    "interrupted; the fit so far is in {}: continue it with --resume",
-                    p.display()
-                ),
-                None => "interrupted (no --checkpoint: nothing saved)".into(),
-            }));
-        }
+        let fits = run_group(args, group, &models, &settings, log.as_mut())?;
         let output = if folder {
             let path = dest.join(&names[g]);
             if let Some(parent) = path.parent() {
@@ -239,10 +247,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         } else {
             dest.to_path_buf()
         };
-        let fits = &outcome.fits;
-        if fits.fits.is_empty() {
-            return Err(Failure::Task("nothing was fitted".into()));
-        }
         let file = fits
             .params_file(group, args.per.grouping())
             .map_err(|e| Failure::Task(e.to_string()))?;
@@ -292,6 +296,51 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
     }
     emit(&text)
+}
+
+/// One nested fit of `group` with the progress bar, the CSV log, checkpoints and Ctrl-C; an
+/// interrupted fit is a failed task that says where it was saved.
+fn run_group(
+    args: &Args,
+    group: &[CapturedReach],
+    models: &[Model],
+    settings: &FitSettings,
+    log: Option<&mut CsvLog>,
+) -> Result<NestedFit, Failure> {
+    let run = NestedRun {
+        reaches: group,
+        models,
+        optimizer: args.optimizer.default_optimizer(),
+        settings,
+    };
+    let mut bar = Bar::new((settings.anneal.max_evaluations * models.len()) as u64);
+    let control = Control {
+        checkpoint: args.checkpoint.as_ref().map(|p| p as &dyn Checkpoint),
+        checkpoint_every: args.checkpoint_every,
+        interrupt: Some(&INTERRUPTED),
+    };
+    let mut hook = InterruptAfter {
+        left: args.interrupt_after,
+    };
+    let outcome = match log {
+        Some(log) => run.run(&mut ((&mut bar, &mut hook), log), &control, args.resume),
+        None => run.run(&mut (&mut bar, &mut hook), &control, args.resume),
+    };
+    bar.finish();
+    let outcome = outcome.map_err(train_failure)?;
+    if outcome.interrupted {
+        return Err(Failure::Task(match &args.checkpoint {
+            Some(p) => format!(
+                "interrupted; the fit so far is in {}: continue it with --resume",
+                p.display()
+            ),
+            None => "interrupted (no --checkpoint: nothing saved)".into(),
+        }));
+    }
+    if outcome.fits.fits.is_empty() {
+        return Err(Failure::Task("nothing was fitted".into()));
+    }
+    Ok(outcome.fits)
 }
 
 impl Per {

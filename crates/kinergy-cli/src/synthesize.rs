@@ -2,17 +2,17 @@
 //! to its final hand position (or a given target), written as BVH on the capture's skeleton.
 //! `--frames` picks the part of the capture the reach covers: by default the frames the
 //! parameters were fitted on (so `fit` then `synthesize` replays what the fit scored), all of
-//! it, the main reach segment, or given frames. Exit code 1 when the target is not
-//! reached; the motion is written all the same.
+//! it, the main reach segment, or given frames. `--params` takes a parameters file or a field
+//! file: from a field, the vector is the one it predicts for the target in the arm's base frame
+//! on the segment's first frame. Exit code 1 when the target is not reached; the motion is
+//! written all the same.
 
 use std::path::PathBuf;
 
 use kinergy_motion::{ExportOptions, LengthUnit, Side, motion_distance};
-use kinergy_solver::{
-    BaseMode, Controller, Model, OptimizerKind, ParamSpace, ParamsFile, StopReason, Synergy,
-};
-use kinergy_train::CapturedReach;
+use kinergy_solver::{BaseMode, Controller, Model, OptimizerKind, ParamSpace, StopReason, Synergy};
 use kinergy_train::segment::{SegmentSettings, Selection, find_segments, select};
+use kinergy_train::{CapturedReach, PersonParams};
 use serde::Serialize;
 
 use crate::common::{
@@ -31,7 +31,9 @@ pub struct Args {
     /// Where to write the synthesized motion (BVH, written atomically).
     #[arg(short, long, value_name = "OUT.bvh")]
     output: PathBuf,
-    /// A parameters file (from `kinergy fit`): model, optimizer and values.
+    /// A parameters file (from `kinergy fit`: model, optimizer and values), or a field file
+    /// (`kinergy fit --field`): the vector it predicts for the target, taken in the arm's
+    /// base frame on the segment's first frame.
     #[arg(long, value_name = "P.json", conflicts_with_all = ["model", "optimizer"])]
     params: Option<PathBuf>,
     /// Synergy model without a parameters file: neutral values (gains 1, sigmoids on).
@@ -101,6 +103,10 @@ struct Report {
     base: &'static str,
     target_m: [f64; 3],
     target_from: &'static str,
+    /// `vector` (a parameters file), `field` (predicted by a field file) or `neutral`.
+    params_from: &'static str,
+    /// With a field file: what it predicted from.
+    field: Option<FieldUse>,
     capture_frames: [usize; 2],
     stop: &'static str,
     frames: usize,
@@ -111,6 +117,17 @@ struct Report {
     distance_to_capture_m: Option<f64>,
     widened_limits: Vec<String>,
     at_limits_at_end: Vec<String>,
+}
+
+/// How a field file's vector was predicted.
+#[derive(Debug, Serialize)]
+struct FieldUse {
+    /// The target in the arm's base frame on the segment's first frame, meters.
+    target_in_base_m: [f64; 3],
+    /// The field's bandwidth, meters.
+    bandwidth_m: f64,
+    /// The field's samples (fitted reaches).
+    samples: usize,
 }
 
 /// Runs `kinergy synthesize`.
@@ -131,7 +148,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     inputs.extend(args.params.as_deref());
     crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
     let params = match &args.params {
-        Some(path) => Some(ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?),
+        Some(path) => Some(PersonParams::read(path).map_err(|e| Failure::Input(e.to_string()))?),
         None => None,
     };
     let same_clip = |clip: &str| {
@@ -142,7 +159,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 (Ok(a), Ok(b)) if a == b
             )
     };
-    let record = params.as_ref().and_then(|p| p.fit.as_ref());
+    let record = params.as_ref().and_then(PersonParams::record);
+    let record = record.as_ref();
     let fitted_arm = record.and_then(|r| r.arm(same_clip));
     let (whole, _) = args.read.read(from)?;
     let arm_args = ArmArgs {
@@ -222,8 +240,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
     }
 
+    let (reach, target_from) = match &args.target {
+        Some(t) => (reach.with_target(parse_point(t, "--target")?), "--target"),
+        None => (reach, "the capture's final hand position"),
+    };
+    let target = reach.target();
+    // A field predicts for the target where the person sees it: in the arm's base frame.
+    let local = reach.local_target();
     let (optimizer, synergy) = match (&params, &args.params) {
-        (Some(file), Some(path)) => {
+        (Some(person), Some(path)) => {
+            let file = person
+                .params_for(&local)
+                .map_err(|e| Failure::input(path, e))?;
             let synergy = file
                 .synergy_for(&dof_names)
                 .map_err(|e| Failure::input(path, e))?;
@@ -237,12 +265,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             (args.optimizer.default_optimizer(), synergy)
         }
     };
-
-    let (reach, target_from) = match &args.target {
-        Some(t) => (reach.with_target(parse_point(t, "--target")?), "--target"),
-        None => (reach, "the capture's final hand position"),
-    };
-    let target = reach.target();
+    let field = params
+        .as_ref()
+        .and_then(PersonParams::field)
+        .map(|f| FieldUse {
+            target_in_base_m: [local.x, local.y, local.z],
+            bandwidth_m: f.field().bandwidth(),
+            samples: f.field().len(),
+        });
     let settings = reach.open_settings(args.tolerance, args.max_seconds, args.stop_at_reach);
     let controller =
         Controller::new(optimizer, synergy, settings).map_err(|e| Failure::Input(e.to_string()))?;
@@ -280,6 +310,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         base: if args.fixed_base { "fixed" } else { "replayed" },
         target_m: [target.x, target.y, target.z],
         target_from,
+        params_from: match (&params, &field) {
+            (None, _) => "neutral",
+            (Some(_), None) => "vector",
+            (Some(_), Some(_)) => "field",
+        },
+        field,
         capture_frames: [frames.start, frames.end],
         stop: synthesis.stop.name(),
         frames: synthesis.frame_count(),
@@ -358,6 +394,17 @@ fn text(r: &Report) -> String {
         r.shoulder_to_target_m,
         r.arm_length_m,
     );
+    if let Some(f) = &r.field {
+        s.push_str(&format!(
+            "parameters predicted by the field of {} reaches (bandwidth {:.3} m) at ({:.4}, \
+             {:.4}, {:.4}) m in the arm's base frame\n",
+            f.samples,
+            f.bandwidth_m,
+            f.target_in_base_m[0],
+            f.target_in_base_m[1],
+            f.target_in_base_m[2]
+        ));
+    }
     if let Some(d) = r.distance_to_capture_m {
         s.push_str(&format!(
             "motion distance to the captured arm: {:.3} mm\n",

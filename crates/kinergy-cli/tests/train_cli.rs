@@ -473,11 +473,21 @@ fn compare_per_person_holdout_writes_both_tables() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("person,clip,fitted_on,model,optimizer,distance_m,frames")
+        Some("person,clip,fitted_on,model,optimizer,distance_m,frames,params")
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    // Per person's held-out take (r02): neutral, own S_A–S_D, the other's S_C.
-    assert_eq!(rows.len(), 2 * (1 + 4 + 1), "{csv}");
+    // Per person's held-out take (r02): neutral, own S_A–S_D, own field, the other's S_C.
+    assert_eq!(rows.len(), 2 * (1 + 4 + 1 + 1), "{csv}");
+    let kinds = |kind: &str| rows.iter().filter(|r| r[7] == kind).count();
+    assert_eq!(
+        (kinds("neutral"), kinds("vector"), kinds("field")),
+        (2, 10, 2)
+    );
+    // One training take per person: the field is that take's own fit, everywhere.
+    for r in rows.iter().filter(|r| r[7] == "field") {
+        assert_eq!(r[3], "sc", "{r:?}");
+        assert_eq!(r[2], r[0], "the person's own field: {r:?}");
+    }
     for r in &rows {
         assert!(r[1].ends_with("r02.bvh"), "{r:?}");
         let d: f64 = r[5].parse().expect("distance");
@@ -488,6 +498,7 @@ fn compare_per_person_holdout_writes_both_tables() {
     for section in [
         "## Own vector against neutral",
         "## Person × person",
+        "## Parameter field against the single vector",
         "## In sample",
         "| **all** | 2 / 2 |",
     ] {

@@ -32,7 +32,9 @@ use crate::synergy::Model;
 /// How a parameters file's values were fitted.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FitRecord {
-    /// The search: `simulated_annealing`.
+    /// The search: `simulated_annealing`; `parameter_field` for a vector a field file
+    /// predicted for a target (then the scores, the reaches and their distances are those of
+    /// the per-reach fits the field was made of; the predicted vector itself was not scored).
     pub method: String,
     /// The values' mean motion distance over the reaches, meters.
     pub score_m: f64,
@@ -43,7 +45,8 @@ pub struct FitRecord {
     pub evaluations: usize,
     /// Search iterations.
     pub iterations: usize,
-    /// Why the search ended: `converged`, `budget_spent` or `interrupted`.
+    /// Why the search ended: `converged`, `budget_spent` or `interrupted` (`predicted` for a
+    /// field's prediction).
     pub status: String,
     /// The seed the search drew from.
     pub seed: u64,
@@ -82,21 +85,8 @@ impl FitRecord {
             }
             distance(format!("fit.reaches[{i}].distance_m"), reach.distance_m)?;
             if let Some(arm) = &reach.arm {
-                for (name, v, min) in [
-                    ("upper_arm_m", arm.upper_arm_m, f64::MIN_POSITIVE),
-                    ("forearm_m", arm.forearm_m, f64::MIN_POSITIVE),
-                    ("hand_m", arm.hand_m, 0.0),
-                ] {
-                    if !(v.is_finite() && v >= min) {
-                        return Err((
-                            format!("fit.reaches[{i}].arm.{name}"),
-                            format!(
-                                "is {v}: expected a finite length{}",
-                                if min > 0.0 { " > 0" } else { " ≥ 0" }
-                            ),
-                        ));
-                    }
-                }
+                arm.check()
+                    .map_err(|(name, why)| (format!("fit.reaches[{i}].arm.{name}"), why))?;
             }
         }
         for (i, stage) in self.nested.iter().flatten().enumerate() {
@@ -153,6 +143,27 @@ pub struct FittedArm {
 }
 
 impl FittedArm {
+    /// Checks the bones: upper arm and forearm finite and > 0, the hand finite and ≥ 0.
+    /// Returns the first that is wrong (`upper_arm_m`) and why.
+    pub fn check(&self) -> Result<(), (String, String)> {
+        for (name, v, min) in [
+            ("upper_arm_m", self.upper_arm_m, f64::MIN_POSITIVE),
+            ("forearm_m", self.forearm_m, f64::MIN_POSITIVE),
+            ("hand_m", self.hand_m, 0.0),
+        ] {
+            if !(v.is_finite() && v >= min) {
+                return Err((
+                    name.to_string(),
+                    format!(
+                        "is {v}: expected a finite length{}",
+                        if min > 0.0 { " > 0" } else { " ≥ 0" }
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// The largest relative difference between this arm's bones and `other`'s (upper arm,
     /// forearm, and the hand when both have one), e.g. 0.12 for 12 %.
     pub fn length_difference(&self, other: &FittedArm) -> f64 {

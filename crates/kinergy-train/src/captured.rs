@@ -119,6 +119,20 @@ impl CapturedReach {
         self.target
     }
 
+    /// The target in the arm's base frame on the reach's first frame (meters; origin at the
+    /// shoulder, z lateral outward, y up, x = y × z: the capture convention of
+    /// [`CaptureArm`]): where the target is for the person, wherever they stand and
+    /// whichever way they face. A parameter field's targets are these.
+    pub fn local_target(&self) -> Point3<f64> {
+        self.to_local(&self.target)
+    }
+
+    /// A world point in the arm's base frame on the reach's first frame (see
+    /// [`CapturedReach::local_target`]).
+    pub fn to_local(&self, world: &Point3<f64>) -> Point3<f64> {
+        self.base.at(0).inverse_transform_point(world)
+    }
+
     /// The captured arm as a parameters file records it: side, joint names, bone lengths on
     /// the reach's first frame.
     pub fn fitted_arm(&self) -> &FittedArm {

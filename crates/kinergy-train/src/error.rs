@@ -39,6 +39,15 @@ pub enum TrainError {
         /// What is wrong.
         why: String,
     },
+    /// A parameters or field file cannot be read, is damaged, or is of another format
+    /// version: `why` names the field (`samples[2].values`) or the line and column.
+    #[error("{}{why}", file_prefix(.path.as_deref()))]
+    File {
+        /// The file, when the text was read from one.
+        path: Option<PathBuf>,
+        /// What is wrong.
+        why: String,
+    },
     /// A file could not be read or written.
     #[error("{}: {source}", path.display())]
     Io {
@@ -49,8 +58,24 @@ pub enum TrainError {
     },
 }
 
+/// `path: ` for a file error read from a file, nothing otherwise.
+fn file_prefix(path: Option<&std::path::Path>) -> String {
+    path.map_or_else(String::new, |p| format!("{}: ", p.display()))
+}
+
 /// Shorthand for results of this crate.
 pub type Result<T, E = TrainError> = std::result::Result<T, E>;
+
+/// A [`TrainError::File`] error without a path, given `path` (other errors as they are).
+pub(crate) fn in_file(e: TrainError, path: &std::path::Path) -> TrainError {
+    match e {
+        TrainError::File { path: None, why } => TrainError::File {
+            path: Some(path.to_path_buf()),
+            why,
+        },
+        other => other,
+    }
+}
 
 /// A `Setting` error unless `ok`.
 pub(crate) fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<()> {

@@ -15,7 +15,8 @@
 //!   (leave one target out).
 //!
 //! - **Held-out takes** — per person, models fitted on all but the last K takes, scored on
-//!   those K against neutral parameters and against the other persons' vectors
+//!   those K against neutral parameters, against the other persons' vectors, and (with
+//!   [`HoldoutSettings::field`]) the person's parameter field against their single vector
 //!   ([`run_holdout`], module `holdout`).
 //!
 //! [`run`] returns one [`Row`] per fit and the nested fits that ended worse than their
@@ -25,8 +26,8 @@
 mod holdout;
 
 pub use holdout::{
-    HoldoutLine, HoldoutResults, HoldoutRow, HoldoutSettings, HoldoutSummary, Params, PersonFit,
-    Take, check_split, group_by_person, run_holdout,
+    FieldLine, HoldoutLine, HoldoutResults, HoldoutRow, HoldoutSettings, HoldoutSummary, Params,
+    PersonFit, Take, check_split, group_by_person, run_holdout,
 };
 
 use std::collections::BTreeSet;
@@ -383,8 +384,9 @@ pub fn persons(reaches: &[CapturedReach]) -> Vec<(PathBuf, Vec<usize>)> {
 }
 
 /// Leave one target out with the parameter field, per person: for each clip, S_C parameters
-/// from the field of the person's other Fig. 3 S_C fits (`sc`, one per reach), scored on the
-/// clip; one row per clip of a person with at least two such fits.
+/// from the field of the person's other Fig. 3 S_C fits (`sc`, one per reach; targets in the
+/// arm's base frame, [`CapturedReach::local_target`]), scored on the clip; one row per clip
+/// of a person with at least two such fits.
 fn field_rows(
     reaches: &[CapturedReach],
     sc: &[Option<Vec<f64>>],
@@ -404,7 +406,7 @@ fn field_rows(
         )?;
         let samples: Vec<_> = members
             .iter()
-            .map(|&i| (reaches[i].target(), sc[i].clone().unwrap_or_default()))
+            .map(|&i| (reaches[i].local_target(), sc[i].clone().unwrap_or_default()))
             .collect();
         let clock = Instant::now();
         let loo = leave_one_out(&space, &samples, &FieldSettings::default(), |k, params| {

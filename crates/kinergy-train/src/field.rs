@@ -2,8 +2,16 @@
 //!
 //! Aubry et al. (2009) learn synergy parameters clip by clip and name that as their limit: a
 //! new target has no parameters until a clip reaching it is fitted. A [`ParamField`] turns a
-//! person's per-clip fits — reach k's target t_k (world meters) and its fitted vector p_k —
-//! into parameters p(t) for any target t, by Gaussian-kernel regression in target space.
+//! person's per-clip fits — reach k's target t_k and its fitted vector p_k — into parameters
+//! p(t) for any target t, by Gaussian-kernel regression in target space. Targets are meters
+//! in one frame for all samples: a person's field takes them in the arm's base frame on each
+//! reach's first frame ([`crate::CapturedReach::local_target`]), so reaches compare wherever
+//! the person stood and whichever way they faced.
+//!
+//! [`FieldFile`] is the field as a product (`kinergy fit --per person --field`): the field,
+//! the optimizer and the fitted reaches (clip, frames, arm), format-versioned; a person's
+//! parameters are read with [`crate::person::PersonParams`], which takes a field file or a
+//! parameters file.
 //!
 //! # The method
 //!
@@ -78,14 +86,15 @@
 //! ```
 
 use kinergy_motion::nalgebra::{Matrix3, Point3, Vector3};
-use kinergy_solver::{Bounds, Model, ParamSpace};
+use kinergy_solver::ParamSpace;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, TrainError, require};
 
-/// The format version of a serialized [`ParamField`].
-pub const FIELD_FORMAT_VERSION: u32 = 1;
+mod file;
+
+pub use file::{FIELD_FORMAT_VERSION, FieldFile};
 
 /// The factors of the median nearest-neighbour distance that [`Bandwidth::Auto`] tries:
 /// 2^(i/2) for i = −2…6, i.e. ½ … 8 in steps of √2. The floor is ½ because below about half
@@ -204,8 +213,7 @@ pub struct BandwidthScore {
 
 /// Parameters as a smooth function of the target, learned from per-clip fits (see the
 /// [module docs](self) for the method and its properties).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(into = "FieldFile", try_from = "FieldFile")]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ParamField {
     space: ParamSpace,
     lower: Vec<f64>,
@@ -218,7 +226,7 @@ pub struct ParamField {
 }
 
 impl ParamField {
-    /// Fits the field of `samples` — (target in world meters, fitted vector of `space`) — with
+    /// Fits the field of `samples` — (target in meters, fitted vector of `space`) — with
     /// `settings`. Errors name the offending field: `field.bandwidth`, `field.ridge`,
     /// `samples` (none given), `samples[k].target` (not finite), `samples[k].params` (wrong
     /// length or out of bounds; the message names the parameter).
@@ -329,7 +337,7 @@ impl ParamField {
         &self.space
     }
 
-    /// The samples' targets, world meters.
+    /// The samples' targets, meters.
     pub fn targets(&self) -> &[Point3<f64>] {
         &self.targets
     }
@@ -364,7 +372,7 @@ impl ParamField {
 pub struct LooRow {
     /// The sample (reach) left out and scored.
     pub index: usize,
-    /// Its target, world meters.
+    /// Its target, meters.
     pub target: [f64; 3],
     /// The bandwidth of the field of the other samples, meters.
     pub bandwidth: f64,
@@ -678,97 +686,5 @@ impl Data<'_> {
             })
             .map_or(FALLBACK_BANDWIDTH, |s| s.bandwidth);
         (best, scores)
-    }
-}
-
-/// The serialized form of a [`ParamField`].
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct FieldFile {
-    format_version: u32,
-    model: Model,
-    dof_names: Vec<String>,
-    bounds: Bounds,
-    /// The entries' names, in vector order (for readers; checked on load).
-    names: Vec<String>,
-    settings: FieldSettings,
-    bandwidth: f64,
-    #[serde(default)]
-    selection: Vec<BandwidthScore>,
-    samples: Vec<FieldSample>,
-}
-
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct FieldSample {
-    target: [f64; 3],
-    values: Vec<f64>,
-}
-
-impl From<ParamField> for FieldFile {
-    fn from(f: ParamField) -> FieldFile {
-        FieldFile {
-            format_version: FIELD_FORMAT_VERSION,
-            model: f.space.model(),
-            dof_names: f.space.dof_names().to_vec(),
-            bounds: *f.space.bounds(),
-            names: f.space.names().to_vec(),
-            settings: f.settings,
-            bandwidth: f.bandwidth,
-            selection: f.selection,
-            samples: f
-                .targets
-                .iter()
-                .zip(f.values)
-                .map(|(t, values)| FieldSample {
-                    target: [t.x, t.y, t.z],
-                    values,
-                })
-                .collect(),
-        }
-    }
-}
-
-impl TryFrom<FieldFile> for ParamField {
-    type Error = TrainError;
-
-    fn try_from(file: FieldFile) -> Result<ParamField> {
-        kinergy_io::check_version(u64::from(file.format_version), FIELD_FORMAT_VERSION).map_err(
-            |e| TrainError::Setting {
-                field: "format_version".into(),
-                why: e.message(),
-            },
-        )?;
-        let space = ParamSpace::new(file.model, &file.dof_names, file.bounds)?;
-        require(
-            file.names == space.names(),
-            "names",
-            format!("{} for this model and chain", space.names().join(", ")),
-        )?;
-        file.settings.validate()?;
-        require(
-            file.bandwidth > 0.0 && file.bandwidth.is_finite(),
-            "bandwidth",
-            "a finite number of meters > 0",
-        )?;
-        require(!file.samples.is_empty(), "samples", "at least one sample")?;
-        let mut targets = Vec::with_capacity(file.samples.len());
-        let mut values = Vec::with_capacity(file.samples.len());
-        for (k, s) in file.samples.into_iter().enumerate() {
-            let t = Point3::from(s.target);
-            check_sample(&space, k, &t, &s.values)?;
-            targets.push(t);
-            values.push(s.values);
-        }
-        Ok(ParamField {
-            lower: space.lower(),
-            upper: space.upper(),
-            space,
-            targets,
-            values,
-            settings: file.settings,
-            bandwidth: file.bandwidth,
-            selection: file.selection,
-        })
     }
 }

@@ -15,7 +15,9 @@
 //! - [`baseline`]: the same objective under argmin's Nelder–Mead and particle swarm;
 //! - [`experiment`]: the paper's comparison of models and optimizers on a set of reaches,
 //!   with annealing against the baselines and the field left one target out;
-//! - [`field`]: parameters as a smooth function of the target, per person;
+//! - [`field`]: parameters as a smooth function of the target, per person, and the field
+//!   file that carries them;
+//! - [`person`]: a person's parameters from a parameters file or a field file, for a target;
 //! - [`synthetic`]: reaches made by the controller itself from known parameters.
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
@@ -28,9 +30,11 @@ pub mod field;
 pub mod fit;
 pub mod manifest;
 pub mod objective;
+pub mod person;
 pub mod segment;
 pub mod synthetic;
 
 pub use captured::CapturedReach;
 pub use error::{Result, TrainError};
 pub use objective::{CostFunction, Objective};
+pub use person::PersonParams;

@@ -1,13 +1,14 @@
 //! The parameter field over targets: a constant from one sample, a known linear field
 //! recovered at held-out targets, bounds never left, leave-one-out rows blind to their own
-//! sample, a deterministic automatic bandwidth, typed errors, a JSON round trip.
+//! sample, a deterministic automatic bandwidth, typed errors, a field file's JSON round trip.
 
 use approx::assert_relative_eq;
+use kinergy_motion::Side;
 use kinergy_motion::nalgebra::{Point3, Vector3};
-use kinergy_solver::{Bounds, Model, ParamSpace};
+use kinergy_solver::{Bounds, FittedArm, FittedReach, Model, OptimizerKind, ParamSpace};
 use kinergy_train::TrainError;
 use kinergy_train::field::{
-    AUTO_FACTORS, Bandwidth, FALLBACK_BANDWIDTH, FieldSettings, ParamField, Regression,
+    AUTO_FACTORS, Bandwidth, FALLBACK_BANDWIDTH, FieldFile, FieldSettings, ParamField, Regression,
     leave_one_out,
 };
 use proptest::prelude::*;
@@ -646,37 +647,65 @@ fn a_non_finite_target_gets_the_mean_within_bounds() {
     assert_eq!(p, vec![0.0, 2.0, 5.5, 10.0]);
 }
 
+/// One fitted reach per sample, as a field file records them.
+fn reaches(count: usize) -> Vec<FittedReach> {
+    (0..count)
+        .map(|k| FittedReach {
+            clip: format!("p01/r{k:02}.bvh"),
+            frames: [k, k + 40],
+            distance_m: 0.01 + 0.001 * k as f64,
+            arm: Some(FittedArm {
+                side: Some(Side::Right),
+                joints: vec!["RightArm".into(), "RightForeArm".into(), "RightHand".into()],
+                upper_arm_m: 0.3,
+                forearm_m: 0.25,
+                hand_m: 0.0,
+            }),
+        })
+        .collect()
+}
+
 #[test]
 fn json_round_trip_is_exact_and_loading_checks() {
     let space = space();
     let samples = noisy_samples(9, 0.05);
+    let optimizer = OptimizerKind::Njt.default_optimizer();
     for settings in all_settings() {
         let field = ParamField::fit(&space, &samples, &settings).expect("fit");
-        let text = serde_json::to_string_pretty(&field).expect("to json");
-        let back: ParamField = serde_json::from_str(&text).expect("from json");
-        assert_eq!(back, field);
+        let file = FieldFile::new(field.clone(), optimizer, reaches(samples.len())).expect("file");
+        let back = FieldFile::from_json(&file.to_json()).expect("from json");
+        assert_eq!(back, file);
         let t = Point3::new(0.37, 0.02, 1.13);
-        assert_eq!(back.evaluate(&t), field.evaluate(&t));
-        assert_eq!(back.space(), &space);
+        assert_eq!(back.field().evaluate(&t), field.evaluate(&t));
+        assert_eq!(back.field().space(), &space);
+        assert_eq!(back.optimizer(), optimizer);
     }
     let field = ParamField::fit(&space, &samples, &FieldSettings::default()).expect("fit");
-    let mut json = serde_json::to_value(&field).expect("value");
+    let file = FieldFile::new(field, optimizer, reaches(samples.len())).expect("file");
+    let mut json: serde_json::Value = serde_json::from_str(&file.to_json()).expect("value");
+    assert_eq!(json["format_version"], 2);
     assert_eq!(json["model"], "sc");
+    assert_eq!(json["optimizer"]["kind"], "njt");
     assert_eq!(json["names"][3], "o");
     assert_eq!(json["settings"]["bandwidth"], "auto");
     assert_eq!(json["samples"][0]["target"][0], 0.2);
+    assert_eq!(json["samples"][1]["clip"], "p01/r01.bvh");
+    assert_eq!(json["samples"][1]["arm"]["side"], "right");
 
+    let load = |v: &serde_json::Value| FieldFile::from_json(&v.to_string());
     let mut outside = json.clone();
     outside["samples"][4]["values"][0] = serde_json::json!(6.0);
-    let err = serde_json::from_value::<ParamField>(outside).expect_err("outside");
-    assert!(err.to_string().contains("samples[4].params"), "{err}");
+    let err = load(&outside).expect_err("outside");
+    assert!(err.to_string().contains("`samples[4].values`"), "{err}");
 
     let mut bad_h = json.clone();
     bad_h["bandwidth"] = serde_json::json!(-1.0);
-    assert!(serde_json::from_value::<ParamField>(bad_h).is_err());
+    let err = load(&bad_h).expect_err("bandwidth");
+    assert!(err.to_string().contains("`bandwidth` is -1"), "{err}");
 
     json["extra"] = serde_json::json!(1);
-    assert!(serde_json::from_value::<ParamField>(json).is_err());
+    let err = load(&json).expect_err("extra");
+    assert!(err.to_string().contains("extra"), "{err}");
 }
 
 fn arb_value(lower: f64, upper: f64) -> impl Strategy<Value = f64> {

@@ -14,10 +14,11 @@ use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::experiment::{
     HoldoutResults, HoldoutSettings, HoldoutSummary, Params, Take, check_split, run_holdout,
 };
+use kinergy_train::field::FieldSettings;
 use kinergy_train::fit::FitSettings;
 use kinergy_train::segment::{SegmentSettings, main_segment};
 use kinergy_train::synthetic::made_reach;
-use kinergy_train::{CapturedReach, TrainError};
+use kinergy_train::{CapturedReach, Objective, TrainError};
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -83,6 +84,7 @@ fn settings(models: Vec<Model>, budget: usize) -> HoldoutSettings {
             },
             ..FitSettings::default()
         },
+        field: None,
     }
 }
 
@@ -141,6 +143,67 @@ fn own_vectors_beat_the_other_persons_and_neutral_on_held_out_reaches() {
     assert_eq!(summary.own.len(), 3);
     assert_eq!(summary.own[2].person, None);
     assert_eq!(summary.own[2].neutral.count, 2);
+}
+
+#[test]
+fn the_field_of_the_training_takes_predicts_each_held_out_take_at_its_own_target() {
+    let takes = made_persons();
+    let s = HoldoutSettings {
+        field: Some(FieldSettings::default()),
+        ..settings(vec![Model::Sa, Model::Sc], 300)
+    };
+    let results = run_holdout(&takes, &s, &|| {}).expect("holdout");
+    // Per person's take: neutral, own S_A and S_C, own field, the other's S_C.
+    assert_eq!(results.rows.len(), 2 * 5, "{:#?}", results.rows);
+    let summary = HoldoutSummary::of(&results, &s);
+    assert_eq!(summary.field.len(), 3, "two persons and all");
+    for (fit, line) in results.fits.iter().zip(&summary.field) {
+        let p = &fit.person;
+        let file = fit.field.as_ref().expect("a field per person");
+        // The field is made of the training takes, each fitted on its own, up to S_C.
+        assert_eq!(file.model(), Model::Sc);
+        let clips: Vec<&str> = file.reaches().iter().map(|r| r.clip.as_str()).collect();
+        assert_eq!(
+            clips,
+            fit.train.iter().map(String::as_str).collect::<Vec<_>>()
+        );
+        // Its row is the held-out take synthesized with the field's vector at the take's
+        // target in the arm's base frame, scored again here independently.
+        let take = &takes
+            .iter()
+            .find(|t| t.reach.name() == fit.held_out[0])
+            .expect("held-out take")
+            .reach;
+        let predicted = file.field().evaluate(&take.local_target());
+        let again = Objective::new(
+            vec![take.clone()],
+            file.field().space().clone(),
+            file.optimizer(),
+        )
+        .expect("objective")
+        .score(&predicted)
+        .expect("score");
+        let field_params = Params::Field {
+            person: p.clone(),
+            model: Model::Sc,
+        };
+        assert_eq!(distance(&results, p, &field_params), again);
+        // The summary sets it beside the single S_C vector on the same take.
+        assert_eq!(line.person.as_deref(), Some(p.as_str()));
+        assert_eq!(line.field.mean, again);
+        assert_eq!(
+            line.vector.mean,
+            distance(&results, p, &fitted(p, Model::Sc))
+        );
+        // Both persons' takes were made from one true vector per person: the field, made of
+        // that person's fits, beats the neutral parameters.
+        assert!(
+            again < distance(&results, p, &Params::Neutral),
+            "{p}: field {again} m"
+        );
+    }
+    assert_eq!(summary.field[2].person, None);
+    assert_eq!(summary.field[2].field.count, 2);
 }
 
 #[test]

@@ -157,7 +157,9 @@ pub fn emit_data(bytes: &[u8]) -> Result<(), Failure> {
 pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
     use kinergy_train::TrainError as E;
     match e {
-        E::Checkpoint { .. } | E::Setting { .. } | E::Reach { .. } => Failure::Input(e.to_string()),
+        E::Checkpoint { .. } | E::Setting { .. } | E::Reach { .. } | E::File { .. } => {
+            Failure::Input(e.to_string())
+        }
         _ => Failure::Task(e.to_string()),
     }
 }

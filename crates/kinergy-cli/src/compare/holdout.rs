@@ -1,8 +1,10 @@
 //! `kinergy compare --per person --holdout K`: per person, the models fitted on all but the
-//! last K takes (in name order) and scored on those K, against neutral parameters and against
-//! every other person's vector. The experiment is [`kinergy_train::experiment::run_holdout`];
-//! this module says who each take belongs to and renders `DIR/holdout.csv`,
-//! `DIR/summary.md` and `--json`.
+//! last K takes (in name order) and scored on those K, against neutral parameters, against
+//! every other person's vector, and — the person's parameter field of the training takes
+//! (each fitted on its own) predicting each held-out take at its own target — against the
+//! single vector. The experiment is [`kinergy_train::experiment::run_holdout`]; this module
+//! says who each take belongs to and renders `DIR/holdout.csv`, `DIR/summary.md` and
+//! `--json`.
 
 use std::path::Path;
 use std::time::Instant;
@@ -12,6 +14,7 @@ use kinergy_train::CapturedReach;
 use kinergy_train::experiment::{
     self, HoldoutResults, HoldoutSettings, HoldoutSummary, Stats, Take,
 };
+use kinergy_train::field::FieldSettings;
 use serde::Serialize;
 
 use super::{Args, model_label};
@@ -70,6 +73,9 @@ struct CsvRow<'a> {
     optimizer: &'static str,
     distance_m: f64,
     frames: usize,
+    /// `neutral`, `vector` (one fitted vector) or `field` (the vector the person's field
+    /// predicts at the take's target).
+    params: &'static str,
 }
 
 /// Runs the held-out experiment on `reaches` with the options of `args` (`holdout` ≥ 1).
@@ -101,6 +107,7 @@ pub fn run(
         optimizer: args.optimizer,
         cross_model,
         fit: args.search.settings(),
+        field: Some(FieldSettings::default()),
     };
     settings
         .fit
@@ -129,6 +136,7 @@ pub fn run(
             optimizer: settings.optimizer.name(),
             distance_m: r.distance_m,
             frames: r.frames,
+            params: r.params.kind(),
         }),
     )?;
 
@@ -166,8 +174,24 @@ struct SplitReport {
     train_scores: Vec<(String, f64)>,
     /// Each model's fitted vector.
     values: Vec<(String, Vec<f64>)>,
+    /// The field of the training takes: its bandwidth (m) and parameter-space leave-one-out
+    /// error (`null` with fewer than two distinct targets).
+    field_bandwidth_m: Option<f64>,
+    field_loo_error: Option<f64>,
     evaluations: usize,
     seconds: f64,
+}
+
+/// One line of the field-against-vector table, as `--json` prints it.
+#[derive(Debug, Serialize)]
+struct FieldLineReport {
+    /// `null`: all persons' held-out takes together.
+    person: Option<String>,
+    model: String,
+    field: Stats,
+    vector: Stats,
+    /// Whether the field's mean distance is at most the single vector's.
+    field_at_least_as_good: bool,
 }
 
 /// One line of the own-vector table, as `--json` prints it.
@@ -190,6 +214,9 @@ struct Report {
     seed: u64,
     splits: Vec<SplitReport>,
     own: Vec<LineReport>,
+    /// The field of each person's training takes against the single vector of the same
+    /// model, on the held-out takes.
+    field: Vec<FieldLineReport>,
     cross_model: &'static str,
     persons: Vec<String>,
     /// `cross[i][j]`: person i's vector on person j's held-out takes, mean distance, meters.
@@ -227,6 +254,8 @@ impl Report {
                         .iter()
                         .map(|(m, v, _)| (name(*m), v.clone()))
                         .collect(),
+                    field_bandwidth_m: f.field.as_ref().map(|x| x.field().bandwidth()),
+                    field_loo_error: f.field.as_ref().and_then(|x| x.loo_error()),
                     evaluations: f.evaluations,
                     seconds: f.seconds,
                 })
@@ -238,6 +267,17 @@ impl Report {
                     person: l.person.clone(),
                     neutral: l.neutral,
                     models: l.models.iter().map(|(m, s)| (name(*m), *s)).collect(),
+                })
+                .collect(),
+            field: summary
+                .field
+                .iter()
+                .map(|l| FieldLineReport {
+                    person: l.person.clone(),
+                    model: name(l.model),
+                    field: l.field,
+                    vector: l.vector,
+                    field_at_least_as_good: l.field.mean <= l.vector.mean,
                 })
                 .collect(),
             cross_model: summary.cross_model.name(),
@@ -368,6 +408,9 @@ fn markdown(
             )
         }
     ));
+    if !summary.field.is_empty() {
+        md.push_str(&field_table(summary, results));
+    }
     md.push_str("\n## In sample — the same vectors on the training takes, mean\n\n| person |");
     for m in &models {
         md.push_str(&format!(" {} |", model_label(*m)));
@@ -382,5 +425,57 @@ fn markdown(
         }
         md.push('\n');
     }
+    md
+}
+
+/// The field against the single vector: per person, the held-out takes' distances with the
+/// vector the field of the training takes predicts at each take's target, beside the single
+/// vector of the same model fitted on the same takes.
+fn field_table(summary: &HoldoutSummary, results: &HoldoutResults) -> String {
+    let mm = |v: f64| format!("{:.2}", v * 1e3);
+    let Some(model) = summary.field.first().map(|l| model_label(l.model)) else {
+        return String::new();
+    };
+    let mut md = format!(
+        "\n## Parameter field against the single vector — held-out takes, mean (min–max)\n\n\
+         Each training take fitted on its own (nested up to {model}), the field of those vectors \
+         over their targets in the arm's base frame (Gaussian kernel, Nadaraya–Watson, bandwidth \
+         by leave-one-out), evaluated at each held-out take's own target; beside it the single \
+         {model} vector fitted on all the training takes.\n\n\
+         | person | field ({model}) | single vector ({model}) | field − vector | bandwidth |\n\
+         |---|---|---|---|---|\n"
+    );
+    let cell = |s: &Stats| format!("{} ({}–{})", mm(s.mean), mm(s.min), mm(s.max));
+    for line in &summary.field {
+        let name = line
+            .person
+            .as_deref()
+            .map_or("**all**".to_string(), |p| format!("`{p}`"));
+        let bandwidth = line
+            .person
+            .as_deref()
+            .and_then(|p| results.fits.iter().find(|f| f.person == p))
+            .and_then(|f| f.field.as_ref())
+            .map_or("—".to_string(), |f| {
+                format!("{:.0} mm", f.field().bandwidth() * 1e3)
+            });
+        md.push_str(&format!(
+            "| {name} | {} | {} | {:+.2} mm | {bandwidth} |\n",
+            cell(&line.field),
+            cell(&line.vector),
+            (line.field.mean - line.vector.mean) * 1e3
+        ));
+    }
+    let (better, persons): (usize, usize) = summary
+        .field
+        .iter()
+        .filter(|l| l.person.is_some())
+        .fold((0, 0), |(b, n), l| {
+            (b + usize::from(l.field.mean <= l.vector.mean), n + 1)
+        });
+    md.push_str(&format!(
+        "\nThe field is at least as good as the single vector for {better} of {persons} person{}.\n",
+        if persons == 1 { "" } else { "s" }
+    ));
     md
 }

@@ -10,7 +10,12 @@
 //! - the neutral parameters: S_A with gain 1, the identity synergy ([`Params::Neutral`]);
 //! - each model fitted on its own person ([`Params::Fitted`]);
 //! - the [`HoldoutSettings::cross_model`] vector of every *other* person, giving a person ×
-//!   person table whose diagonal is the own-person result.
+//!   person table whose diagonal is the own-person result;
+//! - with [`HoldoutSettings::field`], the person's parameter field ([`Params::Field`]): each
+//!   training take fitted on its own (nested up to the cross model), the field of those
+//!   vectors over their targets in the arm's base frame ([`FieldFile::fit`]), evaluated at
+//!   each held-out take's own target — beside the single cross-model vector fitted on the
+//!   same takes.
 //!
 //! The split is a fixed choice, not a K-fold rotation: a rotation would multiply the cost of
 //! the fits by the number of folds. Takes come as a list of [`Take`]s (a person and a
@@ -27,6 +32,7 @@ use rayon::prelude::*;
 use super::Stats;
 use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError, require};
+use crate::field::{FieldFile, FieldSettings};
 use crate::fit::{FitSettings, fit_nested};
 use crate::objective::Objective;
 
@@ -54,6 +60,10 @@ pub struct HoldoutSettings {
     pub cross_model: Model,
     /// How every fit searches.
     pub fit: FitSettings,
+    /// The parameter field of each person's training takes, fitted with these settings and
+    /// scored on the held-out takes; `None` leaves it out (it fits every training take once
+    /// more, on its own).
+    pub field: Option<FieldSettings>,
 }
 
 impl HoldoutSettings {
@@ -80,6 +90,14 @@ pub enum Params {
         /// The model.
         model: Model,
     },
+    /// The vector the parameter field of `person`'s training takes predicts at the take's
+    /// target.
+    Field {
+        /// Whose training takes the field was fitted on.
+        person: String,
+        /// The model of the field's vectors.
+        model: Model,
+    },
 }
 
 impl Params {
@@ -87,7 +105,7 @@ impl Params {
     pub fn model(&self) -> Model {
         match self {
             Params::Neutral => Model::Sa,
-            Params::Fitted { model, .. } => *model,
+            Params::Fitted { model, .. } | Params::Field { model, .. } => *model,
         }
     }
 
@@ -95,7 +113,16 @@ impl Params {
     pub fn fitted_on(&self) -> Option<&str> {
         match self {
             Params::Neutral => None,
-            Params::Fitted { person, .. } => Some(person),
+            Params::Fitted { person, .. } | Params::Field { person, .. } => Some(person),
+        }
+    }
+
+    /// `neutral`, `vector` (one fitted vector) or `field`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Params::Neutral => "neutral",
+            Params::Fitted { .. } => "vector",
+            Params::Field { .. } => "field",
         }
     }
 }
@@ -126,7 +153,10 @@ pub struct PersonFit {
     pub held_out: Vec<String>,
     /// Per model, poorest first: the vector and its mean distance on the training takes.
     pub models: Vec<(Model, Vec<f64>, f64)>,
-    /// Evaluations spent over all models.
+    /// The parameter field of the training takes (with [`HoldoutSettings::field`]): each
+    /// take's own fit, its target in the arm's base frame, the bandwidth chosen.
+    pub field: Option<FieldFile>,
+    /// Evaluations spent over all models (the field's per-take fits included).
     pub evaluations: usize,
     /// Wall time of the person's fits, seconds.
     pub seconds: f64,
@@ -138,8 +168,8 @@ pub struct HoldoutResults {
     /// Each person's fit, persons in name order.
     pub fits: Vec<PersonFit>,
     /// Every held-out take with every parameter vector: per person (in name order) its
-    /// neutral rows, then per fitting person in name order its vectors — every model when it
-    /// is the take's own person, the cross model otherwise.
+    /// neutral rows, then per fitting person in name order its vectors — every model and the
+    /// field (when fitted) when it is the take's own person, the cross model otherwise.
     pub rows: Vec<HoldoutRow>,
 }
 
@@ -154,11 +184,27 @@ pub struct HoldoutLine {
     pub models: Vec<(Model, Stats)>,
 }
 
+/// One person's held-out distances with their parameter field and with their single vector
+/// of the same model, fitted on the same takes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldLine {
+    /// The person (`None`: all persons' held-out takes together).
+    pub person: Option<String>,
+    /// The model of the field's vectors and of the single vector.
+    pub model: Model,
+    /// The field's distances.
+    pub field: Stats,
+    /// The single vector's distances on the same takes.
+    pub vector: Stats,
+}
+
 /// The tables of the held-out experiment, distances in meters.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HoldoutSummary {
     /// Per person, then all together: neutral against the own fitted models.
     pub own: Vec<HoldoutLine>,
+    /// Per person with a field, then all together: the field against the single vector.
+    pub field: Vec<FieldLine>,
     /// The cross model.
     pub cross_model: Model,
     /// The persons, in name order (the rows and the columns of [`HoldoutSummary::cross`]).
@@ -208,6 +254,46 @@ impl HoldoutSummary {
             .chain([None])
             .filter_map(line)
             .collect();
+        // The field rows of `person`'s takes (all when `None`), and the same takes' rows with
+        // the single vector of the field's model fitted on the take's own person.
+        let field_line = |person: Option<&str>| {
+            let field: Vec<&HoldoutRow> = results
+                .rows
+                .iter()
+                .filter(|r| person.is_none_or(|p| r.person == p))
+                .filter(
+                    |r| matches!(&r.params, Params::Field { person, .. } if *person == r.person),
+                )
+                .collect();
+            let model = field.first()?.params.model();
+            let vector = Stats::of(field.iter().filter_map(|f| {
+                results
+                    .rows
+                    .iter()
+                    .find(|r| {
+                        r.clip == f.clip
+                            && r.person == f.person
+                            && r.params
+                                == Params::Fitted {
+                                    person: f.person.clone(),
+                                    model,
+                                }
+                    })
+                    .map(|r| r.distance_m)
+            }))?;
+            Some(FieldLine {
+                person: person.map(str::to_string),
+                model,
+                field: Stats::of(field.iter().map(|r| r.distance_m))?,
+                vector,
+            })
+        };
+        let field = persons
+            .iter()
+            .map(|p| Some(p.as_str()))
+            .chain([None])
+            .filter_map(field_line)
+            .collect();
         let cross = persons
             .iter()
             .map(|fitted| {
@@ -232,6 +318,7 @@ impl HoldoutSummary {
             .collect();
         HoldoutSummary {
             own,
+            field,
             cross_model: settings.cross_model,
             persons,
             cross,
@@ -322,6 +409,30 @@ pub fn run_holdout(
             let (train, test) = split(members);
             let clock = Instant::now();
             let nested = fit_nested(&train, &settings.models, optimizer, &settings.fit)?;
+            let field = match &settings.field {
+                Some(field) => {
+                    let models: Vec<Model> = settings
+                        .models
+                        .iter()
+                        .copied()
+                        .filter(|&m| m <= settings.cross_model)
+                        .collect();
+                    Some(FieldFile::fit(
+                        &train,
+                        &models,
+                        optimizer,
+                        &settings.fit,
+                        field,
+                    )?)
+                }
+                None => None,
+            };
+            let field_evaluations: usize = field
+                .iter()
+                .flat_map(|(_, fits)| fits)
+                .flat_map(|n| &n.fits)
+                .map(|f| f.evaluations)
+                .sum();
             let fit = PersonFit {
                 person: person.clone(),
                 train: train.iter().map(|r| r.name().to_string()).collect(),
@@ -331,19 +442,23 @@ pub fn run_holdout(
                     .iter()
                     .map(|f| (f.model(), f.values.clone(), f.score))
                     .collect(),
-                evaluations: nested.fits.iter().map(|f| f.evaluations).sum(),
+                field: field.map(|(file, _)| file),
+                evaluations: nested.fits.iter().map(|f| f.evaluations).sum::<usize>()
+                    + field_evaluations,
                 seconds: clock.elapsed().as_secs_f64(),
             };
             person_done();
             Ok((fit, nested.fits.into_iter().map(|f| f.space).collect()))
         })
         .collect::<Result<_>>()?;
-    // Every held-out take with: neutral, its own models, the others' cross model.
-    let mut jobs: Vec<(usize, Params, ParamSpace, Vec<f64>)> = Vec::new();
+    // Every held-out take with: neutral, its own models, its own field, the others' cross
+    // model. A job's vectors: one for all of the person's held-out takes, or (the field) one
+    // per take.
+    let mut jobs: Vec<(usize, Params, ParamSpace, Vec<Vec<f64>>)> = Vec::new();
     for j in 0..groups.len() {
         let dofs = fits[j].1[0].dof_names();
         let neutral = ParamSpace::new(Model::Sa, dofs, settings.fit.bounds)?;
-        jobs.push((j, Params::Neutral, neutral.clone(), neutral.neutral()));
+        jobs.push((j, Params::Neutral, neutral.clone(), vec![neutral.neutral()]));
         for (i, (fit, spaces)) in fits.iter().enumerate() {
             for ((model, values, _), space) in fit.models.iter().zip(spaces) {
                 if i == j || *model == settings.cross_model {
@@ -351,8 +466,20 @@ pub fn run_holdout(
                         person: fit.person.clone(),
                         model: *model,
                     };
-                    jobs.push((j, params, space.clone(), values.clone()));
+                    jobs.push((j, params, space.clone(), vec![values.clone()]));
                 }
+            }
+            if let (true, Some(field)) = (i == j, &fit.field) {
+                let (_, test) = split(&groups[j].1);
+                let params = Params::Field {
+                    person: fit.person.clone(),
+                    model: field.model(),
+                };
+                let predicted = test
+                    .iter()
+                    .map(|r| field.field().evaluate(&r.local_target()))
+                    .collect();
+                jobs.push((j, params, field.field().space().clone(), predicted));
             }
         }
     }
@@ -361,9 +488,20 @@ pub fn run_holdout(
         .into_par_iter()
         .map(|(j, params, space, values)| {
             let (_, test) = split(&groups[j].1);
-            let distances = Objective::new(test.clone(), space, optimizer)?
-                .with_tolerance(tolerance)?
-                .distances(&values)?;
+            let distances = match values.as_slice() {
+                [one] => Objective::new(test.clone(), space, optimizer)?
+                    .with_tolerance(tolerance)?
+                    .distances(one)?,
+                per_take => test
+                    .iter()
+                    .zip(per_take)
+                    .map(|(r, v)| {
+                        Objective::new(vec![r.clone()], space.clone(), optimizer)?
+                            .with_tolerance(tolerance)?
+                            .score(v)
+                    })
+                    .collect::<Result<Vec<f64>>>()?,
+            };
             Ok(test
                 .iter()
                 .zip(distances)

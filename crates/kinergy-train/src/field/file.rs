@@ -1,0 +1,504 @@
+//! The field file ([`FieldFile`]): a person's parameter field as a product.
+
+use std::path::Path;
+
+use kinergy_motion::nalgebra::Point3;
+use kinergy_solver::{
+    Bounds, FitGrouping, FitRecord, FittedArm, FittedReach, Model, Optimizer, ParamSpace,
+    ParamsFile,
+};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::{BandwidthScore, FieldSettings, LooRow, ParamField, leave_one_out};
+use crate::captured::CapturedReach;
+use crate::error::{Result, TrainError, in_file, require};
+use crate::fit::{Fit, FitSettings, NestedFit, fit_nested};
+use crate::objective::Objective;
+
+/// The format version of a field file this crate writes and reads.
+pub const FIELD_FORMAT_VERSION: u32 = 2;
+
+/// A person's parameter field as a product (`kinergy fit CLIPS --per person
+/// --field -o field.json`). Everything needed to run the person's synergy controller toward a
+/// new target: the field (model, DoFs, bounds, kernel settings, the bandwidth chosen and the
+/// leave-one-out scores it was chosen by), the optimizer, and per sample the reach it was
+/// fitted on (clip, frames, the arm: side, joints, bones), its own fit's distance, its target
+/// and its fitted vector.
+///
+/// **Targets are in the arm's base frame** on the reach's first frame: meters, origin at the
+/// shoulder, z lateral outward, y up, x = y × z (the capture convention of
+/// [`kinergy_solver::CaptureArm`]; [`CapturedReach::local_target`]). A person may stand
+/// anywhere and face any way in their captures; the target's place relative to the shoulder is
+/// what the style depends on. One field holds one arm's reaches (the frame is not mirrored).
+///
+/// ```json
+/// {
+///   "format_version": 2,
+///   "model": "sc",
+///   "optimizer": { "kind": "svd", "rate": 4.0, "threshold": 0.01 },
+///   "dof_names": ["shoulder_swing_x", "…"],
+///   "bounds": { "gain": { "lower": -5.0, "upper": 5.0 }, "…": "…" },
+///   "names": ["g_shoulder_swing_x", "…", "s", "o"],
+///   "settings": { "bandwidth": "auto", "regression": "nadaraya_watson" },
+///   "bandwidth": 0.21,
+///   "selection": [ { "bandwidth": 0.053, "loo_error": 0.12 }, "…" ],
+///   "samples": [
+///     { "clip": "p01/r01.bvh", "frames": [4, 72],
+///       "arm": { "side": "right", "joints": ["…"], "upper_arm_m": 0.3, "forearm_m": 0.25,
+///                "hand_m": 0.08 },
+///       "distance_m": 0.012, "target": [0.05, -0.31, 0.22], "values": [1.2, "…"] }
+///   ]
+/// }
+/// ```
+///
+/// Format 1 (before this one) held world targets and no optimizer; it is refused with a
+/// message saying to run `kinergy fit --field` again. Reading checks everything a damaged or
+/// hand-edited file could get wrong and names the field (`samples[2].values`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldFile {
+    field: ParamField,
+    optimizer: Optimizer,
+    reaches: Vec<FittedReach>,
+}
+
+impl FieldFile {
+    /// A field file of `field` (targets in the arm's base frame), run with `optimizer`, whose
+    /// sample k was fitted on `reaches[k]` (which must record its arm). Errors name the field:
+    /// `optimizer.*`, `samples` (not one reach per sample), `samples[k].frames`, `.distance_m`,
+    /// `.arm` (missing, a bad bone, or another side than sample 0's).
+    pub fn new(
+        field: ParamField,
+        optimizer: Optimizer,
+        reaches: Vec<FittedReach>,
+    ) -> Result<FieldFile> {
+        optimizer.validate()?;
+        require(
+            reaches.len() == field.len(),
+            "samples",
+            format!(
+                "one fitted reach per sample ({}), not {}",
+                field.len(),
+                reaches.len()
+            ),
+        )?;
+        check_reaches(&reaches).map_err(|(field, why)| TrainError::Setting { field, why })?;
+        Ok(FieldFile {
+            field,
+            optimizer,
+            reaches,
+        })
+    }
+
+    /// The field of per-reach fits: `fits[k]` fitted on `reaches[k]` alone (one model, one
+    /// optimizer and one parameter space for all), sample k its vector at
+    /// [`CapturedReach::local_target`], with `settings`.
+    pub fn from_fits(
+        reaches: &[CapturedReach],
+        fits: &[Fit],
+        settings: &FieldSettings,
+    ) -> Result<FieldFile> {
+        require(
+            !fits.is_empty() && fits.len() == reaches.len(),
+            "fits",
+            format!(
+                "one fit per reach ({} reaches, {} fits), at least one",
+                reaches.len(),
+                fits.len()
+            ),
+        )?;
+        let first = &fits[0];
+        for (k, f) in fits.iter().enumerate() {
+            require(
+                f.space == first.space && f.optimizer == first.optimizer,
+                &format!("fits[{k}]"),
+                "the model, DoFs, bounds and optimizer of fits[0]",
+            )?;
+        }
+        let samples: Vec<(Point3<f64>, Vec<f64>)> = reaches
+            .iter()
+            .zip(fits)
+            .map(|(r, f)| (r.local_target(), f.values.clone()))
+            .collect();
+        let records = reaches
+            .iter()
+            .zip(fits)
+            .map(|(r, f)| FittedReach {
+                clip: r.name().to_string(),
+                frames: [r.frames().start, r.frames().end],
+                distance_m: f.distances.first().copied().unwrap_or(f.score),
+                arm: Some(r.fitted_arm().clone()),
+            })
+            .collect();
+        let field = ParamField::fit(&first.space, &samples, settings)?;
+        FieldFile::new(field, first.optimizer, records)
+    }
+
+    /// Fits each reach on its own — `models` nested, poorest first, as `kinergy fit --per clip`
+    /// does — then the field of the richest model's vectors with `field`. Reaches are fitted
+    /// in parallel; the result does not depend on the thread count. Returns the file and
+    /// every reach's nested fit, in the reaches' order.
+    pub fn fit(
+        reaches: &[CapturedReach],
+        models: &[Model],
+        optimizer: Optimizer,
+        fit: &FitSettings,
+        field: &FieldSettings,
+    ) -> Result<(FieldFile, Vec<NestedFit>)> {
+        require(!reaches.is_empty(), "reaches", "at least one reach")?;
+        let nested: Vec<NestedFit> = reaches
+            .par_iter()
+            .map(|r| fit_nested(std::slice::from_ref(r), models, optimizer, fit))
+            .collect::<Result<_>>()?;
+        let last: Vec<Fit> = nested
+            .iter()
+            .map(|n| {
+                n.fits.last().cloned().ok_or_else(|| TrainError::Setting {
+                    field: "models".into(),
+                    why: "at least one model to fit".into(),
+                })
+            })
+            .collect::<Result<_>>()?;
+        Ok((FieldFile::from_fits(reaches, &last, field)?, nested))
+    }
+
+    /// The field (targets in the arm's base frame).
+    pub fn field(&self) -> &ParamField {
+        &self.field
+    }
+
+    /// The optimizer the vectors were fitted with and a controller runs with.
+    pub fn optimizer(&self) -> Optimizer {
+        self.optimizer
+    }
+
+    /// The synergy model.
+    pub fn model(&self) -> Model {
+        self.field.space().model()
+    }
+
+    /// The reach each sample was fitted on, in sample order, each with its arm and its own
+    /// fit's distance.
+    pub fn reaches(&self) -> &[FittedReach] {
+        &self.reaches
+    }
+
+    /// The arm of the first sample's reach (every sample's arm is of the same side).
+    pub fn arm(&self) -> Option<&FittedArm> {
+        self.reaches.first().and_then(|r| r.arm.as_ref())
+    }
+
+    /// The parameter-space leave-one-out error of the bandwidth in use (see
+    /// [`BandwidthScore`]); `None` when it was not chosen by leave-one-out (fixed, or fewer
+    /// than two distinct targets).
+    pub fn loo_error(&self) -> Option<f64> {
+        self.field
+            .selection()
+            .iter()
+            .find(|s| s.bandwidth == self.field.bandwidth())
+            .map(|s| s.loo_error)
+    }
+
+    /// The fit record a predicted parameters file carries: method `parameter_field`, status
+    /// `predicted`, the samples' reaches with their own fits' distances, and as scores their
+    /// mean (the predicted vector itself is not scored); per person.
+    pub fn record(&self) -> FitRecord {
+        let mean = self.reaches.iter().map(|r| r.distance_m).sum::<f64>()
+            / self.reaches.len().max(1) as f64;
+        FitRecord {
+            method: "parameter_field".into(),
+            score_m: mean,
+            start_score_m: mean,
+            evaluations: 0,
+            iterations: 0,
+            status: "predicted".into(),
+            seed: 0,
+            reaches: self.reaches.clone(),
+            per: Some(FitGrouping::Person),
+            nested: None,
+        }
+    }
+
+    /// The parameters file of the vector the field predicts at `target` (meters in the arm's
+    /// base frame, finite; else a `target` error): within the bounds, with the field's model,
+    /// optimizer and DoF names, and [`FieldFile::record`] as its fit record (the arms).
+    pub fn params_for(&self, target: &Point3<f64>) -> Result<ParamsFile> {
+        let values = self.field.try_evaluate(target)?;
+        let mut file = ParamsFile::new(self.field.space(), self.optimizer, &values)?;
+        file.fit = Some(self.record());
+        Ok(file)
+    }
+
+    /// Leave one reach out: for each sample k, the field of the others (its bandwidth chosen
+    /// again without k) predicts reach k's vector at its target and `reaches[k]` is
+    /// synthesized with it (ε = `tolerance`) and scored. `reaches` are the field's own, in
+    /// sample order; needs ≥ 2.
+    pub fn leave_one_out(&self, reaches: &[CapturedReach], tolerance: f64) -> Result<Vec<LooRow>> {
+        require(
+            reaches.len() == self.field.len(),
+            "reaches",
+            format!("the field's {} reaches, in order", self.field.len()),
+        )?;
+        let space = self.field.space();
+        let samples: Vec<(Point3<f64>, Vec<f64>)> = self
+            .field
+            .targets()
+            .iter()
+            .copied()
+            .zip(self.field.values().iter().cloned())
+            .collect();
+        leave_one_out(space, &samples, self.field.settings(), |k, params| {
+            Objective::new(vec![reaches[k].clone()], space.clone(), self.optimizer)?
+                .with_tolerance(tolerance)?
+                .score(params)
+        })
+    }
+
+    /// Pretty JSON.
+    pub fn to_json(&self) -> String {
+        kinergy_io::to_pretty_json(&Doc::of(self)).unwrap_or_default()
+    }
+
+    /// Parses and checks a field file's text. Errors ([`TrainError::File`]) name the field
+    /// or the line and column; a file of format 1 is refused with what to do about it.
+    pub fn from_json(text: &str) -> Result<FieldFile> {
+        let bad = |why: String| TrainError::File { path: None, why };
+        if let Some(found) = serde_json::from_str::<serde_json::Value>(text)
+            .ok()
+            .and_then(|v| v.get("format_version").and_then(serde_json::Value::as_u64))
+            .filter(|&v| v < u64::from(FIELD_FORMAT_VERSION))
+        {
+            return Err(bad(format!(
+                "`format_version` is {found}: a field file of format {found} holds world \
+                 targets and no optimizer, and this version of Kinergy reads format \
+                 {FIELD_FORMAT_VERSION}: run `kinergy fit --field` again to make it"
+            )));
+        }
+        let doc: Doc = kinergy_io::parse_versioned(text, FIELD_FORMAT_VERSION)
+            .map_err(|e| bad(e.to_string()))?;
+        doc.into_file()
+            .map_err(|(field, why)| bad(said(&field, &why)))
+    }
+
+    /// Reads and checks a field file; errors name the file and the field.
+    pub fn read(path: &Path) -> Result<FieldFile> {
+        let text =
+            kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES).map_err(|e| {
+                TrainError::File {
+                    path: Some(path.to_path_buf()),
+                    why: format!("cannot read it: {e}"),
+                }
+            })?;
+        FieldFile::from_json(&text).map_err(|e| in_file(e, path))
+    }
+
+    /// Writes the file atomically.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        kinergy_io::write_atomic(path, self.to_json().as_bytes()).map_err(|source| TrainError::Io {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+}
+
+/// "`field` is 0: expected …", or "`field`: why" when `why` starts with a colon.
+fn said(field: &str, why: &str) -> String {
+    if why.starts_with(':') {
+        format!("`{field}`{why}")
+    } else {
+        format!("`{field}` {why}")
+    }
+}
+
+/// Every reach's frames, distance and arm, and one side for all: the first field that is
+/// wrong (`samples[2].arm.side`) and why.
+fn check_reaches(reaches: &[FittedReach]) -> std::result::Result<(), (String, String)> {
+    let side = reaches.first().and_then(|r| r.arm.as_ref()).map(|a| a.side);
+    for (k, reach) in reaches.iter().enumerate() {
+        let [start, end] = reach.frames;
+        if start >= end {
+            return Err((
+                format!("samples[{k}].frames"),
+                format!("is [{start}, {end}]: expected [start, end) with start < end"),
+            ));
+        }
+        if !(reach.distance_m.is_finite() && reach.distance_m >= 0.0) {
+            return Err((
+                format!("samples[{k}].distance_m"),
+                format!("is {}: expected a finite distance ≥ 0", reach.distance_m),
+            ));
+        }
+        let Some(arm) = &reach.arm else {
+            return Err((
+                format!("samples[{k}].arm"),
+                "is missing: every sample records the arm it was fitted on".into(),
+            ));
+        };
+        arm.check()
+            .map_err(|(name, why)| (format!("samples[{k}].arm.{name}"), why))?;
+        if Some(arm.side) != side {
+            let name =
+                |s: Option<kinergy_motion::Side>| s.map_or("unnamed".into(), |s| s.to_string());
+            return Err((
+                format!("samples[{k}].arm.side"),
+                format!(
+                    "is {} but sample 0's is {}: a field holds one arm's reaches (its targets \
+                     are in that arm's base frame); fit each arm on its own",
+                    name(arm.side),
+                    name(side.flatten())
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The serialized form of a [`FieldFile`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Doc {
+    format_version: u32,
+    model: Model,
+    optimizer: Optimizer,
+    dof_names: Vec<String>,
+    bounds: Bounds,
+    /// The entries' names, in vector order (for readers; checked on load).
+    names: Vec<String>,
+    settings: FieldSettings,
+    bandwidth: f64,
+    #[serde(default)]
+    selection: Vec<BandwidthScore>,
+    samples: Vec<SampleDoc>,
+}
+
+/// One sample: the reach, its own fit's distance, its target (arm base frame) and vector.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SampleDoc {
+    clip: String,
+    frames: [usize; 2],
+    arm: FittedArm,
+    distance_m: f64,
+    target: [f64; 3],
+    values: Vec<f64>,
+}
+
+impl Doc {
+    fn of(file: &FieldFile) -> Doc {
+        let field = &file.field;
+        let space = field.space();
+        Doc {
+            format_version: FIELD_FORMAT_VERSION,
+            model: space.model(),
+            optimizer: file.optimizer,
+            dof_names: space.dof_names().to_vec(),
+            bounds: *space.bounds(),
+            names: space.names().to_vec(),
+            settings: *field.settings(),
+            bandwidth: field.bandwidth(),
+            selection: field.selection().to_vec(),
+            samples: file
+                .reaches
+                .iter()
+                .zip(field.targets())
+                .zip(field.values())
+                .map(|((r, t), values)| SampleDoc {
+                    clip: r.clip.clone(),
+                    frames: r.frames,
+                    arm: r.arm.clone().unwrap_or_else(|| FittedArm {
+                        side: None,
+                        joints: Vec::new(),
+                        upper_arm_m: 0.0,
+                        forearm_m: 0.0,
+                        hand_m: 0.0,
+                    }),
+                    distance_m: r.distance_m,
+                    target: [t.x, t.y, t.z],
+                    values: values.clone(),
+                })
+                .collect(),
+        }
+    }
+
+    /// The file, checked: the first field that is wrong and why.
+    fn into_file(self) -> std::result::Result<FieldFile, (String, String)> {
+        let err = |field: &str, why: String| (field.to_string(), why);
+        self.optimizer
+            .validate()
+            .map_err(|e| err("optimizer", format!(": {e}")))?;
+        let space = ParamSpace::new(self.model, &self.dof_names, self.bounds)
+            .map_err(|e| err("bounds", format!(": {e}")))?;
+        if self.names != space.names() {
+            return Err(err(
+                "names",
+                format!(
+                    "are [{}]: expected [{}] for model {} on these DoFs",
+                    self.names.join(", "),
+                    space.names().join(", "),
+                    self.model
+                ),
+            ));
+        }
+        self.settings
+            .validate()
+            .map_err(|e| err("settings", format!(": {e}")))?;
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if !positive(self.bandwidth) {
+            return Err(err(
+                "bandwidth",
+                format!(
+                    "is {}: expected a finite number of meters > 0",
+                    self.bandwidth
+                ),
+            ));
+        }
+        for (i, s) in self.selection.iter().enumerate() {
+            if !(positive(s.bandwidth) && s.loo_error.is_finite() && s.loo_error >= 0.0) {
+                return Err(err(
+                    &format!("selection[{i}]"),
+                    "expected a bandwidth > 0 and a leave-one-out error ≥ 0, both finite".into(),
+                ));
+            }
+        }
+        if self.samples.is_empty() {
+            return Err(err("samples", "is empty: expected at least one".into()));
+        }
+        let mut targets = Vec::with_capacity(self.samples.len());
+        let mut values = Vec::with_capacity(self.samples.len());
+        let mut reaches = Vec::with_capacity(self.samples.len());
+        for (k, s) in self.samples.into_iter().enumerate() {
+            if !s.target.iter().all(|c| c.is_finite()) {
+                return Err(err(
+                    &format!("samples[{k}].target"),
+                    format!("is {:?}: expected finite coordinates", s.target),
+                ));
+            }
+            space
+                .validate(&s.values)
+                .map_err(|e| err(&format!("samples[{k}].values"), format!(": {e}")))?;
+            targets.push(Point3::from(s.target));
+            values.push(s.values);
+            reaches.push(FittedReach {
+                clip: s.clip,
+                frames: s.frames,
+                distance_m: s.distance_m,
+                arm: Some(s.arm),
+            });
+        }
+        check_reaches(&reaches)?;
+        Ok(FieldFile {
+            field: ParamField {
+                lower: space.lower(),
+                upper: space.upper(),
+                space,
+                targets,
+                values,
+                settings: self.settings,
+                bandwidth: self.bandwidth,
+                selection: self.selection,
+            },
+            optimizer: self.optimizer,
+            reaches,
+        })
+    }
+}
