@@ -5,10 +5,11 @@ use std::path::PathBuf;
 use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
 use kinergy_reach::controller::{
-    ArmDrive, ReachSettings, ReachStop, arm_dof_names, reach_full_body_driven,
+    ArmDrive, ReachSettings, ReachStop, arm_dof_names, fitted_base_at_rest, reach_full_body_driven,
+    reaching_side,
 };
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
-use kinergy_solver::ParamsFile;
+use kinergy_train::PersonParams;
 use serde::Serialize;
 
 use crate::common::{
@@ -58,7 +59,8 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// A person's parameters (`kinergy fit -o person.json`): their synergy controller drives
+    /// A person's parameters (`kinergy fit -o person.json`, or a field from `kinergy fit
+    /// --field`, which predicts their vector for this target): their synergy controller drives
     /// the reaching arm instead of --profile and the analytic IK, riding the body the
     /// scheduler moves; the analytic IK finishes the last centimeters where it cannot (the
     /// report says when).
@@ -68,11 +70,25 @@ pub struct Args {
     pub read: ReadArgs,
 }
 
+/// How a parameter field was used: the target it was asked for and the field's kernel.
+#[derive(Debug, Clone, Copy, Serialize)]
+struct FieldUse {
+    /// The target in the reaching arm's fitted base frame at rest, meters.
+    target_in_base_m: [f64; 3],
+    /// The kernel's bandwidth, meters.
+    bandwidth_m: f64,
+    /// The fitted reaches it holds.
+    samples: usize,
+}
+
 #[derive(Serialize)]
 struct Report<'a> {
     output: String,
     height_m: f64,
     target_m: [f64; 3],
+    /// With `--params field.json`: how the field was used.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    field: Option<FieldUse>,
     #[serde(flatten)]
     reach: &'a kinergy_reach::controller::ReachReport,
 }
@@ -115,9 +131,30 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         },
         ..ReachSettings::default()
     };
+    let mut field = None;
     let drive = match &args.params {
         Some(path) => {
-            let file = ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?;
+            let person = PersonParams::read(path).map_err(|e| Failure::Input(e.to_string()))?;
+            // A field predicts the vector for the target in the reaching arm's fitted base
+            // frame at rest; across arms the frame is mirrored (its x, forward for the right
+            // arm, is backward for the left).
+            let side = reaching_side(&character, &target, args.arm);
+            let base =
+                fitted_base_at_rest(&character, side).map_err(|e| Failure::Task(e.to_string()))?;
+            let mut local = base.inverse() * target;
+            if let Some(f) = person.field() {
+                if f.arm().and_then(|a| a.side).is_some_and(|s| s != side) {
+                    local.x = -local.x;
+                }
+                field = Some(FieldUse {
+                    target_in_base_m: [local.x, local.y, local.z],
+                    bandwidth_m: f.field().bandwidth(),
+                    samples: f.field().len(),
+                });
+            }
+            let file = person
+                .params_for(&local)
+                .map_err(|e| Failure::input(path, e))?;
             let synergy = file
                 .synergy_for(&arm_dof_names(&character))
                 .map_err(|e| Failure::input(path, e))?;
@@ -139,6 +176,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         output: args.output.display().to_string(),
         height_m: proportions.height(),
         target_m: [target.x, target.y, target.z],
+        field,
         reach: r,
     };
     let ending = Ending::of(&character, &motion);

@@ -487,3 +487,46 @@ fn reach_with_a_persons_params_drives_the_arm_with_their_synergy() {
     assert!(stderr(&o).contains("other.json"), "{}", stderr(&o));
     assert!(!out.exists());
 }
+
+/// `reach --params field.json`: the field predicts the person's vector for the target, given
+/// in the reaching arm's fitted base frame (mirrored for the other arm), and the report says
+/// so.
+#[test]
+fn reach_with_a_field_predicts_the_vector_for_its_target() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let field = dir.path().join("field.json");
+    let clips: Vec<PathBuf> = ["r01.bvh", "r02.bvh", "r09.bvh"]
+        .iter()
+        .map(|c| synthetic(c))
+        .collect();
+    let mut args = vec!["fit"];
+    args.extend(clips.iter().map(|c| s(c)));
+    args.extend([
+        "--per", "person", "--field", "--model", "sa", "--budget", "40", "--seed", "3", "-o",
+    ]);
+    args.push(s(&field));
+    let o = kinergy(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let out = dir.path().join("r.bvh");
+    for (target, x_sign) in [("-0.25,1.1,0.35", 1.0), ("0.25,1.1,0.35", 1.0)] {
+        let o = kinergy(&[
+            "reach",
+            "--target",
+            target,
+            "--params",
+            s(&field),
+            "-o",
+            s(&out),
+            "--json",
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{target}: {}", stderr(&o));
+        let report = json(&o);
+        assert_eq!(report["arm_drive"], "synergy");
+        assert_eq!(report["field"]["samples"], 3);
+        // In front of either shoulder: forward in the right arm's fitted frame (x), the left
+        // arm's target mirrored into it.
+        let x = report["field"]["target_in_base_m"][0].as_f64().expect("x");
+        assert!(x * x_sign > 0.2, "{target}: {report}");
+        assert!(report["final_error"].as_f64().expect("error") < 0.01);
+    }
+}

@@ -78,8 +78,11 @@ mod synergy;
 use kinergy_motion::nalgebra::Point3;
 
 pub use report::{HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop};
+pub use scheduler::reaching_side;
 pub use settings::ReachSettings;
-pub use synergy::{ArmDrive, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, arm_dof_names};
+pub use synergy::{
+    ArmDrive, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, arm_dof_names, fitted_base_at_rest,
+};
 
 use crate::character::Character;
 use crate::error::{Result, require};

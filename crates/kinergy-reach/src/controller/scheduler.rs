@@ -63,11 +63,7 @@ pub(super) fn plan(
 ) -> Result<Plan> {
     let frames = character.world_frames(rest);
     let root = Point3::from(frames[joint::HIPS].translation.vector);
-    let side = s.arm.unwrap_or(if target.x >= root.x {
-        Side::Left
-    } else {
-        Side::Right
-    });
+    let side = reaching_side(character, &target, s.arm);
     let arm = match side {
         Side::Left => Limb::LeftArm,
         Side::Right => Limb::RightArm,
@@ -131,6 +127,19 @@ pub(super) fn plan(
         axis: swing.axis,
         squat,
         com_shift,
+    })
+}
+
+/// The arm that reaches for `target`: `arm` if given, else the one on the target's side of
+/// the root at rest.
+pub fn reaching_side(character: &Character, target: &Point3<f64>, arm: Option<Side>) -> Side {
+    let root = character.world_frames(&character.rest_pose())[joint::HIPS]
+        .translation
+        .vector;
+    arm.unwrap_or(if target.x >= root.x {
+        Side::Left
+    } else {
+        Side::Right
     })
 }
 

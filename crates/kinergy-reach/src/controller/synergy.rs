@@ -35,6 +35,8 @@
 
 use std::ops::Range;
 
+use kinergy_motion::Side;
+
 use kinergy_motion::limbs::ArmJoints;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
 use kinergy_motion::rotation::{swing_rotation, swing_twist, unwrap_near};
@@ -111,6 +113,23 @@ fn capture_rotation(character: &Character, limb: Limb, rest: &Pose) -> Result<Ro
     let capture_base = capture.base(BaseMode::Fixed).at(0).rotation;
     let character_base = character.limb_base_frame(limb, rest).rotation;
     Ok(character_base.inverse() * capture_base)
+}
+
+/// The base frame of the arm on `side` at rest, as a fit of the character's motion defines
+/// it ([`kinergy_solver::CaptureArm`]: at the shoulder, z out of it sideways, y up, x = y ×
+/// z): the frame a parameter field's targets are given in.
+pub fn fitted_base_at_rest(character: &Character, side: Side) -> Result<IsometryMatrix3<f64>> {
+    let limb = match side {
+        Side::Left => Limb::LeftArm,
+        Side::Right => Limb::RightArm,
+    };
+    let rest = character.rest_pose();
+    let k = capture_rotation(character, limb, &rest)?;
+    let base = character.limb_base_frame(limb, &rest);
+    Ok(IsometryMatrix3::from_parts(
+        base.translation,
+        base.rotation * k,
+    ))
 }
 
 /// The arm of `limb` in `pose` as a fit of the exported motion reads it: [`CaptureArm`]'s
