@@ -530,3 +530,56 @@ fn reach_with_a_field_predicts_the_vector_for_its_target() {
         assert!(report["final_error"].as_f64().expect("error") < 0.01);
     }
 }
+
+/// `synth --params`: a set in one person's style — the default set's persons and targets,
+/// every clip ending at its target, and a segments file listing the frames the person's
+/// synergy drove, which `fit --segments` reads.
+#[test]
+fn synth_with_params_makes_a_set_in_the_persons_style() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let params = repo().join("tests/data/params/synthetic-p01-r09-sc.json");
+    let set = dir.path().join("set");
+    let o = kinergy(&[
+        "synth",
+        "--params",
+        s(&params),
+        "--persons",
+        "1",
+        "--reaches",
+        "3",
+        "-o",
+        s(&set),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let manifest = std::fs::read_to_string(set.join("manifest.csv")).expect("manifest");
+    let rows: Vec<Vec<&str>> = manifest
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 3);
+    // The default set's first person draws the same first targets.
+    let default = std::fs::read_to_string(repo().join("data-synthetic/manifest.csv"))
+        .expect("default manifest");
+    for (row, line) in rows.iter().zip(default.lines().skip(1)) {
+        let d: Vec<&str> = line.split(',').collect();
+        assert_eq!(row[9..12], d[9..12], "the target of {}", row[0]);
+        assert!(row[17].parse::<f64>().expect("final error") < 0.01);
+    }
+    let segments = set.join("segments.csv");
+    let text = std::fs::read_to_string(&segments).expect("segments.csv");
+    assert_eq!(text.lines().filter(|l| l.contains(",reach,")).count(), 3);
+    let out = dir.path().join("fit.json");
+    let o = kinergy(&[
+        "fit",
+        "--segments",
+        s(&segments),
+        "--model",
+        "sa",
+        "--budget",
+        "16",
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
