@@ -7,7 +7,9 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kinergy_motion::nalgebra::Point3;
 use kinergy_reach::character::Character;
-use kinergy_reach::controller::{ReachSettings, reach_full_body};
+use kinergy_reach::controller::{
+    ArmDrive, ReachSettings, arm_dof_names, reach_full_body, reach_full_body_driven,
+};
 
 fn per_frame(c: &mut Criterion) {
     let character = Character::from_height(1.75).expect("character");
@@ -30,6 +32,38 @@ fn per_frame(c: &mut Criterion) {
         group.sample_size(10);
         group.bench_function(name, |b| {
             b.iter(|| reach_full_body(black_box(&character), target, &settings).expect("reach"))
+        });
+    }
+    // The arm driven by a person's synergy (the synthetic character's own fit), no step and
+    // a full step.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/params/synthetic-p01-r09-sc.json");
+    let file = kinergy_solver::ParamsFile::read(&path).expect("params");
+    let drive = ArmDrive::Synergy {
+        optimizer: file.optimizer.clone(),
+        synergy: file
+            .synergy_for(&arm_dof_names(&character))
+            .expect("the arm's DoFs"),
+    };
+    for (name, target) in [
+        ("near_synergy", [0.25, 1.1, 0.35]),
+        ("step_synergy", [0.2, 1.0, 1.15]),
+    ] {
+        let settings = ReachSettings::default();
+        let target = Point3::new(target[0], target[1], target[2]);
+        let m = reach_full_body_driven(&character, target, &settings, &drive).expect("reach");
+        eprintln!(
+            "{name}: {} frames, hand-over {:?}",
+            m.poses.len(),
+            m.report.hand_over
+        );
+        group.throughput(Throughput::Elements(m.poses.len() as u64));
+        group.sample_size(10);
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                reach_full_body_driven(black_box(&character), target, &settings, &drive)
+                    .expect("reach")
+            })
         });
     }
     group.finish();
