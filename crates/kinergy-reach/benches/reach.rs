@@ -40,7 +40,7 @@ fn per_frame(c: &mut Criterion) {
         .join("../../tests/data/params/synthetic-p01-r09-sc.json");
     let file = kinergy_solver::ParamsFile::read(&path).expect("params");
     let drive = ArmDrive::Synergy {
-        optimizer: file.optimizer.clone(),
+        optimizer: file.optimizer,
         synergy: file
             .synergy_for(&arm_dof_names(&character))
             .expect("the arm's DoFs"),

@@ -28,7 +28,7 @@ fn drive(c: &Character, name: &str) -> ArmDrive {
     let path = params_path(name);
     let file = ParamsFile::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     ArmDrive::Synergy {
-        optimizer: file.optimizer.clone(),
+        optimizer: file.optimizer,
         synergy: file.synergy_for(&arm_dof_names(c)).expect("the arm's DoFs"),
     }
 }
@@ -130,8 +130,12 @@ fn the_characters_own_synergy_drives_the_hand_to_the_target() {
         .iter()
         .filter(|(_, m)| m.report.hand_over.is_none())
         .count();
+    let handed: Vec<_> = reaches
+        .iter()
+        .filter_map(|(t, m)| m.report.hand_over.map(|h| (t, h)))
+        .collect();
     eprintln!(
-        "synthetic p01/r09: {by_synergy} of {} reaches without a hand-over",
+        "synthetic p01/r09: {by_synergy} of {} reaches without a hand-over; {handed:?}",
         reaches.len()
     );
     assert!(by_synergy >= 7, "{by_synergy} of {}", reaches.len());
@@ -163,7 +167,7 @@ fn a_synergy_that_cannot_move_hands_over_and_says_so() {
     }
     let synergy = Synergy::new(&space, &values).expect("synergy");
     let drive = ArmDrive::Synergy {
-        optimizer: file.optimizer.clone(),
+        optimizer: file.optimizer,
         synergy,
     };
     let target = Point3::new(0.25, 1.1, 0.35);

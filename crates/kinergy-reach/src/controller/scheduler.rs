@@ -29,6 +29,9 @@ use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::Result;
 use crate::profile::{BellTiming, SpeedProfile};
 
+/// The longest plain IK drives after a hand-over before the analytic IK finishes, seconds.
+const PLAIN_IK_TIME: f64 = 1.0;
+
 /// The hand's mean speed when the analytic IK finishes a reach the synergy arm and plain IK
 /// could not, m/s.
 const FINAL_APPROACH_SPEED: f64 = 0.3;
@@ -363,8 +366,7 @@ pub(super) fn animate(
             if let Driver::Profile(from) = driver
                 && t >= from
                 && t >= timeline.t_arm
-            {
-                if let Some(a) = arm.follow(
+                && let Some(a) = arm.follow(
                     character,
                     &mut pose,
                     &base,
@@ -372,9 +374,9 @@ pub(super) fn animate(
                     profile,
                     t - from,
                     pass == 0,
-                ) {
-                    frame_alpha = Some(a);
-                }
+                )
+            {
+                frame_alpha = Some(a);
             }
             if let Some(a) = idle.hang(&mut pose, &character.limb_base_frame_in(idle_limb, &above))
             {
@@ -422,8 +424,7 @@ pub(super) fn animate(
                 if let Driver::Profile(from) = driver
                     && t >= from
                     && t >= timeline.t_arm
-                {
-                    if let Some(a) = arm.follow(
+                    && let Some(a) = arm.follow(
                         character,
                         &mut pose,
                         &base,
@@ -431,9 +432,9 @@ pub(super) fn animate(
                         profile,
                         t - from,
                         false,
-                    ) {
-                        frame_alpha = Some(a);
-                    }
+                    )
+                {
+                    frame_alpha = Some(a);
                 }
                 if let Some(a) =
                     idle.hang(&mut pose, &character.limb_base_frame_in(idle_limb, &above))
@@ -474,7 +475,8 @@ pub(super) fn animate(
             if hand_over.is_some() {
                 // Plain IK cannot close the gap either (the two chains' limits disagree): the
                 // analytic IK finishes, in the character's own limits.
-                if seen.is_none() || stalled {
+                let slow = hand_over.is_some_and(|h| t - h.at_s >= PLAIN_IK_TIME);
+                if seen.is_none() || stalled || slow {
                     gave_up = Some(t + dt);
                     arm.resume_from(&pose);
                     if let Some(h) = hand_over.as_mut() {

@@ -30,8 +30,9 @@
 //! synergy left: the same controller with damped least squares and no synergy (every gain 1,
 //! no timing), so the arm keeps its posture and only closes the gap. (The analytic IK's
 //! solution for the target can lie far from that posture in joint space: going there, the
-//! hand of a real capture's synergy swung 0.99 m away before coming back.) The report says
-//! when and from how far ([`super::HandOver`]).
+//! hand of a real capture's synergy swung 0.99 m away before coming back.) Only if plain IK
+//! stalls too, or drives more than a second, does the analytic IK finish (in the character's
+//! own limits). The report says when, from how far and who finished ([`super::HandOver`]).
 
 use std::ops::Range;
 
@@ -57,7 +58,7 @@ pub const STALL_PROGRESS: f64 = 1e-4;
 
 /// The longest the synergy arm drives (seconds after it started) before the analytic IK
 /// takes over.
-pub const SYNERGY_TIME: f64 = 6.0;
+pub const SYNERGY_TIME: f64 = 4.0;
 
 /// What drives the reaching arm.
 #[derive(Debug, Clone, Default)]
@@ -134,6 +135,7 @@ pub fn fitted_base_at_rest(character: &Character, side: Side) -> Result<Isometry
 
 /// The arm of `limb` in `pose` as a fit of the exported motion reads it: [`CaptureArm`]'s
 /// configuration of the arm's joint positions, in the capture convention.
+#[cfg(test)]
 fn read_as_captured(character: &Character, limb: Limb, pose: &Pose) -> Result<Vec<f64>> {
     let setting = |why: String| ReachError::Setting {
         field: "character".into(),
@@ -164,6 +166,7 @@ pub(super) struct SynergyArm {
 impl SynergyArm {
     /// The synergy arm of `limb` toward `target`, starting from the arm of `pose` (the frame
     /// the arm controller starts on), at `frame_time`.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn new(
         character: &Character,
         limb: Limb,
@@ -182,15 +185,14 @@ impl SynergyArm {
             stall: StallRule::default(),
             ..ControllerSettings::at_frame_time(frame_time)
         };
-        let controller =
-            Controller::new(optimizer.clone(), synergy.clone(), settings).map_err(setting)?;
+        let controller = Controller::new(*optimizer, synergy.clone(), settings).map_err(setting)?;
         let k = capture_rotation(character, limb, rest)?;
         let dofs = character.limb_dofs(limb);
         let q: [f64; 7] = std::array::from_fn(|i| pose[dofs.start + i]);
-        // The start a fit of this motion reads from the arm's joint positions (a straight
-        // arm's twist is not in its positions: the fit reads it as 0, and so starts the
-        // synergy here), with the limits widened to include it, as a captured arm's are.
-        let start = read_as_captured(character, limb, pose)?;
+        // The arm as it is (a fit of this motion would read a straight arm's twist as 0,
+        // which is not in its positions, and start from there: see the README), with the
+        // limits widened to include it, as a captured arm's are.
+        let start = to_capture(&k, &q);
         let (chain, _) = widen_to_include(character.limb_chain(limb), &start).map_err(setting)?;
         let stepper = controller.stepper(&chain, &start).map_err(setting)?;
         Ok(SynergyArm {
