@@ -15,6 +15,7 @@ mod plan;
 mod plot;
 mod reach;
 mod segment;
+mod style;
 mod synth;
 mod synthesize;
 
@@ -80,6 +81,13 @@ enum Command {
         after_help = "Examples:\n  kinergy reach --target 0.3,1.1,0.4 -o reach.bvh\n  kinergy reach --target 0.2,0.15,0.8 --flexibility 3 --seed 2 -o squat.bvh --json"
     )]
     Reach(reach::Args),
+    /// Whether `reach --params` reaches in the person's style: the full-body character reaches
+    /// each of their captures' targets with and without their parameters, and each motion's
+    /// hand-speed profile is compared with the captured one (correlation, peak time).
+    #[command(
+        after_help = "Examples:\n  kinergy style takes/normal_00*.bvh --arm left --params normal.json\n  kinergy style takes/ --arm left --params field.json -o style/ --json"
+    )]
+    Style(style::Args),
     /// Plan collision-free reaching and manipulation in a scene (Kallmann 2005): IK with
     /// collision avoidance, RRT-Connect, smoothing; BVH with fingers.
     #[command(
@@ -119,6 +127,7 @@ fn main() -> ExitCode {
         Command::Fit(args) => fit::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Reach(args) => reach::run(&args),
+        Command::Style(args) => style::run(&args),
         Command::Synth(args) => synth::run(&args),
         Command::Plan(args) => plan::run(&args),
         Command::Plot(args) => plot::run(&args),
