@@ -5,8 +5,7 @@ use std::path::PathBuf;
 use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
 use kinergy_reach::controller::{
-    ArmDrive, ReachSettings, ReachStop, arm_dof_names, fitted_base_at_rest, reach_full_body_driven,
-    reaching_side,
+    ArmDrive, ReachSettings, ReachStop, fitted_base_at_rest, reach_full_body_driven, reaching_side,
 };
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use kinergy_train::PersonParams;
@@ -155,13 +154,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             let file = person
                 .params_for(&local)
                 .map_err(|e| Failure::input(path, e))?;
-            let synergy = file
-                .synergy_for(&arm_dof_names(&character))
-                .map_err(|e| Failure::input(path, e))?;
-            ArmDrive::Synergy {
-                optimizer: file.optimizer,
-                synergy,
-            }
+            crate::common::synergy_drive(&file, path, &character)?
         }
         None => ArmDrive::Profile,
     };

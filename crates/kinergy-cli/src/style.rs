@@ -12,8 +12,7 @@ use std::path::{Path, PathBuf};
 use kinergy_motion::nalgebra::Point3;
 use kinergy_reach::character::{Character, Limb, Proportions};
 use kinergy_reach::controller::{
-    ArmDrive, ReachMotion, ReachSettings, arm_dof_names, fitted_base_at_rest,
-    reach_full_body_driven,
+    ArmDrive, ReachMotion, ReachSettings, fitted_base_at_rest, reach_full_body_driven,
 };
 use kinergy_solver::{BaseMode, CaptureArm};
 use kinergy_train::PersonParams;
@@ -173,7 +172,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         profile_peak_error: mean(&|r| (r.profile_peak - r.captured_peak).abs()),
     };
     if let Some(dir) = &args.output {
-        let flat: Vec<CsvRow> = rows.iter().map(CsvRow::from).collect();
+        let flat: Vec<CsvRow<'_>> = rows.iter().map(CsvRow::from).collect();
         crate::common::write_csv(&dir.join("style.csv"), &flat)?;
         kinergy_io::write_atomic(
             &dir.join("summary.md"),
@@ -219,9 +218,7 @@ fn compare_one(args: &Args, person: &PersonParams, path: &Path) -> Result<Row, F
     let file = person
         .params_for(&local)
         .map_err(|e| Failure::input(&args.params, e))?;
-    let synergy = file
-        .synergy_for(&arm_dof_names(&character))
-        .map_err(|e| Failure::input(&args.params, e))?;
+    let synergy = crate::common::synergy_drive(&file, &args.params, &character)?;
     let reach_settings = ReachSettings {
         arm: Some(side),
         ..ReachSettings::default()
@@ -230,10 +227,7 @@ fn compare_one(args: &Args, person: &PersonParams, path: &Path) -> Result<Row, F
         reach_full_body_driven(&character, target, &reach_settings, drive)
             .map_err(|e| Failure::Task(format!("{name}: {e}")))
     };
-    let with = run(&ArmDrive::Synergy {
-        optimizer: file.optimizer,
-        synergy,
-    })?;
+    let with = run(&synergy)?;
     let without = run(&ArmDrive::Profile)?;
     let limb = match side {
         kinergy_motion::Side::Left => Limb::LeftArm,

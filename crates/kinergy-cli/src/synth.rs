@@ -4,7 +4,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use kinergy_reach::ReachError;
-use kinergy_reach::controller::{ArmDrive, arm_dof_names};
+use kinergy_reach::controller::ArmDrive;
 use kinergy_reach::synth::{SynthSettings, make_set_driven};
 use kinergy_solver::ParamsFile;
 use kinergy_train::manifest::{Manifest, ManifestRow as SegmentRow};
@@ -50,13 +50,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             let file = ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?;
             let character = kinergy_reach::character::Character::from_height(1.75)
                 .map_err(|e| Failure::Task(e.to_string()))?;
-            let synergy = file
-                .synergy_for(&arm_dof_names(&character))
-                .map_err(|e| Failure::input(path, e))?;
-            ArmDrive::Synergy {
-                optimizer: file.optimizer,
-                synergy,
-            }
+            crate::common::synergy_drive(&file, path, &character)?
         }
         None => ArmDrive::Profile,
     };

@@ -115,6 +115,22 @@ pub fn is_stdout(path: &std::path::Path) -> bool {
     path.as_os_str() == "-"
 }
 
+/// The arm drive of a person's parameters `file` (read from `path`, named in errors) for
+/// `character`'s arm: their optimizer and synergy.
+pub fn synergy_drive(
+    file: &kinergy_solver::ParamsFile,
+    path: &Path,
+    character: &kinergy_reach::character::Character,
+) -> Result<kinergy_reach::controller::ArmDrive, Failure> {
+    let synergy = file
+        .synergy_for(&kinergy_reach::controller::arm_dof_names(character))
+        .map_err(|e| Failure::input(path, e))?;
+    Ok(kinergy_reach::controller::ArmDrive::Synergy {
+        optimizer: file.optimizer,
+        synergy,
+    })
+}
+
 /// How messages name an output: its path, or `standard output` for `-`.
 pub fn shown(path: &Path) -> String {
     if is_stdout(path) {
