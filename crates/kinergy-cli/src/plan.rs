@@ -1,12 +1,13 @@
 //! `kinergy plan`: collision-free reaching and manipulation in a scene (Kallmann 2005),
 //! written as BVH with fingers.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use kinergy_motion::Side;
 use kinergy_plan::PlanError;
 use kinergy_plan::hand::HandShape;
+use kinergy_plan::rrt::Warp;
 use kinergy_plan::scene::Scene;
 use kinergy_plan::space::HandTarget;
 use kinergy_plan::task::{Manipulation, Planner, TaskSettings};
@@ -73,6 +74,11 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+    /// A person's parameters (`kinergy fit -o person.json`, or a field): the planned phases
+    /// are played with the person's bell — the peak time and spread of their synergy's hand
+    /// speed on a reach in front of the acting shoulder — instead of Kallmann's cubic.
+    #[arg(long, value_name = "person.json")]
+    pub params: Option<PathBuf>,
 }
 
 #[derive(Serialize)]
@@ -124,6 +130,19 @@ struct Report {
     duration_s: f64,
     phases: Vec<PhaseReport>,
     objects: Vec<ObjectReport>,
+    /// How the planned phases were played over time.
+    timing: TimingReport,
+}
+
+/// The time warp of the planned phases.
+#[derive(Serialize)]
+struct TimingReport {
+    /// `cubic` (Kallmann's) or `person` (`--params`).
+    warp: &'static str,
+    /// When the speed peaks, as a fraction of a phase.
+    peak: f64,
+    /// The speed's standard deviation over a phase's fraction.
+    spread: f64,
 }
 
 fn pose_report(p: &Isometry3<f64>) -> PoseReport {
@@ -172,14 +191,66 @@ fn plan_failure(e: PlanError) -> Failure {
     }
 }
 
+/// The bell of the person whose parameters are at `path`: their synergy drives the arm on
+/// `side` of a character `height` tall from rest to a point 0.4 m in front of and 0.15 m below
+/// the shoulder (`reach --params`); the hand's speed relative to the shoulder, from the arm's
+/// onset to its end (or to a hand-over: the synergy's own part), gives the peak and spread.
+fn person_warp(path: &Path, height: f64, side: Side) -> Result<Warp, Failure> {
+    use kinergy_reach::controller::{ReachSettings, fitted_base_at_rest, reach_full_body_driven};
+    let character = kinergy_reach::character::Character::from_height(height)
+        .map_err(|e| Failure::Task(e.to_string()))?;
+    let limb = match side {
+        Side::Right => Limb::RightArm,
+        Side::Left => Limb::LeftArm,
+    };
+    let rest = character.rest_pose();
+    let [shoulder, _, _, hand] = limb.joints();
+    let at_rest = character.world_positions(&rest);
+    let target = at_rest[shoulder] + kinergy_motion::nalgebra::Vector3::new(0.0, -0.15, 0.4);
+    let base = fitted_base_at_rest(&character, side).map_err(|e| Failure::Task(e.to_string()))?;
+    let person =
+        kinergy_train::PersonParams::read(path).map_err(|e| Failure::Input(e.to_string()))?;
+    let file = person
+        .params_for(&(base.inverse() * target))
+        .map_err(|e| Failure::input(path, e))?;
+    let drive = crate::common::synergy_drive(&file, path, &character)?;
+    let settings = ReachSettings {
+        arm: Some(side),
+        ..ReachSettings::default()
+    };
+    let m = reach_full_body_driven(&character, target, &settings, &drive)
+        .map_err(|e| Failure::Task(e.to_string()))?;
+    let end = m.report.hand_over.map_or(m.poses.len(), |h| {
+        ((h.at_s / m.frame_time).round() as usize).min(m.poses.len())
+    });
+    let relative: Vec<_> = m.poses[m.report.arm_onset_frame.min(end)..end]
+        .iter()
+        .map(|p| {
+            let w = character.world_positions(p);
+            w[hand] - w[shoulder]
+        })
+        .collect();
+    let speeds: Vec<f64> = relative
+        .windows(2)
+        .map(|w| (w[1] - w[0]).norm() / m.frame_time)
+        .collect();
+    Warp::from_speeds(&speeds).ok_or_else(|| {
+        Failure::Input(format!(
+            "{}: the person's synergy moves the hand with no bell-shaped speed (over {} frames \
+             of a reach 0.4 m in front of the shoulder): their timing cannot play a plan",
+            path.display(),
+            speeds.len()
+        ))
+    })
+}
+
 /// Runs `kinergy plan`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     check_range("--distance", args.distance, limits::PLAN_DISTANCE)?;
     check_optional("--budget-ms", args.budget_ms, limits::PLAN_BUDGET_MS)?;
-    crate::common::check_outputs(
-        &[&args.scene],
-        &[crate::common::Output::File("-o", &args.output)],
-    )?;
+    let mut inputs = vec![args.scene.as_path()];
+    inputs.extend(args.params.as_deref());
+    crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
     let scene = Scene::read(&args.scene).map_err(|e| Failure::input(&args.scene, e))?;
     let limb = match args.arm {
         Side::Right => Limb::RightArm,
@@ -190,6 +261,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         ..TaskSettings::default()
     };
     settings.rrt.seed = args.seed;
+    if let Some(path) = &args.params {
+        settings.warp = person_warp(path, scene.character_height, args.arm)?;
+    }
+    let timing = TimingReport {
+        warp: match settings.warp {
+            Warp::Cubic => "cubic",
+            Warp::Beta { .. } => "person",
+        },
+        peak: settings.warp.peak(),
+        spread: settings.warp.spread(),
+    };
     if let Some(ms) = args.budget_ms {
         // Within PLAN_BUDGET_MS, checked on entry.
         settings.rrt.budget.time = Some(Duration::from_millis(ms));
@@ -295,6 +377,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 })
             })
             .collect(),
+        timing,
     };
     if args.json {
         print_json(&report)?;

@@ -135,3 +135,61 @@ fn task_failures_exit_1_and_bad_input_exits_2_without_output() {
         assert!(!out.exists(), "{args:?} left an output file");
     }
 }
+
+/// `plan --params`: the planned phases are played with the person's bell (reported), the
+/// same phases and frames as without, and a parameters file for another chain is refused
+/// before any planning.
+#[test]
+fn plan_with_a_persons_params_plays_their_bell() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("p.bvh");
+    let params = repo().join("tests/data/params/synthetic-p01-r09-sc.json");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "plan".to_string(),
+            "--scene".into(),
+            scene(),
+            "--task".into(),
+            "relocate".into(),
+            "--object".into(),
+            "blue_book".into(),
+            "--to".into(),
+            "-0.22,1.49,0.50".into(),
+            "--seed".into(),
+            "3".into(),
+            "-o".into(),
+            out.to_str().expect("utf-8").into(),
+            "--json".into(),
+        ];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        kinergy(&args)
+    };
+    let o = run(&["--params", params.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let with: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(with["timing"]["warp"], "person");
+    let peak = with["timing"]["peak"].as_f64().expect("peak");
+    assert!(
+        peak > 0.0 && peak < 1.0 && (peak - 0.5).abs() > 1e-3,
+        "{peak}"
+    );
+    let o = run(&[]);
+    let without: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(without["timing"]["warp"], "cubic");
+    assert_eq!(with["frames"], without["frames"]);
+    assert_eq!(
+        with["phases"].as_array().map(Vec::len),
+        without["phases"].as_array().map(Vec::len)
+    );
+
+    let text_params = std::fs::read_to_string(&params).expect("params");
+    let mut v: serde_json::Value = serde_json::from_str(&text_params).expect("json");
+    v["dof_names"] = serde_json::json!(["a", "b", "c"]);
+    let bad = dir.path().join("bad.json");
+    std::fs::write(&bad, v.to_string()).expect("write");
+    std::fs::remove_file(&out).expect("remove");
+    let o = run(&["--params", bad.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(!out.exists());
+}

@@ -504,25 +504,173 @@ pub fn bell(h: f64) -> f64 {
     h * h * (3.0 - 2.0 * h)
 }
 
+/// How a path is played over time: the fraction of its length reached at each fraction of
+/// its duration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Warp {
+    /// Kallmann's cubic bell ([`bell`]): symmetric, speed peaking half-way.
+    Cubic,
+    /// A person's bell: speed ∝ u^(α−1) (1−u)^(β−1) over the duration's fraction u (a Beta
+    /// density; α = β = 2 is the cubic). Its mode is the peak time, its standard deviation
+    /// the spread ([`Warp::from_peak_and_spread`], [`Warp::peak`], [`Warp::spread`]).
+    Beta {
+        /// α > 1.
+        alpha: f64,
+        /// β > 1.
+        beta: f64,
+    },
+}
+
+impl Warp {
+    /// The bell whose speed has this `mean` fraction of the movement and standard deviation
+    /// `spread` (method of moments); `None` when no bell with zero speed at both ends has
+    /// them (α, β ≤ 1).
+    pub fn from_mean_and_spread(mean: f64, spread: f64) -> Option<Warp> {
+        if !(mean > 0.0 && mean < 1.0 && spread > 0.0) {
+            return None;
+        }
+        let n = mean * (1.0 - mean) / (spread * spread) - 1.0;
+        let (alpha, beta) = (mean * n, (1.0 - mean) * n);
+        (alpha > 1.0 && beta > 1.0).then_some(Warp::Beta { alpha, beta })
+    }
+
+    /// [`Warp::from_mean_and_spread`] from a sampled speed profile (any positive scale), over
+    /// evenly spaced instants from the movement's start to its end.
+    pub fn from_speeds(speeds: &[f64]) -> Option<Warp> {
+        let n = speeds.len();
+        if n < 3 || speeds.iter().any(|v| !v.is_finite() || *v < 0.0) {
+            return None;
+        }
+        let total: f64 = speeds.iter().sum();
+        if total <= 0.0 {
+            return None;
+        }
+        let u = |k: usize| k as f64 / (n - 1) as f64;
+        let mean = speeds
+            .iter()
+            .enumerate()
+            .map(|(k, v)| u(k) * v)
+            .sum::<f64>()
+            / total;
+        let var = speeds
+            .iter()
+            .enumerate()
+            .map(|(k, v)| (u(k) - mean).powi(2) * v)
+            .sum::<f64>()
+            / total;
+        Warp::from_mean_and_spread(mean, var.sqrt())
+    }
+
+    /// When the speed peaks, as a fraction of the duration.
+    pub fn peak(&self) -> f64 {
+        match *self {
+            Warp::Cubic => 0.5,
+            Warp::Beta { alpha, beta } => (alpha - 1.0) / (alpha + beta - 2.0),
+        }
+    }
+
+    /// The standard deviation of the speed over the duration's fraction.
+    pub fn spread(&self) -> f64 {
+        let (a, b) = match *self {
+            Warp::Cubic => (2.0, 2.0),
+            Warp::Beta { alpha, beta } => (alpha, beta),
+        };
+        (a * b / ((a + b).powi(2) * (a + b + 1.0))).sqrt()
+    }
+
+    /// The fraction of the path's length reached at each of `frames` (≥ 2) evenly spaced
+    /// fractions of the duration: 0 first, 1 last, never decreasing.
+    fn fractions(&self, frames: usize) -> Vec<f64> {
+        let frames = frames.max(2);
+        match *self {
+            Warp::Cubic => (0..frames)
+                .map(|k| bell(k as f64 / (frames - 1) as f64))
+                .collect(),
+            Warp::Beta { alpha, beta } => {
+                // The cumulative speed, integrated finely (midpoint rule) between frames.
+                const PER_FRAME: usize = 16;
+                let density = |u: f64| u.powf(alpha - 1.0) * (1.0 - u).powf(beta - 1.0);
+                let steps = (frames - 1) * PER_FRAME;
+                let du = 1.0 / steps as f64;
+                let mut out = Vec::with_capacity(frames);
+                let mut sum = 0.0;
+                out.push(0.0);
+                for i in 0..steps {
+                    sum += density((i as f64 + 0.5) * du) * du;
+                    if (i + 1) % PER_FRAME == 0 {
+                        out.push(sum);
+                    }
+                }
+                let total = sum.max(f64::MIN_POSITIVE);
+                out.iter_mut()
+                    .for_each(|v| *v = (*v / total).clamp(0.0, 1.0));
+                out
+            }
+        }
+    }
+}
+
 /// The path played over `frames` frames (≥ 2) with the bell time warp: frame `k` is the
 /// configuration at fraction `bell(k / (frames − 1))` of the path's length. The first frame
 /// is exactly the start and the last exactly the goal. An empty path gives no frames.
 pub fn timed(space: &ArmSpace, path: &ArmPath, frames: usize) -> Vec<ArmConfig> {
+    timed_with(space, path, frames, &Warp::Cubic)
+}
+
+/// [`timed`] with the time `warp` (a person's bell instead of Kallmann's cubic).
+pub fn timed_with(space: &ArmSpace, path: &ArmPath, frames: usize, warp: &Warp) -> Vec<ArmConfig> {
     if path.configs.is_empty() {
         return Vec::new();
     }
     let frames = frames.max(2);
     let lengths = segment_lengths(space, &path.configs);
-    let mut out: Vec<ArmConfig> = (0..frames)
-        .map(|k| {
-            sample_at(
-                &path.configs,
-                &lengths,
-                bell(k as f64 / (frames - 1) as f64),
-            )
-        })
+    let mut out: Vec<ArmConfig> = warp
+        .fractions(frames)
+        .into_iter()
+        .map(|f| sample_at(&path.configs, &lengths, f))
         .collect();
     out[0] = path.configs[0];
     out[frames - 1] = *path.configs.last().unwrap_or(&path.configs[0]);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_beta_two_two_warp_is_kallmanns_cubic() {
+        let beta = Warp::Beta {
+            alpha: 2.0,
+            beta: 2.0,
+        };
+        let (a, b) = (beta.fractions(31), Warp::Cubic.fractions(31));
+        for (x, y) in a.iter().zip(&b) {
+            assert!((x - y).abs() < 1e-4, "{x} vs {y}");
+        }
+        assert!((beta.peak() - 0.5).abs() < 1e-12);
+        assert!((beta.spread() - Warp::Cubic.spread()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_warp_from_a_sampled_bell_recovers_its_peak_and_spread() {
+        // Speeds of Beta(3, 5): peak at 2/6; the moments of the speed taken as a density.
+        let (alpha, beta) = (3.0, 5.0);
+        let speeds: Vec<f64> = (0..=400)
+            .map(|k| {
+                let u = k as f64 / 400.0;
+                u.powf(alpha - 1.0) * (1.0 - u).powf(beta - 1.0)
+            })
+            .collect();
+        let warp = Warp::from_speeds(&speeds).expect("a bell");
+        let truth = Warp::Beta { alpha, beta };
+        assert!((warp.peak() - truth.peak()).abs() < 1e-3, "{warp:?}");
+        assert!((warp.spread() - truth.spread()).abs() < 1e-4, "{warp:?}");
+        // Fractions start at 0, end at 1 and never decrease.
+        let f = warp.fractions(50);
+        assert_eq!((f[0], f[49]), (0.0, 1.0));
+        assert!(f.windows(2).all(|w| w[1] >= w[0]));
+        // A flat profile has no bell with zero speed at both ends.
+        assert!(Warp::from_speeds(&[1.0; 20]).is_none());
+    }
 }

@@ -26,7 +26,9 @@ use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
 use crate::body::{BodyGeometry, reference_pose};
 use crate::error::{PlanError, Result, require};
 use crate::hand::{FingeredSkeleton, HandShape, Hands};
-use crate::rrt::{ArmPath, Budget, PlanStats, RrtSettings, SmoothStats, plan, smooth, timed};
+use crate::rrt::{
+    ArmPath, Budget, PlanStats, RrtSettings, SmoothStats, Warp, plan, smooth, timed_with,
+};
 use crate::scene::{Grasp, Scene};
 use crate::space::{ArmConfig, ArmSpace, HandTarget};
 
@@ -53,6 +55,8 @@ pub struct TaskSettings {
     pub rrt: RrtSettings,
     /// The smoothing's budget.
     pub smoothing: Budget,
+    /// How planned phases are played over time: Kallmann's cubic bell, or a person's.
+    pub warp: Warp,
 }
 
 impl Default for TaskSettings {
@@ -71,6 +75,7 @@ impl Default for TaskSettings {
                 iterations: 100,
                 time: None,
             },
+            warp: Warp::Cubic,
         }
     }
 }
@@ -95,6 +100,13 @@ impl TaskSettings {
             "at most 1000 frames per second",
         )?;
         require(self.min_duration <= 60.0, "min_duration", "at most 60 s")?;
+        if let Warp::Beta { alpha, beta } = self.warp {
+            require(
+                alpha.is_finite() && beta.is_finite() && alpha > 1.0 && beta > 1.0,
+                "warp",
+                "a bell with α > 1 and β > 1 (zero speed at both ends)",
+            )?;
+        }
         require(self.finger_time <= 60.0, "finger_time", "at most 60 s")?;
         for (name, v) in [
             ("reach_speed", self.reach_speed),
@@ -481,7 +493,7 @@ impl Builder<'_> {
             plan(&self.space, &self.q, goal, &rrt).map_err(|e| in_phase(e, name))?;
         let (path, smoothing) = smooth(&self.space, &raw, &s.smoothing, rrt.seed);
         let frames = self.frames_for(path.length(&self.space), s.reach_speed);
-        let configs = timed(&self.space, &path, frames);
+        let configs = timed_with(&self.space, &path, frames, &s.warp);
         let first = self.out.poses.len() - 1;
         let from = self.hand;
         for (k, q) in configs.iter().enumerate().skip(1) {
