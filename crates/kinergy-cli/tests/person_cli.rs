@@ -569,6 +569,37 @@ fn synth_with_params_makes_a_set_in_the_persons_style() {
     let segments = set.join("segments.csv");
     let text = std::fs::read_to_string(&segments).expect("segments.csv");
     assert_eq!(text.lines().filter(|l| l.contains(",reach,")).count(), 3);
+    // The round trip: the person's own vector, replayed on each clip the synergy finished
+    // (its segment runs to the clip's last frame) toward the clip's last hand position,
+    // retraces the clip's arm to within 3 mm (measured 0.46–2.3 mm: the clip stops within
+    // 1 mm of its true target, which the replay does not know, and the BVH is rounded to
+    // 0.1 mm and 1e-4°).
+    let mut replayed = 0;
+    for (line, row) in text.lines().filter(|l| l.contains(",reach,")).zip(&rows) {
+        let cells: Vec<&str> = line.split(',').collect();
+        let frames: usize = row[18].parse().expect("frames");
+        if cells[2].parse::<usize>().expect("end") != frames {
+            continue; // handed over: the synergy's own target is not where the clip ends
+        }
+        let clip = set.join(cells[0]);
+        let range = format!("{}..{}", cells[1], cells[2]);
+        let o = kinergy(&[
+            "synthesize",
+            s(&clip),
+            "--params",
+            s(&params),
+            "--frames",
+            &range,
+            "-o",
+            s(&dir.path().join("replay.bvh")),
+            "--json",
+        ]);
+        let report = json(&o);
+        let d = report["distance_to_capture_m"].as_f64().expect("distance");
+        assert!(d < 0.003, "{}: replayed {:.2} mm off", cells[0], d * 1e3);
+        replayed += 1;
+    }
+    assert!(replayed >= 2, "{replayed} clips finished by the synergy");
     let out = dir.path().join("fit.json");
     let o = kinergy(&[
         "fit",

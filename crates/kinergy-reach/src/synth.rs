@@ -129,6 +129,9 @@ struct Person {
     p_max: f64,
 }
 
+/// The reach tolerance of a set made with a person's synergy, meters ([`make_set_driven`]).
+pub const SYNERGY_TOLERANCE: f64 = 0.002;
+
 /// Writes the set into `dir` (created if needed). Returns the manifest rows.
 pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>> {
     Ok(make_set_driven(dir, settings, &ArmDrive::Profile)?
@@ -205,6 +208,13 @@ pub fn make_set_driven(
                     r_tw: person.r_tw,
                     arm: Some(Side::Right),
                     seed,
+                    // A synergy closes in asymptotically and stops within half the tolerance:
+                    // 1 mm here, so that the clip ends where its target is (a fit takes the
+                    // hand's last position for the target).
+                    tolerance: match drive {
+                        ArmDrive::Profile => ReachSettings::default().tolerance,
+                        ArmDrive::Synergy { .. } => SYNERGY_TOLERANCE,
+                    },
                     ..ReachSettings::default()
                 };
                 let motion = reach_full_body_driven(&character, target, &reach_settings, drive)?;

@@ -60,6 +60,9 @@ pub const STALL_PROGRESS: f64 = 1e-4;
 /// takes over.
 pub const SYNERGY_TIME: f64 = 4.0;
 
+/// The elbow flexion the synergy starts from at least, radians.
+pub const RELAXED_ELBOW: f64 = 0.17;
+
 /// What drives the reaching arm.
 #[derive(Debug, Clone, Default)]
 pub enum ArmDrive {
@@ -188,7 +191,8 @@ impl SynergyArm {
         let controller = Controller::new(*optimizer, synergy.clone(), settings).map_err(setting)?;
         let k = capture_rotation(character, limb, rest)?;
         let dofs = character.limb_dofs(limb);
-        let q: [f64; 7] = std::array::from_fn(|i| pose[dofs.start + i]);
+        let mut q: [f64; 7] = std::array::from_fn(|i| pose[dofs.start + i]);
+        q[3] = q[3].max(RELAXED_ELBOW);
         // The arm as it is (a fit of this motion would read a straight arm's twist as 0,
         // which is not in its positions, and start from there: see the README), with the
         // limits widened to include it, as a captured arm's are.
