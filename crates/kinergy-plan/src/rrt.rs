@@ -512,7 +512,7 @@ pub enum Warp {
     Cubic,
     /// A person's bell: speed ∝ u^(α−1) (1−u)^(β−1) over the duration's fraction u (a Beta
     /// density; α = β = 2 is the cubic). Its mode is the peak time, its standard deviation
-    /// the spread ([`Warp::from_peak_and_spread`], [`Warp::peak`], [`Warp::spread`]).
+    /// the spread ([`Warp::from_mean_and_spread`], [`Warp::peak`], [`Warp::spread`]).
     Beta {
         /// α > 1.
         alpha: f64,
