@@ -15,7 +15,8 @@
 //! [`BALANCE_SPEED`].
 
 use kinergy_motion::Side;
-use kinergy_motion::nalgebra::{Point3, Vector2, Vector3};
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector2, Vector3};
+use kinergy_solver::analytic::LimbIk;
 
 use super::arm::{ArmFollower, IdleArm, arm_ik, hand_position, shoulder_position};
 use super::balance::{plan_com_shift, rebalance};
@@ -263,6 +264,60 @@ enum Driver {
     Synergy,
 }
 
+/// One frame's limbs, solved again on every balance pass: the legs for the feet, the reaching
+/// arm on its profile (when the profile drives it), the idle arm hanging.
+struct FrameLimbs<'a> {
+    character: &'a Character,
+    leg_iks: &'a [LimbIk; 2],
+    feet: &'a [IsometryMatrix3<f64>; 2],
+    plan: &'a Plan,
+    /// The root's height on the planned path (lowered where the legs need it).
+    height: f64,
+    /// Seconds into the profile, and the profile, when it drives the reaching arm.
+    follow: Option<(f64, &'a SpeedProfile)>,
+    arm: &'a mut ArmFollower,
+    idle: &'a mut IdleArm,
+    idle_limb: Limb,
+    /// The orbit angles solved at, for the frame's end.
+    arm_alpha: Option<f64>,
+    idle_alpha: Option<f64>,
+}
+
+impl FrameLimbs<'_> {
+    /// Solves the limbs into `pose` with the root where it is horizontally; returns the
+    /// reaching hand's distance from the target.
+    fn solve(&mut self, pose: &mut Pose, first_pass: bool) -> f64 {
+        let c = self.character;
+        // The root as low as the legs need where it is now (not where a pass before put it).
+        pose[dof::ROOT_Y] = self.height;
+        // The limbs' bases do not depend on the limbs: one FK serves all three.
+        let mut above = c.world_frames(pose);
+        lower_root_for_legs_in(c, pose, &mut above, self.feet);
+        solve_legs_in(c, pose, &above, self.leg_iks, self.feet);
+        let base = c.limb_base_frame_in(self.plan.arm, &above);
+        if let Some((elapsed, profile)) = self.follow
+            && let Some(a) = self.arm.follow(
+                c,
+                pose,
+                &base,
+                &self.plan.target,
+                profile,
+                elapsed,
+                first_pass,
+            )
+        {
+            self.arm_alpha = Some(a);
+        }
+        if let Some(a) = self
+            .idle
+            .hang(pose, &c.limb_base_frame_in(self.idle_limb, &above))
+        {
+            self.idle_alpha = Some(a);
+        }
+        (self.arm.hand(c, &base, pose, self.plan.target) - self.plan.target).norm()
+    }
+}
+
 /// Runs the scheduler frame by frame, the reaching arm driven by `drive`.
 pub(super) fn animate(
     character: &Character,
@@ -351,38 +406,28 @@ pub(super) fn animate(
 
         // Limbs, then balance (at most nine corrections).
         let feet = stepping.feet(t);
+        let mut limbs = FrameLimbs {
+            character,
+            leg_iks: &leg_iks,
+            feet: &feet,
+            plan,
+            height: planned_height,
+            follow: match driver {
+                Driver::Profile(from) if t >= from && t >= timeline.t_arm => {
+                    Some((t - from, profile))
+                }
+                _ => None,
+            },
+            arm: &mut arm,
+            idle: &mut idle,
+            idle_limb,
+            arm_alpha: None,
+            idle_alpha: None,
+        };
         let mut error = f64::INFINITY;
-        let mut frame_alpha = None;
-        let mut idle_alpha = None;
         let mut frame_margin = f64::INFINITY;
         for pass in 0..10 {
-            // The root as low as the legs need where it is now (not where a pass before put it).
-            pose[dof::ROOT_Y] = planned_height;
-            // The limbs' bases do not depend on the limbs: one FK serves all three.
-            let mut above = character.world_frames(&pose);
-            lower_root_for_legs_in(character, &mut pose, &mut above, &feet);
-            solve_legs_in(character, &mut pose, &above, &leg_iks, &feet);
-            let base = character.limb_base_frame_in(plan.arm, &above);
-            if let Driver::Profile(from) = driver
-                && t >= from
-                && t >= timeline.t_arm
-                && let Some(a) = arm.follow(
-                    character,
-                    &mut pose,
-                    &base,
-                    &plan.target,
-                    profile,
-                    t - from,
-                    pass == 0,
-                )
-            {
-                frame_alpha = Some(a);
-            }
-            if let Some(a) = idle.hang(&mut pose, &character.limb_base_frame_in(idle_limb, &above))
-            {
-                idle_alpha = Some(a);
-            }
-            error = (arm.hand(character, &base, &pose, plan.target) - plan.target).norm();
+            error = limbs.solve(&mut pose, pass == 0);
             let balance = rebalance(
                 character,
                 &character.world_frames(&pose),
@@ -416,32 +461,7 @@ pub(super) fn animate(
                 };
                 pose[dof::ROOT_X] = planned.x + correction.x;
                 pose[dof::ROOT_Z] = planned.y + correction.y;
-                pose[dof::ROOT_Y] = planned_height;
-                let mut above = character.world_frames(&pose);
-                lower_root_for_legs_in(character, &mut pose, &mut above, &feet);
-                solve_legs_in(character, &mut pose, &above, &leg_iks, &feet);
-                let base = character.limb_base_frame_in(plan.arm, &above);
-                if let Driver::Profile(from) = driver
-                    && t >= from
-                    && t >= timeline.t_arm
-                    && let Some(a) = arm.follow(
-                        character,
-                        &mut pose,
-                        &base,
-                        &plan.target,
-                        profile,
-                        t - from,
-                        false,
-                    )
-                {
-                    frame_alpha = Some(a);
-                }
-                if let Some(a) =
-                    idle.hang(&mut pose, &character.limb_base_frame_in(idle_limb, &above))
-                {
-                    idle_alpha = Some(a);
-                }
-                error = (arm.hand(character, &base, &pose, plan.target) - plan.target).norm();
+                error = limbs.solve(&mut pose, false);
                 frame_margin =
                     rebalance(character, &character.world_frames(&pose), 0.0, 1.0).margin;
                 if frame_margin >= 0.0 {
@@ -451,6 +471,7 @@ pub(super) fn animate(
         } else {
             correction = wanted;
         }
+        let (frame_alpha, idle_alpha) = (limbs.arm_alpha, limbs.idle_alpha);
         min_margin = min_margin.min(frame_margin);
         if let Driver::Profile(from) = driver
             && arm.end_frame(
