@@ -204,7 +204,7 @@ fn person_warp(path: &Path, height: f64, side: Side) -> Result<Warp, Failure> {
         Side::Left => Limb::LeftArm,
     };
     let rest = character.rest_pose();
-    let [shoulder, _, _, hand] = limb.joints();
+    let shoulder = limb.joints()[0];
     let at_rest = character.world_positions(&rest);
     let target = at_rest[shoulder] + kinergy_motion::nalgebra::Vector3::new(0.0, -0.15, 0.4);
     let base = fitted_base_at_rest(&character, side).map_err(|e| Failure::Task(e.to_string()))?;
@@ -220,20 +220,7 @@ fn person_warp(path: &Path, height: f64, side: Side) -> Result<Warp, Failure> {
     };
     let m = reach_full_body_driven(&character, target, &settings, &drive)
         .map_err(|e| Failure::Task(e.to_string()))?;
-    let end = m.report.hand_over.map_or(m.poses.len(), |h| {
-        ((h.at_s / m.frame_time).round() as usize).min(m.poses.len())
-    });
-    let relative: Vec<_> = m.poses[m.report.arm_onset_frame.min(end)..end]
-        .iter()
-        .map(|p| {
-            let w = character.world_positions(p);
-            w[hand] - w[shoulder]
-        })
-        .collect();
-    let speeds: Vec<f64> = relative
-        .windows(2)
-        .map(|w| (w[1] - w[0]).norm() / m.frame_time)
-        .collect();
+    let speeds = m.arm_speeds(&character, true);
     Warp::from_speeds(&speeds).ok_or_else(|| {
         Failure::Input(format!(
             "{}: the person's synergy moves the hand with no bell-shaped speed (over {} frames \

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use kinergy_motion::nalgebra::Point3;
 use kinergy_reach::character::{Character, Limb, Proportions};
 use kinergy_reach::controller::{
-    ArmDrive, ReachMotion, ReachSettings, fitted_base_at_rest, reach_full_body_driven,
+    ArmDrive, ReachSettings, fitted_base_at_rest, reach_full_body_driven,
 };
 use kinergy_solver::{BaseMode, CaptureArm};
 use kinergy_train::PersonParams;
@@ -234,9 +234,9 @@ fn compare_one(args: &Args, person: &PersonParams, path: &Path) -> Result<Row, F
         kinergy_motion::Side::Right => Limb::RightArm,
     };
     let captured = normalized(captured);
-    let ours = normalized(&reach_speed(&character, &with, limb, false));
-    let own = normalized(&reach_speed(&character, &with, limb, true));
-    let theirs = normalized(&reach_speed(&character, &without, limb, false));
+    let ours = normalized(&with.arm_speeds(&character, false));
+    let own = normalized(&with.arm_speeds(&character, true));
+    let theirs = normalized(&without.arm_speeds(&character, false));
     let hand_at_end = character
         .world_positions(with.poses.last().unwrap_or(&character.rest_pose()))[limb.joints()[3]];
     Ok(Row {
@@ -253,36 +253,6 @@ fn compare_one(args: &Args, person: &PersonParams, path: &Path) -> Result<Row, F
         profile_correlation: pearson(&theirs, &captured),
         profile_peak: peak(&theirs),
     })
-}
-
-/// The reaching hand's speed relative to its shoulder (m/s), from the arm's onset to the end
-/// of the motion (a hand-over's final approach included: it is what `reach --params` makes),
-/// or, with `synergy_only`, to the hand-over.
-fn reach_speed(
-    character: &Character,
-    motion: &ReachMotion,
-    limb: Limb,
-    synergy_only: bool,
-) -> Vec<f64> {
-    let [shoulder, _, _, hand] = limb.joints();
-    let end = match motion.report.hand_over {
-        Some(h) if synergy_only => {
-            ((h.at_s / motion.frame_time).round() as usize).min(motion.poses.len())
-        }
-        _ => motion.poses.len(),
-    };
-    let relative: Vec<_> = motion.poses[..end]
-        .iter()
-        .skip(motion.report.arm_onset_frame)
-        .map(|p| {
-            let w = character.world_positions(p);
-            w[hand] - w[shoulder]
-        })
-        .collect();
-    relative
-        .windows(2)
-        .map(|w| (w[1] - w[0]).norm() / motion.frame_time)
-        .collect()
 }
 
 /// `values` resampled at [`SAMPLES`] evenly spaced fractions of their span (linear

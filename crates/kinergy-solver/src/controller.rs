@@ -6,6 +6,8 @@
 //! guided ([`crate::reachability`]): the elbow (then the wrist) takes the distance by the law
 //! of cosines, the optimizer O the rest, so fully extended reaches end on their target.
 
+use std::borrow::Cow;
+
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
 use kinergy_motion::{Chain, Linearization, Motion, Trajectory};
 
@@ -368,7 +370,10 @@ impl Controller {
     /// (clamped into the limits): for a caller that moves the chain's base itself, frame by
     /// frame, such as a full-body character whose trunk a scheduler moves. [`Controller::
     /// synthesize`] is this stepper with its stop rules.
-    pub fn stepper(&self, chain: &Chain, start: &[f64]) -> Result<ArmStepper> {
+    ///
+    /// The stepper borrows the controller and the chain (a fit synthesizes thousands of
+    /// times: nothing is copied); [`ArmStepper::into_owned`] keeps them for longer.
+    pub fn stepper<'c>(&'c self, chain: &'c Chain, start: &[f64]) -> Result<ArmStepper<'c>> {
         let n = chain.dof_count();
         if start.len() != n {
             return Err(kinergy_motion::MotionError::PoseLength {
@@ -392,8 +397,8 @@ impl Controller {
         let mut q = start.to_vec();
         chain.clamp(&mut q);
         Ok(ArmStepper {
-            controller: self.clone(),
-            chain: chain.clone(),
+            controller: Cow::Borrowed(self),
+            chain: Cow::Borrowed(chain),
             sphere: ReachSphere::of(chain),
             q,
             lin: Linearization::default(),
@@ -474,9 +479,9 @@ impl Controller {
 /// the step of [`Controller::synthesize`], which is built on it. The stop rules are the
 /// caller's.
 #[derive(Debug, Clone)]
-pub struct ArmStepper {
-    controller: Controller,
-    chain: Chain,
+pub struct ArmStepper<'c> {
+    controller: Cow<'c, Controller>,
+    chain: Cow<'c, Chain>,
     sphere: Option<ReachSphere>,
     q: Vec<f64>,
     lin: Linearization,
@@ -498,7 +503,23 @@ pub struct Observation {
     pub progress: f64,
 }
 
-impl ArmStepper {
+impl ArmStepper<'_> {
+    /// The stepper owning its controller and chain (copied once), to keep beyond them.
+    pub fn into_owned(self) -> ArmStepper<'static> {
+        ArmStepper {
+            controller: Cow::Owned(self.controller.into_owned()),
+            chain: Cow::Owned(self.chain.into_owned()),
+            sphere: self.sphere,
+            q: self.q,
+            lin: self.lin,
+            scratch: self.scratch,
+            step: self.step,
+            locks: self.locks,
+            frame: self.frame,
+            pending: self.pending,
+        }
+    }
+
     /// The current configuration.
     pub fn configuration(&self) -> &[f64] {
         &self.q

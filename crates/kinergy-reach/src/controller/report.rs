@@ -5,7 +5,7 @@ use std::fmt;
 
 use serde::{Serialize, Serializer};
 
-use crate::character::{Limb, Pose};
+use crate::character::{Character, Limb, Pose};
 use crate::steps::StepDecision;
 
 /// Why a reach ended.
@@ -149,4 +149,31 @@ pub struct ReachMotion {
     pub frame_time: f64,
     /// What happened.
     pub report: ReachReport,
+}
+
+impl ReachMotion {
+    /// The reaching hand's speed relative to its shoulder (m/s, between consecutive frames)
+    /// from the arm controller's start to the end of the motion — or, with `to_hand_over`, to
+    /// the hand-over if there was one (a person's synergy's own part).
+    pub fn arm_speeds(&self, character: &Character, to_hand_over: bool) -> Vec<f64> {
+        let [shoulder, _, _, hand] = self.report.arm.joints();
+        let end = match self.report.hand_over {
+            Some(h) if to_hand_over => {
+                ((h.at_s / self.frame_time).round() as usize).min(self.poses.len())
+            }
+            _ => self.poses.len(),
+        };
+        let start = self.report.arm_onset_frame.min(end);
+        let relative: Vec<_> = self.poses[start..end]
+            .iter()
+            .map(|p| {
+                let w = character.world_positions(p);
+                w[hand] - w[shoulder]
+            })
+            .collect();
+        relative
+            .windows(2)
+            .map(|w| (w[1] - w[0]).norm() / self.frame_time)
+            .collect()
+    }
 }

@@ -106,17 +106,24 @@ pub fn arm_dof_names(character: &Character) -> Vec<String> {
 /// [`CaptureArm`] on the exported rest posture (both bases ride the clavicle, so `K` holds
 /// on every frame).
 fn capture_rotation(character: &Character, limb: Limb, rest: &Pose) -> Result<Rotation3<f64>> {
+    let capture_base = captured_arm(character, limb, rest)?
+        .base(BaseMode::Fixed)
+        .at(0)
+        .rotation;
+    let character_base = character.limb_base_frame(limb, rest).rotation;
+    Ok(character_base.inverse() * capture_base)
+}
+
+/// The [`CaptureArm`] a fit makes of `limb` in a one-frame export of `pose`.
+fn captured_arm(character: &Character, limb: Limb, pose: &Pose) -> Result<CaptureArm> {
     let setting = |why: String| ReachError::Setting {
         field: "character".into(),
         why,
     };
-    let clip = character.to_clip(std::slice::from_ref(rest), 1.0 / 60.0)?;
+    let clip = character.to_clip(std::slice::from_ref(pose), 1.0 / 60.0)?;
     let joints =
         ArmJoints::find(clip.skeleton(), limb.side()).map_err(|e| setting(e.to_string()))?;
-    let capture = CaptureArm::new(&clip, &joints).map_err(|e| setting(e.to_string()))?;
-    let capture_base = capture.base(BaseMode::Fixed).at(0).rotation;
-    let character_base = character.limb_base_frame(limb, rest).rotation;
-    Ok(character_base.inverse() * capture_base)
+    CaptureArm::new(&clip, &joints).map_err(|e| setting(e.to_string()))
 }
 
 /// The base frame of the arm on `side` at rest, as a fit of the character's motion defines
@@ -140,22 +147,14 @@ pub fn fitted_base_at_rest(character: &Character, side: Side) -> Result<Isometry
 /// configuration of the arm's joint positions, in the capture convention.
 #[cfg(test)]
 fn read_as_captured(character: &Character, limb: Limb, pose: &Pose) -> Result<Vec<f64>> {
-    let setting = |why: String| ReachError::Setting {
-        field: "character".into(),
-        why,
-    };
-    let clip = character.to_clip(std::slice::from_ref(pose), 1.0 / 60.0)?;
-    let joints =
-        ArmJoints::find(clip.skeleton(), limb.side()).map_err(|e| setting(e.to_string()))?;
-    let capture = CaptureArm::new(&clip, &joints).map_err(|e| setting(e.to_string()))?;
-    Ok(capture.start().to_vec())
+    Ok(captured_arm(character, limb, pose)?.start().to_vec())
 }
 
 /// The reaching arm on the person's synergy controller, frame by frame.
 #[derive(Debug, Clone)]
 pub(super) struct SynergyArm {
     dofs: Range<usize>,
-    stepper: ArmStepper,
+    stepper: ArmStepper<'static>,
     /// Character base → capture base (constant: both ride the clavicle).
     k: Rotation3<f64>,
     /// The last twist given to the character's shoulder (unwrapped against it).
@@ -198,7 +197,10 @@ impl SynergyArm {
         // limits widened to include it, as a captured arm's are.
         let start = to_capture(&k, &q);
         let (chain, _) = widen_to_include(character.limb_chain(limb), &start).map_err(setting)?;
-        let stepper = controller.stepper(&chain, &start).map_err(setting)?;
+        let stepper = controller
+            .stepper(&chain, &start)
+            .map_err(setting)?
+            .into_owned();
         Ok(SynergyArm {
             dofs,
             stepper,
@@ -217,7 +219,7 @@ impl SynergyArm {
             field: "hand-over".into(),
             why: e.to_string(),
         };
-        let chain = self.stepper.chain().clone();
+        let chain = self.stepper.chain();
         let controller = Controller::new(
             OptimizerKind::Dls.default_optimizer(),
             Synergy::identity(chain.dof_count()),
@@ -225,8 +227,9 @@ impl SynergyArm {
         )
         .map_err(setting)?;
         self.stepper = controller
-            .stepper(&chain, self.stepper.configuration())
-            .map_err(setting)?;
+            .stepper(chain, self.stepper.configuration())
+            .map_err(setting)?
+            .into_owned();
         self.progress.clear();
         Ok(())
     }
