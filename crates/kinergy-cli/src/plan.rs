@@ -12,6 +12,7 @@ use kinergy_plan::scene::Scene;
 use kinergy_plan::space::HandTarget;
 use kinergy_plan::task::{Manipulation, Planner, TaskSettings};
 use kinergy_reach::character::Limb;
+use kinergy_reach::controller::ArmDrive;
 use nalgebra::{Isometry3, Point3, Quaternion, UnitQuaternion};
 use serde::Serialize;
 
@@ -74,9 +75,12 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// A person's parameters (`kinergy fit -o person.json`, or a field): the planned phases
-    /// are played with the person's bell — the peak time and spread of their synergy's hand
-    /// speed on a reach in front of the acting shoulder — instead of Kallmann's cubic.
+    /// A person's parameters (`kinergy fit -o person.json`, or a field, which gives the
+    /// person's vector for the reach's target): the planned phases are played with the
+    /// person's bell — the peak time and spread of their synergy's hand speed on a reach in
+    /// front of the acting shoulder — instead of Kallmann's cubic, and a reach is finished by
+    /// their synergy controller from the first waypoint of the planned path whose approach is
+    /// free of obstacles (every frame checked), then settled onto the grip.
     #[arg(long, value_name = "person.json")]
     pub params: Option<PathBuf>,
 }
@@ -100,6 +104,29 @@ struct PhaseReport {
     last_frame: usize,
     #[serde(skip_serializing_if = "Option::is_none")]
     planned: Option<PlannedReport>,
+    /// For a reach the person's synergy finished (`--params`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    synergy: Option<SynergyReport>,
+}
+
+/// How the person's synergy finished a planned reach.
+#[derive(Serialize)]
+struct SynergyReport {
+    /// How far along the smoothed path it started, meters of the planner's distance (0: the
+    /// whole reach).
+    from_m: f64,
+    /// The smoothed path's length, meters of the planner's distance.
+    path_m: f64,
+    /// Why approaches from earlier points were not used.
+    rejected: Vec<String>,
+    /// Its first frame in the motion.
+    first_frame: usize,
+    /// Frames it drove.
+    frames: usize,
+    /// The frame in the motion from which plain IK drove after the synergy, if it did.
+    plain_ik_from: Option<usize>,
+    /// The hand's distance to the planned goal's when it arrived, meters.
+    distance_m: f64,
 }
 
 #[derive(Serialize)]
@@ -191,11 +218,18 @@ fn plan_failure(e: PlanError) -> Failure {
     }
 }
 
-/// The bell of the person whose parameters are at `path`: their synergy drives the arm on
-/// `side` of a character `height` tall from rest to a point 0.4 m in front of and 0.15 m below
-/// the shoulder (`reach --params`); the hand's speed relative to the shoulder, from the arm's
-/// onset to its end (or to a hand-over: the synergy's own part), gives the peak and spread.
-fn person_warp(path: &Path, height: f64, side: Side) -> Result<Warp, Failure> {
+/// The person whose parameters are at `path`, for a reach toward `target` (world; a field
+/// gives their vector for it) by the arm on `side` of a character `height` tall: their
+/// synergy as the arm drive, and their bell — the synergy drives the arm from rest to a point
+/// 0.4 m in front of and 0.15 m below the shoulder (`reach --params`); the hand's speed
+/// relative to the shoulder, from the arm's onset to its end (or to a hand-over: the
+/// synergy's own part), gives the peak and spread.
+fn person(
+    path: &Path,
+    height: f64,
+    side: Side,
+    target: &Point3<f64>,
+) -> Result<(Warp, ArmDrive), Failure> {
     use kinergy_reach::controller::{ReachSettings, fitted_base_at_rest, reach_full_body_driven};
     let character = kinergy_reach::character::Character::from_height(height)
         .map_err(|e| Failure::Task(e.to_string()))?;
@@ -206,7 +240,7 @@ fn person_warp(path: &Path, height: f64, side: Side) -> Result<Warp, Failure> {
     let rest = character.rest_pose();
     let shoulder = limb.joints()[0];
     let at_rest = character.world_positions(&rest);
-    let target = at_rest[shoulder] + kinergy_motion::nalgebra::Vector3::new(0.0, -0.15, 0.4);
+    let front = at_rest[shoulder] + kinergy_motion::nalgebra::Vector3::new(0.0, -0.15, 0.4);
     let base = fitted_base_at_rest(&character, side).map_err(|e| Failure::Task(e.to_string()))?;
     let person =
         kinergy_train::PersonParams::read(path).map_err(|e| Failure::Input(e.to_string()))?;
@@ -218,16 +252,34 @@ fn person_warp(path: &Path, height: f64, side: Side) -> Result<Warp, Failure> {
         arm: Some(side),
         ..ReachSettings::default()
     };
-    let m = reach_full_body_driven(&character, target, &settings, &drive)
+    let m = reach_full_body_driven(&character, front, &settings, &drive)
         .map_err(|e| Failure::Task(e.to_string()))?;
     let speeds = m.arm_speeds(&character, true);
-    Warp::from_speeds(&speeds).ok_or_else(|| {
+    let warp = Warp::from_speeds(&speeds).ok_or_else(|| {
         Failure::Input(format!(
             "{}: the person's synergy moves the hand with no bell-shaped speed (over {} frames \
              of a reach 0.4 m in front of the shoulder): their timing cannot play a plan",
             path.display(),
             speeds.len()
         ))
+    })?;
+    Ok((warp, drive))
+}
+
+/// Where the task reaches first, in world: `--target`, or the grip point of `--object`'s
+/// grasp (its origin when it has none).
+fn reach_target(args: &Args, scene: &Scene) -> Result<Point3<f64>, Failure> {
+    if let Some(t) = &args.target {
+        return Ok(parse_target(t)?.position);
+    }
+    let object = args
+        .object
+        .as_deref()
+        .and_then(|name| scene.object(name))
+        .ok_or_else(|| Failure::Input("--task needs --object NAME".into()))?;
+    Ok(match &object.grasp {
+        Some(g) => object.pose * g.position,
+        None => Point3::from(object.pose.translation.vector),
     })
 }
 
@@ -248,8 +300,19 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         ..TaskSettings::default()
     };
     settings.rrt.seed = args.seed;
+    if let (Some(name), Some(_)) = (&args.object, args.task)
+        && scene.object(name).is_none()
+    {
+        let known: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+        return Err(Failure::Input(format!(
+            "--object: {} (in {})",
+            crate::common::names::unknown("object", name, &known),
+            args.scene.display()
+        )));
+    }
     if let Some(path) = &args.params {
-        settings.warp = person_warp(path, scene.character_height, args.arm)?;
+        let target = reach_target(args, &scene)?;
+        (settings.warp, settings.arm) = person(path, scene.character_height, args.arm, &target)?;
     }
     let timing = TimingReport {
         warp: match settings.warp {
@@ -262,16 +325,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(ms) = args.budget_ms {
         // Within PLAN_BUDGET_MS, checked on entry.
         settings.rrt.budget.time = Some(Duration::from_millis(ms));
-    }
-    if let (Some(name), Some(_)) = (&args.object, args.task)
-        && scene.object(name).is_none()
-    {
-        let known: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
-        return Err(Failure::Input(format!(
-            "--object: {} (in {})",
-            crate::common::names::unknown("object", name, &known),
-            args.scene.display()
-        )));
     }
     let triangles = scene.triangle_count();
     let planner = Planner::new(scene, settings).map_err(plan_failure)?;
@@ -350,6 +403,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                     configs_before: pl.raw.configs.len(),
                     configs_after: pl.path.configs.len(),
                 }),
+                synergy: p.synergy.as_ref().map(|a| SynergyReport {
+                    from_m: a.from_m,
+                    path_m: a.path_m,
+                    rejected: a.rejected.clone(),
+                    first_frame: p.frames.start + a.first_frame,
+                    frames: a.frames,
+                    plain_ik_from: a.plain_ik_from.map(|k| p.frames.start + k),
+                    distance_m: a.distance_m,
+                }),
             })
             .collect(),
         objects: motion
@@ -390,6 +452,21 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 );
             }
             text.push('\n');
+            if let Some(a) = &p.synergy {
+                text += &format!(
+                    "  {:<9} the person's synergy from {:.2} of {:.2} m (frame {}, {} frames{}), \
+                     {:.1} mm from the planned hand\n",
+                    "",
+                    a.from_m,
+                    a.path_m,
+                    a.first_frame,
+                    a.frames,
+                    a.plain_ik_from
+                        .map(|k| format!(", plain IK from frame {k}"))
+                        .unwrap_or_default(),
+                    a.distance_m * 1e3
+                );
+            }
         }
         for o in &report.objects {
             let [x, y, z] = o.end.position_m;

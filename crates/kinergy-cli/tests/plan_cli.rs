@@ -137,10 +137,11 @@ fn task_failures_exit_1_and_bad_input_exits_2_without_output() {
 }
 
 /// `plan --params`: the planned phases are played with the person's bell (reported), the
-/// same phases and frames as without, and a parameters file for another chain is refused
-/// before any planning.
+/// reach is finished by their synergy (reported, then a `settle` phase), the other phases are
+/// those of a plan without, and a parameters file for another chain is refused before any
+/// planning.
 #[test]
-fn plan_with_a_persons_params_plays_their_bell() {
+fn plan_with_a_persons_params_plays_their_bell_and_synergy() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("p.bvh");
     let params = repo().join("tests/data/params/synthetic-p01-r09-sc.json");
@@ -177,10 +178,33 @@ fn plan_with_a_persons_params_plays_their_bell() {
     let o = run(&[]);
     let without: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
     assert_eq!(without["timing"]["warp"], "cubic");
-    assert_eq!(with["frames"], without["frames"]);
-    assert_eq!(
-        with["phases"].as_array().map(Vec::len),
-        without["phases"].as_array().map(Vec::len)
+    let names = |v: &serde_json::Value| -> Vec<String> {
+        v["phases"]
+            .as_array()
+            .expect("phases")
+            .iter()
+            .map(|p| p["name"].as_str().expect("name").to_string())
+            .collect()
+    };
+    let mut expected = names(&without);
+    expected.insert(1, "settle".into());
+    assert_eq!(names(&with), expected);
+    let synergy = &with["phases"][0]["synergy"];
+    let (from, length) = (
+        synergy["from_m"].as_f64().expect("from_m"),
+        synergy["path_m"].as_f64().expect("path_m"),
+    );
+    assert!(from >= 0.0 && from < length, "{synergy}");
+    assert!(synergy["frames"].as_u64().expect("frames") > 10);
+    assert!(synergy["distance_m"].as_f64().expect("distance") <= 0.005);
+    assert!(without["phases"][0].get("synergy").is_none());
+    assert!(
+        with["phases"]
+            .as_array()
+            .expect("phases")
+            .iter()
+            .skip(1)
+            .all(|p| p.get("synergy").is_none())
     );
 
     let text_params = std::fs::read_to_string(&params).expect("params");

@@ -9,8 +9,10 @@
 //! - [`rrt`]: bidirectional RRT-Connect (Algorithm 1), shortcut smoothing, the bell time warp;
 //! - [`hand`]: hand targets' grip point, hand shapes, fingers in the BVH export;
 //! - [`task`]: reach, grasp, relocate and push/pull sequences made of planned and straight
-//!   motions.
+//!   motions;
+//! - [`approach`]: a reach finished by a person's synergy controller where its motion is free.
 
+pub mod approach;
 pub mod body;
 pub mod error;
 pub mod hand;

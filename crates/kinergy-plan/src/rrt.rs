@@ -238,6 +238,26 @@ impl ArmPath {
         segment_lengths(space, &self.configs).iter().sum()
     }
 
+    /// The path from its start to the point `at` meters (the planner's distance) along it,
+    /// which ends it (the whole path for `at` ≥ its length). Within a segment the point lies
+    /// at the fraction of the segment's length, interpolated as [`timed`] places frames.
+    pub fn cut(&self, space: &ArmSpace, at: f64) -> ArmPath {
+        let lengths = segment_lengths(space, &self.configs);
+        let mut configs = Vec::with_capacity(self.configs.len());
+        let mut left = at.max(0.0);
+        for (i, &l) in lengths.iter().enumerate() {
+            configs.push(self.configs[i]);
+            if left < l {
+                if left > 0.0 {
+                    configs.push(lerp(&self.configs[i], &self.configs[i + 1], left / l));
+                }
+                return ArmPath { configs };
+            }
+            left -= l;
+        }
+        self.clone()
+    }
+
     /// True when every configuration is free and every segment is free at the space's
     /// resolution.
     pub fn is_valid(&self, space: &ArmSpace) -> bool {
@@ -637,6 +657,55 @@ pub fn timed_with(space: &ArmSpace, path: &ArmPath, frames: usize, warp: &Warp) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A cut path begins where the path does, keeps its waypoints up to the cut and ends at
+    /// the fraction of the cut segment's length (at a waypoint, exactly the length asked
+    /// for); cut beyond its end, it is the whole path.
+    #[test]
+    fn a_cut_path_is_the_start_of_the_path() {
+        let planner = crate::task::Planner::new(
+            crate::scene::Scene::parse(
+                r#"{"format_version": 1, "objects": []}"#,
+                "t.json".as_ref(),
+                ".".as_ref(),
+            )
+            .expect("scene"),
+            crate::task::TaskSettings::default(),
+        )
+        .expect("planner");
+        let space = planner.space().expect("space");
+        let a = space.config_of(planner.start_pose());
+        let mut b = a;
+        b[0] += 0.6;
+        let mut c = b;
+        c[3] += 0.8;
+        let path = ArmPath {
+            configs: vec![a, b, c],
+        };
+        let total = path.length(&space);
+        let first = space.distance(&a, &b);
+        let close = |x: &ArmPath, y: &[ArmConfig]| {
+            x.configs.len() == y.len()
+                && x.configs
+                    .iter()
+                    .zip(y)
+                    .all(|(p, q)| p.iter().zip(q).all(|(u, v)| (u - v).abs() < 1e-12))
+        };
+        assert_eq!(path.cut(&space, 0.0).configs, vec![a]);
+        assert!(close(
+            &path.cut(&space, 0.3 * first),
+            &[a, lerp(&a, &b, 0.3)]
+        ));
+        let at_b = path.cut(&space, first);
+        assert_eq!(at_b.configs, vec![a, b]);
+        assert!((at_b.length(&space) - first).abs() < 1e-12);
+        let second = total - first;
+        assert!(close(
+            &path.cut(&space, first + 0.5 * second),
+            &[a, b, lerp(&b, &c, 0.5)]
+        ));
+        assert_eq!(path.cut(&space, 2.0 * total), path);
+    }
 
     #[test]
     fn the_beta_two_two_warp_is_kallmanns_cubic() {

@@ -16,13 +16,21 @@
 //! fingers, then plan *with the object held* from the grasp straight to the posture that
 //! puts the object at its destination, open the fingers, back off straight along the
 //! approach and plan the way back to the starting posture.
+//!
+//! **A person's reach** ([`TaskSettings::arm`] = [`ArmDrive::Synergy`]): a reach's planned
+//! phase (the reach of [`Planner::reach`], the reach to a grasp's pre-grasp) is finished by
+//! the person's synergy controller where its motion is free of obstacles, followed by a
+//! straight `settle` to the planned grip ([`crate::approach`]). Transfers and returns, whose
+//! goal is a posture rather than a reach target, stay planned.
 
 use std::ops::Range;
 
 use kinergy_reach::character::{Character, Limb, Pose};
+use kinergy_reach::controller::ArmDrive;
 use kinergy_solver::analytic::OrbitSearch;
 use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
 
+use crate::approach::{CANDIDATE_STEP, PersonArm, Run, SynergyApproach};
 use crate::body::{BodyGeometry, reference_pose};
 use crate::error::{PlanError, Result, require};
 use crate::hand::{FingeredSkeleton, HandShape, Hands};
@@ -57,6 +65,10 @@ pub struct TaskSettings {
     pub smoothing: Budget,
     /// How planned phases are played over time: Kallmann's cubic bell, or a person's.
     pub warp: Warp,
+    /// What ends a reach: the planned path ([`ArmDrive::Profile`], Kallmann's), or a
+    /// person's synergy controller where its motion is free ([`ArmDrive::Synergy`],
+    /// [`crate::approach`]).
+    pub arm: ArmDrive,
 }
 
 impl Default for TaskSettings {
@@ -76,6 +88,7 @@ impl Default for TaskSettings {
                 time: None,
             },
             warp: Warp::Cubic,
+            arm: ArmDrive::Profile,
         }
     }
 }
@@ -132,6 +145,8 @@ pub struct Phase {
     pub frames: Range<usize>,
     /// For planned phases: the search, the smoothing and the smoothed path.
     pub planned: Option<Planned>,
+    /// For a planned reach a person's synergy finished: from where, and how.
+    pub synergy: Option<SynergyApproach>,
 }
 
 /// A planned phase's search and smoothing.
@@ -295,7 +310,8 @@ impl Planner {
     pub fn reach(&self, target: &HandTarget, shape: HandShape) -> Result<Manipulation> {
         let mut b = self.builder()?;
         let (alpha, goal) = b.space.solve(target)?;
-        b.planned("reach", &goal, alpha, shape, 0)?;
+        b.planned("reach", &goal, alpha, shape, 0, true)?;
+        b.settle(target, shape)?;
         Ok(b.out)
     }
 
@@ -328,7 +344,7 @@ impl Planner {
             .space
             .solve(&target)
             .map_err(|e| in_phase(e, "the placing posture"))?;
-        b.planned("transfer", &place, alpha, b.hand, 1)?;
+        b.planned("transfer", &place, alpha, b.hand, 1, false)?;
         b.hand_phase("open", HandShape::open());
         b.release();
         let back = grasp_target(&dest, &grasp, grasp.distance);
@@ -400,6 +416,7 @@ impl Planner {
             name: if distance >= 0.0 { "pull" } else { "push" }.into(),
             frames: first..b.out.poses.len(),
             planned: None,
+            synergy: None,
         });
         b.out.objects.push(ObjectTrack {
             name: name.to_string(),
@@ -414,6 +431,11 @@ fn unknown_object(name: &str) -> PlanError {
         field: "object".into(),
         why: format!("the scene has no object `{name}`"),
     }
+}
+
+/// The largest change of a joint value between two configurations, radians.
+fn largest_change(a: &ArmConfig, b: &ArmConfig) -> f64 {
+    a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
 }
 
 /// Names the phase in a goal failure.
@@ -473,7 +495,10 @@ impl Builder<'_> {
         (seconds * s.frame_rate).ceil() as usize + 1
     }
 
-    /// A planned phase to `goal`; `salt` varies the seed between phases.
+    /// A planned phase to `goal`; `salt` varies the seed between phases. A reach (`reach`
+    /// true) is finished by the person's synergy where its motion is free
+    /// ([`crate::approach`]).
+    #[allow(clippy::too_many_arguments)]
     fn planned(
         &mut self,
         name: &str,
@@ -481,6 +506,7 @@ impl Builder<'_> {
         alpha: f64,
         shape: HandShape,
         salt: u64,
+        reach: bool,
     ) -> Result<()> {
         let s = &self.planner.settings;
         let mut rrt = s.rrt.clone();
@@ -492,16 +518,36 @@ impl Builder<'_> {
         let (raw, search) =
             plan(&self.space, &self.q, goal, &rrt).map_err(|e| in_phase(e, name))?;
         let (path, smoothing) = smooth(&self.space, &raw, &s.smoothing, rrt.seed);
-        let frames = self.frames_for(path.length(&self.space), s.reach_speed);
-        let configs = timed_with(&self.space, &path, frames, &s.warp);
+        let (configs, synergy) = match &s.arm {
+            ArmDrive::Synergy { optimizer, synergy } if reach => {
+                let person = PersonArm {
+                    character: &self.planner.character,
+                    body: &self.planner.start,
+                    space: &self.space,
+                    optimizer,
+                    synergy,
+                    frame_rate: s.frame_rate,
+                };
+                self.synergy_finish(&person, &path, goal)?
+            }
+            _ => {
+                let frames = self.frames_for(path.length(&self.space), s.reach_speed);
+                (timed_with(&self.space, &path, frames, &s.warp), None)
+            }
+        };
         let first = self.out.poses.len() - 1;
         let from = self.hand;
+        let last = (configs.len() - 1).max(1) as f64;
         for (k, q) in configs.iter().enumerate().skip(1) {
             self.q = *q;
-            self.hand = from.lerp(&shape, k as f64 / (frames - 1) as f64);
+            self.hand = from.lerp(&shape, k as f64 / last);
             self.push_frame();
         }
-        self.alpha = alpha;
+        self.alpha = if synergy.is_some() {
+            self.space.ik().alpha_of(&self.q)
+        } else {
+            alpha
+        };
         self.out.phases.push(Phase {
             name: name.into(),
             frames: first..self.out.poses.len(),
@@ -512,8 +558,85 @@ impl Builder<'_> {
                 path,
                 space: self.space.clone(),
             }),
+            synergy,
         });
         Ok(())
+    }
+
+    /// The frames of a planned reach finished by the person's synergy from the first point
+    /// along `path` (every [`CANDIDATE_STEP`]) whose synergy motion is free: the path timed to
+    /// that point, then the synergy's frames. The whole path, timed, when no point's is.
+    fn synergy_finish(
+        &self,
+        person: &PersonArm<'_>,
+        path: &ArmPath,
+        goal: &ArmConfig,
+    ) -> Result<(Vec<ArmConfig>, Option<SynergyApproach>)> {
+        let s = &self.planner.settings;
+        let length = path.length(&self.space);
+        let mut rejected = Vec::new();
+        let candidates = (length / CANDIDATE_STEP).ceil() as usize;
+        for k in 0..candidates {
+            let at = k as f64 * CANDIDATE_STEP;
+            let prefix = path.cut(&self.space, at);
+            let from = *prefix.configs.last().unwrap_or(goal);
+            let (tail, plain_ik_from, distance) = match person.run(&from, goal)? {
+                Run::Arrived {
+                    configs,
+                    plain_ik_from,
+                    distance,
+                } => (configs, plain_ik_from, distance),
+                Run::Rejected(why) => {
+                    rejected.push(format!("from {at:.2} m: {why}"));
+                    continue;
+                }
+            };
+            let mut configs = if k == 0 {
+                vec![from]
+            } else {
+                let frames = self.frames_for(at, s.reach_speed);
+                timed_with(&self.space, &prefix, frames, &s.warp)
+            };
+            let first_frame = configs.len() - 1;
+            // The synergy's first frame is the point's, its elbow relaxed at most
+            // (`RELAXED_ELBOW`): played only when it differs.
+            let skip = usize::from(largest_change(&tail[0], &from) < 1e-9);
+            let frames = tail.len() - skip;
+            configs.extend_from_slice(&tail[skip..]);
+            let approach = SynergyApproach {
+                from_m: at,
+                path_m: length,
+                rejected,
+                first_frame,
+                frames,
+                plain_ik_from: plain_ik_from.map(|k| first_frame + k - skip),
+                distance_m: distance,
+            };
+            return Ok((configs, Some(approach)));
+        }
+        let frames = self.frames_for(length, s.reach_speed);
+        Ok((timed_with(&self.space, path, frames, &s.warp), None))
+    }
+
+    /// After a reach the person's synergy finished: a straight phase taking the grip to
+    /// `target` (its position and orientation; the hand's own orientation kept where it has
+    /// none), when it is more than 1 mm or 1° away.
+    fn settle(&mut self, target: &HandTarget, shape: HandShape) -> Result<()> {
+        if self.out.phases.last().is_none_or(|p| p.synergy.is_none()) {
+            return Ok(());
+        }
+        let grip = self.space.grip_frame(&self.q);
+        let off = (Point3::from(grip.translation.vector) - target.position).norm();
+        let turned = target.orientation.map_or(0.0, |o| {
+            let now = UnitQuaternion::from_rotation_matrix(
+                &(grip.rotation * self.rest_rotation().inverse()),
+            );
+            now.angle_to(&o)
+        });
+        if off <= 1e-3 && turned <= 1f64.to_radians() {
+            return Ok(());
+        }
+        self.straight("settle", target, shape)
     }
 
     /// The arm still while the hand takes `shape`.
@@ -530,6 +653,7 @@ impl Builder<'_> {
             name: name.into(),
             frames: first..self.out.poses.len(),
             planned: None,
+            synergy: None,
         });
     }
 
@@ -575,6 +699,7 @@ impl Builder<'_> {
             name: name.into(),
             frames: first..self.out.poses.len(),
             planned: None,
+            synergy: None,
         });
         Ok(())
     }
@@ -602,7 +727,8 @@ impl Builder<'_> {
             .space
             .solve(&pre)
             .map_err(|e| in_phase(e, "the pre-grasp"))?;
-        self.planned("reach", &goal, alpha, HandShape::open(), 0)?;
+        self.planned("reach", &goal, alpha, HandShape::open(), 0, true)?;
+        self.settle(&pre, HandShape::open())?;
         self.space.set_ignored(name, true)?;
         let at = grasp_target(&object.pose, &grasp, 0.0);
         self.straight("approach", &at, HandShape::open())?;
@@ -620,7 +746,7 @@ impl Builder<'_> {
     fn return_to_start(&mut self) -> Result<()> {
         let goal = self.space.config_of(&self.planner.start);
         let alpha = self.space.ik().alpha_of(&goal);
-        self.planned("return", &goal, alpha, HandShape::relaxed(), 2)
+        self.planned("return", &goal, alpha, HandShape::relaxed(), 2, false)
     }
 
     fn release(&mut self) {

@@ -7,11 +7,14 @@ use std::path::PathBuf;
 
 use kinergy_plan::PlanError;
 use kinergy_plan::body::{BodyGeometry, Capsule};
+use kinergy_plan::hand::HandShape;
 use kinergy_plan::rrt::{ArmPath, Budget, RrtSettings, Warp, plan, smooth, timed};
 use kinergy_plan::scene::{Scene, Shape};
 use kinergy_plan::space::{ArmConfig, ArmSpace, HELD_CONTACT, HandTarget, lerp};
-use kinergy_plan::task::{Planner, Problem, TaskSettings};
+use kinergy_plan::task::{Manipulation, Phase, Planner, Problem, TaskSettings};
 use kinergy_reach::character::{Character, Limb};
+use kinergy_reach::controller::{ArmDrive, arm_dof_names};
+use kinergy_solver::ParamsFile;
 use nalgebra::{Isometry3, Point3, UnitQuaternion, Vector3};
 use parry3d::math::{Pose as PPose, Rot3, Vector as PVec};
 use parry3d::query::intersection_test;
@@ -611,4 +614,143 @@ fn a_persons_bell_times_the_same_collision_free_paths() {
         checked += 1;
     }
     assert!(checked >= 2);
+}
+
+/// The person whose parameters are in the workspace's `tests/data/params/NAME.json`, as the
+/// arm drive of a plan.
+fn person(name: &str, planner: &Planner) -> ArmDrive {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/params")
+        .join(format!("{name}.json"));
+    let file = ParamsFile::read(&path).unwrap();
+    ArmDrive::Synergy {
+        optimizer: file.optimizer,
+        synergy: file
+            .synergy_for(&arm_dof_names(planner.character()))
+            .unwrap(),
+    }
+}
+
+/// The configurations of the phase's frames, as a path the verifier re-checks.
+fn frames_of(m: &Manipulation, space: &ArmSpace, phase: &Phase) -> ArmPath {
+    ArmPath {
+        configs: m.poses[phase.frames.clone()]
+            .iter()
+            .map(|p| space.config_of(p))
+            .collect(),
+    }
+}
+
+/// Issue 16 §4: the person's synergy finishes a planned reach from the first point along the
+/// path whose approach is free, every frame of it re-checked here at 1 mm (10× finer than
+/// planned) by the separate checker; the pre-grasp is reached; the rest of the relocation
+/// still puts the book where asked.
+#[test]
+fn a_persons_synergy_finishes_the_reach_where_its_approach_is_free() {
+    for params in ["synthetic-p01-r09-sc", "006_14-sc"] {
+        let base = Planner::new(bookshelf(), TaskSettings::default()).unwrap();
+        let settings = TaskSettings {
+            arm: person(params, &base),
+            ..TaskSettings::default()
+        };
+        let planner = Planner::new(bookshelf(), settings).unwrap();
+        let m = planner
+            .relocate("blue_book", &Point3::from(DESTINATION))
+            .unwrap();
+        let reach = &m.phases[0];
+        let approach = reach
+            .synergy
+            .as_ref()
+            .expect("the synergy finished the reach");
+        println!("{params}: {approach:?}");
+        assert!(approach.frames > 10 && approach.distance_m <= kinergy_plan::approach::ARRIVED);
+        assert!(approach.from_m < approach.path_m);
+        let space = &reach.planned.as_ref().unwrap().space;
+        let verifier = Verifier::new(&planner, &[]);
+        for phase in &m.phases[..2] {
+            assert_eq!(
+                verifier.recheck(space, &frames_of(&m, space, phase), 0.001, None),
+                None,
+                "{params}: {}",
+                phase.name
+            );
+        }
+        // The settle ends on the pre-grasp: the approach starts where it does without a
+        // person.
+        assert_eq!(m.phases[1].name, "settle");
+        let grasp = planner.scene().object("blue_book").unwrap();
+        let g = grasp.grasp.as_ref().unwrap();
+        let pre = grasp.pose * (g.position - g.approach * g.distance);
+        let settled = space.config_of(&m.poses[m.phases[1].frames.end - 1]);
+        let grip = space.grip_frame(&settled).translation.vector;
+        assert!((Point3::from(grip) - pre).norm() < 1e-6, "{params}: {grip}");
+        let book = m.objects.iter().find(|t| t.name == "blue_book").unwrap();
+        let end = book.poses.last().unwrap().translation.vector;
+        assert!((end - Vector3::from(DESTINATION)).norm() < 1e-6);
+        // Transfers and returns stay planned.
+        assert!(m.phases.iter().skip(1).all(|p| p.synergy.is_none()));
+    }
+}
+
+/// Where the synergy's approach collides — a post where the person's elbow ends, far from
+/// the planned goal's — the approaches from the first points along the path are refused for
+/// the post, the planned path is in force up to the point the synergy starts from (the same
+/// configurations, timed), and every frame played is free at 1 mm by the separate checker.
+#[test]
+fn the_planned_path_stays_where_the_synergy_would_collide() {
+    let target = HandTarget {
+        position: Point3::new(-0.4, 1.3, 0.2),
+        orientation: None,
+    };
+    let open = empty_planner("");
+    let settings = TaskSettings {
+        arm: person("synthetic-p01-r09-sc", &open),
+        ..TaskSettings::default()
+    };
+    let with_person = |scene: Scene| Planner::new(scene, settings.clone()).unwrap();
+    let m = with_person(open.scene().clone())
+        .reach(&target, HandShape::open())
+        .unwrap();
+    let free = m.phases[0].synergy.clone().unwrap();
+    assert_eq!((free.from_m, free.rejected.len()), (0.0, 0));
+    let space = open.space().unwrap();
+    let end = space.config_of(&m.poses[m.phases[0].frames.end - 1]);
+    let elbow = space.frames(&end)[1].translation.vector;
+    let post = format!(
+        r#"{{"name": "post", "shape": {{"type": "sphere", "radius": 0.08}}, "position": [{}, {}, {}]}}"#,
+        elbow.x, elbow.y, elbow.z
+    );
+    let planner = with_person(empty_planner(&post).scene().clone());
+    let m = planner.reach(&target, HandShape::open()).unwrap();
+    let reach = &m.phases[0];
+    let approach = reach.synergy.as_ref().unwrap();
+    assert!(approach.from_m > 0.0 && approach.from_m < approach.path_m);
+    assert!(!approach.rejected.is_empty());
+    for why in &approach.rejected {
+        assert!(why.contains("post"), "{why}");
+    }
+    let planned = reach.planned.as_ref().unwrap();
+    let prefix = planned.path.cut(&planned.space, approach.from_m);
+    let played: Vec<ArmConfig> = m.poses[..=approach.first_frame]
+        .iter()
+        .map(|p| planned.space.config_of(p))
+        .collect();
+    assert_eq!(
+        played,
+        timed(&planned.space, &prefix, approach.first_frame + 1)
+    );
+    let verifier = Verifier::new(&planner, &[]);
+    for phase in &m.phases {
+        assert_eq!(
+            verifier.recheck(
+                &planned.space,
+                &frames_of(&m, &planned.space, phase),
+                0.001,
+                None
+            ),
+            None,
+            "{}",
+            phase.name
+        );
+    }
 }

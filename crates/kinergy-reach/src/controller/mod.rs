@@ -81,7 +81,8 @@ pub use report::{HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, Reach
 pub use scheduler::reaching_side;
 pub use settings::ReachSettings;
 pub use synergy::{
-    ArmDrive, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, arm_dof_names, fitted_base_at_rest,
+    ArmDrive, PLAIN_IK_TIME, RELAXED_ELBOW, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, SynergyArm,
+    arm_dof_names, fitted_base_at_rest,
 };
 
 use crate::character::Character;

@@ -25,13 +25,10 @@ use super::legs::{self, StepPlan, Stepping, leg_iks, lower_root_for_legs_in, sol
 use super::report::{HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop};
 use super::settings::ReachSettings;
 use super::spine::{apply_swing, plan_squat, plan_swing, plan_twist, set_twist};
-use super::synergy::{ArmDrive, STALL_WINDOW, SYNERGY_TIME, SynergyArm};
+use super::synergy::{ArmDrive, PLAIN_IK_TIME, STALL_WINDOW, SYNERGY_TIME, SynergyArm};
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::Result;
 use crate::profile::{BellTiming, SpeedProfile};
-
-/// The longest plain IK drives after a hand-over before the analytic IK finishes, seconds.
-const PLAIN_IK_TIME: f64 = 1.0;
 
 /// The hand's mean speed when the analytic IK finishes a reach the synergy arm and plain IK
 /// could not, m/s.

@@ -60,11 +60,15 @@ pub const STALL_PROGRESS: f64 = 1e-4;
 /// takes over.
 pub const SYNERGY_TIME: f64 = 4.0;
 
+/// The longest plain inverse kinematics drives after a hand-over (seconds) before the
+/// analytic IK finishes.
+pub const PLAIN_IK_TIME: f64 = 1.0;
+
 /// The elbow flexion the synergy starts from at least, radians.
 pub const RELAXED_ELBOW: f64 = 0.17;
 
 /// What drives the reaching arm.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub enum ArmDrive {
     /// The speed profile of [`super::ReachSettings::profile`] along the straight line to the
     /// target, the arm solved by analytic IK every frame (Huang et al.).
@@ -150,9 +154,14 @@ fn read_as_captured(character: &Character, limb: Limb, pose: &Pose) -> Result<Ve
     Ok(captured_arm(character, limb, pose)?.start().to_vec())
 }
 
-/// The reaching arm on the person's synergy controller, frame by frame.
+/// The reaching arm on the person's synergy controller, frame by frame: the full-body
+/// scheduler drives it, and so does a plan's final approach (`kinergy-plan`).
+///
+/// Each frame: [`SynergyArm::pose_arm`] puts the controller's arm into the frame's pose, the
+/// caller finishes the frame (body, limits) and [`SynergyArm::end_frame`] lets the controller
+/// see the final posture and take its step.
 #[derive(Debug, Clone)]
-pub(super) struct SynergyArm {
+pub struct SynergyArm {
     dofs: Range<usize>,
     stepper: ArmStepper<'static>,
     /// Character base → capture base (constant: both ride the clavicle).
@@ -167,9 +176,11 @@ pub(super) struct SynergyArm {
 
 impl SynergyArm {
     /// The synergy arm of `limb` toward `target`, starting from the arm of `pose` (the frame
-    /// the arm controller starts on), at `frame_time`.
+    /// the arm controller starts on), at `frame_time`. `rest` is the character's rest posture
+    /// (it fixes the rotation between the character's arm base and the fitted one). The elbow
+    /// starts flexed at least [`RELAXED_ELBOW`].
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn new(
+    pub fn new(
         character: &Character,
         limb: Limb,
         rest: &Pose,
@@ -214,7 +225,7 @@ impl SynergyArm {
 
     /// Hands the arm over to plain inverse kinematics (damped least squares, no synergy) from
     /// where it is (module docs); its progress is watched afresh.
-    pub(super) fn hand_over(&mut self, frame_time: f64) -> Result<()> {
+    pub fn hand_over(&mut self, frame_time: f64) -> Result<()> {
         let setting = |e: kinergy_solver::SolverError| ReachError::Setting {
             field: "hand-over".into(),
             why: e.to_string(),
@@ -235,7 +246,7 @@ impl SynergyArm {
     }
 
     /// Puts the controller's current arm into `pose` (character DoFs).
-    pub(super) fn pose_arm(&mut self, pose: &mut Pose) {
+    pub fn pose_arm(&mut self, pose: &mut Pose) {
         let q = to_character(&self.k, self.stepper.configuration(), self.twist);
         self.twist = q[2];
         pose[self.dofs.clone()].copy_from_slice(&q);
@@ -245,11 +256,7 @@ impl SynergyArm {
     /// limits) with the arm's base at `base` (the character's convention): the controller
     /// continues from the clamped arm, sees this frame's error and takes its step. Returns the
     /// hand–target distance of the arm in `pose`, or `None` when the step was not finite.
-    pub(super) fn end_frame(
-        &mut self,
-        pose: &Pose,
-        base: &IsometryMatrix3<f64>,
-    ) -> Result<Option<f64>> {
+    pub fn end_frame(&mut self, pose: &Pose, base: &IsometryMatrix3<f64>) -> Result<Option<f64>> {
         let q: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
         let shown = to_character(&self.k, self.stepper.configuration(), self.twist);
         if q.iter().zip(&shown).any(|(a, b)| (a - b).abs() > 1e-12) {
@@ -284,7 +291,7 @@ impl SynergyArm {
     /// [`STALL_PROGRESS`]: the worst error of the window's first half against the best of its
     /// second half (a limit clamping the arm can make the error jump for a frame; a reach
     /// still closing in is not a stall).
-    pub(super) fn stalled(&self, window: usize) -> bool {
+    pub fn stalled(&self, window: usize) -> bool {
         let n = self.progress.len();
         if n <= window || window < 2 {
             return false;
