@@ -229,11 +229,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         for group in &groups {
             fits.push(run_group(args, group, &models, &settings, log.as_mut())?);
         }
+        // The person's single vector, the field's anchor: all the reaches at once.
+        let reaches: Vec<CapturedReach> = groups.into_iter().flatten().collect();
+        let person = run_group(args, &reaches, &models, &settings, log.as_mut())?;
         if let Some(log) = log {
             log.finish().map_err(|e| Failure::Task(e.to_string()))?;
         }
-        let reaches: Vec<CapturedReach> = groups.into_iter().flatten().collect();
-        return field::finish(args, dest, &reaches, &fits, &settings);
+        return field::finish(args, dest, &reaches, &fits, &person, &settings);
     }
     let mut reports = Vec::new();
     for (g, group) in groups.iter().enumerate() {

@@ -74,7 +74,7 @@ pub struct Args {
 struct FieldUse {
     /// The target in the reaching arm's fitted base frame at rest, meters.
     target_in_base_m: [f64; 3],
-    /// The kernel's bandwidth, meters.
+    /// The kernel's bandwidth, meters; `null` for a flat field (the person's single vector everywhere).
     bandwidth_m: f64,
     /// The fitted reaches it holds.
     samples: usize,

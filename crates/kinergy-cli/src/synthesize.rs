@@ -124,7 +124,7 @@ struct Report {
 struct FieldUse {
     /// The target in the arm's base frame on the segment's first frame, meters.
     target_in_base_m: [f64; 3],
-    /// The field's bandwidth, meters.
+    /// The field's bandwidth, meters; `null` for a flat field (the person's single vector everywhere).
     bandwidth_m: f64,
     /// The field's samples (fitted reaches).
     samples: usize,
@@ -396,10 +396,14 @@ fn text(r: &Report) -> String {
     );
     if let Some(f) = &r.field {
         s.push_str(&format!(
-            "parameters predicted by the field of {} reaches (bandwidth {:.3} m) at ({:.4}, \
-             {:.4}, {:.4}) m in the arm's base frame\n",
+            "parameters predicted by the field of {} reaches ({}) at ({:.4}, {:.4}, {:.4}) m \
+             in the arm's base frame\n",
             f.samples,
-            f.bandwidth_m,
+            if f.bandwidth_m.is_infinite() {
+                "flat: the person's single vector".to_string()
+            } else {
+                format!("bandwidth {:.3} m", f.bandwidth_m)
+            },
             f.target_in_base_m[0],
             f.target_in_base_m[1],
             f.target_in_base_m[2]

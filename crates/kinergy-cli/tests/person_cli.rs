@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_bad_input, json, kinergy, repo, stderr, stdout};
+use common::{assert_bad_input, json, kinergy, repo, shared, stderr, stdout};
 use kinergy_motion::{ImportOptions, read_clip};
 
 /// A clip of the synthetic set.
@@ -392,20 +392,6 @@ fn synthesize_warns_when_the_bones_differ_from_the_fitted_arm() {
     let lines: Vec<&str> = err.lines().filter(|l| l.contains("warning")).collect();
     assert_eq!(lines.len(), 1, "{err}");
     assert!(lines[0].contains("bones differ"), "{err}");
-}
-
-/// A Bandai Namco capture from the shared folder, or `None` (saying why) where it is absent.
-fn shared(folder: &str, name: &str) -> Option<PathBuf> {
-    let p = repo().join("../shared/data").join(folder).join(name);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!(
-            "skipping: {} is absent (the Bandai Namco captures are never committed)",
-            p.display()
-        );
-        None
-    }
 }
 
 #[test]

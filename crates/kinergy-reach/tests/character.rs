@@ -319,6 +319,27 @@ fn limb_chains_reach_the_character_s_own_joints() {
     }
 }
 
+/// Forward kinematics of one joint's ancestors gives exactly what the full pass gives it,
+/// and a limb's base frame is the full pass's.
+#[test]
+fn one_joints_frame_is_the_full_passs() {
+    let c = body();
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
+    for _ in 0..50 {
+        let pose = random_pose(&c, &mut rng);
+        let all = c.world_frames(&pose);
+        for (j, frame) in all.iter().enumerate() {
+            assert_eq!(c.joint_frame(j, &pose), *frame, "joint {j}");
+        }
+        for limb in [Limb::RightArm, Limb::LeftArm, Limb::RightLeg, Limb::LeftLeg] {
+            assert_eq!(
+                c.limb_base_frame(limb, &pose),
+                c.limb_base_frame_in(limb, &all)
+            );
+        }
+    }
+}
+
 #[test]
 fn limb_rest_frames_hang_the_limbs_along_their_z() {
     let b = body();

@@ -64,6 +64,24 @@
 //! (the smoother field). With fewer than two distinct targets there is no scale and nothing to
 //! choose from (the field is constant): h = [`FALLBACK_BANDWIDTH`].
 //!
+//! # Anchored to the person's vector
+//!
+//! A person's single vector v, fitted on all their reaches at once, is the best one vector
+//! for them; the per-reach fits p_k scatter around it, by the target and by the noise of
+//! single-take fits. [`ParamField::anchored`] keeps v as the field's level and lets the
+//! kernel regression add only how the reaches *vary* with the target:
+//!
+//! p(t) = v + (p̂(t) − p̄),
+//!
+//! p̂ the regression above and p̄ the plain mean of the p_k (its h → ∞ limit), clamped into
+//! the bounds. [`Bandwidth::Auto`] then also tries h = ∞ (a flat field, scored by predicting
+//! each p_k by the mean of the others) and prefers it on ties: where the reaches show no
+//! dependence on the target, the anchored field *is* the person's vector, exactly; where they
+//! do, it follows the dependence. A field file chooses an anchored field's bandwidth by what
+//! matters, the motion ([`FieldFile::chosen_by_motion`]): each reach synthesized with the
+//! field of the others at its target, the candidate of the smallest mean distance kept
+//! (ties to the larger h, h = ∞ the largest).
+//!
 //! # Leave one target out
 //!
 //! [`leave_one_out`] fits, for each reach k, the field of all the other reaches (its automatic
@@ -204,11 +222,17 @@ impl FieldSettings {
 /// The leave-one-out error of one candidate bandwidth ([`Bandwidth::Auto`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct BandwidthScore {
-    /// h, meters.
+    /// h, meters; ∞ (`null` in JSON) for the flat field of an anchored one.
+    #[serde(with = "infinite_as_null")]
     pub bandwidth: f64,
     /// Root mean square over samples and entries of the leave-one-out prediction error, each
     /// entry divided by its bound width.
     pub loo_error: f64,
+    /// For an anchored field chosen by motion ([`FieldFile::chosen_by_motion`]): the mean
+    /// over the samples' reaches of their motion distance synthesized with the field of the
+    /// others at their targets, meters.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub loo_distance_m: Option<f64>,
 }
 
 /// Parameters as a smooth function of the target, learned from per-clip fits (see the
@@ -223,6 +247,8 @@ pub struct ParamField {
     settings: FieldSettings,
     bandwidth: f64,
     selection: Vec<BandwidthScore>,
+    /// The person's single vector the field is anchored to ([`ParamField::anchored`]).
+    anchor: Option<Vec<f64>>,
 }
 
 impl ParamField {
@@ -237,7 +263,32 @@ impl ParamField {
     ) -> Result<ParamField> {
         check_inputs(space, samples, settings)?;
         let (targets, values) = samples.iter().cloned().unzip();
-        Ok(ParamField::build(space.clone(), targets, values, *settings))
+        Ok(ParamField::build(
+            space.clone(),
+            targets,
+            values,
+            *settings,
+            None,
+        ))
+    }
+
+    /// The same samples anchored to `vector`, the person's single vector (see the
+    /// [module docs](self#anchored-to-the-persons-vector)); an automatic bandwidth is chosen
+    /// again, h = ∞ among the candidates. Errors name `anchor` (wrong length, out of bounds).
+    pub fn anchored(&self, vector: Vec<f64>) -> Result<ParamField> {
+        self.space
+            .validate(&vector)
+            .map_err(|e| TrainError::Setting {
+                field: "anchor".into(),
+                why: e.to_string(),
+            })?;
+        Ok(ParamField::build(
+            self.space.clone(),
+            self.targets.clone(),
+            self.values.clone(),
+            self.settings,
+            Some(vector),
+        ))
     }
 
     /// Fits without checks (the inputs are known valid).
@@ -246,6 +297,7 @@ impl ParamField {
         targets: Vec<Point3<f64>>,
         values: Vec<Vec<f64>>,
         settings: FieldSettings,
+        anchor: Option<Vec<f64>>,
     ) -> ParamField {
         let lower = space.lower();
         let upper = space.upper();
@@ -258,7 +310,7 @@ impl ParamField {
                     lower: &lower,
                     upper: &upper,
                 };
-                data.select(settings.regression)
+                data.select(settings.regression, anchor.is_some())
             }
         };
         ParamField {
@@ -270,11 +322,37 @@ impl ParamField {
             settings,
             bandwidth,
             selection,
+            anchor,
+        }
+    }
+
+    /// A field read back from a file: everything as stored, nothing chosen again.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn stored(
+        space: ParamSpace,
+        targets: Vec<Point3<f64>>,
+        values: Vec<Vec<f64>>,
+        settings: FieldSettings,
+        bandwidth: f64,
+        selection: Vec<BandwidthScore>,
+        anchor: Option<Vec<f64>>,
+    ) -> ParamField {
+        ParamField {
+            lower: space.lower(),
+            upper: space.upper(),
+            space,
+            targets,
+            values,
+            settings,
+            bandwidth,
+            selection,
+            anchor,
         }
     }
 
     /// The field of all samples but sample `k`, fitted with the same settings (an automatic
-    /// bandwidth is chosen again, from the remaining samples only). Needs ≥ 2 samples.
+    /// bandwidth is chosen again, from the remaining samples only) and the same anchor. Needs
+    /// ≥ 2 samples.
     pub fn without(&self, k: usize) -> Result<ParamField> {
         require(
             self.targets.len() >= 2,
@@ -295,15 +373,64 @@ impl ParamField {
             targets,
             values,
             self.settings,
+            self.anchor.clone(),
         ))
+    }
+
+    /// The field of all samples but sample `k` with bandwidth `h` (∞: flat) and the same
+    /// anchor, nothing chosen. Needs ≥ 2 samples and `k` in range (callers check).
+    pub(crate) fn without_at(&self, k: usize, h: f64) -> ParamField {
+        let mut targets = self.targets.clone();
+        let mut values = self.values.clone();
+        targets.remove(k);
+        values.remove(k);
+        let settings = FieldSettings {
+            bandwidth: Bandwidth::Fixed(h),
+            ..self.settings
+        };
+        ParamField::build(
+            self.space.clone(),
+            targets,
+            values,
+            settings,
+            self.anchor.clone(),
+        )
+    }
+
+    /// The same field with bandwidth `h` in use, chosen among `selection`.
+    pub(crate) fn with_bandwidth(&self, h: f64, selection: Vec<BandwidthScore>) -> ParamField {
+        ParamField {
+            bandwidth: h,
+            selection,
+            ..self.clone()
+        }
     }
 
     /// The parameters at `target`, always within the bounds (see the [module docs](self)).
     /// A non-finite target carries no position: it gets the mean of the samples' vectors
     /// (use [`ParamField::try_evaluate`] to have it refused instead).
     pub fn evaluate(&self, target: &Point3<f64>) -> Vec<f64> {
-        self.data()
-            .predict(self.bandwidth, self.settings.regression, target, None)
+        let data = self.data();
+        let p = data.predict(self.bandwidth, self.settings.regression, target, None);
+        let Some(anchor) = &self.anchor else {
+            return p;
+        };
+        // p̄, the h → ∞ limit, computed as p is (for h = ∞ the two agree bit for bit and the
+        // field is the anchor exactly).
+        let mean = data.predict(
+            f64::INFINITY,
+            Regression::NadarayaWatson,
+            &Point3::origin(),
+            None,
+        );
+        (0..anchor.len())
+            .map(|i| (anchor[i] + (p[i] - mean[i])).clamp(self.lower[i], self.upper[i]))
+            .collect()
+    }
+
+    /// The person's single vector the field is anchored to, if it is.
+    pub fn anchor(&self) -> Option<&[f64]> {
+        self.anchor.as_deref()
     }
 
     /// [`ParamField::evaluate`], refusing a target that is not finite (`target`).
@@ -316,7 +443,8 @@ impl ParamField {
         Ok(self.evaluate(target))
     }
 
-    /// The bandwidth h in use, meters (the chosen one for [`Bandwidth::Auto`]).
+    /// The bandwidth h in use, meters (the chosen one for [`Bandwidth::Auto`]; ∞ for an
+    /// anchored field that is flat).
     pub fn bandwidth(&self) -> f64 {
         self.bandwidth
     }
@@ -367,6 +495,25 @@ impl ParamField {
     }
 }
 
+/// Serializes f64::INFINITY as `null` (JSON has no infinity) and reads `null` back as it.
+pub(crate) mod infinite_as_null {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    /// `null` for +∞, the number otherwise.
+    pub fn serialize<S: Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+        if *v == f64::INFINITY {
+            s.serialize_none()
+        } else {
+            s.serialize_f64(*v)
+        }
+    }
+
+    /// +∞ for `null`.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+    }
+}
+
 /// One row of [`leave_one_out`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LooRow {
@@ -412,7 +559,7 @@ where
                 .filter(|&(j, _)| j != k)
                 .map(|(_, s)| s.clone())
                 .unzip();
-            let field = ParamField::build(space.clone(), targets, values, *settings);
+            let field = ParamField::build(space.clone(), targets, values, *settings, None);
             let target = samples[k].0;
             let field_params = field.evaluate(&target);
             let field_distance = score(k, &field_params)?;
@@ -661,21 +808,30 @@ impl Data<'_> {
         }
     }
 
-    /// [`Bandwidth::Auto`]: the chosen h and every candidate's score.
-    fn select(&self, regression: Regression) -> (f64, Vec<BandwidthScore>) {
+    /// [`Bandwidth::Auto`]: the chosen h and every candidate's score; with `flat`, h = ∞ is
+    /// a candidate too (an anchored field).
+    fn select(&self, regression: Regression, flat: bool) -> (f64, Vec<BandwidthScore>) {
         let Some(d) = self.median_nearest_distance() else {
             return (FALLBACK_BANDWIDTH, Vec::new());
         };
-        let scores: Vec<BandwidthScore> = AUTO_FACTORS
+        let mut scores: Vec<BandwidthScore> = AUTO_FACTORS
             .par_iter()
             .map(|f| {
                 let bandwidth = f * d;
                 BandwidthScore {
                     bandwidth,
                     loo_error: self.loo_error(bandwidth, regression),
+                    loo_distance_m: None,
                 }
             })
             .collect();
+        if flat {
+            scores.push(BandwidthScore {
+                bandwidth: f64::INFINITY,
+                loo_error: self.loo_error(f64::INFINITY, regression),
+                loo_distance_m: None,
+            });
+        }
         // Largest h first, strict improvement only: ties go to the smoother field.
         let best = scores
             .iter()

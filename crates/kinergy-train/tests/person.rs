@@ -316,12 +316,22 @@ fn older_versions_damaged_fields_and_other_files_are_named() {
         e.contains("`format_version` is 1") && e.contains("kinergy fit --field"),
         "{e}"
     );
+    // Format 2 had no anchor.
     let e = read_error(
         dir.path(),
-        "v3.json",
-        &edited(&|v| v["format_version"] = 3.into()),
+        "v2.json",
+        &edited(&|v| v["format_version"] = 2.into()),
     );
-    assert!(e.contains("format_version") && e.contains("reads 2"), "{e}");
+    assert!(
+        e.contains("`format_version` is 2") && e.contains("no anchor"),
+        "{e}"
+    );
+    let e = read_error(
+        dir.path(),
+        "v4.json",
+        &edited(&|v| v["format_version"] = 4.into()),
+    );
+    assert!(e.contains("format_version") && e.contains("reads 3"), "{e}");
 
     // Damage is named by its field.
     for (edit, field) in [

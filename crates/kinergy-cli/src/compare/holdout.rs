@@ -174,9 +174,12 @@ struct SplitReport {
     train_scores: Vec<(String, f64)>,
     /// Each model's fitted vector.
     values: Vec<(String, Vec<f64>)>,
-    /// The field of the training takes: its bandwidth (m) and parameter-space leave-one-out
+    /// The field of the training takes: its bandwidth (m; `null` also when the field is
+    /// flat, the single vector everywhere: see `field_flat`) and parameter-space leave-one-out
     /// error (`null` with fewer than two distinct targets).
     field_bandwidth_m: Option<f64>,
+    /// True when the field chose no dependence on the target: it is the single vector.
+    field_flat: Option<bool>,
     field_loo_error: Option<f64>,
     evaluations: usize,
     seconds: f64,
@@ -255,6 +258,10 @@ impl Report {
                         .map(|(m, v, _)| (name(*m), v.clone()))
                         .collect(),
                     field_bandwidth_m: f.field.as_ref().map(|x| x.field().bandwidth()),
+                    field_flat: f
+                        .field
+                        .as_ref()
+                        .map(|x| x.field().bandwidth().is_infinite()),
                     field_loo_error: f.field.as_ref().and_then(|x| x.loo_error()),
                     evaluations: f.evaluations,
                     seconds: f.seconds,
@@ -439,9 +446,11 @@ fn field_table(summary: &HoldoutSummary, results: &HoldoutResults) -> String {
     let mut md = format!(
         "\n## Parameter field against the single vector — held-out takes, mean (min–max)\n\n\
          Each training take fitted on its own (nested up to {model}), the field of those vectors \
-         over their targets in the arm's base frame (Gaussian kernel, Nadaraya–Watson, bandwidth \
-         by leave-one-out), evaluated at each held-out take's own target; beside it the single \
-         {model} vector fitted on all the training takes.\n\n\
+         over their targets in the arm's base frame (Gaussian kernel, Nadaraya–Watson), anchored \
+         to the single {model} vector fitted on all the training takes (that vector plus how the \
+         takes vary with the target; bandwidth by leave-one-out on the motion, *flat*: no \
+         dependence found, the vector itself), evaluated at each held-out take's own target; \
+         beside it that single vector.\n\n\
          | person | field ({model}) | single vector ({model}) | field − vector | bandwidth |\n\
          |---|---|---|---|---|\n"
     );
@@ -457,7 +466,12 @@ fn field_table(summary: &HoldoutSummary, results: &HoldoutResults) -> String {
             .and_then(|p| results.fits.iter().find(|f| f.person == p))
             .and_then(|f| f.field.as_ref())
             .map_or("—".to_string(), |f| {
-                format!("{:.0} mm", f.field().bandwidth() * 1e3)
+                let h = f.field().bandwidth();
+                if h.is_infinite() {
+                    "flat".to_string()
+                } else {
+                    format!("{:.0} mm", h * 1e3)
+                }
             });
         md.push_str(&format!(
             "| {name} | {} | {} | {:+.2} mm | {bandwidth} |\n",

@@ -1,5 +1,6 @@
-//! `kinergy fit --field`: after each reach's own nested fit, the person's parameter field
-//! over the reaches' targets (in the arm's base frame), written as a field file
+//! `kinergy fit --field`: after each reach's own nested fit and the person's single vector
+//! (all the reaches at once), the person's parameter field over the reaches' targets (in the
+//! arm's base frame), anchored to that vector, written as a field file
 //! ([`kinergy_train::field::FieldFile`]), and a report of the bandwidth chosen and how well
 //! the field of the other reaches predicts each reach (leave one reach out).
 
@@ -36,8 +37,12 @@ struct FieldReport {
     kind: &'static str,
     optimizer: &'static str,
     model: &'static str,
-    /// The bandwidth in use, meters.
+    /// The bandwidth in use, meters; `null` when the field is flat: the person's single
+    /// vector everywhere (the reaches show no dependence on the target).
     bandwidth_m: f64,
+    /// The person's single vector's mean distance over all the reaches (the field's
+    /// anchor), meters.
+    anchor_distance_m: f64,
     /// The parameter-space leave-one-out error of that bandwidth (RMS over samples and
     /// entries, each relative to its bound width); `null` when there was nothing to choose
     /// from (fewer than two distinct targets).
@@ -75,18 +80,25 @@ pub fn check_one_arm(reaches: &[CapturedReach]) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Fits the field of the per-reach `fits` (one nested fit per reach, in order), writes it to
-/// `dest` and reports.
+/// Fits the field of the per-reach `fits` (one nested fit per reach, in order) anchored to
+/// `person` (all the reaches at once), writes it to `dest` and reports.
 pub fn finish(
     args: &Args,
     dest: &Path,
     reaches: &[CapturedReach],
     fits: &[NestedFit],
+    person: &NestedFit,
     settings: &FitSettings,
 ) -> Result<(), Failure> {
     let last: Vec<Fit> = fits.iter().filter_map(|f| f.fits.last().cloned()).collect();
-    let file =
-        FieldFile::from_fits(reaches, &last, &FieldSettings::default()).map_err(train_failure)?;
+    let anchor = person
+        .fits
+        .last()
+        .ok_or_else(|| Failure::Task("no model was fitted".into()))?;
+    let file = FieldFile::from_fits(reaches, &last, &FieldSettings::default())
+        .and_then(|f| f.anchored(anchor.values.clone()))
+        .and_then(|f| f.chosen_by_motion(reaches, settings.tolerance))
+        .map_err(train_failure)?;
     let loo = if reaches.len() >= 2 {
         Some(
             file.leave_one_out(reaches, settings.tolerance)
@@ -122,6 +134,7 @@ pub fn finish(
         optimizer: args.optimizer.name(),
         model: file.model().name(),
         bandwidth_m: file.field().bandwidth(),
+        anchor_distance_m: anchor.score,
         loo_error: file.loo_error(),
         selection: file.field().selection().to_vec(),
         own_distance_m: mean(&mut samples.iter().map(|s| s.distance_m)),
@@ -155,7 +168,17 @@ fn text(r: &FieldReport, model: Model) -> String {
         r.optimizer,
         model.name()
     );
+    s.push_str(&format!(
+        "  anchored to the person's single vector ({} over all the reaches)\n",
+        mm(r.anchor_distance_m)
+    ));
     s.push_str(&match r.loo_error {
+        Some(e) if r.bandwidth_m.is_infinite() => format!(
+            "  flat: the person's vector everywhere, chosen by leave-one-out among {} \
+             (parameter error {:.1} % of the bounds): the reaches show no dependence on the target\n",
+            r.selection.len(),
+            e * 100.0
+        ),
         Some(e) => format!(
             "  bandwidth {:.3} m, chosen by leave-one-out among {} (parameter error {:.1} % of the bounds)\n",
             r.bandwidth_m,

@@ -4,6 +4,21 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// A file of the shared data folder (`../shared/data/FOLDER/NAME`; `NAME` empty: the folder),
+/// or `None`, saying why, where it is absent (the Bandai Namco captures are never committed).
+pub fn shared(folder: &str, name: &str) -> Option<PathBuf> {
+    let p = repo().join("../shared/data").join(folder).join(name);
+    if p.exists() {
+        Some(p)
+    } else {
+        eprintln!(
+            "skipping: {} is absent (the Bandai Namco captures are never committed)",
+            p.display()
+        );
+        None
+    }
+}
+
 /// Runs `kinergy` with `args`.
 pub fn kinergy(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_kinergy"))

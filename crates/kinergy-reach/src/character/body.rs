@@ -403,7 +403,13 @@ impl Character {
     /// The world frame of the limb's chain base at `pose`: its base joint's frame before the
     /// joint's own motions (parent frame · offset · rest rotation).
     pub fn limb_base_frame(&self, limb: Limb, pose: &Pose) -> IsometryMatrix3<f64> {
-        self.limb_base_frame_in(limb, &self.world_frames(pose))
+        let j = &self.joints[limb.joints()[0]];
+        let mut frame = j
+            .parent
+            .map_or(IsometryMatrix3::identity(), |p| self.joint_frame(p, pose));
+        frame.translation.vector += frame.rotation * j.offset;
+        frame.rotation *= j.rest;
+        frame
     }
 
     /// [`Character::limb_base_frame`] from world frames already computed
@@ -432,23 +438,59 @@ impl Character {
     /// Forward kinematics: every joint's world frame (after its motions).
     pub fn world_frames(&self, pose: &Pose) -> Vec<IsometryMatrix3<f64>> {
         let mut out: Vec<IsometryMatrix3<f64>> = Vec::with_capacity(self.joints.len());
-        for j in &self.joints {
-            let mut frame = j.parent.map_or(IsometryMatrix3::identity(), |p| out[p]);
-            let mut k = j.first_dof;
-            let mut offset = j.offset;
-            if j.translates {
-                offset += Vector3::new(pose[k], pose[k + 1], pose[k + 2]);
-                k += 3;
-            }
-            frame.translation.vector += frame.rotation * offset;
-            frame.rotation *= j.rest;
-            for m in &j.motions {
-                frame.rotation *= motion_rotation(m, &pose[k..]);
-                k += m.dof_count();
-            }
-            out.push(frame);
+        for (i, j) in self.joints.iter().enumerate() {
+            let parent = j.parent.map_or(IsometryMatrix3::identity(), |p| out[p]);
+            out.push(self.joint_frame_from(i, &parent, pose));
         }
         out
+    }
+
+    /// The world frame of `joint` (after its motions) at `pose`: forward kinematics of its
+    /// ancestors only, the same values [`Character::world_frames`] gives it.
+    pub fn joint_frame(&self, joint: usize, pose: &Pose) -> IsometryMatrix3<f64> {
+        // Joints come after their parents: walk up, then down.
+        let mut path = [0usize; 32];
+        let mut depth = 0;
+        let mut at = Some(joint);
+        while let Some(j) = at {
+            if depth == path.len() {
+                // Deeper than any body: the full pass.
+                return self.world_frames(pose)[joint];
+            }
+            path[depth] = j;
+            depth += 1;
+            at = self.joints[j].parent;
+        }
+        path[..depth]
+            .iter()
+            .rev()
+            .fold(IsometryMatrix3::identity(), |parent, &j| {
+                self.joint_frame_from(j, &parent, pose)
+            })
+    }
+
+    /// Joint `i`'s world frame given its parent's.
+    fn joint_frame_from(
+        &self,
+        i: usize,
+        parent: &IsometryMatrix3<f64>,
+        pose: &Pose,
+    ) -> IsometryMatrix3<f64> {
+        let j = &self.joints[i];
+        let mut frame = *parent;
+        let mut k = j.first_dof;
+        let mut offset = j.offset;
+        if j.translates {
+            offset += Vector3::new(pose[k], pose[k + 1], pose[k + 2]);
+            k += 3;
+        }
+        frame.translation.vector += frame.rotation * offset;
+        frame.rotation *= j.rest;
+        for m in &j.motions {
+            frame.rotation *= motion_rotation(m, &pose[k..]);
+            k += m.dof_count();
+        }
+        frame
     }
 
     /// Forward kinematics: every joint's world position, End Sites included, in

@@ -36,11 +36,10 @@ impl Head {
 
 /// The cervical twist and forward swing that face the head toward the target.
 fn head_angles(character: &Character, pose: &Pose, target: &Point3<f64>) -> (f64, f64) {
-    let frames = character.world_frames(pose);
     let neck = &character.joints()[joint::NECK];
-    let parent = neck
-        .parent
-        .map_or(IsometryMatrix3::identity(), |p| frames[p]);
+    let parent = neck.parent.map_or(IsometryMatrix3::identity(), |p| {
+        character.joint_frame(p, pose)
+    });
     let frame_rot = parent.rotation * neck.rest;
     let origin = parent * Point3::from(neck.offset);
     let d = frame_rot.inverse() * (target - origin);

@@ -479,7 +479,8 @@ pub(super) fn animate(
                 dt,
             )
         {
-            error = (character.world_positions(&pose)[plan.arm.joints()[3]] - plan.target).norm();
+            let hand = character.joint_frame(plan.arm.joints()[3], &pose);
+            error = (Point3::from(hand.translation.vector) - plan.target).norm();
         }
         idle.end_frame(&mut pose, idle_alpha, dt);
         character.clamp_pose(&mut pose);

@@ -13,9 +13,9 @@
 //!   person table whose diagonal is the own-person result;
 //! - with [`HoldoutSettings::field`], the person's parameter field ([`Params::Field`]): each
 //!   training take fitted on its own (nested up to the cross model), the field of those
-//!   vectors over their targets in the arm's base frame ([`FieldFile::fit`]), evaluated at
-//!   each held-out take's own target — beside the single cross-model vector fitted on the
-//!   same takes.
+//!   vectors over their targets in the arm's base frame, anchored to the single cross-model
+//!   vector fitted on the same takes ([`FieldFile::anchored`]), evaluated at each held-out
+//!   take's own target — beside that single vector.
 //!
 //! The split is a fixed choice, not a K-fold rotation: a rotation would multiply the cost of
 //! the fits by the number of folds. Takes come as a list of [`Take`]s (a person and a
@@ -417,13 +417,22 @@ pub fn run_holdout(
                         .copied()
                         .filter(|&m| m <= settings.cross_model)
                         .collect();
-                    Some(FieldFile::fit(
-                        &train,
-                        &models,
-                        optimizer,
-                        &settings.fit,
-                        field,
-                    )?)
+                    let (file, fits) =
+                        FieldFile::fit_reaches(&train, &models, optimizer, &settings.fit, field)?;
+                    // Anchored to the single vector of the same model, fitted above.
+                    let single = nested
+                        .fits
+                        .iter()
+                        .find(|f| f.model() == file.model())
+                        .map(|f| f.values.clone())
+                        .ok_or_else(|| TrainError::Setting {
+                            field: "cross_model".into(),
+                            why: "one of the models fitted".into(),
+                        })?;
+                    let file = file
+                        .anchored(single)?
+                        .chosen_by_motion(&train, settings.fit.tolerance)?;
+                    Some((file, fits))
                 }
                 None => None,
             };

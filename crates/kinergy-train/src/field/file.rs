@@ -10,21 +10,21 @@ use kinergy_solver::{
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::{BandwidthScore, FieldSettings, LooRow, ParamField, leave_one_out};
+use super::{BandwidthScore, FieldSettings, LooRow, ParamField, infinite_as_null};
 use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError, in_file, require};
 use crate::fit::{Fit, FitSettings, NestedFit, fit_nested};
 use crate::objective::Objective;
 
 /// The format version of a field file this crate writes and reads.
-pub const FIELD_FORMAT_VERSION: u32 = 2;
+pub const FIELD_FORMAT_VERSION: u32 = 3;
 
 /// A person's parameter field as a product (`kinergy fit CLIPS --per person
 /// --field -o field.json`). Everything needed to run the person's synergy controller toward a
 /// new target: the field (model, DoFs, bounds, kernel settings, the bandwidth chosen and the
-/// leave-one-out scores it was chosen by), the optimizer, and per sample the reach it was
-/// fitted on (clip, frames, the arm: side, joints, bones), its own fit's distance, its target
-/// and its fitted vector.
+/// leave-one-out scores it was chosen by, the person's single vector it is anchored to), the
+/// optimizer, and per sample the reach it was fitted on (clip, frames, the arm: side, joints,
+/// bones), its own fit's distance, its target and its fitted vector.
 ///
 /// **Targets are in the arm's base frame** on the reach's first frame: meters, origin at the
 /// shoulder, z lateral outward, y up, x = y × z (the capture convention of
@@ -34,7 +34,7 @@ pub const FIELD_FORMAT_VERSION: u32 = 2;
 ///
 /// ```json
 /// {
-///   "format_version": 2,
+///   "format_version": 3,
 ///   "model": "sc",
 ///   "optimizer": { "kind": "svd", "rate": 4.0, "threshold": 0.01 },
 ///   "dof_names": ["shoulder_swing_x", "…"],
@@ -42,7 +42,9 @@ pub const FIELD_FORMAT_VERSION: u32 = 2;
 ///   "names": ["g_shoulder_swing_x", "…", "s", "o"],
 ///   "settings": { "bandwidth": "auto", "regression": "nadaraya_watson" },
 ///   "bandwidth": 0.21,
-///   "selection": [ { "bandwidth": 0.053, "loo_error": 0.12 }, "…" ],
+///   "selection": [ { "bandwidth": 0.053, "loo_error": 0.12 }, "…",
+///                  { "bandwidth": null, "loo_error": 0.1 } ],
+///   "anchor": [1.1, "…"],
 ///   "samples": [
 ///     { "clip": "p01/r01.bvh", "frames": [4, 72],
 ///       "arm": { "side": "right", "joints": ["…"], "upper_arm_m": 0.3, "forearm_m": 0.25,
@@ -52,8 +54,11 @@ pub const FIELD_FORMAT_VERSION: u32 = 2;
 /// }
 /// ```
 ///
-/// Format 1 (before this one) held world targets and no optimizer; it is refused with a
-/// message saying to run `kinergy fit --field` again. Reading checks everything a damaged or
+/// `anchor` (optional) is the person's single vector, fitted on all the samples' reaches at
+/// once, that the field is anchored to ([`ParamField::anchored`]); a `bandwidth` of `null`
+/// is the flat field of an anchored one (∞: the anchor everywhere). Format 2 (no anchor) and
+/// format 1 (world targets, no optimizer) are refused with a message saying to run `kinergy
+/// fit --field` again. Reading checks everything a damaged or
 /// hand-edited file could get wrong and names the field (`samples[2].values`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct FieldFile {
@@ -135,10 +140,36 @@ impl FieldFile {
     }
 
     /// Fits each reach on its own — `models` nested, poorest first, as `kinergy fit --per clip`
-    /// does — then the field of the richest model's vectors with `field`. Reaches are fitted
-    /// in parallel; the result does not depend on the thread count. Returns the file and
-    /// every reach's nested fit, in the reaches' order.
+    /// does — then the field of the richest model's vectors with `field`, anchored to the
+    /// person's single vector (the same models nested on all the reaches at once, as
+    /// `kinergy fit --per person` does), its bandwidth chosen by the motion
+    /// ([`FieldFile::chosen_by_motion`]). Reaches are fitted in parallel; the result does not
+    /// depend on the thread count. Returns the file and every reach's nested fit, in the
+    /// reaches' order.
     pub fn fit(
+        reaches: &[CapturedReach],
+        models: &[Model],
+        optimizer: Optimizer,
+        fit: &FitSettings,
+        field: &FieldSettings,
+    ) -> Result<(FieldFile, Vec<NestedFit>)> {
+        let (file, nested) = FieldFile::fit_reaches(reaches, models, optimizer, fit, field)?;
+        let person = fit_nested(reaches, models, optimizer, fit)?;
+        let anchor = person
+            .fits
+            .last()
+            .map(|f| f.values.clone())
+            .unwrap_or_default();
+        let file = file
+            .anchored(anchor)?
+            .chosen_by_motion(reaches, fit.tolerance)?;
+        Ok((file, nested))
+    }
+
+    /// [`FieldFile::fit`] without the anchor: the field of the per-reach fits alone (for a
+    /// caller that has fitted the person's vector already and anchors it with
+    /// [`FieldFile::anchored`]).
+    pub fn fit_reaches(
         reaches: &[CapturedReach],
         models: &[Model],
         optimizer: Optimizer,
@@ -160,6 +191,70 @@ impl FieldFile {
             })
             .collect::<Result<_>>()?;
         Ok((FieldFile::from_fits(reaches, &last, field)?, nested))
+    }
+
+    /// The anchored field's bandwidth chosen again by the motion: for every candidate of its
+    /// selection (h = ∞ included), each reach k synthesized (ε = `tolerance`) with the field
+    /// of the other samples with that h at its target, and the h of the smallest mean
+    /// distance kept (ties to the larger h: the flat field, the person's vector everywhere,
+    /// is the largest). `reaches` are the field's own, in sample order. A field that is not
+    /// anchored, has fewer than two samples or no candidates (a fixed bandwidth, one distinct
+    /// target) is returned as it is. Every (candidate, reach) runs in parallel; the choice
+    /// does not depend on the thread count.
+    pub fn chosen_by_motion(self, reaches: &[CapturedReach], tolerance: f64) -> Result<FieldFile> {
+        require(
+            reaches.len() == self.field.len(),
+            "reaches",
+            format!("the field's {} reaches, in order", self.field.len()),
+        )?;
+        let field = &self.field;
+        if field.anchor().is_none() || field.len() < 2 || field.selection().is_empty() {
+            return Ok(self);
+        }
+        let space = field.space();
+        let n = field.len();
+        let candidates = field.selection().to_vec();
+        let distances: Vec<f64> = (0..candidates.len() * n)
+            .into_par_iter()
+            .map(|i| {
+                let (c, k) = (i / n, i % n);
+                let params = field
+                    .without_at(k, candidates[c].bandwidth)
+                    .evaluate(&field.targets()[k]);
+                Objective::new(vec![reaches[k].clone()], space.clone(), self.optimizer)?
+                    .with_tolerance(tolerance)?
+                    .score(&params)
+            })
+            .collect::<Result<_>>()?;
+        let selection: Vec<BandwidthScore> = candidates
+            .iter()
+            .enumerate()
+            .map(|(c, s)| BandwidthScore {
+                loo_distance_m: Some(distances[c * n..(c + 1) * n].iter().sum::<f64>() / n as f64),
+                ..*s
+            })
+            .collect();
+        // Largest h first, strict improvement only.
+        let mut best: Option<&BandwidthScore> = None;
+        for s in selection.iter().rev() {
+            if best.is_none_or(|b| s.loo_distance_m < b.loo_distance_m) {
+                best = Some(s);
+            }
+        }
+        let h = best.map_or(field.bandwidth(), |b| b.bandwidth);
+        Ok(FieldFile {
+            field: field.with_bandwidth(h, selection),
+            ..self
+        })
+    }
+
+    /// The same file, its field anchored to the person's single `vector` (fitted on all the
+    /// samples' reaches at once: [`ParamField::anchored`]).
+    pub fn anchored(self, vector: Vec<f64>) -> Result<FieldFile> {
+        Ok(FieldFile {
+            field: self.field.anchored(vector)?,
+            ..self
+        })
     }
 
     /// The field (targets in the arm's base frame).
@@ -230,9 +325,9 @@ impl FieldFile {
     }
 
     /// Leave one reach out: for each sample k, the field of the others (its bandwidth chosen
-    /// again without k) predicts reach k's vector at its target and `reaches[k]` is
-    /// synthesized with it (ε = `tolerance`) and scored. `reaches` are the field's own, in
-    /// sample order; needs ≥ 2.
+    /// again without k, the same anchor) predicts reach k's vector at its target and
+    /// `reaches[k]` is synthesized with it (ε = `tolerance`) and scored. `reaches` are the
+    /// field's own, in sample order; needs ≥ 2. Rows run in parallel, in sample order.
     pub fn leave_one_out(&self, reaches: &[CapturedReach], tolerance: f64) -> Result<Vec<LooRow>> {
         require(
             reaches.len() == self.field.len(),
@@ -240,18 +335,25 @@ impl FieldFile {
             format!("the field's {} reaches, in order", self.field.len()),
         )?;
         let space = self.field.space();
-        let samples: Vec<(Point3<f64>, Vec<f64>)> = self
-            .field
-            .targets()
-            .iter()
-            .copied()
-            .zip(self.field.values().iter().cloned())
-            .collect();
-        leave_one_out(space, &samples, self.field.settings(), |k, params| {
-            Objective::new(vec![reaches[k].clone()], space.clone(), self.optimizer)?
-                .with_tolerance(tolerance)?
-                .score(params)
-        })
+        (0..self.field.len())
+            .into_par_iter()
+            .map(|k| {
+                let others = self.field.without(k)?;
+                let target = self.field.targets()[k];
+                let field_params = others.evaluate(&target);
+                let field_distance =
+                    Objective::new(vec![reaches[k].clone()], space.clone(), self.optimizer)?
+                        .with_tolerance(tolerance)?
+                        .score(&field_params)?;
+                Ok(LooRow {
+                    index: k,
+                    target: [target.x, target.y, target.z],
+                    bandwidth: others.bandwidth(),
+                    field_params,
+                    field_distance,
+                })
+            })
+            .collect()
     }
 
     /// Pretty JSON.
@@ -268,10 +370,15 @@ impl FieldFile {
             .and_then(|v| v.get("format_version").and_then(serde_json::Value::as_u64))
             .filter(|&v| v < u64::from(FIELD_FORMAT_VERSION))
         {
+            let holds = if found < 2 {
+                "world targets and no optimizer"
+            } else {
+                "no anchor (the person's single vector)"
+            };
             return Err(bad(format!(
-                "`format_version` is {found}: a field file of format {found} holds world \
-                 targets and no optimizer, and this version of Kinergy reads format \
-                 {FIELD_FORMAT_VERSION}: run `kinergy fit --field` again to make it"
+                "`format_version` is {found}: a field file of format {found} holds {holds}, \
+                 and this version of Kinergy reads format {FIELD_FORMAT_VERSION}: run \
+                 `kinergy fit --field` again to make it"
             )));
         }
         let doc: Doc = kinergy_io::parse_versioned(text, FIELD_FORMAT_VERSION)
@@ -365,9 +472,14 @@ struct Doc {
     /// The entries' names, in vector order (for readers; checked on load).
     names: Vec<String>,
     settings: FieldSettings,
+    /// `null`: ∞, the flat field of an anchored one.
+    #[serde(with = "infinite_as_null")]
     bandwidth: f64,
     #[serde(default)]
     selection: Vec<BandwidthScore>,
+    /// The person's single vector the field is anchored to.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    anchor: Option<Vec<f64>>,
     samples: Vec<SampleDoc>,
 }
 
@@ -397,6 +509,7 @@ impl Doc {
             settings: *field.settings(),
             bandwidth: field.bandwidth(),
             selection: field.selection().to_vec(),
+            anchor: field.anchor().map(<[f64]>::to_vec),
             samples: file
                 .reaches
                 .iter()
@@ -442,13 +555,20 @@ impl Doc {
         self.settings
             .validate()
             .map_err(|e| err("settings", format!(": {e}")))?;
-        let positive = |v: f64| v.is_finite() && v > 0.0;
+        // ∞ (`null`) only for the flat field of an anchored one.
+        let anchored = self.anchor.is_some();
+        let positive = |v: f64| v > 0.0 && (v.is_finite() || (anchored && v == f64::INFINITY));
         if !positive(self.bandwidth) {
             return Err(err(
                 "bandwidth",
                 format!(
-                    "is {}: expected a finite number of meters > 0",
-                    self.bandwidth
+                    "is {}: expected a finite number of meters > 0{}",
+                    self.bandwidth,
+                    if anchored {
+                        ", or null (flat)"
+                    } else {
+                        " (null, flat, needs an anchor)"
+                    }
                 ),
             ));
         }
@@ -456,9 +576,16 @@ impl Doc {
             if !(positive(s.bandwidth) && s.loo_error.is_finite() && s.loo_error >= 0.0) {
                 return Err(err(
                     &format!("selection[{i}]"),
-                    "expected a bandwidth > 0 and a leave-one-out error ≥ 0, both finite".into(),
+                    "expected a bandwidth > 0 (finite, or null for an anchored field) and a \
+                     finite leave-one-out error ≥ 0"
+                        .into(),
                 ));
             }
+        }
+        if let Some(anchor) = &self.anchor {
+            space
+                .validate(anchor)
+                .map_err(|e| err("anchor", format!(": {e}")))?;
         }
         if self.samples.is_empty() {
             return Err(err("samples", "is empty: expected at least one".into()));
@@ -487,16 +614,15 @@ impl Doc {
         }
         check_reaches(&reaches)?;
         Ok(FieldFile {
-            field: ParamField {
-                lower: space.lower(),
-                upper: space.upper(),
+            field: ParamField::stored(
                 space,
                 targets,
                 values,
-                settings: self.settings,
-                bandwidth: self.bandwidth,
-                selection: self.selection,
-            },
+                self.settings,
+                self.bandwidth,
+                self.selection,
+                self.anchor,
+            ),
             optimizer: self.optimizer,
             reaches,
         })
