@@ -502,6 +502,57 @@ fn rrt_crate(c: &mut Criterion, f: &Fixture, summaries: &Summaries) {
     g.finish();
 }
 
+/// A grasp of the book (plan to the pre-grasp, approach, close) as Kallmann plays it and with
+/// the reach finished by a person's synergy (`tests/data/params/synthetic-p01-r09-sc.json`):
+/// what the synergy's runs from the points along the path and their per-frame collision
+/// checks cost.
+fn persons_grasp(c: &mut Criterion, summaries: &Summaries) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/bookshelf/scene.json");
+    let scene = Scene::read(&path).expect("the bookshelf scene");
+    let params = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/params/synthetic-p01-r09-sc.json");
+    let file = kinergy_solver::ParamsFile::read(&params).expect("params");
+    let plain = Planner::new(scene.clone(), TaskSettings::default()).expect("a planner");
+    let drive = kinergy_reach::controller::ArmDrive::Synergy {
+        optimizer: file.optimizer,
+        synergy: file
+            .synergy_for(&kinergy_reach::controller::arm_dof_names(plain.character()))
+            .expect("the arm's DoFs"),
+    };
+    let person = Planner::new(
+        scene,
+        TaskSettings {
+            arm: drive,
+            ..TaskSettings::default()
+        },
+    )
+    .expect("a planner");
+    if summaries.wanted("person") {
+        for (name, planner) in [("planned", &plain), ("synergy", &person)] {
+            let m = planner.grasp(OBJECT).expect("grasp");
+            let reach = &m.phases[0];
+            eprintln!(
+                "person/{name}: {} frames, the reach {} frames, {:?}",
+                m.poses.len(),
+                reach.frames.len(),
+                reach
+                    .synergy
+                    .as_ref()
+                    .map(|a| (a.from_m, a.rejected.len(), a.frames))
+            );
+        }
+    }
+    let mut g = c.benchmark_group("person");
+    g.sample_size(10);
+    g.bench_function("grasp_planned", |bench| {
+        bench.iter(|| plain.grasp(black_box(OBJECT)).expect("grasp"))
+    });
+    g.bench_function("grasp_synergy", |bench| {
+        bench.iter(|| person.grasp(black_box(OBJECT)).expect("grasp"))
+    });
+    g.finish();
+}
+
 fn main() {
     let summaries = Summaries::from_args();
     let fixture = Fixture::new();
@@ -510,5 +561,6 @@ fn main() {
     let raw = rrt_relocation(&mut c, &fixture, &summaries);
     smoothing(&mut c, &fixture, &summaries, raw);
     rrt_crate(&mut c, &fixture, &summaries);
+    persons_grasp(&mut c, &summaries);
     c.final_summary();
 }

@@ -675,6 +675,18 @@ fn a_persons_synergy_finishes_the_reach_where_its_approach_is_free() {
                 phase.name
             );
         }
+        // The grip never faster than a person's hand (natural.rs holds the full-body reach to
+        // 3 m/s).
+        let grips: Vec<_> = m.poses[..m.phases[1].frames.end]
+            .iter()
+            .map(|p| space.grip_frame(&space.config_of(p)).translation.vector)
+            .collect();
+        let fastest = grips
+            .windows(2)
+            .map(|w| (w[1] - w[0]).norm() / m.frame_time)
+            .fold(0.0, f64::max);
+        println!("{params}: fastest grip {fastest:.2} m/s");
+        assert!(fastest <= 3.0, "{params}: {fastest} m/s");
         // The settle ends on the pre-grasp: the approach starts where it does without a
         // person.
         assert_eq!(m.phases[1].name, "settle");
