@@ -32,7 +32,8 @@ use crate::synergy::Model;
 /// How a parameters file's values were fitted.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FitRecord {
-    /// The search: `simulated_annealing`; `parameter_field` for a vector a field file
+    /// The search: `simulated_annealing`, or `simulated_annealing+nelder_mead+levenberg_marquardt` when a
+    /// local refinement followed (`kinergy fit --refine`); `parameter_field` for a vector a field file
     /// predicted for a target (then the scores, the reaches and their distances are those of
     /// the per-reach fits the field was made of; the predicted vector itself was not scored).
     pub method: String,

@@ -8,7 +8,7 @@ use std::path::Path;
 use kinergy_motion::{ArmJoints, Clip, ImportOptions, Side, read_clip};
 use kinergy_solver::{BaseMode, Model, OptimizerKind, ParamSpace, Synergy};
 use kinergy_train::anneal::AnnealSettings;
-use kinergy_train::fit::{FitSettings, fit_model, fit_nested};
+use kinergy_train::fit::{FitSettings, RefineSettings, fit_model, fit_nested};
 use kinergy_train::synthetic::made_reach;
 use kinergy_train::{CapturedReach, CostFunction, Objective};
 
@@ -307,4 +307,69 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
         .expect_err("another problem")
         .to_string();
     assert!(e.contains("fit.ckpt.json"), "{e}");
+}
+
+/// The local refinement after a short annealing: never worse than the annealing's vector,
+/// far closer to the truth's motion, and the same bit for bit on one thread and on two.
+#[test]
+fn a_refinement_finds_the_floor_of_the_basin_on_any_thread_count() {
+    let frames = 150;
+    let (made, arm, _) = synthetic_capture(&TRUTH, frames);
+    let reach = CapturedReach::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let settings = FitSettings {
+        anneal: AnnealSettings {
+            max_evaluations: 1200,
+            seed: 11,
+            ..AnnealSettings::default()
+        },
+        ..FitSettings::default()
+    };
+    let fit = fit_model(
+        std::slice::from_ref(&reach),
+        Model::Sc,
+        OptimizerKind::Svd.default_optimizer(),
+        None,
+        &settings,
+        &mut (),
+        &Default::default(),
+        None,
+    )
+    .expect("fit");
+    let refine = RefineSettings {
+        max_evaluations: 1500,
+        ..RefineSettings::default()
+    };
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(|| {
+                fit.clone()
+                    .refined(std::slice::from_ref(&reach), &settings, &refine)
+                    .expect("refined")
+            })
+    };
+    let (one, two) = (on(1), on(2));
+    eprintln!(
+        "annealed {:.4} mm after {} evaluations, refined {:.4} mm after {} more",
+        fit.score * 1e3,
+        fit.evaluations,
+        one.score * 1e3,
+        one.evaluations - fit.evaluations
+    );
+    assert_eq!(one.values, two.values);
+    assert_eq!(one.score.to_bits(), two.score.to_bits());
+    assert!(one.score <= fit.score);
+    assert!(one.evaluations <= fit.evaluations + refine.max_evaluations);
+    assert!(
+        one.score < 0.1 * fit.score && one.score < 1e-4,
+        "refined {} mm from {} mm",
+        one.score * 1e3,
+        fit.score * 1e3
+    );
+    assert_eq!(
+        one.record(std::slice::from_ref(&reach)).method,
+        "simulated_annealing+nelder_mead+levenberg_marquardt"
+    );
 }

@@ -25,7 +25,9 @@ use super::legs::{self, StepPlan, Stepping, leg_iks, lower_root_for_legs_in, sol
 use super::report::{HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop};
 use super::settings::ReachSettings;
 use super::spine::{apply_swing, plan_squat, plan_swing, plan_twist, set_twist};
-use super::synergy::{ArmDrive, PLAIN_IK_TIME, STALL_WINDOW, SYNERGY_TIME, SynergyArm};
+use super::synergy::{
+    ArmDrive, PLAIN_IK_TIME, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, SynergyArm,
+};
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::Result;
 use crate::profile::{BellTiming, SpeedProfile};
@@ -342,6 +344,9 @@ pub(super) fn animate(
     // The synergy arm has arrived within half the tolerance (it approaches its target
     // asymptotically: stopping at the tolerance would stop it still moving).
     let arrived = 0.5 * s.tolerance;
+    // A tight tolerance (a synthetic set's) is approached with progress below STALL_PROGRESS
+    // well before arrival: the least progress is then a tenth of the arrival distance.
+    let min_progress = STALL_PROGRESS.min(0.1 * arrived);
     let idle_limb = match plan.arm {
         Limb::LeftArm => Limb::RightArm,
         _ => Limb::LeftArm,
@@ -489,8 +494,9 @@ pub(super) fn animate(
             let base = character.limb_base_frame(plan.arm, &pose);
             let seen = synergy_arm.end_frame(&pose, &base)?;
             error = seen.unwrap_or(error);
-            let stalled =
-                error > arrived && timeline.body_done(t) && synergy_arm.stalled(stall_window);
+            let stalled = error > arrived
+                && timeline.body_done(t)
+                && synergy_arm.stalled_by(stall_window, min_progress);
             if hand_over.is_some() {
                 // Plain IK cannot close the gap either (the two chains' limits disagree): the
                 // analytic IK finishes, in the character's own limits.

@@ -292,6 +292,12 @@ impl SynergyArm {
     /// second half (a limit clamping the arm can make the error jump for a frame; a reach
     /// still closing in is not a stall).
     pub fn stalled(&self, window: usize) -> bool {
+        self.stalled_by(window, STALL_PROGRESS)
+    }
+
+    /// [`SynergyArm::stalled`] with another least progress, meters: a reach that must arrive
+    /// closer than [`STALL_PROGRESS`] allows watches for smaller progress.
+    pub fn stalled_by(&self, window: usize, min_progress: f64) -> bool {
         let n = self.progress.len();
         if n <= window || window < 2 {
             return false;
@@ -300,7 +306,7 @@ impl SynergyArm {
         let (first, second) = recent.split_at(window / 2);
         let worst = first.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
         let best = second.iter().fold(f64::INFINITY, |a, &b| a.min(b));
-        worst - best < STALL_PROGRESS
+        worst - best < min_progress
     }
 }
 

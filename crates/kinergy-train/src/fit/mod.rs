@@ -28,8 +28,10 @@ use crate::error::{Result, TrainError, require};
 use crate::objective::{CostFunction, Objective};
 
 mod nested;
+mod refine;
 
 pub use nested::{ClipFrames, FitProblem, NestedCheckpoint, NestedOutcome, NestedRun, Stage};
+pub use refine::{RefineSettings, Refinement, refine};
 
 /// How a fit searches.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -116,6 +118,9 @@ pub struct Fit {
     pub seed: u64,
     /// Frames synthesized in all (evaluations × frames per evaluation).
     pub frames_synthesized: usize,
+    /// The local refinement that followed the annealing ([`Fit::refined`]), if any: its
+    /// evaluations are counted in `evaluations`, its result is `values`.
+    pub refinement: Option<Refinement>,
 }
 
 impl Fit {
@@ -124,10 +129,36 @@ impl Fit {
         self.space.model()
     }
 
+    /// This fit refined by Nelder–Mead and Levenberg–Marquardt ([`refine`]) on `reaches` (the reaches it was
+    /// fitted on) with the ε of `settings`: the values, score and distances of the best
+    /// vector the refinement saw (never worse than the annealing's), the evaluations added.
+    pub fn refined(
+        self,
+        reaches: &[CapturedReach],
+        settings: &FitSettings,
+        refine_settings: &RefineSettings,
+    ) -> Result<Fit> {
+        let objective = settings.objective(reaches, self.model(), self.optimizer)?;
+        let refinement = refine(&objective, &self.values, refine_settings)?;
+        let evaluations = self.evaluations + refinement.evaluations;
+        Ok(Fit {
+            distances: objective.distances(&refinement.values)?,
+            values: refinement.values.clone(),
+            score: refinement.score,
+            evaluations,
+            frames_synthesized: evaluations * objective.frames_per_evaluation(),
+            refinement: Some(refinement),
+            ..self
+        })
+    }
+
     /// The record of this fit on `reaches` (the reaches it was fitted on, in order).
     pub fn record(&self, reaches: &[CapturedReach]) -> FitRecord {
         FitRecord {
-            method: "simulated_annealing".into(),
+            method: match self.refinement {
+                Some(_) => "simulated_annealing+nelder_mead+levenberg_marquardt".into(),
+                None => "simulated_annealing".into(),
+            },
             score_m: self.score,
             start_score_m: self.start_score,
             evaluations: self.evaluations,
@@ -170,6 +201,7 @@ impl Fit {
             status: stage.status,
             seed: stage.seed,
             frames_synthesized: stage.evaluations * objective.frames_per_evaluation(),
+            refinement: None,
         })
     }
 }
@@ -242,6 +274,7 @@ fn run_stage(
         status: state.status,
         seed: anneal.seed,
         frames_synthesized: state.evaluations * objective.frames_per_evaluation(),
+        refinement: None,
     })
 }
 
