@@ -201,6 +201,11 @@ impl FieldFile {
     /// anchored, has fewer than two samples or no candidates (a fixed bandwidth, one distinct
     /// target) is returned as it is. Every (candidate, reach) runs in parallel; the choice
     /// does not depend on the thread count.
+    ///
+    /// The anchor was fitted on every reach, k included, so the comparison leans toward the
+    /// flat field on purpose: the field departs from the person's vector only where the other
+    /// reaches' dependence on the target predicts reach k better than a vector fitted on
+    /// reach k itself (among the others).
     pub fn chosen_by_motion(self, reaches: &[CapturedReach], tolerance: f64) -> Result<FieldFile> {
         require(
             reaches.len() == self.field.len(),
