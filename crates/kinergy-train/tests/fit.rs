@@ -8,7 +8,7 @@ use std::path::Path;
 use kinergy_motion::{ArmJoints, Clip, ImportOptions, Side, read_clip};
 use kinergy_solver::{BaseMode, Model, OptimizerKind, ParamSpace, Synergy};
 use kinergy_train::anneal::AnnealSettings;
-use kinergy_train::fit::{FitSettings, RefineSettings, fit_model, fit_nested};
+use kinergy_train::fit::{Fit, FitSettings, RefineSettings, fit_model, fit_nested};
 use kinergy_train::synthetic::made_reach;
 use kinergy_train::{CapturedReach, CostFunction, Objective};
 
@@ -64,15 +64,16 @@ fn the_true_parameters_score_zero_on_their_own_motion() {
     );
 }
 
-#[test]
-fn known_sc_parameters_are_recovered() {
+/// S_C fitted by annealing alone (`evaluations`, `seed`) on a 150-frame capture made with
+/// [`TRUTH`]: the reach, the parameter space, the settings, the fit.
+fn annealed_sc_fit(evaluations: usize, seed: u64) -> (CapturedReach, ParamSpace, FitSettings, Fit) {
     let frames = 150;
     let (made, arm, space) = synthetic_capture(&TRUTH, frames);
     let reach = CapturedReach::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
     let settings = FitSettings {
         anneal: AnnealSettings {
-            max_evaluations: 6000,
-            seed: 4,
+            max_evaluations: evaluations,
+            seed,
             ..AnnealSettings::default()
         },
         ..FitSettings::default()
@@ -88,6 +89,12 @@ fn known_sc_parameters_are_recovered() {
         None,
     )
     .expect("fit");
+    (reach, space, settings, fit)
+}
+
+#[test]
+fn known_sc_parameters_are_recovered() {
+    let (reach, space, _, fit) = annealed_sc_fit(6000, 4);
     let names = space.names();
     let report: Vec<String> = names
         .iter()
@@ -313,28 +320,7 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
 /// far closer to the truth's motion, and the same bit for bit on one thread and on two.
 #[test]
 fn a_refinement_finds_the_floor_of_the_basin_on_any_thread_count() {
-    let frames = 150;
-    let (made, arm, _) = synthetic_capture(&TRUTH, frames);
-    let reach = CapturedReach::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
-    let settings = FitSettings {
-        anneal: AnnealSettings {
-            max_evaluations: 1200,
-            seed: 11,
-            ..AnnealSettings::default()
-        },
-        ..FitSettings::default()
-    };
-    let fit = fit_model(
-        std::slice::from_ref(&reach),
-        Model::Sc,
-        OptimizerKind::Svd.default_optimizer(),
-        None,
-        &settings,
-        &mut (),
-        &Default::default(),
-        None,
-    )
-    .expect("fit");
+    let (reach, _, settings, fit) = annealed_sc_fit(1200, 11);
     let refine = RefineSettings {
         max_evaluations: 1500,
         ..RefineSettings::default()
