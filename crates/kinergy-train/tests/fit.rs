@@ -94,7 +94,7 @@ fn annealed_sc_fit(evaluations: usize, seed: u64) -> (CapturedReach, ParamSpace,
 
 #[test]
 fn known_sc_parameters_are_recovered() {
-    let (reach, space, _, fit) = annealed_sc_fit(6000, 4);
+    let (_, space, _, fit) = annealed_sc_fit(6000, 4);
     let names = space.names();
     let report: Vec<String> = names
         .iter()
