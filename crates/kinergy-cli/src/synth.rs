@@ -32,8 +32,8 @@ pub struct Args {
     pub frame_rate: f64,
     /// A person's parameters (`kinergy fit -o person.json`): every reaching arm is driven by
     /// their synergy controller (`reach --params`), a set in their style; DIR/segments.csv
-    /// then lists the frames each clip's arm was driven by the synergy, for `kinergy fit
-    /// --segments` (a fit should recover the motion).
+    /// then lists the frames each clip's arm was driven by the synergy and the synergy's
+    /// target, for `kinergy fit --segments` (a fit should recover the motion).
     #[arg(long, value_name = "person.json")]
     pub params: Option<PathBuf>,
 }
@@ -90,14 +90,19 @@ fn write_set(args: &Args, drive: &ArmDrive) -> Result<usize, Failure> {
         let path = args.output.join("segments.csv");
         let segments = made
             .iter()
-            .map(|(row, frames)| SegmentRow {
-                person: row.person.clone(),
-                ..SegmentRow::new(
-                    args.output.join(&row.clip),
-                    frames.clone(),
-                    kinergy_motion::Side::Right,
-                    Label::Reach,
-                )
+            .map(|(row, frames)| {
+                // The synergy's target: where a fit must aim, also for a clip the synergy
+                // handed over before it arrived (its last hand position is not there).
+                SegmentRow {
+                    person: row.person.clone(),
+                    ..SegmentRow::new(
+                        args.output.join(&row.clip),
+                        frames.clone(),
+                        kinergy_motion::Side::Right,
+                        Label::Reach,
+                    )
+                }
+                .with_target([row.target_x, row.target_y, row.target_z])
             })
             .collect();
         Manifest::new(&path, segments)

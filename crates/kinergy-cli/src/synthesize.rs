@@ -114,6 +114,9 @@ struct Report {
     final_error_m: f64,
     shoulder_to_target_m: f64,
     arm_length_m: f64,
+    /// The mean joint-position distance of the synthesized arm to the captured one on the
+    /// same frames, meters (toward `--target` too: then it measures how the motion toward
+    /// that target differs from the captured one).
     distance_to_capture_m: Option<f64>,
     widened_limits: Vec<String>,
     at_limits_at_end: Vec<String>,
@@ -292,10 +295,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     )?;
 
     let arm = reach.arm();
-    let distance = match (&args.target, arm.synthesized_trajectory(&synthesis)) {
-        (None, Ok(synthesized)) => motion_distance(reach.captured(), &synthesized).ok(),
-        _ => None,
-    };
+    // Also with --target: the capture's own target may be unknown to its last hand position
+    // (a reach handed over before it arrived, a segments file's target), and the distance
+    // then says how far the motion toward the given target is from the captured one.
+    let distance = arm
+        .synthesized_trajectory(&synthesis)
+        .ok()
+        .and_then(|synthesized| motion_distance(reach.captured(), &synthesized).ok());
     let last = synthesis.frame_count() - 1;
     let report = Report {
         input: name,

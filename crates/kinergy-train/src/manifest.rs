@@ -11,6 +11,7 @@
 //! | `arm` | yes | `right` or `left` |
 //! | `label` | no (`reach`) | `reach`, `return` or `other` |
 //! | `person` | no (the clip's folder name) | who moves |
+//! | `target_x`, `target_y`, `target_z` | no (all three or none) | the reach's target, world meters in the clip's frame (as imported, Y up): where the hand was aimed, when it is known and is not where the segment's last frame has it (a reach handed over before it arrived, a target a lab recorded); empty cells for a row without one. A fit aims there instead of at the hand's last position |
 //!
 //! One row per line (a field may be quoted, `"a, b"`, but not span lines); lines starting
 //! with `#` are comments; blank lines and spaces around fields are ignored.
@@ -43,7 +44,7 @@ use kinergy_motion::{Clip, Side};
 use crate::segment::Label;
 
 /// One row: a segment of one clip.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ManifestRow {
     /// The capture, as found on disk (relative paths joined to the segments file's folder).
     pub clip: PathBuf,
@@ -55,6 +56,8 @@ pub struct ManifestRow {
     pub label: Label,
     /// Who moves.
     pub person: String,
+    /// The reach's target, world meters in the clip's frame, when the file gives it.
+    pub target: Option<[f64; 3]>,
     /// The line of the segments file the row was read from (1-based), if it was read.
     pub line: Option<usize>,
 }
@@ -69,7 +72,16 @@ impl ManifestRow {
             frames,
             arm,
             label,
+            target: None,
             line: None,
+        }
+    }
+
+    /// The same row with the reach's target (world meters in the clip's frame).
+    pub fn with_target(self, target: [f64; 3]) -> Self {
+        ManifestRow {
+            target: Some(target),
+            ..self
         }
     }
 }
@@ -97,13 +109,18 @@ impl fmt::Display for ManifestError {
 impl std::error::Error for ManifestError {}
 
 /// A segments file: its path and its rows, in file order.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Manifest {
     path: PathBuf,
     rows: Vec<ManifestRow>,
 }
 
-const COLUMNS: [&str; 6] = ["clip", "onset", "end", "arm", "label", "person"];
+const COLUMNS: [&str; 9] = [
+    "clip", "onset", "end", "arm", "label", "person", "target_x", "target_y", "target_z",
+];
+
+/// The target's columns.
+const TARGET: [&str; 3] = ["target_x", "target_y", "target_z"];
 
 impl Manifest {
     /// A segments file to be written at `path`.
@@ -206,6 +223,13 @@ impl Manifest {
                 ));
             }
         }
+        let targets = TARGET.iter().filter(|c| column.contains_key(*c)).count();
+        if targets != 0 && targets != 3 {
+            return Err(fail(
+                header_line,
+                "the target's columns come together: target_x, target_y and target_z".into(),
+            ));
+        }
 
         let mut rows = Vec::new();
         let mut seen: HashMap<(PathBuf, Side, usize, usize), usize> = HashMap::new();
@@ -277,6 +301,26 @@ impl Manifest {
                 "" => default_person(&clip),
                 p => p.to_string(),
             };
+            let cells = TARGET.map(cell);
+            let target = if cells.iter().all(|c| c.is_empty()) {
+                None
+            } else {
+                let mut t = [0.0; 3];
+                for ((v, name), text) in t.iter_mut().zip(TARGET).zip(cells) {
+                    *v = text
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            bad(format!(
+                                "{name} `{}` is not a finite number of meters (all three target \
+                                 cells, or none)",
+                                quote(text)
+                            ))
+                        })?;
+                }
+                Some(t)
+            };
             if let Some(first) = seen.insert((file_key(&clip), arm, onset, end), at) {
                 return Err(bad(format!(
                     "repeats line {first}: the same clip, arm and frames {onset}..{end}"
@@ -288,6 +332,7 @@ impl Manifest {
                 arm,
                 label,
                 person,
+                target,
                 line,
             });
         }
@@ -328,18 +373,28 @@ impl Manifest {
         let mut out = String::from(
             "# kinergy segments: frames onset..end are numbered from 0, end excluded (--frames A..B)\n",
         );
+        // The target's columns only when a row has one (shortest round-trip numbers).
+        let targets = self.rows.iter().any(|r| r.target.is_some());
+        let columns = if targets { &COLUMNS[..] } else { &COLUMNS[..6] };
         let mut write = || -> csv::Result<()> {
-            writer.write_record(COLUMNS)?;
+            writer.write_record(columns)?;
             for r in &self.rows {
                 let clip = relative_to(folder, &r.clip);
-                writer.write_record([
-                    clip.to_string_lossy().as_ref(),
-                    &r.frames.start.to_string(),
-                    &r.frames.end.to_string(),
-                    &r.arm.to_string(),
-                    r.label.as_str(),
-                    &r.person,
-                ])?;
+                let mut record = vec![
+                    clip.to_string_lossy().into_owned(),
+                    r.frames.start.to_string(),
+                    r.frames.end.to_string(),
+                    r.arm.to_string(),
+                    r.label.as_str().to_string(),
+                    r.person.clone(),
+                ];
+                if targets {
+                    record.extend(
+                        r.target
+                            .map_or([const { String::new() }; 3], |t| t.map(|v| v.to_string())),
+                    );
+                }
+                writer.write_record(&record)?;
             }
             writer.flush()?;
             Ok(())

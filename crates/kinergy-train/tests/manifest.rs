@@ -156,6 +156,57 @@ fn every_bad_row_names_the_file_and_the_line() {
     }
 }
 
+/// The target's columns: written only when a row has a target (empty cells for the others),
+/// read back to the same numbers, all three or none, finite; bad cells name the line.
+#[test]
+fn targets_round_trip_and_bad_ones_name_the_line() {
+    let (dir, ann, bob) = folder();
+    let path = dir.path().join("segments.csv");
+    let target = [-0.1314983289625152, 0.9911083172219668, 0.34385613501691664];
+    let rows = vec![
+        ManifestRow::new(ann.join("r1.bvh"), 0..12, Side::Left, Label::Reach).with_target(target),
+        ManifestRow::new(bob.join("r1.bvh"), 5..80, Side::Right, Label::Reach),
+    ];
+    let written = Manifest::new(&path, rows);
+    written.write().expect("write");
+    let text = std::fs::read_to_string(&path).expect("read");
+    assert!(
+        text.contains("clip,onset,end,arm,label,person,target_x,target_y,target_z\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("bob/r1.bvh,5,80,right,reach,bob,,,\n"),
+        "{text}"
+    );
+    let read = Manifest::read(&path).expect("read back");
+    assert_eq!(read.rows()[0].target, Some(target));
+    assert_eq!(read.rows()[1].target, None);
+    assert_eq!(Manifest::new(&path, read.rows().to_vec()).to_csv(), text);
+
+    let header = "clip,onset,end,arm,target_x,target_y,target_z\n";
+    for (row, needle) in [
+        (
+            "ann/r1.bvh,0,10,left,0.1,x,0.3",
+            "target_y `x` is not a finite number",
+        ),
+        (
+            "ann/r1.bvh,0,10,left,0.1,,0.3",
+            "target_y `` is not a finite number",
+        ),
+        (
+            "ann/r1.bvh,0,10,left,0.1,inf,0.3",
+            "target_y `inf` is not a finite",
+        ),
+    ] {
+        assert_error(&format!("{header}{row}\n"), Some(2), needle);
+    }
+    assert_error(
+        "clip,onset,end,arm,target_x,target_y\nann/r1.bvh,0,10,left,0.1,0.2\n",
+        Some(1),
+        "target_x, target_y and target_z",
+    );
+}
+
 #[test]
 fn a_row_twice_is_an_error_naming_both_lines() {
     let text = format!(

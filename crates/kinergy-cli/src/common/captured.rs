@@ -8,6 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
+use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::BaseMode;
 use kinergy_train::CapturedReach;
 use kinergy_train::manifest::{Manifest, ManifestRow};
@@ -22,8 +23,10 @@ pub struct CaptureArgs {
     /// Default: the segments `--select` picks.
     #[arg(long, value_name = "A..B")]
     pub frames: Option<String>,
-    /// A segments file (`clip,onset,end,arm[,label,person]`, as `kinergy segment --manifest`
-    /// writes it): every row is a reach, with its own frames and arm (`--arm` is not used).
+    /// A segments file (`clip,onset,end,arm[,label,person,target_x,target_y,target_z]`, as
+    /// `kinergy segment --manifest` or `kinergy synth --params` writes it): every row is a
+    /// reach, with its own frames and arm (`--arm` is not used), aimed at the row's target
+    /// (world meters) where it has one, else at the hand's position on its last frame.
     /// Without CLIPS the file's clips are used; CLIPS given keep only the rows of those clips.
     #[arg(long, value_name = "segments.csv", conflicts_with_all = ["frames", "select", "chain"])]
     pub segments: Option<PathBuf>,
@@ -154,8 +157,11 @@ impl CaptureArgs {
                 let arm = side_arm
                     .find(&clip, c)
                     .map_err(|e| Failure::Input(format!("{}: {e}", at(row))))?;
-                let reach = CapturedReach::new(&name, &clip, &arm, frames, self.mode())
+                let mut reach = CapturedReach::new(&name, &clip, &arm, frames, self.mode())
                     .map_err(|e| Failure::Input(format!("{}: {}: {e}", at(row), c.display())))?;
+                if let Some(t) = row.target {
+                    reach = reach.with_target(Point3::from(t));
+                }
                 out.push((reach, Some(row.person.clone())));
             }
         }
