@@ -119,7 +119,8 @@ struct SynergyReport {
     path_m: f64,
     /// Why approaches from earlier points were not used.
     rejected: Vec<String>,
-    /// Its first frame in the motion.
+    /// The frame in the motion where it takes over (the last of the planned path; it moves
+    /// the arm from the next).
     first_frame: usize,
     /// Frames it drove.
     frames: usize,

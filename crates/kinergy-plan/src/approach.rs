@@ -45,7 +45,8 @@ pub struct SynergyApproach {
     pub path_m: f64,
     /// Why each earlier point's approach was not used, in order.
     pub rejected: Vec<String>,
-    /// The phase's first frame driven by the synergy (counted from the phase's first frame).
+    /// The phase's frame where the synergy takes over (counted from the phase's first frame):
+    /// the last one of the planned path, the synergy's start; it moves the arm from the next.
     pub first_frame: usize,
     /// Frames the synergy (and plain IK after it) drove.
     pub frames: usize,

@@ -609,7 +609,8 @@ impl Builder<'_> {
                 rejected,
                 first_frame,
                 frames,
-                plain_ik_from: plain_ik_from.map(|k| first_frame + k - skip),
+                // The synergy's frame k is the phase's frame first_frame + 1 + k − skip.
+                plain_ik_from: plain_ik_from.map(|k| first_frame + 1 + k - skip),
                 distance_m: distance,
             };
             return Ok((configs, Some(approach)));

@@ -665,6 +665,18 @@ fn a_persons_synergy_finishes_the_reach_where_its_approach_is_free() {
         println!("{params}: {approach:?}");
         assert!(approach.frames > 10 && approach.distance_m <= kinergy_plan::approach::ARRIVED);
         assert!(approach.from_m < approach.path_m);
+        // The synergy's frames follow the switch point, plain IK's (if any) among them.
+        assert_eq!(
+            reach.frames.len(),
+            approach.first_frame + 1 + approach.frames,
+            "{params}"
+        );
+        if let Some(k) = approach.plain_ik_from {
+            assert!(
+                k > approach.first_frame + 1 && k < approach.first_frame + 1 + approach.frames,
+                "{params}: plain IK from frame {k}"
+            );
+        }
         let space = &reach.planned.as_ref().unwrap().space;
         let verifier = Verifier::new(&planner, &[]);
         for phase in &m.phases[..2] {
