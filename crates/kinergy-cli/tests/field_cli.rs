@@ -7,21 +7,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_bad_input, json, kinergy, repo, shared, stderr};
+use common::{assert_bad_input, json, kinergy, s, shared, stderr, synthetic};
 use kinergy_motion::{ArmJoints, ImportOptions, Side, read_clip};
-
-/// A clip of the synthetic set.
-fn synthetic(name: &str) -> PathBuf {
-    repo()
-        .join("data-synthetic/p01")
-        .join(name)
-        .canonicalize()
-        .expect("data-synthetic/p01 clip")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
-}
 
 /// `kinergy fit CLIPS --model MODEL --budget BUDGET --seed 2 EXTRA…`, which must succeed; its
 /// `--json` report when asked for.

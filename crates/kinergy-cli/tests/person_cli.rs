@@ -6,21 +6,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_bad_input, json, kinergy, repo, shared, stderr, stdout};
+use common::{assert_bad_input, json, kinergy, repo, s, shared, stderr, stdout, synthetic};
 use kinergy_motion::{ImportOptions, read_clip};
-
-/// A clip of the synthetic set.
-fn synthetic(name: &str) -> PathBuf {
-    repo()
-        .join("data-synthetic/p01")
-        .join(name)
-        .canonicalize()
-        .expect("data-synthetic/p01 clip")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("utf-8 path")
-}
 
 /// A segments file in `dir` with `rows` under the header `clip,onset,end,arm`.
 fn manifest(dir: &Path, rows: &[String]) -> PathBuf {

@@ -78,7 +78,7 @@
 //! each p_k by the mean of the others) and prefers it on ties: where the reaches show no
 //! dependence on the target, the anchored field *is* the person's vector, exactly; where they
 //! do, it follows the dependence. A field file chooses an anchored field's bandwidth by what
-//! matters, the motion ([`FieldFile::chosen_by_motion`]): each reach synthesized with the
+//! matters, the motion ([`FieldFile::anchored`]): each reach synthesized with the
 //! field of the others at its target, the candidate of the smallest mean distance kept
 //! (ties to the larger h, h = ∞ the largest).
 //!
@@ -228,7 +228,7 @@ pub struct BandwidthScore {
     /// Root mean square over samples and entries of the leave-one-out prediction error, each
     /// entry divided by its bound width.
     pub loo_error: f64,
-    /// For an anchored field chosen by motion ([`FieldFile::chosen_by_motion`]): the mean
+    /// For an anchored field chosen by motion ([`FieldFile::anchored`]): the mean
     /// over the samples' reaches of their motion distance synthesized with the field of the
     /// others at their targets, meters.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -313,17 +313,9 @@ impl ParamField {
                 data.select(settings.regression, anchor.is_some())
             }
         };
-        ParamField {
-            space,
-            lower,
-            upper,
-            targets,
-            values,
-            settings,
-            bandwidth,
-            selection,
-            anchor,
-        }
+        ParamField::stored(
+            space, targets, values, settings, bandwidth, selection, anchor,
+        )
     }
 
     /// A field read back from a file: everything as stored, nothing chosen again.

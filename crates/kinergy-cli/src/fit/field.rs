@@ -96,8 +96,7 @@ pub fn finish(
         .last()
         .ok_or_else(|| Failure::Task("no model was fitted".into()))?;
     let file = FieldFile::from_fits(reaches, &last, &FieldSettings::default())
-        .and_then(|f| f.anchored(anchor.values.clone()))
-        .and_then(|f| f.chosen_by_motion(reaches, settings.tolerance))
+        .and_then(|f| f.anchored(anchor.values.clone(), reaches, settings.tolerance))
         .map_err(train_failure)?;
     let loo = if reaches.len() >= 2 {
         Some(

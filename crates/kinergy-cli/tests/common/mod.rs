@@ -19,6 +19,20 @@ pub fn shared(folder: &str, name: &str) -> Option<PathBuf> {
     }
 }
 
+/// A clip of the synthetic set's first person, canonical.
+pub fn synthetic(name: &str) -> PathBuf {
+    repo()
+        .join("data-synthetic/p01")
+        .join(name)
+        .canonicalize()
+        .expect("data-synthetic/p01 clip")
+}
+
+/// A path as an argument.
+pub fn s(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
 /// Runs `kinergy` with `args`.
 pub fn kinergy(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_kinergy"))

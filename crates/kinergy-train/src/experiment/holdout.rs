@@ -429,9 +429,7 @@ pub fn run_holdout(
                             field: "cross_model".into(),
                             why: "one of the models fitted".into(),
                         })?;
-                    let file = file
-                        .anchored(single)?
-                        .chosen_by_motion(&train, settings.fit.tolerance)?;
+                    let file = file.anchored(single, &train, settings.fit.tolerance)?;
                     Some((file, fits))
                 }
                 None => None,

@@ -143,7 +143,7 @@ impl FieldFile {
     /// does — then the field of the richest model's vectors with `field`, anchored to the
     /// person's single vector (the same models nested on all the reaches at once, as
     /// `kinergy fit --per person` does), its bandwidth chosen by the motion
-    /// ([`FieldFile::chosen_by_motion`]). Reaches are fitted in parallel; the result does not
+    /// ([`FieldFile::anchored`]). Reaches are fitted in parallel; the result does not
     /// depend on the thread count. Returns the file and every reach's nested fit, in the
     /// reaches' order.
     pub fn fit(
@@ -160,9 +160,7 @@ impl FieldFile {
             .last()
             .map(|f| f.values.clone())
             .unwrap_or_default();
-        let file = file
-            .anchored(anchor)?
-            .chosen_by_motion(reaches, fit.tolerance)?;
+        let file = file.anchored(anchor, reaches, fit.tolerance)?;
         Ok((file, nested))
     }
 
@@ -193,20 +191,35 @@ impl FieldFile {
         Ok((FieldFile::from_fits(reaches, &last, field)?, nested))
     }
 
-    /// The anchored field's bandwidth chosen again by the motion: for every candidate of its
-    /// selection (h = ∞ included), each reach k synthesized (ε = `tolerance`) with the field
-    /// of the other samples with that h at its target, and the h of the smallest mean
-    /// distance kept (ties to the larger h: the flat field, the person's vector everywhere,
-    /// is the largest). `reaches` are the field's own, in sample order. A field that is not
-    /// anchored, has fewer than two samples or no candidates (a fixed bandwidth, one distinct
-    /// target) is returned as it is. Every (candidate, reach) runs in parallel; the choice
-    /// does not depend on the thread count.
+    /// The same file, its field anchored to the person's single `vector` (fitted on all the
+    /// samples' reaches at once: [`ParamField::anchored`]), its bandwidth then chosen by the
+    /// motion: for every candidate of the selection (h = ∞ included), each of `reaches` (the
+    /// field's own, in sample order) synthesized (ε = `tolerance`) with the field of the other
+    /// samples with that h at its target, and the h of the smallest mean distance kept (ties
+    /// to the larger h: the flat field, the person's vector everywhere, is the largest). With
+    /// fewer than two samples or no candidates (a fixed bandwidth, one distinct target) the
+    /// anchored field keeps its bandwidth. Every (candidate, reach) runs in parallel; the
+    /// choice does not depend on the thread count.
     ///
     /// The anchor was fitted on every reach, k included, so the comparison leans toward the
     /// flat field on purpose: the field departs from the person's vector only where the other
     /// reaches' dependence on the target predicts reach k better than a vector fitted on
     /// reach k itself (among the others).
-    pub fn chosen_by_motion(self, reaches: &[CapturedReach], tolerance: f64) -> Result<FieldFile> {
+    pub fn anchored(
+        self,
+        vector: Vec<f64>,
+        reaches: &[CapturedReach],
+        tolerance: f64,
+    ) -> Result<FieldFile> {
+        FieldFile {
+            field: self.field.anchored(vector)?,
+            ..self
+        }
+        .chosen_by_motion(reaches, tolerance)
+    }
+
+    /// [`FieldFile::anchored`]'s choice of the bandwidth by the motion.
+    fn chosen_by_motion(self, reaches: &[CapturedReach], tolerance: f64) -> Result<FieldFile> {
         require(
             reaches.len() == self.field.len(),
             "reaches",
@@ -249,15 +262,6 @@ impl FieldFile {
         let h = best.map_or(field.bandwidth(), |b| b.bandwidth);
         Ok(FieldFile {
             field: field.with_bandwidth(h, selection),
-            ..self
-        })
-    }
-
-    /// The same file, its field anchored to the person's single `vector` (fitted on all the
-    /// samples' reaches at once: [`ParamField::anchored`]).
-    pub fn anchored(self, vector: Vec<f64>) -> Result<FieldFile> {
-        Ok(FieldFile {
-            field: self.field.anchored(vector)?,
             ..self
         })
     }
