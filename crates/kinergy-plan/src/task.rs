@@ -215,10 +215,13 @@ pub struct Problem {
 #[derive(Debug, Clone)]
 pub struct Planner {
     character: Character,
-    body: BodyGeometry,
     scene: Scene,
     settings: TaskSettings,
     start: Pose,
+    /// The arm's space at the start, built once (its scene colliders hold the meshes'
+    /// bounding-volume hierarchies, whose construction dominated a short task); every task
+    /// starts from a copy, which shares the shapes.
+    space: ArmSpace,
 }
 
 /// The motion being assembled.
@@ -240,12 +243,15 @@ impl Planner {
         let character = Character::from_height(scene.character_height)?;
         let body = BodyGeometry::new(&character)?;
         let start = reference_pose(&character);
+        let space = ArmSpace::new(&character, &body, &start, settings.limb, &scene)?
+            .with_clearance(settings.clearance)?
+            .with_resolution(settings.resolution)?;
         Ok(Planner {
             character,
-            body,
             scene,
             settings,
             start,
+            space,
         })
     }
 
@@ -271,15 +277,7 @@ impl Planner {
 
     /// The arm's space in the scene as it is at the start (nothing held or ignored).
     pub fn space(&self) -> Result<ArmSpace> {
-        ArmSpace::new(
-            &self.character,
-            &self.body,
-            &self.start,
-            self.settings.limb,
-            &self.scene,
-        )?
-        .with_clearance(self.settings.clearance)?
-        .with_resolution(self.settings.resolution)
+        Ok(self.space.clone())
     }
 
     fn builder(&self) -> Result<Builder<'_>> {
