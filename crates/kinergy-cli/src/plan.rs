@@ -13,6 +13,7 @@ use kinergy_plan::space::HandTarget;
 use kinergy_plan::task::{Manipulation, Planner, TaskSettings};
 use kinergy_reach::character::Limb;
 use kinergy_reach::controller::ArmDrive;
+use kinergy_reach::drive::PersonArm;
 use nalgebra::{Isometry3, Point3, Quaternion, UnitQuaternion};
 use serde::Serialize;
 
@@ -221,50 +222,24 @@ fn plan_failure(e: PlanError) -> Failure {
 
 /// The person whose parameters are at `path`, for a reach toward `target` (world; a field
 /// gives their vector for it) by the arm on `side` of a character `height` tall: their
-/// synergy as the arm drive, and their bell — the synergy drives the arm from rest to a point
-/// 0.4 m in front of and 0.15 m below the shoulder (`reach --params`); the hand's speed
-/// relative to the shoulder, from the arm's onset to its end (or to a hand-over: the
-/// synergy's own part), gives the peak and spread.
+/// synergy as the arm drive, and their bell as the plan's time warp
+/// ([`kinergy_plan::person::person_warp`]).
 fn person(
     path: &Path,
     height: f64,
     side: Side,
     target: &Point3<f64>,
 ) -> Result<(Warp, ArmDrive), Failure> {
-    use kinergy_reach::controller::{ReachSettings, fitted_base_at_rest, reach_full_body_driven};
+    let person = crate::common::read_person(path)?;
     let character = kinergy_reach::character::Character::from_height(height)
         .map_err(|e| Failure::Task(e.to_string()))?;
-    let limb = match side {
-        Side::Right => Limb::RightArm,
-        Side::Left => Limb::LeftArm,
-    };
-    let rest = character.rest_pose();
-    let shoulder = limb.joints()[0];
-    let at_rest = character.world_positions(&rest);
-    let front = at_rest[shoulder] + kinergy_motion::nalgebra::Vector3::new(0.0, -0.15, 0.4);
-    let base = fitted_base_at_rest(&character, side).map_err(|e| Failure::Task(e.to_string()))?;
-    let person =
-        kinergy_train::PersonParams::read(path).map_err(|e| Failure::Input(e.to_string()))?;
-    let file = person
-        .params_for(&(base.inverse() * target))
-        .map_err(|e| Failure::input(path, e))?;
-    let drive = crate::common::synergy_drive(&file, path, &character)?;
-    let settings = ReachSettings {
-        arm: Some(side),
-        ..ReachSettings::default()
-    };
-    let m = reach_full_body_driven(&character, front, &settings, &drive)
-        .map_err(|e| Failure::Task(e.to_string()))?;
-    let speeds = m.arm_speeds(&character, true);
-    let warp = Warp::from_speeds(&speeds).ok_or_else(|| {
-        Failure::Input(format!(
-            "{}: the person's synergy moves the hand with no bell-shaped speed (over {} frames \
-             of a reach 0.4 m in front of the shoulder): their timing cannot play a plan",
-            path.display(),
-            speeds.len()
-        ))
+    let arm = PersonArm::toward(&character, &person, target, Some(side))
+        .map_err(|e| crate::common::person_failure(path, e))?;
+    let warp = kinergy_plan::person::person_warp(&character, &arm).map_err(|e| match e {
+        PlanError::NoBell { .. } => Failure::input(path, e),
+        e => plan_failure(e),
     })?;
-    Ok((warp, drive))
+    Ok((warp, arm.drive))
 }
 
 /// Where the task reaches first, in world: `--target`, or the grip point of `--object`'s

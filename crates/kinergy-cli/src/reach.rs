@@ -4,11 +4,10 @@ use std::path::PathBuf;
 
 use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
-use kinergy_reach::controller::{
-    ArmDrive, ReachSettings, ReachStop, fitted_base_at_rest, reach_full_body_driven, reaching_side,
-};
+use kinergy_reach::controller::{ArmDrive, ReachSettings, ReachStop, reach_full_body_driven};
+use kinergy_reach::drive::PersonArm;
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
-use kinergy_train::PersonParams;
+use kinergy_solver::FieldUse;
 use serde::Serialize;
 
 use crate::common::{
@@ -69,17 +68,6 @@ pub struct Args {
     pub read: ReadArgs,
 }
 
-/// How a parameter field was used: the target it was asked for and the field's kernel.
-#[derive(Debug, Clone, Copy, Serialize)]
-struct FieldUse {
-    /// The target in the reaching arm's fitted base frame at rest, meters.
-    target_in_base_m: [f64; 3],
-    /// The kernel's bandwidth, meters; `null` for a flat field (the person's single vector everywhere).
-    bandwidth_m: f64,
-    /// The fitted reaches it holds.
-    samples: usize,
-}
-
 #[derive(Serialize)]
 struct Report<'a> {
     output: String,
@@ -133,33 +121,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let mut field = None;
     let drive = match &args.params {
         Some(path) => {
-            let person = PersonParams::read(path).map_err(|e| Failure::Input(e.to_string()))?;
-            // A field predicts the vector for the target in the reaching arm's fitted base
-            // frame at rest; across arms the frame is mirrored (its x, forward for the right
-            // arm, is backward for the left).
-            let side = reaching_side(&character, &target, args.arm);
-            let base =
-                fitted_base_at_rest(&character, side).map_err(|e| Failure::Task(e.to_string()))?;
-            let mut local = base.inverse() * target;
-            if let Some(f) = person.field() {
-                if f.arm().and_then(|a| a.side).is_some_and(|s| s != side) {
-                    local.x = -local.x;
-                }
-                field = Some(FieldUse {
-                    target_in_base_m: [local.x, local.y, local.z],
-                    bandwidth_m: f.field().bandwidth(),
-                    samples: f.field().len(),
-                });
-            }
-            let file = person
-                .params_for(&local)
-                .map_err(|e| Failure::input(path, e))?;
-            crate::common::synergy_drive(&file, path, &character)?
+            let person = crate::common::read_person(path)?;
+            let arm = PersonArm::toward(&character, &person, &target, args.arm)
+                .map_err(|e| crate::common::person_failure(path, e))?;
+            field = arm.field;
+            arm.drive
         }
         None => ArmDrive::Profile,
     };
-    let motion = reach_full_body_driven(&character, target, &settings, &drive)
-        .map_err(|e| Failure::Input(e.to_string()))?;
+    let motion = reach_full_body_driven(&character, target, &settings, &drive)?;
     let clip = character
         .to_clip(&motion.poses, motion.frame_time)
         .map_err(|e| Failure::Task(e.to_string()))?;

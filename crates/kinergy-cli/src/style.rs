@@ -11,9 +11,8 @@ use std::path::{Path, PathBuf};
 
 use kinergy_motion::nalgebra::Point3;
 use kinergy_reach::character::{Character, Limb, Proportions};
-use kinergy_reach::controller::{
-    ArmDrive, ReachSettings, fitted_base_at_rest, reach_full_body_driven,
-};
+use kinergy_reach::controller::{ArmDrive, ReachSettings, reach_full_body_driven};
+use kinergy_reach::drive::PersonArm;
 use kinergy_solver::{BaseMode, CaptureArm};
 use kinergy_train::PersonParams;
 use kinergy_train::segment::{SegmentSettings, hand_speed, main_segment};
@@ -154,7 +153,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         inputs.push(&args.params);
         crate::common::check_outputs(&inputs, &[crate::common::Output::Folder("-o", dir)])?;
     }
-    let person = PersonParams::read(&args.params).map_err(|e| Failure::Input(e.to_string()))?;
+    let person = crate::common::read_person(&args.params)?;
     let mut rows = Vec::with_capacity(clips.len());
     for path in &clips {
         rows.push(compare_one(args, &person, path)?);
@@ -213,19 +212,19 @@ fn compare_one(args: &Args, person: &PersonParams, path: &Path) -> Result<Row, F
     let proportions = Proportions::from_clip(&clip).map_err(|e| Failure::input(path, e))?;
     let character = Character::new(&proportions).map_err(|e| Failure::input(path, e))?;
     let side = args.arm.arm;
-    let fitted = fitted_base_at_rest(&character, side).map_err(|e| Failure::Task(e.to_string()))?;
-    let target = fitted * local;
-    let file = person
-        .params_for(&local)
-        .map_err(|e| Failure::input(&args.params, e))?;
-    let synergy = crate::common::synergy_drive(&file, &args.params, &character)?;
+    let target = PersonArm::world_target(&character, &local, side)?;
+    let synergy = PersonArm::in_base(&character, person, &local, side)
+        .map_err(|e| crate::common::person_failure(&args.params, e))?
+        .drive;
     let reach_settings = ReachSettings {
         arm: Some(side),
         ..ReachSettings::default()
     };
     let run = |drive: &ArmDrive| {
-        reach_full_body_driven(&character, target, &reach_settings, drive)
-            .map_err(|e| Failure::Task(format!("{name}: {e}")))
+        reach_full_body_driven(&character, target, &reach_settings, drive).map_err(|e| {
+            let failure = Failure::from(e);
+            failure.naming(&name)
+        })
     };
     let with = run(&synergy)?;
     let without = run(&ArmDrive::Profile)?;

@@ -3,6 +3,7 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
+use kinergy_motion::Side;
 use kinergy_reach::ReachError;
 use kinergy_reach::controller::ArmDrive;
 use kinergy_reach::synth::{SynthSettings, make_set_driven};
@@ -50,7 +51,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             let file = ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?;
             let character = kinergy_reach::character::Character::from_height(1.75)
                 .map_err(|e| Failure::Task(e.to_string()))?;
-            crate::common::synergy_drive(&file, path, &character)?
+            let origin = kinergy_motion::nalgebra::Point3::origin();
+            kinergy_reach::drive::PersonArm::in_base(&character, &file, &origin, Side::Right)
+                .map_err(|e| crate::common::person_failure(path, e))?
+                .drive
         }
         None => ArmDrive::Profile,
     };
@@ -98,7 +102,7 @@ fn write_set(args: &Args, drive: &ArmDrive) -> Result<usize, Failure> {
                     ..SegmentRow::new(
                         args.output.join(&row.clip),
                         frames.clone(),
-                        kinergy_motion::Side::Right,
+                        Side::Right,
                         Label::Reach,
                     )
                 }

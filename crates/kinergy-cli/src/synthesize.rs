@@ -10,7 +10,10 @@
 use std::path::PathBuf;
 
 use kinergy_motion::{ExportOptions, LengthUnit, Side, motion_distance};
-use kinergy_solver::{BaseMode, Controller, Model, OptimizerKind, ParamSpace, StopReason, Synergy};
+use kinergy_solver::{
+    BaseMode, Controller, FieldUse, Model, OptimizerKind, ParamSpace, PersonStyle, StopReason,
+    Synergy,
+};
 use kinergy_train::segment::{SegmentSettings, Selection, find_segments, select};
 use kinergy_train::{CapturedReach, PersonParams};
 use serde::Serialize;
@@ -122,17 +125,6 @@ struct Report {
     at_limits_at_end: Vec<String>,
 }
 
-/// How a field file's vector was predicted.
-#[derive(Debug, Serialize)]
-struct FieldUse {
-    /// The target in the arm's base frame on the segment's first frame, meters.
-    target_in_base_m: [f64; 3],
-    /// The field's bandwidth, meters; `null` for a flat field (the person's single vector everywhere).
-    bandwidth_m: f64,
-    /// The field's samples (fitted reaches).
-    samples: usize,
-}
-
 /// Runs `kinergy synthesize`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.read.check()?;
@@ -151,7 +143,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     inputs.extend(args.params.as_deref());
     crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
     let params = match &args.params {
-        Some(path) => Some(PersonParams::read(path).map_err(|e| Failure::Input(e.to_string()))?),
+        Some(path) => Some(crate::common::read_person(path)?),
         None => None,
     };
     let same_clip = |clip: &str| {
@@ -250,15 +242,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let target = reach.target();
     // A field predicts for the target where the person sees it: in the arm's base frame.
     let local = reach.local_target();
+    let mut field = None;
     let (optimizer, synergy) = match (&params, &args.params) {
         (Some(person), Some(path)) => {
-            let file = person
-                .params_for(&local)
+            // The arm that reaches here: a field fitted on the other arm is asked mirrored.
+            let side = reach.fitted_arm().side.unwrap_or(arm_args.arm);
+            let at = person
+                .params_for_arm(&local, side)
                 .map_err(|e| Failure::input(path, e))?;
-            let synergy = file
+            let synergy = at
+                .params
                 .synergy_for(&dof_names)
                 .map_err(|e| Failure::input(path, e))?;
-            (file.optimizer, synergy)
+            field = at.field;
+            (at.params.optimizer, synergy)
         }
         _ => {
             let space = ParamSpace::new(args.model, &dof_names, Default::default())
@@ -268,14 +265,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             (args.optimizer.default_optimizer(), synergy)
         }
     };
-    let field = params
-        .as_ref()
-        .and_then(PersonParams::field)
-        .map(|f| FieldUse {
-            target_in_base_m: [local.x, local.y, local.z],
-            bandwidth_m: f.field().bandwidth(),
-            samples: f.field().len(),
-        });
     let settings = reach.open_settings(args.tolerance, args.max_seconds, args.stop_at_reach);
     let controller =
         Controller::new(optimizer, synergy, settings).map_err(|e| Failure::Input(e.to_string()))?;

@@ -106,12 +106,25 @@ pub enum PlanError {
     /// A value was NaN or infinite.
     #[error("{0} is not finite")]
     NonFinite(String),
+    /// A person's synergy moves the hand with no bell-shaped speed, so their timing cannot
+    /// warp a plan ([`crate::person::person_warp`]).
+    #[error(
+        "the person's synergy moves the hand with no bell-shaped speed (over {frames} frames \
+         of a reach 0.4 m in front of the shoulder): their timing cannot play a plan"
+    )]
+    NoBell {
+        /// The frames of the synergy's own part of the reach.
+        frames: usize,
+    },
 }
 
 impl PlanError {
     /// True for failures of the task (no path, unreachable or colliding goal or start),
     /// false for bad input. The CLI maps the first to exit code 1, the second to 2.
     pub fn is_task_failure(&self) -> bool {
+        if let PlanError::Reach(e) = self {
+            return !e.is_input();
+        }
         matches!(
             self,
             PlanError::StartInCollision { .. }

@@ -17,6 +17,7 @@ pub mod body;
 pub mod error;
 pub mod hand;
 pub mod obj;
+pub mod person;
 pub mod rrt;
 pub mod scene;
 pub mod shelf;

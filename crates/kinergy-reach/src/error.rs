@@ -25,6 +25,21 @@ pub enum ReachError {
         /// The operating system's error.
         source: std::io::Error,
     },
+    /// A person's parameters do not fit the reach: a field's prediction out of its bounds, a
+    /// non-finite target, DoF names that are not the character's arm's.
+    #[error("{source}")]
+    Params {
+        /// The parameters' own error, naming the field.
+        source: kinergy_solver::StyleError,
+    },
+}
+
+impl ReachError {
+    /// Whether the error is the input's fault (a setting, a target, a person's parameters)
+    /// rather than a task that could not be done (a file not written, a failed computation).
+    pub fn is_input(&self) -> bool {
+        matches!(self, ReachError::Setting { .. } | ReachError::Params { .. })
+    }
 }
 
 /// Shorthand for results of this crate.

@@ -13,6 +13,7 @@
 
 pub mod character;
 pub mod controller;
+pub mod drive;
 pub mod error;
 pub mod profile;
 pub mod steps;

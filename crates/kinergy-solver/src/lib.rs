@@ -43,6 +43,7 @@ pub mod fit_record;
 pub mod optimizer;
 pub mod params;
 pub mod reachability;
+pub mod style;
 pub mod synergy;
 pub mod task;
 
@@ -59,5 +60,6 @@ pub use optimizer::{
 };
 pub use params::{FORMAT_VERSION, ParamsFile};
 pub use reachability::ReachSphere;
+pub use style::{FieldUse, PersonStyle, StyleAt, StyleError};
 pub use synergy::{Bounds, Interval, Model, ParamKind, ParamSpace, Synergy, sig};
 pub use task::{Task, TaskError};

@@ -24,8 +24,9 @@
 
 use std::path::Path;
 
+use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
-use kinergy_solver::{FitRecord, Model, Optimizer, ParamsFile};
+use kinergy_solver::{FitRecord, Model, Optimizer, ParamsFile, PersonStyle, StyleError};
 
 use crate::error::{Result, TrainError, in_file, require};
 use crate::field::FieldFile;
@@ -123,5 +124,22 @@ impl PersonParams {
             PersonParams::Vector(file) => file.optimizer,
             PersonParams::Field(field) => field.optimizer(),
         }
+    }
+}
+
+/// How the layers above ask for a person's parameters (the full-body drive in
+/// `kinergy-reach`, `synthesize`): the file's vector, or the field's prediction.
+impl PersonStyle for PersonParams {
+    fn params_at(&self, target: &Point3<f64>) -> std::result::Result<ParamsFile, StyleError> {
+        Ok(self.params_for(target)?)
+    }
+
+    fn fitted_side(&self) -> Option<Side> {
+        self.field().and_then(|f| f.arm()).and_then(|a| a.side)
+    }
+
+    fn field_kernel(&self) -> Option<(f64, usize)> {
+        self.field()
+            .map(|f| (f.field().bandwidth(), f.field().len()))
     }
 }

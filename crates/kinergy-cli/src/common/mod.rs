@@ -44,6 +44,15 @@ impl Failure {
         Failure::Input(naming(path, e))
     }
 
+    /// The same failure, its message prefixed by `name: ` (a capture the command was
+    /// working on).
+    pub fn naming(self, name: &str) -> Failure {
+        match self {
+            Failure::Input(m) => Failure::Input(format!("{name}: {m}")),
+            Failure::Task(m) => Failure::Task(format!("{name}: {m}")),
+        }
+    }
+
     /// A failed task concerning `path` (e.g. writing it).
     pub fn task(path: &Path, e: impl fmt::Display) -> Failure {
         Failure::Task(naming(path, e))
@@ -115,20 +124,29 @@ pub fn is_stdout(path: &std::path::Path) -> bool {
     path.as_os_str() == "-"
 }
 
-/// The arm drive of a person's parameters `file` (read from `path`, named in errors) for
-/// `character`'s arm: their optimizer and synergy.
-pub fn synergy_drive(
-    file: &kinergy_solver::ParamsFile,
-    path: &Path,
-    character: &kinergy_reach::character::Character,
-) -> Result<kinergy_reach::controller::ArmDrive, Failure> {
-    let synergy = file
-        .synergy_for(&kinergy_reach::controller::arm_dof_names(character))
-        .map_err(|e| Failure::input(path, e))?;
-    Ok(kinergy_reach::controller::ArmDrive::Synergy {
-        optimizer: file.optimizer,
-        synergy,
-    })
+/// A person's parameters or field file (`--params`), read once; its errors name the file.
+pub fn read_person(path: &Path) -> Result<kinergy_train::PersonParams, Failure> {
+    kinergy_train::PersonParams::read(path).map_err(|e| Failure::Input(e.to_string()))
+}
+
+/// A failure of a person's drive ([`kinergy_reach::drive::PersonArm`]) whose parameters
+/// are at `path`: parameters that do not fit name the file.
+pub fn person_failure(path: &Path, e: kinergy_reach::ReachError) -> Failure {
+    match e {
+        kinergy_reach::ReachError::Params { source } => Failure::input(path, source),
+        e => e.into(),
+    }
+}
+
+impl From<kinergy_reach::ReachError> for Failure {
+    /// Settings, targets and parameters are the input's fault; the rest failed tasks.
+    fn from(e: kinergy_reach::ReachError) -> Failure {
+        if e.is_input() {
+            Failure::Input(e.to_string())
+        } else {
+            Failure::Task(e.to_string())
+        }
+    }
 }
 
 /// How messages name an output: its path, or `standard output` for `-`.

@@ -1,0 +1,108 @@
+//! Where a person meets the body: a person's parameters — one vector or a field over targets
+//! ([`PersonStyle`]) — become the drive of the character's reaching arm. `kinergy reach`,
+//! `plan`, `style` and `synth` (and the Python bindings) all come through here, so the base
+//! frame a field is asked in, the mirror across arms and the synergy's set-up are decided
+//! once.
+//!
+//! A field predicts a vector for a target in the reaching arm's *fitted base frame at rest*
+//! ([`fitted_base_at_rest`]: the frame a fit of the character's own motion would use), so the
+//! character and a capture agree on where a target is relative to the shoulder; a field
+//! fitted on the other arm is asked with the frame mirrored ([`PersonStyle::params_for_arm`]).
+//! The hand-over policy — a synergy that stalls or runs [`crate::controller::SYNERGY_TIME`]
+//! hands over to plain IK, then to the analytic IK — belongs to the scheduler, which every
+//! drive made here runs under.
+//!
+//! ```
+//! use kinergy_motion::nalgebra::Point3;
+//! use kinergy_reach::character::Character;
+//! use kinergy_reach::controller::{ReachSettings, arm_dof_names, reach_full_body_driven};
+//! use kinergy_reach::drive::PersonArm;
+//! use kinergy_solver::{Bounds, Model, OptimizerKind, ParamSpace, ParamsFile};
+//!
+//! let character = Character::from_height(1.75)?;
+//! // A person whose synergy is the neutral S_C on the character's arm.
+//! let space = ParamSpace::new(Model::Sc, &arm_dof_names(&character), Bounds::default())?;
+//! let person = ParamsFile::new(&space, OptimizerKind::Svd.default_optimizer(), &space.neutral())?;
+//! let target = Point3::new(-0.3, 1.3, 0.45);
+//! let arm = PersonArm::toward(&character, &person, &target, None)?;
+//! let motion = reach_full_body_driven(&character, target, &ReachSettings::default(), &arm.drive)?;
+//! assert!(motion.report.final_error < 0.01);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use kinergy_motion::Side;
+use kinergy_motion::nalgebra::Point3;
+use kinergy_solver::{FieldUse, ParamsFile, PersonStyle};
+
+use crate::character::Character;
+use crate::controller::{ArmDrive, arm_dof_names, fitted_base_at_rest, reaching_side};
+use crate::error::{ReachError, Result};
+
+/// A person's drive of one reaching arm toward one target.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PersonArm {
+    /// The arm that reaches.
+    pub side: Side,
+    /// The person's synergy controller, as the scheduler runs it.
+    pub drive: ArmDrive,
+    /// The parameters it runs with (a field's prediction for the target, or the file).
+    pub params: ParamsFile,
+    /// How a field gave them; `None` for one vector.
+    pub field: Option<FieldUse>,
+}
+
+impl PersonArm {
+    /// The person's drive of `character`'s arm toward `target` (world meters): the arm
+    /// `arm`, or the one on the target's side ([`reaching_side`]). A field is asked for the
+    /// target in that arm's fitted base frame at rest.
+    ///
+    /// Errors: [`ReachError::Params`] when the person's parameters do not fit the target or
+    /// the character's arm (a field's prediction out of bounds, other DoF names).
+    pub fn toward(
+        character: &Character,
+        person: &dyn PersonStyle,
+        target: &Point3<f64>,
+        arm: Option<Side>,
+    ) -> Result<PersonArm> {
+        let side = reaching_side(character, target, arm);
+        let base = fitted_base_at_rest(character, side)?;
+        PersonArm::in_base(character, person, &(base.inverse() * target), side)
+    }
+
+    /// The person's drive of `character`'s arm on `side` toward `local`, meters in that arm's
+    /// fitted base frame at rest (a captured reach's target carried over to the character,
+    /// [`PersonArm::world_target`] gives it in world).
+    pub fn in_base(
+        character: &Character,
+        person: &dyn PersonStyle,
+        local: &Point3<f64>,
+        side: Side,
+    ) -> Result<PersonArm> {
+        let at = person
+            .params_for_arm(local, side)
+            .map_err(|source| ReachError::Params { source })?;
+        let synergy = at
+            .params
+            .synergy_for(&arm_dof_names(character))
+            .map_err(|e| ReachError::Params { source: e.into() })?;
+        Ok(PersonArm {
+            side,
+            drive: ArmDrive::Synergy {
+                optimizer: at.params.optimizer,
+                synergy,
+            },
+            params: at.params,
+            field: at.field,
+        })
+    }
+
+    /// `local` (meters in the fitted base frame at rest of `character`'s arm on `side`) in
+    /// world.
+    pub fn world_target(
+        character: &Character,
+        local: &Point3<f64>,
+        side: Side,
+    ) -> Result<Point3<f64>> {
+        Ok(fitted_base_at_rest(character, side)? * local)
+    }
+}
