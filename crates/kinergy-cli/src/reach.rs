@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
-use kinergy_reach::controller::{ArmDrive, ReachSettings, ReachStop, reach_full_body_driven};
+use kinergy_reach::controller::{ArmDrive, Ending, ReachSettings, reach_full_body_driven};
 use kinergy_reach::drive::PersonArm;
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use kinergy_solver::FieldUse;
@@ -149,7 +149,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         emit(&format!(
             "{}: {} ({} frames, {:.2} s), arm {}, step {} ({:.2} m), twist {:.0}°, swing {:.0}°, {} (squat {:.2} m), hand {} from the target\n",
             report.output,
-            ending.short(),
+            short(ending),
             r.frames,
             r.duration,
             r.arm,
@@ -197,45 +197,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
 }
 
-/// How a reach ended, for people.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Ending {
-    Reached,
-    /// The hand came to rest this many meters short of the target.
-    Beyond(f64),
-    /// The timeout came while the hand still moved.
-    StillMoving,
-}
-
-impl Ending {
-    /// A reach that was not reached is beyond reach when its hand came to rest short of the
-    /// target, or when the timeout found it creeping so slowly that it could not close the gap:
-    /// over its last second it moved less than a tenth of the distance left (a far target's
-    /// ease-out keeps the stretched hand inching on for seconds).
-    fn of(character: &Character, motion: &kinergy_reach::controller::ReachMotion) -> Ending {
-        let r = &motion.report;
-        if r.stop == ReachStop::Reached {
-            return Ending::Reached;
-        }
-        let wrist = r.arm.joints()[3];
-        let last = motion.poses.len();
-        let window = ((1.0 / motion.frame_time).ceil() as usize).max(1);
-        let settled = last > window && {
-            let hand = |k: usize| character.world_positions(&motion.poses[k])[wrist];
-            (hand(last - 1) - hand(last - 1 - window)).norm() < 0.1 * r.final_error
-        };
-        if r.stop == ReachStop::Unreachable || settled {
-            Ending::Beyond(r.final_error)
-        } else {
-            Ending::StillMoving
-        }
-    }
-
-    fn short(self) -> String {
-        match self {
-            Ending::Reached => "reached".into(),
-            Ending::Beyond(by) => format!("beyond reach by {}", length(by)),
-            Ending::StillMoving => "timed out with the hand still moving".into(),
-        }
+/// How a reach ended, in a few words.
+fn short(ending: Ending) -> String {
+    match ending {
+        Ending::Reached => "reached".into(),
+        Ending::Beyond(by) => format!("beyond reach by {}", length(by)),
+        Ending::StillMoving => "timed out with the hand still moving".into(),
     }
 }

@@ -1,4 +1,5 @@
-//! `kinergy style`: whether `reach --params` reaches in the person's style (issue 16 §2). For
+//! `kinergy style`: runs and renders [`kinergy_reach::style`]: whether `reach --params` reaches
+//! in the person's style (issue 16 §2). For
 //! each of the person's captures, the full-body character (the capture's proportions) reaches
 //! the capture's own target — the hand's last position of its main reach, carried over in the
 //! arm's fitted base frame — once with the person's parameters and once with the default
@@ -9,19 +10,12 @@
 
 use std::path::{Path, PathBuf};
 
-use kinergy_motion::nalgebra::Point3;
-use kinergy_reach::character::{Character, Limb, Proportions};
-use kinergy_reach::controller::{ArmDrive, ReachSettings, reach_full_body_driven};
-use kinergy_reach::drive::PersonArm;
-use kinergy_solver::{BaseMode, CaptureArm};
+use kinergy_reach::ReachError;
+use kinergy_reach::style::{StyleCapture, StyleRow as Row, StyleSummary as Summary};
 use kinergy_train::PersonParams;
-use kinergy_train::segment::{SegmentSettings, hand_speed, main_segment};
 use serde::Serialize;
 
 use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
-
-/// Samples of a time-normalized profile (0, 1/100, …, 1 of the movement).
-const SAMPLES: usize = 101;
 
 /// Arguments of `kinergy style`.
 #[derive(Debug, clap::Args)]
@@ -43,35 +37,6 @@ pub struct Args {
     pub arm: ArmArgs,
     #[command(flatten)]
     pub read: ReadArgs,
-}
-
-/// One capture's comparison.
-#[derive(Debug, Clone, Serialize)]
-pub struct Row {
-    /// The capture.
-    pub clip: String,
-    /// Its main reach's frames `[onset, end)`.
-    pub frames: [usize; 2],
-    /// Its target in the arm's fitted base frame, meters.
-    pub target_in_base_m: [f64; 3],
-    /// The fraction of the captured movement at which its hand speed peaks.
-    pub captured_peak: f64,
-    /// Pearson correlation of the `reach --params` profile with the captured one.
-    pub params_correlation: f64,
-    /// Its peak's fraction of the movement.
-    pub params_peak: f64,
-    /// The hand's distance from the target at the end, meters.
-    pub params_error_m: f64,
-    /// Whether the synergy handed the hand over.
-    pub params_hand_over: bool,
-    /// Correlation of the synergy's own part (onset to hand-over, or the whole reach).
-    pub synergy_correlation: f64,
-    /// Its peak's fraction of the movement.
-    pub synergy_peak: f64,
-    /// Pearson correlation of the default `reach` profile with the captured one.
-    pub profile_correlation: f64,
-    /// Its peak's fraction of the movement.
-    pub profile_peak: f64,
 }
 
 /// A [`Row`] as one flat line of style.csv.
@@ -116,27 +81,6 @@ impl<'a> From<&'a Row> for CsvRow<'a> {
     }
 }
 
-/// The means over the person's captures.
-#[derive(Debug, Clone, Serialize)]
-pub struct Summary {
-    /// Captures compared.
-    pub captures: usize,
-    /// Mean correlation with the captured profiles, `reach --params`.
-    pub params_correlation: f64,
-    /// Mean |peak fraction − captured|, `reach --params`.
-    pub params_peak_error: f64,
-    /// Mean correlation of the synergy's own part (to the hand-over).
-    pub synergy_correlation: f64,
-    /// Mean |peak fraction − captured| of the synergy's own part.
-    pub synergy_peak_error: f64,
-    /// Captures where the synergy handed the hand over.
-    pub hand_overs: usize,
-    /// Mean correlation, default `reach`.
-    pub profile_correlation: f64,
-    /// Mean |peak fraction − captured|, default `reach`.
-    pub profile_peak_error: f64,
-}
-
 #[derive(Serialize)]
 struct Report<'a> {
     params: String,
@@ -158,18 +102,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     for path in &clips {
         rows.push(compare_one(args, &person, path)?);
     }
-    let n = rows.len() as f64;
-    let mean = |f: &dyn Fn(&Row) -> f64| rows.iter().map(f).sum::<f64>() / n;
-    let summary = Summary {
-        captures: rows.len(),
-        params_correlation: mean(&|r| r.params_correlation),
-        params_peak_error: mean(&|r| (r.params_peak - r.captured_peak).abs()),
-        synergy_correlation: mean(&|r| r.synergy_correlation),
-        synergy_peak_error: mean(&|r| (r.synergy_peak - r.captured_peak).abs()),
-        hand_overs: rows.iter().filter(|r| r.params_hand_over).count(),
-        profile_correlation: mean(&|r| r.profile_correlation),
-        profile_peak_error: mean(&|r| (r.profile_peak - r.captured_peak).abs()),
-    };
+    let summary = Summary::of(&rows);
     if let Some(dir) = &args.output {
         let flat: Vec<CsvRow<'_>> = rows.iter().map(CsvRow::from).collect();
         crate::common::write_csv(&dir.join("style.csv"), &flat)?;
@@ -194,111 +127,13 @@ fn compare_one(args: &Args, person: &PersonParams, path: &Path) -> Result<Row, F
     let (clip, _) = args.read.read(path)?;
     let joints = args.arm.find(&clip, path)?;
     let name = path.display().to_string();
-    let settings = SegmentSettings::default();
-    let segment =
-        main_segment(&clip, &joints, &settings, &name).map_err(|e| Failure::input(path, e))?;
-    let speed = hand_speed(&clip, &joints, &settings).map_err(|e| Failure::input(path, e))?;
-    let captured = &speed[segment.onset..segment.end];
-    // The target: the hand's last position of the reach, in the arm's base frame on its
-    // first frame (where the person stood and which way they faced do not matter).
-    let capture = CaptureArm::new(&clip, &joints).map_err(|e| Failure::input(path, e))?;
-    let base = *capture.base(BaseMode::Replay).at(segment.onset);
-    let last = clip
-        .skeleton()
-        .world_positions(clip.frame(segment.end - 1).unwrap_or_default())
-        .map_err(|e| Failure::input(path, e))?;
-    let hand = joints.hand.unwrap_or(joints.wrist);
-    let local = base.inverse() * last[hand];
-    let proportions = Proportions::from_clip(&clip).map_err(|e| Failure::input(path, e))?;
-    let character = Character::new(&proportions).map_err(|e| Failure::input(path, e))?;
-    let side = args.arm.arm;
-    let target = PersonArm::world_target(&character, &local, side)?;
-    let synergy = PersonArm::in_base(&character, person, &local, side)
-        .map_err(|e| crate::common::person_failure(&args.params, e))?
-        .drive;
-    let reach_settings = ReachSettings {
-        arm: Some(side),
-        ..ReachSettings::default()
-    };
-    let run = |drive: &ArmDrive| {
-        reach_full_body_driven(&character, target, &reach_settings, drive).map_err(|e| {
-            let failure = Failure::from(e);
-            failure.naming(&name)
+    let capture = StyleCapture::new(&clip, &joints, &name).map_err(|e| Failure::input(path, e))?;
+    capture
+        .compare(args.arm.arm, person)
+        .map_err(|e| match e {
+            e @ ReachError::Params { .. } => crate::common::person_failure(&args.params, e),
+            e => Failure::from(e).naming(&name),
         })
-    };
-    let with = run(&synergy)?;
-    let without = run(&ArmDrive::Profile)?;
-    let limb = match side {
-        kinergy_motion::Side::Left => Limb::LeftArm,
-        kinergy_motion::Side::Right => Limb::RightArm,
-    };
-    let captured = normalized(captured);
-    let ours = normalized(&with.arm_speeds(&character, false));
-    let own = normalized(&with.arm_speeds(&character, true));
-    let theirs = normalized(&without.arm_speeds(&character, false));
-    let hand_at_end = character
-        .world_positions(with.poses.last().unwrap_or(&character.rest_pose()))[limb.joints()[3]];
-    Ok(Row {
-        clip: name,
-        frames: [segment.onset, segment.end],
-        target_in_base_m: [local.x, local.y, local.z],
-        captured_peak: peak(&captured),
-        params_correlation: pearson(&ours, &captured),
-        params_peak: peak(&ours),
-        params_error_m: (hand_at_end - Point3::from(target.coords)).norm(),
-        params_hand_over: with.report.hand_over.is_some(),
-        synergy_correlation: pearson(&own, &captured),
-        synergy_peak: peak(&own),
-        profile_correlation: pearson(&theirs, &captured),
-        profile_peak: peak(&theirs),
-    })
-}
-
-/// `values` resampled at [`SAMPLES`] evenly spaced fractions of their span (linear
-/// interpolation).
-fn normalized(values: &[f64]) -> Vec<f64> {
-    if values.len() < 2 {
-        return vec![values.first().copied().unwrap_or(0.0); SAMPLES];
-    }
-    let last = (values.len() - 1) as f64;
-    (0..SAMPLES)
-        .map(|k| {
-            let x = k as f64 / (SAMPLES - 1) as f64 * last;
-            let i = (x.floor() as usize).min(values.len() - 2);
-            let u = x - i as f64;
-            values[i] * (1.0 - u) + values[i + 1] * u
-        })
-        .collect()
-}
-
-/// The fraction of the movement at which a normalized profile peaks.
-fn peak(profile: &[f64]) -> f64 {
-    let at = profile
-        .iter()
-        .enumerate()
-        .fold(
-            (0, f64::NEG_INFINITY),
-            |a, (i, &v)| if v > a.1 { (i, v) } else { a },
-        )
-        .0;
-    at as f64 / (profile.len().max(2) - 1) as f64
-}
-
-/// Pearson's correlation of two equally long series (0 when either is constant).
-fn pearson(a: &[f64], b: &[f64]) -> f64 {
-    let n = a.len().min(b.len()) as f64;
-    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
-    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
-    for (x, y) in a.iter().zip(b) {
-        sab += (x - ma) * (y - mb);
-        saa += (x - ma) * (x - ma);
-        sbb += (y - mb) * (y - mb);
-    }
-    if saa <= 0.0 || sbb <= 0.0 {
-        0.0
-    } else {
-        sab / (saa * sbb).sqrt()
-    }
 }
 
 /// The summary and the rows as markdown tables.
@@ -340,29 +175,4 @@ fn markdown(params: &Path, s: &Summary, rows: &[Row]) -> String {
         ));
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn pearson_of_a_profile_with_itself_scaled_is_one_and_with_its_mirror_minus_one() {
-        let a: Vec<f64> = (0..50).map(|i| (i as f64 * 0.1).sin()).collect();
-        let scaled: Vec<f64> = a.iter().map(|v| 3.0 * v + 1.0).collect();
-        let mirrored: Vec<f64> = a.iter().map(|v| -v).collect();
-        assert!((pearson(&a, &scaled) - 1.0).abs() < 1e-12);
-        assert!((pearson(&a, &mirrored) + 1.0).abs() < 1e-12);
-        assert_eq!(pearson(&a, &[2.0; 50]), 0.0);
-    }
-
-    #[test]
-    fn normalizing_keeps_the_ends_and_the_peak_fraction() {
-        let v: Vec<f64> = (0..=20).map(|i| -((i as f64 - 5.0).powi(2))).collect();
-        let n = normalized(&v);
-        assert_eq!(n.len(), SAMPLES);
-        assert_eq!(n[0], v[0]);
-        assert_eq!(n[SAMPLES - 1], v[20]);
-        assert!((peak(&n) - 0.25).abs() < 1e-12);
-    }
 }

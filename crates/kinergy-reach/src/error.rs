@@ -9,6 +9,9 @@ pub enum ReachError {
     /// A skeleton, chain or clip operation failed.
     #[error(transparent)]
     Motion(#[from] MotionError),
+    /// An arm taken from a capture, or a synergy, could not be made.
+    #[error(transparent)]
+    Solver(#[from] kinergy_solver::SolverError),
     /// A setting or input is outside what it may be (named by its field).
     #[error("invalid `{field}`: {why}")]
     Setting {

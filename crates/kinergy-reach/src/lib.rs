@@ -17,6 +17,7 @@ pub mod drive;
 pub mod error;
 pub mod profile;
 pub mod steps;
+pub mod style;
 pub mod synth;
 
 pub use error::{ReachError, Result};

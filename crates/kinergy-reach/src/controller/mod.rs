@@ -67,6 +67,7 @@
 
 mod arm;
 mod balance;
+mod ending;
 mod head;
 mod legs;
 mod report;
@@ -77,6 +78,7 @@ mod synergy;
 
 use kinergy_motion::nalgebra::Point3;
 
+pub use ending::Ending;
 pub use report::{HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop};
 pub use scheduler::reaching_side;
 pub use settings::ReachSettings;
