@@ -77,6 +77,22 @@ pub enum MotionError {
         /// Why it was refused.
         why: String,
     },
+    /// A setting is outside what it may be (named by its field, e.g. `segment.hold`).
+    #[error("invalid `{field}`: {why}")]
+    Setting {
+        /// The setting's name.
+        field: String,
+        /// What was expected.
+        why: String,
+    },
+    /// A clip has no reach segment, or not the one asked for ([`crate::segment`]).
+    #[error("{clip}: {why}")]
+    Reach {
+        /// The clip's name.
+        clip: String,
+        /// What is wrong.
+        why: String,
+    },
     /// A clip has no frames where frames are needed.
     #[error("the clip has no frames")]
     EmptyClip,

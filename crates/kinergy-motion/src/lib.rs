@@ -12,6 +12,8 @@
 //!   joint limits, FK and the Jacobian.
 //! - [`Trajectory`] and [`motion_distance`]: the paper's joint-position motion distance, and
 //!   hand-speed series.
+//! - [`segment`]: the reach segments of a clip from its hand-speed series (onset, peak, end,
+//!   label).
 //!
 //! Conventions: SI units, right-handed, Y up.
 //!
@@ -43,6 +45,7 @@ pub mod error;
 pub mod glitch;
 pub mod limbs;
 pub mod rotation;
+pub mod segment;
 pub mod side;
 pub mod skeleton;
 pub mod trajectory;

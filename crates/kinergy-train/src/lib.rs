@@ -1,7 +1,8 @@
 //! Fitting joint-synergy parameters to captured reaches (Aubry, Julliard & Gibet 2009, §3.3–4;
 //! DESIGN §1.1):
 //!
-//! - [`segment`]: the reach segments of a clip from its hand-speed series (onset, peak, end);
+//! - [`segment`]: the reach segments of a clip (re-exported from `kinergy_motion::segment`,
+//!   where segmentation lives since it needs only motion types);
 //! - [`manifest`]: the segments file — clips, frames, arm, label, person — read and written;
 //! - [`captured`]: a captured reach prepared for fitting — start posture, target, the person's
 //!   arm, the captured torso motion the synthesized arm rides on — and its score, the
@@ -31,7 +32,9 @@ pub mod fit;
 pub mod manifest;
 pub mod objective;
 pub mod person;
-pub mod segment;
+/// Reach segmentation, now in `kinergy-motion`: re-exported so `kinergy_train::segment` keeps
+/// working.
+pub use kinergy_motion::segment;
 pub mod synthetic;
 
 pub use captured::CapturedReach;

@@ -41,7 +41,7 @@ use std::path::{Component, Path, PathBuf};
 
 use kinergy_motion::{Clip, Side};
 
-use crate::segment::Label;
+use kinergy_motion::segment::Label;
 
 /// One row: a segment of one clip.
 #[derive(Debug, Clone, PartialEq)]

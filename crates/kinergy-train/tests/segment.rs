@@ -12,9 +12,9 @@ use std::sync::Arc;
 use kinergy_motion::nalgebra::Vector3;
 use kinergy_motion::rotation::Axis;
 use kinergy_motion::{
-    ArmJoints, Clip, Dof, ImportOptions, Joint, PositionReading, Side, Skeleton, read_clip,
+    ArmJoints, Clip, Dof, ImportOptions, Joint, MotionError, PositionReading, Side, Skeleton,
+    read_clip,
 };
-use kinergy_train::TrainError;
 use kinergy_train::segment::{
     Label, Segment, SegmentSettings, find_segments, hand_speed, main_index, main_segment,
 };
@@ -232,7 +232,7 @@ fn a_clip_at_rest_has_no_reach() {
         let arm = right_arm(&c);
         assert_eq!(find_segments(&c, &arm, &settings).expect("segments"), []);
         match main_segment(&c, &arm, &settings, "still.bvh") {
-            Err(e @ TrainError::Reach { .. }) => {
+            Err(e @ MotionError::Reach { .. }) => {
                 let msg = e.to_string();
                 assert!(
                     msg.starts_with("still.bvh: ") && msg.contains("0.2 m/s"),

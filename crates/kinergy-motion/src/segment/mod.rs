@@ -21,7 +21,7 @@
 //! # Frames
 //!
 //! One convention, used by [`Segment`], by `kinergy segment`'s text and JSON, by the segments
-//! file ([`crate::manifest`]) and by `--frames A..B`: frames are numbered from 0 and a segment
+//! file (kinergy-train's `segments_file`) and by `--frames A..B`: frames are numbered from 0 and a segment
 //! is the range `onset..end`, **end excluded** (Rust's `Range`, [`Segment::frames`]). The hand
 //! starts leaving on frame `onset` and has arrived on frame `end − 1`. The `A..B` that
 //! `kinergy segment` prints pastes into `--frames A..B` as it is.
@@ -50,7 +50,7 @@
 //!    a fraction of a millimetre of a smooth path, so the segments do not move (one frame
 //!    that turns back sharply is indistinguishable from a glitch, and is treated as one);
 //! 3. speed by central differences, |p_{i+1} − p_{i−1}| / 2Δt, one-sided at the two ends
-//!    ([`speed_series`](kinergy_motion::speed_series));
+//!    ([`speed_series`](crate::speed_series));
 //! 4. a centred moving average over [`SegmentSettings::smoothing`] seconds (an odd number of
 //!    frames, at least one; near the ends the window is cut to the frames that exist), a
 //!    low-pass that removes capture jitter without moving a symmetric bell's peak.
@@ -132,7 +132,7 @@
 //!
 //! ```
 //! use kinergy_motion::{clip_from_bvh, ArmJoints, ImportOptions, Side};
-//! use kinergy_train::segment::{find_segments, SegmentSettings};
+//! use kinergy_motion::segment::{find_segments, SegmentSettings};
 //!
 //! // A clip at rest: no segment.
 //! let text = "HIERARCHY\nROOT Chest\n{\n OFFSET 0 140 0\n CHANNELS 3 Zrotation Xrotation Yrotation\n \
@@ -159,10 +159,10 @@ use std::fmt;
 use std::ops::Range;
 use std::str::FromStr;
 
-use kinergy_motion::{ArmJoints, Clip};
 use serde::Serialize;
 
-use crate::error::{Result, TrainError, require};
+use crate::error::{MotionError, Result};
+use crate::{ArmJoints, Clip};
 
 /// How [`find_segments`] reads the hand's motion (see the [module docs](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -271,6 +271,18 @@ impl SegmentSettings {
                 self.min_reach, self.small_move
             ),
         )
+    }
+}
+
+/// A [`MotionError::Setting`] unless `ok`.
+fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<()> {
+    if ok {
+        Ok(())
+    } else {
+        Err(MotionError::Setting {
+            field: field.to_string(),
+            why: why.into(),
+        })
     }
 }
 
@@ -447,7 +459,7 @@ pub fn main_index(segments: &[Segment]) -> Option<usize> {
         .map(|(i, _)| i)
 }
 
-/// The clip's main reach (see [`main_index`]). [`TrainError::Reach`], naming `clip_name`, when
+/// The clip's main reach (see [`main_index`]). [`MotionError::Reach`], naming `clip_name`, when
 /// there is none.
 pub fn main_segment(
     clip: &Clip,
@@ -488,17 +500,17 @@ pub fn main_segment(
                 .join(", ")
         )
     };
-    Err(TrainError::Reach {
+    Err(MotionError::Reach {
         clip: clip_name.to_string(),
         why,
     })
 }
 
 /// The segments `selection` takes from `segments` (as [`find_segments`] returns them), in
-/// time order. [`TrainError::Reach`], naming `clip_name`, when it takes none: no reach for
+/// time order. [`MotionError::Reach`], naming `clip_name`, when it takes none: no reach for
 /// `main` or `all`, a number past the list's end.
 pub fn select(segments: &[Segment], selection: Selection, clip_name: &str) -> Result<Vec<Segment>> {
-    let fail = |why: String| TrainError::Reach {
+    let fail = |why: String| MotionError::Reach {
         clip: clip_name.to_string(),
         why,
     };
@@ -696,7 +708,9 @@ mod tests {
         ];
         for (s, f) in bad.iter().zip(fields) {
             match s.validate() {
-                Err(TrainError::Setting { field, .. }) => assert_eq!(field, format!("segment.{f}")),
+                Err(MotionError::Setting { field, .. }) => {
+                    assert_eq!(field, format!("segment.{f}"))
+                }
                 other => panic!("{f}: {other:?}"),
             }
         }

@@ -1,7 +1,7 @@
 //! The paths and the speed segmentation reads (see the module docs, "The speed signal").
 
-use kinergy_motion::nalgebra::{Point3, Vector3};
-use kinergy_motion::{ArmJoints, Clip, speed_series};
+use crate::{ArmJoints, Clip, speed_series};
+use nalgebra::{Point3, Vector3};
 
 use super::SegmentSettings;
 use crate::error::Result;

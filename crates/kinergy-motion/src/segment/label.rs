@@ -1,6 +1,6 @@
 //! Sub-movements grouped into movements and labelled (module docs, steps 3 to 6).
 
-use kinergy_motion::nalgebra::{Point3, Vector3};
+use nalgebra::{Point3, Vector3};
 
 use super::motion::{Motion, Stroke};
 use super::signal::Signal;
