@@ -128,12 +128,10 @@ fn compare_one(args: &Args, person: &PersonParams, path: &Path) -> Result<Row, F
     let joints = args.arm.find(&clip, path)?;
     let name = path.display().to_string();
     let capture = StyleCapture::new(&clip, &joints, &name).map_err(|e| Failure::input(path, e))?;
-    capture
-        .compare(args.arm.arm, person)
-        .map_err(|e| match e {
-            e @ ReachError::Params { .. } => crate::common::person_failure(&args.params, e),
-            e => Failure::from(e).naming(&name),
-        })
+    capture.compare(args.arm.arm, person).map_err(|e| match e {
+        e @ ReachError::Params { .. } => crate::common::person_failure(&args.params, e),
+        e => Failure::from(e).naming(&name),
+    })
 }
 
 /// The summary and the rows as markdown tables.

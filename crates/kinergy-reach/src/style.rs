@@ -7,8 +7,8 @@
 //! correlation, and the fraction of the movement at which the speed peaks. Where the synergy
 //! handed the hand over, its own part (onset to hand-over) is scored too.
 
-use kinergy_motion::segment::{SegmentSettings, hand_speed, main_segment};
 use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::segment::{SegmentSettings, hand_speed, main_segment};
 use kinergy_motion::{ArmJoints, Clip, Side};
 use kinergy_solver::{BaseMode, CaptureArm, PersonStyle};
 use serde::Serialize;
