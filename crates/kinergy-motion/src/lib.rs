@@ -43,6 +43,7 @@ pub mod clip;
 pub mod convert;
 pub mod error;
 pub mod glitch;
+pub mod jumps;
 pub mod limbs;
 pub mod rotation;
 pub mod segment;
