@@ -132,14 +132,15 @@ pub enum PlanError {
     /// A report's object has no poses or too many.
     #[error(
         "object `{}`: {count} poses, expected 1 to {max}",
-        kinergy_io::clip_text(object, 120),
-        max = crate::report::MAX_OBJECT_POSES
+        kinergy_io::clip_text(object, 120)
     )]
     ReportPoseCount {
         /// The object's name.
         object: String,
         /// The poses it has.
         count: usize,
+        /// The most it may have ([`crate::report::MAX_OBJECT_POSES`]).
+        max: usize,
     },
     /// A report's object pose has a number that is not finite or a zero rotation.
     #[error(

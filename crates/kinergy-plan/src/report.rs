@@ -117,6 +117,7 @@ impl ObjectReport {
             return Err(PlanError::ReportPoseCount {
                 object: self.name.clone(),
                 count: poses.len(),
+                max: MAX_OBJECT_POSES,
             });
         }
         poses
@@ -200,7 +201,7 @@ mod tests {
     #[test]
     fn bad_reports_say_what_is_wrong() {
         assert!(matches!(
-            MovedObjects::parse("[1]"),
+            MovedObjects::parse("{\"objects\": 5}"),
             Err(PlanError::ReportJson { .. })
         ));
         let old = MovedObjects::parse(r#"{"objects": [{"name": "a"}]}"#).expect("parses");

@@ -6,8 +6,6 @@ use std::path::{Path, PathBuf};
 use kinergy_motion::{MotionError, Side};
 use kinergy_solver::SolverError;
 
-use crate::manifest::ManifestError;
-
 /// Everything that can go wrong in `kinergy-train`.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -82,9 +80,17 @@ pub enum TrainError {
         /// skeleton has an arm on the other side.
         other_side: Option<Side>,
     },
-    /// A segments file is malformed, or a row's frames are outside its clip.
-    #[error(transparent)]
-    Segments(#[from] ManifestError),
+    /// A segments file is malformed, or a row's frames are outside its clip (a
+    /// [`crate::manifest::ManifestError`]).
+    #[error("{}: {why}", at(path, *line))]
+    Segments {
+        /// The segments file.
+        path: PathBuf,
+        /// The line (1-based), when the error is about one.
+        line: Option<usize>,
+        /// What is wrong.
+        why: String,
+    },
     /// The reach of a segments file's row could not be prepared: its clip could not be
     /// read, its arm was not found, or its frames make no reach.
     #[error("{}: {}: {source}", at(file, *line), clip.display())]

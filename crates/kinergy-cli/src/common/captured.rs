@@ -170,7 +170,7 @@ impl CaptureArgs {
                 };
                 Failure::Input(format!("{at}: {why}"))
             }
-            e @ (TrainError::Segments(_) | TrainError::NoRows { .. }) => {
+            e @ (TrainError::Segments { .. } | TrainError::NoRows { .. }) => {
                 Failure::Input(e.to_string())
             }
             e => Failure::input(path, e),
