@@ -153,7 +153,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     {
         use crate::common::{Output, check_outputs};
         let mut inputs: Vec<&std::path::Path> = paths.iter().map(PathBuf::as_path).collect();
-        inputs.extend(clips.iter().map(PathBuf::as_path));
+        inputs.extend(clips.paths.iter().map(PathBuf::as_path));
         inputs.extend(args.reach.segments.as_deref());
         check_outputs(&inputs, &[Output::Folder("-o", &args.output)])?;
     }

@@ -204,7 +204,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     {
         use crate::common::{Output, check_outputs};
         let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
-        inputs.extend(clips.iter().map(PathBuf::as_path));
+        inputs.extend(clips.paths.iter().map(PathBuf::as_path));
         inputs.extend(args.reach.segments.as_deref());
         let option = if args.out_dir.is_some() {
             "--out-dir"

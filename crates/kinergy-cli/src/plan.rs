@@ -7,6 +7,7 @@ use std::time::Duration;
 use kinergy_motion::Side;
 use kinergy_plan::PlanError;
 use kinergy_plan::hand::HandShape;
+use kinergy_plan::report::ObjectReport;
 use kinergy_plan::rrt::Warp;
 use kinergy_plan::scene::Scene;
 use kinergy_plan::space::HandTarget;
@@ -14,7 +15,7 @@ use kinergy_plan::task::{Manipulation, Planner, TaskSettings};
 use kinergy_reach::character::Limb;
 use kinergy_reach::controller::ArmDrive;
 use kinergy_reach::drive::PersonArm;
-use nalgebra::{Isometry3, Point3, Quaternion, UnitQuaternion};
+use nalgebra::{Point3, Quaternion, UnitQuaternion};
 use serde::Serialize;
 
 use crate::common::{Failure, check_optional, check_range, emit, limits, print_json};
@@ -132,22 +133,6 @@ struct SynergyReport {
 }
 
 #[derive(Serialize)]
-struct PoseReport {
-    position_m: [f64; 3],
-    rotation_xyzw: [f64; 4],
-}
-
-#[derive(Serialize)]
-struct ObjectReport {
-    name: String,
-    start: PoseReport,
-    end: PoseReport,
-    /// The object's world pose on every frame of the written BVH (`kinergy animate
-    /// --report` draws it moving with the hand).
-    poses: Vec<PoseReport>,
-}
-
-#[derive(Serialize)]
 struct Report {
     output: String,
     scene: String,
@@ -172,14 +157,6 @@ struct TimingReport {
     peak: f64,
     /// The speed's standard deviation over a phase's fraction.
     spread: f64,
-}
-
-fn pose_report(p: &Isometry3<f64>) -> PoseReport {
-    let q = p.rotation.coords;
-    PoseReport {
-        position_m: p.translation.vector.into(),
-        rotation_xyzw: [q.x, q.y, q.z, q.w],
-    }
 }
 
 /// `x,y,z` or `x,y,z,qx,qy,qz,qw` (finite numbers).
@@ -390,18 +367,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 }),
             })
             .collect(),
-        objects: motion
-            .objects
-            .iter()
-            .filter_map(|t| {
-                Some(ObjectReport {
-                    name: t.name.clone(),
-                    start: pose_report(t.poses.first()?),
-                    end: pose_report(t.poses.last()?),
-                    poses: t.poses.iter().map(pose_report).collect(),
-                })
-            })
-            .collect(),
+        objects: motion.objects.iter().filter_map(ObjectReport::of).collect(),
         timing,
     };
     if args.json {
@@ -445,8 +411,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             }
         }
         for o in &report.objects {
-            let [x, y, z] = o.end.position_m;
-            text += &format!("  {} ends at {x:.3},{y:.3},{z:.3}\n", o.name);
+            if let Some(end) = &o.end {
+                let [x, y, z] = end.position_m;
+                text += &format!("  {} ends at {x:.3},{y:.3},{z:.3}\n", o.name);
+            }
         }
         emit(&text)?;
     }

@@ -14,8 +14,9 @@ use kinergy_solver::{
     BaseMode, Controller, FieldUse, Model, OptimizerKind, ParamSpace, PersonStyle, StopReason,
     Synergy,
 };
-use kinergy_train::segment::{SegmentSettings, Selection, find_segments, select};
-use kinergy_train::{CapturedReach, PersonParams};
+use kinergy_train::segment::Selection;
+use kinergy_train::source::{FrameChoice, names_clip};
+use kinergy_train::{CapturedReach, PersonParams, TrainError};
 use serde::Serialize;
 
 use crate::common::{
@@ -146,14 +147,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Some(path) => Some(crate::common::read_person(path)?),
         None => None,
     };
-    let same_clip = |clip: &str| {
-        let clip = std::path::Path::new(clip);
-        clip == from
-            || matches!(
-                (clip.canonicalize(), from.canonicalize()),
-                (Ok(a), Ok(b)) if a == b
-            )
-    };
+    let same_clip = |clip: &str| names_clip(clip, from);
     let record = params.as_ref().and_then(PersonParams::record);
     let record = record.as_ref();
     let fitted_arm = record.and_then(|r| r.arm(same_clip));
@@ -166,41 +160,40 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         chain: args.chain.clone(),
     };
     let joints = arm_args.find(&whole, from)?;
-    let segment = |selection: Selection| -> Result<std::ops::Range<usize>, Failure> {
-        let name = from.display().to_string();
-        let segments = find_segments(&whole, &joints, &SegmentSettings::default())
-            .map_err(|e| Failure::input(from, e))?;
-        let picked = select(&segments, selection, &name).map_err(|e| Failure::input(from, e))?;
-        Ok(picked[0].frames())
-    };
-    let frames = match (args.select, args.frames.as_str()) {
+    let choice = match (args.select, args.frames.as_str()) {
         (Some(Selection::All), _) => {
             return Err(Failure::Input(
                 "--select all: synthesize makes one reach; pick main or a segment number".into(),
             ));
         }
-        (Some(selection), _) => segment(selection)?,
-        (None, "fit") => record
-            .and_then(|r| r.reach(same_clip))
-            .map_or(0..whole.frame_count(), |r| r.frames()),
-        (None, "all") => 0..whole.frame_count(),
-        (None, "auto") => segment(Selection::Main)?,
-        (None, text) => crate::common::parse_frames(text)?,
+        (Some(Selection::Main), _) | (None, "auto") => FrameChoice::Main,
+        (Some(Selection::Nth(n)), _) => FrameChoice::Nth(n),
+        (None, "fit") => FrameChoice::Fitted,
+        (None, "all") => FrameChoice::All,
+        (None, text) => FrameChoice::Window(crate::common::parse_frames(text)?),
     };
-    if frames.end > whole.frame_count() || frames.len() < 2 {
-        // Name where the window came from: the option, or the parameters file's record.
-        let source = match (&args.params, args.select, args.frames.as_str()) {
-            (Some(path), None, "fit") => format!("{}: `fit.reaches` frames", path.display()),
-            _ => "--frames".to_string(),
-        };
-        return Err(Failure::Input(format!(
-            "{source} {}..{}: {} has {} frames and a reach needs at least 2",
-            frames.start,
-            frames.end,
-            from.display(),
-            whole.frame_count()
-        )));
-    }
+    let frames = choice
+        .resolve(&whole, from, &joints, record)
+        .map_err(|e| match e {
+            TrainError::Frames {
+                frames, available, ..
+            } => {
+                // Name where the window came from: the option, or the parameters file's record.
+                let source = match (&args.params, &choice) {
+                    (Some(path), FrameChoice::Fitted) => {
+                        format!("{}: `fit.reaches` frames", path.display())
+                    }
+                    _ => "--frames".to_string(),
+                };
+                Failure::Input(format!(
+                    "{source} {}..{}: {} has {available} frames and a reach needs at least 2",
+                    frames.start,
+                    frames.end,
+                    from.display(),
+                ))
+            }
+            e => Failure::input(from, e),
+        })?;
     let name = from.display().to_string();
     let mode = if args.fixed_base {
         BaseMode::Fixed

@@ -87,7 +87,9 @@ mod tests {
     #[test]
     fn a_jittery_series_sets_its_own_bar() {
         // Changes of 0.3 every frame: the median is 0.3, so 0.3 is no jump, 1.5 is.
-        let mut v: Vec<f64> = (0..40).map(|i| if i % 2 == 0 { 1.0 } else { 1.3 }).collect();
+        let mut v: Vec<f64> = (0..40)
+            .map(|i| if i % 2 == 0 { 1.0 } else { 1.3 })
+            .collect();
         assert!(speed_jumps(&v).is_empty());
         v[20] = 2.8;
         assert_eq!(speed_jumps(&v).len(), 2);

@@ -116,6 +116,53 @@ pub enum PlanError {
         /// The frames of the synergy's own part of the reach.
         frames: usize,
     },
+    /// A task's report ([`crate::report`]) is not JSON of a report.
+    #[error("not a `kinergy plan --json` report: {why}")]
+    ReportJson {
+        /// What the JSON reader said (at most 120 characters).
+        why: String,
+    },
+    /// A report has no frame time: it was written before reports recorded it.
+    #[error(
+        "the report has no frame_time_s: it was written by an older kinergy; run `kinergy plan ... --json` again"
+    )]
+    ReportNoFrameTime,
+    /// A report's frame time is not a number > 0.
+    #[error("frame_time_s {0}: expected a number > 0")]
+    ReportFrameTime(f64),
+    /// A report's object has no per-frame poses: it was written before reports recorded them.
+    #[error(
+        "object `{}` has no per-frame poses: the report was written by an older kinergy; run `kinergy plan ... --json` again",
+        kinergy_io::clip_text(object, 120)
+    )]
+    ReportNoPoses {
+        /// The object's name.
+        object: String,
+    },
+    /// A report's object has no poses or too many.
+    #[error(
+        "object `{}`: {count} poses, expected 1 to {max}",
+        kinergy_io::clip_text(object, 120)
+    )]
+    ReportPoseCount {
+        /// The object's name.
+        object: String,
+        /// The poses it has.
+        count: usize,
+        /// The most it may have ([`crate::report::MAX_OBJECT_POSES`]).
+        max: usize,
+    },
+    /// A report's object pose has a number that is not finite or a zero rotation.
+    #[error(
+        "object `{}` pose {index}: expected finite numbers and a non-zero rotation",
+        kinergy_io::clip_text(object, 120)
+    )]
+    ReportPose {
+        /// The object's name.
+        object: String,
+        /// The pose's frame.
+        index: usize,
+    },
 }
 
 impl PlanError {

@@ -10,7 +10,8 @@
 //! - [`hand`]: hand targets' grip point, hand shapes, fingers in the BVH export;
 //! - [`task`]: reach, grasp, relocate and push/pull sequences made of planned and straight
 //!   motions;
-//! - [`approach`]: a reach finished by a person's synergy controller where its motion is free.
+//! - [`approach`]: a reach finished by a person's synergy controller where its motion is free;
+//! - [`report`]: the moved objects' poses per frame, as a task's report writes and reads them.
 
 pub mod approach;
 pub mod body;
@@ -18,6 +19,7 @@ pub mod error;
 pub mod hand;
 pub mod obj;
 pub mod person;
+pub mod report;
 pub mod rrt;
 pub mod scene;
 pub mod shelf;

@@ -1,8 +1,9 @@
 //! The error type of `kinergy-train`.
 
-use std::path::PathBuf;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
 
-use kinergy_motion::MotionError;
+use kinergy_motion::{MotionError, Side};
 use kinergy_solver::SolverError;
 
 /// Everything that can go wrong in `kinergy-train`.
@@ -56,6 +57,91 @@ pub enum TrainError {
         /// The underlying error.
         source: std::io::Error,
     },
+    /// A capture could not be read ([`crate::source`]).
+    #[error("{}", naming(path, source))]
+    Clip {
+        /// The capture file.
+        path: PathBuf,
+        /// What reading it said.
+        source: MotionError,
+    },
+    /// A capture's arm was not found ([`crate::source::ArmChoice`]).
+    #[error(
+        "{}{}",
+        naming(path, source),
+        other_side.map_or_else(String::new, |s| format!("; this skeleton has a {s} arm"))
+    )]
+    Arm {
+        /// The capture file.
+        path: PathBuf,
+        /// Why the arm was not found: no such arm, or an unknown joint name.
+        source: MotionError,
+        /// The other side, when the arm was looked for by side, was not found, and the
+        /// skeleton has an arm on the other side.
+        other_side: Option<Side>,
+    },
+    /// A segments file is malformed, or a row's frames are outside its clip (a
+    /// [`crate::manifest::ManifestError`]).
+    #[error("{}: {why}", at(path, *line))]
+    Segments {
+        /// The segments file.
+        path: PathBuf,
+        /// The line (1-based), when the error is about one.
+        line: Option<usize>,
+        /// What is wrong.
+        why: String,
+    },
+    /// The reach of a segments file's row could not be prepared: its clip could not be
+    /// read, its arm was not found, or its frames make no reach.
+    #[error("{}: {}: {source}", at(file, *line), clip.display())]
+    Row {
+        /// The segments file.
+        file: PathBuf,
+        /// The row's line (1-based), when it was read from the file.
+        line: Option<usize>,
+        /// The row's capture, as the clips were given.
+        clip: PathBuf,
+        /// What went wrong.
+        source: Box<TrainError>,
+    },
+    /// No row of a segments file names any of the clips given.
+    #[error("{}: no row names any of the clips given", file.display())]
+    NoRows {
+        /// The segments file.
+        file: PathBuf,
+    },
+    /// The frames chosen for a reach are outside the clip or fewer than 2.
+    #[error(
+        "frames {}..{}: {clip} has {available} frames and a reach needs at least 2",
+        frames.start,
+        frames.end
+    )]
+    Frames {
+        /// The clip's name.
+        clip: String,
+        /// The frames chosen.
+        frames: Range<usize>,
+        /// The clip's frames.
+        available: usize,
+    },
+}
+
+/// `e` naming `path` once: errors about files often name them already.
+fn naming(path: &Path, e: &impl std::fmt::Display) -> String {
+    let text = e.to_string();
+    if text.contains(&*path.to_string_lossy()) {
+        text
+    } else {
+        format!("{}: {text}", path.display())
+    }
+}
+
+/// `file line N`, or `file` for a row not read from it.
+fn at(file: &Path, line: Option<usize>) -> String {
+    match line {
+        Some(line) => format!("{} line {line}", file.display()),
+        None => file.display().to_string(),
+    }
 }
 
 /// `path: ` for a file error read from a file, nothing otherwise.

@@ -7,6 +7,8 @@
 //! - [`captured`]: a captured reach prepared for fitting — start posture, target, the person's
 //!   arm, the captured torso motion the synthesized arm rides on — and its score, the
 //!   joint-position motion distance;
+//! - [`source`]: one path from a capture file — read options, arm, frames, selection or a
+//!   segments-file row — to its captured reaches;
 //! - [`objective`]: the mean distance of a parameter vector over a set of reaches, as a
 //!   bounded [`CostFunction`];
 //! - [`anneal`]: simulated annealing (population, adaptive steps, Metropolis acceptance,
@@ -35,6 +37,7 @@ pub mod person;
 /// Reach segmentation, now in `kinergy-motion`: re-exported so `kinergy_train::segment` keeps
 /// working.
 pub use kinergy_motion::segment;
+pub mod source;
 pub mod synthetic;
 
 pub use captured::CapturedReach;

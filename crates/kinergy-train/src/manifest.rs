@@ -108,6 +108,16 @@ impl fmt::Display for ManifestError {
 
 impl std::error::Error for ManifestError {}
 
+impl From<ManifestError> for crate::TrainError {
+    fn from(e: ManifestError) -> crate::TrainError {
+        crate::TrainError::Segments {
+            path: e.path,
+            line: e.line,
+            why: e.why,
+        }
+    }
+}
+
 /// A segments file: its path and its rows, in file order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Manifest {

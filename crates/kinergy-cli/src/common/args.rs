@@ -46,34 +46,42 @@ impl ReadArgs {
         check_range("--max-input-mb", self.max_input_mb, limits::MAX_INPUT_MB)
     }
 
-    /// Reads the clip at `path` with these options; errors name the file (and, for a file
-    /// over the size limit, the flag that raises it).
-    pub fn read(&self, path: &Path) -> Result<(Clip, ImportReport), Failure> {
-        self.check()?;
-        let options = ImportOptions {
+    /// The import options these flags say.
+    pub fn options(&self) -> ImportOptions {
+        ImportOptions {
             unit: self.from_unit,
             position_reading: self.positions,
             up: self.up,
             max_file_bytes: Some(self.max_input_mb.saturating_mul(kinergy_io::MIB)),
-        };
-        kinergy_motion::read_clip(path, &options).map_err(|e| {
-            let too_large = matches!(
-                &e,
-                kinergy_motion::MotionError::Bvh(kinergy_bvh::Error::Io { source, .. })
-                    if source.kind() == std::io::ErrorKind::FileTooLarge
-            );
-            if too_large {
-                Failure::Input(format!(
-                    "{}: larger than the {} MiB limit of --max-input-mb; raise it with \
-                     --max-input-mb N (up to {})",
-                    path.display(),
-                    self.max_input_mb,
-                    limits::MAX_INPUT_MB.1
-                ))
-            } else {
-                Failure::input(path, e)
-            }
-        })
+        }
+    }
+
+    /// Reads the clip at `path` with these options; errors name the file (and, for a file
+    /// over the size limit, the flag that raises it).
+    pub fn read(&self, path: &Path) -> Result<(Clip, ImportReport), Failure> {
+        self.check()?;
+        kinergy_motion::read_clip(path, &self.options()).map_err(|e| self.failure(path, e))
+    }
+
+    /// The clip at `path` could not be read: `e` naming the file, or, for a file over the
+    /// size limit, the flag that raises it.
+    pub fn failure(&self, path: &Path, e: MotionError) -> Failure {
+        let too_large = matches!(
+            &e,
+            kinergy_motion::MotionError::Bvh(kinergy_bvh::Error::Io { source, .. })
+                if source.kind() == std::io::ErrorKind::FileTooLarge
+        );
+        if too_large {
+            Failure::Input(format!(
+                "{}: larger than the {} MiB limit of --max-input-mb; raise it with \
+                 --max-input-mb N (up to {})",
+                path.display(),
+                self.max_input_mb,
+                limits::MAX_INPUT_MB.1
+            ))
+        } else {
+            Failure::input(path, e)
+        }
     }
 }
 
@@ -110,6 +118,16 @@ impl ArmArgs {
 /// found with the other arm when the skeleton has it (`side` is the one asked for with
 /// `--arm`) and `--chain`.
 pub fn arm_failure(e: MotionError, clip: &Clip, path: &Path, side: Option<Side>) -> Failure {
+    let other = side.map(Side::opposite).filter(|&other| {
+        matches!(e, MotionError::ArmNotFound { .. })
+            && ArmJoints::find(clip.skeleton(), other).is_ok()
+    });
+    arm_failure_with(e, path, other)
+}
+
+/// [`arm_failure`] given `other`: the other side, when the arm was not found and the
+/// skeleton has one there.
+pub fn arm_failure_with(e: MotionError, path: &Path, other: Option<Side>) -> Failure {
     match e {
         MotionError::UnknownJoint { name, available } => {
             let known: Vec<&str> = available.iter().map(String::as_str).collect();
@@ -122,21 +140,12 @@ pub fn arm_failure(e: MotionError, clip: &Clip, path: &Path, side: Option<Side>)
             path,
             format!(
                 "{e}{}; or name its joints with --chain clavicle,shoulder,elbow,wrist",
-                side.map_or_else(String::new, |s| other_arm_hint(clip, s))
+                other.map_or_else(String::new, |o| format!(
+                    "; this skeleton has a {o} arm: use --arm {o}"
+                ))
             ),
         ),
         e => Failure::input(path, e),
-    }
-}
-
-/// "; this skeleton has a left arm: use --arm left" when the arm not found on `side` is
-/// found on the other side, else nothing.
-pub fn other_arm_hint(clip: &Clip, side: Side) -> String {
-    let other = side.opposite();
-    if ArmJoints::find(clip.skeleton(), other).is_ok() {
-        format!("; this skeleton has a {other} arm: use --arm {other}")
-    } else {
-        String::new()
     }
 }
 

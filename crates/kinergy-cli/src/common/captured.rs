@@ -8,12 +8,13 @@
 
 use std::path::{Path, PathBuf};
 
-use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::BaseMode;
-use kinergy_train::CapturedReach;
-use kinergy_train::manifest::{Manifest, ManifestRow};
-use kinergy_train::segment::{SegmentSettings, Selection, find_segments, select};
+use kinergy_train::manifest::Manifest;
+use kinergy_train::segment::Selection;
+use kinergy_train::source::{ArmChoice, Capture, ReachFrames, segment_clips, segment_reaches};
+use kinergy_train::{CapturedReach, TrainError};
 
+use super::args::arm_failure_with;
 use super::{ArmArgs, Failure, ReadArgs, collect_clips, parse_frames};
 
 /// Which part of each clip is the reach, and how it is read.
@@ -45,6 +46,15 @@ pub struct CaptureArgs {
     pub arm: ArmArgs,
 }
 
+/// The clips a command works on, with the segments file when it named them (so that it is
+/// read once).
+#[derive(Debug)]
+pub struct CaptureClips {
+    /// The clip files.
+    pub paths: Vec<PathBuf>,
+    segments: Option<Manifest>,
+}
+
 impl CaptureArgs {
     /// The base mode chosen.
     pub fn mode(&self) -> BaseMode {
@@ -57,59 +67,34 @@ impl CaptureArgs {
 
     /// The clip files: `given` (files or folders, see [`collect_clips`]); with `--segments`
     /// and nothing given, the segments file's clips in the order they first appear.
-    pub fn clips(&self, given: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
+    pub fn clips(&self, given: &[PathBuf]) -> Result<CaptureClips, Failure> {
         match (&self.segments, given.is_empty()) {
             (Some(path), true) => {
-                let manifest = read_manifest(path)?;
-                let mut clips: Vec<PathBuf> = Vec::new();
-                for row in manifest.rows() {
-                    if !clips.contains(&row.clip) {
-                        clips.push(row.clip.clone());
-                    }
-                }
-                if clips.is_empty() {
+                let segments = read_segments(path)?;
+                let paths = segment_clips(&segments);
+                if paths.is_empty() {
                     return Err(Failure::Input(format!(
                         "{}: no segment rows",
                         path.display()
                     )));
                 }
-                Ok(clips)
+                Ok(CaptureClips {
+                    paths,
+                    segments: Some(segments),
+                })
             }
-            _ => collect_clips(given),
+            _ => Ok(CaptureClips {
+                paths: collect_clips(given)?,
+                segments: None,
+            }),
         }
-    }
-
-    /// The reaches of one clip file: one for `--frames`, else those `--select` picks.
-    pub fn load(&self, path: &Path) -> Result<Vec<CapturedReach>, Failure> {
-        let (clip, _) = self.read.read(path)?;
-        let arm = self.arm.find(&clip, path)?;
-        let name = path.display().to_string();
-        let windows = match &self.frames {
-            Some(text) => vec![parse_frames(text)?],
-            None => {
-                let segments = find_segments(&clip, &arm, &SegmentSettings::default())
-                    .map_err(|e| Failure::input(path, e))?;
-                select(&segments, self.select.unwrap_or_default(), &name)
-                    .map_err(|e| Failure::input(path, e))?
-                    .iter()
-                    .map(|s| s.frames())
-                    .collect()
-            }
-        };
-        windows
-            .into_iter()
-            .map(|frames| {
-                CapturedReach::new(&name, &clip, &arm, frames, self.mode())
-                    .map_err(|e| Failure::input(path, e))
-            })
-            .collect()
     }
 
     /// The reaches of every clip, in order (a clip's reaches in time order; with
     /// `--segments`, in the file's row order). Everything is checked before anything is
     /// fitted: with `--segments` every error names the segments file and the row's line (a
     /// clip that cannot be read, frames outside it, an arm its skeleton lacks).
-    pub fn load_all(&self, clips: &[PathBuf]) -> Result<Vec<CapturedReach>, Failure> {
+    pub fn load_all(&self, clips: &CaptureClips) -> Result<Vec<CapturedReach>, Failure> {
         Ok(self
             .load_all_with_persons(clips)?
             .into_iter()
@@ -121,61 +106,79 @@ impl CaptureArgs {
     /// (`None` without `--segments`).
     pub fn load_all_with_persons(
         &self,
-        clips: &[PathBuf],
+        clips: &CaptureClips,
     ) -> Result<Vec<(CapturedReach, Option<String>)>, Failure> {
+        let options = self.read.options();
         let Some(path) = &self.segments else {
+            let frames = match &self.frames {
+                Some(text) => ReachFrames::Window(parse_frames(text)?),
+                None => ReachFrames::Segments(self.select.unwrap_or_default()),
+            };
+            let arm = ArmChoice {
+                side: self.arm.arm,
+                joints: self.arm.chain.clone(),
+            };
             let mut out = Vec::new();
-            for c in clips {
-                out.extend(self.load(c)?.into_iter().map(|r| (r, None)));
+            for c in &clips.paths {
+                let reaches = Capture::read(c, &options)
+                    .and_then(|capture| capture.reaches(&arm, &frames, self.mode()))
+                    .map_err(|e| self.failure(c, e))?;
+                out.extend(reaches.into_iter().map(|r| (r, None)));
             }
             return Ok(out);
         };
-        let manifest = read_manifest(path)?;
-        let mut out = Vec::new();
-        for c in clips {
-            let rows: Vec<&ManifestRow> = manifest.rows_for(c).collect();
-            if rows.is_empty() {
-                continue;
+        let read;
+        let segments = match &clips.segments {
+            Some(segments) => segments,
+            None => {
+                read = read_segments(path)?;
+                &read
             }
-            let at = |row: &ManifestRow| match row.line {
-                Some(line) => format!("{} line {line}", path.display()),
-                None => path.display().to_string(),
-            };
-            let (clip, _) = self
-                .read
-                .read(c)
-                .map_err(|e| Failure::Input(format!("{}: {e}", at(rows[0]))))?;
-            let name = c.display().to_string();
-            for row in rows {
-                let frames = manifest
-                    .resolve(row, &clip)
-                    .map_err(|e| Failure::Input(e.to_string()))?;
-                let side_arm = ArmArgs {
-                    arm: row.arm,
-                    chain: None,
+        };
+        let reaches = segment_reaches(segments, &clips.paths, &options, self.mode())
+            .map_err(|e| self.failure(path, e))?;
+        Ok(reaches
+            .into_iter()
+            .map(|(reach, row)| (reach, Some(row.person.clone())))
+            .collect())
+    }
+
+    /// A capture at `path` that gave no reaches, said for the command line (bad input).
+    fn failure(&self, path: &Path, e: TrainError) -> Failure {
+        match e {
+            TrainError::Clip { path, source } => self.read.failure(&path, source),
+            TrainError::Arm {
+                path,
+                source,
+                other_side,
+            } => arm_failure_with(source, &path, other_side),
+            TrainError::Row {
+                file,
+                line,
+                clip,
+                source,
+            } => {
+                let at = match line {
+                    Some(line) => format!("{} line {line}", file.display()),
+                    None => file.display().to_string(),
                 };
-                let arm = side_arm
-                    .find(&clip, c)
-                    .map_err(|e| Failure::Input(format!("{}: {e}", at(row))))?;
-                let mut reach = CapturedReach::new(&name, &clip, &arm, frames, self.mode())
-                    .map_err(|e| Failure::Input(format!("{}: {}: {e}", at(row), c.display())))?;
-                if let Some(t) = row.target {
-                    reach = reach.with_target(Point3::from(t));
-                }
-                out.push((reach, Some(row.person.clone())));
+                let why = match *source {
+                    e @ (TrainError::Clip { .. } | TrainError::Arm { .. }) => {
+                        self.failure(&clip, e).to_string()
+                    }
+                    e => format!("{}: {e}", clip.display()),
+                };
+                Failure::Input(format!("{at}: {why}"))
             }
+            e @ (TrainError::Segments { .. } | TrainError::NoRows { .. }) => {
+                Failure::Input(e.to_string())
+            }
+            e => Failure::input(path, e),
         }
-        if out.is_empty() {
-            return Err(Failure::Input(format!(
-                "{}: no row names any of the clips given",
-                path.display()
-            )));
-        }
-        Ok(out)
     }
 }
 
-fn read_manifest(path: &Path) -> Result<Manifest, Failure> {
+fn read_segments(path: &Path) -> Result<Manifest, Failure> {
     Manifest::read(path).map_err(|e| Failure::Input(e.to_string()))
 }
 

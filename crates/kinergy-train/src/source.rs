@@ -1,0 +1,306 @@
+//! Where captured reaches come from: a capture file, read with the import options, its arm
+//! found by side or by joint names, and its frames chosen — a window, the labelled segments of
+//! the hand-speed series ([`crate::segment`]) or the rows of a segments file
+//! ([`crate::manifest`]) — become [`CapturedReach`]es along one path, the one `fit`, `compare`
+//! and `synthesize` take.
+//!
+//! - [`Capture::reaches`]: a clip's reaches by [`ArmChoice`] and [`ReachFrames`];
+//! - [`segment_reaches`]: the reaches a segments file's rows give, each clip read once;
+//! - [`FrameChoice`]: the one reach `synthesize` makes of a capture, its frames resolved
+//!   against a parameters file's fit record.
+//!
+//! Errors say at which step a clip failed: [`TrainError::Clip`] (reading),
+//! [`TrainError::Arm`] (the arm), [`TrainError::Row`] (a segments-file row, with its line),
+//! [`TrainError::Frames`] (a window outside the clip); the segments and the reach themselves
+//! fail as [`crate::segment`] and [`CapturedReach::new`] do.
+//!
+//! ```no_run
+//! use kinergy_motion::{ImportOptions, Side};
+//! use kinergy_solver::BaseMode;
+//! use kinergy_train::segment::Selection;
+//! use kinergy_train::source::{ArmChoice, Capture, ReachFrames};
+//!
+//! let capture = Capture::read("p01/r01.bvh".as_ref(), &ImportOptions::default())?;
+//! let reaches = capture.reaches(
+//!     &ArmChoice::side(Side::Right),
+//!     &ReachFrames::Segments(Selection::Main),
+//!     BaseMode::Replay,
+//! )?;
+//! assert_eq!(reaches.len(), 1);
+//! # Ok::<(), kinergy_train::TrainError>(())
+//! ```
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::{ArmJoints, Clip, ImportOptions, MotionError, Side};
+use kinergy_solver::{BaseMode, FitRecord};
+
+use crate::captured::CapturedReach;
+use crate::error::{Result, TrainError};
+use crate::manifest::{Manifest, ManifestRow};
+use crate::segment::{Segment, SegmentSettings, Selection, find_segments, select};
+
+/// How a capture's arm is found.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ArmChoice {
+    /// Which arm; searched for by the skeleton's joint names unless `joints` names them.
+    pub side: Side,
+    /// The arm's joints by name: clavicle, shoulder, elbow, wrist (or shoulder, elbow, wrist).
+    pub joints: Option<Vec<String>>,
+}
+
+impl ArmChoice {
+    /// The arm on `side`, found by the skeleton's joint names.
+    pub fn side(side: Side) -> ArmChoice {
+        ArmChoice { side, joints: None }
+    }
+
+    /// The arm in `clip`, read from `path` (which the error names). [`TrainError::Arm`]
+    /// when it is not there, saying whether the skeleton has an arm on the other side.
+    pub fn find(&self, clip: &Clip, path: &Path) -> Result<ArmJoints> {
+        let found = match &self.joints {
+            Some(names) => {
+                let names: Vec<&str> = names.iter().map(String::as_str).collect();
+                ArmJoints::from_names(clip.skeleton(), &names)
+            }
+            None => ArmJoints::find(clip.skeleton(), self.side),
+        };
+        found.map_err(|source| {
+            let other = self.side.opposite();
+            let other_side = (matches!(source, MotionError::ArmNotFound { .. })
+                && ArmJoints::find(clip.skeleton(), other).is_ok())
+            .then_some(other);
+            TrainError::Arm {
+                path: path.to_path_buf(),
+                source,
+                other_side,
+            }
+        })
+    }
+}
+
+/// Which frames of a capture are its reaches.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ReachFrames {
+    /// One window `A..B` (numbered from 0, end excluded).
+    Window(Range<usize>),
+    /// The labelled segments of the hand-speed series that the selection takes.
+    Segments(Selection),
+}
+
+/// A capture file, read for its reaches.
+#[derive(Debug, Clone)]
+pub struct Capture {
+    path: PathBuf,
+    clip: Clip,
+}
+
+impl Capture {
+    /// Reads the capture at `path` with `options`; [`TrainError::Clip`] when it cannot be
+    /// read.
+    pub fn read(path: &Path, options: &ImportOptions) -> Result<Capture> {
+        let (clip, _) =
+            kinergy_motion::read_clip(path, options).map_err(|source| TrainError::Clip {
+                path: path.to_path_buf(),
+                source,
+            })?;
+        Ok(Capture {
+            path: path.to_path_buf(),
+            clip,
+        })
+    }
+
+    /// The file it was read from.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The clip.
+    pub fn clip(&self) -> &Clip {
+        &self.clip
+    }
+
+    /// The name its reaches take in messages and records: the path as given.
+    pub fn name(&self) -> String {
+        self.path.display().to_string()
+    }
+
+    /// Its reaches, in time order: the arm `arm`, the frames `frames`, the base `mode`.
+    pub fn reaches(
+        &self,
+        arm: &ArmChoice,
+        frames: &ReachFrames,
+        mode: BaseMode,
+    ) -> Result<Vec<CapturedReach>> {
+        let joints = arm.find(&self.clip, &self.path)?;
+        let name = self.name();
+        let windows = match frames {
+            ReachFrames::Window(window) => vec![window.clone()],
+            ReachFrames::Segments(selection) => {
+                let segments = find_segments(&self.clip, &joints, &SegmentSettings::default())?;
+                select(&segments, *selection, &name)?
+                    .iter()
+                    .map(Segment::frames)
+                    .collect()
+            }
+        };
+        windows
+            .into_iter()
+            .map(|window| CapturedReach::new(&name, &self.clip, &joints, window, mode))
+            .collect()
+    }
+
+    /// The reach a row of the segments `file` gives of this capture: the row's frames
+    /// (checked against the clip: [`TrainError::Segments`]), arm and, where it has one,
+    /// target. Other errors come as [`TrainError::Row`], naming the file and the row's line.
+    pub fn row_reach(
+        &self,
+        file: &Manifest,
+        row: &ManifestRow,
+        mode: BaseMode,
+    ) -> Result<CapturedReach> {
+        let frames = file.resolve(row, &self.clip)?;
+        let in_row = |e: TrainError| in_row(file, row, &self.path, e);
+        let joints = ArmChoice::side(row.arm)
+            .find(&self.clip, &self.path)
+            .map_err(in_row)?;
+        let reach =
+            CapturedReach::new(&self.name(), &self.clip, &joints, frames, mode).map_err(in_row)?;
+        Ok(match row.target {
+            Some(t) => reach.with_target(Point3::from(t)),
+            None => reach,
+        })
+    }
+
+    /// The one reach `choice` takes of this capture with the arm `joints` (see
+    /// [`FrameChoice::resolve`]).
+    pub fn reach(
+        &self,
+        joints: &ArmJoints,
+        choice: &FrameChoice,
+        record: Option<&FitRecord>,
+        mode: BaseMode,
+    ) -> Result<CapturedReach> {
+        let frames = choice.resolve(&self.clip, &self.path, joints, record)?;
+        CapturedReach::new(&self.name(), &self.clip, joints, frames, mode)
+    }
+}
+
+/// A row's error `e` about the capture at `clip`, named by the segments file and the line.
+fn in_row(file: &Manifest, row: &ManifestRow, clip: &Path, e: TrainError) -> TrainError {
+    TrainError::Row {
+        file: file.path().to_path_buf(),
+        line: row.line,
+        clip: clip.to_path_buf(),
+        source: Box::new(e),
+    }
+}
+
+/// The clips a segments file names, in the order they first appear.
+pub fn segment_clips(file: &Manifest) -> Vec<PathBuf> {
+    let mut clips: Vec<PathBuf> = Vec::new();
+    for row in file.rows() {
+        if !clips.contains(&row.clip) {
+            clips.push(row.clip.clone());
+        }
+    }
+    clips
+}
+
+/// The reaches the rows of the segments `file` give for `clips` (see
+/// [`Capture::row_reach`]), in the order of `clips`, then of the rows, each with its row.
+/// Each clip with rows is read once, with `options`; a clip without rows is skipped. A clip
+/// that cannot be read is a [`TrainError::Row`] of its first row; [`TrainError::NoRows`] when
+/// no row names any of the clips.
+pub fn segment_reaches<'a>(
+    file: &'a Manifest,
+    clips: &[PathBuf],
+    options: &ImportOptions,
+    mode: BaseMode,
+) -> Result<Vec<(CapturedReach, &'a ManifestRow)>> {
+    let mut out = Vec::new();
+    for path in clips {
+        let rows: Vec<&ManifestRow> = file.rows_for(path).collect();
+        let Some(first) = rows.first() else {
+            continue;
+        };
+        let capture = Capture::read(path, options).map_err(|e| in_row(file, first, path, e))?;
+        for row in rows {
+            out.push((capture.row_reach(file, row, mode)?, row));
+        }
+    }
+    if out.is_empty() {
+        return Err(TrainError::NoRows {
+            file: file.path().to_path_buf(),
+        });
+    }
+    Ok(out)
+}
+
+/// Whether a fit record's clip `name` names the capture at `path`: the same path, or the same
+/// file on disk.
+pub fn names_clip(name: &str, path: &Path) -> bool {
+    let clip = Path::new(name);
+    clip == path
+        || matches!(
+            (clip.canonicalize(), path.canonicalize()),
+            (Ok(a), Ok(b)) if a == b
+        )
+}
+
+/// Which frames of a capture one reach covers.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FrameChoice {
+    /// The frames a parameters file's fit record holds for this capture (so a synthesis
+    /// replays what the fit scored); all of them without such a record.
+    Fitted,
+    /// All the frames.
+    All,
+    /// The main reach of the hand-speed series ([`Selection::Main`]).
+    Main,
+    /// Segment N of the list [`find_segments`] returns, counted from 0, whatever its label.
+    Nth(usize),
+    /// The frames `A..B` (numbered from 0, end excluded).
+    Window(Range<usize>),
+}
+
+impl FrameChoice {
+    /// The frames this choice takes of `clip` (read from `path`) with the arm `joints`;
+    /// `record`, the fit record of a parameters file, for [`FrameChoice::Fitted`] (its reach
+    /// on the clip [`names_clip`] recognizes). [`TrainError::Frames`] unless they lie in the
+    /// clip and hold at least 2 frames; a segment that is not there fails as
+    /// [`select`] does.
+    pub fn resolve(
+        &self,
+        clip: &Clip,
+        path: &Path,
+        joints: &ArmJoints,
+        record: Option<&FitRecord>,
+    ) -> Result<Range<usize>> {
+        let all = 0..clip.frame_count();
+        let segment = |selection: Selection| -> Result<Range<usize>> {
+            let segments = find_segments(clip, joints, &SegmentSettings::default())?;
+            let picked = select(&segments, selection, &path.display().to_string())?;
+            Ok(picked[0].frames())
+        };
+        let frames = match self {
+            FrameChoice::Fitted => record
+                .and_then(|r| r.reach(|name| names_clip(name, path)))
+                .map_or(all, |r| r.frames()),
+            FrameChoice::All => all,
+            FrameChoice::Main => segment(Selection::Main)?,
+            FrameChoice::Nth(n) => segment(Selection::Nth(*n))?,
+            FrameChoice::Window(window) => window.clone(),
+        };
+        if frames.end > clip.frame_count() || frames.len() < 2 {
+            return Err(TrainError::Frames {
+                clip: path.display().to_string(),
+                frames,
+                available: clip.frame_count(),
+            });
+        }
+        Ok(frames)
+    }
+}
