@@ -234,10 +234,7 @@ fn person(
     use kinergy_reach::controller::{ReachSettings, fitted_base_at_rest, reach_full_body_driven};
     let character = kinergy_reach::character::Character::from_height(height)
         .map_err(|e| Failure::Task(e.to_string()))?;
-    let limb = match side {
-        Side::Right => Limb::RightArm,
-        Side::Left => Limb::LeftArm,
-    };
+    let limb = Limb::arm(side);
     let rest = character.rest_pose();
     let shoulder = limb.joints()[0];
     let at_rest = character.world_positions(&rest);
@@ -292,10 +289,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     inputs.extend(args.params.as_deref());
     crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
     let scene = Scene::read(&args.scene).map_err(|e| Failure::input(&args.scene, e))?;
-    let limb = match args.arm {
-        Side::Right => Limb::RightArm,
-        Side::Left => Limb::LeftArm,
-    };
+    let limb = Limb::arm(args.arm);
     let mut settings = TaskSettings {
         limb,
         ..TaskSettings::default()

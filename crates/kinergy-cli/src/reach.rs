@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
 use kinergy_reach::controller::{
-    ArmDrive, ReachSettings, ReachStop, fitted_base_at_rest, reach_full_body_driven, reaching_side,
+    ArmDrive, ArmDriveKind, ReachSettings, ReachStop, fitted_base_at_rest, reach_full_body_driven,
+    reaching_side,
 };
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use kinergy_train::PersonParams;
@@ -205,7 +206,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 h.at_s,
                 h.why.name().replace('_', " ")
             ))?;
-        } else if r.arm_drive == "synergy" {
+        } else if r.arm_drive == ArmDriveKind::Synergy {
             emit("the person's synergy arm drove the hand all the way\n")?;
         }
     }

@@ -229,10 +229,7 @@ fn compare_one(args: &Args, person: &PersonParams, path: &Path) -> Result<Row, F
     };
     let with = run(&synergy)?;
     let without = run(&ArmDrive::Profile)?;
-    let limb = match side {
-        kinergy_motion::Side::Left => Limb::LeftArm,
-        kinergy_motion::Side::Right => Limb::RightArm,
-    };
+    let limb = Limb::arm(side);
     let captured = normalized(captured);
     let ours = normalized(&with.arm_speeds(&character, false));
     let own = normalized(&with.arm_speeds(&character, true));
