@@ -35,13 +35,19 @@ fn the_set_in_memory_writes_what_write_set_writes() {
         assert_eq!(c.clip.frame_count(), c.row.frames);
         assert!(c.driven.end <= c.row.frames && !c.driven.is_empty());
     }
-    let (a, b) = (tempfile::tempdir().expect("dir"), tempfile::tempdir().expect("dir"));
+    let (a, b) = (
+        tempfile::tempdir().expect("dir"),
+        tempfile::tempdir().expect("dir"),
+    );
     set.write(a.path()).expect("write");
     let made = write_set(b.path(), &settings, &ArmDrive::Profile).expect("write_set");
     let rows: Vec<_> = made.iter().map(|(row, _)| row).collect();
     assert_eq!(rows, set.rows().collect::<Vec<_>>());
     let (ours, theirs) = (files(a.path()), files(b.path()));
     assert_eq!(ours.len(), 5, "four clips and the manifest");
-    assert!(ours.iter().any(|(p, _)| p == std::path::Path::new(MANIFEST)));
+    assert!(
+        ours.iter()
+            .any(|(p, _)| p == std::path::Path::new(MANIFEST))
+    );
     assert!(ours == theirs, "the same files, byte for byte");
 }
