@@ -244,10 +244,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     inputs.extend(args.params.as_deref());
     crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
     let scene = Scene::read(&args.scene).map_err(|e| Failure::input(&args.scene, e))?;
-    let limb = match args.arm {
-        Side::Right => Limb::RightArm,
-        Side::Left => Limb::LeftArm,
-    };
+    let limb = Limb::arm(args.arm);
     let mut settings = TaskSettings {
         limb,
         ..TaskSettings::default()

@@ -4,7 +4,9 @@ use std::path::PathBuf;
 
 use kinergy_motion::Side;
 use kinergy_reach::character::{Character, Proportions};
-use kinergy_reach::controller::{ArmDrive, Ending, ReachSettings, reach_full_body_driven};
+use kinergy_reach::controller::{
+    ArmDrive, ArmDriveKind, Ending, ReachSettings, reach_full_body_driven,
+};
 use kinergy_reach::drive::PersonArm;
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use kinergy_solver::FieldUse;
@@ -175,7 +177,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 h.at_s,
                 h.why.name().replace('_', " ")
             ))?;
-        } else if r.arm_drive == "synergy" {
+        } else if r.arm_drive == ArmDriveKind::Synergy {
             emit("the person's synergy arm drove the hand all the way\n")?;
         }
     }

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use kinergy_motion::Side;
 use kinergy_reach::ReachError;
 use kinergy_reach::controller::ArmDrive;
-use kinergy_reach::synth::{SynthSettings, make_set_driven};
+use kinergy_reach::synth::{MANIFEST, SynthSettings, write_set};
 use kinergy_solver::ParamsFile;
 use kinergy_train::manifest::{Manifest, ManifestRow as SegmentRow};
 use kinergy_train::segment::Label;
@@ -59,12 +59,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         None => ArmDrive::Profile,
     };
     let before = Written::before(&args.output);
-    let result = write_set(args, &drive);
+    let result = write(args, &drive);
     if result.is_err() {
         before.undo(&args.output);
     }
     let rows = result?;
-    let manifest = args.output.join("manifest.csv");
+    let manifest = args.output.join(MANIFEST);
     emit(&format!(
         "{} clips of {} persons in {} (seed {}), manifest {}\n",
         rows,
@@ -75,21 +75,19 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     ))
 }
 
-/// Writes the clips and the manifest (and, with --params, the segments file); the number of
-/// clips.
-fn write_set(args: &Args, drive: &ArmDrive) -> Result<usize, Failure> {
+/// Writes the set (the clips and the manifest, by the library) and, with --params, the
+/// segments file; the number of clips.
+fn write(args: &Args, drive: &ArmDrive) -> Result<usize, Failure> {
     let settings = SynthSettings {
         persons: args.persons,
         reaches: args.reaches,
         seed: args.seed,
         frame_rate: args.frame_rate,
     };
-    let made = make_set_driven(&args.output, &settings, drive).map_err(|e| match e {
+    let made = write_set(&args.output, &settings, drive).map_err(|e| match e {
         ReachError::Io { .. } => Failure::Task(e.to_string()),
         _ => Failure::Input(e.to_string()),
     })?;
-    let rows: Vec<_> = made.iter().map(|(row, _)| row.clone()).collect();
-    crate::common::write_csv(&args.output.join("manifest.csv"), &rows)?;
     if matches!(drive, ArmDrive::Synergy { .. }) {
         let path = args.output.join("segments.csv");
         let segments = made
@@ -113,7 +111,7 @@ fn write_set(args: &Args, drive: &ArmDrive) -> Result<usize, Failure> {
             .write()
             .map_err(|e| Failure::Task(e.to_string()))?;
     }
-    Ok(rows.len())
+    Ok(made.len())
 }
 
 /// What was in the output folder before a run, so that a failed run removes what it

@@ -21,11 +21,7 @@ const BELL_REACH: Vector3<f64> = Vector3::new(0.0, -0.15, 0.4);
 /// Errors: [`PlanError::NoBell`] when the motion has no bell to take.
 pub fn person_warp(character: &Character, arm: &PersonArm) -> Result<Warp> {
     let at_rest = character.world_positions(&character.rest_pose());
-    let limb = match arm.side {
-        kinergy_motion::Side::Right => Limb::RightArm,
-        kinergy_motion::Side::Left => Limb::LeftArm,
-    };
-    let front = at_rest[limb.joints()[0]] + BELL_REACH;
+    let front = at_rest[Limb::arm(arm.side).joints()[0]] + BELL_REACH;
     let settings = ReachSettings {
         arm: Some(arm.side),
         ..ReachSettings::default()

@@ -378,6 +378,12 @@ fn cubic(h: f64) -> f64 {
     h * h * (3.0 - 2.0 * h)
 }
 
+/// Smoothstep: the cubic bell's progress of `x` clamped to [0, 1]. The body's controllers
+/// (the step's keyframes, the twist, the swing, the squat) ease in and out on it.
+pub(crate) fn smoothstep(x: f64) -> f64 {
+    cubic(x.clamp(0.0, 1.0))
+}
+
 /// `shape(h)` for h ≤ ½ and 1 − shape(1 − h) beyond: both bells are point-symmetric about
 /// (½, ½), and evaluating the second half from the end keeps it accurate near h = 1.
 fn symmetric(h: f64, shape: fn(f64) -> f64) -> f64 {

@@ -106,6 +106,16 @@ impl fmt::Display for StepDecision {
     }
 }
 
+/// Serializes a step decision by its [name](StepDecision::name) (`none`, `half_left` …),
+/// as reports and manifests show it: `#[serde(serialize_with = "steps::serialize_name")]`.
+/// (The decision's own form, `{"kind": "half_step", "foot": "right"}`, reads back.)
+pub fn serialize_name<S: serde::Serializer>(
+    step: &StepDecision,
+    serializer: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    serializer.serialize_str(step.name())
+}
+
 impl PartialEq<&str> for StepDecision {
     /// Whether `name` is its [name](StepDecision::name).
     fn eq(&self, name: &&str) -> bool {

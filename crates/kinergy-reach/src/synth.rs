@@ -11,15 +11,19 @@
 //! again (up to 20 times), so every clip ends at its target. All reaches use the right arm,
 //! so one `--arm` setting reads the whole set.
 //!
-//! Files: `DIR/pNN/rNN.bvh` (one folder per person, which `kinergy compare` reads as one
-//! person) at [`SynthSettings::frame_rate`], written in centimeters with channel values
-//! rounded to 4 decimals (0.001 mm, 0.0001°) to keep the set small, and `DIR/manifest.csv`.
+//! The set is made in memory ([`SynthSet::make`]: each clip with its manifest row and the
+//! frames its arm was driven) and written in one place ([`SynthSet::write`], or
+//! [`write_set`], which makes and writes one person at a time). Files: `DIR/pNN/rNN.bvh`
+//! (one folder per person, which `kinergy compare` reads as one person) at
+//! [`SynthSettings::frame_rate`], written in centimeters with channel values rounded to 4
+//! decimals (0.001 mm, 0.0001°) to keep the set small, and `DIR/manifest.csv`
+//! ([`MANIFEST`]). The BVH text is kinergy-motion's ([`kinergy_motion::clip_to_bvh`]).
 
 use std::ops::Range;
 use std::path::Path;
 
-use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::{Clip, Side};
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use serde::Serialize;
@@ -28,7 +32,7 @@ use crate::character::{Character, Proportions};
 use crate::controller::{ArmDrive, ReachSettings, ReachStop, reach_full_body_driven};
 use crate::error::{ReachError, Result, require};
 use crate::profile::{BellTiming, SpeedProfile};
-use crate::steps::StepSettings;
+use crate::steps::{self, StepDecision, StepSettings};
 
 /// How many persons and reaches, and the seed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,6 +57,9 @@ impl Default for SynthSettings {
         }
     }
 }
+
+/// The manifest's file name in the set's folder.
+pub const MANIFEST: &str = "manifest.csv";
 
 /// One row of `manifest.csv`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -81,8 +88,9 @@ pub struct ManifestRow {
     pub target_y: f64,
     /// Target, world meters.
     pub target_z: f64,
-    /// The step decision.
-    pub step: String,
+    /// The step decision, by its [name](StepDecision::name).
+    #[serde(serialize_with = "steps::serialize_name")]
+    pub step: StepDecision,
     /// Step length, meters.
     pub step_length_m: f64,
     /// Spine twist, degrees.
@@ -129,157 +137,242 @@ struct Person {
     p_max: f64,
 }
 
-/// The reach tolerance of a set made with a person's synergy, meters ([`make_set_driven`]):
+/// The reach tolerance of a set made with a person's synergy, meters ([`SynthSet::make`]):
 /// 0.1 mm. The synergy arrives within half of it, so each clip the synergy finishes ends
 /// within 0.05 mm of its target — where a fit, which takes the hand's last position for the
 /// target, aims. (At 2 mm the clips ended up to 1 mm short, and the person's own vector,
 /// aimed at the last hand position, retraced them to only 0.5–1 mm.)
 pub const SYNERGY_TOLERANCE: f64 = 0.0001;
 
-/// Writes the set into `dir` (created if needed). Returns the manifest rows.
-pub fn make_set(dir: &Path, settings: &SynthSettings) -> Result<Vec<ManifestRow>> {
-    Ok(make_set_driven(dir, settings, &ArmDrive::Profile)?
-        .into_iter()
-        .map(|(row, _)| row)
-        .collect())
+/// One clip of a synthetic set, made in memory.
+#[derive(Debug, Clone)]
+pub struct SynthClip {
+    /// Its row of `manifest.csv`; [`ManifestRow::clip`] is where it is written in the set's
+    /// folder.
+    pub row: ManifestRow,
+    /// The motion, at [`SynthSettings::frame_rate`].
+    pub clip: Clip,
+    /// The frames its arm was driven by a person's synergy: from the arm controller's start
+    /// to the end, or to the hand-over (the arm controller's frames with
+    /// [`ArmDrive::Profile`]).
+    pub driven: Range<usize>,
 }
 
-/// [`make_set`] with every reaching arm driven by `drive` — with [`ArmDrive::Synergy`], a set
-/// in one person's style (the same persons' bodies and the same targets, drawn again only
-/// where a reach is not reached). Returns each clip's manifest row and the frames its arm
-/// was driven by the synergy (from the arm controller's start to the end, or to the
-/// hand-over; the arm controller's frames for [`ArmDrive::Profile`]).
-pub fn make_set_driven(
+/// A synthetic set made in memory: its clips in the manifest's order (person by person).
+#[derive(Debug, Clone)]
+pub struct SynthSet {
+    /// The clips.
+    pub clips: Vec<SynthClip>,
+}
+
+impl SynthSet {
+    /// Makes the set in memory, every reaching arm driven by `drive` — with
+    /// [`ArmDrive::Synergy`], a set in one person's style (the same persons' bodies and the
+    /// same targets, drawn again only where a reach is not reached).
+    pub fn make(settings: &SynthSettings, drive: &ArmDrive) -> Result<SynthSet> {
+        check(settings)?;
+        let mut clips = Vec::new();
+        for p in 0..settings.persons {
+            clips.extend(make_person(settings, drive, p)?);
+        }
+        Ok(SynthSet { clips })
+    }
+
+    /// Its manifest rows, in order.
+    pub fn rows(&self) -> impl Iterator<Item = &ManifestRow> {
+        self.clips.iter().map(|c| &c.row)
+    }
+
+    /// Writes the set into `dir` (created if needed): the clips and `manifest.csv`.
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        create_dir(dir)?;
+        for clip in &self.clips {
+            write_clip(dir, clip)?;
+        }
+        write_manifest(dir, self.rows())
+    }
+}
+
+/// Makes the set ([`SynthSet::make`]) and writes it into `dir` ([`SynthSet::write`]) one
+/// person at a time, so that only one person's clips are in memory at once (a large set at a
+/// high frame rate need not fit). Returns each clip's manifest row and the frames its arm
+/// was driven ([`SynthClip::driven`]).
+pub fn write_set(
     dir: &Path,
     settings: &SynthSettings,
     drive: &ArmDrive,
 ) -> Result<Vec<(ManifestRow, Range<usize>)>> {
+    check(settings)?;
+    create_dir(dir)?;
+    let mut made = Vec::new();
+    for p in 0..settings.persons {
+        for clip in make_person(settings, drive, p)? {
+            write_clip(dir, &clip)?;
+            made.push((clip.row, clip.driven));
+        }
+    }
+    write_manifest(dir, made.iter().map(|(row, _)| row))?;
+    Ok(made)
+}
+
+/// The settings a set can be made with.
+fn check(settings: &SynthSettings) -> Result<()> {
     require(settings.persons >= 1, "persons", "at least 1")?;
     require(settings.reaches >= 1, "reaches", "at least 1")?;
     require(
         settings.frame_rate > 0.0 && settings.frame_rate.is_finite(),
         "frame_rate",
         "a positive number of frames per second",
-    )?;
-    let io = |path: &Path, e: std::io::Error| ReachError::Io {
+    )
+}
+
+/// Person `p`'s clips (`pNN/rNN.bvh`), in memory.
+fn make_person(settings: &SynthSettings, drive: &ArmDrive, p: usize) -> Result<Vec<SynthClip>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(mix(settings.seed, p as u64, u64::MAX));
+    let person = Person {
+        height: rng.random_range(1.55..1.95),
+        flexibility: rng.random_range(0.6..3.0),
+        mean_speed: rng.random_range(0.35..0.6),
+        r_st: rng.random_range(0.3..0.7),
+        r_tw: rng.random_range(0.3..0.7),
+        p_max: rng.random_range(0.6..0.95),
+    };
+    let character = Character::new(&Proportions::from_height(person.height)?)?;
+    let id = format!("p{:02}", p + 1);
+    let arm = character.proportions().arm(Side::Right);
+    let steps = StepSettings {
+        p_max: person.p_max,
+        ..StepSettings::for_arm_length(arm.upper_arm + arm.forearm + arm.hand)?
+    };
+    let mut clips = Vec::with_capacity(settings.reaches);
+    for r in 0..settings.reaches {
+        let (kind, kx, ky, kz) = KINDS[r % KINDS.len()];
+        let mut made = None;
+        for attempt in 0..20u64 {
+            let seed = mix(settings.seed, p as u64, (r as u64) << 8 | attempt);
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let h = person.height;
+            let jitter = |rng: &mut ChaCha8Rng| rng.random_range(-0.04..0.04);
+            let target = Point3::new(
+                kx * h + jitter(&mut rng),
+                (ky * h + jitter(&mut rng)).max(0.03),
+                kz * h + jitter(&mut rng),
+            );
+            let reach_settings = ReachSettings {
+                frame_rate: settings.frame_rate,
+                profile: SpeedProfile::MinimumJerk {
+                    timing: BellTiming::MeanSpeed {
+                        speed: person.mean_speed,
+                    },
+                },
+                steps: Some(steps),
+                flexibility: person.flexibility,
+                r_st: person.r_st,
+                r_tw: person.r_tw,
+                arm: Some(Side::Right),
+                seed,
+                // A synergy closes in asymptotically and stops within half the tolerance:
+                // 0.05 mm here, so that the clip ends where its target is (a fit takes the
+                // hand's last position for the target).
+                tolerance: match drive {
+                    ArmDrive::Profile => ReachSettings::default().tolerance,
+                    ArmDrive::Synergy { .. } => SYNERGY_TOLERANCE,
+                },
+                ..ReachSettings::default()
+            };
+            let motion = reach_full_body_driven(&character, target, &reach_settings, drive)?;
+            if motion.report.stop == ReachStop::Reached {
+                made = Some((motion, target, seed));
+                break;
+            }
+        }
+        let (motion, target, seed) = made.ok_or_else(|| ReachError::Setting {
+            field: "synth".into(),
+            why: format!("{id}: no `{kind}` target drawn in 20 tries was reached"),
+        })?;
+        let clip = character.to_clip(&motion.poses, motion.frame_time)?;
+        let rep = &motion.report;
+        let driven_end = rep.hand_over.map_or(rep.frames, |h| {
+            ((h.at_s * settings.frame_rate).round() as usize).min(rep.frames)
+        });
+        let driven = rep.arm_onset_frame.min(driven_end)..driven_end;
+        clips.push(SynthClip {
+            row: ManifestRow {
+                clip: format!("{id}/r{:02}.bvh", r + 1),
+                person: id.clone(),
+                height_m: person.height,
+                flexibility: person.flexibility,
+                mean_speed_m_s: person.mean_speed,
+                r_st: person.r_st,
+                r_tw: person.r_tw,
+                p_max: person.p_max,
+                kind,
+                target_x: target.x,
+                target_y: target.y,
+                target_z: target.z,
+                step: rep.step,
+                step_length_m: rep.step_length,
+                twist_deg: rep.twist_deg,
+                swing_deg: rep.swing_deg,
+                squat_m: rep.squat_m,
+                final_error_m: rep.final_error,
+                frames: rep.frames,
+                seed,
+            },
+            clip,
+            driven,
+        });
+    }
+    Ok(clips)
+}
+
+/// A file or folder that could not be written.
+fn io_error(path: &Path, e: std::io::Error) -> ReachError {
+    ReachError::Io {
         path: path.to_path_buf(),
         source: kinergy_io::describe_full_disk(e),
-    };
-    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
-    let mut rows = Vec::new();
-    for p in 0..settings.persons {
-        let mut rng = ChaCha8Rng::seed_from_u64(mix(settings.seed, p as u64, u64::MAX));
-        let person = Person {
-            height: rng.random_range(1.55..1.95),
-            flexibility: rng.random_range(0.6..3.0),
-            mean_speed: rng.random_range(0.35..0.6),
-            r_st: rng.random_range(0.3..0.7),
-            r_tw: rng.random_range(0.3..0.7),
-            p_max: rng.random_range(0.6..0.95),
-        };
-        let character = Character::new(&Proportions::from_height(person.height)?)?;
-        let id = format!("p{:02}", p + 1);
-        let folder = dir.join(&id);
-        std::fs::create_dir_all(&folder).map_err(|e| io(&folder, e))?;
-        let arm = character.proportions().arm(Side::Right);
-        let steps = StepSettings {
-            p_max: person.p_max,
-            ..StepSettings::for_arm_length(arm.upper_arm + arm.forearm + arm.hand)?
-        };
-        for r in 0..settings.reaches {
-            let (kind, kx, ky, kz) = KINDS[r % KINDS.len()];
-            let mut made = None;
-            for attempt in 0..20u64 {
-                let seed = mix(settings.seed, p as u64, (r as u64) << 8 | attempt);
-                let mut rng = ChaCha8Rng::seed_from_u64(seed);
-                let h = person.height;
-                let jitter = |rng: &mut ChaCha8Rng| rng.random_range(-0.04..0.04);
-                let target = Point3::new(
-                    kx * h + jitter(&mut rng),
-                    (ky * h + jitter(&mut rng)).max(0.03),
-                    kz * h + jitter(&mut rng),
-                );
-                let reach_settings = ReachSettings {
-                    frame_rate: settings.frame_rate,
-                    profile: SpeedProfile::MinimumJerk {
-                        timing: BellTiming::MeanSpeed {
-                            speed: person.mean_speed,
-                        },
-                    },
-                    steps: Some(steps),
-                    flexibility: person.flexibility,
-                    r_st: person.r_st,
-                    r_tw: person.r_tw,
-                    arm: Some(Side::Right),
-                    seed,
-                    // A synergy closes in asymptotically and stops within half the tolerance:
-                    // 0.05 mm here, so that the clip ends where its target is (a fit takes the
-                    // hand's last position for the target).
-                    tolerance: match drive {
-                        ArmDrive::Profile => ReachSettings::default().tolerance,
-                        ArmDrive::Synergy { .. } => SYNERGY_TOLERANCE,
-                    },
-                    ..ReachSettings::default()
-                };
-                let motion = reach_full_body_driven(&character, target, &reach_settings, drive)?;
-                if motion.report.stop == ReachStop::Reached {
-                    made = Some((motion, target, seed));
-                    break;
-                }
-            }
-            let (motion, target, seed) = made.ok_or_else(|| ReachError::Setting {
-                field: "synth".into(),
-                why: format!("{id}: no `{kind}` target drawn in 20 tries was reached"),
-            })?;
-            let clip = character.to_clip(&motion.poses, motion.frame_time)?;
-            let mut bvh = kinergy_motion::clip_to_bvh(&clip, &Default::default());
-            for v in &mut bvh.motion {
-                *v = (*v * 1e4).round() / 1e4;
-                if *v == 0.0 {
-                    *v = 0.0; // no "-0"
-                }
-            }
-            let name = format!("r{:02}.bvh", r + 1);
-            let path = folder.join(&name);
-            let mut bytes = Vec::new();
-            kinergy_bvh::write(&bvh, &mut bytes).map_err(|e| ReachError::Setting {
-                field: "output".into(),
-                why: e.to_string(),
-            })?;
-            kinergy_io::write_atomic(&path, &bytes).map_err(|e| io(&path, e))?;
-            let rep = &motion.report;
-            let driven_end = rep.hand_over.map_or(rep.frames, |h| {
-                ((h.at_s * settings.frame_rate).round() as usize).min(rep.frames)
-            });
-            let driven = rep.arm_onset_frame.min(driven_end)..driven_end;
-            rows.push((
-                ManifestRow {
-                    clip: format!("{id}/{name}"),
-                    person: id.clone(),
-                    height_m: person.height,
-                    flexibility: person.flexibility,
-                    mean_speed_m_s: person.mean_speed,
-                    r_st: person.r_st,
-                    r_tw: person.r_tw,
-                    p_max: person.p_max,
-                    kind,
-                    target_x: target.x,
-                    target_y: target.y,
-                    target_z: target.z,
-                    step: rep.step.name().to_string(),
-                    step_length_m: rep.step_length,
-                    twist_deg: rep.twist_deg,
-                    swing_deg: rep.swing_deg,
-                    squat_m: rep.squat_m,
-                    final_error_m: rep.final_error,
-                    frames: rep.frames,
-                    seed,
-                },
-                driven,
-            ));
+    }
+}
+
+/// Creates `dir` and its parents if needed.
+fn create_dir(dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| io_error(dir, e))
+}
+
+/// Writes `clip` into the set's folder `dir` (its person's folder created if needed), in
+/// centimeters with the channel values rounded to 4 decimals (0.001 mm, 0.0001°).
+fn write_clip(dir: &Path, clip: &SynthClip) -> Result<()> {
+    let path = dir.join(&clip.row.clip);
+    if let Some(folder) = path.parent() {
+        create_dir(folder)?;
+    }
+    let mut bvh = kinergy_motion::clip_to_bvh(&clip.clip, &Default::default());
+    for v in &mut bvh.motion {
+        *v = (*v * 1e4).round() / 1e4;
+        if *v == 0.0 {
+            *v = 0.0; // no "-0"
         }
     }
-    Ok(rows)
+    let mut bytes = Vec::new();
+    kinergy_motion::kinergy_bvh::write(&bvh, &mut bytes).map_err(|e| ReachError::Setting {
+        field: "output".into(),
+        why: e.to_string(),
+    })?;
+    kinergy_io::write_atomic(&path, &bytes).map_err(|e| io_error(&path, e))
+}
+
+/// Writes `dir/manifest.csv` with `rows`.
+fn write_manifest<'a>(dir: &Path, rows: impl IntoIterator<Item = &'a ManifestRow>) -> Result<()> {
+    let path = dir.join(MANIFEST);
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for row in rows {
+        w.serialize(row)
+            .map_err(|e| io_error(&path, std::io::Error::other(e)))?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| io_error(&path, e.into_error()))?;
+    kinergy_io::write_atomic(&path, &bytes).map_err(|e| io_error(&path, e))
 }
 
 /// SplitMix64-style mixing of a seed with two indices.

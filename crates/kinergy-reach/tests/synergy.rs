@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use kinergy_motion::nalgebra::{Point2, Point3};
 use kinergy_reach::character::{Character, Limb, joint};
 use kinergy_reach::controller::{
-    ArmDrive, HandOverWhy, ReachMotion, ReachSettings, ReachStop, arm_dof_names, reach_full_body,
-    reach_full_body_driven,
+    ArmDrive, ArmDriveKind, HandOverWhy, ReachMotion, ReachSettings, ReachStop, arm_dof_names,
+    reach_full_body, reach_full_body_driven,
 };
 use kinergy_solver::{ParamsFile, Synergy};
 
@@ -97,7 +97,7 @@ fn grid_reaches(name: &str) -> Vec<([f64; 3], ReachMotion)> {
             assert_eq!(m.report.stop, ReachStop::Reached, "{what}: {:?}", m.report);
             assert!(error < 0.01, "{what}: {error} m");
             assert!((error - m.report.final_error).abs() < 1e-9, "{what}");
-            assert_eq!(m.report.arm_drive, "synergy");
+            assert_eq!(m.report.arm_drive, ArmDriveKind::Synergy);
             if let Some(h) = m.report.hand_over {
                 assert!(h.distance_m > 0.5 * settings.tolerance, "{what}: {h:?}");
                 assert!(h.at_s > 0.0 && h.at_s < m.report.duration, "{what}: {h:?}");
@@ -143,7 +143,7 @@ fn the_characters_own_synergy_drives_the_hand_to_the_target() {
     let (t, with) = &reaches[0];
     let without = reach_full_body(&c, Point3::new(t[0], t[1], t[2]), &ReachSettings::default())
         .expect("reach");
-    assert_eq!(without.report.arm_drive, "profile");
+    assert_eq!(without.report.arm_drive, ArmDriveKind::Profile);
     assert!(without.report.hand_over.is_none());
     // Halfway through, the two hands are centimeters apart.
     let half = with.poses.len().min(without.poses.len()) / 2;

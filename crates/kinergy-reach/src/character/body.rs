@@ -1,5 +1,6 @@
 //! The character's body: its joints, built by walking one table of joint rows
-//! ([`Character::new`]), its bones, and forward kinematics.
+//! ([`Character::new`]), its bones, its exported skeleton, forward kinematics, and a pose
+//! checked against and clamped into the joints' limits.
 //!
 //! Each row names a joint, its parent, where it sits in the parent's frame and how it moves
 //! (the [character docs](super#the-skeleton-and-its-count) list the skeleton); walking the
@@ -12,12 +13,12 @@ use std::ops::Range;
 use std::sync::Arc;
 
 use kinergy_motion::rotation::{Axis, axis_rotation, swing_rotation};
-use kinergy_motion::{Chain, Motion, Side, Skeleton};
+use kinergy_motion::{Chain, Dof, Joint, Motion, PositionReading, Side, Skeleton};
 use nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
 
-use super::export::{LIMB_ORDER, SPINE_ORDER, exported_skeleton};
 use super::layout::{
-    DOF_COUNT, DofKind, Limb, Pose, SpineJoint, arm_frame, dof, joint, leg_frame, spine_frame,
+    DOF_COUNT, DofKind, LIMB_ORDER, Limb, Pose, SPINE_ORDER, SpineJoint, arm_frame, dof, joint,
+    leg_frame, spine_frame,
 };
 use super::limits::{leg_chain, spine_motions};
 use super::proportions::{Proportions, SpineSegments};
@@ -301,6 +302,33 @@ fn joint_of(
     (joint, names)
 }
 
+/// The exported skeleton of the character's `joints` with their frames' world orientations at
+/// rest `rest_world`: world-aligned offsets, root translations, and rotation channels in each
+/// joint's order on the joints that move.
+fn exported_skeleton(joints: &[CharacterJoint], rest_world: &[Rotation3<f64>]) -> Result<Skeleton> {
+    let skeleton_joints = joints
+        .iter()
+        .map(|j| {
+            let mut dofs = Vec::new();
+            if j.translates {
+                dofs.extend([Axis::X, Axis::Y, Axis::Z].map(Dof::Translation));
+            }
+            if !j.motions.is_empty() {
+                dofs.extend(j.channel_order.map(Dof::Rotation));
+            }
+            Joint {
+                name: j.name.clone(),
+                parent: j.parent,
+                offset: j.parent.map_or(j.offset, |p| rest_world[p] * j.offset),
+                dofs,
+                end_site: j.end_site,
+                position_reading: PositionReading::AddToOffset,
+            }
+        })
+        .collect();
+    Ok(Skeleton::new(skeleton_joints)?)
+}
+
 impl Character {
     /// The character with these proportions (validated first): the rows of its joint table
     /// walked in order.
@@ -500,6 +528,80 @@ impl Character {
             .iter()
             .map(|f| Point3::from(f.translation.vector))
             .collect()
+    }
+}
+
+// The joint limits' values are `limits.rs`'s; the check and the clamp walk the joints here.
+impl Character {
+    /// `Ok` when every value is finite and every rotation DoF within its limits (swings
+    /// inside their ellipse, 1e-12 of slack); otherwise the first violation, naming the DoF.
+    pub fn joint_limits_ok(&self, pose: &Pose) -> std::result::Result<(), String> {
+        if let Some(i) = pose.iter().position(|v| !v.is_finite()) {
+            return Err(format!("DoF `{}` is {}", self.dof_names[i], pose[i]));
+        }
+        for j in &self.joints {
+            let mut k = j.first_dof + if j.translates { 3 } else { 0 };
+            for m in &j.motions {
+                match *m {
+                    Motion::Revolute { min, max, .. } => {
+                        let v = pose[k];
+                        if v < min - 1e-12 || v > max + 1e-12 {
+                            return Err(format!(
+                                "DoF `{}` = {:.3}° is outside [{:.3}°, {:.3}°]",
+                                self.dof_names[k],
+                                v.to_degrees(),
+                                min.to_degrees(),
+                                max.to_degrees()
+                            ));
+                        }
+                    }
+                    Motion::Swing { rx, ry } => {
+                        let (sx, sy) = (pose[k], pose[k + 1]);
+                        let e = (sx / rx).powi(2) + (sy / ry).powi(2);
+                        if e > 1.0 + 1e-12 {
+                            return Err(format!(
+                                "DoFs `{}`, `{}` = ({:.3}°, {:.3}°) lie outside their swing ellipse ({:.3}°, {:.3}°)",
+                                self.dof_names[k],
+                                self.dof_names[k + 1],
+                                sx.to_degrees(),
+                                sy.to_degrees(),
+                                rx.to_degrees(),
+                                ry.to_degrees()
+                            ));
+                        }
+                    }
+                }
+                k += m.dof_count();
+            }
+        }
+        Ok(())
+    }
+
+    /// Brings `pose` within the limits: revolute DoFs clamped, swings outside their ellipse
+    /// scaled toward zero onto it (as [`Chain::clamp`]); non-finite values become 0.
+    pub fn clamp_pose(&self, pose: &mut Pose) {
+        for v in pose.iter_mut() {
+            if !v.is_finite() {
+                *v = 0.0;
+            }
+        }
+        for j in &self.joints {
+            let mut k = j.first_dof + if j.translates { 3 } else { 0 };
+            for m in &j.motions {
+                match *m {
+                    Motion::Revolute { min, max, .. } => pose[k] = pose[k].clamp(min, max),
+                    Motion::Swing { rx, ry } => {
+                        let e = (pose[k] / rx).powi(2) + (pose[k + 1] / ry).powi(2);
+                        if e > 1.0 {
+                            let s = 1.0 / e.sqrt();
+                            pose[k] *= s;
+                            pose[k + 1] *= s;
+                        }
+                    }
+                }
+                k += m.dof_count();
+            }
+        }
     }
 }
 

@@ -1,5 +1,6 @@
-//! The character as a BVH skeleton and clip: the exported joints, channel orders and the
-//! conversion of a character pose to BVH channel values.
+//! The character as a BVH skeleton and clip: the exported skeleton (built with the character,
+//! its channels in the [layout](super::layout)'s orders) and the conversion of a character
+//! pose to BVH channel values.
 //!
 //! # BVH export
 //! [`Character::to_skeleton`] writes world-aligned offsets (the rest pose is the zero pose of
@@ -14,48 +15,13 @@
 
 use std::sync::Arc;
 
-use kinergy_motion::rotation::{Axis, euler_angles, nearest_euler};
-use kinergy_motion::{Clip, Dof, Joint, PositionReading, Skeleton};
+use kinergy_motion::rotation::{euler_angles, nearest_euler};
+use kinergy_motion::{Clip, Skeleton};
 use nalgebra::Rotation3;
 
-use super::body::{Character, CharacterJoint, motion_rotation};
+use super::body::{Character, motion_rotation};
 use super::layout::Pose;
 use crate::error::Result;
-
-/// The spine's channel order: heading–pitch–roll (gimbal lock only at a 90° forward bend).
-pub(super) const SPINE_ORDER: [Axis; 3] = [Axis::Y, Axis::X, Axis::Z];
-/// The limbs' channel order, CMU's (gimbal lock only at a ±90° twist of the hanging limb).
-pub(super) const LIMB_ORDER: [Axis; 3] = [Axis::Z, Axis::Y, Axis::X];
-
-/// The exported skeleton of the character's `joints` with their frames' world orientations at
-/// rest `rest_world`: world-aligned offsets, root translations, and rotation channels in each
-/// joint's order on the joints that move.
-pub(super) fn exported_skeleton(
-    joints: &[CharacterJoint],
-    rest_world: &[Rotation3<f64>],
-) -> Result<Skeleton> {
-    let skeleton_joints = joints
-        .iter()
-        .map(|j| {
-            let mut dofs = Vec::new();
-            if j.translates {
-                dofs.extend([Axis::X, Axis::Y, Axis::Z].map(Dof::Translation));
-            }
-            if !j.motions.is_empty() {
-                dofs.extend(j.channel_order.map(Dof::Rotation));
-            }
-            Joint {
-                name: j.name.clone(),
-                parent: j.parent,
-                offset: j.parent.map_or(j.offset, |p| rest_world[p] * j.offset),
-                dofs,
-                end_site: j.end_site,
-                position_reading: PositionReading::AddToOffset,
-            }
-        })
-        .collect();
-    Ok(Skeleton::new(skeleton_joints)?)
-}
 
 impl Character {
     /// The exported skeleton (shared): the character's joints with world-aligned offsets and

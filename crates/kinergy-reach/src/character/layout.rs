@@ -176,6 +176,22 @@ impl Limb {
         ["right_arm", "left_arm", "right_leg", "left_leg"][self.index()]
     }
 
+    /// The arm on `side`: the one conversion from a [`Side`] to an arm.
+    pub fn arm(side: Side) -> Limb {
+        match side {
+            Side::Right => Limb::RightArm,
+            Side::Left => Limb::LeftArm,
+        }
+    }
+
+    /// The leg on `side`.
+    pub fn leg(side: Side) -> Limb {
+        match side {
+            Side::Right => Limb::RightLeg,
+            Side::Left => Limb::LeftLeg,
+        }
+    }
+
     /// Which side of the body.
     pub fn side(self) -> Side {
         match self {
@@ -297,3 +313,8 @@ pub(super) fn leg_frame() -> Rotation3<f64> {
         -Vector3::y(),
     ]))
 }
+
+/// The spine's channel order: heading–pitch–roll (gimbal lock only at a 90° forward bend).
+pub(super) const SPINE_ORDER: [Axis; 3] = [Axis::Y, Axis::X, Axis::Z];
+/// The limbs' channel order, CMU's (gimbal lock only at a ±90° twist of the hanging limb).
+pub(super) const LIMB_ORDER: [Axis; 3] = [Axis::Z, Axis::Y, Axis::X];

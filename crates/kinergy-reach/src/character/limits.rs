@@ -1,5 +1,7 @@
 //! The character's joint limits: the values (spine joints, legs; arms are
-//! [`Chain::arm`]'s), the check of a pose against them and the clamp into them.
+//! [`Chain::arm`]'s). A pose is checked against them and clamped into them by
+//! [`Character::joint_limits_ok`](super::Character::joint_limits_ok) and
+//! [`Character::clamp_pose`](super::Character::clamp_pose).
 //!
 //! # Joint limits
 //! Swings lie in a spherical ellipse `(sx/rx)² + (sy/ry)² ≤ 1`, twists and flexions within
@@ -22,8 +24,7 @@ use kinergy_motion::rotation::Axis;
 use kinergy_motion::{Chain, ChainJoint, Motion};
 use nalgebra::Vector3;
 
-use super::body::Character;
-use super::layout::{Pose, SpineJoint};
+use super::layout::SpineJoint;
 use super::proportions::LegSegments;
 use crate::error::Result;
 
@@ -82,77 +83,4 @@ pub(super) fn leg_chain(leg: &LegSegments) -> Result<Chain> {
         ],
         Vector3::new(0.0, leg.toe, leg.ankle_height),
     )?)
-}
-
-impl Character {
-    /// `Ok` when every value is finite and every rotation DoF within its limits (swings
-    /// inside their ellipse, 1e-12 of slack); otherwise the first violation, naming the DoF.
-    pub fn joint_limits_ok(&self, pose: &Pose) -> std::result::Result<(), String> {
-        if let Some(i) = pose.iter().position(|v| !v.is_finite()) {
-            return Err(format!("DoF `{}` is {}", self.dof_names[i], pose[i]));
-        }
-        for j in &self.joints {
-            let mut k = j.first_dof + if j.translates { 3 } else { 0 };
-            for m in &j.motions {
-                match *m {
-                    Motion::Revolute { min, max, .. } => {
-                        let v = pose[k];
-                        if v < min - 1e-12 || v > max + 1e-12 {
-                            return Err(format!(
-                                "DoF `{}` = {:.3}° is outside [{:.3}°, {:.3}°]",
-                                self.dof_names[k],
-                                v.to_degrees(),
-                                min.to_degrees(),
-                                max.to_degrees()
-                            ));
-                        }
-                    }
-                    Motion::Swing { rx, ry } => {
-                        let (sx, sy) = (pose[k], pose[k + 1]);
-                        let e = (sx / rx).powi(2) + (sy / ry).powi(2);
-                        if e > 1.0 + 1e-12 {
-                            return Err(format!(
-                                "DoFs `{}`, `{}` = ({:.3}°, {:.3}°) lie outside their swing ellipse ({:.3}°, {:.3}°)",
-                                self.dof_names[k],
-                                self.dof_names[k + 1],
-                                sx.to_degrees(),
-                                sy.to_degrees(),
-                                rx.to_degrees(),
-                                ry.to_degrees()
-                            ));
-                        }
-                    }
-                }
-                k += m.dof_count();
-            }
-        }
-        Ok(())
-    }
-
-    /// Brings `pose` within the limits: revolute DoFs clamped, swings outside their ellipse
-    /// scaled toward zero onto it (as [`Chain::clamp`]); non-finite values become 0.
-    pub fn clamp_pose(&self, pose: &mut Pose) {
-        for v in pose.iter_mut() {
-            if !v.is_finite() {
-                *v = 0.0;
-            }
-        }
-        for j in &self.joints {
-            let mut k = j.first_dof + if j.translates { 3 } else { 0 };
-            for m in &j.motions {
-                match *m {
-                    Motion::Revolute { min, max, .. } => pose[k] = pose[k].clamp(min, max),
-                    Motion::Swing { rx, ry } => {
-                        let e = (pose[k] / rx).powi(2) + (pose[k + 1] / ry).powi(2);
-                        if e > 1.0 {
-                            let s = 1.0 / e.sqrt();
-                            pose[k] *= s;
-                            pose[k + 1] *= s;
-                        }
-                    }
-                }
-                k += m.dof_count();
-            }
-        }
-    }
 }

@@ -20,12 +20,12 @@
 //!
 //! | module | what |
 //! |---|---|
-//! | [`layout`] | index tables: [`joint`] and [`dof`] indices, [`Limb`], [`SpineJoint`], DoF kinds and rest frames |
+//! | [`layout`] | index tables: [`joint`] and [`dof`] indices, [`Limb`], [`SpineJoint`], DoF kinds, rest frames and BVH channel orders |
 //! | [`proportions`] | [`Ratios`], the segments and [`Proportions`] |
 //! | [`measure`] | the proportions measured on a capture's skeleton |
-//! | [`body`] | the [`Character`] built from its joint table, its bones, forward kinematics |
+//! | [`body`] | the [`Character`] built from its joint table, its bones, forward kinematics, poses checked and clamped into the limits |
 //! | [`mass`] | segment masses, the centre of mass, foot points and the [`SupportPolygon`] |
-//! | [`limits`] | the joint limits, checked and clamped |
+//! | [`limits`] | the joint limits' values |
 //! | [`export`] | the BVH skeleton and clip |
 //!
 //! # Conventions

@@ -16,11 +16,9 @@
 //! height 0.818 H, 0.027 H below the cervical joint.
 
 use kinergy_motion::Side;
-use kinergy_motion::{Clip, Skeleton};
 use serde::{Deserialize, Serialize};
 
-use super::measure::measure;
-use crate::error::{ReachError, Result, require};
+use crate::error::{Result, require};
 
 /// Segment lengths and joint placements as fractions of the standing height (see the
 /// [module docs](self) for the sources). The vertical ones — `ankle_height`,
@@ -284,39 +282,6 @@ impl Proportions {
         };
         p.validate()?;
         Ok(p)
-    }
-
-    /// Measured on a capture skeleton in its zero pose (see [`Proportions::from_clip`]).
-    pub fn from_skeleton(skeleton: &Skeleton) -> Result<Proportions> {
-        measure(skeleton, &skeleton.rest_pose())
-    }
-
-    /// Measured on a capture: bone lengths in the clip's first frame (position channels may
-    /// stretch bones), widths and heights in the skeleton's zero pose when it is upright (the
-    /// head above the hips, Y up), else in the first frame (Bandai Namco's zero pose lies
-    /// along +X). A wrist without a hand point below it gets a hand
-    /// [`kinergy_motion::limbs::arm::HAND_PER_FOREARM`] × its forearm long.
-    ///
-    /// Best effort by joint role: arms by [`ArmJoints::find`] (shoulder→elbow, elbow→wrist,
-    /// wrist→hand point); legs by [`LegJoints::find`] (`UpLeg`/`UpperLeg`/`Thigh`/`Hip` →
-    /// `Leg`/`LowerLeg`/`Knee`/`Shin`/`Calf` → `Foot`/`Ankle`, the toe tip being the ankle's
-    /// farthest descendant); the top of the head as the highest point of the `Head` joint
-    /// and its descendants. The standing height H is the head's top above the hips plus the
-    /// mean leg (thigh + shank + ankle height 0.039 H); ankle height and heel come from
-    /// [`Ratios::DRILLIS_CONTINI`], the toe keeps the measured ankle→toe-tip distance, the
-    /// spine segments are Drillis & Contini's scaled to the measured hips→head-top distance,
-    /// the shoulders sit at their measured height when it falls on the thoracic bone, and
-    /// the widths are the measured distances between the shoulder and between the hip
-    /// joints. Errors name what is missing.
-    ///
-    /// [`ArmJoints::find`]: kinergy_motion::ArmJoints::find
-    /// [`LegJoints::find`]: kinergy_motion::LegJoints::find
-    pub fn from_clip(clip: &Clip) -> Result<Proportions> {
-        let pose = clip.frame(0).ok_or_else(|| ReachError::Setting {
-            field: "clip".into(),
-            why: "it has no frames to measure".into(),
-        })?;
-        measure(clip.skeleton(), pose)
     }
 
     /// The standing height: floor to the top of the head, `hip height + spine`, with the

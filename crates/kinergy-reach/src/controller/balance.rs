@@ -2,7 +2,8 @@
 //! polygon by shifting the root horizontally toward the polygon's centroid ([`rebalance`]).
 //! Planning shifts the final posture until it keeps the COM 2 cm further in than required
 //! ([`plan_com_shift`]); every animated frame is corrected again, the limbs solved anew after
-//! each shift.
+//! each shift, the correction carried from frame to frame at a bounded speed
+//! ([`BalanceCorrection`]).
 
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point2, Point3, Vector2, Vector3};
 use kinergy_solver::analytic::{LimbIk, OrbitSearch};
@@ -87,4 +88,106 @@ pub(super) fn plan_com_shift(
         }
     }
     Ok(com_shift)
+}
+
+/// The fastest the balance correction moves the root, m/s.
+const BALANCE_SPEED: f64 = 0.5;
+
+/// The fastest it moves the root when the COM would otherwise leave the support polygon, m/s.
+const URGENT_BALANCE_SPEED: f64 = 1.5;
+
+/// Where the plan puts a frame's root, before the balance correction.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct PlannedRoot {
+    /// Horizontal `(x, z)`, world meters.
+    xz: Vector2<f64>,
+    /// The root's height (lowered where the legs need it on every balance pass).
+    pub(super) height: f64,
+}
+
+/// A frame's limbs solved and balanced.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Balanced {
+    /// The reaching hand's distance from the target, meters.
+    pub(super) error: f64,
+    /// The COM's margin inside the support polygon, meters.
+    pub(super) margin: f64,
+}
+
+/// The balance correction of the root `(x, z)`, carried from frame to frame: each frame the
+/// limbs are solved and the root shifted until the COM is the wanted margin inside the
+/// support polygon (at most nine shifts), and the correction follows the shift no faster
+/// than [`BALANCE_SPEED`] — a support polygon that changes at once (a heel rising) is
+/// followed over a few frames, not in one jump — or [`URGENT_BALANCE_SPEED`] when the COM
+/// would otherwise leave the polygon.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct BalanceCorrection {
+    correction: Vector2<f64>,
+}
+
+impl BalanceCorrection {
+    /// Moves the root of `pose` (where the plan put it) by the correction so far; returns
+    /// where the plan put it.
+    pub(super) fn carry(&self, pose: &mut Pose) -> PlannedRoot {
+        let planned = PlannedRoot {
+            xz: Vector2::new(pose[dof::ROOT_X], pose[dof::ROOT_Z]),
+            height: pose[dof::ROOT_Y],
+        };
+        pose[dof::ROOT_X] += self.correction.x;
+        pose[dof::ROOT_Z] += self.correction.y;
+        planned
+    }
+
+    /// Solves the frame's limbs with `solve` (the pose, whether it is the frame's first pass;
+    /// returns the hand's distance from the target) and balances it: `wanted_margin` meters
+    /// of margin, the correction at most `dt` seconds' worth of speed from the last frame's.
+    pub(super) fn balance(
+        &mut self,
+        character: &Character,
+        wanted_margin: f64,
+        dt: f64,
+        planned: &PlannedRoot,
+        pose: &mut Pose,
+        mut solve: impl FnMut(&mut Pose, bool) -> f64,
+    ) -> Balanced {
+        let mut error = f64::INFINITY;
+        let mut margin = f64::INFINITY;
+        for pass in 0..10 {
+            error = solve(pose, pass == 0);
+            let balance = rebalance(character, &character.world_frames(pose), wanted_margin, 1.5);
+            match balance.shift {
+                Some(shift) if pass < 9 => {
+                    pose[dof::ROOT_X] += shift.x;
+                    pose[dof::ROOT_Z] += shift.y;
+                }
+                _ => {
+                    margin = balance.margin;
+                    break;
+                }
+            }
+        }
+        let wanted = Vector2::new(pose[dof::ROOT_X], pose[dof::ROOT_Z]) - planned.xz;
+        let change = wanted - self.correction;
+        if change.norm() > BALANCE_SPEED * dt {
+            let before = self.correction;
+            for speed in [BALANCE_SPEED, URGENT_BALANCE_SPEED] {
+                let largest = speed * dt;
+                self.correction = if change.norm() > largest {
+                    before + change * (largest / change.norm())
+                } else {
+                    wanted
+                };
+                pose[dof::ROOT_X] = planned.xz.x + self.correction.x;
+                pose[dof::ROOT_Z] = planned.xz.y + self.correction.y;
+                error = solve(pose, false);
+                margin = rebalance(character, &character.world_frames(pose), 0.0, 1.0).margin;
+                if margin >= 0.0 {
+                    break;
+                }
+            }
+        } else {
+            self.correction = wanted;
+        }
+        Balanced { error, margin }
+    }
 }

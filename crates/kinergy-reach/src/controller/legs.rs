@@ -17,10 +17,10 @@ use kinergy_solver::analytic::{LimbIk, OrbitSearch};
 use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;
 
-use super::scheduler::ease;
 use super::settings::ReachSettings;
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::{ReachError, Result};
+use crate::profile::smoothstep;
 use crate::steps::{self, StepDecision, StepSettings};
 
 /// The fastest the root moves between stance feet, m/s (the weight shift before a swing
@@ -304,7 +304,7 @@ fn keyed(keys: &[(f64, Point3<f64>)], t: f64) -> Point3<f64> {
         let ((t0, p0), (t1, p1)) = (w[0], w[1]);
         if t <= t1 {
             let u = if t1 > t0 {
-                ease((t - t0) / (t1 - t0))
+                smoothstep((t - t0) / (t1 - t0))
             } else {
                 1.0
             };

@@ -48,8 +48,12 @@
 //! [`ReachReport::hand_over`] says so.
 //!
 //! One (private) file per controller — `legs.rs`, `spine.rs`, `head.rs`, `arm.rs`,
-//! `balance.rs` — and `scheduler.rs`, which plans and animates; [`ReachSettings`] tune a
-//! reach and [`ReachReport`] says what happened.
+//! `balance.rs` (with the balance correction carried from frame to frame), `synergy.rs` (a
+//! person's arm) — and the scheduler's: `plan.rs` (every decision, made once),
+//! `timeline.rs` (when the body's controllers start, and the body they bring about),
+//! `phase.rs` (the reaching arm's phases: waiting, analytic, synergy, plain IK, each stepping
+//! to the next) and `scheduler.rs`, which animates the states frame by frame;
+//! [`ReachSettings`] tune a reach and [`ReachReport`] says what happened.
 //!
 //! ```
 //! use kinergy_motion::nalgebra::Point3;
@@ -70,17 +74,22 @@ mod balance;
 mod ending;
 mod head;
 mod legs;
+mod phase;
+mod plan;
 mod report;
 mod scheduler;
 mod settings;
 mod spine;
 mod synergy;
+mod timeline;
 
 use kinergy_motion::nalgebra::Point3;
 
 pub use ending::Ending;
-pub use report::{HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop};
-pub use scheduler::reaching_side;
+pub use plan::reaching_side;
+pub use report::{
+    ArmDriveKind, HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop,
+};
 pub use settings::ReachSettings;
 pub use synergy::{
     ArmDrive, PLAIN_IK_TIME, RELAXED_ELBOW, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, SynergyArm,
@@ -116,6 +125,6 @@ pub fn reach_full_body_driven(
         "finite coordinates",
     )?;
     let rest = character.rest_pose();
-    let plan = scheduler::plan(character, &rest, target, settings)?;
+    let plan = plan::plan(character, &rest, target, settings)?;
     scheduler::animate(character, &rest, &plan, settings, drive)
 }

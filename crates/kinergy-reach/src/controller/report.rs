@@ -3,10 +3,10 @@
 
 use std::fmt;
 
-use serde::{Serialize, Serializer};
+use serde::Serialize;
 
 use crate::character::{Character, Limb, Pose};
-use crate::steps::StepDecision;
+use crate::steps::{self, StepDecision};
 
 /// Why a reach ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -57,13 +57,40 @@ impl PartialEq<&str> for Posture {
     }
 }
 
+/// What drove the reaching arm, in a report ([`super::ArmDrive::kind`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ArmDriveKind {
+    /// The speed profile and the analytic IK ([`super::ArmDrive::Profile`]).
+    Profile,
+    /// A person's synergy controller ([`super::ArmDrive::Synergy`]).
+    Synergy,
+}
+
+impl ArmDriveKind {
+    /// `profile` or `synergy`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ArmDriveKind::Profile => "profile",
+            ArmDriveKind::Synergy => "synergy",
+        }
+    }
+}
+
+impl fmt::Display for ArmDriveKind {
+    /// Its [name](ArmDriveKind::name).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// What a reach decided and achieved. Serialized with each decision by its name.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ReachReport {
     /// The reaching arm: `right_arm` or `left_arm`.
     pub arm: Limb,
     /// The step decision: `none`, `half_left`, `half_right` or `full`.
-    #[serde(serialize_with = "step_name")]
+    #[serde(serialize_with = "steps::serialize_name")]
     pub step: StepDecision,
     /// The step length, meters (0 without a step).
     pub step_length: f64,
@@ -92,7 +119,7 @@ pub struct ReachReport {
     pub arm_onset_frame: usize,
     /// What drove the reaching arm: `profile` (the speed profile and analytic IK) or
     /// `synergy` (a person's synergy controller).
-    pub arm_drive: &'static str,
+    pub arm_drive: ArmDriveKind,
     /// When plain IK took the hand over from the synergy controller, if it did.
     pub hand_over: Option<HandOver>,
 }
@@ -133,11 +160,6 @@ impl HandOverWhy {
             HandOverWhy::NotFinite => "not_finite",
         }
     }
-}
-
-/// A step decision in a report: by its [name](StepDecision::name).
-fn step_name<S: Serializer>(step: &StepDecision, serializer: S) -> Result<S::Ok, S::Error> {
-    serializer.serialize_str(step.name())
 }
 
 /// A synthesized reach.

@@ -46,6 +46,7 @@ use kinergy_solver::{
     StallRule, Synergy, Task, widen_to_include,
 };
 
+use super::report::ArmDriveKind;
 use crate::character::{Character, Limb, Pose};
 use crate::error::{ReachError, Result};
 
@@ -86,12 +87,17 @@ pub enum ArmDrive {
 }
 
 impl ArmDrive {
+    /// Which drive, without its values: what a report says.
+    pub fn kind(&self) -> ArmDriveKind {
+        match self {
+            ArmDrive::Profile => ArmDriveKind::Profile,
+            ArmDrive::Synergy { .. } => ArmDriveKind::Synergy,
+        }
+    }
+
     /// `profile` or `synergy`.
     pub fn name(&self) -> &'static str {
-        match self {
-            ArmDrive::Profile => "profile",
-            ArmDrive::Synergy { .. } => "synergy",
-        }
+        self.kind().name()
     }
 }
 
@@ -134,10 +140,7 @@ fn captured_arm(character: &Character, limb: Limb, pose: &Pose) -> Result<Captur
 /// it ([`kinergy_solver::CaptureArm`]: at the shoulder, z out of it sideways, y up, x = y ×
 /// z): the frame a parameter field's targets are given in.
 pub fn fitted_base_at_rest(character: &Character, side: Side) -> Result<IsometryMatrix3<f64>> {
-    let limb = match side {
-        Side::Left => Limb::LeftArm,
-        Side::Right => Limb::RightArm,
-    };
+    let limb = Limb::arm(side);
     let rest = character.rest_pose();
     let k = capture_rotation(character, limb, &rest)?;
     let base = character.limb_base_frame(limb, &rest);

@@ -1,0 +1,392 @@
+//! The reaching arm's phases: who drives the arm on a frame, and the hand-over between them
+//! (module [`super`], "Arm driven by a person's synergy").
+//!
+//! - [`ArmPhase::Waiting`]: before state 1 the arm hangs as the body carries it;
+//! - [`Analytic`]: the speed profile along the straight line to the target, the arm solved
+//!   by analytic IK (Huang et al.) — the whole reach with [`ArmDrive::Profile`], or, after
+//!   plain IK gave up, a minimum-jerk path from where the hand is then;
+//! - [`Synergy`]: a person's synergy controller, from state 1 on with
+//!   [`ArmDrive::Synergy`]; stalled once the body has stopped, slower than
+//!   [`SYNERGY_TIME`] or not finite, it hands over to
+//! - [`PlainIk`]: damped least squares from the posture the synergy left; stalled, not
+//!   finite or slower than [`PLAIN_IK_TIME`], it gives up to the analytic IK.
+//!
+//! A frame's phase poses the arm at the frame's start ([`ArmPhase::begin`]), gives the arm's
+//! path to the limbs' solver ([`ArmPhase::follow`]) and holds the analytic arm to its speed
+//! ([`ArmPhase::hold`]); at the frame's end each phase's `step` returns the next phase (or
+//! itself) and whether the hand is done.
+
+use kinergy_motion::nalgebra::Point3;
+use kinergy_solver::Optimizer;
+
+use super::arm::ArmFollower;
+use super::plan::Plan;
+use super::report::{HandOver, HandOverWhy};
+use super::settings::ReachSettings;
+use super::synergy::{
+    ArmDrive, PLAIN_IK_TIME, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, SynergyArm,
+};
+use super::timeline::Timeline;
+use crate::character::{Character, Pose};
+use crate::error::Result;
+use crate::profile::{BellTiming, SpeedProfile};
+
+/// The hand's mean speed when the analytic IK finishes a reach the synergy arm and plain IK
+/// could not, m/s.
+const FINAL_APPROACH_SPEED: f64 = 0.3;
+
+/// What every phase of one reach reads.
+pub(super) struct ArmRules<'a> {
+    character: &'a Character,
+    rest: &'a Pose,
+    plan: &'a Plan,
+    drive: &'a ArmDrive,
+    timeline: Timeline,
+    /// The reach's speed profile.
+    profile: SpeedProfile,
+    /// The analytic IK's path after plain IK gave up.
+    approach: SpeedProfile,
+    dt: f64,
+    tolerance: f64,
+    /// The synergy arm has arrived within half the tolerance (it approaches its target
+    /// asymptotically: stopping at the tolerance would stop it still moving).
+    arrived: f64,
+    /// The least progress over the stall window that is not a stall, meters.
+    min_progress: f64,
+    /// [`STALL_WINDOW`] in frames.
+    stall_window: usize,
+}
+
+impl<'a> ArmRules<'a> {
+    /// The rules of a reach of `plan` driven by `drive`, at `dt` seconds per frame.
+    pub(super) fn new(
+        character: &'a Character,
+        rest: &'a Pose,
+        plan: &'a Plan,
+        s: &ReachSettings,
+        drive: &'a ArmDrive,
+        timeline: Timeline,
+        dt: f64,
+    ) -> Result<ArmRules<'a>> {
+        let approach = SpeedProfile::minimum_jerk(BellTiming::MeanSpeed {
+            speed: FINAL_APPROACH_SPEED,
+        })?;
+        let arrived = 0.5 * s.tolerance;
+        Ok(ArmRules {
+            character,
+            rest,
+            plan,
+            drive,
+            timeline,
+            profile: s.profile,
+            approach,
+            dt,
+            tolerance: s.tolerance,
+            arrived,
+            // A tight tolerance (a synthetic set's) is approached with progress below
+            // STALL_PROGRESS well before arrival: the least progress is then a tenth of the
+            // arrival distance.
+            min_progress: STALL_PROGRESS.min(0.1 * arrived),
+            stall_window: ((STALL_WINDOW / dt).ceil() as usize).max(1),
+        })
+    }
+
+    fn target(&self) -> Point3<f64> {
+        self.plan.target
+    }
+}
+
+/// A phase's frame end: the phase of the next frame, the hand's distance from the target
+/// and whether the hand is done.
+pub(super) struct Stepped {
+    /// The next frame's phase.
+    pub(super) phase: ArmPhase,
+    /// The reaching hand's distance from the target, meters.
+    pub(super) error: f64,
+    /// Whether the arm's driver has finished (the reach may end once the body has too).
+    pub(super) hand_done: bool,
+}
+
+/// Who drives the reaching arm (module docs).
+pub(super) enum ArmPhase {
+    /// Before state 1: the arm hangs, held as the analytic arm is before its clock starts.
+    Waiting,
+    /// The speed profile and the analytic IK.
+    Analytic(Analytic),
+    /// A person's synergy controller.
+    Synergy(Synergy),
+    /// Plain inverse kinematics after a hand-over.
+    PlainIk(PlainIk),
+}
+
+impl ArmPhase {
+    /// The frame's start at `t`, its body (and head) posed in `pose`: state 1 starts the
+    /// drive's phase, and the person's arm (synergy or plain IK) is put into `pose`.
+    pub(super) fn begin(self, rules: &ArmRules<'_>, t: f64, pose: &mut Pose) -> Result<ArmPhase> {
+        let mut phase = match self {
+            ArmPhase::Waiting if t >= rules.timeline.t_arm => match rules.drive {
+                ArmDrive::Profile => ArmPhase::Analytic(Analytic::from_state_1(rules)),
+                ArmDrive::Synergy { optimizer, synergy } => {
+                    ArmPhase::Synergy(Synergy::start(rules, optimizer, synergy, pose)?)
+                }
+            },
+            phase => phase,
+        };
+        match &mut phase {
+            ArmPhase::Synergy(Synergy { arm }) | ArmPhase::PlainIk(PlainIk { arm, .. }) => {
+                arm.pose_arm(pose);
+            }
+            ArmPhase::Waiting | ArmPhase::Analytic(_) => {}
+        }
+        Ok(phase)
+    }
+
+    /// Seconds into the profile at `t`, and the profile, when the analytic IK follows it.
+    pub(super) fn follow(&self, rules: &ArmRules<'_>, t: f64) -> Option<(f64, &SpeedProfile)> {
+        match self {
+            ArmPhase::Analytic(a) if t >= a.from && t >= rules.timeline.t_arm => {
+                Some((t - a.from, &a.profile))
+            }
+            _ => None,
+        }
+    }
+
+    /// Holds the analytic arm (or the waiting one) to its speed after the frame's balance,
+    /// its orbit angle `alpha` when it was solved; returns the hand's distance from the
+    /// target when the arm was held back. The person's arm is not held.
+    pub(super) fn hold(
+        &self,
+        rules: &ArmRules<'_>,
+        arm: &mut ArmFollower,
+        pose: &mut Pose,
+        alpha: Option<f64>,
+        t: f64,
+    ) -> Option<f64> {
+        match self {
+            ArmPhase::Waiting => Analytic::from_state_1(rules).hold(rules, arm, pose, alpha, t),
+            ArmPhase::Analytic(a) => a.hold(rules, arm, pose, alpha, t),
+            ArmPhase::Synergy(_) | ArmPhase::PlainIk(_) => None,
+        }
+    }
+
+    /// The frame's end at `t`, its final posture `pose` (within the limits) and the hand
+    /// `error` meters from the target: each phase steps.
+    pub(super) fn step(
+        self,
+        rules: &ArmRules<'_>,
+        arm: &mut ArmFollower,
+        pose: &Pose,
+        t: f64,
+        error: f64,
+    ) -> Result<Stepped> {
+        match self {
+            ArmPhase::Waiting => {
+                let hand_done = Analytic::from_state_1(rules).hand_done(rules, arm, t);
+                Ok(Stepped {
+                    phase: ArmPhase::Waiting,
+                    error,
+                    hand_done,
+                })
+            }
+            ArmPhase::Analytic(a) => Ok(a.step(rules, arm, t, error)),
+            ArmPhase::Synergy(s) => s.step(rules, pose, t, error),
+            ArmPhase::PlainIk(p) => p.step(rules, arm, pose, t, error),
+        }
+    }
+
+    /// When plain IK took the hand over from the synergy, if it did.
+    pub(super) fn hand_over(&self) -> Option<HandOver> {
+        match self {
+            ArmPhase::Waiting | ArmPhase::Synergy(_) => None,
+            ArmPhase::Analytic(a) => a.hand_over,
+            ArmPhase::PlainIk(p) => Some(p.hand_over),
+        }
+    }
+}
+
+/// The analytic IK on a speed profile, its clock started at `from`.
+pub(super) struct Analytic {
+    from: f64,
+    profile: SpeedProfile,
+    /// The hand-over before it, when plain IK gave up to it.
+    hand_over: Option<HandOver>,
+}
+
+impl Analytic {
+    /// The reach's own profile from state 1.
+    fn from_state_1(rules: &ArmRules<'_>) -> Analytic {
+        Analytic {
+            from: rules.timeline.t_arm,
+            profile: rules.profile,
+            hand_over: None,
+        }
+    }
+
+    /// Seconds on the profile's clock at `t` (0 before the arm controller starts).
+    fn elapsed(&self, rules: &ArmRules<'_>, t: f64) -> f64 {
+        t - self.from.max(rules.timeline.t_arm)
+    }
+
+    /// [`ArmPhase::hold`].
+    fn hold(
+        &self,
+        rules: &ArmRules<'_>,
+        arm: &mut ArmFollower,
+        pose: &mut Pose,
+        alpha: Option<f64>,
+        t: f64,
+    ) -> Option<f64> {
+        let c = rules.character;
+        if !arm.end_frame(c, pose, alpha, self.elapsed(rules, t), rules.dt) {
+            return None;
+        }
+        let hand = c.joint_frame(rules.plan.arm.joints()[3], pose);
+        Some((Point3::from(hand.translation.vector) - rules.target()).norm())
+    }
+
+    /// Whether the profile has run its course at `t`.
+    fn hand_done(&self, rules: &ArmRules<'_>, arm: &ArmFollower, t: f64) -> bool {
+        t >= self.from.max(rules.timeline.t_arm)
+            + self.profile.duration(arm.path_length(&rules.target()))
+    }
+
+    /// Stays: the analytic IK finishes the reach.
+    fn step(self, rules: &ArmRules<'_>, arm: &ArmFollower, t: f64, error: f64) -> Stepped {
+        let hand_done = self.hand_done(rules, arm, t);
+        Stepped {
+            phase: ArmPhase::Analytic(self),
+            error,
+            hand_done,
+        }
+    }
+}
+
+/// A person's synergy controller drives the arm.
+pub(super) struct Synergy {
+    arm: SynergyArm,
+}
+
+impl Synergy {
+    /// The person's controller (their `optimizer` and `person`al synergy), started on the
+    /// frame `pose` of state 1.
+    fn start(
+        rules: &ArmRules<'_>,
+        optimizer: &Optimizer,
+        person: &kinergy_solver::Synergy,
+        pose: &Pose,
+    ) -> Result<Synergy> {
+        let plan = rules.plan;
+        let arm = SynergyArm::new(
+            rules.character,
+            plan.arm,
+            rules.rest,
+            pose,
+            plan.target,
+            optimizer,
+            person,
+            rules.dt,
+        )?;
+        Ok(Synergy { arm })
+    }
+
+    /// The controller sees the frame's final body and arm and steps; it hands over to plain
+    /// IK when its step is not finite, its progress stalled once the body has stopped, or it
+    /// drove longer than [`SYNERGY_TIME`] short of the target.
+    fn step(mut self, rules: &ArmRules<'_>, pose: &Pose, t: f64, error: f64) -> Result<Stepped> {
+        let (seen, error, stalled) = observe(&mut self.arm, rules, pose, t, error)?;
+        let why = if seen.is_none() {
+            Some(HandOverWhy::NotFinite)
+        } else if stalled {
+            Some(HandOverWhy::Stalled)
+        } else if error > rules.arrived && t - rules.timeline.t_arm >= SYNERGY_TIME {
+            Some(HandOverWhy::TooLong)
+        } else {
+            None
+        };
+        let Some(why) = why else {
+            return Ok(Stepped {
+                phase: ArmPhase::Synergy(self),
+                error,
+                hand_done: error <= rules.arrived,
+            });
+        };
+        let hand_over = HandOver {
+            at_s: t + rules.dt,
+            distance_m: error,
+            why,
+            analytic_at_s: None,
+        };
+        self.arm.hand_over(rules.dt)?;
+        Ok(Stepped {
+            phase: ArmPhase::PlainIk(PlainIk {
+                arm: self.arm,
+                hand_over,
+            }),
+            error,
+            // After a hand-over, within the tolerance: plain IK closes in slowest at the end.
+            hand_done: error <= rules.tolerance,
+        })
+    }
+}
+
+/// Plain inverse kinematics takes the hand the last centimeters from the synergy's posture.
+pub(super) struct PlainIk {
+    arm: SynergyArm,
+    hand_over: HandOver,
+}
+
+impl PlainIk {
+    /// Plain IK steps; where it cannot close the gap either (the two chains' limits
+    /// disagree) — its step not finite, stalled, or driving longer than [`PLAIN_IK_TIME`] —
+    /// the analytic IK finishes, in the character's own limits, from the arm as it is.
+    fn step(
+        mut self,
+        rules: &ArmRules<'_>,
+        follower: &mut ArmFollower,
+        pose: &Pose,
+        t: f64,
+        error: f64,
+    ) -> Result<Stepped> {
+        let (seen, error, stalled) = observe(&mut self.arm, rules, pose, t, error)?;
+        let slow = t - self.hand_over.at_s >= PLAIN_IK_TIME;
+        let phase = if seen.is_none() || stalled || slow {
+            let from = t + rules.dt;
+            follower.resume_from(pose);
+            ArmPhase::Analytic(Analytic {
+                from,
+                profile: rules.approach,
+                hand_over: Some(HandOver {
+                    analytic_at_s: Some(from),
+                    ..self.hand_over
+                }),
+            })
+        } else {
+            ArmPhase::PlainIk(self)
+        };
+        Ok(Stepped {
+            phase,
+            error,
+            hand_done: error <= rules.tolerance,
+        })
+    }
+}
+
+/// The person's controller (synergy or plain IK) sees the frame's final `pose` and steps:
+/// the distance it saw (`None`: its step was not finite), the hand's distance from the
+/// target (the frame's `error` when it saw none), and whether its progress stalled short of
+/// the target once the body had stopped.
+fn observe(
+    arm: &mut SynergyArm,
+    rules: &ArmRules<'_>,
+    pose: &Pose,
+    t: f64,
+    error: f64,
+) -> Result<(Option<f64>, f64, bool)> {
+    let base = rules.character.limb_base_frame(rules.plan.arm, pose);
+    let seen = arm.end_frame(pose, &base)?;
+    let error = seen.unwrap_or(error);
+    let stalled = error > rules.arrived
+        && rules.timeline.body_done(t)
+        && arm.stalled_by(rules.stall_window, rules.min_progress);
+    Ok((seen, error, stalled))
+}

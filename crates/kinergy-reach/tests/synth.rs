@@ -1,0 +1,53 @@
+//! The synthetic set: made in memory and written in one place, the same files either way.
+
+use kinergy_reach::controller::ArmDrive;
+use kinergy_reach::synth::{MANIFEST, SynthSet, SynthSettings, write_set};
+
+/// Every file under `dir`, by its path relative to `dir`, with its bytes.
+fn files(dir: &std::path::Path) -> Vec<(std::path::PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).expect("read_dir") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let bytes = std::fs::read(&path).expect("read");
+                out.push((path.strip_prefix(dir).expect("inside").to_path_buf(), bytes));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn the_set_in_memory_writes_what_write_set_writes() {
+    let settings = SynthSettings {
+        persons: 2,
+        reaches: 2,
+        ..SynthSettings::default()
+    };
+    let set = SynthSet::make(&settings, &ArmDrive::Profile).expect("set");
+    assert_eq!(set.clips.len(), 4);
+    for c in &set.clips {
+        assert_eq!(c.clip.frame_count(), c.row.frames);
+        assert!(c.driven.end <= c.row.frames && !c.driven.is_empty());
+    }
+    let (a, b) = (
+        tempfile::tempdir().expect("dir"),
+        tempfile::tempdir().expect("dir"),
+    );
+    set.write(a.path()).expect("write");
+    let made = write_set(b.path(), &settings, &ArmDrive::Profile).expect("write_set");
+    let rows: Vec<_> = made.iter().map(|(row, _)| row).collect();
+    assert_eq!(rows, set.rows().collect::<Vec<_>>());
+    let (ours, theirs) = (files(a.path()), files(b.path()));
+    assert_eq!(ours.len(), 5, "four clips and the manifest");
+    assert!(
+        ours.iter()
+            .any(|(p, _)| p == std::path::Path::new(MANIFEST))
+    );
+    assert!(ours == theirs, "the same files, byte for byte");
+}
