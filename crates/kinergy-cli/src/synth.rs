@@ -5,9 +5,8 @@ use std::path::{Path, PathBuf};
 
 use kinergy_motion::Side;
 use kinergy_reach::ReachError;
-use kinergy_reach::controller::ArmDrive;
+use kinergy_reach::drive::Driver;
 use kinergy_reach::synth::{MANIFEST, SynthSettings, write_set};
-use kinergy_solver::ParamsFile;
 use kinergy_train::manifest::{Manifest, ManifestRow as SegmentRow};
 use kinergy_train::segment::Label;
 
@@ -31,8 +30,9 @@ pub struct Args {
     /// Frames per second, 1 to 1000.
     #[arg(long, default_value_t = SynthSettings::default().frame_rate, value_name = "HZ")]
     pub frame_rate: f64,
-    /// A person's parameters (`kinergy fit -o person.json`): every reaching arm is driven by
-    /// their synergy controller (`reach --params`), a set in their style; DIR/segments.csv
+    /// A person's parameters (`kinergy fit -o person.json`) or field (`fit --field`, asked
+    /// for each reach's target): every reaching arm is driven by their synergy controller
+    /// (`reach --params`), a set in their style; DIR/segments.csv
     /// then lists the frames each clip's arm was driven by the synergy and the synergy's
     /// target, for `kinergy fit --segments` (a fit should recover the motion).
     #[arg(long, value_name = "person.json")]
@@ -46,20 +46,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     check_range("--frame-rate", args.frame_rate, limits::SYNTH_FRAME_RATE)?;
     let inputs: Vec<&Path> = args.params.iter().map(PathBuf::as_path).collect();
     check_outputs(&inputs, &[Output::Folder("-o", &args.output)])?;
-    let drive = match &args.params {
-        Some(path) => {
-            let file = ParamsFile::read(path).map_err(|e| Failure::Input(e.to_string()))?;
-            let character = kinergy_reach::character::Character::from_height(1.75)
-                .map_err(|e| Failure::Task(e.to_string()))?;
-            let origin = kinergy_motion::nalgebra::Point3::origin();
-            kinergy_reach::drive::PersonArm::in_base(&character, &file, &origin, Side::Right)
-                .map_err(|e| crate::common::person_failure(path, e))?
-                .drive
-        }
-        None => ArmDrive::Profile,
+    let person = args
+        .params
+        .as_deref()
+        .map(crate::common::read_person)
+        .transpose()?;
+    let drive = match &person {
+        Some(person) => Driver::Person(person),
+        None => Driver::Profile,
     };
     let before = Written::before(&args.output);
-    let result = write(args, &drive);
+    let result = write(args, drive);
     if result.is_err() {
         before.undo(&args.output);
     }
@@ -77,18 +74,19 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 
 /// Writes the set (the clips and the manifest, by the library) and, with --params, the
 /// segments file; the number of clips.
-fn write(args: &Args, drive: &ArmDrive) -> Result<usize, Failure> {
+fn write(args: &Args, drive: Driver<'_>) -> Result<usize, Failure> {
     let settings = SynthSettings {
         persons: args.persons,
         reaches: args.reaches,
         seed: args.seed,
         frame_rate: args.frame_rate,
     };
-    let made = write_set(&args.output, &settings, drive).map_err(|e| match e {
-        ReachError::Io { .. } => Failure::Task(e.to_string()),
-        _ => Failure::Input(e.to_string()),
+    let made = write_set(&args.output, &settings, drive).map_err(|e| match (e, &args.params) {
+        (e @ ReachError::Params { .. }, Some(path)) => crate::common::person_failure(path, e),
+        (e @ ReachError::Io { .. }, _) => Failure::Task(e.to_string()),
+        (e, _) => Failure::Input(e.to_string()),
     })?;
-    if matches!(drive, ArmDrive::Synergy { .. }) {
+    if drive.is_person() {
         let path = args.output.join("segments.csv");
         let segments = made
             .iter()

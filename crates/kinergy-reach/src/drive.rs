@@ -106,3 +106,51 @@ impl PersonArm {
         Ok(fitted_base_at_rest(character, side)? * local)
     }
 }
+
+/// What drives the reaching arm of reaches toward many targets (a synthetic set, a scene's
+/// tasks): the default speed profile, or a person whose parameters — one vector or a field —
+/// are asked again for each target.
+#[derive(Clone, Copy)]
+pub enum Driver<'a> {
+    /// [`ArmDrive::Profile`] for every reach.
+    Profile,
+    /// The person's synergy, for each reach their parameters for its target
+    /// ([`PersonArm::toward`]).
+    Person(&'a dyn PersonStyle),
+}
+
+impl std::fmt::Debug for Driver<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Driver::Profile => f.write_str("Profile"),
+            Driver::Person(p) => match p.field_kernel() {
+                Some((bandwidth, samples)) => write!(
+                    f,
+                    "Person(field of {samples} samples, bandwidth {bandwidth} m)"
+                ),
+                None => f.write_str("Person(one vector)"),
+            },
+        }
+    }
+}
+
+impl Driver<'_> {
+    /// The drive of `character`'s arm (`arm`, or the one on the target's side) toward
+    /// `target` (world meters).
+    pub fn toward(
+        &self,
+        character: &Character,
+        target: &Point3<f64>,
+        arm: Option<Side>,
+    ) -> Result<ArmDrive> {
+        match self {
+            Driver::Profile => Ok(ArmDrive::Profile),
+            Driver::Person(person) => Ok(PersonArm::toward(character, *person, target, arm)?.drive),
+        }
+    }
+
+    /// Whether a person drives.
+    pub fn is_person(&self) -> bool {
+        matches!(self, Driver::Person(_))
+    }
+}

@@ -29,7 +29,8 @@ use rand::{RngExt, SeedableRng};
 use serde::Serialize;
 
 use crate::character::{Character, Proportions};
-use crate::controller::{ArmDrive, ReachSettings, ReachStop, reach_full_body_driven};
+use crate::controller::{ReachSettings, ReachStop, reach_full_body_driven};
+use crate::drive::Driver;
 use crate::error::{ReachError, Result, require};
 use crate::profile::{BellTiming, SpeedProfile};
 use crate::steps::{self, StepDecision, StepSettings};
@@ -154,7 +155,7 @@ pub struct SynthClip {
     pub clip: Clip,
     /// The frames its arm was driven by a person's synergy: from the arm controller's start
     /// to the end, or to the hand-over (the arm controller's frames with
-    /// [`ArmDrive::Profile`]).
+    /// [`Driver::Profile`]).
     pub driven: Range<usize>,
 }
 
@@ -167,9 +168,9 @@ pub struct SynthSet {
 
 impl SynthSet {
     /// Makes the set in memory, every reaching arm driven by `drive` — with
-    /// [`ArmDrive::Synergy`], a set in one person's style (the same persons' bodies and the
+    /// [`Driver::Person`], a set in one person's style (the same persons' bodies and the
     /// same targets, drawn again only where a reach is not reached).
-    pub fn make(settings: &SynthSettings, drive: &ArmDrive) -> Result<SynthSet> {
+    pub fn make(settings: &SynthSettings, drive: Driver<'_>) -> Result<SynthSet> {
         check(settings)?;
         let mut clips = Vec::new();
         for p in 0..settings.persons {
@@ -200,7 +201,7 @@ impl SynthSet {
 pub fn write_set(
     dir: &Path,
     settings: &SynthSettings,
-    drive: &ArmDrive,
+    drive: Driver<'_>,
 ) -> Result<Vec<(ManifestRow, Range<usize>)>> {
     check(settings)?;
     create_dir(dir)?;
@@ -227,7 +228,7 @@ fn check(settings: &SynthSettings) -> Result<()> {
 }
 
 /// Person `p`'s clips (`pNN/rNN.bvh`), in memory.
-fn make_person(settings: &SynthSettings, drive: &ArmDrive, p: usize) -> Result<Vec<SynthClip>> {
+fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<Vec<SynthClip>> {
     let mut rng = ChaCha8Rng::seed_from_u64(mix(settings.seed, p as u64, u64::MAX));
     let person = Person {
         height: rng.random_range(1.55..1.95),
@@ -274,13 +275,15 @@ fn make_person(settings: &SynthSettings, drive: &ArmDrive, p: usize) -> Result<V
                 // A synergy closes in asymptotically and stops within half the tolerance:
                 // 0.05 mm here, so that the clip ends where its target is (a fit takes the
                 // hand's last position for the target).
-                tolerance: match drive {
-                    ArmDrive::Profile => ReachSettings::default().tolerance,
-                    ArmDrive::Synergy { .. } => SYNERGY_TOLERANCE,
+                tolerance: if drive.is_person() {
+                    SYNERGY_TOLERANCE
+                } else {
+                    ReachSettings::default().tolerance
                 },
                 ..ReachSettings::default()
             };
-            let motion = reach_full_body_driven(&character, target, &reach_settings, drive)?;
+            let arm = drive.toward(&character, &target, Some(Side::Right))?;
+            let motion = reach_full_body_driven(&character, target, &reach_settings, &arm)?;
             if motion.report.stop == ReachStop::Reached {
                 made = Some((motion, target, seed));
                 break;

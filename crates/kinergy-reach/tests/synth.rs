@@ -1,6 +1,6 @@
 //! The synthetic set: made in memory and written in one place, the same files either way.
 
-use kinergy_reach::controller::ArmDrive;
+use kinergy_reach::drive::Driver;
 use kinergy_reach::synth::{MANIFEST, SynthSet, SynthSettings, write_set};
 
 /// Every file under `dir`, by its path relative to `dir`, with its bytes.
@@ -29,7 +29,7 @@ fn the_set_in_memory_writes_what_write_set_writes() {
         reaches: 2,
         ..SynthSettings::default()
     };
-    let set = SynthSet::make(&settings, &ArmDrive::Profile).expect("set");
+    let set = SynthSet::make(&settings, Driver::Profile).expect("set");
     assert_eq!(set.clips.len(), 4);
     for c in &set.clips {
         assert_eq!(c.clip.frame_count(), c.row.frames);
@@ -40,7 +40,7 @@ fn the_set_in_memory_writes_what_write_set_writes() {
         tempfile::tempdir().expect("dir"),
     );
     set.write(a.path()).expect("write");
-    let made = write_set(b.path(), &settings, &ArmDrive::Profile).expect("write_set");
+    let made = write_set(b.path(), &settings, Driver::Profile).expect("write_set");
     let rows: Vec<_> = made.iter().map(|(row, _)| row).collect();
     assert_eq!(rows, set.rows().collect::<Vec<_>>());
     let (ours, theirs) = (files(a.path()), files(b.path()));
