@@ -304,3 +304,60 @@ impl FrameChoice {
         Ok(frames)
     }
 }
+
+/// The capture files `paths` name: files as given, folders expanded to the `*.bvh` files in
+/// them and in their subfolders (sorted by path). An empty result, a missing path or one that
+/// is neither a file nor a folder (a device, a FIFO: reading it could block or never end) is
+/// a [`TrainError::File`] naming it.
+pub fn capture_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let bad = |path: &Path, why: String| TrainError::File {
+        path: Some(path.to_path_buf()),
+        why,
+    };
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut found = Vec::new();
+            walk(p, &mut found)?;
+            found.sort();
+            if found.is_empty() {
+                return Err(bad(p, "no .bvh files in this folder".into()));
+            }
+            out.extend(found);
+        } else if p.is_file() {
+            out.push(p.clone());
+        } else if let Ok(metadata) = std::fs::metadata(p) {
+            let kind = kinergy_io::describe_file_type(&metadata);
+            return Err(bad(p, format!("not a regular file ({kind})")));
+        } else {
+            return Err(bad(p, "no such file or folder".into()));
+        }
+    }
+    if out.is_empty() {
+        return Err(TrainError::File {
+            path: None,
+            why: "no clips given".into(),
+        });
+    }
+    Ok(out)
+}
+
+/// Every `*.bvh` file under `dir`.
+fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<()> {
+    let bad = |e: std::io::Error| TrainError::File {
+        path: Some(dir.to_path_buf()),
+        why: e.to_string(),
+    };
+    for entry in std::fs::read_dir(dir).map_err(bad)? {
+        let path = entry.map_err(bad)?.path();
+        if path.is_dir() {
+            walk(&path, out)?;
+        } else if path
+            .extension()
+            .is_some_and(|x| x.eq_ignore_ascii_case("bvh"))
+        {
+            out.push(path);
+        }
+    }
+    Ok(())
+}
