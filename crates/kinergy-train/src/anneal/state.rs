@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use kinergy_solver::FitStatus;
 use serde::{Deserialize, Serialize};
 
 use super::settings::AnnealSettings;
@@ -48,6 +49,18 @@ impl Status {
             Status::Converged => "converged",
             Status::BudgetSpent => "budget_spent",
             Status::Interrupted => "interrupted",
+        }
+    }
+}
+
+/// The status a fit record writes for the run's (same names).
+impl From<Status> for FitStatus {
+    fn from(status: Status) -> FitStatus {
+        match status {
+            Status::Running => FitStatus::Running,
+            Status::Converged => FitStatus::Converged,
+            Status::BudgetSpent => FitStatus::BudgetSpent,
+            Status::Interrupted => FitStatus::Interrupted,
         }
     }
 }

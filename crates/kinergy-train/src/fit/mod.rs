@@ -18,8 +18,8 @@
 //! ([`model_seed`], applied by [`FitSettings::anneal_for`]).
 
 use kinergy_solver::{
-    Bounds, FitGrouping, FitRecord, FittedReach, Model, Optimizer, ParamSpace, ParamsFile,
-    StageScore,
+    Bounds, FitGrouping, FitMethod, FitRecord, FittedReach, Model, Optimizer, ParamSpace,
+    ParamsFile, StageScore,
 };
 
 use crate::anneal::{AnnealSettings, AnnealState, Annealer, Control, Observer, Status};
@@ -156,14 +156,14 @@ impl Fit {
     pub fn record(&self, reaches: &[CapturedReach]) -> FitRecord {
         FitRecord {
             method: match self.refinement {
-                Some(_) => "simulated_annealing+nelder_mead+levenberg_marquardt".into(),
-                None => "simulated_annealing".into(),
+                Some(_) => FitMethod::RefinedAnnealing,
+                None => FitMethod::SimulatedAnnealing,
             },
             score_m: self.score,
             start_score_m: self.start_score,
             evaluations: self.evaluations,
             iterations: self.iterations,
-            status: self.status.name().into(),
+            status: self.status.into(),
             seed: self.seed,
             reaches: reaches
                 .iter()
