@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::sync::atomic::Ordering;
 
+use kinergy_motion::seed::splitmix64;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use rand_distr::StandardNormal;
@@ -263,14 +264,6 @@ impl Annealer {
 fn member_rng(seed: u64, k: u64, m: usize) -> ChaCha8Rng {
     let mixed = splitmix64(seed ^ splitmix64(k ^ splitmix64(m as u64 ^ 0x6b69_6e65_7267_7921)));
     ChaCha8Rng::seed_from_u64(mixed)
-}
-
-/// SplitMix64's finalizer: a bijective mix of 64 bits.
-fn splitmix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 /// `x + N(0, 1) · step · width` per coordinate, reflected into `[lower, upper]` (and clamped,
