@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::BaseMode;
 use kinergy_train::CapturedReach;
-use kinergy_train::manifest::{Manifest, ManifestRow};
 use kinergy_train::segment::{SegmentSettings, Selection, find_segments, select};
+use kinergy_train::segments_file::{SegmentRow, SegmentsFile};
 
 use super::{ArmArgs, Failure, ReadArgs, collect_clips, parse_frames};
 
@@ -133,11 +133,11 @@ impl CaptureArgs {
         let manifest = read_manifest(path)?;
         let mut out = Vec::new();
         for c in clips {
-            let rows: Vec<&ManifestRow> = manifest.rows_for(c).collect();
+            let rows: Vec<&SegmentRow> = manifest.rows_for(c).collect();
             if rows.is_empty() {
                 continue;
             }
-            let at = |row: &ManifestRow| match row.line {
+            let at = |row: &SegmentRow| match row.line {
                 Some(line) => format!("{} line {line}", path.display()),
                 None => path.display().to_string(),
             };
@@ -175,8 +175,8 @@ impl CaptureArgs {
     }
 }
 
-fn read_manifest(path: &Path) -> Result<Manifest, Failure> {
-    Manifest::read(path).map_err(|e| Failure::Input(e.to_string()))
+fn read_manifest(path: &Path) -> Result<SegmentsFile, Failure> {
+    SegmentsFile::read(path).map_err(|e| Failure::Input(e.to_string()))
 }
 
 #[cfg(test)]
