@@ -17,7 +17,7 @@
 //! never worse than the start.
 //!
 //! Split as argmin splits it (STYLE.md, "long-running work"): the problem is a
-//! [`CostFunction`], the [`AnnealState`] holds everything that changes (serializable), the
+//! [`CostFunction`](crate::objective::CostFunction), the [`AnnealState`] holds everything that changes (serializable), the
 //! [`Annealer`] is the executor, [`Observer`]s watch it, and [`Control`] says where to write
 //! checkpoints and when to stop early.
 //!

@@ -37,7 +37,7 @@ pub enum Status {
     Converged,
     /// The evaluation budget is spent.
     BudgetSpent,
-    /// Stopped from outside ([`Control::interrupt`]); resumable from the state.
+    /// Stopped from outside ([`Control::interrupt`](super::Control::interrupt)); resumable from the state.
     Interrupted,
 }
 

@@ -39,7 +39,7 @@ pub enum Bandwidth {
     /// h in meters (finite, > 0).
     Fixed(f64),
     /// Chosen among [`AUTO_FACTORS`] × the median nearest-neighbour distance by
-    /// leave-one-out error in parameter space (see the [module docs](self)).
+    /// leave-one-out error in parameter space (see the [module docs](super)).
     Auto,
 }
 
@@ -65,7 +65,7 @@ impl Regression {
     }
 }
 
-/// How a [`ParamField`] is fitted.
+/// How a [`ParamField`](super::ParamField) is fitted.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FieldSettings {
@@ -115,7 +115,7 @@ pub struct BandwidthScore {
     /// Root mean square over samples and entries of the leave-one-out prediction error, each
     /// entry divided by its bound width.
     pub loo_error: f64,
-    /// For an anchored field chosen by motion ([`FieldFile::anchored`]): the mean
+    /// For an anchored field chosen by motion ([`FieldFile::anchored`](super::FieldFile::anchored)): the mean
     /// over the samples' reaches of their motion distance synthesized with the field of the
     /// others at their targets, meters.
     #[serde(default, skip_serializing_if = "Option::is_none")]
