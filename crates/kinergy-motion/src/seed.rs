@@ -34,6 +34,7 @@ pub const GOLDEN_GAMMA: u64 = 0x9e37_79b9_7f4a_7c15;
 pub const SECOND_GAMMA: u64 = 0xd1b5_4a32_d192_ed03;
 
 /// SplitMix64's finaliser (Mix13): a bijective mix of 64 bits.
+#[inline]
 pub fn finalize(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
@@ -42,22 +43,26 @@ pub fn finalize(mut z: u64) -> u64 {
 
 /// The Weyl sequence SplitMix64's state follows: `start + n · GOLDEN_GAMMA` (wrapping), the
 /// state `n` steps after `start`.
+#[inline]
 pub fn weyl(start: u64, n: u64) -> u64 {
     n.wrapping_mul(GOLDEN_GAMMA).wrapping_add(start)
 }
 
 /// One SplitMix64 step from state `z`: the output `finalize(z + GOLDEN_GAMMA)`.
+#[inline]
 pub fn splitmix64(z: u64) -> u64 {
     finalize(weyl(z, 1))
 }
 
 /// `seed` with two indices folded in, not yet finalised: `seed ^ a · GOLDEN_GAMMA ^ b ·
 /// SECOND_GAMMA` (wrapping products).
+#[inline]
 pub fn combine(seed: u64, a: u64, b: u64) -> u64 {
     seed ^ a.wrapping_mul(GOLDEN_GAMMA) ^ b.wrapping_mul(SECOND_GAMMA)
 }
 
 /// An independent seed for indices `(a, b)` under `seed`: `finalize(combine(seed, a, b))`.
+#[inline]
 pub fn mix(seed: u64, a: u64, b: u64) -> u64 {
     finalize(combine(seed, a, b))
 }
