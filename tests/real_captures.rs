@@ -4,6 +4,9 @@
 //! The CMU-derived files are committed under `tests/data/`; the Bandai Namco files (CC BY-NC)
 //! are read from `../shared/data/real-bvh/` and skipped, with a notice, where it is absent.
 
+#[path = "support/require_shared.rs"]
+mod require_shared;
+
 use std::path::{Path, PathBuf};
 
 use approx::assert_relative_eq;
@@ -25,10 +28,10 @@ fn shared(name: &str) -> Option<PathBuf> {
     if p.exists() {
         Some(p)
     } else {
-        eprintln!(
+        require_shared::shared_absent(&format!(
             "skipping: {} is absent (the Bandai Namco captures are never committed)",
             p.display()
-        );
+        ));
         None
     }
 }

@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use kinergy_motion::Side;
-use kinergy_train::manifest::{Manifest, ManifestRow, default_person};
 use kinergy_train::segment::{Segment, SegmentSettings, Selection, find_segments, main_index};
+use kinergy_train::segments_file::{SegmentRow, SegmentsFile, default_person};
 use serde::Serialize;
 
 use crate::common::{ArmArgs, Failure, ReadArgs, check_range, emit, limits, print_json};
@@ -88,7 +88,7 @@ fn segment_clip(
     args: &Args,
     path: &Path,
     settings: &SegmentSettings,
-) -> Result<(Report, Vec<ManifestRow>), Failure> {
+) -> Result<(Report, Vec<SegmentRow>), Failure> {
     let (clip, _) = args.read.read(path)?;
     let arm = args.arm.find(&clip, path)?;
     let name = path.display().to_string();
@@ -129,9 +129,9 @@ fn segment_clip(
             main: main == Some(i),
         })
         .collect();
-    let manifest_rows: Vec<ManifestRow> = picked
+    let manifest_rows: Vec<SegmentRow> = picked
         .iter()
-        .map(|(_, s)| ManifestRow::new(path, s.frames(), side, s.label))
+        .map(|(_, s)| SegmentRow::new(path, s.frames(), side, s.label))
         .collect();
     let report = Report {
         clip: name,
@@ -246,11 +246,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .map_err(|e| Failure::Task(format!("the current folder: {e}")))?
             .join("segments.csv");
         crate::common::set_quiet(true);
-        return crate::common::emit_data(Manifest::new(here, rows).to_csv().as_bytes());
+        return crate::common::emit_data(SegmentsFile::new(here, rows).to_csv().as_bytes());
     }
     let written = match &args.manifest {
         Some(path) => {
-            let manifest = Manifest::new(path, rows);
+            let manifest = SegmentsFile::new(path, rows);
             manifest
                 .write()
                 .map_err(|e| Failure::Task(format!("could not write the segments file: {e}")))?;

@@ -7,8 +7,8 @@ use kinergy_motion::Side;
 use kinergy_reach::ReachError;
 use kinergy_reach::drive::Driver;
 use kinergy_reach::synth::{MANIFEST, SynthSettings, write_set};
-use kinergy_train::manifest::{Manifest, ManifestRow as SegmentRow};
 use kinergy_train::segment::Label;
+use kinergy_train::segments_file::{SegmentRow, SegmentsFile};
 
 use crate::common::{Failure, Output, check_outputs, check_range, emit, limits};
 
@@ -105,7 +105,7 @@ fn write(args: &Args, drive: Driver<'_>) -> Result<usize, Failure> {
                 .with_target([row.target_x, row.target_y, row.target_z])
             })
             .collect();
-        Manifest::new(&path, segments)
+        SegmentsFile::new(&path, segments)
             .write()
             .map_err(|e| Failure::Task(e.to_string()))?;
     }

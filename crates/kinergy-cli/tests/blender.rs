@@ -61,7 +61,10 @@ fn run_writing(args: &[&str], out: &Path) {
 /// The `.bvh` files of `folder`, sorted; `None` (said on stderr) when it is absent.
 fn bvh_files(folder: &Path) -> Option<Vec<PathBuf>> {
     let Ok(entries) = std::fs::read_dir(folder) else {
-        eprintln!("blender test: {} is absent, skipped", folder.display());
+        common::require_shared::shared_absent(&format!(
+            "blender test: {} is absent, skipped",
+            folder.display()
+        ));
         return None;
     };
     let mut files: Vec<PathBuf> = entries
@@ -114,7 +117,9 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
     let mut captures = vec![("character-creator", cc)];
     match bandai {
         Some(b) => captures.push(("bandai", b)),
-        None => eprintln!("blender test: no Bandai capture in ../shared/data/real-bvh, skipped"),
+        None => common::require_shared::shared_absent(
+            "blender test: no Bandai capture in ../shared/data/real-bvh, skipped",
+        ),
     }
     for (name, input) in captures {
         let out = dir.join(format!("synthesize-{name}.bvh"));

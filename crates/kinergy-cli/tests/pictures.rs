@@ -60,10 +60,10 @@ fn assert_no_zero_length(frames: &[Vec<Segment>], what: &str) {
 fn bandai_clips() -> Option<Vec<PathBuf>> {
     let dir = repo().join("../shared/data/bandai-raise-left");
     let Ok(entries) = std::fs::read_dir(&dir) else {
-        eprintln!(
+        common::require_shared::shared_absent(&format!(
             "skipped: {} is absent (Bandai Namco captures are not committed)",
             dir.display()
-        );
+        ));
         return None;
     };
     let mut clips: Vec<PathBuf> = entries

@@ -6,8 +6,8 @@ use common::{assert_bad_input, fixture, json, kinergy, repo, stderr, stdout};
 
 use std::path::{Path, PathBuf};
 
-use kinergy_train::manifest::Manifest;
 use kinergy_train::segment::Label;
+use kinergy_train::segments_file::SegmentsFile;
 
 fn utf8(p: &Path) -> &str {
     p.to_str().expect("utf-8 path")
@@ -133,7 +133,7 @@ fn manifest_holds_what_segment_lists() {
     let reports = reports.as_array().expect("one report per clip");
     assert_eq!(reports.len(), 3);
 
-    let manifest = Manifest::read(&out).expect("the segments file reads back");
+    let manifest = SegmentsFile::read(&out).expect("the segments file reads back");
     let rows = manifest.rows();
     let listed: Vec<(String, String, String, String)> = reports
         .iter()
@@ -218,7 +218,7 @@ fn manifest_holds_what_segment_lists() {
         "{}",
         stdout(&o)
     );
-    let m = Manifest::read(&main_only).expect("read");
+    let m = SegmentsFile::read(&main_only).expect("read");
     assert_eq!(m.rows().len(), 3);
     assert!(m.rows().iter().all(|r| r.label == Label::Reach));
 }

@@ -33,7 +33,7 @@ use nalgebra::Point3;
 
 use crate::clip::Clip;
 use crate::error::{MotionError, Result};
-use crate::trajectory::speed_series;
+use crate::trajectory::{Trajectory, speed_series};
 
 /// Thresholds of the glitch test (see the [module docs](self)).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -132,6 +132,16 @@ pub fn speed_series_without_glitches(
     options: &GlitchOptions,
 ) -> Vec<f64> {
     speed_series(&without_glitches(path, options), frame_time)
+}
+
+// Here rather than in trajectory.rs, which the glitch finder itself builds on: the method
+// belongs to the glitch filter, and keeping it here leaves no import loop between the two.
+impl Trajectory {
+    /// [`Trajectory::speed`] with the point's one-frame glitches interpolated away
+    /// ([`speed_series_without_glitches`]).
+    pub fn speed_without_glitches(&self, joint: usize, options: &GlitchOptions) -> Vec<f64> {
+        speed_series_without_glitches(&self.path(joint), self.frame_time(), options)
+    }
 }
 
 /// Every one-frame glitch of the clip's joints, by frame then joint (see the

@@ -12,6 +12,7 @@
 //!   joint limits, FK and the Jacobian.
 //! - [`Trajectory`] and [`motion_distance`]: the paper's joint-position motion distance, and
 //!   hand-speed series.
+//! - [`seed`]: seed mixing (SplitMix64), one place for every seeded stream.
 //! - [`segment`]: the reach segments of a clip from its hand-speed series (onset, peak, end,
 //!   label).
 //!
@@ -46,6 +47,7 @@ pub mod glitch;
 pub mod jumps;
 pub mod limbs;
 pub mod rotation;
+pub mod seed;
 pub mod segment;
 pub mod side;
 pub mod skeleton;

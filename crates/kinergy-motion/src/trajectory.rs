@@ -109,16 +109,6 @@ impl Trajectory {
     pub fn speed(&self, joint: usize) -> Vec<f64> {
         speed_series(&self.path(joint), self.frame_time)
     }
-
-    /// [`Trajectory::speed`] with the point's one-frame glitches interpolated away
-    /// ([`crate::glitch::speed_series_without_glitches`]).
-    pub fn speed_without_glitches(
-        &self,
-        joint: usize,
-        options: &crate::glitch::GlitchOptions,
-    ) -> Vec<f64> {
-        crate::glitch::speed_series_without_glitches(&self.path(joint), self.frame_time, options)
-    }
 }
 
 /// The speed (units/s) along a sampled path: |p_{i+1} − p_{i−1}| / 2Δt inside, one-sided

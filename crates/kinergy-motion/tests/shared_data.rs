@@ -15,6 +15,8 @@ use kinergy_motion::{
     UpDetection, clip_from_bvh, clip_to_bvh, find_glitches, read_clip,
 };
 use nalgebra::Point3;
+#[path = "../../../tests/support/require_shared.rs"]
+mod require_shared;
 
 fn shared_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data")
@@ -25,10 +27,10 @@ fn shared_dir() -> PathBuf {
 fn shared_files() -> Option<Vec<PathBuf>> {
     let dir = shared_dir();
     let Ok(folders) = std::fs::read_dir(&dir) else {
-        eprintln!(
+        require_shared::shared_absent(&format!(
             "skipping: {} is absent (the shared captures are never committed)",
             dir.display()
-        );
+        ));
         return None;
     };
     let mut files = Vec::new();
@@ -410,4 +412,21 @@ fn a_glitch_does_not_make_the_next_frame_look_like_one() {
         .map(|g| (g.frame, s.joint(g.joint).name.as_str()))
         .collect();
     assert_eq!(found, [(76, "CC_Base_L_Thumb2"), (100, "CC_Base_Hip")]);
+}
+
+// The rule CI relies on: with KINERGY_REQUIRE_SHARED set, a missing shared folder is a
+// failure with a clear message; without it, a skip that says so. Tested on the decision
+// itself, so the shared data need not be moved away.
+#[test]
+fn a_missing_shared_folder_fails_only_when_required() {
+    let why = "skipping: ../shared/data is absent";
+    assert_eq!(
+        require_shared::absent_outcome(why, false),
+        Ok(why.to_string())
+    );
+    let failure = require_shared::absent_outcome(why, true).expect_err("required");
+    assert!(
+        failure.starts_with(why) && failure.contains("KINERGY_REQUIRE_SHARED is set"),
+        "{failure}"
+    );
 }

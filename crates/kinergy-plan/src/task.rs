@@ -508,11 +508,8 @@ impl Builder<'_> {
     ) -> Result<()> {
         let s = &self.planner.settings;
         let mut rrt = s.rrt.clone();
-        rrt.seed = s
-            .rrt
-            .seed
-            .wrapping_mul(0x9e37_79b9_7f4a_7c15)
-            .wrapping_add(salt);
+        // The phase's seed: `salt` moved `seed` steps along SplitMix64's Weyl sequence.
+        rrt.seed = kinergy_motion::seed::weyl(salt, s.rrt.seed);
         let (raw, search) =
             plan(&self.space, &self.q, goal, &rrt).map_err(|e| in_phase(e, name))?;
         let (path, smoothing) = smooth(&self.space, &raw, &s.smoothing, rrt.seed);

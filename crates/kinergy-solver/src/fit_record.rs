@@ -21,6 +21,7 @@
 //! before; the arm each reach was fitted on (side, joint names, bone lengths: [`FittedArm`])
 //! is one of them. Keys the record does not know are ignored.
 
+use std::fmt;
 use std::ops::Range;
 
 use serde::{Deserialize, Serialize};
@@ -36,7 +37,7 @@ pub struct FitRecord {
     /// local refinement followed (`kinergy fit --refine`); `parameter_field` for a vector a field file
     /// predicted for a target (then the scores, the reaches and their distances are those of
     /// the per-reach fits the field was made of; the predicted vector itself was not scored).
-    pub method: String,
+    pub method: FitMethod,
     /// The values' mean motion distance over the reaches, meters.
     pub score_m: f64,
     /// The start vector's mean motion distance (the neutral vector, or the poorer model's
@@ -48,7 +49,7 @@ pub struct FitRecord {
     pub iterations: usize,
     /// Why the search ended: `converged`, `budget_spent` or `interrupted` (`predicted` for a
     /// field's prediction).
-    pub status: String,
+    pub status: FitStatus,
     /// The seed the search drew from.
     pub seed: u64,
     /// The captured reaches fitted, with the values' distance on each.
@@ -110,6 +111,74 @@ impl FitRecord {
             .find(|r| is_clip(&r.clip) && r.arm.is_some())
             .or_else(|| self.reaches.iter().find(|r| r.arm.is_some()))
             .and_then(|r| r.arm.as_ref())
+    }
+}
+
+/// How a fit record's values were found: its `method`, written as the strings the files have
+/// always held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum FitMethod {
+    /// Simulated annealing alone: `simulated_annealing`.
+    #[serde(rename = "simulated_annealing")]
+    SimulatedAnnealing,
+    /// Simulated annealing, then Nelder–Mead and Levenberg–Marquardt from its vector
+    /// (`kinergy fit --refine`): `simulated_annealing+nelder_mead+levenberg_marquardt`.
+    #[serde(rename = "simulated_annealing+nelder_mead+levenberg_marquardt")]
+    RefinedAnnealing,
+    /// Predicted for a target by a parameter field: `parameter_field`.
+    #[serde(rename = "parameter_field")]
+    ParameterField,
+}
+
+impl FitMethod {
+    /// The name the record's JSON holds.
+    pub fn name(self) -> &'static str {
+        match self {
+            FitMethod::SimulatedAnnealing => "simulated_annealing",
+            FitMethod::RefinedAnnealing => "simulated_annealing+nelder_mead+levenberg_marquardt",
+            FitMethod::ParameterField => "parameter_field",
+        }
+    }
+}
+
+impl fmt::Display for FitMethod {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Why a fit's search ended: its `status`, written as the strings the files have always held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitStatus {
+    /// Still running (`running`): a search stopped before its first stop rule applied.
+    Running,
+    /// The stop rule was met (`converged`).
+    Converged,
+    /// The evaluation budget is spent (`budget_spent`).
+    BudgetSpent,
+    /// Stopped from outside (`interrupted`).
+    Interrupted,
+    /// Not searched: predicted for a target by a parameter field (`predicted`).
+    Predicted,
+}
+
+impl FitStatus {
+    /// The name the record's JSON holds.
+    pub fn name(self) -> &'static str {
+        match self {
+            FitStatus::Running => "running",
+            FitStatus::Converged => "converged",
+            FitStatus::BudgetSpent => "budget_spent",
+            FitStatus::Interrupted => "interrupted",
+            FitStatus::Predicted => "predicted",
+        }
+    }
+}
+
+impl fmt::Display for FitStatus {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
     }
 }
 
@@ -287,6 +356,40 @@ mod tests {
         assert_eq!(
             serde_json::from_str::<FitRecord>(&text).expect("back"),
             bare
+        );
+    }
+
+    #[test]
+    fn methods_and_statuses_are_written_as_before() {
+        for m in [
+            FitMethod::SimulatedAnnealing,
+            FitMethod::RefinedAnnealing,
+            FitMethod::ParameterField,
+        ] {
+            let text = serde_json::to_string(&m).expect("json");
+            assert_eq!(text, format!("\"{m}\""));
+            assert_eq!(serde_json::from_str::<FitMethod>(&text).expect("back"), m);
+        }
+        for s in [
+            FitStatus::Running,
+            FitStatus::Converged,
+            FitStatus::BudgetSpent,
+            FitStatus::Interrupted,
+            FitStatus::Predicted,
+        ] {
+            let text = serde_json::to_string(&s).expect("json");
+            assert_eq!(text, format!("\"{s}\""));
+            assert_eq!(serde_json::from_str::<FitStatus>(&text).expect("back"), s);
+        }
+        assert_eq!(
+            FitMethod::RefinedAnnealing.name(),
+            "simulated_annealing+nelder_mead+levenberg_marquardt"
+        );
+        assert_eq!(FitStatus::BudgetSpent.name(), "budget_spent");
+        let record: FitRecord = serde_json::from_str(WRITTEN).expect("record");
+        assert_eq!(
+            (record.method, record.status),
+            (FitMethod::SimulatedAnnealing, FitStatus::BudgetSpent)
         );
     }
 

@@ -53,7 +53,9 @@ pub use controller::{
     StallRule, StopReason, Synthesis,
 };
 pub use error::{Result, SolverError};
-pub use fit_record::{FitGrouping, FitRecord, FittedArm, FittedReach, StageScore};
+pub use fit_record::{
+    FitGrouping, FitMethod, FitRecord, FitStatus, FittedArm, FittedReach, StageScore,
+};
 pub use optimizer::{
     DampedLeastSquares, NormalizedTranspose, Optimizer, OptimizerKind, PseudoInverse, StepScratch,
     Transpose,

@@ -9,6 +9,9 @@
 //! reproduces. The controller's ε is half the asserted 1% (the default 5 mm is 1.07% of the
 //! Bandai arm).
 
+#[path = "../../../tests/support/require_shared.rs"]
+mod require_shared;
+
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -295,10 +298,10 @@ fn shared(folder: &str) -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
-        eprintln!(
+        require_shared::shared_absent(&format!(
             "skipping: {} is absent (the Bandai Namco captures, CC BY-NC, are never committed)",
             dir.display()
-        );
+        ));
         None
     }
 }

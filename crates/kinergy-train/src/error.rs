@@ -81,7 +81,7 @@ pub enum TrainError {
         other_side: Option<Side>,
     },
     /// A segments file is malformed, or a row's frames are outside its clip (a
-    /// [`crate::manifest::ManifestError`]).
+    /// [`crate::segments_file::SegmentsFileError`]).
     #[error("{}: {why}", at(path, *line))]
     Segments {
         /// The segments file.

@@ -3,7 +3,7 @@
 //!
 //! - [`segment`]: the reach segments of a clip (re-exported from `kinergy_motion::segment`,
 //!   where segmentation lives since it needs only motion types);
-//! - [`manifest`]: the segments file — clips, frames, arm, label, person — read and written;
+//! - [`segments_file`]: the segments file — clips, frames, arm, label, person — read and written;
 //! - [`captured`]: a captured reach prepared for fitting — start posture, target, the person's
 //!   arm, the captured torso motion the synthesized arm rides on — and its score, the
 //!   joint-position motion distance;
@@ -31,9 +31,9 @@ pub mod error;
 pub mod experiment;
 pub mod field;
 pub mod fit;
-pub mod manifest;
 pub mod objective;
 pub mod person;
+pub mod segments_file;
 /// Reach segmentation, now in `kinergy-motion`: re-exported so `kinergy_train::segment` keeps
 /// working.
 pub use kinergy_motion::segment;

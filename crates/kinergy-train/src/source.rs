@@ -39,8 +39,8 @@ use kinergy_solver::{BaseMode, FitRecord};
 
 use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError};
-use crate::manifest::{Manifest, ManifestRow};
 use crate::segment::{Segment, SegmentSettings, Selection, find_segments, select};
+use crate::segments_file::{SegmentRow, SegmentsFile};
 
 /// How a capture's arm is found.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -157,8 +157,8 @@ impl Capture {
     /// target. Other errors come as [`TrainError::Row`], naming the file and the row's line.
     pub fn row_reach(
         &self,
-        file: &Manifest,
-        row: &ManifestRow,
+        file: &SegmentsFile,
+        row: &SegmentRow,
         mode: BaseMode,
     ) -> Result<CapturedReach> {
         let frames = file.resolve(row, &self.clip)?;
@@ -189,7 +189,7 @@ impl Capture {
 }
 
 /// A row's error `e` about the capture at `clip`, named by the segments file and the line.
-fn in_row(file: &Manifest, row: &ManifestRow, clip: &Path, e: TrainError) -> TrainError {
+fn in_row(file: &SegmentsFile, row: &SegmentRow, clip: &Path, e: TrainError) -> TrainError {
     TrainError::Row {
         file: file.path().to_path_buf(),
         line: row.line,
@@ -199,7 +199,7 @@ fn in_row(file: &Manifest, row: &ManifestRow, clip: &Path, e: TrainError) -> Tra
 }
 
 /// The clips a segments file names, in the order they first appear.
-pub fn segment_clips(file: &Manifest) -> Vec<PathBuf> {
+pub fn segment_clips(file: &SegmentsFile) -> Vec<PathBuf> {
     let mut clips: Vec<PathBuf> = Vec::new();
     for row in file.rows() {
         if !clips.contains(&row.clip) {
@@ -215,14 +215,14 @@ pub fn segment_clips(file: &Manifest) -> Vec<PathBuf> {
 /// that cannot be read is a [`TrainError::Row`] of its first row; [`TrainError::NoRows`] when
 /// no row names any of the clips.
 pub fn segment_reaches<'a>(
-    file: &'a Manifest,
+    file: &'a SegmentsFile,
     clips: &[PathBuf],
     options: &ImportOptions,
     mode: BaseMode,
-) -> Result<Vec<(CapturedReach, &'a ManifestRow)>> {
+) -> Result<Vec<(CapturedReach, &'a SegmentRow)>> {
     let mut out = Vec::new();
     for path in clips {
-        let rows: Vec<&ManifestRow> = file.rows_for(path).collect();
+        let rows: Vec<&SegmentRow> = file.rows_for(path).collect();
         let Some(first) = rows.first() else {
             continue;
         };

@@ -3,79 +3,20 @@
 //! sample, a deterministic automatic bandwidth, typed errors, a field file's JSON round trip.
 
 use approx::assert_relative_eq;
-use kinergy_motion::Side;
 use kinergy_motion::nalgebra::{Point3, Vector3};
-use kinergy_solver::{Bounds, FittedArm, FittedReach, Model, OptimizerKind, ParamSpace};
+use kinergy_solver::ParamSpace;
 use kinergy_train::TrainError;
 use kinergy_train::field::{
-    AUTO_FACTORS, Bandwidth, FALLBACK_BANDWIDTH, FieldFile, FieldSettings, ParamField, Regression,
+    AUTO_FACTORS, Bandwidth, FALLBACK_BANDWIDTH, FieldSettings, ParamField, Regression,
     leave_one_out,
 };
 use proptest::prelude::*;
 
-type Sample = (Point3<f64>, Vec<f64>);
+mod field_support;
 
-/// S_C on a 2-DoF chain: g_a, g_b ∈ [−5, 5], s ∈ [1, 10], o ∈ [0, 20].
-fn space() -> ParamSpace {
-    ParamSpace::new(
-        Model::Sc,
-        &["a".to_string(), "b".to_string()],
-        Bounds::default(),
-    )
-    .expect("space")
-}
-
-fn widths(space: &ParamSpace) -> Vec<f64> {
-    space
-        .upper()
-        .iter()
-        .zip(space.lower())
-        .map(|(u, l)| u - l)
-        .collect()
-}
-
-const CENTER: [f64; 3] = [0.35, 0.0, 1.1];
-
-/// A known field, linear in the target, well inside the bounds on the grid's box.
-fn linear_truth(t: &Point3<f64>) -> Vec<f64> {
-    let d = t - Point3::from(CENTER);
-    vec![
-        1.0 + 8.0 * d.x - 4.0 * d.y + 2.0 * d.z,
-        -0.5 - 3.0 * d.x + 10.0 * d.z,
-        5.0 + 12.0 * d.y - 6.0 * d.z,
-        8.0 + 20.0 * d.x + 15.0 * d.y,
-    ]
-}
-
-/// 4 × 3 × 3 = 36 targets, 0.1 m apart, around a seated person's reach space.
-fn grid() -> Vec<Point3<f64>> {
-    let mut out = Vec::new();
-    for i in 0..4 {
-        for j in 0..3 {
-            for k in 0..3 {
-                out.push(Point3::new(
-                    0.2 + 0.1 * i as f64,
-                    -0.1 + 0.1 * j as f64,
-                    1.0 + 0.1 * k as f64,
-                ));
-            }
-        }
-    }
-    out
-}
-
-/// Deterministic pseudo-random numbers in [0, 1) (a 64-bit LCG), independent of the crate.
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use field_support::{
+    CENTER, Lcg, Sample, all_settings, grid, linear_truth, noisy_samples, space, widths,
+};
 
 /// Targets strictly inside the grid's box, none on the grid.
 fn held_out(count: usize) -> Vec<Point3<f64>> {
@@ -103,23 +44,6 @@ fn normalized_rms(space: &ParamSpace, pairs: &[(Vec<f64>, Vec<f64>)]) -> f64 {
         }
     }
     (sum / n as f64).sqrt()
-}
-
-fn all_settings() -> Vec<FieldSettings> {
-    let mut out = Vec::new();
-    for bandwidth in [Bandwidth::Auto, Bandwidth::Fixed(0.07)] {
-        for regression in [
-            Regression::NadarayaWatson,
-            Regression::local_linear(),
-            Regression::LocalLinear { ridge: 0.0 },
-        ] {
-            out.push(FieldSettings {
-                bandwidth,
-                regression,
-            });
-        }
-    }
-    out
 }
 
 fn setting_field(err: TrainError) -> String {
@@ -342,25 +266,6 @@ fn a_huge_bandwidth_gives_the_mean() {
         let mean = samples.iter().map(|s| s.1[i]).sum::<f64>() / samples.len() as f64;
         assert_relative_eq!(*v, mean, epsilon = 1e-6);
     }
-}
-
-/// Noisy fits: the linear truth plus a deterministic perturbation, clamped into the bounds.
-fn noisy_samples(seed: u64, amplitude: f64) -> Vec<Sample> {
-    let space = space();
-    let mut rng = Lcg(seed);
-    let w = widths(&space);
-    grid()
-        .into_iter()
-        .map(|t| {
-            let mut p: Vec<f64> = linear_truth(&t)
-                .iter()
-                .zip(&w)
-                .map(|(v, wi)| v + amplitude * wi * (rng.next() - 0.5))
-                .collect();
-            space.clamp(&mut p);
-            (t, p)
-        })
-        .collect()
 }
 
 #[test]
@@ -645,142 +550,6 @@ fn a_non_finite_target_gets_the_mean_within_bounds() {
     let field = ParamField::fit(&space, &samples, &FieldSettings::default()).expect("fit");
     let p = field.evaluate(&Point3::new(f64::NAN, 0.0, f64::INFINITY));
     assert_eq!(p, vec![0.0, 2.0, 5.5, 10.0]);
-}
-
-/// One fitted reach per sample, as a field file records them.
-fn reaches(count: usize) -> Vec<FittedReach> {
-    (0..count)
-        .map(|k| FittedReach {
-            clip: format!("p01/r{k:02}.bvh"),
-            frames: [k, k + 40],
-            distance_m: 0.01 + 0.001 * k as f64,
-            arm: Some(FittedArm {
-                side: Some(Side::Right),
-                joints: vec!["RightArm".into(), "RightForeArm".into(), "RightHand".into()],
-                upper_arm_m: 0.3,
-                forearm_m: 0.25,
-                hand_m: 0.0,
-            }),
-        })
-        .collect()
-}
-
-#[test]
-fn json_round_trip_is_exact_and_loading_checks() {
-    let space = space();
-    let samples = noisy_samples(9, 0.05);
-    let optimizer = OptimizerKind::Njt.default_optimizer();
-    for settings in all_settings() {
-        let field = ParamField::fit(&space, &samples, &settings).expect("fit");
-        let file = FieldFile::new(field.clone(), optimizer, reaches(samples.len())).expect("file");
-        let back = FieldFile::from_json(&file.to_json()).expect("from json");
-        assert_eq!(back, file);
-        let t = Point3::new(0.37, 0.02, 1.13);
-        assert_eq!(back.field().evaluate(&t), field.evaluate(&t));
-        assert_eq!(back.field().space(), &space);
-        assert_eq!(back.optimizer(), optimizer);
-    }
-    let field = ParamField::fit(&space, &samples, &FieldSettings::default()).expect("fit");
-    let file = FieldFile::new(field, optimizer, reaches(samples.len())).expect("file");
-    let mut json: serde_json::Value = serde_json::from_str(&file.to_json()).expect("value");
-    assert_eq!(json["format_version"], 3);
-    assert!(json.get("anchor").is_none());
-    assert_eq!(json["model"], "sc");
-    assert_eq!(json["optimizer"]["kind"], "njt");
-    assert_eq!(json["names"][3], "o");
-    assert_eq!(json["settings"]["bandwidth"], "auto");
-    assert_eq!(json["samples"][0]["target"][0], 0.2);
-    assert_eq!(json["samples"][1]["clip"], "p01/r01.bvh");
-    assert_eq!(json["samples"][1]["arm"]["side"], "right");
-
-    let load = |v: &serde_json::Value| FieldFile::from_json(&v.to_string());
-    let mut outside = json.clone();
-    outside["samples"][4]["values"][0] = serde_json::json!(6.0);
-    let err = load(&outside).expect_err("outside");
-    assert!(err.to_string().contains("`samples[4].values`"), "{err}");
-
-    let mut bad_h = json.clone();
-    bad_h["bandwidth"] = serde_json::json!(-1.0);
-    let err = load(&bad_h).expect_err("bandwidth");
-    assert!(err.to_string().contains("`bandwidth` is -1"), "{err}");
-
-    // A flat bandwidth (null) is an anchored field's only.
-    let mut flat = json.clone();
-    flat["bandwidth"] = serde_json::Value::Null;
-    let err = load(&flat).expect_err("flat without anchor");
-    assert!(err.to_string().contains("needs an anchor"), "{err}");
-
-    let mut old = json.clone();
-    old["format_version"] = serde_json::json!(2);
-    let err = load(&old).expect_err("format 2");
-    assert!(err.to_string().contains("no anchor"), "{err}");
-
-    json["extra"] = serde_json::json!(1);
-    let err = load(&json).expect_err("extra");
-    assert!(err.to_string().contains("extra"), "{err}");
-}
-
-/// An anchored field is its anchor plus how the samples vary with the target: samples with
-/// one vector everywhere give the anchor everywhere, exactly (and the flat bandwidth, ∞,
-/// chosen on the tie, written as null and read back); samples with a linear dependence give
-/// the anchor moved by exactly what the plain field moves between two targets (within the
-/// bounds); a bad anchor is refused by name; files round-trip.
-#[test]
-fn an_anchored_field_is_its_anchor_plus_the_dependence_on_the_target() {
-    let space = space();
-    let optimizer = OptimizerKind::Njt.default_optimizer();
-    let anchor = vec![0.5, -0.25, 4.0, 8.0];
-    let same: Vec<Sample> = grid()
-        .into_iter()
-        .map(|t| (t, vec![1.0, 1.0, 5.0, 10.0]))
-        .collect();
-    let flat = ParamField::fit(&space, &same, &FieldSettings::default())
-        .expect("fit")
-        .anchored(anchor.clone())
-        .expect("anchored");
-    assert_eq!(flat.bandwidth(), f64::INFINITY);
-    for t in [Point3::new(0.3, 0.1, 1.0), Point3::new(-4.0, 2.0, 9.0)] {
-        assert_eq!(flat.evaluate(&t), anchor);
-    }
-    let file = FieldFile::new(flat, optimizer, reaches(same.len())).expect("file");
-    let json: serde_json::Value = serde_json::from_str(&file.to_json()).expect("json");
-    assert!(json["bandwidth"].is_null(), "{}", json["bandwidth"]);
-    assert_eq!(json["anchor"][2], 4.0);
-    assert_eq!(FieldFile::from_json(&file.to_json()).expect("back"), file);
-
-    let samples = noisy_samples(3, 0.0);
-    for settings in all_settings() {
-        let plain = ParamField::fit(&space, &samples, &settings).expect("fit");
-        let anchored = plain.anchored(anchor.clone()).expect("anchored");
-        let (a, b) = (Point3::new(0.25, 0.0, 1.05), Point3::new(0.4, 0.05, 1.1));
-        let h = anchored.bandwidth();
-        assert!(h.is_finite(), "a linear field is not flat: {h}");
-        let fixed = FieldSettings {
-            bandwidth: Bandwidth::Fixed(h),
-            ..settings
-        };
-        let plain = ParamField::fit(&space, &samples, &fixed).expect("fit");
-        let (pa, pb) = (plain.evaluate(&a), plain.evaluate(&b));
-        let (qa, qb) = (anchored.evaluate(&a), anchored.evaluate(&b));
-        for i in 0..anchor.len() {
-            let (lo, hi) = (space.lower()[i], space.upper()[i]);
-            if qa[i] > lo && qa[i] < hi && qb[i] > lo && qb[i] < hi {
-                assert!(
-                    ((qb[i] - qa[i]) - (pb[i] - pa[i])).abs() < 1e-9,
-                    "{settings:?} entry {i}"
-                );
-            }
-        }
-        let file =
-            FieldFile::new(anchored.clone(), optimizer, reaches(samples.len())).expect("file");
-        let back = FieldFile::from_json(&file.to_json()).expect("back");
-        assert_eq!(back.field().evaluate(&a), qa);
-    }
-    let err = ParamField::fit(&space, &samples, &FieldSettings::default())
-        .expect("fit")
-        .anchored(vec![9.0, 0.0, 5.0, 10.0])
-        .expect_err("outside");
-    assert!(err.to_string().contains("`anchor`"), "{err}");
 }
 
 fn arb_value(lower: f64, upper: f64) -> impl Strategy<Value = f64> {

@@ -356,6 +356,6 @@ fn a_refinement_finds_the_floor_of_the_basin_on_any_thread_count() {
     );
     assert_eq!(
         one.record(std::slice::from_ref(&reach)).method,
-        "simulated_annealing+nelder_mead+levenberg_marquardt"
+        kinergy_solver::FitMethod::RefinedAnnealing
     );
 }

@@ -6,6 +6,9 @@
 //! and skipped, saying so, where absent), fitted S_C beats neutral on held-out takes and each
 //! style's own vector beats the other's.
 
+#[path = "../../../tests/support/require_shared.rs"]
+mod require_shared;
+
 use std::path::{Path, PathBuf};
 
 use kinergy_motion::{ArmJoints, Clip, ImportOptions, Side, read_clip};
@@ -249,10 +252,10 @@ fn holding_out_all_of_a_persons_takes_names_the_person() {
 fn bandai(styles: &[&str], takes: usize) -> Option<Vec<Take>> {
     let root = repo("../shared/data/bandai-raise-left");
     if !root.is_dir() {
-        eprintln!(
+        require_shared::shared_absent(&format!(
             "skipping: {} is absent (the Bandai Namco captures are never committed)",
             root.display()
-        );
+        ));
         return None;
     }
     let mut out = Vec::new();

@@ -126,7 +126,7 @@ fn a_field_file_read_back_predicts_what_it_predicted() {
         assert_eq!(after.dof_names, reaches[0].dof_names());
         // The predicted file carries the arms the field was fitted on.
         let record = after.fit.as_ref().expect("record");
-        assert_eq!(record.method, "parameter_field");
+        assert_eq!(record.method, kinergy_solver::FitMethod::ParameterField);
         assert_eq!(
             record.arm(|c| c == "made/r2"),
             Some(reaches[2].fitted_arm())

@@ -6,6 +6,9 @@
 //! The Bandai Namco captures (CC BY-NC) are read from `../shared/data/` and skipped, saying so,
 //! where they are absent; they are never committed.
 
+#[path = "../../../tests/support/require_shared.rs"]
+mod require_shared;
+
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -485,11 +488,11 @@ fn shared(name: &str) -> Option<PathBuf> {
         .map(|set| root.join(set).join(name))
         .find(|p| p.exists());
     if found.is_none() {
-        eprintln!(
+        require_shared::shared_absent(&format!(
             "skipping {name}: not in {}/{{bandai-raise-left,real-bvh}} (the Bandai Namco \
              captures are never committed)",
             root.display()
-        );
+        ));
     }
     found
 }

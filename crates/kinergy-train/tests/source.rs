@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use kinergy_motion::{ArmJoints, ImportOptions, Side};
 use kinergy_solver::BaseMode;
 use kinergy_train::TrainError;
-use kinergy_train::manifest::Manifest;
 use kinergy_train::segment::{SegmentSettings, Selection, find_segments, main_index};
+use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, Capture, FrameChoice, ReachFrames, names_clip, segment_clips, segment_reaches,
 };
@@ -109,7 +109,7 @@ fn segments_file_rows_are_read_once_per_clip_with_their_targets() {
          take.bvh,40,90,right,0.1,1.2,0.3\n",
     )
     .expect("write");
-    let file = Manifest::read(&path).expect("segments");
+    let file = SegmentsFile::read(&path).expect("segments");
     let clips = segment_clips(&file);
     assert_eq!(clips.len(), 1);
     let reaches = segment_reaches(&file, &clips, &ImportOptions::default(), BaseMode::Replay)

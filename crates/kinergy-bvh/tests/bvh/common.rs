@@ -25,10 +25,10 @@ pub fn shared_dir() -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
-        eprintln!(
+        crate::require_shared::shared_absent(&format!(
             "note: {} is absent; the shared real-BVH files are not tested",
             dir.display()
-        );
+        ));
         None
     }
 }

@@ -6,6 +6,8 @@ mod common;
 mod differential;
 mod quirks;
 mod real_files;
+#[path = "../../../../tests/support/require_shared.rs"]
+mod require_shared;
 mod robustness;
 mod round_trip;
 mod write_file;

@@ -9,8 +9,8 @@
 use std::path::{Path, PathBuf};
 
 use kinergy_solver::BaseMode;
-use kinergy_train::manifest::Manifest;
 use kinergy_train::segment::Selection;
+use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{ArmChoice, Capture, ReachFrames, segment_clips, segment_reaches};
 use kinergy_train::{CapturedReach, TrainError};
 
@@ -52,7 +52,7 @@ pub struct CaptureArgs {
 pub struct CaptureClips {
     /// The clip files.
     pub paths: Vec<PathBuf>,
-    segments: Option<Manifest>,
+    segments: Option<SegmentsFile>,
 }
 
 impl CaptureArgs {
@@ -178,8 +178,8 @@ impl CaptureArgs {
     }
 }
 
-fn read_segments(path: &Path) -> Result<Manifest, Failure> {
-    Manifest::read(path).map_err(|e| Failure::Input(e.to_string()))
+fn read_segments(path: &Path) -> Result<SegmentsFile, Failure> {
+    SegmentsFile::read(path).map_err(|e| Failure::Input(e.to_string()))
 }
 
 #[cfg(test)]

@@ -4,6 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+#[path = "../../../../tests/support/require_shared.rs"]
+pub mod require_shared;
 /// A file of the shared data folder (`../shared/data/FOLDER/NAME`; `NAME` empty: the folder),
 /// or `None`, saying why, where it is absent (the Bandai Namco captures are never committed).
 pub fn shared(folder: &str, name: &str) -> Option<PathBuf> {
@@ -11,10 +13,10 @@ pub fn shared(folder: &str, name: &str) -> Option<PathBuf> {
     if p.exists() {
         Some(p)
     } else {
-        eprintln!(
+        require_shared::shared_absent(&format!(
             "skipping: {} is absent (the Bandai Namco captures are never committed)",
             p.display()
-        );
+        ));
         None
     }
 }

@@ -4,8 +4,8 @@ use std::path::Path;
 
 use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::{
-    Bounds, FitGrouping, FitRecord, FittedArm, FittedReach, Model, Optimizer, ParamSpace,
-    ParamsFile,
+    Bounds, FitGrouping, FitMethod, FitRecord, FitStatus, FittedArm, FittedReach, Model, Optimizer,
+    ParamSpace, ParamsFile,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -310,12 +310,12 @@ impl FieldFile {
         let mean = self.reaches.iter().map(|r| r.distance_m).sum::<f64>()
             / self.reaches.len().max(1) as f64;
         FitRecord {
-            method: "parameter_field".into(),
+            method: FitMethod::ParameterField,
             score_m: mean,
             start_score_m: mean,
             evaluations: 0,
             iterations: 0,
-            status: "predicted".into(),
+            status: FitStatus::Predicted,
             seed: 0,
             reaches: self.reaches.clone(),
             per: Some(FitGrouping::Person),

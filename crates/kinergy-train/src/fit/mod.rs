@@ -18,8 +18,8 @@
 //! ([`model_seed`], applied by [`FitSettings::anneal_for`]).
 
 use kinergy_solver::{
-    Bounds, FitGrouping, FitRecord, FittedReach, Model, Optimizer, ParamSpace, ParamsFile,
-    StageScore,
+    Bounds, FitGrouping, FitMethod, FitRecord, FittedReach, Model, Optimizer, ParamSpace,
+    ParamsFile, StageScore,
 };
 
 use crate::anneal::{AnnealSettings, AnnealState, Annealer, Control, Observer, Status};
@@ -82,6 +82,7 @@ impl FitSettings {
 
 /// The seed of one model's fit: the user's seed mixed with the model, so each model of a
 /// nested sequence draws differently but reproducibly: `seed ^ k · 0x9e3779b97f4a7c15`
+/// ([`kinergy_motion::seed::combine`])
 /// with k = 1, 2, 3, 4 for S_A–S_D.
 pub fn model_seed(seed: u64, model: Model) -> u64 {
     let k = match model {
@@ -90,7 +91,7 @@ pub fn model_seed(seed: u64, model: Model) -> u64 {
         Model::Sc => 3,
         Model::Sd => 4,
     };
-    seed ^ k.wrapping_mul(0x9e37_79b9_7f4a_7c15)
+    kinergy_motion::seed::combine(seed, k, 0)
 }
 
 /// One fitted model.
@@ -156,14 +157,14 @@ impl Fit {
     pub fn record(&self, reaches: &[CapturedReach]) -> FitRecord {
         FitRecord {
             method: match self.refinement {
-                Some(_) => "simulated_annealing+nelder_mead+levenberg_marquardt".into(),
-                None => "simulated_annealing".into(),
+                Some(_) => FitMethod::RefinedAnnealing,
+                None => FitMethod::SimulatedAnnealing,
             },
             score_m: self.score,
             start_score_m: self.start_score,
             evaluations: self.evaluations,
             iterations: self.iterations,
-            status: self.status.name().into(),
+            status: self.status.into(),
             seed: self.seed,
             reaches: reaches
                 .iter()

@@ -15,20 +15,20 @@
 //!
 //! One row per line (a field may be quoted, `"a, b"`, but not span lines); lines starting
 //! with `#` are comments; blank lines and spaces around fields are ignored.
-//! [`Manifest::read`] checks everything it can without reading the captures — the columns,
+//! [`SegmentsFile::read`] checks everything it can without reading the captures — the columns,
 //! that each clip exists, the numbers, the arm and the label, no row twice — and
-//! [`Manifest::resolve`] checks a row's frames against its clip once that is read. Every error
+//! [`SegmentsFile::resolve`] checks a row's frames against its clip once that is read. Every error
 //! names the file and, for a row, its line.
 //!
 //! ```
-//! use kinergy_train::manifest::Manifest;
+//! use kinergy_train::segments_file::SegmentsFile;
 //!
 //! let dir = tempfile::tempdir()?;
 //! std::fs::write(dir.path().join("take1.bvh"), "")?; // the file must exist
 //! let path = dir.path().join("segments.csv");
 //! std::fs::write(&path, "# mine\nclip,onset,end,arm\ntake1.bvh,3,40,left\n")?;
-//! let manifest = Manifest::read(&path)?;
-//! let row = &manifest.rows()[0];
+//! let file = SegmentsFile::read(&path)?;
+//! let row = &file.rows()[0];
 //! assert_eq!((row.frames.clone(), row.line), (3..40, Some(3)));
 //! assert_eq!(row.label.as_str(), "reach");
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -45,7 +45,7 @@ use kinergy_motion::segment::Label;
 
 /// One row: a segment of one clip.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ManifestRow {
+pub struct SegmentRow {
     /// The capture, as found on disk (relative paths joined to the segments file's folder).
     pub clip: PathBuf,
     /// The segment's frames, `onset..end`, end excluded.
@@ -62,11 +62,11 @@ pub struct ManifestRow {
     pub line: Option<usize>,
 }
 
-impl ManifestRow {
+impl SegmentRow {
     /// A row for `clip` whose person is the clip's folder name ([`default_person`]).
     pub fn new(clip: impl Into<PathBuf>, frames: Range<usize>, arm: Side, label: Label) -> Self {
         let clip = clip.into();
-        ManifestRow {
+        SegmentRow {
             person: default_person(&clip),
             clip,
             frames,
@@ -79,7 +79,7 @@ impl ManifestRow {
 
     /// The same row with the reach's target (world meters in the clip's frame).
     pub fn with_target(self, target: [f64; 3]) -> Self {
-        ManifestRow {
+        SegmentRow {
             target: Some(target),
             ..self
         }
@@ -88,7 +88,7 @@ impl ManifestRow {
 
 /// What went wrong with a segments file: the file, the line when a row is at fault, and what.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ManifestError {
+pub struct SegmentsFileError {
     /// The segments file.
     pub path: PathBuf,
     /// The line (1-based), when the error is about one.
@@ -97,7 +97,7 @@ pub struct ManifestError {
     pub why: String,
 }
 
-impl fmt::Display for ManifestError {
+impl fmt::Display for SegmentsFileError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.line {
             Some(line) => write!(f, "{} line {line}: {}", self.path.display(), self.why),
@@ -106,10 +106,10 @@ impl fmt::Display for ManifestError {
     }
 }
 
-impl std::error::Error for ManifestError {}
+impl std::error::Error for SegmentsFileError {}
 
-impl From<ManifestError> for crate::TrainError {
-    fn from(e: ManifestError) -> crate::TrainError {
+impl From<SegmentsFileError> for crate::TrainError {
+    fn from(e: SegmentsFileError) -> crate::TrainError {
         crate::TrainError::Segments {
             path: e.path,
             line: e.line,
@@ -120,9 +120,9 @@ impl From<ManifestError> for crate::TrainError {
 
 /// A segments file: its path and its rows, in file order.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Manifest {
+pub struct SegmentsFile {
     path: PathBuf,
-    rows: Vec<ManifestRow>,
+    rows: Vec<SegmentRow>,
 }
 
 const COLUMNS: [&str; 9] = [
@@ -132,10 +132,10 @@ const COLUMNS: [&str; 9] = [
 /// The target's columns.
 const TARGET: [&str; 3] = ["target_x", "target_y", "target_z"];
 
-impl Manifest {
+impl SegmentsFile {
     /// A segments file to be written at `path`.
-    pub fn new(path: impl Into<PathBuf>, rows: Vec<ManifestRow>) -> Manifest {
-        Manifest {
+    pub fn new(path: impl Into<PathBuf>, rows: Vec<SegmentRow>) -> SegmentsFile {
+        SegmentsFile {
             path: path.into(),
             rows,
         }
@@ -147,33 +147,33 @@ impl Manifest {
     }
 
     /// The rows, in file order.
-    pub fn rows(&self) -> &[ManifestRow] {
+    pub fn rows(&self) -> &[SegmentRow] {
         &self.rows
     }
 
     /// The rows of one clip (compared as files on disk), in file order.
-    pub fn rows_for<'a>(&'a self, clip: &Path) -> impl Iterator<Item = &'a ManifestRow> + 'a {
+    pub fn rows_for<'a>(&'a self, clip: &Path) -> impl Iterator<Item = &'a SegmentRow> + 'a {
         let key = file_key(clip);
         self.rows.iter().filter(move |r| file_key(&r.clip) == key)
     }
 
     /// Reads and checks the segments file at `path` (see the [module docs](self)).
-    pub fn read(path: &Path) -> Result<Manifest, ManifestError> {
+    pub fn read(path: &Path) -> Result<SegmentsFile, SegmentsFileError> {
         let text =
             kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES).map_err(|e| {
-                ManifestError {
+                SegmentsFileError {
                     path: path.to_path_buf(),
                     line: None,
                     why: e.to_string(),
                 }
             })?;
-        Manifest::parse(&text, path)
+        SegmentsFile::parse(&text, path)
     }
 
     /// Reads and checks segments-file `text` as if it were the file at `path` (clips are found
     /// relative to its folder; errors name it).
-    pub fn parse(text: &str, path: &Path) -> Result<Manifest, ManifestError> {
-        let fail = |line: Option<usize>, why: String| ManifestError {
+    pub fn parse(text: &str, path: &Path) -> Result<SegmentsFile, SegmentsFileError> {
+        let fail = |line: Option<usize>, why: String| SegmentsFileError {
             path: path.to_path_buf(),
             line,
             why,
@@ -189,7 +189,7 @@ impl Manifest {
             .enumerate()
             .map(|(i, l)| (i + 1, l))
             .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-        let fields = |line: usize, l: &str| -> Result<Vec<String>, ManifestError> {
+        let fields = |line: usize, l: &str| -> Result<Vec<String>, SegmentsFileError> {
             let mut reader = csv::ReaderBuilder::new()
                 .has_headers(false)
                 .trim(csv::Trim::All)
@@ -336,7 +336,7 @@ impl Manifest {
                     "repeats line {first}: the same clip, arm and frames {onset}..{end}"
                 )));
             }
-            rows.push(ManifestRow {
+            rows.push(SegmentRow {
                 clip,
                 frames: onset..end,
                 arm,
@@ -346,7 +346,7 @@ impl Manifest {
                 line,
             });
         }
-        Ok(Manifest {
+        Ok(SegmentsFile {
             path: path.to_path_buf(),
             rows,
         })
@@ -354,10 +354,14 @@ impl Manifest {
 
     /// The frames of `row` in `clip` (the capture the row names, read), checked: they must lie
     /// inside the clip. The error names the segments file and the row's line.
-    pub fn resolve(&self, row: &ManifestRow, clip: &Clip) -> Result<Range<usize>, ManifestError> {
+    pub fn resolve(
+        &self,
+        row: &SegmentRow,
+        clip: &Clip,
+    ) -> Result<Range<usize>, SegmentsFileError> {
         let n = clip.frame_count();
         if row.frames.end > n {
-            return Err(ManifestError {
+            return Err(SegmentsFileError {
                 path: self.path.clone(),
                 line: row.line,
                 why: format!(
@@ -418,12 +422,14 @@ impl Manifest {
         out
     }
 
-    /// Writes [`Manifest::to_csv`] to the file's path, atomically.
-    pub fn write(&self) -> Result<(), ManifestError> {
-        kinergy_io::write_atomic(&self.path, self.to_csv().as_bytes()).map_err(|e| ManifestError {
-            path: self.path.clone(),
-            line: None,
-            why: e.to_string(),
+    /// Writes [`SegmentsFile::to_csv`] to the file's path, atomically.
+    pub fn write(&self) -> Result<(), SegmentsFileError> {
+        kinergy_io::write_atomic(&self.path, self.to_csv().as_bytes()).map_err(|e| {
+            SegmentsFileError {
+                path: self.path.clone(),
+                line: None,
+                why: e.to_string(),
+            }
         })
     }
 }
@@ -494,7 +500,7 @@ mod tests {
     #[test]
     fn the_person_is_the_folder_name() {
         assert_eq!(default_person(Path::new("/data/p01/r01.bvh")), "p01");
-        let row = ManifestRow::new("/data/p01/r01.bvh", 1..9, Side::Left, Label::Reach);
+        let row = SegmentRow::new("/data/p01/r01.bvh", 1..9, Side::Left, Label::Reach);
         assert_eq!(row.person, "p01");
     }
 }

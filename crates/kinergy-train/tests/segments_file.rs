@@ -4,10 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use kinergy_motion::{ImportOptions, Side, read_clip};
-use kinergy_train::manifest::{Manifest, ManifestError, ManifestRow};
 use kinergy_train::segment::Label;
+use kinergy_train::segments_file::{SegmentRow, SegmentsFile, SegmentsFileError};
 
-/// A folder with two persons' clips (empty files: reading a manifest does not read clips).
+/// A folder with two persons' clips (empty files: reading a segments file does not read clips).
 fn folder() -> (tempfile::TempDir, PathBuf, PathBuf) {
     let dir = tempfile::tempdir().expect("tempdir");
     let (a, b) = (dir.path().join("ann"), dir.path().join("bob"));
@@ -24,15 +24,15 @@ fn written_then_read_gives_the_same_rows() {
     let out = dir.path().join("out");
     std::fs::create_dir_all(&out).expect("out");
     let rows = vec![
-        ManifestRow::new(ann.join("r1.bvh"), 0..12, Side::Left, Label::Reach),
-        ManifestRow::new(ann.join("r1.bvh"), 12..37, Side::Left, Label::Return),
-        ManifestRow {
+        SegmentRow::new(ann.join("r1.bvh"), 0..12, Side::Left, Label::Reach),
+        SegmentRow::new(ann.join("r1.bvh"), 12..37, Side::Left, Label::Return),
+        SegmentRow {
             person: "Bob, the second".into(), // a comma: quoted
-            ..ManifestRow::new(bob.join("r1.bvh"), 5..80, Side::Right, Label::Other)
+            ..SegmentRow::new(bob.join("r1.bvh"), 5..80, Side::Right, Label::Other)
         },
     ];
     let path = out.join("segments.csv");
-    let written = Manifest::new(&path, rows.clone());
+    let written = SegmentsFile::new(&path, rows.clone());
     written.write().expect("write");
     let text = std::fs::read_to_string(&path).expect("read");
     eprintln!("{text}");
@@ -47,7 +47,7 @@ fn written_then_read_gives_the_same_rows() {
         "{text}"
     );
 
-    let read = Manifest::read(&path).expect("read back");
+    let read = SegmentsFile::read(&path).expect("read back");
     assert_eq!(read.rows().len(), rows.len());
     for (i, (r, w)) in read.rows().iter().zip(&rows).enumerate() {
         assert_eq!(
@@ -64,7 +64,10 @@ fn written_then_read_gives_the_same_rows() {
     assert_eq!(read.rows_for(&ann.join("r1.bvh")).count(), 2);
     assert_eq!(read.rows_for(&ann.join("r2.bvh")).count(), 0);
     // And writing what was read gives the same text.
-    assert_eq!(Manifest::new(&path, read.rows().to_vec()).to_csv(), text);
+    assert_eq!(
+        SegmentsFile::new(&path, read.rows().to_vec()).to_csv(),
+        text
+    );
 }
 
 #[test]
@@ -76,7 +79,7 @@ fn a_hand_written_file_takes_defaults_comments_and_any_column_order() {
         "# my reaches\n\narm , end,onset,clip\nright,40,3,ann/r1.bvh\n# not this one\nL, 9 ,1,bob/r1.bvh\n",
     )
     .expect("write");
-    let m = Manifest::read(&path).expect("read");
+    let m = SegmentsFile::read(&path).expect("read");
     let rows = m.rows();
     assert_eq!(rows.len(), 2);
     assert_eq!((rows[0].frames.clone(), rows[0].arm), (3..40, Side::Right));
@@ -90,11 +93,11 @@ fn a_hand_written_file_takes_defaults_comments_and_any_column_order() {
 }
 
 /// Reads `text` as `segments.csv` in a folder with the clips `ann/r1.bvh` and `bob/r1.bvh`.
-fn error(text: &str) -> (ManifestError, PathBuf) {
+fn error(text: &str) -> (SegmentsFileError, PathBuf) {
     let (dir, _, _) = folder();
     let path = dir.path().join("segments.csv");
     std::fs::write(&path, text).expect("write");
-    let e = Manifest::read(&path).expect_err(text);
+    let e = SegmentsFile::read(&path).expect_err(text);
     // Keep the folder until here.
     drop(dir);
     (e, path)
@@ -164,10 +167,10 @@ fn targets_round_trip_and_bad_ones_name_the_line() {
     let path = dir.path().join("segments.csv");
     let target = [-0.1314983289625152, 0.9911083172219668, 0.34385613501691664];
     let rows = vec![
-        ManifestRow::new(ann.join("r1.bvh"), 0..12, Side::Left, Label::Reach).with_target(target),
-        ManifestRow::new(bob.join("r1.bvh"), 5..80, Side::Right, Label::Reach),
+        SegmentRow::new(ann.join("r1.bvh"), 0..12, Side::Left, Label::Reach).with_target(target),
+        SegmentRow::new(bob.join("r1.bvh"), 5..80, Side::Right, Label::Reach),
     ];
-    let written = Manifest::new(&path, rows);
+    let written = SegmentsFile::new(&path, rows);
     written.write().expect("write");
     let text = std::fs::read_to_string(&path).expect("read");
     assert!(
@@ -178,10 +181,13 @@ fn targets_round_trip_and_bad_ones_name_the_line() {
         text.contains("bob/r1.bvh,5,80,right,reach,bob,,,\n"),
         "{text}"
     );
-    let read = Manifest::read(&path).expect("read back");
+    let read = SegmentsFile::read(&path).expect("read back");
     assert_eq!(read.rows()[0].target, Some(target));
     assert_eq!(read.rows()[1].target, None);
-    assert_eq!(Manifest::new(&path, read.rows().to_vec()).to_csv(), text);
+    assert_eq!(
+        SegmentsFile::new(&path, read.rows().to_vec()).to_csv(),
+        text
+    );
 
     let header = "clip,onset,end,arm,target_x,target_y,target_z\n";
     for (row, needle) in [
@@ -222,7 +228,7 @@ fn a_row_twice_is_an_error_naming_both_lines() {
         format!("{HEADER}ann/r1.bvh,0,10,left,reach,a\nann/r1.bvh,0,10,right,reach,a\n"),
     )
     .expect("write");
-    assert_eq!(Manifest::read(&path).expect("read").rows().len(), 2);
+    assert_eq!(SegmentsFile::read(&path).expect("read").rows().len(), 2);
 }
 
 #[test]
@@ -250,7 +256,7 @@ fn a_bad_header_names_the_file_and_its_line() {
 fn a_missing_file_is_an_error_naming_it() {
     let dir = tempfile::tempdir().expect("tempdir");
     let path = dir.path().join("none.csv");
-    let e = Manifest::read(&path).expect_err("missing");
+    let e = SegmentsFile::read(&path).expect_err("missing");
     assert_eq!((e.path.as_path(), e.line), (path.as_path(), None));
     assert!(e.to_string().starts_with(&path.display().to_string()));
 }
@@ -274,7 +280,7 @@ fn a_window_outside_the_clip_is_an_error_when_resolved() {
         ),
     )
     .expect("write");
-    let m = Manifest::read(&path).expect("read");
+    let m = SegmentsFile::read(&path).expect("read");
     assert_eq!(m.resolve(&m.rows()[0], &clip), Ok(0..n));
     let e = m.resolve(&m.rows()[1], &clip).expect_err("past the end");
     let msg = e.to_string();

@@ -1,0 +1,131 @@
+//! The annealer's settings: how it searches and when it stops.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Result, require};
+
+/// How the annealer searches and when it stops.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnnealSettings {
+    /// Members of the population (≥ 1).
+    pub population: usize,
+    /// Budget: the run stops before an iteration would take the evaluations past this.
+    pub max_evaluations: usize,
+    /// Initial step, as a fraction of each parameter's bound width.
+    pub initial_step: f64,
+    /// Smallest step (fraction of the width).
+    pub min_step: f64,
+    /// Largest step (fraction of the width).
+    pub max_step: f64,
+    /// Acceptance rate above which a member's step grows, below which it shrinks.
+    pub target_acceptance: f64,
+    /// Proposals between two step adaptations of a member.
+    pub adapt_every: usize,
+    /// Initial temperature relative to the initial population's mean cost; 0 = greedy.
+    pub temperature: f64,
+    /// Temperature factor per iteration, in (0, 1].
+    pub cooling: f64,
+    /// Iterations over which the population's mean cost must be stable to stop.
+    pub stable_window: usize,
+    /// Relative change of the mean cost over `stable_window` counted as stable.
+    pub stable_tolerance: f64,
+    /// Every this many iterations the population's worst member moves to the best vector
+    /// found so far (keeping its own step), so no member wanders for long far from the best
+    /// region; 0 never does.
+    pub share_best_every: usize,
+    /// Seed of every random draw.
+    pub seed: u64,
+}
+
+impl AnnealSettings {
+    /// The names of the settings in which `self` and `other` differ.
+    pub fn differences(&self, other: &AnnealSettings) -> Vec<String> {
+        let (Ok(serde_json::Value::Object(a)), Ok(serde_json::Value::Object(b))) =
+            (serde_json::to_value(self), serde_json::to_value(other))
+        else {
+            return vec!["settings".into()];
+        };
+        a.iter()
+            .filter(|&(k, v)| b.get(k) != Some(v))
+            .map(|(k, _)| k.clone())
+            .collect()
+    }
+}
+
+impl Default for AnnealSettings {
+    fn default() -> AnnealSettings {
+        AnnealSettings {
+            population: 8,
+            max_evaluations: 4000,
+            initial_step: 0.05,
+            min_step: 1e-4,
+            max_step: 0.5,
+            target_acceptance: 0.3,
+            adapt_every: 8,
+            temperature: 0.02,
+            cooling: 0.95,
+            stable_window: 25,
+            stable_tolerance: 1e-4,
+            share_best_every: 10,
+            seed: 0,
+        }
+    }
+}
+
+impl AnnealSettings {
+    /// The paper's greedy search: temperature zero.
+    pub fn greedy() -> AnnealSettings {
+        AnnealSettings {
+            temperature: 0.0,
+            ..AnnealSettings::default()
+        }
+    }
+
+    /// Checks every setting, naming the field otherwise.
+    pub fn validate(&self) -> Result<()> {
+        require(self.population >= 1, "anneal.population", "at least 1")?;
+        require(
+            self.max_evaluations >= self.population,
+            "anneal.max_evaluations",
+            format!("at least the population ({})", self.population),
+        )?;
+        let fraction = |v: f64| v > 0.0 && v <= 1.0;
+        require(
+            fraction(self.min_step) && fraction(self.max_step) && self.min_step <= self.max_step,
+            "anneal.min_step/max_step",
+            "0 < min_step ≤ max_step ≤ 1",
+        )?;
+        require(
+            self.initial_step >= self.min_step && self.initial_step <= self.max_step,
+            "anneal.initial_step",
+            "within [min_step, max_step]",
+        )?;
+        require(
+            self.target_acceptance > 0.0 && self.target_acceptance < 1.0,
+            "anneal.target_acceptance",
+            "within (0, 1)",
+        )?;
+        require(self.adapt_every >= 1, "anneal.adapt_every", "at least 1")?;
+        require(
+            self.temperature >= 0.0 && self.temperature.is_finite(),
+            "anneal.temperature",
+            "a finite number ≥ 0",
+        )?;
+        require(
+            self.cooling > 0.0 && self.cooling <= 1.0,
+            "anneal.cooling",
+            "within (0, 1]",
+        )?;
+        require(
+            self.stable_window >= 1,
+            "anneal.stable_window",
+            "at least 1",
+        )?;
+        require(
+            self.stable_tolerance >= 0.0 && self.stable_tolerance.is_finite(),
+            "anneal.stable_tolerance",
+            "a finite number ≥ 0",
+        )
+    }
+}
