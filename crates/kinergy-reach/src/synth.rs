@@ -34,6 +34,7 @@ use crate::drive::Driver;
 use crate::error::{ReachError, Result, require};
 use crate::profile::{BellTiming, SpeedProfile};
 use crate::steps::{self, StepDecision, StepSettings};
+use kinergy_motion::seed::mix;
 
 /// How many persons and reaches, and the seed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -376,13 +377,4 @@ fn write_manifest<'a>(dir: &Path, rows: impl IntoIterator<Item = &'a ManifestRow
         .into_inner()
         .map_err(|e| io_error(&path, e.into_error()))?;
     kinergy_io::write_atomic(&path, &bytes).map_err(|e| io_error(&path, e))
-}
-
-/// SplitMix64-style mixing of a seed with two indices.
-fn mix(seed: u64, a: u64, b: u64) -> u64 {
-    let mut z =
-        seed ^ a.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ b.wrapping_mul(0xd1b5_4a32_d192_ed03);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
