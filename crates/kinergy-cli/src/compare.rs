@@ -26,7 +26,10 @@
 //! frames,params`, `fitted_on` empty for the neutral parameters, `params` one of `neutral`,
 //! `vector`, `field`) and `DIR/summary.md`.
 
+mod args;
 mod holdout;
+
+pub use args::{Args, Per, model_label};
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -38,64 +41,10 @@ use kinergy_train::experiment::{
 };
 use serde::Serialize;
 
-use crate::common::{
-    Bar, CaptureArgs, Failure, SearchArgs, check_optional, emit, limits, print_json, train_failure,
-};
+use crate::common::{Bar, Failure, check_optional, emit, limits, print_json, train_failure};
 
 /// The folder `compare` uses when no clips are given.
 pub const DEFAULT_DATA: &str = "data-synthetic";
-
-/// Arguments of `kinergy compare`.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Captures: BVH files or folders of them (default: `data-synthetic/`).
-    #[arg(value_name = "CLIPS")]
-    pub clips: Vec<PathBuf>,
-    /// Models for Fig. 3.
-    #[arg(long, value_delimiter = ',', default_value = "sa,sb,sc,sd")]
-    pub models: Vec<Model>,
-    /// Optimizers for Fig. 4.
-    #[arg(long, value_delimiter = ',', default_value = "jt,njt,svd")]
-    pub optimizers: Vec<OptimizerKind>,
-    /// The optimizer of Fig. 3 and of the method comparison.
-    #[arg(long, default_value = "svd")]
-    pub optimizer: OptimizerKind,
-    /// Skip the comparison with argmin's Nelder–Mead and particle swarm.
-    #[arg(long)]
-    pub no_baselines: bool,
-    /// Output folder for results.csv, summary.md and the charts fig3/fig4 (.svg and .png).
-    #[arg(short, long, default_value = "compare-out", value_name = "DIR")]
-    pub output: PathBuf,
-    /// What one vector is fitted to: each clip (the paper's experiment), or each person's
-    /// training takes (needs `--holdout`).
-    #[arg(long, default_value = "clip", value_name = "clip|person")]
-    pub per: Per,
-    /// With `--per person`: hold out the last K takes of each person (1 to 1000, in name order), fit on
-    /// the rest and report the held-out takes' distances.
-    #[arg(long, value_name = "K")]
-    pub holdout: Option<usize>,
-    /// With `--per person`: who a take belongs to — its folder, its file name up to the
-    /// last `_` (`active_003.bvh` → `active`), or the `person` column of `--segments`.
-    /// Default: `segments` when a segments file is given, else `folder`.
-    #[arg(long, value_name = "folder|prefix|segments")]
-    pub person: Option<holdout::PersonBy>,
-    /// Print the summary as JSON too.
-    #[arg(long)]
-    pub json: bool,
-    #[command(flatten)]
-    pub search: SearchArgs,
-    #[command(flatten)]
-    pub reach: CaptureArgs,
-}
-
-/// What one vector is fitted to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Per {
-    /// Each clip.
-    Clip,
-    /// Each person's training takes.
-    Person,
-}
 
 /// One fit's row of results.csv.
 #[derive(Debug, Serialize)]
@@ -174,11 +123,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         baselines: !args.no_baselines,
         fit: args.search.settings(),
     };
-    settings
-        .fit
-        .anneal
-        .validate()
-        .map_err(|e| Failure::Input(e.to_string()))?;
+    settings.fit.anneal.validate().map_err(Failure::from)?;
     if args.models.is_empty() || args.optimizers.is_empty() {
         return Err(Failure::Input(
             "--models and --optimizers need at least one each".into(),
@@ -297,11 +242,6 @@ fn draw_charts(results: &Results, args: &Args) -> Result<Vec<PathBuf>, Failure> 
         }
     }
     Ok(written)
-}
-
-/// `S_A` for `sa`.
-fn model_label(model: Model) -> String {
-    model.name().to_uppercase().replacen('S', "S_", 1)
 }
 
 /// The summary as `--json` prints it.

@@ -189,14 +189,6 @@ fn parse_target(text: &str) -> Result<HandTarget, Failure> {
     })
 }
 
-fn plan_failure(e: PlanError) -> Failure {
-    if e.is_task_failure() {
-        Failure::Task(e.to_string())
-    } else {
-        Failure::Input(e.to_string())
-    }
-}
-
 /// The person whose parameters are at `path`, for a reach toward `target` (world; a field
 /// gives their vector for it) by the arm on `side` of a character `height` tall: their
 /// synergy as the arm drive, and their bell as the plan's time warp
@@ -208,13 +200,13 @@ fn person(
     target: &Point3<f64>,
 ) -> Result<(Warp, ArmDrive), Failure> {
     let person = crate::common::read_person(path)?;
-    let character = kinergy_reach::character::Character::from_height(height)
-        .map_err(|e| Failure::Task(e.to_string()))?;
+    let character =
+        kinergy_reach::character::Character::from_height(height).map_err(Failure::from)?;
     let arm = PersonArm::toward(&character, &person, target, Some(side))
         .map_err(|e| crate::common::person_failure(path, e))?;
     let warp = kinergy_plan::person::person_warp(&character, &arm).map_err(|e| match e {
         PlanError::NoBell { .. } => Failure::input(path, e),
-        e => plan_failure(e),
+        e => e.into(),
     })?;
     Ok((warp, arm.drive))
 }
@@ -277,7 +269,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         settings.rrt.budget.time = Some(Duration::from_millis(ms));
     }
     let triangles = scene.triangle_count();
-    let planner = Planner::new(scene, settings).map_err(plan_failure)?;
+    let planner = Planner::new(scene, settings).map_err(Failure::from)?;
     let need_object = || {
         args.object
             .clone()
@@ -322,10 +314,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         (None, None) => return Err(Failure::Input("give --target or --task".into())),
     };
-    let motion = motion.map_err(plan_failure)?;
-    let clip = motion
-        .to_clip(planner.character())
-        .map_err(|e| Failure::Task(e.to_string()))?;
+    let motion = motion.map_err(Failure::from)?;
+    let clip = motion.to_clip(planner.character()).map_err(Failure::from)?;
     crate::common::write_clip(&args.output, &clip, &Default::default())?;
     let report = Report {
         output: args.output.display().to_string(),

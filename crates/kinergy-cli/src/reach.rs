@@ -106,7 +106,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         None => Proportions::from_height(args.height)
             .map_err(|e| Failure::Input(format!("--height {}: {e}", args.height)))?,
     };
-    let character = Character::new(&proportions).map_err(|e| Failure::Input(e.to_string()))?;
+    let character = Character::new(&proportions).map_err(Failure::from)?;
     let settings = ReachSettings {
         flexibility: args.flexibility,
         seed: args.seed,
@@ -134,7 +134,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let motion = reach_full_body_driven(&character, target, &settings, &drive)?;
     let clip = character
         .to_clip(&motion.poses, motion.frame_time)
-        .map_err(|e| Failure::Task(e.to_string()))?;
+        .map_err(Failure::from)?;
     crate::common::write_clip(&args.output, &clip, &Default::default())?;
     let r = &motion.report;
     let report = Report {

@@ -97,8 +97,8 @@ fn segment_clip(
     let picked: Vec<(usize, Segment)> = match args.select {
         None => found.iter().copied().enumerate().collect(),
         Some(selection) => {
-            let chosen = kinergy_train::segment::select(&found, selection, &name)
-                .map_err(|e| Failure::Task(e.to_string()))?;
+            let chosen =
+                kinergy_train::segment::select(&found, selection, &name).map_err(Failure::from)?;
             found
                 .iter()
                 .copied()

@@ -105,6 +105,7 @@ fn write(args: &Args, drive: Driver<'_>) -> Result<usize, Failure> {
                 .with_target([row.target_x, row.target_y, row.target_z])
             })
             .collect();
+        // Written, not read: a segments file that cannot be written is a failed task.
         SegmentsFile::new(&path, segments)
             .write()
             .map_err(|e| Failure::Task(e.to_string()))?;

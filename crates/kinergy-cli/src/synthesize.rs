@@ -252,18 +252,16 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         }
         _ => {
             let space = ParamSpace::new(args.model, &dof_names, Default::default())
-                .map_err(|e| Failure::Input(e.to_string()))?;
-            let synergy = Synergy::new(&space, &space.neutral())
-                .map_err(|e| Failure::Input(e.to_string()))?;
+                .map_err(Failure::from)?;
+            let synergy = Synergy::new(&space, &space.neutral()).map_err(Failure::from)?;
             (args.optimizer.default_optimizer(), synergy)
         }
     };
     let settings = reach.open_settings(args.tolerance, args.max_seconds, args.stop_at_reach);
-    let controller =
-        Controller::new(optimizer, synergy, settings).map_err(|e| Failure::Input(e.to_string()))?;
+    let controller = Controller::new(optimizer, synergy, settings).map_err(Failure::from)?;
     let synthesis = controller
         .synthesize(&reach.task())
-        .map_err(|e| Failure::Task(e.to_string()))?;
+        .map_err(Failure::from)?;
     let out_clip = reach
         .to_clip(&whole, &synthesis)
         .map_err(|e| Failure::input(from, e))?;

@@ -11,7 +11,7 @@ use kinergy_motion::{
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::fit::FitSettings;
 
-use super::Failure;
+use super::failure::Failure;
 use super::limits::{self, check_optional, check_range};
 
 /// Options for reading a capture, shared by every subcommand that reads BVH.

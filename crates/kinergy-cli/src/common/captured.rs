@@ -15,7 +15,9 @@ use kinergy_train::source::{ArmChoice, Capture, ReachFrames, segment_clips, segm
 use kinergy_train::{CapturedReach, TrainError};
 
 use super::args::arm_failure_with;
-use super::{ArmArgs, Failure, ReadArgs, collect_clips, parse_frames};
+use super::args::{ArmArgs, ReadArgs, parse_frames};
+use super::clips::collect_clips;
+use super::failure::Failure;
 
 /// Which part of each clip is the reach, and how it is read.
 #[derive(Debug, clap::Args)]
@@ -178,6 +180,8 @@ impl CaptureArgs {
     }
 }
 
+/// The segments file at `path`, read as input: its errors (naming the file and the line) are
+/// bad input.
 fn read_segments(path: &Path) -> Result<SegmentsFile, Failure> {
     SegmentsFile::read(path).map_err(|e| Failure::Input(e.to_string()))
 }

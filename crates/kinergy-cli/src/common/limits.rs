@@ -5,7 +5,7 @@
 
 use std::fmt::Display;
 
-use super::Failure;
+use super::failure::Failure;
 
 /// `--max-input-mb`: the largest BVH file read, MiB (default 256).
 pub const MAX_INPUT_MB: (u64, u64) = (1, 4096);

@@ -3,12 +3,12 @@
 //! command line ([`captured`]), the progress bar ([`progress`]) and the checks every output
 //! passes before any work ([`outputs`]).
 
-use std::fmt;
 use std::path::Path;
 
 pub mod args;
 pub mod captured;
 pub mod clips;
+pub mod failure;
 pub mod limits;
 pub mod names;
 pub mod outputs;
@@ -17,65 +17,10 @@ pub mod progress;
 pub use args::{ArmArgs, ReadArgs, SearchArgs, parse_frames, parse_point, parse_size};
 pub use captured::CaptureArgs;
 pub use clips::collect_clips;
+pub use failure::{Failure, person_failure, read_person, train_failure};
 pub use limits::{check_optional, check_range};
-pub use outputs::{Output, check_outputs};
+pub use outputs::{Output, check_outputs, is_stdout};
 pub use progress::Bar;
-
-/// Why a command stopped: bad input (exit 2) or a task that could not be done (exit 1).
-#[derive(Debug)]
-pub enum Failure {
-    /// The input was wrong: a missing or malformed file, a bad argument.
-    Input(String),
-    /// The input was fine but the task failed (e.g. an unreachable target).
-    Task(String),
-}
-
-impl Failure {
-    /// The process's exit code: 2 for bad input, 1 for a failed task.
-    pub fn exit_code(&self) -> u8 {
-        match self {
-            Failure::Input(_) => 2,
-            Failure::Task(_) => 1,
-        }
-    }
-
-    /// Bad input concerning `path`.
-    pub fn input(path: &Path, e: impl fmt::Display) -> Failure {
-        Failure::Input(naming(path, e))
-    }
-
-    /// The same failure, its message prefixed by `name: ` (a capture the command was
-    /// working on).
-    pub fn naming(self, name: &str) -> Failure {
-        match self {
-            Failure::Input(m) => Failure::Input(format!("{name}: {m}")),
-            Failure::Task(m) => Failure::Task(format!("{name}: {m}")),
-        }
-    }
-
-    /// A failed task concerning `path` (e.g. writing it).
-    pub fn task(path: &Path, e: impl fmt::Display) -> Failure {
-        Failure::Task(naming(path, e))
-    }
-}
-
-/// `e` naming `path` once: library errors about files already name them.
-fn naming(path: &Path, e: impl fmt::Display) -> String {
-    let text = e.to_string();
-    if text.contains(&*path.to_string_lossy()) {
-        text
-    } else {
-        format!("{}: {text}", path.display())
-    }
-}
-
-impl fmt::Display for Failure {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Failure::Input(m) | Failure::Task(m) => f.write_str(m),
-        }
-    }
-}
 
 /// Writes `rows` as CSV (a header from the row type's fields) to `path`, atomically.
 pub fn write_csv<T: serde::Serialize>(
@@ -119,36 +64,6 @@ pub fn emit(text: &str) -> Result<(), Failure> {
     emit_data(text.as_bytes())
 }
 
-/// Whether `path` is `-`: standard output instead of a file.
-pub fn is_stdout(path: &std::path::Path) -> bool {
-    path.as_os_str() == "-"
-}
-
-/// A person's parameters or field file (`--params`), read once; its errors name the file.
-pub fn read_person(path: &Path) -> Result<kinergy_train::PersonParams, Failure> {
-    kinergy_train::PersonParams::read(path).map_err(|e| Failure::Input(e.to_string()))
-}
-
-/// A failure of a person's drive ([`kinergy_reach::drive::PersonArm`]) whose parameters
-/// are at `path`: parameters that do not fit name the file.
-pub fn person_failure(path: &Path, e: kinergy_reach::ReachError) -> Failure {
-    match e {
-        kinergy_reach::ReachError::Params { source } => Failure::input(path, source),
-        e => e.into(),
-    }
-}
-
-impl From<kinergy_reach::ReachError> for Failure {
-    /// Settings, targets and parameters are the input's fault; the rest failed tasks.
-    fn from(e: kinergy_reach::ReachError) -> Failure {
-        if e.is_input() {
-            Failure::Input(e.to_string())
-        } else {
-            Failure::Task(e.to_string())
-        }
-    }
-}
-
 /// How messages name an output: its path, or `standard output` for `-`.
 pub fn shown(path: &Path) -> String {
     if is_stdout(path) {
@@ -184,17 +99,6 @@ pub fn emit_data(bytes: &[u8]) -> Result<(), Failure> {
             Err(Failure::Task(format!("could not write to stdout: {e}")))
         }
         _ => Ok(()),
-    }
-}
-
-/// Training errors: bad checkpoints and settings are bad input; the rest failed tasks.
-pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
-    use kinergy_train::TrainError as E;
-    match e {
-        E::Checkpoint { .. } | E::Setting { .. } | E::Reach { .. } | E::File { .. } => {
-            Failure::Input(e.to_string())
-        }
-        _ => Failure::Task(e.to_string()),
     }
 }
 

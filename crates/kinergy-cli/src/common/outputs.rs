@@ -16,7 +16,7 @@
 use std::fs::{self, Metadata};
 use std::path::{Path, PathBuf};
 
-use super::Failure;
+use super::failure::Failure;
 
 /// One output of a command: the option that names it and its path.
 #[derive(Debug, Clone, Copy)]
@@ -124,7 +124,7 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[Output<'_>]) -> Result<(), Fai
     for &output in outputs {
         let (option, path) = (output.option(), output.path());
         if let Output::File(..) = output
-            && super::is_stdout(path)
+            && is_stdout(path)
         {
             continue; // `-o -`: standard output
         }
@@ -191,6 +191,11 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[Output<'_>]) -> Result<(), Fai
         seen.push((output, id));
     }
     Ok(())
+}
+
+/// Whether `path` is `-`: standard output instead of a file.
+pub fn is_stdout(path: &std::path::Path) -> bool {
+    path.as_os_str() == "-"
 }
 
 #[cfg(test)]

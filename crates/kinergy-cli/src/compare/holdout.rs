@@ -6,7 +6,6 @@
 //! says who each take belongs to and renders `DIR/holdout.csv`, `DIR/summary.md` and
 //! `--json`.
 
-use std::path::Path;
 use std::time::Instant;
 
 use kinergy_solver::Model;
@@ -17,50 +16,8 @@ use kinergy_train::experiment::{
 use kinergy_train::field::FieldSettings;
 use serde::Serialize;
 
-use super::{Args, model_label};
+use super::args::{Args, PersonBy, model_label};
 use crate::common::{Bar, Failure, emit, print_json, train_failure};
-
-/// Who a take belongs to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum PersonBy {
-    /// The clip's folder (`data-synthetic/p01/r03.bvh` → `data-synthetic/p01`).
-    Folder,
-    /// The clip's file name up to its last `_` (`active_003.bvh` → `active`).
-    Prefix,
-    /// The `person` column of the segments file (`--segments`).
-    Segments,
-}
-
-impl PersonBy {
-    /// The person of `reach` (named by its clip's path); `listed` is the person its
-    /// segments-file row names, if any.
-    pub fn person(self, reach: &CapturedReach, listed: Option<&str>) -> Result<String, Failure> {
-        let path = Path::new(reach.name());
-        Ok(match self {
-            PersonBy::Segments => listed
-                .ok_or_else(|| Failure::Input("--person segments needs --segments FILE".into()))?
-                .to_string(),
-            PersonBy::Folder => {
-                let folder = experiment::person_of(reach);
-                if folder.as_os_str().is_empty() {
-                    ".".into()
-                } else {
-                    folder.display().to_string()
-                }
-            }
-            PersonBy::Prefix => {
-                let stem = path
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                match stem.rsplit_once('_') {
-                    Some((prefix, _)) if !prefix.is_empty() => prefix.to_string(),
-                    _ => stem,
-                }
-            }
-        })
-    }
-}
 
 /// One held-out take's row of holdout.csv.
 #[derive(Debug, Serialize)]
@@ -109,11 +66,7 @@ pub fn run(
         fit: args.search.settings(),
         field: Some(FieldSettings::default()),
     };
-    settings
-        .fit
-        .anneal
-        .validate()
-        .map_err(|e| Failure::Input(e.to_string()))?;
+    settings.fit.anneal.validate().map_err(Failure::from)?;
     experiment::check_split(&takes, holdout)
         .map_err(|e| Failure::Input(format!("--holdout {holdout}: {}", why(&e))))?;
     std::fs::create_dir_all(&args.output).map_err(|e| Failure::input(&args.output, e))?;

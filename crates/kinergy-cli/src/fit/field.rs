@@ -12,7 +12,7 @@ use kinergy_train::field::{BandwidthScore, FieldFile, FieldSettings};
 use kinergy_train::fit::{Fit, FitSettings, NestedFit};
 use serde::Serialize;
 
-use super::Args;
+use super::args::Args;
 use crate::common::{Failure, emit, print_json, train_failure};
 
 /// One reach of the field, as the report shows it.
@@ -101,7 +101,7 @@ pub fn finish(
     let loo = if reaches.len() >= 2 {
         Some(
             file.leave_one_out(reaches, settings.tolerance)
-                .map_err(|e| Failure::Task(e.to_string()))?,
+                .map_err(Failure::from)?,
         )
     } else {
         None

@@ -1,0 +1,160 @@
+//! Why a command stopped, and its exit code: one rule for every command.
+//!
+//! | exit | meaning | examples |
+//! |---|---|---|
+//! | 0 | done | |
+//! | 2 | the input or the command line is wrong ([`Failure::Input`]) | a file that cannot be read or is malformed, an option out of range, parameters that do not fit the arm or the target, a capture without the reach the command needs, an output that would overwrite an input |
+//! | 1 | the input was right but the task could not be done ([`Failure::Task`]) | an unreachable or colliding goal, no path, a motion that did not reach, a file that could not be written (a full disk, permissions) |
+//!
+//! Library errors become failures by their type ([`From`] below): each crate's error says
+//! which of its variants are the input's fault. A call site adds only the file the error is
+//! about ([`Failure::naming`], [`Failure::input`] for a file read as input, [`Failure::task`]
+//! for one written).
+
+use std::fmt;
+use std::path::Path;
+
+/// Why a command stopped: bad input (exit 2) or a task that could not be done (exit 1).
+#[derive(Debug)]
+pub enum Failure {
+    /// The input was wrong: a missing or malformed file, a bad argument.
+    Input(String),
+    /// The input was fine but the task failed (e.g. an unreachable target).
+    Task(String),
+}
+
+impl Failure {
+    /// The process's exit code: 2 for bad input, 1 for a failed task.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Failure::Input(_) => 2,
+            Failure::Task(_) => 1,
+        }
+    }
+
+    /// Bad input concerning `path`.
+    pub fn input(path: &Path, e: impl fmt::Display) -> Failure {
+        Failure::Input(naming(path, e))
+    }
+
+    /// The same failure, its message prefixed by `name: ` (a capture the command was
+    /// working on).
+    pub fn naming(self, name: &str) -> Failure {
+        match self {
+            Failure::Input(m) => Failure::Input(format!("{name}: {m}")),
+            Failure::Task(m) => Failure::Task(format!("{name}: {m}")),
+        }
+    }
+
+    /// A failed task concerning `path` (e.g. writing it).
+    pub fn task(path: &Path, e: impl fmt::Display) -> Failure {
+        Failure::Task(naming(path, e))
+    }
+}
+
+/// `e` naming `path` once: library errors about files already name them.
+fn naming(path: &Path, e: impl fmt::Display) -> String {
+    let text = e.to_string();
+    if text.contains(&*path.to_string_lossy()) {
+        text
+    } else {
+        format!("{}: {text}", path.display())
+    }
+}
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Failure::Input(m) | Failure::Task(m) => f.write_str(m),
+        }
+    }
+}
+
+/// A person's parameters or field file (`--params`), read once; its errors name the file.
+pub fn read_person(path: &Path) -> Result<kinergy_train::PersonParams, Failure> {
+    kinergy_train::PersonParams::read(path).map_err(Failure::from)
+}
+
+/// A failure of a person's drive ([`kinergy_reach::drive::PersonArm`]) whose parameters
+/// are at `path`: parameters that do not fit name the file.
+pub fn person_failure(path: &Path, e: kinergy_reach::ReachError) -> Failure {
+    match e {
+        kinergy_reach::ReachError::Params { source } => Failure::input(path, source),
+        e => e.into(),
+    }
+}
+
+impl From<kinergy_reach::ReachError> for Failure {
+    /// Settings, targets and parameters are the input's fault; the rest failed tasks.
+    fn from(e: kinergy_reach::ReachError) -> Failure {
+        if e.is_input() {
+            Failure::Input(e.to_string())
+        } else {
+            Failure::Task(e.to_string())
+        }
+    }
+}
+
+impl From<kinergy_plan::PlanError> for Failure {
+    /// A task's failures (no path, an unreachable or colliding goal or start) exit 1; bad
+    /// scenes, settings and reports 2 ([`kinergy_plan::PlanError::is_task_failure`]).
+    fn from(e: kinergy_plan::PlanError) -> Failure {
+        if e.is_task_failure() {
+            Failure::Task(e.to_string())
+        } else {
+            Failure::Input(e.to_string())
+        }
+    }
+}
+
+impl From<kinergy_train::TrainError> for Failure {
+    /// Bad checkpoints, settings, captures, segments files and parameter files are the
+    /// input's fault; the rest (a log or output that cannot be written, a fit that fails)
+    /// failed tasks.
+    fn from(e: kinergy_train::TrainError) -> Failure {
+        use kinergy_train::TrainError as E;
+        match e {
+            E::Checkpoint { .. }
+            | E::Setting { .. }
+            | E::Reach { .. }
+            | E::File { .. }
+            | E::Clip { .. }
+            | E::Arm { .. }
+            | E::Segments { .. }
+            | E::Row { .. }
+            | E::NoRows { .. }
+            | E::Frames { .. } => Failure::Input(e.to_string()),
+            _ => Failure::Task(e.to_string()),
+        }
+    }
+}
+
+impl From<kinergy_solver::SolverError> for Failure {
+    /// Settings, parameters and non-finite values are the input's; an arm that cannot be
+    /// written back into its capture or a kinematics failure is a failed task.
+    fn from(e: kinergy_solver::SolverError) -> Failure {
+        use kinergy_solver::SolverError as E;
+        match e {
+            E::Motion(_) | E::Capture(_) => Failure::Task(e.to_string()),
+            _ => Failure::Input(e.to_string()),
+        }
+    }
+}
+
+impl From<kinergy_motion::MotionError> for Failure {
+    /// Skeletons, clips and BVH files that do not have what is needed are the input's fault;
+    /// a BVH file that cannot be written is a failed task.
+    fn from(e: kinergy_motion::MotionError) -> Failure {
+        match e {
+            kinergy_motion::MotionError::Bvh(kinergy_bvh::Error::Io { .. }) => {
+                Failure::Task(e.to_string())
+            }
+            _ => Failure::Input(e.to_string()),
+        }
+    }
+}
+
+/// [`Failure::from`] a training error (for `map_err`).
+pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
+    e.into()
+}

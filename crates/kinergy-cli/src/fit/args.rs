@@ -1,0 +1,102 @@
+//! The arguments of `kinergy fit`.
+
+use std::path::PathBuf;
+
+use kinergy_solver::{FitGrouping, Model, OptimizerKind};
+
+use crate::common::{CaptureArgs, SearchArgs};
+
+/// Arguments of `kinergy fit`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Captures: BVH files or folders of them. With `--segments` they may be left out (the
+    /// segments file names the clips); given, they keep only the rows of those clips.
+    #[arg(value_name = "CLIPS", required_unless_present = "segments")]
+    pub clips: Vec<PathBuf>,
+    /// The synergy model to fit.
+    #[arg(long, value_name = "sa|sb|sc|sd")]
+    pub model: Model,
+    /// The IK optimizer the motions are synthesized with.
+    #[arg(long, default_value = "svd", value_name = "jt|njt|svd|dls")]
+    pub optimizer: OptimizerKind,
+    /// One vector per clip, or one for all clips.
+    #[arg(long, value_enum, default_value = "person")]
+    pub per: Per,
+    /// Fit only the model asked for, from its neutral vector, instead of the poorer models
+    /// first (S_A → S_B → S_C → S_D), each starting from the previous solution.
+    #[arg(long)]
+    pub no_nested: bool,
+    /// Fit each reach on its own (nested, as `--per clip` does), then the person's parameter
+    /// field over the reaches' targets (in the arm's base frame on each reach's first frame;
+    /// kernel bandwidth chosen by leave-one-out), and write it as a field file to `-o FILE`:
+    /// `synthesize --params` takes it where it takes a parameters file and predicts the
+    /// person's vector for the target at hand. One arm per field.
+    #[arg(long, conflicts_with_all = ["out_dir", "checkpoint"])]
+    pub field: bool,
+    /// Where to write the parameters (JSON, atomically). Ending in `/` (`-o fits/`) it names
+    /// a folder, as `--out-dir` does; several results (`--per clip` over several reaches)
+    /// need a folder.
+    #[arg(
+        short,
+        long,
+        value_name = "params.json",
+        required_unless_present = "out_dir"
+    )]
+    pub output: Option<PathBuf>,
+    /// A folder that receives one file per fit, named by the clip's path from the clips'
+    /// common folder (`p01/r01.json`; `p01/r01_<onset>-<end>.json` for several reaches of
+    /// one clip). It is created if missing; its parent must exist.
+    #[arg(long, value_name = "DIR", conflicts_with = "output")]
+    pub out_dir: Option<PathBuf>,
+    /// Checkpoint file, written atomically every `--checkpoint-every` iterations and on
+    /// Ctrl-C.
+    #[arg(long, value_name = "F")]
+    pub checkpoint: Option<PathBuf>,
+    /// Iterations between checkpoints, 1 to 1000000.
+    #[arg(long, default_value_t = 20, value_name = "N")]
+    pub checkpoint_every: usize,
+    /// Continue the fit saved in `--checkpoint` (same clips and settings); the result is bit
+    /// for bit the uninterrupted fit's.
+    #[arg(long, requires = "checkpoint")]
+    pub resume: bool,
+    /// Write the score of every iteration to this CSV file.
+    #[arg(long, value_name = "F.csv")]
+    pub log: Option<PathBuf>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// After the annealing, refine the fitted model's vector locally — rounds of Nelder–Mead
+    /// and of Levenberg–Marquardt on the motion's joint-position residuals — with at most N
+    /// evaluations (1 to 10000000): the annealing finds a basin, the refinement its floor.
+    /// Deterministic; never worse than the annealing's vector. The file's `fit.method` then
+    /// reads `simulated_annealing+nelder_mead+levenberg_marquardt` and its evaluations include
+    /// the refinement's.
+    #[arg(long, value_name = "N")]
+    pub refine: Option<usize>,
+    /// Testing hook: behave as if Ctrl-C came after this many iterations in all.
+    #[arg(long, hide = true, value_name = "N")]
+    pub interrupt_after: Option<usize>,
+    #[command(flatten)]
+    pub search: SearchArgs,
+    #[command(flatten)]
+    pub reach: CaptureArgs,
+}
+
+/// One vector per clip or one for all clips.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Per {
+    /// One parameter vector per clip (the paper's experiment).
+    Clip,
+    /// One parameter vector for all the clips (one person's).
+    Person,
+}
+
+impl Per {
+    /// The grouping the parameters file records.
+    pub fn grouping(self) -> FitGrouping {
+        match self {
+            Per::Clip => FitGrouping::Clip,
+            Per::Person => FitGrouping::Person,
+        }
+    }
+}
