@@ -41,7 +41,7 @@ use kinergy_train::experiment::{
 };
 use serde::Serialize;
 
-use crate::common::{Bar, Failure, check_optional, emit, limits, print_json, train_failure};
+use crate::common::{Bar, Failure, check_optional, emit, limits, print_json};
 
 /// The folder `compare` uses when no clips are given.
 pub const DEFAULT_DATA: &str = "data-synthetic";
@@ -134,7 +134,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let bar = Bar::counting(reaches.len() as u64, "clips");
     let results = experiment::run(&reaches, &settings, &|| bar.inc());
     bar.finish();
-    let results = results.map_err(train_failure)?;
+    let results = results.map_err(Failure::from)?;
     let seconds = clock.elapsed().as_secs_f64();
 
     let csv_path = args.output.join("results.csv");

@@ -16,7 +16,7 @@ use kinergy_train::anneal::{Checkpoint, Control, CsvLog, Observer, Progress};
 use kinergy_train::fit::{Fit, FitSettings, NestedFit, NestedRun, RefineSettings};
 use serde::Serialize;
 
-use crate::common::{Bar, Failure, check_range, emit, limits, print_json, train_failure};
+use crate::common::{Bar, Failure, check_range, emit, limits, print_json};
 
 /// Set by Ctrl-C: the running fit stops after its current iteration and checkpoints.
 pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
@@ -252,7 +252,7 @@ fn run_group(
         None => run.run(&mut (&mut bar, &mut hook), &control, args.resume),
     };
     bar.finish();
-    let outcome = outcome.map_err(train_failure)?;
+    let outcome = outcome.map_err(Failure::from)?;
     if outcome.interrupted {
         return Err(Failure::Task(match &args.checkpoint {
             Some(p) => format!(
@@ -276,7 +276,7 @@ fn run_group(
                     ..RefineSettings::default()
                 },
             )
-            .map_err(train_failure)?,
+            .map_err(Failure::from)?,
         None => last,
     };
     fits.fits.push(last);

@@ -100,7 +100,8 @@ fn select_takes_main_all_or_one_segment() {
 
     let past = every.len().to_string();
     let o = kinergy(&["segment", clip, "--select", &past]);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    // A capture without the segment asked for is bad input (exit 2), as in fit and compare.
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
         stderr(&o).contains(&format!("no segment #{past}")) && stderr(&o).contains("006_14.bvh"),
         "{}",
@@ -109,7 +110,7 @@ fn select_takes_main_all_or_one_segment() {
     // A walk has no reach: `main` fails, saying what there is.
     let walk = fixture("cmu_12_01_walk.bvh");
     let o = kinergy(&["segment", utf8(&walk), "--select", "main"]);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("no main reach"), "{}", stderr(&o));
 
     let nowhere = Path::new("/nonexistent/never.csv");
@@ -258,7 +259,7 @@ fn manifest_bad_input_writes_nothing() {
         "--manifest",
         utf8(&out),
     ]);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("walk.bvh"), "{}", stderr(&o));
     assert!(!out.exists(), "a partial segments file was written");
 }

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use kinergy_motion::{ArmJoints, ImportOptions, Side};
+use kinergy_motion::{ArmJoints, ImportOptions, MotionError, Side};
 use kinergy_solver::BaseMode;
 use kinergy_train::TrainError;
 use kinergy_train::segment::{SegmentSettings, Selection, find_segments, main_index};
@@ -72,7 +72,7 @@ fn frame_choices_resolve_and_refuse_windows_outside_the_clip() {
     }
     assert!(matches!(
         resolve(FrameChoice::Nth(10_000)),
-        Err(TrainError::Reach { .. })
+        Err(TrainError::Motion(MotionError::Reach { .. }))
     ));
     assert!(names_clip(
         &capture.path().display().to_string(),

@@ -153,8 +153,3 @@ impl From<kinergy_motion::MotionError> for Failure {
         }
     }
 }
-
-/// [`Failure::from`] a training error (for `map_err`).
-pub fn train_failure(e: kinergy_train::TrainError) -> Failure {
-    e.into()
-}

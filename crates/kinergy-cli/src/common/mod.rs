@@ -17,7 +17,7 @@ pub mod progress;
 pub use args::{ArmArgs, ReadArgs, SearchArgs, parse_frames, parse_point, parse_size};
 pub use captured::CaptureArgs;
 pub use clips::collect_clips;
-pub use failure::{Failure, person_failure, read_person, train_failure};
+pub use failure::{Failure, person_failure, read_person};
 pub use limits::{check_optional, check_range};
 pub use outputs::{Output, check_outputs, is_stdout};
 pub use progress::Bar;

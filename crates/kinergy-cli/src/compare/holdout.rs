@@ -17,7 +17,7 @@ use kinergy_train::field::FieldSettings;
 use serde::Serialize;
 
 use super::args::{Args, PersonBy, model_label};
-use crate::common::{Bar, Failure, emit, print_json, train_failure};
+use crate::common::{Bar, Failure, emit, print_json};
 
 /// One held-out take's row of holdout.csv.
 #[derive(Debug, Serialize)]
@@ -75,7 +75,7 @@ pub fn run(
     let bar = Bar::counting(persons as u64, "persons");
     let results = experiment::run_holdout(&takes, &settings, &|| bar.inc());
     bar.finish();
-    let results = results.map_err(train_failure)?;
+    let results = results.map_err(Failure::from)?;
     let seconds = clock.elapsed().as_secs_f64();
 
     let csv_path = args.output.join("holdout.csv");

@@ -13,7 +13,7 @@ use kinergy_train::fit::{Fit, FitSettings, NestedFit};
 use serde::Serialize;
 
 use super::args::Args;
-use crate::common::{Failure, emit, print_json, train_failure};
+use crate::common::{Failure, emit, print_json};
 
 /// One reach of the field, as the report shows it.
 #[derive(Debug, Serialize)]
@@ -97,7 +97,7 @@ pub fn finish(
         .ok_or_else(|| Failure::Task("no model was fitted".into()))?;
     let file = FieldFile::from_fits(reaches, &last, &FieldSettings::default())
         .and_then(|f| f.anchored(anchor.values.clone(), reaches, settings.tolerance))
-        .map_err(train_failure)?;
+        .map_err(Failure::from)?;
     let loo = if reaches.len() >= 2 {
         Some(
             file.leave_one_out(reaches, settings.tolerance)
