@@ -102,6 +102,8 @@
 //! let g = field.evaluate(&Point3::new(0.4, 0.0, 1.0))[0];
 //! assert!((g - 1.5).abs() < 1e-12); // halfway: equal weights
 //! ```
+//!
+//! [`ParamSpace`]: kinergy_solver::ParamSpace
 
 mod file;
 mod param_field;

@@ -1,7 +1,7 @@
 //! Where captured reaches come from: a capture file, read with the import options, its arm
 //! found by side or by joint names, and its frames chosen — a window, the labelled segments of
 //! the hand-speed series ([`crate::segment`]) or the rows of a segments file
-//! ([`crate::manifest`]) — become [`CapturedReach`]es along one path, the one `fit`, `compare`
+//! ([`crate::segments_file`]) — become [`CapturedReach`]es along one path, the one `fit`, `compare`
 //! and `synthesize` take.
 //!
 //! - [`Capture::reaches`]: a clip's reaches by [`ArmChoice`] and [`ReachFrames`];

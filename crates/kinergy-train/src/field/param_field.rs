@@ -49,7 +49,7 @@ impl ParamField {
     }
 
     /// The same samples anchored to `vector`, the person's single vector (see the
-    /// [module docs](self#anchored-to-the-persons-vector)); an automatic bandwidth is chosen
+    /// [module docs](super#anchored-to-the-persons-vector)); an automatic bandwidth is chosen
     /// again, h = ∞ among the candidates. Errors name `anchor` (wrong length, out of bounds).
     pub fn anchored(&self, vector: Vec<f64>) -> Result<ParamField> {
         self.space

@@ -16,6 +16,8 @@
 //! them in sequence with checkpoints that name the problem by value ([`FitProblem`]) and
 //! resume bit for bit. Each stage's annealer draws from the user's seed mixed with the model
 //! ([`model_seed`], applied by [`FitSettings::anneal_for`]).
+//!
+//! [`ParamSpace::extend_to`]: kinergy_solver::ParamSpace::extend_to
 
 mod nested;
 mod refine;

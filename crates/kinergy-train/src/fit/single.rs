@@ -170,7 +170,7 @@ impl Fit {
 /// Fits `model` to `reaches` with `optimizer`, starting from `start` (the model's neutral
 /// vector when `None`). `observer` and `control` are the annealer's; pass a checkpointed
 /// state of this same fit to `resume` to continue it (the annealer checks its settings,
-/// seed, bounds and model; [`NestedRun`] checks the whole problem).
+/// seed, bounds and model; [`NestedRun`](super::NestedRun) checks the whole problem).
 #[allow(clippy::too_many_arguments)]
 pub fn fit_model(
     reaches: &[CapturedReach],
