@@ -24,11 +24,13 @@
 //! fitted in parallel; every number but the seconds is the same on any thread count.
 
 mod holdout;
+mod stats;
 
 pub use holdout::{
     FieldLine, HoldoutLine, HoldoutResults, HoldoutRow, HoldoutSettings, HoldoutSummary, Params,
     PersonFit, Take, check_split, group_by_person, run_holdout,
 };
+pub use stats::Stats;
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -36,7 +38,6 @@ use std::time::Instant;
 
 use kinergy_solver::{Model, OptimizerKind, ParamSpace};
 use rayon::prelude::*;
-use serde::Serialize;
 
 use crate::baseline::{BaselineMethod, BaselineSettings};
 use crate::captured::CapturedReach;
@@ -432,35 +433,6 @@ fn field_rows(
     Ok(rows)
 }
 
-/// Mean, min and max of a set of distances.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Stats {
-    /// The mean.
-    pub mean: f64,
-    /// The smallest.
-    pub min: f64,
-    /// The largest.
-    pub max: f64,
-    /// How many.
-    pub count: usize,
-}
-
-impl Stats {
-    /// The statistics of `values`, `None` when there are none.
-    pub fn of(values: impl Iterator<Item = f64>) -> Option<Stats> {
-        let v: Vec<f64> = values.collect();
-        if v.is_empty() {
-            return None;
-        }
-        Some(Stats {
-            mean: v.iter().sum::<f64>() / v.len() as f64,
-            min: v.iter().copied().fold(f64::INFINITY, f64::min),
-            max: v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            count: v.len(),
-        })
-    }
-}
-
 /// The field's leave-one-out distances beside the same clips' own Fig. 3 S_C fits.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FieldComparison {
@@ -566,12 +538,5 @@ mod tests {
         for b in BaselineMethod::ALL {
             assert_eq!(Method::from(b).name(), b.name());
         }
-    }
-
-    #[test]
-    fn stats_are_mean_min_max_and_count() {
-        assert_eq!(Stats::of(std::iter::empty()), None);
-        let s = Stats::of([3.0, 1.0, 2.0].into_iter()).expect("stats");
-        assert_eq!((s.mean, s.min, s.max, s.count), (2.0, 1.0, 3.0, 3), "{s:?}");
     }
 }

@@ -16,7 +16,7 @@ use crate::error::{MotionError, Result};
 use crate::side::Side;
 use crate::skeleton::Skeleton;
 
-use super::{name_tokens, role_word, side_of};
+use super::names::{name_tokens, role_word, side_of};
 
 /// The joints of one arm, by role. Indices are into the skeleton's joints.
 #[derive(Debug, Clone, PartialEq, Eq)]

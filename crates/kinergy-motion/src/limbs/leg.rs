@@ -11,7 +11,7 @@ use crate::error::{MotionError, Result};
 use crate::side::Side;
 use crate::skeleton::Skeleton;
 
-use super::{name_tokens, role_word, side_token};
+use super::names::{name_tokens, role_word, side_token};
 
 /// The joints of one leg, by role. Indices are into the skeleton's joints.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -4,7 +4,7 @@ use nalgebra::{Point3, Vector3};
 
 use super::motion::{Motion, Stroke};
 use super::signal::Signal;
-use super::{Label, Segment, SegmentSettings};
+use super::types::{Label, Segment, SegmentSettings};
 
 /// The cosine below which two sub-movements go opposite ways (135°).
 const OPPOSITE_COS: f64 = -0.7;

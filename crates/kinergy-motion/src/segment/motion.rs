@@ -1,6 +1,6 @@
 //! Motions between rests and the sub-movements inside them (module docs, steps 1 and 2).
 
-use super::SegmentSettings;
+use super::types::SegmentSettings;
 
 /// Frames `onset..=end` between two rests (or the clip's ends).
 #[derive(Debug, Clone, Copy, PartialEq)]

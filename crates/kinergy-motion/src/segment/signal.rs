@@ -3,7 +3,7 @@
 use crate::{ArmJoints, Clip, speed_series};
 use nalgebra::{Point3, Vector3};
 
-use super::SegmentSettings;
+use super::types::SegmentSettings;
 use crate::error::Result;
 
 /// Everything segmentation reads from a clip, computed once.

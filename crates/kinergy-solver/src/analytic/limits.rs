@@ -1,10 +1,8 @@
 //! The limb's joint limits as read from its chain ([`LimbLimits`]), how far a configuration
 //! lies outside them ([`Violation`], named by [`LimbDof`]), and the middle of a range that
-//! angles from `atan2` are moved toward.
+//! angles from `atan2` are moved toward. `LimbIk::violation` (in `solver.rs`) applies them.
 
 use std::fmt;
-
-use super::solver::LimbIk;
 
 /// One joint motion of the limb, as named in limit reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -101,7 +99,7 @@ pub(super) fn middle((min, max): (f64, f64)) -> f64 {
     }
 }
 
-fn revolute_excess(x: f64, (min, max): (f64, f64)) -> f64 {
+pub(super) fn revolute_excess(x: f64, (min, max): (f64, f64)) -> f64 {
     if (min..=max).contains(&x) {
         0.0
     } else if x < min {
@@ -116,7 +114,7 @@ fn revolute_excess(x: f64, (min, max): (f64, f64)) -> f64 {
 /// The same test as [`Chain::within_limits`], so both agree on every configuration.
 ///
 /// [`Chain::within_limits`]: kinergy_motion::Chain::within_limits
-fn swing_excess(sx: f64, sy: f64, (rx, ry): (f64, f64)) -> f64 {
+pub(super) fn swing_excess(sx: f64, sy: f64, (rx, ry): (f64, f64)) -> f64 {
     let e = (sx / rx).powi(2) + (sy / ry).powi(2);
     if e <= 1.0 + 1e-12 {
         0.0
@@ -124,40 +122,5 @@ fn swing_excess(sx: f64, sy: f64, (rx, ry): (f64, f64)) -> f64 {
         (sx * sx + sy * sy).sqrt() * (1.0 - 1.0 / e.sqrt())
     } else {
         f64::INFINITY
-    }
-}
-
-impl LimbIk {
-    /// True when `q` is within the limits — the same test as [`Chain::within_limits`].
-    ///
-    /// [`Chain::within_limits`]: kinergy_motion::Chain::within_limits
-    pub fn within_limits(&self, q: &[f64; 7]) -> bool {
-        self.violation(q).is_none()
-    }
-
-    /// How far `q` lies outside the limits; `None` when within them.
-    pub fn violation(&self, q: &[f64; 7]) -> Option<Violation> {
-        let l = &self.limits;
-        let excess = [
-            swing_excess(q[0], q[1], l.shoulder_swing),
-            revolute_excess(q[2], l.shoulder_twist),
-            revolute_excess(q[3], l.elbow_flexion),
-            revolute_excess(q[4], l.elbow_twist),
-            swing_excess(q[5], q[6], l.wrist_swing),
-        ];
-        let total: f64 = excess.iter().sum();
-        if total == 0.0 {
-            return None;
-        }
-        let (i, &worst) = excess
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.total_cmp(b.1))
-            .expect("five entries");
-        Some(Violation {
-            dof: LimbDof::ALL[i],
-            excess: worst,
-            total,
-        })
     }
 }

@@ -72,10 +72,11 @@
 //! ```
 //!
 //! The files: `error.rs` ([`AnalyticError`]), `limits.rs` (the limits read from the chain and
-//! how far a configuration violates them), `orbit.rs` ([`OrbitSearch`] and the search over
-//! α), `solver.rs` ([`LimbIk`]: reading the chain, steps 4–5 at one α), `placement.rs`
-//! (steps 1–3: everything but α) and `swing_twist.rs` (the fast swing–twist decomposition,
-//! `atan2` and angle wrapping the solver runs on).
+//! how far a configuration violates them), `orbit.rs` ([`OrbitSearch`]: the angles the search
+//! tries), `placement.rs` (the data of steps 1–3: everything but α), `solver.rs` ([`LimbIk`]
+//! and all its methods: reading the chain, steps 1–5, the limit test and the search over α)
+//! and `swing_twist.rs` (the fast swing–twist decomposition, `atan2` and angle wrapping the
+//! solver runs on). Only `solver.rs` reads the others; none of them reads it.
 //!
 //! [`Chain::arm`]: kinergy_motion::Chain::arm
 //! [`Chain::fk`]: kinergy_motion::Chain::fk

@@ -1,13 +1,13 @@
-//! Kallmann's orbit-angle search: the angles tried ([`OrbitSearch`], [`OrbitAlphas`]), which
-//! way α turns ([`OrbitSense`]), and the search itself — full pose
-//! ([`LimbIk::search`]) or position only ([`LimbIk::solve_position`]) — taking the first α
-//! whose posture is within limits (and accepted).
-
-use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
+//! Kallmann's orbit-angle search settings: the angles tried ([`OrbitSearch`], [`OrbitAlphas`])
+//! and which way α turns ([`OrbitSense`]). The search itself — full pose
+//! ([`LimbIk::search`]) or position only ([`LimbIk::solve_position`]), taking the first α
+//! whose posture is within limits (and accepted) — is a method of [`LimbIk`] in `solver.rs`.
+//!
+//! [`LimbIk`]: super::LimbIk
+//! [`LimbIk::search`]: super::LimbIk::search
+//! [`LimbIk::solve_position`]: super::LimbIk::solve_position
 
 use super::error::AnalyticError;
-use super::limits::Violation;
-use super::solver::LimbIk;
 
 /// Which way α turns the elbow about the shoulder→wrist axis `n`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -140,90 +140,6 @@ impl Iterator for OrbitAlphas {
             }
         }
         None
-    }
-}
-
-impl LimbIk {
-    /// Kallmann's orbit-angle search: the first α of `settings` ([`OrbitSearch::alphas`])
-    /// whose posture is within limits.
-    pub fn search(
-        &self,
-        goal: &IsometryMatrix3<f64>,
-        settings: &OrbitSearch,
-    ) -> Result<(f64, [f64; 7]), AnalyticError> {
-        self.search_with(goal, settings, &|_| true)
-    }
-
-    /// [`LimbIk::search`] where a posture must also pass `accept` (e.g. no collision).
-    pub fn search_with(
-        &self,
-        goal: &IsometryMatrix3<f64>,
-        settings: &OrbitSearch,
-        accept: &dyn Fn(&[f64; 7]) -> bool,
-    ) -> Result<(f64, [f64; 7]), AnalyticError> {
-        let prepared = self.prepare_goal(goal)?;
-        self.orbit_search(settings, |a| self.full_at(&prepared, a), accept)
-    }
-
-    /// Position mode ([`LimbIk::solve_position_at`]) with the orbit-angle search; the
-    /// end effector lands on `target`.
-    pub fn solve_position(
-        &self,
-        target: &Point3<f64>,
-        settings: &OrbitSearch,
-    ) -> Result<(f64, [f64; 7]), AnalyticError> {
-        self.solve_position_with(target, settings, &|_| true)
-    }
-
-    /// [`LimbIk::solve_position`] where a posture must also pass `accept`.
-    pub fn solve_position_with(
-        &self,
-        target: &Point3<f64>,
-        settings: &OrbitSearch,
-        accept: &dyn Fn(&[f64; 7]) -> bool,
-    ) -> Result<(f64, [f64; 7]), AnalyticError> {
-        let placement = self.prepare_target(target)?;
-        self.orbit_search(settings, |a| self.position_at(&placement, a), accept)
-    }
-
-    fn orbit_search(
-        &self,
-        settings: &OrbitSearch,
-        posture: impl Fn(f64) -> [f64; 7],
-        accept: &dyn Fn(&[f64; 7]) -> bool,
-    ) -> Result<(f64, [f64; 7]), AnalyticError> {
-        let mut tried = 0;
-        let mut within_limits = 0;
-        let mut best: Option<(f64, Violation)> = None;
-        for alpha in settings.alphas()? {
-            let q = posture(alpha);
-            tried += 1;
-            match self.violation(&q) {
-                None => {
-                    if accept(&q) {
-                        return Ok((alpha, q));
-                    }
-                    within_limits += 1;
-                }
-                Some(v) => {
-                    if best.is_none_or(|(_, b)| v.total < b.total) {
-                        best = Some((alpha, v));
-                    }
-                }
-            }
-        }
-        match best {
-            Some((best_alpha, v)) if within_limits == 0 => Err(AnalyticError::LimitsViolated {
-                best_alpha,
-                dof: v.dof,
-                excess: v.excess,
-                tried,
-            }),
-            _ => Err(AnalyticError::Rejected {
-                within_limits,
-                tried,
-            }),
-        }
     }
 }
 

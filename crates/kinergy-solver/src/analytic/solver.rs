@@ -1,15 +1,15 @@
 //! [`LimbIk`]: the limb read from its chain, and the solution at one α — the full pose
-//! (steps 4–5 of the module docs on top of [`super::placement`]'s steps 1–3) or the position
-//! only — and the orbit angle of a configuration.
+//! (steps 4–5 of the module docs on top of steps 1–3, whose data is in `placement.rs`) or the
+//! position only — the orbit angle of a configuration, the limit test and Kallmann's search.
 
-use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Unit, Vector3};
+use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3, Point3, Rotation3, Unit, Vector3};
 use kinergy_motion::rotation::{Axis, axis_rotation, swing_rotation};
 use kinergy_motion::{Chain, Motion};
 
 use super::error::AnalyticError;
-use super::limits::{LimbLimits, middle};
-use super::orbit::OrbitSense;
-use super::placement::{Link, Placement, Prepared, fallback_for, tip};
+use super::limits::{LimbDof, LimbLimits, Violation, middle, revolute_excess, swing_excess};
+use super::orbit::{OrbitSearch, OrbitSense};
+use super::placement::{Link, Placement, Prepared, REACH_SLACK, TINY, fallback_for, tip};
 use super::swing_twist::{atan2, fast_swing_twist, swing_twist_of_columns, wrap};
 
 /// Analytic IK of one 7-DoF limb (arm or leg), built once from its [`Chain`].
@@ -360,5 +360,235 @@ impl LimbIk {
         let m = rs * e1;
         let (u, v) = self.orbit_basis(&n);
         atan2(m.dot(&v), m.dot(&u))
+    }
+}
+
+// The limit test, steps 1–3 and the orbit search read the limb's fields, so they are methods
+// here beside the type (the files holding their data — limits.rs, placement.rs, orbit.rs — then
+// need nothing from this one: no import circle).
+
+impl LimbIk {
+    /// True when `q` is within the limits — the same test as [`Chain::within_limits`].
+    ///
+    /// [`Chain::within_limits`]: kinergy_motion::Chain::within_limits
+    pub fn within_limits(&self, q: &[f64; 7]) -> bool {
+        self.violation(q).is_none()
+    }
+
+    /// How far `q` lies outside the limits; `None` when within them.
+    pub fn violation(&self, q: &[f64; 7]) -> Option<Violation> {
+        let l = &self.limits;
+        let excess = [
+            swing_excess(q[0], q[1], l.shoulder_swing),
+            revolute_excess(q[2], l.shoulder_twist),
+            revolute_excess(q[3], l.elbow_flexion),
+            revolute_excess(q[4], l.elbow_twist),
+            swing_excess(q[5], q[6], l.wrist_swing),
+        ];
+        let total: f64 = excess.iter().sum();
+        if total == 0.0 {
+            return None;
+        }
+        let (i, &worst) = excess
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .expect("five entries");
+        Some(Violation {
+            dof: LimbDof::ALL[i],
+            excess: worst,
+            total,
+        })
+    }
+}
+
+impl LimbIk {
+    /// Step 1's test: `Unreachable` unless `d` lies within the link's shell.
+    #[inline]
+    pub(super) fn check_reach(link: &Link, d: f64) -> Result<(), AnalyticError> {
+        let slack = REACH_SLACK * link.outer;
+        if d <= link.outer + slack && d >= link.inner - slack {
+            Ok(())
+        } else {
+            Err(AnalyticError::Unreachable {
+                distance: d,
+                reach: link.outer,
+                inner: link.inner,
+            })
+        }
+    }
+
+    /// Steps 1–3 of the module docs, everything but α: the link's tip goes to `rel`
+    /// (relative to the shoulder, base frame), `d = |rel|` already checked by
+    /// [`LimbIk::check_reach`]. Infallible, so the 170-byte result is built in place rather
+    /// than moved out of a `Result`.
+    #[inline]
+    pub(super) fn place(&self, link: &Link, rel: &Vector3<f64>, d: f64) -> Placement {
+        // cos(f − φ) = k, sin(f − φ) = σ √((1 − k)(1 + k)): no sin_cos of f needed.
+        let k = ((d * d - link.sum_sq) / (2.0 * self.upper * link.rho)).clamp(-1.0, 1.0);
+        let (s, c) = (self.bend * ((1.0 - k) * (1.0 + k)).sqrt(), k);
+        let f = link.phi + self.bend * k.acos();
+        let (sf, cf) = (
+            s * link.cos_phi + c * link.sin_phi,
+            c * link.cos_phi - s * link.sin_phi,
+        );
+        let p = tip(self.upper, &link.g, sf, cf);
+        let (p_hat, e1) = self.elbow_side(link, &p, self.bend);
+        let n = self.axis(rel, d, link);
+        let (u, v) = self.orbit_basis(&n);
+        Placement {
+            f,
+            sf,
+            cf,
+            local_t: Matrix3::from_rows(&[
+                p_hat.transpose(),
+                e1.transpose(),
+                p_hat.cross(&e1).transpose(),
+            ]),
+            n,
+            u,
+            v,
+        }
+    }
+
+    /// The unit shoulder→tip axis; a fixed one (`−down`) when the tip is at the shoulder.
+    #[inline]
+    pub(super) fn axis(&self, rel: &Vector3<f64>, d: f64, link: &Link) -> Vector3<f64> {
+        if d > TINY * link.outer {
+            rel * d.recip()
+        } else {
+            -self.down.into_inner()
+        }
+    }
+
+    /// In the upper-arm frame: the tip's direction `p̂'` and the unit direction `e₁ ⟂ p̂'`
+    /// toward the elbow, on side `side` (±1) of the flexion plane.
+    #[inline]
+    pub(super) fn elbow_side(
+        &self,
+        link: &Link,
+        p: &Vector3<f64>,
+        side: f64,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let norm = p.norm();
+        if link.planar {
+            // Folded onto the shoulder: the limit of p̂' as f → ±π.
+            let p_hat = if norm > TINY * link.outer {
+                p * norm.recip()
+            } else {
+                Vector3::new(0.0, -side, 0.0)
+            };
+            // side · (p̂' × x), unit whenever p̂' ⟂ x.
+            let e1 = Vector3::new(0.0, p_hat.z, -p_hat.y);
+            let e1 = if p_hat.x == 0.0 { e1 } else { e1.normalize() } * side;
+            (p_hat, e1)
+        } else {
+            // |g_x| > 0 keeps p̂' off the z axis: the elbow's own direction.
+            let p_hat = p * norm.recip();
+            (p_hat, (Vector3::z() - p_hat * p_hat.z).normalize())
+        }
+    }
+
+    /// `(û, v̂)`: the reference direction `down` projected off `n`, and the direction α turns
+    /// it toward.
+    #[inline]
+    pub(super) fn orbit_basis(&self, n: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+        let project = |r: &Vector3<f64>| r - n * n.dot(r);
+        let mut u = project(&self.down);
+        let len = u.norm();
+        if len > 1e-9 {
+            u *= len.recip();
+        } else {
+            u = project(&self.fallback).normalize();
+        }
+        let v = match self.sense {
+            OrbitSense::RightHanded => n.cross(&u),
+            OrbitSense::LeftHanded => u.cross(n),
+        };
+        (u, v)
+    }
+}
+
+impl LimbIk {
+    /// Kallmann's orbit-angle search: the first α of `settings` ([`OrbitSearch::alphas`])
+    /// whose posture is within limits.
+    pub fn search(
+        &self,
+        goal: &IsometryMatrix3<f64>,
+        settings: &OrbitSearch,
+    ) -> Result<(f64, [f64; 7]), AnalyticError> {
+        self.search_with(goal, settings, &|_| true)
+    }
+
+    /// [`LimbIk::search`] where a posture must also pass `accept` (e.g. no collision).
+    pub fn search_with(
+        &self,
+        goal: &IsometryMatrix3<f64>,
+        settings: &OrbitSearch,
+        accept: &dyn Fn(&[f64; 7]) -> bool,
+    ) -> Result<(f64, [f64; 7]), AnalyticError> {
+        let prepared = self.prepare_goal(goal)?;
+        self.orbit_search(settings, |a| self.full_at(&prepared, a), accept)
+    }
+
+    /// Position mode ([`LimbIk::solve_position_at`]) with the orbit-angle search; the
+    /// end effector lands on `target`.
+    pub fn solve_position(
+        &self,
+        target: &Point3<f64>,
+        settings: &OrbitSearch,
+    ) -> Result<(f64, [f64; 7]), AnalyticError> {
+        self.solve_position_with(target, settings, &|_| true)
+    }
+
+    /// [`LimbIk::solve_position`] where a posture must also pass `accept`.
+    pub fn solve_position_with(
+        &self,
+        target: &Point3<f64>,
+        settings: &OrbitSearch,
+        accept: &dyn Fn(&[f64; 7]) -> bool,
+    ) -> Result<(f64, [f64; 7]), AnalyticError> {
+        let placement = self.prepare_target(target)?;
+        self.orbit_search(settings, |a| self.position_at(&placement, a), accept)
+    }
+
+    fn orbit_search(
+        &self,
+        settings: &OrbitSearch,
+        posture: impl Fn(f64) -> [f64; 7],
+        accept: &dyn Fn(&[f64; 7]) -> bool,
+    ) -> Result<(f64, [f64; 7]), AnalyticError> {
+        let mut tried = 0;
+        let mut within_limits = 0;
+        let mut best: Option<(f64, Violation)> = None;
+        for alpha in settings.alphas()? {
+            let q = posture(alpha);
+            tried += 1;
+            match self.violation(&q) {
+                None => {
+                    if accept(&q) {
+                        return Ok((alpha, q));
+                    }
+                    within_limits += 1;
+                }
+                Some(v) => {
+                    if best.is_none_or(|(_, b)| v.total < b.total) {
+                        best = Some((alpha, v));
+                    }
+                }
+            }
+        }
+        match best {
+            Some((best_alpha, v)) if within_limits == 0 => Err(AnalyticError::LimitsViolated {
+                best_alpha,
+                dof: v.dof,
+                excess: v.excess,
+                tried,
+            }),
+            _ => Err(AnalyticError::Rejected {
+                within_limits,
+                tried,
+            }),
+        }
     }
 }

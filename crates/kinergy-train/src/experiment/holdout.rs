@@ -29,7 +29,7 @@ use std::time::Instant;
 use kinergy_solver::{Model, OptimizerKind, ParamSpace};
 use rayon::prelude::*;
 
-use super::Stats;
+use super::stats::Stats;
 use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError, require};
 use crate::field::{FieldFile, FieldSettings};

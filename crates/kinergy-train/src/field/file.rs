@@ -10,7 +10,8 @@ use kinergy_solver::{
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::{BandwidthScore, FieldSettings, LooRow, ParamField, infinite_as_null};
+use super::param_field::{LooRow, ParamField};
+use super::settings::{BandwidthScore, FieldSettings, infinite_as_null};
 use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError, in_file, require};
 use crate::fit::{Fit, FitSettings, NestedFit, fit_nested};

@@ -1,15 +1,68 @@
-//! A nested fit that can be checkpointed, interrupted and resumed: the stages done and the
+//! A nested fit ([`fit_nested`], giving a [`NestedFit`]) and the run behind it
+//! ([`NestedRun`]), which can be checkpointed, interrupted and resumed: the stages done and the
 //! running stage's annealer state, written atomically, under the problem's identity.
 
 use std::path::Path;
 
-use kinergy_solver::{Bounds, Model, Optimizer};
+use kinergy_solver::{Bounds, FitGrouping, Model, Optimizer, ParamsFile, StageScore};
 use serde::{Deserialize, Serialize};
 
-use super::{Fit, FitSettings, NestedFit, run_stage};
+use super::single::{Fit, FitSettings, run_stage};
 use crate::anneal::{AnnealSettings, AnnealState, Checkpoint, Control, Observer, Status};
 use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError, require};
+use crate::objective::{CostFunction, Objective};
+
+/// The fits of a nested sequence of models, poorest first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NestedFit {
+    /// One fit per model, in the order fitted.
+    pub fits: Vec<Fit>,
+}
+
+impl NestedFit {
+    /// The fit of `model`, if it was fitted.
+    pub fn get(&self, model: Model) -> Option<&Fit> {
+        self.fits.iter().find(|f| f.model() == model)
+    }
+
+    /// The parameters file of the richest model, recording the reaches it was fitted on,
+    /// how they were grouped and every model's score.
+    pub fn params_file(
+        &self,
+        reaches: &[CapturedReach],
+        grouping: FitGrouping,
+    ) -> Result<ParamsFile> {
+        let last = self.fits.last().ok_or_else(|| TrainError::Setting {
+            field: "models".into(),
+            why: "at least one fitted model".into(),
+        })?;
+        let mut file = last.params_file(reaches)?;
+        if let Some(record) = file.fit.as_mut() {
+            record.per = Some(grouping);
+            record.nested = Some(
+                self.fits
+                    .iter()
+                    .map(|f| StageScore {
+                        model: f.model(),
+                        score_m: f.score,
+                        evaluations: f.evaluations,
+                    })
+                    .collect(),
+            );
+        }
+        Ok(file)
+    }
+
+    /// Pairs (poorer, richer) where the richer model ended with a higher score.
+    pub fn violations(&self) -> Vec<(Model, Model)> {
+        self.fits
+            .windows(2)
+            .filter(|w| w[1].score > w[0].score)
+            .map(|w| (w[0].model(), w[1].model()))
+            .collect()
+    }
+}
 
 /// What a nested fit is: compared by value when a checkpoint is resumed, so a checkpoint
 /// of another problem (other clips, frames, models, optimizer or settings) is refused.
@@ -103,6 +156,24 @@ impl Stage {
             status: fit.status,
             seed: fit.seed,
         }
+    }
+
+    /// The fit this finished stage of a checkpoint records (its distances computed again).
+    fn to_fit(&self, objective: &Objective) -> Result<Fit> {
+        Ok(Fit {
+            distances: objective.distances(&self.values)?,
+            space: objective.space().clone(),
+            optimizer: objective.optimizer(),
+            values: self.values.clone(),
+            score: self.score,
+            start_score: self.start_score,
+            evaluations: self.evaluations,
+            iterations: self.iterations,
+            status: self.status,
+            seed: self.seed,
+            frames_synthesized: self.evaluations * objective.frames_per_evaluation(),
+            refinement: None,
+        })
     }
 }
 
@@ -377,7 +448,7 @@ impl NestedRun<'_> {
                         ),
                     ));
                 }
-                fits.push(Fit::from_stage(stage, &objective)?);
+                fits.push(stage.to_fit(&objective)?);
                 continue;
             }
             let start = match fits.last() {
@@ -424,4 +495,21 @@ impl NestedRun<'_> {
             interrupted: false,
         })
     }
+}
+
+/// Fits `models` (any order; fitted poorest first) to `reaches`, each richer model starting
+/// from the previous one's solution.
+pub fn fit_nested(
+    reaches: &[CapturedReach],
+    models: &[Model],
+    optimizer: Optimizer,
+    settings: &FitSettings,
+) -> Result<NestedFit> {
+    let run = NestedRun {
+        reaches,
+        models,
+        optimizer,
+        settings,
+    };
+    Ok(run.run(&mut (), &Control::default(), false)?.fits)
 }

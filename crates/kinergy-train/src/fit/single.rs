@@ -1,0 +1,240 @@
+//! One model's fit (a *stage*): how it searches ([`FitSettings`]), its seed ([`model_seed`]),
+//! running it ([`fit_model`]) and what it gives ([`Fit`]). See the [parent module](super).
+
+use kinergy_solver::{
+    Bounds, FitMethod, FitRecord, FittedReach, Model, Optimizer, ParamSpace, ParamsFile,
+};
+
+use super::refine::{RefineSettings, Refinement, refine};
+use crate::anneal::{AnnealSettings, AnnealState, Annealer, Control, Observer, Status};
+use crate::captured::{CapturedReach, DEFAULT_TOLERANCE};
+use crate::error::{Result, require};
+use crate::objective::{CostFunction, Objective};
+
+/// How a fit searches.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitSettings {
+    /// The annealer's settings (its seed is mixed with the model for each fit, see
+    /// [`FitSettings::anneal_for`]).
+    pub anneal: AnnealSettings,
+    /// ε of the synthesis, meters.
+    pub tolerance: f64,
+    /// Parameter bounds.
+    pub bounds: Bounds,
+}
+
+impl Default for FitSettings {
+    fn default() -> FitSettings {
+        FitSettings {
+            anneal: AnnealSettings::default(),
+            tolerance: DEFAULT_TOLERANCE,
+            bounds: Bounds::default(),
+        }
+    }
+}
+
+impl FitSettings {
+    /// The annealer's settings for a fit of `model`: [`FitSettings::anneal`] with its seed
+    /// mixed with the model ([`model_seed`]).
+    pub fn anneal_for(&self, model: Model) -> AnnealSettings {
+        AnnealSettings {
+            seed: model_seed(self.anneal.seed, model),
+            ..self.anneal
+        }
+    }
+
+    /// The objective of `model` on `reaches` (at least one) with `optimizer`: the parameter
+    /// space of the first reach's DoFs within [`FitSettings::bounds`], ε =
+    /// [`FitSettings::tolerance`].
+    pub fn objective(
+        &self,
+        reaches: &[CapturedReach],
+        model: Model,
+        optimizer: Optimizer,
+    ) -> Result<Objective> {
+        require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
+        let space = ParamSpace::new(model, &reaches[0].dof_names(), self.bounds)?;
+        Objective::new(reaches.to_vec(), space, optimizer)?.with_tolerance(self.tolerance)
+    }
+}
+
+/// The seed of one model's fit: the user's seed mixed with the model, so each model of a
+/// nested sequence draws differently but reproducibly: `seed ^ k · 0x9e3779b97f4a7c15`
+/// ([`kinergy_motion::seed::combine`])
+/// with k = 1, 2, 3, 4 for S_A–S_D.
+pub fn model_seed(seed: u64, model: Model) -> u64 {
+    let k = match model {
+        Model::Sa => 1u64,
+        Model::Sb => 2,
+        Model::Sc => 3,
+        Model::Sd => 4,
+    };
+    kinergy_motion::seed::combine(seed, k, 0)
+}
+
+/// One fitted model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// The parameter space (model, DoF names, bounds).
+    pub space: ParamSpace,
+    /// The optimizer the motions were synthesized with.
+    pub optimizer: Optimizer,
+    /// The best vector.
+    pub values: Vec<f64>,
+    /// Its mean motion distance over the reaches, meters.
+    pub score: f64,
+    /// The start vector's score (the neutral vector, or the poorer model's solution).
+    pub start_score: f64,
+    /// The best vector's distance on each reach, meters, in the reaches' order.
+    pub distances: Vec<f64>,
+    /// Cost evaluations spent (each synthesizes every reach once).
+    pub evaluations: usize,
+    /// Annealing iterations.
+    pub iterations: usize,
+    /// Why the search ended.
+    pub status: Status,
+    /// The seed the annealer used.
+    pub seed: u64,
+    /// Frames synthesized in all (evaluations × frames per evaluation).
+    pub frames_synthesized: usize,
+    /// The local refinement that followed the annealing ([`Fit::refined`]), if any: its
+    /// evaluations are counted in `evaluations`, its result is `values`.
+    pub refinement: Option<Refinement>,
+}
+
+impl Fit {
+    /// The model.
+    pub fn model(&self) -> Model {
+        self.space.model()
+    }
+
+    /// This fit refined by Nelder–Mead and Levenberg–Marquardt ([`refine`]) on `reaches` (the reaches it was
+    /// fitted on) with the ε of `settings`: the values, score and distances of the best
+    /// vector the refinement saw (never worse than the annealing's), the evaluations added.
+    pub fn refined(
+        self,
+        reaches: &[CapturedReach],
+        settings: &FitSettings,
+        refine_settings: &RefineSettings,
+    ) -> Result<Fit> {
+        let objective = settings.objective(reaches, self.model(), self.optimizer)?;
+        let refinement = refine(&objective, &self.values, refine_settings)?;
+        let evaluations = self.evaluations + refinement.evaluations;
+        Ok(Fit {
+            distances: objective.distances(&refinement.values)?,
+            values: refinement.values.clone(),
+            score: refinement.score,
+            evaluations,
+            frames_synthesized: evaluations * objective.frames_per_evaluation(),
+            refinement: Some(refinement),
+            ..self
+        })
+    }
+
+    /// The record of this fit on `reaches` (the reaches it was fitted on, in order).
+    pub fn record(&self, reaches: &[CapturedReach]) -> FitRecord {
+        FitRecord {
+            method: match self.refinement {
+                Some(_) => FitMethod::RefinedAnnealing,
+                None => FitMethod::SimulatedAnnealing,
+            },
+            score_m: self.score,
+            start_score_m: self.start_score,
+            evaluations: self.evaluations,
+            iterations: self.iterations,
+            status: self.status.into(),
+            seed: self.seed,
+            reaches: reaches
+                .iter()
+                .zip(&self.distances)
+                .map(|(r, &distance_m)| FittedReach {
+                    clip: r.name().to_string(),
+                    frames: [r.frames().start, r.frames().end],
+                    distance_m,
+                    arm: Some(r.fitted_arm().clone()),
+                })
+                .collect(),
+            per: None,
+            nested: None,
+        }
+    }
+
+    /// The parameters file of this fit, recording the reaches it was fitted on.
+    pub fn params_file(&self, reaches: &[CapturedReach]) -> Result<ParamsFile> {
+        let mut file = ParamsFile::new(&self.space, self.optimizer, &self.values)?;
+        file.fit = Some(self.record(reaches));
+        Ok(file)
+    }
+}
+
+/// Fits `model` to `reaches` with `optimizer`, starting from `start` (the model's neutral
+/// vector when `None`). `observer` and `control` are the annealer's; pass a checkpointed
+/// state of this same fit to `resume` to continue it (the annealer checks its settings,
+/// seed, bounds and model; [`NestedRun`](super::NestedRun) checks the whole problem).
+#[allow(clippy::too_many_arguments)]
+pub fn fit_model(
+    reaches: &[CapturedReach],
+    model: Model,
+    optimizer: Optimizer,
+    start: Option<&[f64]>,
+    settings: &FitSettings,
+    observer: &mut dyn Observer,
+    control: &Control<'_>,
+    resume: Option<AnnealState>,
+) -> Result<Fit> {
+    let objective = settings.objective(reaches, model, optimizer)?;
+    let start = match start {
+        Some(s) => {
+            objective.space().validate(s)?;
+            s.to_vec()
+        }
+        None => objective.space().neutral(),
+    };
+    run_stage(&objective, &start, settings, resume, observer, control)
+}
+
+/// A model's fit on `objective` from `start` (or from `resume`, a state of the same stage):
+/// the one place a stage runs, for [`fit_model`] and every stage of a [`NestedRun`].
+pub(super) fn run_stage(
+    objective: &Objective,
+    start: &[f64],
+    settings: &FitSettings,
+    resume: Option<AnnealState>,
+    observer: &mut dyn Observer,
+    control: &Control<'_>,
+) -> Result<Fit> {
+    let model = objective.space().model();
+    // Fail on a broken setup here, with its message, rather than as a silent f64::MAX.
+    let start_score = objective.score(start)?;
+    let anneal = settings.anneal_for(model);
+    let annealer = Annealer::new(anneal)?;
+    // The stage's name in the annealer's state; the problem itself is checked by value by
+    // the caller's checkpoint (see `FitProblem`).
+    let tag = model.name();
+    let state = match resume {
+        Some(state) => {
+            let path = control
+                .checkpoint
+                .map(|c| c.path().to_path_buf())
+                .unwrap_or_default();
+            annealer.check_resume(objective, &state, tag, &path)?;
+            state
+        }
+        None => annealer.init(objective, start, tag)?,
+    };
+    let state = annealer.run(objective, state, observer, control)?;
+    Ok(Fit {
+        distances: objective.distances(&state.best_x)?,
+        space: objective.space().clone(),
+        optimizer: objective.optimizer(),
+        values: state.best_x,
+        score: state.best_cost,
+        start_score,
+        evaluations: state.evaluations,
+        iterations: state.iteration,
+        status: state.status,
+        seed: anneal.seed,
+        frames_synthesized: state.evaluations * objective.frames_per_evaluation(),
+        refinement: None,
+    })
+}
