@@ -240,6 +240,7 @@ fn ours(name: &str, optimizer: Optimizer, limits: LimitHandling) -> Outcome {
             min_progress: 1e-9,
         },
         limits,
+        acceleration: None,
     };
     let controller = Controller::new(optimizer, Synergy::identity(7), settings).expect("ok");
     let mut successes = 0;

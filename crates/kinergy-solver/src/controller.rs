@@ -103,6 +103,13 @@ pub struct ControllerSettings {
     pub stall: StallRule,
     /// How joint limits enter the step.
     pub limits: LimitHandling,
+    /// The largest change of any DoF's step from one frame to the next, as an angular
+    /// acceleration (rad/s²): each frame's Δθ' is moved from the previous frame's (zero before
+    /// the first: the arm starts from rest) toward the synergy's by at most `acceleration ·
+    /// frame_time²` in every DoF, the whole vector scaled alike so its direction is kept.
+    /// `None` is the paper's controller, whose step can change without bound from one frame
+    /// to the next (near a singular arm the pseudo-inverse's step jumps).
+    pub acceleration: Option<f64>,
 }
 
 impl ControllerSettings {
@@ -122,6 +129,7 @@ impl ControllerSettings {
             min_frames: 0,
             stall: StallRule::default(),
             limits: LimitHandling::default(),
+            acceleration: None,
         }
     }
 
@@ -151,6 +159,11 @@ impl ControllerSettings {
             self.stall.min_progress.is_finite() && self.stall.min_progress >= 0.0,
             "stall.min_progress",
             "a non-negative number of meters",
+        )?;
+        require(
+            self.acceleration.is_none_or(|a| a.is_finite() && a > 0.0),
+            "acceleration",
+            "a positive number of rad/s², or none",
         )
     }
 }
@@ -404,6 +417,7 @@ impl Controller {
             lin: Linearization::default(),
             scratch: StepScratch::default(),
             step: vec![0.0; n],
+            moved: vec![0.0; n],
             locks: vec![Lock::Free; n],
             frame: 0,
             pending: None,
@@ -487,6 +501,9 @@ pub struct ArmStepper<'c> {
     lin: Linearization,
     scratch: StepScratch,
     step: Vec<f64>,
+    /// The step the configuration made on the previous frame (after the limits' clamp), for
+    /// [`ControllerSettings::acceleration`].
+    moved: Vec<f64>,
     locks: Vec<Lock>,
     frame: usize,
     /// The last observation's task error and guidance, for the next advance.
@@ -514,6 +531,7 @@ impl ArmStepper<'_> {
             lin: self.lin,
             scratch: self.scratch,
             step: self.step,
+            moved: self.moved,
             locks: self.locks,
             frame: self.frame,
             pending: self.pending,
@@ -590,12 +608,78 @@ impl ArmStepper<'_> {
         if !self.step.iter().all(|v| v.is_finite()) {
             return false;
         }
-        for (qi, d) in self.q.iter_mut().zip(&self.step) {
+        if let Some(a) = self.controller.settings.acceleration {
+            let dt = self.controller.settings.frame_time;
+            limit_change(&mut self.step, &self.moved, a * dt * dt);
+            brake_at_limits(&self.chain, &self.q, &mut self.step, a * dt * dt);
+        }
+        for ((qi, d), m) in self.q.iter_mut().zip(&self.step).zip(&mut self.moved) {
+            *m = *qi;
             *qi += d;
         }
         clamp_moved(&self.chain, &mut self.q, &self.step);
+        for (m, qi) in self.moved.iter_mut().zip(&self.q) {
+            *m = qi - *m;
+        }
         self.frame += 1;
         true
+    }
+}
+
+/// Moves `step` from `previous` toward itself by at most `bound` in every DoF, the change
+/// scaled alike in all of them (its direction kept).
+fn limit_change(step: &mut [f64], previous: &[f64], bound: f64) {
+    let largest = step
+        .iter()
+        .zip(previous)
+        .fold(0.0_f64, |m, (s, p)| m.max((s - p).abs()));
+    if largest > bound {
+        let k = bound / largest;
+        for (s, p) in step.iter_mut().zip(previous) {
+            *s = p + k * (*s - p);
+        }
+    }
+}
+
+/// Slows each DoF that moves toward its limit so that it can stop there at the acceleration
+/// whose per-frame change of step is `bound`: a step toward a limit `d` away is at most
+/// √(2·bound·d) (the speed from which constant deceleration stops in `d`). A swing brakes the
+/// part of its step along the ellipse's outward normal, `d` measured along it. The other DoFs
+/// keep their steps, so the hand slows only by what the braking DoF contributed.
+fn brake_at_limits(chain: &Chain, q: &[f64], step: &mut [f64], bound: f64) {
+    let cap = |d: f64| (2.0 * bound * d.max(0.0)).sqrt();
+    let mut k = 0;
+    for m in chain.joints().iter().flat_map(|j| &j.motions) {
+        match *m {
+            Motion::Revolute { min, max, .. } => {
+                if step[k] > 0.0 {
+                    step[k] = step[k].min(cap(max - q[k]));
+                } else if step[k] < 0.0 {
+                    step[k] = step[k].max(-cap(q[k] - min));
+                }
+            }
+            Motion::Swing { rx, ry } => {
+                let (a, b) = (q[k] / rx, q[k + 1] / ry);
+                let e = (a * a + b * b).sqrt();
+                // The outward unit normal (the gradient of the ellipse's level set).
+                let (n0, n1) = (a / rx, b / ry);
+                let norm = n0.hypot(n1);
+                if e > 0.0 && norm > 0.0 {
+                    let (n0, n1) = (n0 / norm, n1 / norm);
+                    let outward = n0 * step[k] + n1 * step[k + 1];
+                    // Distance to the ellipse along the normal, to first order in (1 − e):
+                    // (1 − e) / |∇e|, with ∇e = (a/rx, b/ry) / e.
+                    let d = (1.0 - e) * e / norm;
+                    let allowed = cap(d);
+                    if outward > allowed {
+                        let cut = outward - allowed;
+                        step[k] -= cut * n0;
+                        step[k + 1] -= cut * n1;
+                    }
+                }
+            }
+        }
+        k += m.dof_count();
     }
 }
 
