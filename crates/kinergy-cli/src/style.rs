@@ -30,7 +30,8 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// Also write style.csv (one row per capture) and summary.md into this folder.
+    /// Also write style.csv (one row per capture) and summary.md into this folder (made if
+    /// missing).
     #[arg(short, long, value_name = "DIR")]
     pub output: Option<PathBuf>,
     #[command(flatten)]
@@ -96,6 +97,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         let mut inputs: Vec<&Path> = clips.iter().map(PathBuf::as_path).collect();
         inputs.push(&args.params);
         crate::common::check_outputs(&inputs, &[crate::common::Output::Folder("-o", dir)])?;
+        // Made before any work, as `compare -o` makes its own (a missing folder used to end
+        // the run with an OS error about style.csv).
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Failure::input(dir, format!("cannot create the folder: {e}")))?;
     }
     let person = crate::common::read_person(&args.params)?;
     let mut rows = Vec::with_capacity(clips.len());

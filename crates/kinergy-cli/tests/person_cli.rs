@@ -685,6 +685,40 @@ fn style_compares_hand_speed_profiles_with_the_captures() {
     assert!(out.join("style.csv").is_file() && out.join("summary.md").is_file());
 }
 
+/// `style -o DIR` makes a missing folder (it used to fail with an OS error about style.csv
+/// after all the work), and says why when it cannot.
+#[test]
+fn style_makes_its_output_folder_or_says_why_it_cannot() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let params = repo().join("tests/data/params/synthetic-p01-r09-sc.json");
+    let clip = synthetic("r09.bvh");
+    let out = dir.path().join("style");
+    let o = kinergy(&[
+        "style",
+        s(&clip),
+        "--params",
+        s(&params),
+        "-o",
+        s(&out),
+        "-q",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(out.join("style.csv").is_file() && out.join("summary.md").is_file());
+
+    // Two levels missing: refused before any work, naming the missing parent.
+    let deep = dir.path().join("new/style");
+    let o = kinergy(&["style", s(&clip), "--params", s(&params), "-o", s(&deep)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("does not exist"), "{}", stderr(&o));
+
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "x").expect("file");
+    let under = file.join("style");
+    let o = kinergy(&["style", s(&clip), "--params", s(&params), "-o", s(&under)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("a-file"), "{}", stderr(&o));
+}
+
 /// Issue 16 §2 on the shared Bandai takes (a style plays a person): each style's parameters,
 /// fitted on its first six takes, make `reach` correlate with that style's captured
 /// hand-speed profiles better than the default profile does, and peak nearer the captured
