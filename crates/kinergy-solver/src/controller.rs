@@ -608,18 +608,23 @@ impl ArmStepper<'_> {
         if !self.step.iter().all(|v| v.is_finite()) {
             return false;
         }
-        if let Some(a) = self.controller.settings.acceleration {
+        // Only a limited acceleration needs the previous frame's step: the paper's controller
+        // (and the trainer's inner loop) does no extra work.
+        let limited = self.controller.settings.acceleration;
+        if let Some(a) = limited {
             let dt = self.controller.settings.frame_time;
             limit_change(&mut self.step, &self.moved, a * dt * dt);
             brake_at_limits(&self.chain, &self.q, &mut self.step, a * dt * dt);
+            self.moved.copy_from_slice(&self.q);
         }
-        for ((qi, d), m) in self.q.iter_mut().zip(&self.step).zip(&mut self.moved) {
-            *m = *qi;
+        for (qi, d) in self.q.iter_mut().zip(&self.step) {
             *qi += d;
         }
         clamp_moved(&self.chain, &mut self.q, &self.step);
-        for (m, qi) in self.moved.iter_mut().zip(&self.q) {
-            *m = qi - *m;
+        if limited.is_some() {
+            for (m, qi) in self.moved.iter_mut().zip(&self.q) {
+                *m = qi - *m;
+            }
         }
         self.frame += 1;
         true
