@@ -8,7 +8,13 @@ def jumps(v):
     if not d: return 0
     t=max(0.25, 4*statistics.median(d))
     return sum(1 for x in d if x>t)
-n=extra=stalled=fast=0
+def pearson(a,b):
+    ma,mb=statistics.fmean(a),statistics.fmean(b)
+    num=sum((x-ma)*(y-mb) for x,y in zip(a,b))
+    den=(sum((x-ma)**2 for x in a)*sum((y-mb)**2 for y in b))**0.5
+    return num/den if den>0 else 0.0
+n=extra=stalled=fast=far=0
+corr=[]
 for f in sorted(glob.glob(out+'/*.csv')):
     rows=list(csv.DictReader(open(f)))
     clips={}
@@ -20,6 +26,8 @@ for f in sorted(glob.glob(out+'/*.csv')):
     j=json.load(open(f[:-4]+'.json')) if os.path.getsize(f[:-4]+'.json')>0 else {}
     st=j.get('stop','?')
     n+=1; extra+= js>jc; stalled+= st!='reached'
-    d0=clips[syn][0]-clips[cap][0]; fast+= d0>0.3
-    if js>jc or st!='reached' or d0>0.3: print(os.path.basename(f), 'jumps cap/syn', jc, js, 'stop', st, 'err_mm %.1f'%(1e3*j.get('final_error_m',0)), 'v0 cap/syn %.2f %.2f'%(clips[cap][0],clips[syn][0]))
-print(f'{n} reaches: {extra} with extra jumps, {stalled} not reached, {fast} start >0.3 m/s fast')
+    d0=clips[syn][0]-clips[cap][0]; fast+= abs(d0)>0.3
+    far+= j.get('final_error_m',1.0)>0.01
+    corr.append(pearson(clips[cap][:L],clips[syn][:L]))
+    if js>jc or st!='reached' or abs(d0)>0.3: print(os.path.basename(f), 'jumps cap/syn', jc, js, 'stop', st, 'r %.2f'%corr[-1], 'err_mm %.1f'%(1e3*j.get('final_error_m',0)), 'v0 cap/syn %.2f %.2f'%(clips[cap][0],clips[syn][0]))
+print(f'{n} reaches: {extra} with extra jumps, {stalled} not reached ({far} end >1 cm from the target), {fast} start >0.3 m/s off; speed correlation with the capture mean {statistics.fmean(corr):.2f}, min {min(corr):.2f}')
