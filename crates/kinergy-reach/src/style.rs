@@ -4,19 +4,28 @@
 //! over in the arm's fitted base frame — once driven by the person's parameters and once with
 //! the default profile; each motion's hand-speed profile (relative to the shoulder, from the
 //! reach's onset to its end, time-normalized) is compared with the captured one: Pearson
-//! correlation, and the fraction of the movement at which the speed peaks. Where the synergy
-//! handed the hand over, its own part (onset to hand-over) is scored too.
+//! correlation, and the fraction of the movement at which the speed peaks (its error: the
+//! distance of that fraction from the captured one). Where the synergy handed the hand over,
+//! its own part (onset to hand-over) is scored too. Beyond the hand's speed, each motion's
+//! arm path — the elbow, wrist and hand from the shoulder over the reach, in arm lengths — is
+//! compared with the captured one ([`arm_path`] defines the measure).
 
-use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
 use kinergy_motion::segment::{SegmentSettings, hand_speed, main_segment};
 use kinergy_motion::{ArmJoints, Clip, Side};
 use kinergy_solver::{BaseMode, CaptureArm, PersonStyle};
 use serde::Serialize;
 
 use crate::character::{Character, Proportions};
-use crate::controller::{ArmDrive, ReachSettings, reach_full_body_driven};
+use crate::controller::{
+    ArmDrive, ReachMotion, ReachSettings, fitted_base_at_rest, reach_full_body_driven,
+};
 use crate::drive::PersonArm;
 use crate::error::Result;
+
+pub mod arm_path;
+
+pub use arm_path::ArmPath;
 
 /// Samples of a time-normalized profile (0, 1/100, …, 1 of the movement).
 pub const SAMPLES: usize = 101;
@@ -36,6 +45,10 @@ pub struct StyleRow {
     pub params_correlation: f64,
     /// Its peak's fraction of the movement.
     pub params_peak: f64,
+    /// |its peak's fraction − the captured one's|.
+    pub params_peak_error: f64,
+    /// Its arm path's distance from the captured one, in arm lengths ([`arm_path`]).
+    pub params_arm_path: f64,
     /// The hand's distance from the target at the end, meters.
     pub params_error_m: f64,
     /// Whether the synergy handed the hand over.
@@ -48,9 +61,14 @@ pub struct StyleRow {
     pub profile_correlation: f64,
     /// Its peak's fraction of the movement.
     pub profile_peak: f64,
+    /// |its peak's fraction − the captured one's|.
+    pub profile_peak_error: f64,
+    /// Its arm path's distance from the captured one, in arm lengths.
+    pub profile_arm_path: f64,
 }
 
-/// The means over a person's captures ([`StyleSummary::of`]).
+/// The means over a person's captures, and how often the person's parameters beat the
+/// default profile ([`StyleSummary::of`]).
 #[derive(Debug, Clone, Serialize)]
 pub struct StyleSummary {
     /// Captures compared.
@@ -59,6 +77,8 @@ pub struct StyleSummary {
     pub params_correlation: f64,
     /// Mean |peak fraction − captured|, `reach --params`.
     pub params_peak_error: f64,
+    /// Mean arm-path distance from the captures, arm lengths, `reach --params`.
+    pub params_arm_path: f64,
     /// Mean correlation of the synergy's own part (to the hand-over).
     pub synergy_correlation: f64,
     /// Mean |peak fraction − captured| of the synergy's own part.
@@ -69,70 +89,172 @@ pub struct StyleSummary {
     pub profile_correlation: f64,
     /// Mean |peak fraction − captured|, default `reach`.
     pub profile_peak_error: f64,
+    /// Mean arm-path distance from the captures, arm lengths, default `reach`.
+    pub profile_arm_path: f64,
+    /// Captures where the person's parameters correlate better than the default profile.
+    pub params_better_correlation: usize,
+    /// Captures where the person's parameters peak nearer the captured peak than the default.
+    pub params_better_peak: usize,
+    /// Captures where the person's arm path is nearer the captured one than the default's.
+    pub params_better_arm_path: usize,
 }
 
 impl StyleSummary {
-    /// The means over `rows` (NaN means for no rows).
+    /// The means and counts over `rows` (NaN means for no rows).
     pub fn of(rows: &[StyleRow]) -> StyleSummary {
         let n = rows.len() as f64;
         let mean = |f: &dyn Fn(&StyleRow) -> f64| rows.iter().map(f).sum::<f64>() / n;
+        let count = |f: &dyn Fn(&StyleRow) -> bool| rows.iter().filter(|r| f(r)).count();
         StyleSummary {
             captures: rows.len(),
             params_correlation: mean(&|r| r.params_correlation),
-            params_peak_error: mean(&|r| (r.params_peak - r.captured_peak).abs()),
+            params_peak_error: mean(&|r| r.params_peak_error),
+            params_arm_path: mean(&|r| r.params_arm_path),
             synergy_correlation: mean(&|r| r.synergy_correlation),
             synergy_peak_error: mean(&|r| (r.synergy_peak - r.captured_peak).abs()),
-            hand_overs: rows.iter().filter(|r| r.params_hand_over).count(),
+            hand_overs: count(&|r| r.params_hand_over),
             profile_correlation: mean(&|r| r.profile_correlation),
-            profile_peak_error: mean(&|r| (r.profile_peak - r.captured_peak).abs()),
+            profile_peak_error: mean(&|r| r.profile_peak_error),
+            profile_arm_path: mean(&|r| r.profile_arm_path),
+            params_better_correlation: count(&|r| r.params_correlation > r.profile_correlation),
+            params_better_peak: count(&|r| r.params_peak_error < r.profile_peak_error),
+            params_better_arm_path: count(&|r| r.params_arm_path < r.profile_arm_path),
         }
     }
 }
 
-/// What a comparison needs of one capture: its main reach's frames and hand-speed profile,
-/// its target in the arm's base frame, and the character of its proportions.
+/// A capture's comparison with what it was scored on: the [`StyleRow`], the three
+/// time-normalized hand-speed profiles ([`SAMPLES`] each, m/s) and the two full-body reaches
+/// (for pictures).
+#[derive(Debug, Clone)]
+pub struct StyleRun {
+    /// The scores.
+    pub row: StyleRow,
+    /// The captured hand speed over its main reach, time-normalized.
+    pub captured_speed: Vec<f64>,
+    /// The `reach --params` hand speed from the arm's onset to the end, time-normalized.
+    pub params_speed: Vec<f64>,
+    /// The default `reach`'s, time-normalized.
+    pub profile_speed: Vec<f64>,
+    /// The character's reach driven by the person's parameters.
+    pub params_motion: ReachMotion,
+    /// The character's reach with the default profile.
+    pub profile_motion: ReachMotion,
+}
+
+/// What a comparison needs of one capture: its main reach's frames, hand-speed profile and
+/// arm path, its target in the arm's base frame, and the character of its proportions.
 #[derive(Debug, Clone)]
 pub struct StyleCapture {
     name: String,
     frames: [usize; 2],
     speeds: Vec<f64>,
+    path: ArmPath,
     local: Point3<f64>,
+    base: IsometryMatrix3<f64>,
     character: Character,
 }
 
 impl StyleCapture {
     /// The capture `clip` (named `name` in errors and rows), reaching with the arm `joints`:
-    /// its main reach, the hand speed over it (relative to the shoulder), its target — the
-    /// hand's last position of the reach in the arm's base frame on its first frame (where
-    /// the person stood and which way they faced do not matter) — and a character of its
-    /// proportions. Errors are the capture's: no main reach, a skeleton the character
-    /// cannot take.
+    /// its main reach, the hand speed over it (relative to the shoulder), its arm path, its
+    /// target — the hand's last position of the reach in the arm's base frame on its first
+    /// frame (where the person stood and which way they faced do not matter) — and a
+    /// character of its proportions. Errors are the capture's: no main reach, an arm without
+    /// length, a skeleton the character cannot take.
     pub fn new(clip: &Clip, joints: &ArmJoints, name: &str) -> Result<StyleCapture> {
         let settings = SegmentSettings::default();
         let segment = main_segment(clip, joints, &settings, name)?;
         let speed = hand_speed(clip, joints, &settings)?;
         let capture = CaptureArm::new(clip, joints)?;
         let base = *capture.base(BaseMode::Replay).at(segment.onset);
-        let last = clip
-            .skeleton()
-            .world_positions(clip.frame(segment.end - 1).unwrap_or_default())?;
-        let hand = joints.hand.unwrap_or(joints.wrist);
+        let skeleton = clip.skeleton();
+        let mut arm = Vec::with_capacity(segment.end - segment.onset);
+        for i in segment.onset..segment.end {
+            let w = skeleton.world_positions(clip.frame(i).unwrap_or_default())?;
+            let at = |j: usize| w.get(j).copied();
+            arm.push([
+                at(joints.shoulder),
+                at(joints.elbow),
+                at(joints.wrist),
+                joints.hand.and_then(at),
+            ]);
+        }
+        let path =
+            ArmPath::new(&arm, &base.rotation).ok_or_else(|| crate::ReachError::Setting {
+                field: name.to_string(),
+                why: "the arm has no length on the reach's first frame".into(),
+            })?;
+        let last = arm
+            .last()
+            .and_then(|a| a[3].or(a[2]))
+            .unwrap_or_else(Point3::origin);
         Ok(StyleCapture {
             name: name.to_string(),
             frames: [segment.onset, segment.end],
             speeds: speed[segment.onset..segment.end].to_vec(),
-            local: base.inverse() * last[hand],
+            path,
+            local: base.inverse() * last,
+            base,
             character: Character::new(&Proportions::from_clip(clip)?)?,
         })
     }
 
+    /// The character of the capture's proportions (the one that reaches).
+    pub fn character(&self) -> &Character {
+        &self.character
+    }
+
+    /// The main reach's frames `[onset, end)`.
+    pub fn frames(&self) -> [usize; 2] {
+        self.frames
+    }
+
+    /// The captured arm path.
+    pub fn arm_path(&self) -> &ArmPath {
+        &self.path
+    }
+
+    /// The capture's arm base frame at the reach's onset (world meters).
+    pub fn base(&self) -> &IsometryMatrix3<f64> {
+        &self.base
+    }
+
+    /// The rigid motion that puts the capture's world on the character's (arm `side`): the
+    /// capture's arm base frame at the onset onto the character's at rest — how the target
+    /// is carried over, so the capture's poses can be drawn over the character's.
+    pub fn to_character(&self, side: Side) -> Result<IsometryMatrix3<f64>> {
+        Ok(fitted_base_at_rest(&self.character, side)? * self.base.inverse())
+    }
+
+    /// The arm path of the character's reach `motion` (from the arm's onset to its end), read
+    /// like the capture's: with a hand only if the capture has one.
+    pub fn motion_arm_path(&self, side: Side, motion: &ReachMotion) -> Result<ArmPath> {
+        let character = &self.character;
+        let [s, e, w, h] = motion.report.arm.joints();
+        let base = fitted_base_at_rest(character, side)?;
+        let hand = self.path.has_hand();
+        let start = motion.report.arm_onset_frame.min(motion.poses.len());
+        let arm: Vec<_> = motion.poses[start..]
+            .iter()
+            .map(|p| {
+                let x = character.world_positions(p);
+                [Some(x[s]), Some(x[e]), Some(x[w]), hand.then_some(x[h])]
+            })
+            .collect();
+        ArmPath::new(&arm, &base.rotation).ok_or_else(|| crate::ReachError::Setting {
+            field: "character".into(),
+            why: "its reach has no frames or its arm no length".into(),
+        })
+    }
+
     /// The character reaches the capture's target with the arm on `side`, once driven by
-    /// `person`'s parameters and once with the default profile; both hand-speed profiles
-    /// against the captured one.
+    /// `person`'s parameters and once with the default profile; both hand-speed profiles and
+    /// arm paths against the captured ones.
     ///
     /// Errors: [`crate::ReachError::Params`] when the person's parameters do not fit, and
     /// the full-body reach's.
-    pub fn compare(&self, side: Side, person: &dyn PersonStyle) -> Result<StyleRow> {
+    pub fn compare(&self, side: Side, person: &dyn PersonStyle) -> Result<StyleRun> {
         let character = &self.character;
         let target = PersonArm::world_target(character, &self.local, side)?;
         let synergy = PersonArm::in_base(character, person, &self.local, side)?.drive;
@@ -147,22 +269,35 @@ impl StyleCapture {
         let ours = normalized(&with.arm_speeds(character, false));
         let own = normalized(&with.arm_speeds(character, true));
         let theirs = normalized(&without.arm_speeds(character, false));
-        let wrist = with.report.arm.joints()[3];
+        let tip = with.report.arm.joints()[3];
         let hand_at_end =
-            character.world_positions(with.poses.last().unwrap_or(&character.rest_pose()))[wrist];
-        Ok(StyleRow {
+            character.world_positions(with.poses.last().unwrap_or(&character.rest_pose()))[tip];
+        let captured_peak = peak(&captured);
+        let row = StyleRow {
             clip: self.name.clone(),
             frames: self.frames,
             target_in_base_m: [self.local.x, self.local.y, self.local.z],
-            captured_peak: peak(&captured),
+            captured_peak,
             params_correlation: pearson(&ours, &captured),
             params_peak: peak(&ours),
+            params_peak_error: (peak(&ours) - captured_peak).abs(),
+            params_arm_path: self.motion_arm_path(side, &with)?.distance(&self.path),
             params_error_m: (hand_at_end - target).norm(),
             params_hand_over: with.report.hand_over.is_some(),
             synergy_correlation: pearson(&own, &captured),
             synergy_peak: peak(&own),
             profile_correlation: pearson(&theirs, &captured),
             profile_peak: peak(&theirs),
+            profile_peak_error: (peak(&theirs) - captured_peak).abs(),
+            profile_arm_path: self.motion_arm_path(side, &without)?.distance(&self.path),
+        };
+        Ok(StyleRun {
+            row,
+            captured_speed: captured,
+            params_speed: ours,
+            profile_speed: theirs,
+            params_motion: with,
+            profile_motion: without,
         })
     }
 }
@@ -227,6 +362,100 @@ mod tests {
         approx::assert_relative_eq!(pearson(&a, &scaled), 1.0, epsilon = 1e-12);
         approx::assert_relative_eq!(pearson(&a, &mirrored), -1.0, epsilon = 1e-12);
         assert_eq!(pearson(&a, &[2.0; 50]), 0.0);
+    }
+
+    /// A capture made by the character itself (a default reach, exported), its arm.
+    fn made_capture(shift: [f64; 3]) -> (Clip, ArmJoints) {
+        use kinergy_motion::{Axis, Dof};
+        let character = Character::from_height(1.75).expect("character");
+        let target = Point3::new(0.35, 1.35, 0.45);
+        let motion = reach_full_body_driven(
+            &character,
+            target,
+            &ReachSettings::default(),
+            &ArmDrive::Profile,
+        )
+        .expect("reach");
+        let clip = character
+            .to_clip(&motion.poses, motion.frame_time)
+            .expect("clip");
+        let skeleton = clip.skeleton().clone();
+        let n = skeleton.dof_count();
+        let mut values = clip.values().to_vec();
+        for (k, dof) in skeleton.joint(0).dofs.iter().enumerate() {
+            if let Dof::Translation(axis) = dof {
+                let d = match axis {
+                    Axis::X => shift[0],
+                    Axis::Y => shift[1],
+                    Axis::Z => shift[2],
+                };
+                for frame in values.chunks_mut(n) {
+                    frame[skeleton.first_dof(0) + k] += d;
+                }
+            }
+        }
+        let clip = Clip::new(skeleton, clip.frame_time(), values).expect("shifted clip");
+        let joints = ArmJoints::find(clip.skeleton(), Side::Left).expect("left arm");
+        (clip, joints)
+    }
+
+    #[test]
+    fn a_captures_arm_path_is_zero_from_itself_and_from_the_capture_moved_elsewhere() {
+        let (clip, joints) = made_capture([0.0; 3]);
+        let here = StyleCapture::new(&clip, &joints, "here").expect("capture");
+        assert_eq!(here.arm_path().distance(here.arm_path()), 0.0);
+        let (moved, joints) = made_capture([1.5, 0.2, -3.0]);
+        let there = StyleCapture::new(&moved, &joints, "there").expect("capture");
+        assert_eq!(here.frames(), there.frames());
+        approx::assert_relative_eq!(
+            here.arm_path().distance(there.arm_path()),
+            0.0,
+            epsilon = 1e-9
+        );
+    }
+
+    #[test]
+    fn the_summary_counts_where_the_persons_parameters_beat_the_default() {
+        let row = |pc: f64, rc: f64, pa: f64, ra: f64| StyleRow {
+            clip: String::new(),
+            frames: [0, 1],
+            target_in_base_m: [0.0; 3],
+            captured_peak: 0.5,
+            params_correlation: pc,
+            params_peak: 0.4,
+            params_peak_error: 0.1,
+            params_arm_path: pa,
+            params_error_m: 0.0,
+            params_hand_over: pc > 0.5,
+            synergy_correlation: pc,
+            synergy_peak: 0.4,
+            profile_correlation: rc,
+            profile_peak: 0.8,
+            profile_peak_error: 0.3,
+            profile_arm_path: ra,
+        };
+        let rows = [
+            row(0.9, 0.5, 0.1, 0.2),
+            row(0.3, 0.6, 0.3, 0.2),
+            row(0.7, 0.2, 0.4, 0.1),
+        ];
+        let s = StyleSummary::of(&rows);
+        assert_eq!(s.captures, 3);
+        assert_eq!(s.params_better_correlation, 2);
+        assert_eq!(s.params_better_arm_path, 1);
+        assert_eq!(s.params_better_peak, 3);
+        assert_eq!(s.hand_overs, 2);
+        approx::assert_relative_eq!(s.params_arm_path, 0.8 / 3.0, epsilon = 1e-12);
+        approx::assert_relative_eq!(s.profile_peak_error, 0.3, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn peak_is_the_first_maximum_and_its_error_the_distance_of_fractions() {
+        let mut v = vec![0.0; SAMPLES];
+        v[30] = 2.0;
+        v[70] = 2.0;
+        approx::assert_relative_eq!(peak(&v), 0.3, epsilon = 1e-12);
+        approx::assert_relative_eq!(peak(&[1.0, 3.0, 2.0]), 0.5, epsilon = 1e-12);
     }
 
     #[test]
