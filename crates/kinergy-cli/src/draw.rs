@@ -1,6 +1,7 @@
 //! Pictures: the embedded font, the palette, SVG / PNG / GIF output written atomically, and
 //! the two chart kinds the commands draw (lines over time, means with min–max bars); in
-//! [`bones`] which bones a stick figure draws, in [`shapes`] how scene objects are projected.
+//! [`bones`] which bones a stick figure draws, in [`shapes`] how scene objects are projected,
+//! in [`strip`] a film strip of stick figures overlaid.
 
 use std::error::Error;
 use std::io::Write as _;
@@ -19,6 +20,7 @@ use crate::common::Failure;
 
 pub mod bones;
 pub mod shapes;
+pub mod strip;
 
 /// A drawing error, boxed (plotters' errors are generic over the backend).
 pub type DrawResult = Result<(), Box<dyn Error>>;
@@ -220,10 +222,23 @@ fn scaled(px: f64, scale: f64) -> u32 {
 /// One line of a [`LineChart`].
 #[derive(Debug, Clone)]
 pub struct Series {
-    /// Its legend entry.
+    /// Its legend entry (none when empty: a line of a group another series names).
     pub name: String,
     /// Its points (x, y).
     pub points: Vec<(f64, f64)>,
+    /// Its [`colour`] index; `None`: its own index in the chart.
+    pub colour: Option<usize>,
+}
+
+impl Series {
+    /// A line in a colour of its own.
+    pub fn new(name: String, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            name,
+            points,
+            colour: None,
+        }
+    }
 }
 
 /// Lines over a shared x axis, with a legend (e.g. hand speed over time).
@@ -299,17 +314,17 @@ impl Figure for LineChart {
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
         for (i, s) in self.series.iter().enumerate() {
-            let c = colour(i);
-            chart
-                .draw_series(LineSeries::new(
-                    s.points.iter().copied(),
-                    c.stroke_width(scaled(2.0, k)),
-                ))?
-                .label(&s.name)
-                .legend(move |(x, y)| {
+            let c = colour(s.colour.unwrap_or(i));
+            let drawn = chart.draw_series(LineSeries::new(
+                s.points.iter().copied(),
+                c.stroke_width(scaled(2.0, k)),
+            ))?;
+            if !s.name.is_empty() {
+                drawn.label(&s.name).legend(move |(x, y)| {
                     let w = scaled(20.0, k) as i32;
                     PathElement::new(vec![(x, y), (x + w, y)], c.stroke_width(scaled(2.0, k)))
                 });
+            }
         }
         chart
             .configure_series_labels()

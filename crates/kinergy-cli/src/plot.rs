@@ -147,7 +147,7 @@ fn speed(args: &SpeedArgs) -> Result<(), Failure> {
             peak_speed_m_s,
             peak_time_s,
         });
-        series.push(Series { name, points });
+        series.push(Series::new(name, points));
     }
     let chart = LineChart {
         title: args.title.clone(),

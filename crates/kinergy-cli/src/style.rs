@@ -5,17 +5,25 @@
 //! arm's fitted base frame — once with the person's parameters and once with the default
 //! profile; each motion's hand-speed profile (relative to the shoulder, from the reach's onset
 //! to its end, time-normalized) is compared with the captured one: Pearson correlation, and
-//! the fraction of the movement at which the speed peaks. Where the synergy handed the hand
-//! over, its own part (onset to hand-over) is scored too.
+//! the fraction of the movement at which the speed peaks; and each motion's arm path (elbow,
+//! wrist and hand from the shoulder, time-normalized, in arm lengths,
+//! [`kinergy_reach::style::arm_path`]) against the captured one. Where the synergy handed the
+//! hand over, its own part (onset to hand-over) is scored too. With `-o DIR`: style.csv,
+//! summary.md, and the pictures ([`pictures`]): `speed.svg|png` (every hand-speed profile,
+//! captured and reached, on one chart) and `strip.svg|png` (the first capture's reach as a
+//! film strip, the character over the capture).
 
 use std::path::{Path, PathBuf};
 
+use kinergy_motion::Clip;
 use kinergy_reach::ReachError;
-use kinergy_reach::style::{StyleCapture, StyleRow as Row, StyleSummary as Summary};
+use kinergy_reach::style::{StyleCapture, StyleRow as Row, StyleRun, StyleSummary as Summary};
 use kinergy_train::PersonParams;
 use serde::Serialize;
 
 use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
+
+mod pictures;
 
 /// Arguments of `kinergy style`.
 #[derive(Debug, clap::Args)]
@@ -30,8 +38,9 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// Also write style.csv (one row per capture) and summary.md into this folder (made if
-    /// missing).
+    /// Also write style.csv (one row per capture), summary.md and the pictures speed.svg|png
+    /// (the hand-speed profiles) and strip.svg|png (the first capture's reach, the character
+    /// over the capture) into this folder (made if missing).
     #[arg(short, long, value_name = "DIR")]
     pub output: Option<PathBuf>,
     #[command(flatten)]
@@ -52,12 +61,16 @@ struct CsvRow<'a> {
     captured_peak: f64,
     params_correlation: f64,
     params_peak: f64,
+    params_peak_error: f64,
+    params_arm_path: f64,
     params_error_m: f64,
     params_hand_over: bool,
     synergy_correlation: f64,
     synergy_peak: f64,
     profile_correlation: f64,
     profile_peak: f64,
+    profile_peak_error: f64,
+    profile_arm_path: f64,
 }
 
 impl<'a> From<&'a Row> for CsvRow<'a> {
@@ -72,12 +85,16 @@ impl<'a> From<&'a Row> for CsvRow<'a> {
             captured_peak: r.captured_peak,
             params_correlation: r.params_correlation,
             params_peak: r.params_peak,
+            params_peak_error: r.params_peak_error,
+            params_arm_path: r.params_arm_path,
             params_error_m: r.params_error_m,
             params_hand_over: r.params_hand_over,
             synergy_correlation: r.synergy_correlation,
             synergy_peak: r.synergy_peak,
             profile_correlation: r.profile_correlation,
             profile_peak: r.profile_peak,
+            profile_peak_error: r.profile_peak_error,
+            profile_arm_path: r.profile_arm_path,
         }
     }
 }
@@ -104,8 +121,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let person = crate::common::read_person(&args.params)?;
     let mut rows = Vec::with_capacity(clips.len());
+    let mut runs = Vec::with_capacity(clips.len());
+    let mut first = None;
     for path in &clips {
-        rows.push(compare_one(args, &person, path)?);
+        let (clip, capture, run) = compare_one(args, &person, path)?;
+        rows.push(run.row.clone());
+        runs.push(run);
+        if first.is_none() {
+            first = Some((clip, capture));
+        }
     }
     let summary = Summary::of(&rows);
     if let Some(dir) = &args.output {
@@ -116,6 +140,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             markdown(&args.params, &summary, &rows).as_bytes(),
         )
         .map_err(|e| Failure::task(&dir.join("summary.md"), e))?;
+        if let Some((clip, capture)) = &first {
+            let who = pictures::person_name(&args.params);
+            pictures::speed_chart(dir, &who, &summary, &runs)?;
+            pictures::film_strip(dir, &who, clip, capture, &runs[0], args.arm.arm)?;
+        }
     }
     if args.json {
         return print_json(&Report {
@@ -127,53 +156,72 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     emit(&markdown(&args.params, &summary, &rows))
 }
 
-/// One capture: its main reach's profile against the two reaches toward its target.
-fn compare_one(args: &Args, person: &PersonParams, path: &Path) -> Result<Row, Failure> {
+/// One capture: its main reach's profile and arm path against the two reaches toward its
+/// target; the clip and the capture come back for the pictures.
+fn compare_one(
+    args: &Args,
+    person: &PersonParams,
+    path: &Path,
+) -> Result<(Clip, StyleCapture, StyleRun), Failure> {
     let (clip, _) = args.read.read(path)?;
     let joints = args.arm.find(&clip, path)?;
     let name = path.display().to_string();
     let capture = StyleCapture::new(&clip, &joints, &name).map_err(|e| Failure::input(path, e))?;
-    capture.compare(args.arm.arm, person).map_err(|e| match e {
+    let run = capture.compare(args.arm.arm, person).map_err(|e| match e {
         e @ ReachError::Params { .. } => crate::common::person_failure(&args.params, e),
         e => Failure::from(e).naming(&name),
-    })
+    })?;
+    Ok((clip, capture, run))
 }
 
 /// The summary and the rows as markdown tables.
 fn markdown(params: &Path, s: &Summary, rows: &[Row]) -> String {
+    let n = s.captures;
     let mut out = format!(
-        "# Style: {} against {} captures\n\nHand speed relative to the shoulder, from the \
-         reach's onset to its end, time-normalized; r is Pearson's correlation with the \
-         captured profile, peak the fraction of the movement at which the speed peaks.\n\n\
-         | reach | mean r | mean peak error |\n|---|---|---|\n| with the person's parameters \
-         | {:.3} | {:.3} |\n| its synergy's own part ({} of {} handed over) | {:.3} | {:.3} \
-         |\n| default profile | {:.3} | {:.3} |\n\n",
+        "# Style: {} against {n} captures\n\nHand speed relative to the shoulder, from the \
+         reach's onset to its end, time-normalized: r is Pearson's correlation with the \
+         captured profile, peak error |the fraction of the movement at which the speed peaks \
+         − the captured one's|. Arm path: the RMS distance of elbow, wrist and hand from the \
+         captured ones, each from the shoulder in the arm's base frame at the reach's start, \
+         time-normalized, in arm lengths (0: the same path).\n\n\
+         | reach | mean r | mean peak error | mean arm path |\n|---|---|---|---|\n\
+         | with the person's parameters | {:.3} | {:.3} | {:.3} |\n\
+         | its synergy's own part ({} of {n} handed over) | {:.3} | {:.3} | |\n\
+         | default profile | {:.3} | {:.3} | {:.3} |\n\n\
+         The person's parameters beat the default profile on {} of {n} captures for r, {} of \
+         {n} for the peak error, {} of {n} for the arm path.\n\n",
         params.display(),
-        s.captures,
         s.params_correlation,
         s.params_peak_error,
+        s.params_arm_path,
         s.hand_overs,
-        s.captures,
         s.synergy_correlation,
         s.synergy_peak_error,
         s.profile_correlation,
-        s.profile_peak_error
+        s.profile_peak_error,
+        s.profile_arm_path,
+        s.params_better_correlation,
+        s.params_better_peak,
+        s.params_better_arm_path,
     );
     out.push_str(
-        "| capture | frames | captured peak | r (params) | peak (params) | r (profile) | peak \
-         (profile) | hand-over |\n|---|---|---|---|---|---|---|---|\n",
+        "| capture | frames | captured peak | r (params) | peak error (params) | arm path \
+         (params) | r (profile) | peak error (profile) | arm path (profile) | hand-over |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         out.push_str(&format!(
-            "| {} | {}..{} | {:.2} | {:.3} | {:.2} | {:.3} | {:.2} | {} |\n",
+            "| {} | {}..{} | {:.2} | {:.3} | {:.2} | {:.3} | {:.3} | {:.2} | {:.3} | {} |\n",
             r.clip,
             r.frames[0],
             r.frames[1],
             r.captured_peak,
             r.params_correlation,
-            r.params_peak,
+            r.params_peak_error,
+            r.params_arm_path,
             r.profile_correlation,
-            r.profile_peak,
+            r.profile_peak_error,
+            r.profile_arm_path,
             if r.params_hand_over { "yes" } else { "no" }
         ));
     }

@@ -1,0 +1,227 @@
+//! The pictures of `style -o DIR` (issue 23 §5), each as .svg and .png like `compare`'s:
+//!
+//! - `speed`: every capture's hand-speed profile and the character's reaches toward its
+//!   target — with the person's parameters and with the default profile — over the fraction of
+//!   the reach, one colour per kind (Okabe–Ito: black, blue, vermillion), the person's means
+//!   (correlation, peak error, arm path) in the legend;
+//! - `strip`: the first capture's reach at 0, 25, 50, 75 and 100 % of it, seen from the side,
+//!   the character's full body driven by the person's parameters over the captured pose (the
+//!   capture carried onto the character by their arms' base frames at the reach's start, as
+//!   its target is).
+
+use std::path::Path;
+
+use kinergy_motion::{Clip, Side};
+use kinergy_reach::style::{SAMPLES, StyleCapture, StyleRun, StyleSummary};
+use nalgebra::Point3;
+
+use crate::common::Failure;
+use crate::draw::bones::StickFigure;
+use crate::draw::strip::{FilmStrip, Pose2};
+use crate::draw::{LineChart, Series, save};
+
+/// Palette indices ([`crate::draw::colour`]) of the captured, the person's and the default's.
+pub(crate) const CAPTURED: usize = 6;
+/// The person's parameters (`reach --params`).
+pub(crate) const PARAMS: usize = 0;
+/// The default profile.
+pub(crate) const PROFILE: usize = 1;
+
+/// The fractions of the reach the film strip shows.
+pub(crate) const STRIP_AT: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
+
+/// The person's name in titles: the parameters file's stem.
+pub(super) fn person_name(params: &Path) -> String {
+    params
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| params.display().to_string())
+}
+
+/// Saves `figure` as `DIR/name.svg` and `DIR/name.png`.
+fn save_both(
+    figure: &impl crate::draw::Figure,
+    dir: &Path,
+    name: &str,
+    size: (u32, u32),
+) -> Result<(), Failure> {
+    for ext in ["svg", "png"] {
+        save(figure, &dir.join(format!("{name}.{ext}")), size)?;
+    }
+    Ok(())
+}
+
+/// `speed.svg|png`: every profile of `runs` on one chart.
+pub(super) fn speed_chart(
+    dir: &Path,
+    who: &str,
+    s: &StyleSummary,
+    runs: &[StyleRun],
+) -> Result<(), Failure> {
+    let line = |values: &[f64]| -> Vec<(f64, f64)> {
+        values
+            .iter()
+            .enumerate()
+            .map(|(k, &v)| (k as f64 / (SAMPLES - 1) as f64, v))
+            .collect()
+    };
+    let n = runs.len();
+    let kinds: [(usize, String, fn(&StyleRun) -> &[f64]); 3] = [
+        (CAPTURED, format!("captured ({n} takes)"), |r| {
+            &r.captured_speed
+        }),
+        (
+            PARAMS,
+            format!(
+                "reach --params: r {:.2}, peak error {:.2}, arm path {:.3}, {} hand-overs",
+                s.params_correlation, s.params_peak_error, s.params_arm_path, s.hand_overs
+            ),
+            |r| &r.params_speed,
+        ),
+        (
+            PROFILE,
+            format!(
+                "default profile: r {:.2}, peak error {:.2}, arm path {:.3}",
+                s.profile_correlation, s.profile_peak_error, s.profile_arm_path
+            ),
+            |r| &r.profile_speed,
+        ),
+    ];
+    let mut series = Vec::with_capacity(3 * n);
+    for (colour, name, values) in kinds {
+        for (i, run) in runs.iter().enumerate() {
+            series.push(Series {
+                name: if i == 0 { name.clone() } else { String::new() },
+                points: line(values(run)),
+                colour: Some(colour),
+            });
+        }
+    }
+    let chart = LineChart {
+        title: format!(
+            "{who}: hand speed over the reach (params beat default: r {}/{n}, arm path {}/{n})",
+            s.params_better_correlation, s.params_better_arm_path
+        ),
+        x_label: "fraction of the reach".into(),
+        y_label: "hand speed relative to the shoulder (m/s)".into(),
+        series,
+    };
+    save_both(&chart, dir, "speed", (1000, 560))
+}
+
+/// The side view: screen right = +Z (where the character faces), up = +Y.
+fn side(p: &Point3<f64>) -> (f64, f64) {
+    (p.z, p.y)
+}
+
+/// Frame `onset + τ (end − 1 − onset)`, rounded.
+fn frame_at(onset: usize, end: usize, tau: f64) -> usize {
+    let last = end.saturating_sub(1).max(onset);
+    onset + ((last - onset) as f64 * tau).round() as usize
+}
+
+/// The poses of `clip` at `frames`, world positions moved by `to`, as the stick figure sees
+/// them from the side.
+fn poses_of(
+    clip: &Clip,
+    frames: &[usize],
+    to: impl Fn(&Point3<f64>) -> Point3<f64>,
+    name: &str,
+) -> Result<Vec<Pose2>, Failure> {
+    let skeleton = clip.skeleton();
+    let n = skeleton.joint_count();
+    let mut world = Vec::with_capacity(n * frames.len());
+    for &i in frames {
+        let pose = clip
+            .frame(i)
+            .ok_or_else(|| Failure::Task(format!("{name}: no frame {i}")))?;
+        let w = skeleton
+            .world_positions(pose)
+            .map_err(|e| Failure::Task(format!("{name}: {e}")))?;
+        world.extend(w.iter().map(&to));
+    }
+    let figure = StickFigure::new(skeleton, &world);
+    Ok(world
+        .chunks(n)
+        .map(|w| {
+            Pose2::new(
+                &figure.world_segments(w),
+                figure.dots().iter().map(|&j| w[j]),
+                side,
+            )
+        })
+        .collect())
+}
+
+/// `strip.svg|png`: the first capture's reach, the character over the capture.
+pub(super) fn film_strip(
+    dir: &Path,
+    who: &str,
+    clip: &Clip,
+    capture: &StyleCapture,
+    run: &StyleRun,
+    arm: Side,
+) -> Result<(), Failure> {
+    let name = &run.row.clip;
+    let [onset, end] = capture.frames();
+    let to = capture
+        .to_character(arm)
+        .map_err(|e| Failure::Task(format!("{name}: {e}")))?;
+    let frames: Vec<usize> = STRIP_AT.iter().map(|&t| frame_at(onset, end, t)).collect();
+    let captured = poses_of(clip, &frames, |p| to * p, name)?;
+    let motion = &run.params_motion;
+    let start = motion.report.arm_onset_frame.min(motion.poses.len());
+    let picked: Vec<_> = STRIP_AT
+        .iter()
+        .filter_map(|&t| motion.poses.get(frame_at(start, motion.poses.len(), t)))
+        .cloned()
+        .collect();
+    let character = capture
+        .character()
+        .to_clip(&picked, motion.frame_time)
+        .map_err(|e| Failure::Task(format!("{name}: {e}")))?;
+    let all: Vec<usize> = (0..picked.len()).collect();
+    let reached = poses_of(&character, &all, |p| *p, name)?;
+    let panels = captured
+        .into_iter()
+        .zip(reached)
+        .map(|(c, r)| vec![c, r])
+        .collect();
+    let stem = Path::new(name)
+        .file_stem()
+        .map_or_else(|| name.clone(), |s| s.to_string_lossy().into_owned());
+    let strip = FilmStrip {
+        title: format!(
+            "{who}, {stem}: r {:.2}, peak error {:.2}, arm path {:.3}{} (side view)",
+            run.row.params_correlation,
+            run.row.params_peak_error,
+            run.row.params_arm_path,
+            if run.row.params_hand_over {
+                ", handed over"
+            } else {
+                ""
+            }
+        ),
+        figures: vec!["captured".into(), "reach --params (full body)".into()],
+        colours: vec![CAPTURED, PARAMS],
+        panels,
+        labels: STRIP_AT
+            .iter()
+            .map(|t| format!("{:.0} % of the reach", t * 100.0))
+            .collect(),
+    };
+    save_both(&strip, dir, "strip", (1250, 480))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::frame_at;
+
+    #[test]
+    fn strip_frames_span_the_reach_from_onset_to_its_last_frame() {
+        assert_eq!(frame_at(10, 31, 0.0), 10);
+        assert_eq!(frame_at(10, 31, 1.0), 30);
+        assert_eq!(frame_at(10, 31, 0.5), 20);
+        assert_eq!(frame_at(5, 5, 1.0), 5);
+    }
+}
