@@ -386,3 +386,155 @@ fn animate_report_needs_a_scene_and_objects_in_it() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert_eq!(json(&o)["moving_objects"], serde_json::json!([]));
 }
+
+/// Whether `xml` is well formed as far as its tags go: every element closed in order, one
+/// root, nothing but whitespace outside it (plotters writes no comments, CDATA or doctype).
+fn well_formed(xml: &str) -> Result<(), String> {
+    let mut open: Vec<String> = Vec::new();
+    let mut roots = 0;
+    let mut rest = xml.trim();
+    while let Some(at) = rest.find('<') {
+        if open.is_empty() && !rest[..at].trim().is_empty() {
+            return Err(format!("text outside the root: {}", &rest[..at]));
+        }
+        let end = rest[at..].find('>').ok_or("a tag is not closed")? + at;
+        let tag = &rest[at + 1..end];
+        if let Some(name) = tag.strip_prefix('/') {
+            match open.pop() {
+                Some(o) if o == name.trim() => {}
+                other => return Err(format!("</{name}> closes {other:?}")),
+            }
+        } else if !tag.starts_with('?') {
+            let name = tag.split_whitespace().next().ok_or("an empty tag")?;
+            if open.is_empty() {
+                roots += 1;
+            }
+            if !tag.ends_with('/') {
+                open.push(name.to_string());
+            }
+        }
+        rest = &rest[end + 1..];
+    }
+    match (open.is_empty(), roots, rest.trim().is_empty()) {
+        (true, 1, true) => Ok(()),
+        _ => Err(format!(
+            "{} unclosed, {roots} roots, tail {rest:?}",
+            open.len()
+        )),
+    }
+}
+
+/// How many `<polyline>`s are stroked in `colour`, and of those how many `width` wide.
+fn polylines(svg: &str, colour: &str) -> Vec<String> {
+    svg.split("<polyline")
+        .skip(1)
+        .filter_map(|p| {
+            let tag = &p[..p.find('>')?];
+            tag.contains(&format!(r#"stroke="{colour}""#))
+                .then(|| tag.split("stroke-width=\"").nth(1)?.split('"').next())
+                .flatten()
+                .map(str::to_string)
+        })
+        .collect()
+}
+
+/// Issue 23 §5: `style -o DIR` draws the hand-speed chart (one line per capture and kind —
+/// captured black, `reach --params` blue, default vermillion — plus a legend entry each, the
+/// means in the legend) and the film strip (five panels, the captured figure and the
+/// character's in two colours), as well-formed SVG and PNG.
+#[test]
+fn style_draws_the_speed_chart_and_the_film_strip_overlaid_on_the_capture() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("style");
+    let params = repo().join("tests/data/params/synthetic-p01-r09-sc.json");
+    let clips = [common::synthetic("r09.bvh"), common::synthetic("r01.bvh")];
+    let s = |p: &Path| p.to_str().expect("utf-8").to_string();
+    let mut args = vec!["style".to_string()];
+    args.extend(clips.iter().map(|p| s(p)));
+    args.extend(
+        [
+            "--arm",
+            "right",
+            "--params",
+            &s(&params),
+            "-o",
+            &s(&out),
+            "--json",
+        ]
+        .map(String::from),
+    );
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = kinergy(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary = json(&o)["summary"].clone();
+
+    for name in ["speed.png", "strip.png"] {
+        let bytes = std::fs::read(out.join(name)).expect("png");
+        assert!(
+            bytes.starts_with(b"\x89PNG\r\n\x1a\n"),
+            "{name} is not a PNG"
+        );
+    }
+    let speed = std::fs::read_to_string(out.join("speed.svg")).expect("speed.svg");
+    well_formed(&speed).unwrap_or_else(|e| panic!("speed.svg: {e}"));
+    let mean_r = format!(
+        "reach --params: r {:.2}",
+        summary["params_correlation"].as_f64().expect("r")
+    );
+    for label in [
+        "captured (2 takes)",
+        &mean_r,
+        "default profile: r ",
+        "arm path",
+        "fraction of the reach",
+    ] {
+        assert!(speed.contains(label), "{label:?} missing from speed.svg");
+    }
+    // The series' width is the blue lines' (no axis is blue): 2 captures + a legend swatch.
+    let blue = polylines(&speed, "#0072B2");
+    assert_eq!(blue.len(), 3, "blue lines {blue:?}");
+    let width = &blue[0];
+    for colour in ["#000000", "#D55E00"] {
+        let lines = polylines(&speed, colour)
+            .iter()
+            .filter(|w| *w == width)
+            .count();
+        assert_eq!(lines, 3, "{colour}: {lines} lines {width} wide");
+    }
+
+    let strip = std::fs::read_to_string(out.join("strip.svg")).expect("strip.svg");
+    well_formed(&strip).unwrap_or_else(|e| panic!("strip.svg: {e}"));
+    for label in [
+        "captured",
+        "reach --params (full body)",
+        "0 % of the reach",
+        "50 % of the reach",
+        "100 % of the reach",
+        "r09",
+    ] {
+        assert!(strip.contains(label), "{label:?} missing from strip.svg");
+    }
+    // The captured figure's dots (its body joints) in every one of the five panels.
+    let (figure, _) = StickFigure::of(&read(&clips[0])).expect("fk");
+    let dots = |colour: &str| {
+        strip
+            .split("<circle")
+            .skip(1)
+            .filter(|c| c[..c.find('>').unwrap_or(0)].contains(&format!(r#"fill="{colour}""#)))
+            .count()
+    };
+    assert_eq!(dots("#000000"), 5 * figure.dots().len());
+    let character = dots("#0072B2");
+    assert!(
+        character >= 5 * 10 && character % 5 == 0,
+        "{character} character dots"
+    );
+}
+
+#[test]
+fn the_well_formedness_check_catches_what_it_should() {
+    assert!(well_formed(r#"<svg a="1"><g><line/></g><text>x</text></svg>"#).is_ok());
+    assert!(well_formed("<svg><g></svg>").is_err());
+    assert!(well_formed("<svg></svg><svg></svg>").is_err());
+    assert!(well_formed("<svg><g>").is_err());
+}
