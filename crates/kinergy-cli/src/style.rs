@@ -182,7 +182,8 @@ fn markdown(params: &Path, s: &Summary, rows: &[Row]) -> String {
          reach's onset to its end, time-normalized: r is Pearson's correlation with the \
          captured profile, peak error |the fraction of the movement at which the speed peaks \
          − the captured one's|. Arm path: the RMS distance of elbow, wrist and hand from the \
-         captured ones, each from the shoulder in the arm's base frame at the reach's start, \
+         captured ones, each from the shoulder in the body's frame at the reach's start (y up, z from \
+         the other shoulder to this one), \
          time-normalized, in arm lengths (0: the same path).\n\n\
          | reach | mean r | mean peak error | mean arm path |\n|---|---|---|---|\n\
          | with the person's parameters | {:.3} | {:.3} | {:.3} |\n\

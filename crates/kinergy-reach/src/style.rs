@@ -17,9 +17,7 @@ use kinergy_solver::{BaseMode, CaptureArm, PersonStyle};
 use serde::Serialize;
 
 use crate::character::{Character, Proportions};
-use crate::controller::{
-    ArmDrive, ReachMotion, ReachSettings, fitted_base_at_rest, reach_full_body_driven,
-};
+use crate::controller::{ArmDrive, ReachMotion, ReachSettings, reach_full_body_driven};
 use crate::drive::PersonArm;
 use crate::error::Result;
 
@@ -151,7 +149,7 @@ pub struct StyleCapture {
     speeds: Vec<f64>,
     path: ArmPath,
     local: Point3<f64>,
-    base: IsometryMatrix3<f64>,
+    frame: IsometryMatrix3<f64>,
     character: Character,
 }
 
@@ -180,8 +178,20 @@ impl StyleCapture {
                 joints.hand.and_then(at),
             ]);
         }
+        // The reach frame at the onset from both shoulders; the fitted base where the other
+        // arm cannot be found.
+        let frame = joints
+            .side
+            .and_then(|side| ArmJoints::find(skeleton, side.opposite()).ok())
+            .and_then(|other| {
+                let w = skeleton
+                    .world_positions(clip.frame(segment.onset).unwrap_or_default())
+                    .ok()?;
+                reach_frame(w[joints.shoulder], w[other.shoulder])
+            })
+            .unwrap_or(base);
         let path =
-            ArmPath::new(&arm, &base.rotation).ok_or_else(|| crate::ReachError::Setting {
+            ArmPath::new(&arm, &frame.rotation).ok_or_else(|| crate::ReachError::Setting {
                 field: name.to_string(),
                 why: "the arm has no length on the reach's first frame".into(),
             })?;
@@ -195,7 +205,7 @@ impl StyleCapture {
             speeds: speed[segment.onset..segment.end].to_vec(),
             path,
             local: base.inverse() * last,
-            base,
+            frame,
             character: Character::new(&Proportions::from_clip(clip)?)?,
         })
     }
@@ -215,16 +225,17 @@ impl StyleCapture {
         &self.path
     }
 
-    /// The capture's arm base frame at the reach's onset (world meters).
-    pub fn base(&self) -> &IsometryMatrix3<f64> {
-        &self.base
+    /// The capture's [`reach_frame`] at the reach's onset (world meters; the arm's fitted
+    /// base frame where the skeleton has no other arm).
+    pub fn frame(&self) -> &IsometryMatrix3<f64> {
+        &self.frame
     }
 
     /// The rigid motion that puts the capture's world on the character's (arm `side`): the
-    /// capture's arm base frame at the onset onto the character's at rest — how the target
-    /// is carried over, so the capture's poses can be drawn over the character's.
+    /// capture's reach frame at the onset onto the character's at rest, as the arm path
+    /// compares them, so the capture's poses can be drawn over the character's.
     pub fn to_character(&self, side: Side) -> Result<IsometryMatrix3<f64>> {
-        Ok(fitted_base_at_rest(&self.character, side)? * self.base.inverse())
+        Ok(character_frame(&self.character, side)? * self.frame.inverse())
     }
 
     /// The arm path of the character's reach `motion` (from the arm's onset to its end), read
@@ -232,7 +243,7 @@ impl StyleCapture {
     pub fn motion_arm_path(&self, side: Side, motion: &ReachMotion) -> Result<ArmPath> {
         let character = &self.character;
         let [s, e, w, h] = motion.report.arm.joints();
-        let base = fitted_base_at_rest(character, side)?;
+        let base = character_frame(character, side)?;
         let hand = self.path.has_hand();
         let start = motion.report.arm_onset_frame.min(motion.poses.len());
         let arm: Vec<_> = motion.poses[start..]
@@ -300,6 +311,38 @@ impl StyleCapture {
             profile_motion: without,
         })
     }
+}
+
+/// The reach frame of an arm whose shoulder is at `shoulder` and the other arm's at `other`
+/// (world meters, Y up): at the shoulder, y up, z horizontal from the other shoulder to this
+/// one (out of the body sideways), x = y × z. Made from the body's own joints, it means the
+/// same on any skeleton, whatever its rest pose. `None` when the shoulders are one above the
+/// other.
+pub fn reach_frame(shoulder: Point3<f64>, other: Point3<f64>) -> Option<IsometryMatrix3<f64>> {
+    use kinergy_motion::nalgebra::{Matrix3, Rotation3, Translation3, Vector3};
+    let mut z = shoulder - other;
+    z.y = 0.0;
+    if z.norm() < 1e-6 {
+        return None;
+    }
+    let z = z.normalize();
+    let y = Vector3::y();
+    let x = y.cross(&z);
+    Some(IsometryMatrix3::from_parts(
+        Translation3::from(shoulder.coords),
+        Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[x, y, z])),
+    ))
+}
+
+/// The character's [`reach_frame`] of the arm on `side` at rest.
+fn character_frame(character: &Character, side: Side) -> Result<IsometryMatrix3<f64>> {
+    use crate::character::Limb;
+    let rest = character.world_positions(&character.rest_pose());
+    let at = |side: Side| rest[Limb::arm(side).joints()[0]];
+    reach_frame(at(side), at(side.opposite())).ok_or_else(|| crate::ReachError::Setting {
+        field: "character".into(),
+        why: "its shoulders are one above the other".into(),
+    })
 }
 
 /// `values` resampled at [`SAMPLES`] evenly spaced fractions of their span (linear

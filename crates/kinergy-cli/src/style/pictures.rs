@@ -3,11 +3,13 @@
 //! - `speed`: every capture's hand-speed profile and the character's reaches toward its
 //!   target — with the person's parameters and with the default profile — over the fraction of
 //!   the reach, one colour per kind (Okabe–Ito: black, blue, vermillion), the person's means
-//!   (correlation, peak error, arm path) in the legend;
+//!   (correlation, peak error, arm path) in the legend; lines faster than 1.5× the fastest
+//!   capture are cut there, the title giving the cut and the highest speed;
 //! - `strip`: the first capture's reach at 0, 25, 50, 75 and 100 % of it, seen from the side,
 //!   the character's full body driven by the person's parameters over the captured pose (the
-//!   capture carried onto the character by their arms' base frames at the reach's start, as
-//!   its target is).
+//!   capture carried onto the character by their reach frames at the reach's start, as the
+//!   arm path compares them: shoulder on shoulder, the same up, the shoulders' line on the
+//!   shoulders' line).
 
 use std::path::Path;
 
@@ -58,11 +60,24 @@ pub(super) fn speed_chart(
     s: &StyleSummary,
     runs: &[StyleRun],
 ) -> Result<(), Failure> {
+    // A synthesized spike (a first frame's jump) would flatten every bell: lines are cut at
+    // 1.5× the fastest capture, and the title says so.
+    let fastest = |f: fn(&StyleRun) -> &[f64]| {
+        runs.iter()
+            .flat_map(|r| f(r).iter().copied())
+            .fold(0.0_f64, f64::max)
+    };
+    let cap = 1.5 * fastest(|r| &r.captured_speed);
+    let highest = fastest(|r| &r.params_speed).max(fastest(|r| &r.profile_speed));
+    let cut = cap > 0.0 && highest > cap;
     let line = |values: &[f64]| -> Vec<(f64, f64)> {
         values
             .iter()
             .enumerate()
-            .map(|(k, &v)| (k as f64 / (SAMPLES - 1) as f64, v))
+            .map(|(k, &v)| {
+                let v = if cut { v.min(cap) } else { v };
+                (k as f64 / (SAMPLES - 1) as f64, v)
+            })
             .collect()
     };
     let n = runs.len();
@@ -97,9 +112,15 @@ pub(super) fn speed_chart(
             });
         }
     }
+    let cut_note = if cut {
+        format!(" [cut at {cap:.1} m/s, highest {highest:.1}]")
+    } else {
+        String::new()
+    };
     let chart = LineChart {
         title: format!(
-            "{who}: hand speed over the reach (params beat default: r {}/{n}, arm path {}/{n})",
+            "{who}: hand speed over the reach (params beat default: r {}/{n}, arm path \
+             {}/{n}){cut_note}",
             s.params_better_correlation, s.params_better_arm_path
         ),
         x_label: "fraction of the reach".into(),

@@ -3,10 +3,10 @@
 //!
 //! For one body reaching, with shoulder `s`, elbow `e`, wrist `w` and hand `h` (the point
 //! beyond the wrist, where the skeleton has one) at world positions `p_j(t)` over the reach's
-//! frames, `R` the rotation of the arm's fitted base frame at the reach's start (the frame
-//! the reach's target is given in: at the shoulder, y up, z out of it sideways, so where the
-//! person stood and which way they faced do not matter) and `L = |e − s| + |w − e|` the arm's
-//! length (upper arm + forearm) on the reach's first frame:
+//! frames, `R` the rotation of the body's reach frame on the reach's first frame
+//! ([`super::reach_frame`]: y up, z horizontal from the other shoulder to this one, x = y × z;
+//! so where the person stood and which way they faced do not matter) and
+//! `L = |e − s| + |w − e|` the arm's length (upper arm + forearm) on that frame:
 //!
 //! ```text
 //! q_j(τ) = Rᵀ (p_j(τ) − p_s(τ)) / L,   j ∈ {e, w, h},   τ ∈ {0, 1/(N−1), …, 1}
@@ -23,16 +23,16 @@
 //!
 //! a fraction of the arm's length (0.1: the joints are on average a tenth of an arm apart).
 //! It is 0 for a reach against itself, unchanged by a rigid translation of either reach (the
-//! positions are taken from the shoulder) or by a rigid rotation that turns the base frame
+//! positions are taken from the shoulder) or by a rigid rotation that turns the reach frame
 //! with it, and symmetric. Positions are from the shoulder on every frame, but all in the
-//! base frame of the reach's start, so a trunk that leans or twists moves the arm's path.
+//! reach frame of the reach's start, so a trunk that leans or twists moves the arm's path.
 
 use kinergy_motion::nalgebra::{Point3, Rotation3, Vector3};
 
 use super::{SAMPLES, normalized};
 
-/// One reach's arm path: elbow, wrist and hand from the shoulder, in the arm's base frame at
-/// the reach's start, in arm lengths, at [`SAMPLES`] fractions of the reach (see the
+/// One reach's arm path: elbow, wrist and hand from the shoulder, in the reach frame at the
+/// reach's start, in arm lengths, at [`SAMPLES`] fractions of the reach (see the
 /// [module docs](self)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArmPath {
@@ -45,8 +45,7 @@ pub struct ArmPath {
 impl ArmPath {
     /// The path of an arm whose `[shoulder, elbow, wrist, hand]` are at `frames` (world
     /// meters, one entry per frame of the reach, the hand `None` where the skeleton has no
-    /// point beyond the wrist), `base` the rotation of the arm's base frame at the reach's
-    /// start. `None` when there are no frames or the arm has no length on the first one.
+    /// point beyond the wrist), `base` the rotation of the reach frame at the reach's start. `None` when there are no frames or the arm has no length on the first one.
     pub fn new(frames: &[[Option<Point3<f64>>; 4]], base: &Rotation3<f64>) -> Option<ArmPath> {
         let first = frames.first()?;
         let [s, e, w] = [first[0]?, first[1]?, first[2]?];
@@ -89,7 +88,7 @@ impl ArmPath {
     }
 
     /// The `[elbow, wrist, hand]` positions at each of the [`SAMPLES`] fractions of the reach,
-    /// from the shoulder in the base frame, in arm lengths.
+    /// from the shoulder in the reach frame, in arm lengths.
     pub fn samples(&self) -> &[[Vector3<f64>; 3]] {
         &self.samples
     }
