@@ -29,6 +29,9 @@ pub(crate) const PARAMS: usize = 0;
 /// The default profile.
 pub(crate) const PROFILE: usize = 1;
 
+/// Which of a run's time-normalized hand-speed profiles.
+type Profile = fn(&StyleRun) -> &[f64];
+
 /// The fractions of the reach the film strip shows.
 pub(crate) const STRIP_AT: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
 
@@ -81,15 +84,21 @@ pub(super) fn speed_chart(
             .collect()
     };
     let n = runs.len();
-    let kinds: [(usize, String, fn(&StyleRun) -> &[f64]); 3] = [
+    let kinds: [(usize, String, Profile); 3] = [
         (CAPTURED, format!("captured ({n} takes)"), |r| {
             &r.captured_speed
         }),
         (
             PARAMS,
             format!(
-                "reach --params: r {:.2}, peak error {:.2}, arm path {:.3}, {} hand-overs",
-                s.params_correlation, s.params_peak_error, s.params_arm_path, s.hand_overs
+                "reach --params: r {:.2} (better {}/{n}), peak error {:.2}, arm path {:.3} \
+                 (better {}/{n}), {} hand-overs",
+                s.params_correlation,
+                s.params_better_correlation,
+                s.params_peak_error,
+                s.params_arm_path,
+                s.params_better_arm_path,
+                s.hand_overs
             ),
             |r| &r.params_speed,
         ),
@@ -113,21 +122,17 @@ pub(super) fn speed_chart(
         }
     }
     let cut_note = if cut {
-        format!(" [cut at {cap:.1} m/s, highest {highest:.1}]")
+        format!(" (lines cut at {cap:.1} m/s; highest {highest:.1})")
     } else {
         String::new()
     };
     let chart = LineChart {
-        title: format!(
-            "{who}: hand speed over the reach (params beat default: r {}/{n}, arm path \
-             {}/{n}){cut_note}",
-            s.params_better_correlation, s.params_better_arm_path
-        ),
+        title: format!("{who}: hand speed over the reach{cut_note}"),
         x_label: "fraction of the reach".into(),
         y_label: "hand speed relative to the shoulder (m/s)".into(),
         series,
     };
-    save_both(&chart, dir, "speed", (1000, 560))
+    save_both(&chart, dir, "speed", (1100, 600))
 }
 
 /// The side view: screen right = +Z (where the character faces), up = +Y.

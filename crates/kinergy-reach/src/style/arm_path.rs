@@ -55,7 +55,7 @@ impl ArmPath {
         }
         let hand = frames.iter().all(|f| f[3].is_some());
         // Each joint's coordinates over the frames, then each resampled.
-        let mut series = vec![Vec::with_capacity(frames.len()); 9];
+        let mut series: Vec<Vec<f64>> = (0..9).map(|_| Vec::with_capacity(frames.len())).collect();
         for f in frames {
             let shoulder = f[0]?;
             for j in 0..3 {
