@@ -219,7 +219,7 @@ mod tests {
     #[test]
     fn the_rhythm_follows_the_cited_values() {
         // (θ, SC elevation, SC retraction, ST, GH), degrees.
-        let table = [
+        let table: [(f64, f64, f64, f64, f64); 7] = [
             (0.0, 0.0, 0.0, 0.0, 0.0),
             (5.0, 0.0, 0.0, 0.0, 5.0),
             (60.0, 3.4, 6.2, 10.0, 50.0),
