@@ -122,8 +122,7 @@ pub struct ArmSpace {
     limb: Limb,
     chain: Chain,
     ik: LimbIk,
-    /// The arm's base frame with the arm hanging (the girdle at rest); the shoulder rides the
-    /// clavicle, which the girdle turns with the arm's elevation ([`ArmSpace::base_for`]).
+    /// The arm's base frame with the girdle at rest ([`ArmSpace::base_for`]).
     base: IsometryMatrix3<f64>,
     girdle: ArmGirdle,
     rest_hand: Rotation3<f64>,
@@ -501,12 +500,13 @@ impl ArmSpace {
         self.held.as_ref().map(|h| h.name.as_str())
     }
 
-    /// The arm's base frame (the shoulder, before its motions) at `q`: where the girdle puts
-    /// it for the arm's elevation.
+    /// The arm's base frame at `q`: the shoulder where the girdle puts it.
     pub fn base_for(&self, q: &ArmConfig) -> IsometryMatrix3<f64> {
-        let mut base = self.base;
-        base.translation.vector += base.rotation * self.girdle.shift(q);
-        base
+        let shift = self.base.rotation * self.girdle.shift(q);
+        IsometryMatrix3::from_parts(
+            (self.base.translation.vector + shift).into(),
+            self.base.rotation,
+        )
     }
 
     /// World frames of the shoulder, elbow and wrist at `q`.
@@ -738,22 +738,16 @@ impl ArmSpace {
                 self.ik.solve_position_with(&p, orbit, &ok)
             }
         };
-        // The shoulder rides the girdle, which depends on the solution: a short fixed-point
-        // iteration (the base moves ~5 cm per radian of elevation, each pass shrinks its error
-        // some tenfold).
-        let mut base = self.base;
-        let mut result = solve_on(&base);
+        // The shoulder rides the girdle, which depends on the solution: a short fixed point.
+        let mut result = solve_on(&self.base);
         for _ in 0..4 {
             let Ok((_, q)) = &result else { break };
-            let next = self.base_for(q);
-            let moved = (next.translation.vector - base.translation.vector).norm();
-            base = next;
-            if moved < 1e-6 {
+            let next = solve_on(&self.base_for(q));
+            let moved = |n: &ArmConfig| (self.girdle.shift(n) - self.girdle.shift(q)).norm();
+            let done = next.as_ref().map_or(true, |(_, n)| moved(n) < 1e-6);
+            result = next.or(result);
+            if done {
                 break;
-            }
-            match solve_on(&base) {
-                Ok(found) => result = Ok(found),
-                Err(_) => break,
             }
         }
         result.map_err(|e| match e {
