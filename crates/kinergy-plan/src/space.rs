@@ -740,11 +740,11 @@ impl ArmSpace {
         };
         // The shoulder rides the girdle, which depends on the solution: a short fixed point.
         let mut result = solve_on(&self.base);
-        for _ in 0..4 {
+        for _ in 0..12 {
             let Ok((_, q)) = &result else { break };
             let next = solve_on(&self.base_for(q));
             let moved = |n: &ArmConfig| (self.girdle.shift(n) - self.girdle.shift(q)).norm();
-            let done = next.as_ref().map_or(true, |(_, n)| moved(n) < 1e-6);
+            let done = next.as_ref().map_or(true, |(_, n)| moved(n) < 1e-12);
             result = next.or(result);
             if done {
                 break;
