@@ -87,11 +87,11 @@ impl PersonArm<'_> {
         let limb = self.space.limb();
         let dt = 1.0 / self.frame_rate;
         let start = self.space.pose_with(self.body, from);
-        let base = self.character.limb_base_frame(limb, &start);
         let chain = self.character.limb_chain(limb);
+        // The shoulder rides the girdle: each arm's hand on its own base.
         let end = |q: &ArmConfig| {
             chain
-                .end_position(&base, q)
+                .end_position(&self.space.base_for(q), q)
                 .map_err(|e| PlanError::Setting {
                     field: "character".into(),
                     why: e.to_string(),
@@ -131,6 +131,7 @@ impl PersonArm<'_> {
             }
             configs.push(q);
             previous = q;
+            let base = self.character.limb_base_frame(limb, &pose);
             let Some(d) = arm.end_frame(&pose, &base).map_err(reach_error)? else {
                 return Ok(Run::Rejected(format!(
                     "frame {frame}: the controller's step is not finite"

@@ -26,7 +26,7 @@
 //! cover. Samples are tested midpoint first (bisection order) so colliding edges fail fast.
 
 use kinergy_motion::{Chain, ChainPose, Side};
-use kinergy_reach::character::{Character, Limb, Pose};
+use kinergy_reach::character::{ArmGirdle, Character, Limb, Pose};
 use kinergy_solver::analytic::{AnalyticError, LimbIk, OrbitSearch, OrbitSense};
 use nalgebra::{
     Isometry3, IsometryMatrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3,
@@ -122,7 +122,9 @@ pub struct ArmSpace {
     limb: Limb,
     chain: Chain,
     ik: LimbIk,
+    /// The arm's base frame with the girdle at rest ([`ArmSpace::base_for`]).
     base: IsometryMatrix3<f64>,
+    girdle: ArmGirdle,
     rest_hand: Rotation3<f64>,
     /// Wrist → fingertip in the wrist frame.
     hand_tip: Vector3<f64>,
@@ -293,7 +295,9 @@ impl ArmSpace {
         let full = character.limb_chain(limb);
         let hand_tip = full.end_effector();
         let chain = Chain::new(full.joints().to_vec(), hand_tip * GRIP_FRACTION)?;
-        let base = character.limb_base_frame_in(limb, &frames);
+        let girdle = character.arm_girdle(limb);
+        let mut base = character.limb_base_frame_in(limb, &frames);
+        base.translation.vector -= base.rotation * girdle.shift(&body_pose[limb.dofs()]);
         // α = 0 is the lowest elbow (world down in the base frame); growing α raises the
         // elbow outward, which for the right arm is a left-handed turn about the
         // shoulder→wrist axis.
@@ -348,6 +352,7 @@ impl ArmSpace {
             chain,
             ik,
             base,
+            girdle,
             rest_hand,
             hand_tip,
             moving,
@@ -495,12 +500,22 @@ impl ArmSpace {
         self.held.as_ref().map(|h| h.name.as_str())
     }
 
+    /// The arm's base frame at `q`: the shoulder where the girdle puts it.
+    pub fn base_for(&self, q: &ArmConfig) -> IsometryMatrix3<f64> {
+        let shift = self.base.rotation * self.girdle.shift(q);
+        IsometryMatrix3::from_parts(
+            (self.base.translation.vector + shift).into(),
+            self.base.rotation,
+        )
+    }
+
     /// World frames of the shoulder, elbow and wrist at `q`.
     pub fn frames(&self, q: &ArmConfig) -> [IsometryMatrix3<f64>; 3] {
         let mut out = ChainPose::default();
+        let base = self.base_for(q);
         // The chain has 7 DoFs: fk_into cannot fail on a 7-array.
-        if self.chain.fk_into(&self.base, q, &mut out).is_err() || out.frames.len() != 3 {
-            return [self.base; 3];
+        if self.chain.fk_into(&base, q, &mut out).is_err() || out.frames.len() != 3 {
+            return [base; 3];
         }
         [out.frames[0], out.frames[1], out.frames[2]]
     }
@@ -670,12 +685,17 @@ impl ArmSpace {
     }
 
     /// The goal in the chain's base frame for a world hand target.
-    fn goal(&self, target: &HandTarget, orientation: &UnitQuaternion<f64>) -> IsometryMatrix3<f64> {
+    fn goal(
+        &self,
+        base: &IsometryMatrix3<f64>,
+        target: &HandTarget,
+        orientation: &UnitQuaternion<f64>,
+    ) -> IsometryMatrix3<f64> {
         let world = IsometryMatrix3::from_parts(
             Translation3::from(target.position.coords),
             orientation.to_rotation_matrix() * self.rest_hand,
         );
-        self.base.inverse() * world
+        base.inverse() * world
     }
 
     /// IK with collision avoidance (Kallmann's unified search): the orbit-angle search
@@ -711,13 +731,25 @@ impl ArmSpace {
             return Err(PlanError::NonFinite("the hand target".into()));
         }
         let ok = |q: &ArmConfig| self.contact(q).is_none() && accept(q);
-        let result = match &target.orientation {
-            Some(o) => self.ik.search_with(&self.goal(target, o), orbit, &ok),
+        let solve_on = |base: &IsometryMatrix3<f64>| match &target.orientation {
+            Some(o) => self.ik.search_with(&self.goal(base, target, o), orbit, &ok),
             None => {
-                let p = self.base.inverse() * target.position;
+                let p = base.inverse() * target.position;
                 self.ik.solve_position_with(&p, orbit, &ok)
             }
         };
+        // The shoulder rides the girdle, which depends on the solution: a short fixed point.
+        let mut result = solve_on(&self.base);
+        for _ in 0..12 {
+            let Ok((_, q)) = &result else { break };
+            let next = solve_on(&self.base_for(q));
+            let moved = |n: &ArmConfig| (self.girdle.shift(n) - self.girdle.shift(q)).norm();
+            let done = next.as_ref().map_or(true, |(_, n)| moved(n) < 1e-12);
+            result = next.or(result);
+            if done {
+                break;
+            }
+        }
         result.map_err(|e| match e {
             AnalyticError::Rejected { within_limits, .. } => PlanError::GoalInCollision {
                 tried: within_limits,
@@ -739,7 +771,9 @@ impl ArmSpace {
             false
         };
         let _ = match &target.orientation {
-            Some(o) => self.ik.search_with(&self.goal(target, o), orbit, &record),
+            Some(o) => self
+                .ik
+                .search_with(&self.goal(&self.base, target, o), orbit, &record),
             None => {
                 let p = self.base.inverse() * target.position;
                 self.ik.solve_position_with(&p, orbit, &record)

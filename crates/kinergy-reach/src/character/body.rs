@@ -16,11 +16,12 @@ use kinergy_motion::rotation::{Axis, axis_rotation, swing_rotation};
 use kinergy_motion::{Chain, Dof, Joint, Motion, PositionReading, Side, Skeleton};
 use nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
 
+use super::girdle::{ArmGirdle, Girdle, GirdleAngles};
 use super::layout::{
     DOF_COUNT, DofKind, LIMB_ORDER, Limb, Pose, SPINE_ORDER, SpineJoint, arm_frame, dof, joint,
     leg_frame, spine_frame,
 };
-use super::limits::{leg_chain, spine_motions};
+use super::limits::{arm_chain, leg_chain, spine_motions};
 use super::proportions::{Proportions, SpineSegments};
 use crate::error::Result;
 
@@ -45,11 +46,30 @@ pub struct CharacterJoint {
     pub first_dof: usize,
     /// True for an End Site (a 0-DoF tip).
     pub end_site: bool,
-    /// The BVH rotation channel order (used when it has motions).
+    /// The BVH rotation channel order (used when it has motions or a girdle role).
     pub channel_order: [Axis; 3],
+    /// Its part in the shoulder girdle, if any ([`GirdleRole`]).
+    pub girdle: Option<GirdleRole>,
+}
+
+/// A joint's part in the shoulder girdle ([girdle](super::girdle)): the clavicle turns with
+/// the arm's elevation, and the arm's base joint turns back by as much, so the arm's DoFs
+/// stay humerothoracic (measured in a frame fixed to the thorax) while its shoulder rides the
+/// clavicle's end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum GirdleRole {
+    /// The sternoclavicular joint of this arm: rotated by the girdle, 0 DoFs of its own.
+    Clavicle(Limb),
+    /// This arm's base joint (the shoulder): the clavicle's rotation undone before its rest.
+    Shoulder(Limb),
 }
 
 impl CharacterJoint {
+    /// True when it rotates: it has motions or is a clavicle (the export gives it channels).
+    pub fn rotates(&self) -> bool {
+        !self.motions.is_empty() || matches!(self.girdle, Some(GirdleRole::Clavicle(_)))
+    }
+
     /// Its DoFs' indices in a [`Pose`].
     pub fn dof_range(&self) -> Range<usize> {
         self.first_dof..self.first_dof + self.dofs.len()
@@ -131,6 +151,8 @@ enum Moves {
     InLimb(Limb, usize),
     /// Not at all (0 DoFs).
     Fixed,
+    /// By the girdle of this arm (0 DoFs: a function of the arm's elevation).
+    Girdle(Limb),
     /// Not at all: an End Site.
     EndSite,
 }
@@ -144,7 +166,7 @@ struct Row(&'static str, Option<usize>, At, Moves);
 const JOINTS: [Row; joint::COUNT] = {
     use At::{Beside, InChain, Root, Tip, Up};
     use Limb::{LeftArm, LeftLeg, RightArm, RightLeg};
-    use Moves::{EndSite, Fixed, InLimb, Spine};
+    use Moves::{EndSite, Fixed, Girdle, InLimb, Spine};
     use SpineJoint::{Cervical, Lumbar, Sacral, Thoracic};
     use joint as j;
     [
@@ -155,12 +177,12 @@ const JOINTS: [Row; joint::COUNT] = {
         Row("Neck",          Some(j::CHEST),          Up(Rise::Thoracic), Spine(Cervical)),
         Row("Head",          Some(j::NECK),           Up(Rise::Neck),     Fixed),
         Row("Head_End",      Some(j::HEAD),           Up(Rise::Head),     EndSite),
-        Row("RightShoulder", Some(j::CHEST),          Up(Rise::Clavicle), Fixed),
+        Row("RightShoulder", Some(j::CHEST),          Up(Rise::Clavicle), Girdle(RightArm)),
         Row("RightArm",      Some(j::RIGHT_SHOULDER), Beside(RightArm),   InLimb(RightArm, 0)),
         Row("RightForeArm",  Some(j::RIGHT_ARM),      InChain,            InLimb(RightArm, 1)),
         Row("RightHand",     Some(j::RIGHT_FOREARM),  InChain,            InLimb(RightArm, 2)),
         Row("RightHand_End", Some(j::RIGHT_HAND),     Tip(RightArm),      EndSite),
-        Row("LeftShoulder",  Some(j::CHEST),          Up(Rise::Clavicle), Fixed),
+        Row("LeftShoulder",  Some(j::CHEST),          Up(Rise::Clavicle), Girdle(LeftArm)),
         Row("LeftArm",       Some(j::LEFT_SHOULDER),  Beside(LeftArm),    InLimb(LeftArm, 0)),
         Row("LeftForeArm",   Some(j::LEFT_ARM),       InChain,            InLimb(LeftArm, 1)),
         Row("LeftHand",      Some(j::LEFT_FOREARM),   InChain,            InLimb(LeftArm, 2)),
@@ -270,7 +292,12 @@ fn joint_of(
             let names = cj.dof_names.iter().map(|n| format!("{side}_{n}")).collect();
             (cj.motions.clone(), names, LIMB_ORDER)
         }
-        Moves::Fixed | Moves::EndSite => (Vec::new(), Vec::new(), LIMB_ORDER),
+        Moves::Fixed | Moves::EndSite | Moves::Girdle(_) => (Vec::new(), Vec::new(), LIMB_ORDER),
+    };
+    let girdle = match (moves, at) {
+        (Moves::Girdle(limb), _) => Some(GirdleRole::Clavicle(limb)),
+        (_, At::Beside(limb)) if limb.is_arm() => Some(GirdleRole::Shoulder(limb)),
+        _ => None,
     };
     let mut dofs = Vec::new();
     let mut names = Vec::new();
@@ -298,6 +325,7 @@ fn joint_of(
         first_dof,
         end_site: matches!(moves, Moves::EndSite),
         channel_order,
+        girdle,
     };
     (joint, names)
 }
@@ -313,7 +341,7 @@ fn exported_skeleton(joints: &[CharacterJoint], rest_world: &[Rotation3<f64>]) -
             if j.translates {
                 dofs.extend([Axis::X, Axis::Y, Axis::Z].map(Dof::Translation));
             }
-            if !j.motions.is_empty() {
+            if j.rotates() {
                 dofs.extend(j.channel_order.map(Dof::Rotation));
             }
             Joint {
@@ -336,8 +364,8 @@ impl Character {
         proportions.validate()?;
         let p = proportions;
         let chains = [
-            Chain::arm(p.right_arm.upper_arm, p.right_arm.forearm, p.right_arm.hand)?,
-            Chain::arm(p.left_arm.upper_arm, p.left_arm.forearm, p.left_arm.hand)?,
+            arm_chain(&p.right_arm)?,
+            arm_chain(&p.left_arm)?,
             leg_chain(&p.right_leg)?,
             leg_chain(&p.left_leg)?,
         ];
@@ -436,6 +464,9 @@ impl Character {
             .parent
             .map_or(IsometryMatrix3::identity(), |p| self.joint_frame(p, pose));
         frame.translation.vector += frame.rotation * j.offset;
+        if limb.is_arm() {
+            frame.rotation *= self.girdle_rotation(limb, &pose[limb.dofs()]).inverse();
+        }
         frame.rotation *= j.rest;
         frame
     }
@@ -451,6 +482,14 @@ impl Character {
         let j = &self.joints[base];
         let mut frame = j.parent.map_or(IsometryMatrix3::identity(), |p| frames[p]);
         frame.translation.vector += frame.rotation * j.offset;
+        if limb.is_arm() {
+            // The clavicle's parent's orientation: the girdle's rotation left out.
+            let clavicle = &self.joints[j.parent.unwrap_or(joint::CHEST)];
+            let above = clavicle
+                .parent
+                .map_or(IsometryMatrix3::identity(), |p| frames[p]);
+            frame.rotation = above.rotation * clavicle.rest;
+        }
         frame.rotation *= j.rest;
         frame
     }
@@ -513,7 +552,15 @@ impl Character {
             k += 3;
         }
         frame.translation.vector += frame.rotation * offset;
-        frame.rotation *= j.rest;
+        match j.girdle {
+            Some(GirdleRole::Clavicle(limb)) => {
+                frame.rotation *= j.rest * self.girdle_rotation(limb, &pose[limb.dofs()]);
+            }
+            Some(GirdleRole::Shoulder(limb)) => {
+                frame.rotation *= self.girdle_rotation(limb, &pose[limb.dofs()]).inverse() * j.rest;
+            }
+            None => frame.rotation *= j.rest,
+        }
         for m in &j.motions {
             frame.rotation *= motion_rotation(m, &pose[k..]);
             k += m.dof_count();
@@ -528,6 +575,60 @@ impl Character {
             .iter()
             .map(|f| Point3::from(f.translation.vector))
             .collect()
+    }
+}
+
+// The shoulder girdle: the clavicle's rotation as a function of the arm's DoFs.
+impl Character {
+    /// The girdle of `arm` (an arm) whose DoFs are `q` (at least its shoulder swing): the
+    /// rhythm's angles at the arm's humerothoracic elevation `|(sx, sy)|`.
+    pub fn girdle_angles(&self, arm: Limb, q: &[f64]) -> GirdleAngles {
+        if !arm.is_arm() {
+            return Girdle::angles(0.0);
+        }
+        Girdle::angles(ArmGirdle::elevation(q))
+    }
+
+    /// `arm`'s girdle: what moves its shoulder (identity for a leg).
+    pub fn arm_girdle(&self, arm: Limb) -> ArmGirdle {
+        let base = &self.joints[arm.joints()[0]];
+        if !arm.is_arm() {
+            return ArmGirdle::new(arm.side(), Vector3::zeros(), base.rest);
+        }
+        let clavicle = &self.joints[base.parent.unwrap_or(joint::CHEST)];
+        ArmGirdle::new(
+            arm.side(),
+            clavicle.rest * base.offset,
+            clavicle.rest * base.rest,
+        )
+    }
+
+    /// The rotation of `arm`'s clavicle joint in its parent's (the thorax's) frame for the
+    /// arm's DoFs `q` ([`ArmGirdle::rotation`]); identity for a leg.
+    pub fn girdle_rotation(&self, arm: Limb, q: &[f64]) -> Rotation3<f64> {
+        if !arm.is_arm() {
+            return Rotation3::identity();
+        }
+        self.arm_girdle(arm).rotation(q)
+    }
+
+    /// Where `arm`'s base frame moves when the arm's DoFs go from `from` to `to` and nothing
+    /// else changes: `base` (the frame for `from`) shifted by the clavicle's end, turned the
+    /// same (the base frame does not turn with the girdle, [`GirdleRole`]).
+    pub fn arm_base_moved(
+        &self,
+        arm: Limb,
+        base: &IsometryMatrix3<f64>,
+        from: &[f64],
+        to: &[f64],
+    ) -> IsometryMatrix3<f64> {
+        if !arm.is_arm() {
+            return *base;
+        }
+        let g = self.arm_girdle(arm);
+        let mut moved = *base;
+        moved.translation.vector += base.rotation * (g.shift(to) - g.shift(from));
+        moved
     }
 }
 

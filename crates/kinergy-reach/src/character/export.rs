@@ -12,6 +12,12 @@
 //! CMU's Z Y X for the limbs (lock only at a ±90° twist of the hanging limb). Frame to frame
 //! the Euler solution nearest the previous frame is taken, so angles do not jump by 2π.
 //! Root translations are written in the export's unit.
+//!
+//! The clavicle joints (`RightShoulder`, `LeftShoulder`) rotate by the girdle `G`
+//! ([girdle](super::girdle)): their BVH rotation is `C · G · Cᵀ`, and the arm's base joint,
+//! whose DoFs are measured in the thorax's frame, turns back by it: `(C G Cᵀ)ᵀ · C_a M Cᵀ_a`
+//! (`C` the clavicle's rest orientation, `C_a` the arm's), so every joint lands where
+//! [`Character::world_frames`] puts it.
 
 use std::sync::Arc;
 
@@ -19,7 +25,7 @@ use kinergy_motion::rotation::{euler_angles, nearest_euler};
 use kinergy_motion::{Clip, Skeleton};
 use nalgebra::Rotation3;
 
-use super::body::{Character, motion_rotation};
+use super::body::{Character, GirdleRole, motion_rotation};
 use super::layout::Pose;
 use crate::error::Result;
 
@@ -45,7 +51,7 @@ impl Character {
                 out.extend_from_slice(&pose[k..k + 3]);
                 k += 3;
             }
-            if joint.motions.is_empty() {
+            if !joint.rotates() {
                 continue;
             }
             let mut m = Rotation3::identity();
@@ -54,7 +60,17 @@ impl Character {
                 k += motion.dof_count();
             }
             let c = self.rest_world[j];
-            let bvh = c * m * c.inverse();
+            let bvh = match joint.girdle {
+                Some(GirdleRole::Clavicle(limb)) => {
+                    c * self.girdle_rotation(limb, &pose[limb.dofs()]) * c.inverse()
+                }
+                Some(GirdleRole::Shoulder(limb)) => {
+                    let cp = joint.parent.map_or(c, |p| self.rest_world[p]);
+                    let g = cp * self.girdle_rotation(limb, &pose[limb.dofs()]) * cp.inverse();
+                    g.inverse() * c * m * c.inverse()
+                }
+                None => c * m * c.inverse(),
+            };
             // Three distinct axes always decompose.
             let angles = euler_angles(joint.channel_order, &bvh).unwrap_or_default();
             let start = out.len();

@@ -5,7 +5,14 @@
 //!
 //! # Joint limits
 //! Swings lie in a spherical ellipse `(sx/rx)² + (sy/ry)² ≤ 1`, twists and flexions within
-//! `[min, max]` (Kallmann 2005). Arms use [`Chain::arm`]'s defaults. The other values are
+//! `[min, max]` (Kallmann 2005). Arms use [`Chain::arm`]'s elbow and wrist, and a shoulder
+//! whose swing is the arm's humerothoracic elevation: the glenohumeral joint's 130° in every
+//! plane ([`GLENOHUMERAL_MAX`]: [`Chain::arm`]'s flexion radius, Inman's 120° GH abduction
+//! rounded up) plus the girdle's share by the scapulohumeral rhythm
+//! ([girdle](super::girdle)) gives 180°, the AAOS flexion and abduction (1965). The ellipse
+//! being symmetric, it admits as much extension and adduction as flexion and abduction (the
+//! tables give about 60° and 45°, NASA-STD-3000 vol. I fig. 3.3.2.3-1: 61°, 48°); the
+//! analytic IK's orbit search and the reach controllers do not seek them. The other values are
 //! our choice, rounded from typical active ranges of motion (e.g. the AAOS tables); a swing
 //! ellipse is symmetric, so it admits as much extension as flexion:
 //!
@@ -15,7 +22,8 @@
 //! | lumbar | 50°, 30° | twist ±20° |
 //! | thoracic | 40°, 30° | twist ±35° |
 //! | cervical | 60°, 45° | twist ±80° |
-//! | shoulder, elbow, wrist | 130°, 100° | twist ±90°; elbow flexion 0–150°, twist ±90°; wrist 70°, 30° |
+//! | shoulder (humerothoracic) | 180°, 180° | twist ±90° |
+//! | elbow, wrist | — | elbow flexion 0–150°, twist ±90°; wrist 70°, 30° |
 //! | hip | 120°, 45° | twist ±40° |
 //! | knee | — | flexion 0–150° (backward), twist ±30° |
 //! | ankle | 45°, 25° | — |
@@ -24,8 +32,9 @@ use kinergy_motion::rotation::Axis;
 use kinergy_motion::{Chain, ChainJoint, Motion};
 use nalgebra::Vector3;
 
+use super::girdle::{GLENOHUMERAL_MAX, Girdle};
 use super::layout::SpineJoint;
-use super::proportions::LegSegments;
+use super::proportions::{ArmSegments, LegSegments};
 use crate::error::Result;
 
 /// A rotation about `axis` within `[min_deg, max_deg]` degrees.
@@ -83,4 +92,34 @@ pub(super) fn leg_chain(leg: &LegSegments) -> Result<Chain> {
         ],
         Vector3::new(0.0, leg.toe, leg.ankle_height),
     )?)
+}
+
+/// The largest humerothoracic elevation of the arm, radians: the glenohumeral limit with the
+/// girdle's share (180°).
+pub fn shoulder_elevation_max() -> f64 {
+    Girdle::elevation_for_glenohumeral(GLENOHUMERAL_MAX)
+}
+
+/// An arm as a chain: [`Chain::arm`]'s joints with the shoulder's swing bounded by
+/// [`shoulder_elevation_max`] in every plane (module docs).
+pub(super) fn arm_chain(arm: &ArmSegments) -> Result<Chain> {
+    let default = Chain::arm(arm.upper_arm, arm.forearm, arm.hand)?;
+    let top = shoulder_elevation_max();
+    let joints = default
+        .joints()
+        .iter()
+        .enumerate()
+        .map(|(i, j)| {
+            let mut j = j.clone();
+            if i == 0 {
+                for m in &mut j.motions {
+                    if let Motion::Swing { rx, ry } = m {
+                        (*rx, *ry) = (top, top);
+                    }
+                }
+            }
+            j
+        })
+        .collect();
+    Ok(Chain::new(joints, default.end_effector())?)
 }

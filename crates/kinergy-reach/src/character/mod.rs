@@ -25,6 +25,7 @@
 //! | [`measure`] | the proportions measured on a capture's skeleton |
 //! | [`body`] | the [`Character`] built from its joint table, its bones, forward kinematics, poses checked and clamped into the limits |
 //! | [`mass`] | segment masses, the centre of mass, foot points and the [`SupportPolygon`] |
+//! | [`girdle`] | the shoulder girdle: the clavicle's elevation and retraction by the scapulohumeral rhythm |
 //! | [`limits`] | the joint limits' values |
 //! | [`export`] | the BVH skeleton and clip |
 //!
@@ -48,7 +49,7 @@
 //! | 3 | `Neck` | Chest | cervical (turns the head) | 3 | same |
 //! | 4 | `Head` | Neck | skull base (ear-canal height) | 0 | none |
 //! | 5 | `Head_End` | Head | top of the head (End Site) | 0 | — |
-//! | 6, 11 | `RightShoulder`, `LeftShoulder` | Chest | clavicle joint, on the thoracic bone | 0 | none |
+//! | 6, 11 | `RightShoulder`, `LeftShoulder` | Chest | sternoclavicular joint, on the thoracic bone: elevation + retraction driven by the arm's elevation ([`girdle`]) | 0 (dependent) | `Zrotation Yrotation Xrotation` |
 //! | 7, 12 | `RightArm`, `LeftArm` | …Shoulder | shoulder: base joint | swing 2 + twist 1 | `Zrotation Yrotation Xrotation` |
 //! | 8, 13 | `RightForeArm`, `LeftForeArm` | …Arm | elbow: mid joint | flexion 1 + twist 1 | same |
 //! | 9, 14 | `RightHand`, `LeftHand` | …ForeArm | wrist: end joint | swing 2 | same |
@@ -61,7 +62,9 @@
 //! End Sites are named `<parent>_End`, the name our BVH reader gives them, so names survive a
 //! round trip. **Bones (21)**: the spine's four — sacrum (Hips→Spine), lumbar (Spine→Chest),
 //! thorax (Chest→Neck), neck (Neck→Head) — and the head (Head→Head_End): 5; the two
-//! clavicles (…Shoulder→…Arm), the 0-DoF shoulder bones: 2; the two pelvic bones
+//! clavicles (…Shoulder→…Arm), the shoulder bones, with no DoFs of their own — each turns by
+//! its arm's elevation through the scapulohumeral rhythm ([`girdle`]; the arm's DoFs stay
+//! humerothoracic, its base joint turning back by the clavicle's rotation): 2; the two pelvic bones
 //! (Hips→…UpLeg), rigid with the root, so 0 DoFs of their own: 2; three bones per limb
 //! (upper arm, forearm, hand; thigh, shank, foot): 12. 5 + 2 + 2 + 12 = 21. The clavicle
 //! joints sit on the thoracic bone (Chest→…Shoulder is collinear with Chest→Neck), so that
@@ -72,13 +75,15 @@
 
 pub mod body;
 pub mod export;
+pub mod girdle;
 pub mod layout;
 pub mod limits;
 pub mod mass;
 pub mod measure;
 pub mod proportions;
 
-pub use body::{Bone, Character, CharacterJoint};
+pub use body::{Bone, Character, CharacterJoint, GirdleRole};
+pub use girdle::{ArmGirdle, Girdle, GirdleAngles};
 pub use layout::{BONE_COUNT, DOF_COUNT, DofKind, Limb, Pose, SpineJoint, dof, joint};
 pub use mass::{CONTACT_TOLERANCE, FOOT_BREADTH, MassSegment, SupportPolygon};
 pub use proportions::{ArmSegments, LegSegments, Proportions, Ratios, SpineSegments};

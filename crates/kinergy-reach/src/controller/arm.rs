@@ -11,6 +11,14 @@
 //! the hanging, straight arm the analytic solution flexes the elbow like the square root of
 //! the hand's travel; clamping each DoF alone let the shoulder swing on while the elbow was
 //! held back, and the hand jumped sideways at 2.5 m/s in the first frames.)
+//!
+//! The shoulder rides the clavicle, which the girdle turns with the arm's elevation
+//! ([`crate::character::girdle`]): the arm's base depends on the arm's own solution. Every
+//! solve is a short fixed-point iteration ([`GIRDLE_PASSES`]): solve with the base where the
+//! girdle puts it for the previous frame's arm, move the base to where the girdle puts it for
+//! the solution, solve again. The base moves by the clavicle's end, at most ~5 cm per radian of
+//! elevation, while the solution's elevation moves by about a radian per meter of base: each
+//! pass shrinks the base's error some tenfold.
 
 use std::ops::Range;
 
@@ -36,6 +44,39 @@ const HAND_MAX_SPEED: f64 = 2.0;
 
 /// How long the reaching arm's speed limit takes to rise to [`ARM_MAX_SPEED`], seconds.
 const ARM_SPEED_RAMP: f64 = 0.5;
+
+/// The most solves of the arm's fixed-point iteration with the girdle (module docs).
+pub(super) const GIRDLE_PASSES: usize = 5;
+
+/// The girdle iteration stops when the arm's base moved less than this, meters.
+const GIRDLE_TOLERANCE: f64 = 1e-6;
+
+/// Solves `limb`'s arm with its base riding the girdle. `base` is the arm's base frame while
+/// the arm's DoFs are `at`; the first solve uses the base for the arm `first` (the previous
+/// frame's), each later one the base for the solution before it. `solve` gives an orbit
+/// angle and an arm for a base frame. The last solution found, if any.
+fn on_girdle(
+    character: &Character,
+    limb: Limb,
+    base: &IsometryMatrix3<f64>,
+    at: &[f64; 7],
+    first: &[f64; 7],
+    mut solve: impl FnMut(&IsometryMatrix3<f64>) -> Option<(f64, [f64; 7])>,
+) -> Option<(f64, [f64; 7])> {
+    let mut b = character.arm_base_moved(limb, base, at, first);
+    let mut found = None;
+    for _ in 0..GIRDLE_PASSES {
+        let Some((a, q)) = solve(&b) else { break };
+        found = Some((a, q));
+        let next = character.arm_base_moved(limb, base, at, &q);
+        let moved = (next.translation.vector - b.translation.vector).norm();
+        b = next;
+        if moved < GIRDLE_TOLERANCE {
+            break;
+        }
+    }
+    found
+}
 
 /// The arm's analytic IK: α = 0 the lowest elbow (world down) and growing α raising the
 /// elbow outward — a left-handed turn about the shoulder→wrist axis for the right arm.
@@ -131,23 +172,23 @@ impl ArmFollower {
             Some(a) => Near::Alpha(a),
             None => Near::Posture(self.previous),
         };
-        let mut solved = solve_arm_near(&self.ik, base, &goal, &self.search, near);
-        // Through a straight arm the orbit angle's reference flips: when the posture jumps,
-        // take the angle closest to the previous frame's posture instead.
-        if let Some((_, q)) = solved
-            && (0..5).any(|i| (q[i] - self.previous[i]).abs() > ARM_JUMP)
-        {
-            let again = solve_arm_near(
-                &self.ik,
-                base,
-                &goal,
-                &self.search,
-                Near::Posture(self.previous),
-            );
-            if again.is_some() {
-                solved = again;
+        let at: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
+        let previous = self.previous;
+        let (ik, search) = (&self.ik, &self.search);
+        let solved = on_girdle(character, self.limb, base, &at, &previous, |b| {
+            let mut solved = solve_arm_near(ik, b, &goal, search, near);
+            // Through a straight arm the orbit angle's reference flips: when the posture
+            // jumps, take the angle closest to the previous frame's posture instead.
+            if let Some((_, q)) = solved
+                && (0..5).any(|i| (q[i] - previous[i]).abs() > ARM_JUMP)
+            {
+                let again = solve_arm_near(ik, b, &goal, search, Near::Posture(previous));
+                if again.is_some() {
+                    solved = again;
+                }
             }
-        }
+            solved
+        });
         let q = solved.map(|(_, q)| q).or(self.last).unwrap_or_default();
         if first_pass || q != [0.0; 7] {
             pose[self.dofs.clone()].copy_from_slice(&q);
@@ -265,6 +306,7 @@ fn limit_speed(values: &mut [f64], previous: &[f64; 7], max_step: f64) -> bool {
 /// behind a bending trunk.)
 #[derive(Debug, Clone)]
 pub(super) struct IdleArm {
+    limb: Limb,
     dofs: Range<usize>,
     ik: LimbIk,
     search: OrbitSearch,
@@ -298,6 +340,7 @@ impl IdleArm {
             .end_position(&base, &rest[dofs.clone()])
             .unwrap_or_else(|_| Point3::from(base.translation.vector));
         Ok(IdleArm {
+            limb,
             previous: std::array::from_fn(|i| rest[dofs.start + i]),
             dofs,
             ik,
@@ -314,13 +357,21 @@ impl IdleArm {
     /// the base's rotation only (and on its height near the floor): while the trunk keeps
     /// its orientation — the root shifted for balance, the body stepping upright — the last
     /// solution is reused.
-    pub(super) fn hang(&mut self, pose: &mut Pose, base: &IsometryMatrix3<f64>) -> Option<f64> {
-        let now = ground_heading(base);
+    pub(super) fn hang(
+        &mut self,
+        character: &Character,
+        pose: &mut Pose,
+        base: &IsometryMatrix3<f64>,
+    ) -> Option<f64> {
+        // The hand hangs below where the shoulder is with the clavicle at rest.
+        let at: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
+        let rest = character.arm_base_moved(self.limb, base, &at, &[0.0; 7]);
+        let now = ground_heading(&rest);
         let yaw = self.heading.cross(&now).y.atan2(self.heading.dot(&now));
         let turned = Rotation3::from_axis_angle(&Vector3::y_axis(), yaw) * self.hang;
-        let mut goal = Point3::from(base.translation.vector + turned);
+        let mut goal = Point3::from(rest.translation.vector + turned);
         goal.y = goal.y.max(IDLE_HAND_CLEARANCE);
-        let local = base.inverse() * goal;
+        let local = rest.inverse() * goal;
         if let Some((last, q)) = self.solved
             && (last - local).norm() < 1e-9
         {
@@ -331,7 +382,10 @@ impl IdleArm {
             Some(a) => Near::Alpha(a),
             None => Near::Posture(self.previous),
         };
-        let (alpha, q) = solve_arm_near(&self.ik, base, &goal, &self.search, near)?;
+        let (ik, search) = (&self.ik, &self.search);
+        let (alpha, q) = on_girdle(character, self.limb, base, &at, &self.previous, |b| {
+            solve_arm_near(ik, b, &goal, search, near)
+        })?;
         pose[self.dofs.clone()].copy_from_slice(&q);
         self.solved = Some((local, q));
         Some(alpha)
@@ -375,15 +429,23 @@ enum Near {
     Posture([f64; 7]),
 }
 
-/// The arm for the hand at `goal` (world), position mode with the orbit search; a goal out
-/// of reach is moved to the nearest reachable point on the shoulder→goal line.
+/// The `arm` (its analytic IK `ik`) for the hand at `goal` (world), the body as in `pose`,
+/// position mode with the orbit search and the base riding the girdle; a goal out of reach
+/// is moved to the nearest reachable point on the shoulder→goal line.
 pub(super) fn solve_arm(
+    character: &Character,
+    arm: Limb,
     ik: &LimbIk,
-    base: &IsometryMatrix3<f64>,
+    pose: &Pose,
     goal: &Point3<f64>,
     search: &OrbitSearch,
 ) -> Option<[f64; 7]> {
-    solve_arm_near(ik, base, goal, search, Near::Default).map(|(_, q)| q)
+    let base = character.limb_base_frame(arm, pose);
+    let at: [f64; 7] = std::array::from_fn(|i| pose[arm.dofs().start + i]);
+    on_girdle(character, arm, &base, &at, &at, |b| {
+        solve_arm_near(ik, b, goal, search, Near::Default)
+    })
+    .map(|(_, q)| q)
 }
 
 /// [`solve_arm`] with the search starting [`Near`] a previous solution; returns the orbit
@@ -484,8 +546,7 @@ pub(super) fn arm_error(
     ik: &LimbIk,
     target: &Point3<f64>,
 ) -> f64 {
-    let base = character.limb_base_frame(arm, pose);
-    match solve_arm(ik, &base, target, &OrbitSearch::default()) {
+    match solve_arm(character, arm, ik, pose, target, &OrbitSearch::default()) {
         Some(q) => {
             let mut p = *pose;
             p[character.limb_dofs(arm)].copy_from_slice(&q);

@@ -78,8 +78,7 @@ pub(super) fn plan_com_shift(
         q[dof::ROOT_Z] += com_shift.z;
         lower_root_for_legs(character, &mut q, feet);
         solve_legs(character, &mut q, &legs, feet);
-        let base = character.limb_base_frame(arm, &q);
-        if let Some(a) = solve_arm(arm_ik, &base, target, &OrbitSearch::default()) {
+        if let Some(a) = solve_arm(character, arm, arm_ik, &q, target, &OrbitSearch::default()) {
             q[character.limb_dofs(arm)].copy_from_slice(&a);
         }
         match rebalance(character, &character.world_frames(&q), wanted, 0.5).shift {

@@ -58,7 +58,8 @@ impl FrameLimbs<'_> {
         let c = self.character;
         // The root as low as the legs need where it is now (not where a pass before put it).
         pose[dof::ROOT_Y] = self.height;
-        // The limbs' bases do not depend on the limbs: one FK serves all three.
+        // The legs' bases do not depend on the limbs, the arms' on their own arm only (the
+        // girdle, solved with the arm): one FK serves all three.
         let mut above = c.world_frames(pose);
         lower_root_for_legs_in(c, pose, &mut above, self.feet);
         solve_legs_in(c, pose, &above, self.leg_iks, self.feet);
@@ -78,10 +79,12 @@ impl FrameLimbs<'_> {
         }
         if let Some(a) = self
             .idle
-            .hang(pose, &c.limb_base_frame_in(self.idle_limb, &above))
+            .hang(c, pose, &c.limb_base_frame_in(self.idle_limb, &above))
         {
             self.idle_alpha = Some(a);
         }
+        // The arm's base where the girdle puts it for the arm just solved.
+        let base = c.limb_base_frame(self.plan.arm, pose);
         (self.arm.hand(c, &base, pose, self.plan.target) - self.plan.target).norm()
     }
 }

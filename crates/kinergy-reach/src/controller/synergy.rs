@@ -18,7 +18,8 @@
 //! # Limits
 //! The character's limits are the character's: a configuration the controller reaches is
 //! clamped into them, and the controller continues from the clamped arm. The controller's own
-//! chain keeps the default limits in its convention, widened to include the start as a
+//! chain keeps the default limits in its convention ([`Chain::arm`]'s, not the character's
+//! wider humerothoracic ones: see [`crate::character::girdle`]), widened to include the start as a
 //! captured arm's are (the hanging arm's twist lies beyond them), so it slides along them
 //! rather than stalling. The synergy arm has arrived when the hand is within half
 //! the reach's tolerance.
@@ -36,7 +37,7 @@
 
 use std::ops::Range;
 
-use kinergy_motion::Side;
+use kinergy_motion::{Chain, Side};
 
 use kinergy_motion::limbs::ArmJoints;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
@@ -210,7 +211,14 @@ impl SynergyArm {
         // which is not in its positions, and start from there: see the README), with the
         // limits widened to include it, as a captured arm's are.
         let start = to_capture(&k, &q);
-        let (chain, _) = widen_to_include(character.limb_chain(limb), &start).map_err(setting)?;
+        // The default limits in the capture convention (what the person's fit used), not the
+        // character's: the capture convention's zero is the arm raised sideways, so its swing
+        // of π — the arm across the chest — is a singular point the character's 180° would
+        // reach.
+        let segments = character.proportions().arm(limb.side());
+        let default = Chain::arm(segments.upper_arm, segments.forearm, segments.hand)
+            .map_err(|e| setting(kinergy_solver::SolverError::from(e)))?;
+        let (chain, _) = widen_to_include(&default, &start).map_err(setting)?;
         let stepper = controller
             .stepper(&chain, &start)
             .map_err(setting)?
