@@ -5,9 +5,10 @@
 //!
 //! **The base frame.** Its origin is the captured shoulder joint; its rotation is the
 //! shoulder's parent (clavicle) world rotation times a constant alignment A fixed in the
-//! parent's frame from the skeleton's rest pose: A's z axis points laterally outward
-//! (the horizontal direction from the root to the shoulder), its x axis is up × z (forward
-//! for the right arm, backward for the left), y = z × x (up). So a zero swing is the arm
+//! parent's frame: A's z axis points laterally outward (on the clip's first frame, the
+//! horizontal direction from the other arm's shoulder to this one; for a skeleton with one
+//! arm, the rest pose's horizontal direction from the root to the shoulder), its x axis is
+//! up × z (forward for the right arm, backward for the left), y = z × x (up). So a zero swing is the arm
 //! raised sideways, a positive `shoulder_swing_x` lowers the arm on either side, and the
 //! swing's singularity (|swing| = π) points across the body, where nobody reaches.
 //!
@@ -30,7 +31,7 @@ use std::sync::Arc;
 
 use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3, Point3, Rotation3, Vector3};
 use kinergy_motion::rotation::{Axis, axis_rotation, euler_angles, swing_to, unwrap_near};
-use kinergy_motion::{ArmJoints, Chain, Clip, Dof, Motion, Trajectory};
+use kinergy_motion::{ArmJoints, Chain, Clip, Dof, Motion, Side, Trajectory};
 
 use crate::controller::{Base, Synthesis};
 use crate::error::{Result, SolverError};
@@ -67,30 +68,8 @@ impl CaptureArm {
             return Err(kinergy_motion::MotionError::EmptyClip.into());
         }
         let name = |j: usize| skeleton.joint(j).name.clone();
-
-        // The alignment A in the parent's frame, from the rest pose.
-        let rest = skeleton.fk(&skeleton.rest_pose())?;
         let parent = skeleton.joint(joints.shoulder).parent;
-        let parent_rest = parent.map_or(Rotation3::identity(), |p| rest[p].rotation);
-        let shoulder_rest = rest[joints.shoulder].translation.vector;
-        let mut lateral = shoulder_rest - rest[0].translation.vector;
-        lateral.y = 0.0;
-        if lateral.norm() < 1e-3 {
-            lateral = rest[joints.elbow].translation.vector - shoulder_rest;
-            lateral.y = 0.0;
-        }
-        if lateral.norm() < 1e-6 {
-            return Err(SolverError::Capture(format!(
-                "cannot tell which way `{}` points sideways in the rest pose",
-                name(joints.shoulder)
-            )));
-        }
-        let up = parent_rest.inverse() * Vector3::y();
-        let z = parent_rest.inverse() * lateral.normalize();
-        let z = (z - up * z.dot(&up)).normalize();
-        let x = up.cross(&z).normalize();
-        let y = z.cross(&x);
-        let align_base = Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[x, y, z]));
+        let align_base = alignment(clip, joints)?;
 
         // Per-frame bases.
         let mut world = Vec::new();
@@ -289,6 +268,80 @@ impl CaptureArm {
             values,
         )?)
     }
+}
+
+/// The alignment A in the shoulder's parent's frame (module docs): z out of the shoulder
+/// sideways, y up, x = y × z. With both arms, z is the horizontal line from the other arm's
+/// shoulder to this one and y the vertical, on the clip's first frame (the capture's start
+/// posture; a rest pose need not be one a body stands in: Bandai Namco's lies along its x
+/// axis with the clavicles along the spine, where the root → shoulder rule turned the frame
+/// ~95° about the vertical); with one arm, the rest pose's horizontal root → shoulder
+/// direction and its vertical.
+fn alignment(clip: &Clip, joints: &ArmJoints) -> Result<Rotation3<f64>> {
+    let skeleton = clip.skeleton();
+    let parent = skeleton.joint(joints.shoulder).parent;
+    let from_shoulders = other_shoulder(clip, joints)
+        .map(|other| -> Result<_> {
+            let first = clip
+                .frame(0)
+                .ok_or(kinergy_motion::MotionError::EmptyClip)?;
+            let world = skeleton.fk(first)?;
+            let parent_rot = parent.map_or(Rotation3::identity(), |p| world[p].rotation);
+            let lateral =
+                world[joints.shoulder].translation.vector - world[other].translation.vector;
+            Ok((parent_rot, lateral))
+        })
+        .transpose()?
+        .filter(|(_, lateral)| lateral.x.hypot(lateral.z) > 1e-6);
+    let (parent_rot, mut lateral) = match from_shoulders {
+        Some(found) => found,
+        None => {
+            let rest = skeleton.fk(&skeleton.rest_pose())?;
+            let parent_rest = parent.map_or(Rotation3::identity(), |p| rest[p].rotation);
+            let shoulder_rest = rest[joints.shoulder].translation.vector;
+            let mut lateral = shoulder_rest - rest[0].translation.vector;
+            lateral.y = 0.0;
+            if lateral.norm() < 1e-3 {
+                lateral = rest[joints.elbow].translation.vector - shoulder_rest;
+            }
+            lateral.y = 0.0;
+            (parent_rest, lateral)
+        }
+    };
+    lateral.y = 0.0;
+    if lateral.norm() < 1e-6 {
+        return Err(SolverError::Capture(format!(
+            "cannot tell which way `{}` points sideways in the rest pose",
+            skeleton.joint(joints.shoulder).name
+        )));
+    }
+    let up = parent_rot.inverse() * Vector3::y();
+    let z = parent_rot.inverse() * lateral.normalize();
+    let z = (z - up * z.dot(&up)).normalize();
+    let x = up.cross(&z).normalize();
+    let y = z.cross(&x);
+    Ok(Rotation3::from_matrix_unchecked(Matrix3::from_columns(&[
+        x, y, z,
+    ])))
+}
+
+/// The other arm's shoulder joint, when the skeleton has another arm found by name on the
+/// other side (`joints.side`, or whichever side gives a different shoulder).
+fn other_shoulder(clip: &Clip, joints: &ArmJoints) -> Option<usize> {
+    let skeleton = clip.skeleton();
+    let sides = match joints.side {
+        Some(side) => vec![side.opposite()],
+        None => vec![Side::Left, Side::Right],
+    };
+    sides
+        .into_iter()
+        .filter_map(|side| ArmJoints::find(skeleton, side).ok())
+        .map(|other| other.shoulder)
+        .find(|&other| {
+            other != joints.shoulder
+                && !skeleton.is_ancestor_or_self(other, joints.shoulder)
+                && !skeleton.is_ancestor_or_self(joints.shoulder, other)
+        })
 }
 
 /// The rotation axes of joint `j` (exactly three, distinct) and their pose indices.
