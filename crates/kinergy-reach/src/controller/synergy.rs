@@ -18,11 +18,13 @@
 //! # Limits
 //! The character's limits are the character's: a configuration the controller reaches is
 //! clamped into them, and the controller continues from the clamped arm. The controller's own
-//! chain keeps the default limits in its convention ([`Chain::arm`]'s, not the character's
-//! wider humerothoracic ones: see [`crate::character::girdle`]), widened to include the start as a
-//! captured arm's are (the hanging arm's twist lies beyond them), so it slides along them
-//! rather than stalling. The synergy arm has arrived when the hand is within half
-//! the reach's tolerance.
+//! chain ([`SYNERGY_SWING_MAX`], `synergy_chain`) has the character's elbow and wrist limits
+//! but bounds the shoulder only away from its convention's singular swing of π (the arm across
+//! the chest), with the twist free: the generic table's shoulder limits read in the capture
+//! convention are not the character's anatomical ones (the hanging arm sits on their −90°
+//! twist, which stopped an overhead raise), and the character's humerothoracic limits
+//! ([`crate::character::girdle`]) clamp the arm anyway. The synergy arm has arrived when the
+//! hand is within half the reach's tolerance.
 //!
 //! # Hand-over
 //! Where the synergy arm alone cannot finish — its progress stalls for [`STALL_WINDOW`]
@@ -211,14 +213,7 @@ impl SynergyArm {
         // which is not in its positions, and start from there: see the README), with the
         // limits widened to include it, as a captured arm's are.
         let start = to_capture(&k, &q);
-        // The default limits in the capture convention (what the person's fit used), not the
-        // character's: the capture convention's zero is the arm raised sideways, so its swing
-        // of π — the arm across the chest — is a singular point the character's 180° would
-        // reach.
-        let segments = character.proportions().arm(limb.side());
-        let default = Chain::arm(segments.upper_arm, segments.forearm, segments.hand)
-            .map_err(|e| setting(kinergy_solver::SolverError::from(e)))?;
-        let (chain, _) = widen_to_include(&default, &start).map_err(setting)?;
+        let chain = synergy_chain(character, limb, &start).map_err(setting)?;
         let stepper = controller
             .stepper(&chain, &start)
             .map_err(setting)?
@@ -282,6 +277,17 @@ impl SynergyArm {
                 why: e.to_string(),
             })?;
         self.progress.push(seen.progress);
+        if std::env::var_os("KDBG").is_some() {
+            let c = self.stepper.configuration();
+            eprintln!(
+                "DBG err {:.3} prog {:.3} capq {:?} within {} charq {:?}",
+                seen.error,
+                seen.progress,
+                c.iter().map(|v| (v.to_degrees() * 10.0).round() / 10.0).collect::<Vec<_>>(),
+                self.stepper.chain().within_limits(c),
+                q.iter().map(|v| (v.to_degrees() * 10.0).round() / 10.0).collect::<Vec<_>>()
+            );
+        }
         if !seen.error.is_finite() || !self.stepper.advance() {
             return Ok(None);
         }
@@ -319,6 +325,41 @@ impl SynergyArm {
         let best = second.iter().fold(f64::INFINITY, |a, &b| a.min(b));
         worst - best < min_progress
     }
+}
+
+/// The largest shoulder swing of the synergy arm's own chain, radians: its capture
+/// convention measures the swing from the arm raised sideways, so a swing of π (the upper arm
+/// across the chest) is singular; 160° keeps 20° from it, beyond anything the character's
+/// limits let a reach use.
+pub const SYNERGY_SWING_MAX: f64 = 160.0 * std::f64::consts::PI / 180.0;
+
+/// The chain the synergy arm of `limb` steps, in the capture convention, from `start`
+/// (module docs, "Limits"): the character's bones, elbow and wrist limits (the same DoFs in
+/// both conventions); the shoulder bounded only by [`SYNERGY_SWING_MAX`] and a twist of
+/// ±180°, widened to include `start`. The shoulder's anatomical limits are the character's
+/// (humerothoracic, [`crate::character::girdle`]), which clamp the arm every frame: the
+/// generic table's ±90° twist and 130° × 100° ellipse, read in the capture convention, put
+/// the hanging arm on the twist limit (−90°) and stopped an overhead raise there, 0.42 m
+/// short, with the character's own twist at 55° of its ±90°.
+fn synergy_chain(
+    character: &Character,
+    limb: Limb,
+    start: &[f64],
+) -> std::result::Result<Chain, kinergy_solver::SolverError> {
+    use kinergy_motion::{ChainJoint, Motion};
+    let segments = character.proportions().arm(limb.side());
+    let default = Chain::arm(segments.upper_arm, segments.forearm, segments.hand)?;
+    let mut joints: Vec<ChainJoint> = default.joints().to_vec();
+    for m in &mut joints[0].motions {
+        match m {
+            Motion::Swing { rx, ry } => (*rx, *ry) = (SYNERGY_SWING_MAX, SYNERGY_SWING_MAX),
+            Motion::Revolute { min, max, .. } => {
+                (*min, *max) = (-std::f64::consts::PI, std::f64::consts::PI);
+            }
+        }
+    }
+    let chain = Chain::new(joints, default.end_effector())?;
+    Ok(widen_to_include(&chain, start)?.0)
 }
 
 /// The capture-convention arm `q` (shoulder swing x, y, twist; elbow, wrist) as the
