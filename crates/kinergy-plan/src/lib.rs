@@ -15,6 +15,7 @@
 
 pub mod approach;
 pub mod body;
+mod colliders;
 pub mod error;
 pub mod hand;
 pub mod obj;

@@ -31,14 +31,17 @@ use kinergy_solver::analytic::{AnalyticError, LimbIk, OrbitSearch, OrbitSense};
 use nalgebra::{
     Isometry3, IsometryMatrix3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3,
 };
-use parry3d::math::{Pose as PPose, Rot3, Vector as PVec};
-use parry3d::query::intersection_test;
-use parry3d::shape::{Ball, Capsule as PCapsule, Cuboid, Shape as PShape, SharedShape, TriMesh};
+use parry3d::math::{Pose as PPose, Vector as PVec};
+use parry3d::shape::{Capsule as PCapsule, Cuboid, Shape as PShape, SharedShape};
 
 use crate::body::{BodyGeometry, Capsule};
+use crate::colliders::{
+    Collider, bounds_of, collider, hit, isometry, overlaps, parry_shape, pvec, to_parry,
+};
+pub use crate::colliders::{PLACE_TOLERANCE, SUPPORT_GAP, check_placement};
 use crate::error::{PlanError, Result, require};
 use crate::hand::GRIP_FRACTION;
-use crate::scene::{Scene, SceneObject, Shape};
+use crate::scene::{Scene, Shape};
 
 /// An arm configuration: the 7 DoFs of one arm.
 pub type ArmConfig = [f64; 7];
@@ -88,17 +91,6 @@ pub struct HandTarget {
     pub position: Point3<f64>,
     /// The hand's rotation from its rest orientation, in world.
     pub orientation: Option<UnitQuaternion<f64>>,
-}
-
-/// A scene object as the collision tests see it.
-#[derive(Clone)]
-struct Collider {
-    name: String,
-    shape: SharedShape,
-    pose: PPose,
-    min: Point3<f64>,
-    max: Point3<f64>,
-    ignored: bool,
 }
 
 /// An object held in the hand.
@@ -154,126 +146,6 @@ impl std::fmt::Debug for ArmSpace {
             .field("resolution", &self.resolution)
             .finish()
     }
-}
-
-/// nalgebra → parry's glam pose (f32).
-fn to_parry(iso: &Isometry3<f64>) -> PPose {
-    let t = iso.translation.vector;
-    let q = iso.rotation.coords;
-    PPose::from_parts(
-        PVec::new(t.x as f32, t.y as f32, t.z as f32),
-        Rot3::from_xyzw(q.x as f32, q.y as f32, q.z as f32, q.w as f32).normalize(),
-    )
-}
-
-/// A rotation-matrix isometry as a quaternion one.
-fn isometry(m: &IsometryMatrix3<f64>) -> Isometry3<f64> {
-    Isometry3::from_parts(
-        Translation3::from(m.translation.vector),
-        UnitQuaternion::from_rotation_matrix(&m.rotation),
-    )
-}
-
-/// World bounds of a parry shape at a pose.
-fn bounds_of(shape: &dyn PShape, pose: &PPose) -> (Point3<f64>, Point3<f64>) {
-    let aabb = shape.compute_aabb(pose);
-    let p = |v: PVec| Point3::new(v.x as f64, v.y as f64, v.z as f64);
-    (p(aabb.mins), p(aabb.maxs))
-}
-
-fn pvec(p: &Point3<f64>) -> PVec {
-    PVec::new(p.x as f32, p.y as f32, p.z as f32)
-}
-
-/// The parry shape of a scene shape, grown (or shrunk, negative) by `grow` for primitives.
-fn parry_shape(shape: &Shape, grow: f64) -> Result<SharedShape> {
-    Ok(match shape {
-        Shape::Box { half_extents } => {
-            let h = half_extents.map(|v| (v + grow).max(1e-4));
-            SharedShape::new(Cuboid::new(PVec::new(h.x as f32, h.y as f32, h.z as f32)))
-        }
-        Shape::Sphere { radius } => SharedShape::new(Ball::new((radius + grow).max(1e-4) as f32)),
-        Shape::Capsule {
-            half_height,
-            radius,
-        } => SharedShape::new(PCapsule::new_y(
-            *half_height as f32,
-            (radius + grow).max(1e-4) as f32,
-        )),
-        Shape::Mesh { file, mesh } => {
-            let vertices = mesh.vertices.iter().map(pvec).collect();
-            let mesh =
-                TriMesh::new(vertices, mesh.triangles.clone()).map_err(|e| PlanError::Obj {
-                    path: file.clone(),
-                    line: 0,
-                    why: format!("not a usable triangle mesh: {e}"),
-                })?;
-            SharedShape::new(mesh)
-        }
-    })
-}
-
-fn collider(o: &SceneObject) -> Result<Collider> {
-    let shape = parry_shape(&o.shape, 0.0)?;
-    let pose = to_parry(&o.pose);
-    let (min, max) = bounds_of(shape.as_ref(), &pose);
-    Ok(Collider {
-        name: o.name.clone(),
-        shape,
-        pose,
-        min,
-        max,
-        ignored: false,
-    })
-}
-
-/// How far below a placed object its support may be, meters: it settles that far.
-pub const SUPPORT_GAP: f64 = 0.005;
-
-/// How deep a placed object may sink into another before it counts as intersecting it,
-/// meters (resting contact is not an intersection).
-pub const PLACE_TOLERANCE: f64 = 0.002;
-
-/// Checks that object `name` of `scene`, placed at `pose`, would stand there: it intersects
-/// no other object by more than [`PLACE_TOLERANCE`], and another object lies within
-/// [`SUPPORT_GAP`] below it (the object lowered that far touches it). A mesh object is
-/// tested unshrunk.
-pub fn check_placement(scene: &Scene, name: &str, pose: &Isometry3<f64>) -> Result<()> {
-    let index = scene.object_index(name).ok_or_else(|| PlanError::Setting {
-        field: "object".into(),
-        why: format!("the scene has no object `{name}`"),
-    })?;
-    let inner = parry_shape(&scene.objects[index].shape, -PLACE_TOLERANCE)?;
-    let at = to_parry(pose);
-    let lowered = to_parry(&(Translation3::new(0.0, -(SUPPORT_GAP + PLACE_TOLERANCE), 0.0) * pose));
-    let fail = |why: String| PlanError::Placement {
-        object: name.to_string(),
-        why,
-    };
-    let mut supported = false;
-    for (k, other) in scene.objects.iter().enumerate() {
-        if k == index {
-            continue;
-        }
-        let c = collider(other)?;
-        if hit(&at, inner.as_ref(), &c.pose, c.shape.as_ref()) {
-            return Err(fail(format!("it would intersect `{}`", other.name)));
-        }
-        supported |= hit(&lowered, inner.as_ref(), &c.pose, c.shape.as_ref());
-    }
-    if supported {
-        Ok(())
-    } else {
-        Err(fail(format!(
-            "nothing would hold it up: no surface lies within {:.0} mm below it (give --to a \
-             height where it rests on a support)",
-            SUPPORT_GAP * 1e3
-        )))
-    }
-}
-
-fn overlaps(a: &(Point3<f64>, Point3<f64>), min: &Point3<f64>, max: &Point3<f64>) -> bool {
-    (0..3).all(|k| a.0[k] <= max[k] && a.1[k] >= min[k])
 }
 
 impl ArmSpace {
@@ -799,10 +671,4 @@ impl ArmSpace {
 /// Linear interpolation of two configurations.
 pub fn lerp(a: &ArmConfig, b: &ArmConfig, t: f64) -> ArmConfig {
     std::array::from_fn(|i| a[i] + (b[i] - a[i]) * t)
-}
-
-/// parry's intersection test; pairs it cannot test count as colliding (never silently
-/// free).
-fn hit(p1: &PPose, s1: &dyn PShape, p2: &PPose, s2: &dyn PShape) -> bool {
-    intersection_test(p1, s1, p2, s2).map_or(true, |r| r.intersecting)
 }

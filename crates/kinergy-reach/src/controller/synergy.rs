@@ -277,17 +277,6 @@ impl SynergyArm {
                 why: e.to_string(),
             })?;
         self.progress.push(seen.progress);
-        if std::env::var_os("KDBG").is_some() {
-            let c = self.stepper.configuration();
-            eprintln!(
-                "DBG err {:.3} prog {:.3} capq {:?} within {} charq {:?}",
-                seen.error,
-                seen.progress,
-                c.iter().map(|v| (v.to_degrees() * 10.0).round() / 10.0).collect::<Vec<_>>(),
-                self.stepper.chain().within_limits(c),
-                q.iter().map(|v| (v.to_degrees() * 10.0).round() / 10.0).collect::<Vec<_>>()
-            );
-        }
         if !seen.error.is_finite() || !self.stepper.advance() {
             return Ok(None);
         }
