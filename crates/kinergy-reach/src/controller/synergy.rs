@@ -20,7 +20,7 @@
 //! clamped into them, and the controller continues from the clamped arm. The controller's own
 //! chain ([`SYNERGY_SWING_MAX`], `synergy_chain`) has the character's elbow and wrist limits
 //! but bounds the shoulder only away from its convention's singular swing of π (the arm across
-//! the chest), with the twist free: the generic table's shoulder limits read in the capture
+//! the chest), with the twist open on the side a raise turns it to: the generic table's shoulder limits read in the capture
 //! convention are not the character's anatomical ones (the hanging arm sits on their −90°
 //! twist, which stopped an overhead raise), and the character's humerothoracic limits
 //! ([`crate::character::girdle`]) clamp the arm anyway. The synergy arm has arrived when the
@@ -324,8 +324,9 @@ pub const SYNERGY_SWING_MAX: f64 = 160.0 * std::f64::consts::PI / 180.0;
 
 /// The chain the synergy arm of `limb` steps, in the capture convention, from `start`
 /// (module docs, "Limits"): the character's bones, elbow and wrist limits (the same DoFs in
-/// both conventions); the shoulder bounded only by [`SYNERGY_SWING_MAX`] and a twist of
-/// ±180°, widened to include `start`. The shoulder's anatomical limits are the character's
+/// both conventions); the shoulder's swing bounded only by [`SYNERGY_SWING_MAX`], its twist
+/// by the table's +90° and −180° (the hanging arm sits on the table's −90° in this
+/// convention, and a raise turns it further that way), widened to include `start`. The shoulder's anatomical limits are the character's
 /// (humerothoracic, [`crate::character::girdle`]), which clamp the arm every frame: the
 /// generic table's ±90° twist and 130° × 100° ellipse, read in the capture convention, put
 /// the hanging arm on the twist limit (−90°) and stopped an overhead raise there, 0.42 m
@@ -342,9 +343,7 @@ fn synergy_chain(
     for m in &mut joints[0].motions {
         match m {
             Motion::Swing { rx, ry } => (*rx, *ry) = (SYNERGY_SWING_MAX, SYNERGY_SWING_MAX),
-            Motion::Revolute { min, max, .. } => {
-                (*min, *max) = (-std::f64::consts::PI, std::f64::consts::PI);
-            }
+            Motion::Revolute { min, .. } => *min = -std::f64::consts::PI,
         }
     }
     let chain = Chain::new(joints, default.end_effector())?;
