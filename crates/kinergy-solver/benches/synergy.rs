@@ -113,6 +113,7 @@ fn reach_to(c: &mut Criterion, group: &str, local_target: Point3<f64>) {
             base: &base,
             start: &start,
             task: target,
+            start_velocity: None,
         };
         assert_eq!(
             controller.synthesize(&reach).expect("reach").frame_count(),
@@ -240,7 +241,7 @@ fn ours(name: &str, optimizer: Optimizer, limits: LimitHandling) -> Outcome {
             min_progress: 1e-9,
         },
         limits,
-        acceleration: None,
+        smoothing: None,
     };
     let controller = Controller::new(optimizer, Synergy::identity(7), settings).expect("ok");
     let mut successes = 0;
@@ -251,6 +252,7 @@ fn ours(name: &str, optimizer: Optimizer, limits: LimitHandling) -> Outcome {
             base: &base,
             start: &start,
             task: Task::Position(*t),
+            start_velocity: None,
         };
         let motion = controller.synthesize(&reach).expect("solve");
         successes += usize::from(motion.stop == StopReason::Reached);
