@@ -18,7 +18,7 @@ use kinergy_motion::nalgebra::{
 use kinergy_motion::{Chain, ChainJoint, Linearization, Motion};
 use kinergy_solver::{
     ArmTask, Base, Controller, ControllerSettings, LimitHandling, Model, Optimizer, OptimizerKind,
-    ParamSpace, PseudoInverse, StallRule, StepScratch, StopReason, Synergy, Task,
+    ParamSpace, PseudoInverse, Smoothing, StallRule, StepScratch, StopReason, Synergy, Task,
 };
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
@@ -121,6 +121,19 @@ fn reach_to(c: &mut Criterion, group: &str, local_target: Point3<f64>) {
         );
         group.bench_function(kind.name(), |bench| {
             bench.iter(|| controller.synthesize(black_box(&reach)).expect("reach"))
+        });
+        // The same reach with the smooth controller (bounds of a 1 m/s, 1 s reach).
+        let smooth = Controller::new(
+            kind.default_optimizer(),
+            sc_synergy(&arm),
+            ControllerSettings {
+                smoothing: Some(Smoothing::for_reach(1.0, 1.0, UPPER + FORE + HAND)),
+                ..settings
+            },
+        )
+        .expect("ok");
+        group.bench_function(format!("{}_smooth", kind.name()), |bench| {
+            bench.iter(|| smooth.synthesize(black_box(&reach)).expect("reach"))
         });
     }
     group.finish();
