@@ -18,7 +18,7 @@ use kinergy_motion::nalgebra::{
 use kinergy_motion::{Chain, ChainJoint, Linearization, Motion};
 use kinergy_solver::{
     ArmTask, Base, Controller, ControllerSettings, LimitHandling, Model, Optimizer, OptimizerKind,
-    ParamSpace, PseudoInverse, StallRule, StepScratch, StopReason, Synergy, Task,
+    ParamSpace, PseudoInverse, Smoothing, StallRule, StepScratch, StopReason, Synergy, Task,
 };
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
@@ -113,6 +113,7 @@ fn reach_to(c: &mut Criterion, group: &str, local_target: Point3<f64>) {
             base: &base,
             start: &start,
             task: target,
+            start_velocity: None,
         };
         assert_eq!(
             controller.synthesize(&reach).expect("reach").frame_count(),
@@ -120,6 +121,19 @@ fn reach_to(c: &mut Criterion, group: &str, local_target: Point3<f64>) {
         );
         group.bench_function(kind.name(), |bench| {
             bench.iter(|| controller.synthesize(black_box(&reach)).expect("reach"))
+        });
+        // The same reach with the smooth controller (bounds of a 1 m/s, 1 s reach).
+        let smooth = Controller::new(
+            kind.default_optimizer(),
+            sc_synergy(&arm),
+            ControllerSettings {
+                smoothing: Some(Smoothing::for_reach(1.0, 1.0, UPPER + FORE + HAND)),
+                ..settings
+            },
+        )
+        .expect("ok");
+        group.bench_function(format!("{}_smooth", kind.name()), |bench| {
+            bench.iter(|| smooth.synthesize(black_box(&reach)).expect("reach"))
         });
     }
     group.finish();
@@ -240,7 +254,7 @@ fn ours(name: &str, optimizer: Optimizer, limits: LimitHandling) -> Outcome {
             min_progress: 1e-9,
         },
         limits,
-        acceleration: None,
+        smoothing: None,
     };
     let controller = Controller::new(optimizer, Synergy::identity(7), settings).expect("ok");
     let mut successes = 0;
@@ -251,6 +265,7 @@ fn ours(name: &str, optimizer: Optimizer, limits: LimitHandling) -> Outcome {
             base: &base,
             start: &start,
             task: Task::Position(*t),
+            start_velocity: None,
         };
         let motion = controller.synthesize(&reach).expect("solve");
         successes += usize::from(motion.stop == StopReason::Reached);

@@ -8,14 +8,18 @@
 
 use std::borrow::Cow;
 
-use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
-use kinergy_motion::{Chain, Linearization, Motion, Trajectory};
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
+use kinergy_motion::{Chain, Linearization, Trajectory};
 
 use crate::error::{Result, SolverError, require};
 use crate::optimizer::{Optimizer, StepScratch};
 use crate::reachability::{Guidance, ReachSphere};
+use crate::smoothing::{Frame, Smoother, Smoothing};
+
+mod limits;
 use crate::synergy::Synergy;
 use crate::task::Task;
+use limits::{Lock, clamp_moved, lock_limits};
 
 /// Where the chain's base (the shoulder) is on each frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,13 +107,10 @@ pub struct ControllerSettings {
     pub stall: StallRule,
     /// How joint limits enter the step.
     pub limits: LimitHandling,
-    /// The largest change of any DoF's step from one frame to the next, as an angular
-    /// acceleration (rad/s²): each frame's Δθ' is moved from the previous frame's (zero before
-    /// the first: the arm starts from rest) toward the synergy's by at most `acceleration ·
-    /// frame_time²` in every DoF, the whole vector scaled alike so its direction is kept.
-    /// `None` is the paper's controller, whose step can change without bound from one frame
-    /// to the next (near a singular arm the pseudo-inverse's step jumps).
-    pub acceleration: Option<f64>,
+    /// The smooth controller ([`crate::smoothing`]): bounded accelerations, a progress floor,
+    /// the finish blend to the plain optimizer, guidance of a near-straight arm. `None` is the
+    /// paper's controller, whose step can change without bound from one frame to the next.
+    pub smoothing: Option<Smoothing>,
 }
 
 impl ControllerSettings {
@@ -129,7 +130,7 @@ impl ControllerSettings {
             min_frames: 0,
             stall: StallRule::default(),
             limits: LimitHandling::default(),
-            acceleration: None,
+            smoothing: None,
         }
     }
 
@@ -160,11 +161,10 @@ impl ControllerSettings {
             "stall.min_progress",
             "a non-negative number of meters",
         )?;
-        require(
-            self.acceleration.is_none_or(|a| a.is_finite() && a > 0.0),
-            "acceleration",
-            "a positive number of rad/s², or none",
-        )
+        match &self.smoothing {
+            Some(smoothing) => smoothing.validate(),
+            None => Ok(()),
+        }
     }
 }
 
@@ -266,6 +266,11 @@ pub struct ArmTask<'a> {
     pub start: &'a [f64],
     /// The task.
     pub task: Task,
+    /// The arm's joint velocity at the start, rad/s per DoF (e.g. a capture's own, where it
+    /// starts in motion); `None`: at rest. Only the smooth controller
+    /// ([`ControllerSettings::smoothing`]) carries it on: it bounds the first step's change
+    /// from it.
+    pub start_velocity: Option<&'a [f64]>,
 }
 
 /// The synergy controller: an optimizer, a synergy and settings.
@@ -320,6 +325,9 @@ impl Controller {
         arm.base.validate()?;
         arm.task.validate()?;
         let mut stepper = self.stepper(chain, arm.start)?;
+        if let Some(v) = arm.start_velocity {
+            stepper.set_start_velocity(v)?;
+        }
 
         let s = &self.settings;
         let dt = s.frame_time;
@@ -358,7 +366,17 @@ impl Controller {
                 out.stop = StopReason::MaxFrames;
                 break;
             }
+            // The smooth controller does not stall before its finish is over, nor while the
+            // arm still turns back under its acceleration bound (a DoF faster than 0.05 rad/s).
+            let settled = match (&s.smoothing, &stepper.smoother) {
+                (Some(sm), Some(state)) => {
+                    frame as f64 * dt >= sm.finished_at() + s.stall.window
+                        && !state.coasting(0.05 * dt)
+                }
+                _ => true,
+            };
             if long_enough
+                && settled
                 && frame >= window
                 && arm.base.is_still_from(frame - window)
                 && errors[frame - window]
@@ -417,7 +435,7 @@ impl Controller {
             lin: Linearization::default(),
             scratch: StepScratch::default(),
             step: vec![0.0; n],
-            moved: vec![0.0; n],
+            smoother: self.settings.smoothing.map(|_| Smoother::new(n)),
             locks: vec![Lock::Free; n],
             frame: 0,
             pending: None,
@@ -469,12 +487,25 @@ impl Controller {
                     step[k + 1] = u * t1;
                 }
             }
+            scratch.raw.clear();
+            scratch.raw.extend_from_slice(step);
             self.synergy.apply(t, step);
+            if let Some(sm) = &self.settings.smoothing {
+                let beta = sm.finish_weight(t);
+                if beta > 0.0 {
+                    for (s, r) in step.iter_mut().zip(&scratch.raw) {
+                        *s = (1.0 - beta) * *s + beta * r;
+                    }
+                }
+            }
             if self.settings.limits == LimitHandling::Clamp
                 || !lock_limits(chain, q, step, locks, lin)
             {
                 break;
             }
+        }
+        if let Some(sm) = &self.settings.smoothing {
+            progress_floor(lin, &error.linear, &scratch.raw, step, sm.progress_floor);
         }
         for (s, _) in step
             .iter_mut()
@@ -501,9 +532,9 @@ pub struct ArmStepper<'c> {
     lin: Linearization,
     scratch: StepScratch,
     step: Vec<f64>,
-    /// The step the configuration made on the previous frame (after the limits' clamp), for
-    /// [`ControllerSettings::acceleration`].
-    moved: Vec<f64>,
+    /// The smooth controller's memory of the previous frame ([`ControllerSettings::
+    /// smoothing`]).
+    smoother: Option<Smoother>,
     locks: Vec<Lock>,
     frame: usize,
     /// The last observation's task error and guidance, for the next advance.
@@ -531,7 +562,7 @@ impl ArmStepper<'_> {
             lin: self.lin,
             scratch: self.scratch,
             step: self.step,
-            moved: self.moved,
+            smoother: self.smoother,
             locks: self.locks,
             frame: self.frame,
             pending: self.pending,
@@ -563,6 +594,27 @@ impl ArmStepper<'_> {
         }
     }
 
+    /// The arm's joint velocity before the first frame, rad/s per DoF (rest by default): the
+    /// smooth controller bounds the first step's change from it; the paper's ignores it.
+    pub fn set_start_velocity(&mut self, velocity: &[f64]) -> Result<()> {
+        if velocity.len() != self.q.len() {
+            return Err(kinergy_motion::MotionError::PoseLength {
+                expected: self.q.len(),
+                found: velocity.len(),
+            }
+            .into());
+        }
+        if !velocity.iter().all(|v| v.is_finite()) {
+            return Err(SolverError::NonFinite("the start velocity".into()));
+        }
+        let dt = self.controller.settings.frame_time;
+        if let Some(state) = &mut self.smoother {
+            let step: Vec<f64> = velocity.iter().map(|v| v * dt).collect();
+            state.set_start_step(&self.chain, &self.q, &step);
+        }
+        Ok(())
+    }
+
     /// The task error of the current configuration with the chain's base at `base`; keeps
     /// what the next [`ArmStepper::advance`] needs.
     pub fn observe(&mut self, base: &IsometryMatrix3<f64>, task: &Task) -> Result<Observation> {
@@ -579,6 +631,7 @@ impl ArmStepper<'_> {
                 &base.rotation,
                 &self.controller.optimizer,
                 self.controller.settings.frame_time,
+                self.controller.settings.smoothing.is_some(),
             ),
             _ => None,
         };
@@ -608,192 +661,58 @@ impl ArmStepper<'_> {
         if !self.step.iter().all(|v| v.is_finite()) {
             return false;
         }
-        // Only a limited acceleration needs the previous frame's step: the paper's controller
-        // (and the trainer's inner loop) does no extra work.
-        let limited = self.controller.settings.acceleration;
-        if let Some(a) = limited {
+        // Only the smooth controller needs the previous frame's motion: the paper's controller
+        // does no extra work.
+        if let (Some(sm), Some(state)) = (&self.controller.settings.smoothing, &mut self.smoother) {
             let dt = self.controller.settings.frame_time;
-            limit_change(&mut self.step, &self.moved, a * dt * dt);
-            brake_at_limits(&self.chain, &self.q, &mut self.step, a * dt * dt);
-            self.moved.copy_from_slice(&self.q);
+            state.limit(
+                &self.chain,
+                &self.q,
+                &mut self.step,
+                sm,
+                Frame {
+                    error: error.linear.norm(),
+                    t,
+                    dt,
+                },
+            );
+            state.begin(&self.q);
         }
         for (qi, d) in self.q.iter_mut().zip(&self.step) {
             *qi += d;
         }
         clamp_moved(&self.chain, &mut self.q, &self.step);
-        if limited.is_some() {
-            for (m, qi) in self.moved.iter_mut().zip(&self.q) {
-                *m = qi - *m;
-            }
+        if let Some(state) = &mut self.smoother {
+            state.record(&self.chain, &self.q);
         }
         self.frame += 1;
         true
     }
 }
 
-/// Moves `step` from `previous` toward itself by at most `bound` in every DoF, the change
-/// scaled alike in all of them (its direction kept).
-fn limit_change(step: &mut [f64], previous: &[f64], bound: f64) {
-    let largest = step
-        .iter()
-        .zip(previous)
-        .fold(0.0_f64, |m, (s, p)| m.max((s - p).abs()));
-    if largest > bound {
-        let k = bound / largest;
-        for (s, p) in step.iter_mut().zip(previous) {
-            *s = p + k * (*s - p);
-        }
-    }
-}
-
-/// Slows each DoF that moves toward its limit so that it can stop there at the acceleration
-/// whose per-frame change of step is `bound`: a step toward a limit `d` away is at most
-/// √(2·bound·d) (the speed from which constant deceleration stops in `d`). A swing brakes the
-/// part of its step along the ellipse's outward normal, `d` measured along it. The other DoFs
-/// keep their steps, so the hand slows only by what the braking DoF contributed.
-fn brake_at_limits(chain: &Chain, q: &[f64], step: &mut [f64], bound: f64) {
-    let cap = |d: f64| (2.0 * bound * d.max(0.0)).sqrt();
-    let mut k = 0;
-    for m in chain.joints().iter().flat_map(|j| &j.motions) {
-        match *m {
-            Motion::Revolute { min, max, .. } => {
-                if step[k] > 0.0 {
-                    step[k] = step[k].min(cap(max - q[k]));
-                } else if step[k] < 0.0 {
-                    step[k] = step[k].max(-cap(q[k] - min));
-                }
-            }
-            Motion::Swing { rx, ry } => {
-                let (a, b) = (q[k] / rx, q[k + 1] / ry);
-                let e = (a * a + b * b).sqrt();
-                // The outward unit normal (the gradient of the ellipse's level set).
-                let (n0, n1) = (a / rx, b / ry);
-                let norm = n0.hypot(n1);
-                if e > 0.0 && norm > 0.0 {
-                    let (n0, n1) = (n0 / norm, n1 / norm);
-                    let outward = n0 * step[k] + n1 * step[k + 1];
-                    // Distance to the ellipse along the normal, to first order in (1 − e):
-                    // (1 − e) / |∇e|, with ∇e = (a/rx, b/ry) / e.
-                    let d = (1.0 - e) * e / norm;
-                    let allowed = cap(d);
-                    if outward > allowed {
-                        let cut = outward - allowed;
-                        step[k] -= cut * n0;
-                        step[k + 1] -= cut * n1;
-                    }
-                }
-            }
-        }
-        k += m.dof_count();
-    }
-}
-
-/// What the limits leave of a DoF for the current frame's step.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Lock {
-    /// Moves freely.
-    Free,
-    /// Does not move.
-    Blocked,
-    /// On the first DoF of a swing on its ellipse: the swing moves only along the unit
-    /// tangent (t0, t1); the second DoF's entry is [`Lock::Tied`].
-    Slide(f64, f64),
-    /// The second DoF of a sliding swing.
-    Tied,
-}
-
-/// Locks the DoFs that `step` pushes out of their limits, and rewrites the Jacobian
-/// columns to match (removed columns are zeroed; a sliding swing's two columns become its
-/// tangent column and a zero column). Returns whether any lock was added.
-fn lock_limits(
-    chain: &Chain,
-    q: &[f64],
-    step: &[f64],
-    locks: &mut [Lock],
-    lin: &mut Linearization,
-) -> bool {
-    const ON_LIMIT: f64 = 1e-9;
-    let mut changed = false;
-    let block = |k: usize, locks: &mut [Lock], lin: &mut Linearization| {
-        locks[k] = Lock::Blocked;
-        lin.linear.column_mut(k).fill(0.0);
-        lin.angular.column_mut(k).fill(0.0);
+/// Adds to `step` the least share μ ≥ 0 of the plain optimizer's `raw` step that makes the
+/// hand close at least `floor` × what `raw` alone would: (J·step)·e ≥ floor·(J·raw)·e, J the
+/// (limit-adjusted) Jacobian of `lin`, e the error the optimizer saw.
+fn progress_floor(
+    lin: &Linearization,
+    e: &Vector3<f64>,
+    raw: &[f64],
+    step: &mut [f64],
+    floor: f64,
+) {
+    let progress = |d: &[f64]| {
+        d.iter()
+            .enumerate()
+            .map(|(k, dk)| lin.linear.column(k).dot(e) * dk)
+            .sum::<f64>()
     };
-    let mut k = 0;
-    for m in chain.joints().iter().flat_map(|j| &j.motions) {
-        match *m {
-            Motion::Revolute { min, max, .. } => {
-                if locks[k] == Lock::Free
-                    && ((q[k] <= min + ON_LIMIT && step[k] < 0.0)
-                        || (q[k] >= max - ON_LIMIT && step[k] > 0.0))
-                {
-                    block(k, locks, lin);
-                    changed = true;
-                }
-            }
-            Motion::Swing { rx, ry } => {
-                let e = (q[k] / rx).powi(2) + (q[k + 1] / ry).powi(2);
-                // The ellipse's outward normal at q (the gradient of e / 2).
-                let (n0, n1) = (q[k] / (rx * rx), q[k + 1] / (ry * ry));
-                let outward = n0 * step[k] + n1 * step[k + 1];
-                let scale = (n0.abs() + n1.abs()) * (step[k].abs() + step[k + 1].abs());
-                if e >= 1.0 - ON_LIMIT && outward > 1e-12 * scale {
-                    match locks[k] {
-                        Lock::Free => {
-                            let norm = n0.hypot(n1);
-                            let (t0, t1) = (-n1 / norm, n0 / norm);
-                            for jac in [&mut lin.linear, &mut lin.angular] {
-                                for r in 0..jac.nrows() {
-                                    jac[(r, k)] = jac[(r, k)] * t0 + jac[(r, k + 1)] * t1;
-                                    jac[(r, k + 1)] = 0.0;
-                                }
-                            }
-                            locks[k] = Lock::Slide(t0, t1);
-                            locks[k + 1] = Lock::Tied;
-                            changed = true;
-                        }
-                        Lock::Slide(..) => {
-                            block(k, locks, lin);
-                            block(k + 1, locks, lin);
-                            changed = true;
-                        }
-                        Lock::Blocked | Lock::Tied => {}
-                    }
-                }
+    let p0 = progress(raw);
+    if p0 > 0.0 {
+        let mu = floor - progress(step) / p0;
+        if mu > 0.0 {
+            for (s, r) in step.iter_mut().zip(raw) {
+                *s += mu * r;
             }
         }
-        k += m.dof_count();
-    }
-    changed
-}
-
-/// [`Chain::clamp`] after a step, without moving a DoF the step left alone: a swing pushed out
-/// of its ellipse by one DoF while the other's step is zero (frozen by a zero synergy gain,
-/// or deactivated) is brought back along the moving DoF's axis instead of being scaled
-/// toward zero, which would move the frozen one too.
-fn clamp_moved(chain: &Chain, q: &mut [f64], step: &[f64]) {
-    let mut k = 0;
-    for m in chain.joints().iter().flat_map(|j| &j.motions) {
-        match *m {
-            Motion::Revolute { min, max, .. } => q[k] = q[k].clamp(min, max),
-            Motion::Swing { rx, ry } => {
-                let (a, b) = (q[k] / rx, q[k + 1] / ry);
-                let e = a * a + b * b;
-                // A swing neither of whose DoFs moved stays put (it was within its limits,
-                // up to the rounding of the previous frame's clamp).
-                if e > 1.0 && (step[k] != 0.0 || step[k + 1] != 0.0) {
-                    if step[k] == 0.0 {
-                        q[k + 1] = ry * (1.0 - a * a).max(0.0).sqrt().copysign(q[k + 1]);
-                    } else if step[k + 1] == 0.0 {
-                        q[k] = rx * (1.0 - b * b).max(0.0).sqrt().copysign(q[k]);
-                    } else {
-                        let s = 1.0 / e.sqrt();
-                        q[k] *= s;
-                        q[k + 1] *= s;
-                    }
-                }
-            }
-        }
-        k += m.dof_count();
     }
 }

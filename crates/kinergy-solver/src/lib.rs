@@ -28,7 +28,7 @@
 //!     Synergy::identity(7),
 //!     ControllerSettings::at_frame_time(1.0 / 120.0),
 //! )?;
-//! let task = ArmTask { chain: &arm, base: &base, start: &start, task: Task::Position(Point3::new(0.1, -0.2, 0.45)) };
+//! let task = ArmTask { chain: &arm, base: &base, start: &start, task: Task::Position(Point3::new(0.1, -0.2, 0.45)), start_velocity: None };
 //! let motion = controller.synthesize(&task)?;
 //! assert_eq!(motion.stop, StopReason::Reached);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -43,6 +43,7 @@ pub mod fit_record;
 pub mod optimizer;
 pub mod params;
 pub mod reachability;
+pub mod smoothing;
 pub mod style;
 pub mod synergy;
 pub mod task;
@@ -62,6 +63,7 @@ pub use optimizer::{
 };
 pub use params::{FORMAT_VERSION, ParamsFile};
 pub use reachability::ReachSphere;
+pub use smoothing::{Finish, Smoothing};
 pub use style::{FieldUse, PersonStyle, StyleAt, StyleError};
 pub use synergy::{Bounds, Interval, Model, ParamKind, ParamSpace, Synergy, sig};
 pub use task::{Task, TaskError};

@@ -196,6 +196,9 @@ impl Default for Optimizer {
 #[derive(Debug, Clone, Default)]
 pub struct StepScratch {
     stacked: Option<DMatrix<f64>>,
+    /// The plain optimizer's step of the frame (before the synergy), for the smooth
+    /// controller's progress floor and finish.
+    pub(crate) raw: Vec<f64>,
 }
 
 impl Optimizer {

@@ -66,6 +66,10 @@
 //!    measures progress on (1 − w_α)|t' − h| + w_α √((d' − r)² + (d'σ)²), which the guided
 //!    motion decreases (the final error reported is still |t − h|).
 //!
+//! The smooth controller ([`crate::smoothing`]) also guides while the arm itself is near
+//! straight, by the same weight of its own hinge angle (the larger of the two weights): a
+//! reach from a hanging arm starts at the hinge's singularity whatever the target's distance.
+//!
 //! Every step still goes through the synergy transform, the limit handling and the clamp,
 //! so a zero gain still freezes its DoF.
 
@@ -191,7 +195,9 @@ impl ReachSphere {
     }
 
     /// The guidance for one frame (configuration `q`, its linearization, the target, the
-    /// base frame's rotation), or `None` when the target is not near the sphere's edge.
+    /// base frame's rotation), or `None` when the target is not near the sphere's edge (and,
+    /// with `straight_arm`, the arm is not near straight either).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn guide(
         &self,
         q: &[f64],
@@ -200,6 +206,7 @@ impl ReachSphere {
         base_rotation: &Rotation3<f64>,
         optimizer: &Optimizer,
         dt: f64,
+        straight_arm: bool,
     ) -> Option<Guidance> {
         let s = lin.joints[0];
         let h = lin.end;
@@ -210,14 +217,26 @@ impl ReachSphere {
         let (u, l) = (self.upper, self.lower);
         let cos_needed = (d_goal * d_goal - u * u - l * l) / (2.0 * u * l);
         let tiny = 1e-9 * self.reach;
-        if cos_needed < NONE_ABOVE.cos() || r <= tiny || d <= tiny {
+        let weight_at = |cos: f64| {
+            if cos >= FULL_BELOW.cos() {
+                1.0
+            } else if cos < NONE_ABOVE.cos() {
+                0.0
+            } else {
+                1.0 - smoothstep(cos.acos(), FULL_BELOW, NONE_ABOVE)
+            }
+        };
+        // With `straight_arm` (the smooth controller), also while the arm itself is near
+        // straight: a hanging arm's start, where the radial direction has no singular value.
+        let now = if straight_arm {
+            weight_at((r * r - u * u - l * l) / (2.0 * u * l))
+        } else {
+            0.0
+        };
+        let weight = weight_at(cos_needed).max(now);
+        if weight <= 0.0 || r <= tiny || d <= tiny {
             return None;
         }
-        let weight = if cos_needed >= FULL_BELOW.cos() {
-            1.0
-        } else {
-            1.0 - smoothstep(cos_needed.acos(), FULL_BELOW, NONE_ABOVE)
-        };
         let (c0, amp, psi) = self.hinge_sinusoid(lin);
         if amp <= tiny * tiny {
             return None;
@@ -587,7 +606,7 @@ mod tests {
             let target = s + radial * (beyond * sphere.reach());
             let optimizer = crate::OptimizerKind::Svd.default_optimizer();
             let guidance = sphere
-                .guide(&q, &lin, &target, &base().rotation, &optimizer, 1.0 / 120.0)
+                .guide(&q, &lin, &target, &base().rotation, &optimizer, 1.0 / 120.0, false)
                 .expect("near the edge");
             let mut step = [0.0; 7];
             let mut handed = lin.clone();

@@ -127,6 +127,7 @@ fn reach(clip: &Clip, arm: &CaptureArm, mode: BaseMode, extra: usize) -> Synthes
             base: &base,
             start: arm.start(),
             task: Task::Position(target),
+            start_velocity: None,
         })
         .expect("synthesize");
     assert_eq!(m.frame_count(), frames);

@@ -266,6 +266,7 @@ fn bad_inputs_are_typed_errors() {
             base: &base,
             start,
             task,
+            start_velocity: None,
         })
     };
     let three = controller(OptimizerKind::Svd, Synergy::identity(3));

@@ -107,6 +107,7 @@ fn synthesize(
             base,
             start,
             task: Task::Position(target),
+            start_velocity: None,
         })
         .expect("synthesize")
 }

@@ -14,7 +14,7 @@ use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, Trajectory, motion_distance};
 use kinergy_solver::{
     ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FittedArm, Optimizer,
-    StopReason, Synergy, Synthesis, Task,
+    Smoothing, StopReason, Synergy, Synthesis, Task,
 };
 
 use crate::error::{Result, TrainError};
@@ -34,6 +34,11 @@ pub struct CapturedReach {
     captured: Trajectory,
     frame_time: f64,
     fitted_arm: FittedArm,
+    /// The joint velocity the synthesis starts with (the captured hand's, see
+    /// [`start_velocity`]); `None`: at rest.
+    start_velocity: Option<Vec<f64>>,
+    /// The smooth controller's bounds; `None`: the paper's controller.
+    smoothing: Option<Smoothing>,
 }
 
 impl CapturedReach {
@@ -81,7 +86,11 @@ impl CapturedReach {
         let target = *last
             .last()
             .ok_or_else(|| bad("the arm has no joints".into()))?;
+        let start_velocity = start_velocity(&arm, &captured, clip.frame_time())?;
+        let smoothing = Some(reach_smoothing(&captured, clip.frame_time(), &fitted_arm));
         Ok(CapturedReach {
+            smoothing,
+            start_velocity: Some(start_velocity),
             name: name.to_string(),
             base: arm.base(mode),
             frames,
@@ -178,6 +187,7 @@ impl CapturedReach {
             base: &self.base,
             start: self.arm.start(),
             task: Task::Position(self.target),
+            start_velocity: self.start_velocity.as_deref(),
         }
     }
 
@@ -188,8 +198,30 @@ impl CapturedReach {
             max_frames: self.frame_count(),
             min_frames: self.frame_count(),
             tolerance,
+            smoothing: self.smoothing,
             ..ControllerSettings::at_frame_time(self.frame_time)
         }
+    }
+
+    /// The controller's smoothing for this reach: by default the smooth controller with the
+    /// bounds of [`Smoothing::for_reach`] from the capture's peak hand speed relative to the
+    /// shoulder, its duration and the arm's length, the finish after the captured frames;
+    /// `None` for the paper's controller ([`CapturedReach::with_smoothing`]).
+    pub fn smoothing(&self) -> Option<Smoothing> {
+        self.smoothing
+    }
+
+    /// The reach synthesized with `smoothing` instead (`None`: the paper's controller), e.g.
+    /// to fit a motion made with known settings by the same controller.
+    pub fn with_smoothing(mut self, smoothing: Option<Smoothing>) -> CapturedReach {
+        self.smoothing = smoothing;
+        self
+    }
+
+    /// The reach synthesized from rest instead of with the captured hand's start velocity.
+    pub fn from_rest(mut self) -> CapturedReach {
+        self.start_velocity = None;
+        self
     }
 
     /// Controller settings of a synthesis that runs until the target is reached (ε =
@@ -206,6 +238,7 @@ impl CapturedReach {
                 .clamp(1, kinergy_solver::controller::MAX_FRAMES),
             tolerance,
             min_frames: if stop_at_reach { 0 } else { self.frame_count() },
+            smoothing: self.smoothing,
             ..ControllerSettings::at_frame_time(self.frame_time)
         }
     }
@@ -246,4 +279,51 @@ impl CapturedReach {
         let synthesis = self.synthesize(optimizer, synergy, tolerance)?;
         self.distance(&synthesis)
     }
+}
+
+/// [`CapturedReach::smoothing`] of a captured arm trajectory (shoulder first, hand last).
+fn reach_smoothing(captured: &Trajectory, frame_time: f64, arm: &FittedArm) -> Smoothing {
+    let last = captured.joint_count() - 1;
+    let relative = |i: usize| captured.frame(i)[last] - captured.frame(i)[0];
+    let peak = (1..captured.frame_count())
+        .map(|i| (relative(i) - relative(i - 1)).norm() / frame_time)
+        .fold(0.0, f64::max);
+    let duration = (captured.frame_count() - 1) as f64 * frame_time;
+    Smoothing::for_reach(peak, duration, arm.upper_arm_m + arm.forearm_m + arm.hand_m)
+}
+
+/// The damping of [`start_velocity`]'s least squares, m/rad.
+const START_DAMPING: f64 = 0.05;
+
+/// The joint velocity of least norm that moves the hand, relative to the chain's base, as the
+/// capture's does over its first frame (Jᵀ(JJᵀ + λ²I)⁻¹ ḣ, λ = [`START_DAMPING`]):
+/// the synthesis starts moving as the person did. Not the captured joints' own velocity: a DoF
+/// that does not move the hand (the twist of a straight arm) can turn fast in a capture,
+/// and a synthesis carrying it on would swing the hand once the arm bends.
+fn start_velocity(arm: &CaptureArm, captured: &Trajectory, frame_time: f64) -> Result<Vec<f64>> {
+    let n = arm.chain().dof_count();
+    if captured.frame_count() < 2 {
+        return Ok(vec![0.0; n]);
+    }
+    let bases = match arm.base(BaseMode::Replay) {
+        Base::Replay(b) => b,
+        Base::Fixed(b) => vec![b],
+    };
+    let last = captured.joint_count() - 1;
+    let in_base =
+        |i: usize| bases[i.min(bases.len() - 1)].inverse_transform_point(&captured.frame(i)[last]);
+    let velocity = (in_base(1) - in_base(0)) / frame_time;
+    let jacobian = arm.chain().jacobian(
+        &kinergy_motion::nalgebra::IsometryMatrix3::identity(),
+        arm.start(),
+    )?;
+    // Damped least squares, λ = 5 cm/rad: near a straight arm a pseudo-inverse would turn a
+    // small radial hand velocity into a fast elbow.
+    let gram = &jacobian * jacobian.transpose()
+        + kinergy_motion::nalgebra::Matrix3::identity() * START_DAMPING * START_DAMPING;
+    let Some(inverse) = gram.try_inverse() else {
+        return Ok(vec![0.0; n]);
+    };
+    let v = jacobian.transpose() * (inverse * velocity);
+    Ok(v.iter().copied().collect())
 }

@@ -73,11 +73,16 @@ pub fn made_reach(
         base: &base,
         start,
         task: Task::Position(target),
+        start_velocity: None,
     })?;
     let made = source
         .arm()
         .to_clip(&segment, &synthesis, BaseMode::Fixed)?;
-    let reach = CapturedReach::new(name, &made, arm, 0..frames, BaseMode::Fixed)?;
+    // The made reach is fitted with the controller that made it: the source's smoothing, from
+    // rest.
+    let reach = CapturedReach::new(name, &made, arm, 0..frames, BaseMode::Fixed)?
+        .with_smoothing(source.smoothing())
+        .from_rest();
     Ok(MadeReach {
         clip: made,
         reach,

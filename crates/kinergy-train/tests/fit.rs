@@ -21,7 +21,7 @@ fn capture() -> (Clip, ArmJoints) {
 
 /// A "capture" made by the controller from `truth` (S_C values, SVD; see
 /// `kinergy_train::synthetic`): the fixture gives the person and the start posture.
-fn synthetic_capture(truth: &[f64], frames: usize) -> (Clip, ArmJoints, ParamSpace) {
+fn synthetic_capture(truth: &[f64], frames: usize) -> (Clip, ArmJoints, ParamSpace, CapturedReach) {
     let (clip, arm) = capture();
     let made = made_reach(
         "made",
@@ -39,15 +39,14 @@ fn synthetic_capture(truth: &[f64], frames: usize) -> (Clip, ArmJoints, ParamSpa
         "the truth ends {} m from its target",
         made.final_error
     );
-    (made.clip, arm, made.space)
+    (made.clip, arm, made.space, made.reach)
 }
 
 const TRUTH: [f64; 9] = [1.4, 0.7, 1.1, 1.8, 0.6, 0.9, 1.2, 7.0, 1.5];
 
 #[test]
 fn the_true_parameters_score_zero_on_their_own_motion() {
-    let (made, arm, space) = synthetic_capture(&TRUTH, 150);
-    let reach = CapturedReach::new("made", &made, &arm, 0..150, BaseMode::Fixed).expect("reach");
+    let (_, _, space, reach) = synthetic_capture(&TRUTH, 150);
     let objective = Objective::new(
         vec![reach],
         space.clone(),
@@ -68,8 +67,7 @@ fn the_true_parameters_score_zero_on_their_own_motion() {
 /// [`TRUTH`]: the reach, the parameter space, the settings, the fit.
 fn annealed_sc_fit(evaluations: usize, seed: u64) -> (CapturedReach, ParamSpace, FitSettings, Fit) {
     let frames = 150;
-    let (made, arm, space) = synthetic_capture(&TRUTH, frames);
-    let reach = CapturedReach::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let (_, _, space, reach) = synthetic_capture(&TRUTH, frames);
     let settings = FitSettings {
         anneal: AnnealSettings {
             max_evaluations: evaluations,
@@ -120,8 +118,7 @@ fn known_sc_parameters_are_recovered() {
 #[test]
 fn richer_models_never_end_worse_and_bounds_hold() {
     let frames = 120;
-    let (made, arm, _) = synthetic_capture(&TRUTH, frames);
-    let reach = CapturedReach::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let (_, _, _, reach) = synthetic_capture(&TRUTH, frames);
     let settings = FitSettings {
         anneal: AnnealSettings {
             max_evaluations: 1200,
@@ -220,8 +217,7 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
     use kinergy_train::anneal::Control;
     use kinergy_train::fit::NestedRun;
     let frames = 120;
-    let (made, arm, _) = synthetic_capture(&TRUTH, frames);
-    let reach = CapturedReach::new("made", &made, &arm, 0..frames, BaseMode::Fixed).expect("reach");
+    let (_, _, _, reach) = synthetic_capture(&TRUTH, frames);
     let settings = FitSettings {
         anneal: AnnealSettings {
             max_evaluations: 400,

@@ -59,9 +59,7 @@ fn made_persons() -> Vec<Take> {
                 offset,
             )
             .expect("made reach");
-            let frames = made.clip.frame_count();
-            let reach = CapturedReach::new(&name, &made.clip, &arm, 0..frames, BaseMode::Fixed)
-                .expect("reach");
+            let reach = made.reach;
             takes.push(Take {
                 person: person.into(),
                 reach,

@@ -98,6 +98,7 @@ pub fn synthesize(
         base,
         start,
         task,
+        start_velocity: None,
     })
     .expect("synthesize")
 }
