@@ -15,7 +15,8 @@
 //! The synergy aims at the position the planned goal puts the hand at, not at the goal's
 //! posture: it arrives within [`ARRIVED`] with its own elbow and wrist. A straight `settle`
 //! phase then takes the grip to the goal's grip point with the target's orientation, the IK
-//! with collision avoidance solving every frame ([`crate::task`]).
+//! with collision avoidance solving every frame ([`crate::task`]); where no free posture
+//! follows the straight line, the settle is planned to the goal instead.
 //!
 //! Like the full-body reach, a synergy that stalls or runs [`SYNERGY_TIME`] seconds hands
 //! over to plain inverse kinematics (damped least squares from its posture) for at most

@@ -309,7 +309,7 @@ impl Planner {
         let mut b = self.builder()?;
         let (alpha, goal) = b.space.solve(target)?;
         b.planned("reach", &goal, alpha, shape, 0, true)?;
-        b.settle(target, shape)?;
+        b.settle(target, (&goal, alpha), shape)?;
         Ok(b.out)
     }
 
@@ -616,8 +616,15 @@ impl Builder<'_> {
 
     /// After a reach the person's synergy finished: a straight phase taking the grip to
     /// `target` (its position and orientation; the hand's own orientation kept where it has
-    /// none), when it is more than 1 mm or 1° away.
-    fn settle(&mut self, target: &HandTarget, shape: HandShape) -> Result<()> {
+    /// none), when it is more than 1 mm or 1° away. Where the straight line is blocked (no
+    /// free posture on some frame), a planned phase to the reach's `goal` (configuration,
+    /// orbit angle) instead.
+    fn settle(
+        &mut self,
+        target: &HandTarget,
+        goal: (&ArmConfig, f64),
+        shape: HandShape,
+    ) -> Result<()> {
         if self.out.phases.last().is_none_or(|p| p.synergy.is_none()) {
             return Ok(());
         }
@@ -632,7 +639,21 @@ impl Builder<'_> {
         if off <= 1e-3 && turned <= 1f64.to_radians() {
             return Ok(());
         }
-        self.straight("settle", target, shape)
+        let (q, alpha, hand) = (self.q, self.alpha, self.hand);
+        let frames = self.out.poses.len();
+        match self.straight("settle", target, shape) {
+            Err(PlanError::GoalInCollision { .. } | PlanError::GoalUnreachable { .. }) => {
+                // The straight's frames are dropped: the planned phase starts where it did.
+                self.out.poses.truncate(frames);
+                self.out.hands.truncate(frames);
+                for t in &mut self.out.objects {
+                    t.poses.truncate(frames);
+                }
+                (self.q, self.alpha, self.hand) = (q, alpha, hand);
+                self.planned("settle", goal.0, goal.1, shape, 3, false)
+            }
+            other => other,
+        }
     }
 
     /// The arm still while the hand takes `shape`.
@@ -724,7 +745,7 @@ impl Builder<'_> {
             .solve(&pre)
             .map_err(|e| in_phase(e, "the pre-grasp"))?;
         self.planned("reach", &goal, alpha, HandShape::open(), 0, true)?;
-        self.settle(&pre, HandShape::open())?;
+        self.settle(&pre, (&goal, alpha), HandShape::open())?;
         self.space.set_ignored(name, true)?;
         let at = grasp_target(&object.pose, &grasp, 0.0);
         self.straight("approach", &at, HandShape::open())?;
