@@ -23,7 +23,10 @@
 //! [`PLAIN_IK_TIME`] seconds; an approach that does not arrive then is not used.
 
 use kinergy_reach::character::{Character, Pose};
-use kinergy_reach::controller::{PLAIN_IK_TIME, STALL_WINDOW, SYNERGY_TIME, SynergyArm};
+use kinergy_reach::controller::{
+    PLAIN_IK_TIME, STALL_WINDOW, SYNERGY_TIME, SynergyArm, reach_smoothing,
+};
+use kinergy_reach::profile::CUBIC_PEAK_RATIO;
 use kinergy_solver::{Optimizer, Synergy};
 
 use crate::error::{PlanError, Result};
@@ -80,6 +83,10 @@ pub(crate) struct PersonArm<'a> {
     pub optimizer: &'a Optimizer,
     pub synergy: &'a Synergy,
     pub frame_rate: f64,
+    /// The planner's reach speed, m/s, and least phase duration, s (the smooth controller's
+    /// timing).
+    pub reach_speed: f64,
+    pub min_duration: f64,
 }
 
 impl PersonArm<'_> {
@@ -99,6 +106,16 @@ impl PersonArm<'_> {
                 })
         };
         let target = end(goal)?;
+        // The smooth controller, bounded as a planned phase over the hand's distance is
+        // timed: at the reach speed (no shorter than the least duration), a cubic bell.
+        let distance = (end(from)? - target).norm();
+        let duration = (distance / self.reach_speed).max(self.min_duration);
+        let smoothing = reach_smoothing(
+            self.character,
+            limb,
+            CUBIC_PEAK_RATIO * distance / duration,
+            duration,
+        );
         let reach_error = |e: kinergy_reach::ReachError| PlanError::Setting {
             field: "params".into(),
             why: e.to_string(),
@@ -112,6 +129,7 @@ impl PersonArm<'_> {
             self.optimizer,
             self.synergy,
             dt,
+            Some(smoothing),
         )
         .map_err(reach_error)?;
         let stall_window = ((STALL_WINDOW / dt).ceil() as usize).max(1);
@@ -119,7 +137,7 @@ impl PersonArm<'_> {
         let mut configs: Vec<ArmConfig> = Vec::new();
         let mut plain_ik_from: Option<usize> = None;
         let mut previous = *from;
-        let mut distance = (end(from)? - target).norm();
+        let mut distance = distance;
         for frame in 0..max_frames {
             let mut pose = start;
             arm.pose_arm(&mut pose);

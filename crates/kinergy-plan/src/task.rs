@@ -522,6 +522,8 @@ impl Builder<'_> {
                     optimizer,
                     synergy,
                     frame_rate: s.frame_rate,
+                    reach_speed: s.reach_speed,
+                    min_duration: s.min_duration,
                 };
                 self.synergy_finish(&person, &path, goal)?
             }

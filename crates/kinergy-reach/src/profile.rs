@@ -270,6 +270,20 @@ impl SpeedProfile {
         }
     }
 
+    /// The hand's top speed over `distance` meters, m/s: v_s for the ease-out, the bell's
+    /// peak ratio times the mean speed |d|/T for the bells (1.875 minimum jerk, 1.5 cubic).
+    pub fn peak_speed(&self, distance: f64) -> f64 {
+        let total = self.duration(distance);
+        if distance <= 0.0 || total <= 0.0 {
+            return 0.0;
+        }
+        match *self {
+            SpeedProfile::EaseOut { v_s, .. } => v_s,
+            SpeedProfile::MinimumJerk { .. } => MINIMUM_JERK_PEAK_RATIO * distance / total,
+            SpeedProfile::Cubic { .. } => CUBIC_PEAK_RATIO * distance / total,
+        }
+    }
+
     /// Meters travelled t seconds after the start: 0 for t ≤ 0, exactly `distance` for
     /// t ≥ T, non-decreasing and continuous in between.
     pub fn progress(&self, distance: f64, t: f64) -> f64 {

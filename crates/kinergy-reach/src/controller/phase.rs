@@ -6,8 +6,9 @@
 //!   by analytic IK (Huang et al.) — the whole reach with [`ArmDrive::Profile`], or, after
 //!   plain IK gave up, a minimum-jerk path from where the hand is then;
 //! - [`Synergy`]: a person's synergy controller, from state 1 on with
-//!   [`ArmDrive::Synergy`]; stalled once the body has stopped, slower than
-//!   [`SYNERGY_TIME`] or not finite, it hands over to
+//!   [`ArmDrive::Synergy`] (the smooth controller, bounded by the reach's profile);
+//!   stalled once the body has stopped, slower than its
+//!   [time budget](SynergyArm::time_budget) or not finite, it hands over to
 //! - [`PlainIk`]: damped least squares from the posture the synergy left; stalled, not
 //!   finite or slower than [`PLAIN_IK_TIME`], it gives up to the analytic IK.
 //!
@@ -24,7 +25,7 @@ use super::plan::Plan;
 use super::report::{HandOver, HandOverWhy};
 use super::settings::ReachSettings;
 use super::synergy::{
-    ArmDrive, PLAIN_IK_TIME, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, SynergyArm,
+    ArmDrive, PLAIN_IK_TIME, STALL_PROGRESS, STALL_WINDOW, SynergyArm, reach_smoothing,
 };
 use super::timeline::Timeline;
 use crate::character::{Character, Pose};
@@ -276,6 +277,15 @@ impl Synergy {
         pose: &Pose,
     ) -> Result<Synergy> {
         let plan = rules.plan;
+        // The smooth controller bounded by the reach's own profile over the hand's distance.
+        let hand = rules.character.joint_frame(plan.arm.joints()[3], pose);
+        let distance = (Point3::from(hand.translation.vector) - plan.target).norm();
+        let smoothing = reach_smoothing(
+            rules.character,
+            plan.arm,
+            rules.profile.peak_speed(distance),
+            rules.profile.duration(distance),
+        );
         let arm = SynergyArm::new(
             rules.character,
             plan.arm,
@@ -285,20 +295,21 @@ impl Synergy {
             optimizer,
             person,
             rules.dt,
+            Some(smoothing),
         )?;
         Ok(Synergy { arm })
     }
 
     /// The controller sees the frame's final body and arm and steps; it hands over to plain
     /// IK when its step is not finite, its progress stalled once the body has stopped, or it
-    /// drove longer than [`SYNERGY_TIME`] short of the target.
+    /// drove longer than its [time budget](SynergyArm::time_budget) short of the target.
     fn step(mut self, rules: &ArmRules<'_>, pose: &Pose, t: f64, error: f64) -> Result<Stepped> {
         let (seen, error, stalled) = observe(&mut self.arm, rules, pose, t, error)?;
         let why = if seen.is_none() {
             Some(HandOverWhy::NotFinite)
         } else if stalled {
             Some(HandOverWhy::Stalled)
-        } else if error > rules.arrived && t - rules.timeline.t_arm >= SYNERGY_TIME {
+        } else if error > rules.arrived && t - rules.timeline.t_arm >= self.arm.time_budget() {
             Some(HandOverWhy::TooLong)
         } else {
             None

@@ -46,7 +46,7 @@ use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
 use kinergy_motion::rotation::{swing_rotation, swing_twist, unwrap_near};
 use kinergy_solver::{
     ArmStepper, BaseMode, CaptureArm, Controller, ControllerSettings, Optimizer, OptimizerKind,
-    StallRule, Synergy, Task, widen_to_include,
+    Smoothing, StallRule, Synergy, Task, widen_to_include,
 };
 
 use super::report::ArmDriveKind;
@@ -178,13 +178,30 @@ pub struct SynergyArm {
     target: Point3<f64>,
     /// The progress of every frame so far (for the stall rule).
     progress: Vec<f64>,
+    /// Frames before which the smooth controller cannot stall: its finish and a stall window
+    /// (as [`Controller::synthesize`]'s rule; 0 for the paper's controller).
+    settles_after: usize,
+    /// The largest joint speed of the last step, rad/s (the smooth controller does not stall
+    /// while a DoF still turns faster than [`COASTING`]).
+    joint_speed: f64,
+    /// Seconds per frame.
+    frame_time: f64,
+    /// When the smooth controller's finish blend is over, seconds after the start (0 for the
+    /// paper's controller).
+    finished_at: f64,
 }
+
+/// A DoF turning faster than this (rad/s) is still coasting under the smooth controller's
+/// acceleration bound, not stalled (the solver's own stall rule's value).
+const COASTING: f64 = 0.05;
 
 impl SynergyArm {
     /// The synergy arm of `limb` toward `target`, starting from the arm of `pose` (the frame
     /// the arm controller starts on), at `frame_time`. `rest` is the character's rest posture
     /// (it fixes the rotation between the character's arm base and the fitted one). The elbow
-    /// starts flexed at least [`RELAXED_ELBOW`].
+    /// starts flexed at least [`RELAXED_ELBOW`]. `smoothing`: the smooth controller's bounds
+    /// ([`reach_smoothing`] for a planned reach), `None` for the paper's controller. The arm
+    /// starts at rest.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         character: &Character,
@@ -195,6 +212,7 @@ impl SynergyArm {
         optimizer: &Optimizer,
         synergy: &Synergy,
         frame_time: f64,
+        smoothing: Option<Smoothing>,
     ) -> Result<SynergyArm> {
         let setting = |e: kinergy_solver::SolverError| ReachError::Setting {
             field: "params".into(),
@@ -202,8 +220,12 @@ impl SynergyArm {
         };
         let settings = ControllerSettings {
             stall: StallRule::default(),
+            smoothing,
             ..ControllerSettings::at_frame_time(frame_time)
         };
+        let settles_after = smoothing.map_or(0, |sm| {
+            ((sm.finished_at() + STALL_WINDOW) / frame_time).ceil() as usize
+        });
         let controller = Controller::new(*optimizer, synergy.clone(), settings).map_err(setting)?;
         let k = capture_rotation(character, limb, rest)?;
         let dofs = character.limb_dofs(limb);
@@ -226,6 +248,10 @@ impl SynergyArm {
             task: Task::Position(target),
             target,
             progress: Vec::new(),
+            settles_after,
+            joint_speed: 0.0,
+            frame_time,
+            finished_at: smoothing.map_or(0.0, |sm| sm.finished_at()),
         })
     }
 
@@ -248,6 +274,7 @@ impl SynergyArm {
             .map_err(setting)?
             .into_owned();
         self.progress.clear();
+        (self.settles_after, self.joint_speed) = (0, 0.0);
         Ok(())
     }
 
@@ -277,9 +304,15 @@ impl SynergyArm {
                 why: e.to_string(),
             })?;
         self.progress.push(seen.progress);
+        let before = self.stepper.configuration().to_vec();
         if !seen.error.is_finite() || !self.stepper.advance() {
             return Ok(None);
         }
+        let dt = self.frame_time;
+        self.joint_speed = before
+            .iter()
+            .zip(self.stepper.configuration())
+            .fold(0.0, |m, (a, b)| m.max((b - a).abs() / dt));
         // The distance of the arm shown (the controller's own chain clamps into its own
         // limits, which can leave its arm a little off the character's).
         let shown =
@@ -291,6 +324,14 @@ impl SynergyArm {
                     why: e.to_string(),
                 })?;
         Ok(Some((shown - self.target).norm()))
+    }
+
+    /// How long the synergy drives before the reach hands over to plain IK, seconds:
+    /// [`SYNERGY_TIME`], or for the smooth controller, its finish and then [`PLAIN_IK_TIME`]
+    /// for the plain optimizer it blends into, if longer (a slow planned reach finishes
+    /// late).
+    pub fn time_budget(&self) -> f64 {
+        SYNERGY_TIME.max(self.finished_at + PLAIN_IK_TIME)
     }
 
     /// True when, over the last `window` frames, the hand got no closer than
@@ -308,12 +349,31 @@ impl SynergyArm {
         if n <= window || window < 2 {
             return false;
         }
+        // The smooth controller starts gently and brakes before the target: it is judged
+        // once its finish is over, and not while a DoF still coasts.
+        if self.settles_after > 0 && (n < self.settles_after || self.joint_speed > COASTING) {
+            return false;
+        }
         let recent = &self.progress[n - window..];
         let (first, second) = recent.split_at(window / 2);
         let worst = first.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
         let best = second.iter().fold(f64::INFINITY, |a, &b| a.min(b));
         worst - best < min_progress
     }
+}
+
+/// The smooth controller's bounds ([`Smoothing::for_reach`]) for the synergy arm of `limb`
+/// on a reach planned to peak at `peak_speed` m/s over `duration` seconds (the reach's speed
+/// profile): the hand starts from rest and its acceleration is bounded as the profile's is,
+/// so the first frames have no speed spike.
+pub fn reach_smoothing(
+    character: &Character,
+    limb: Limb,
+    peak_speed: f64,
+    duration: f64,
+) -> Smoothing {
+    let a = character.proportions().arm(limb.side());
+    Smoothing::for_reach(peak_speed, duration, a.upper_arm + a.forearm + a.hand)
 }
 
 /// The largest shoulder swing of the synergy arm's own chain, radians: its capture
