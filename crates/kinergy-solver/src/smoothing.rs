@@ -44,6 +44,9 @@
 //! 6. *Onset.* Both bounds rise linearly from zero over the first 21 % of the reach (where a
 //!    minimum-jerk reach's acceleration peaks): a hand at rest starts gently.
 //!
+//! The progress floor and the finish use the plain step without the DoFs a zero gain
+//! freezes: they stay frozen.
+//!
 //! The stall rule then waits until the finish is over, and never fires while a DoF still
 //! moves faster than 0.05 rad/s (an arm turning back under the acceleration bound).
 //!
