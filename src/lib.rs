@@ -68,6 +68,7 @@
 //!     base: &Base::Fixed(base),
 //!     start: &start,
 //!     task: Task::Position(target),
+//!     start_velocity: None,
 //! })?;
 //! assert_eq!(motion.stop, StopReason::Reached);
 //! # Ok::<(), Box<dyn std::error::Error>>(())

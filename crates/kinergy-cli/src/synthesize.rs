@@ -20,7 +20,7 @@ use kinergy_train::{CapturedReach, PersonParams, TrainError};
 use serde::Serialize;
 
 use crate::common::{
-    ArmArgs, Failure, ReadArgs, check_range, emit, limits, parse_point, print_json,
+    ArmArgs, ControllerKind, Failure, ReadArgs, check_range, emit, limits, parse_point, print_json,
 };
 
 /// Arguments of `kinergy synthesize`.
@@ -54,6 +54,12 @@ pub struct Args {
     /// torso motion.
     #[arg(long)]
     fixed_base: bool,
+    /// The synergy controller: `smooth` (bounded accelerations, progress floor, the finish to
+    /// the plain optimizer after the reach's frames, the capture's start velocity) or `paper`
+    /// (Aubry et al.'s controller alone, from rest). Use the one the parameters were fitted
+    /// with (`fit --controller`).
+    #[arg(long, value_enum, default_value_t = ControllerKind::Smooth)]
+    controller: ControllerKind,
     /// Stop as soon as the target is reached (default: keep tracking it at least until the
     /// capture's last frame, and on until it is reached, up to --max-seconds).
     #[arg(long)]
@@ -201,6 +207,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         BaseMode::Replay
     };
     let reach = CapturedReach::new(&name, &whole, &joints, frames.clone(), mode)
+        .map(|r| args.controller.apply(r))
         .map_err(|e| Failure::input(from, e))?;
     let dof_names = reach.dof_names();
     if let Some(fitted) = fitted_arm {

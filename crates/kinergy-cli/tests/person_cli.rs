@@ -581,6 +581,8 @@ fn synth_with_params_makes_a_set_in_the_persons_style() {
         "16000",
         "--refine",
         "2000",
+        "--controller",
+        "paper",
         "--out-dir",
         s(&fits),
         "--json",
@@ -614,8 +616,8 @@ fn synth_with_params_makes_a_set_in_the_persons_style() {
     }
 }
 
-/// `synthesize CLIP --params P --frames RANGE`'s distance to the capture, meters.
-/// The motion distance of `synthesize CLIP --params P --frames RANGE --target TARGET`.
+/// The motion distance of `synthesize CLIP --params P --frames RANGE --target TARGET
+/// --controller paper`: the controller the full body's synergy arm ran in `synth`.
 fn replay(clip: &Path, range: &str, params: &Path, target: &str) -> f64 {
     let out = tempfile::tempdir().expect("tempdir");
     let o = kinergy(&[
@@ -627,6 +629,8 @@ fn replay(clip: &Path, range: &str, params: &Path, target: &str) -> f64 {
         range,
         "--target",
         target,
+        "--controller",
+        "paper",
         "-o",
         s(&out.path().join("replay.bvh")),
         "--json",

@@ -44,6 +44,9 @@
 //! 6. *Onset.* Both bounds rise linearly from zero over the first 21 % of the reach (where a
 //!    minimum-jerk reach's acceleration peaks): a hand at rest starts gently.
 //!
+//! The progress floor and the finish use the plain step without the DoFs a zero gain
+//! freezes: they stay frozen.
+//!
 //! The stall rule then waits until the finish is over, and never fires while a DoF still
 //! moves faster than 0.05 rad/s (an arm turning back under the acceleration bound).
 //!
@@ -91,6 +94,8 @@ pub const FINISH_OVER: f64 = 0.25;
 /// The share of a reach's duration over which [`Smoothing::for_reach`]'s bounds rise: where a
 /// minimum-jerk reach's acceleration peaks, τ = (3 − √3)/6.
 pub const ONSET_SHARE: f64 = 0.211_324_865_405_187_1;
+/// Bisection steps of the hand bound's scale (to 1/32 of the change).
+const BISECTIONS: usize = 5;
 /// The least hand acceleration bound, m/s².
 pub const MIN_HAND_ACCELERATION: f64 = 1.0;
 
@@ -350,7 +355,7 @@ impl Smoother {
                 }
             } else {
                 let (mut lo, mut hi) = (0.0, 1.0);
-                for _ in 0..8 {
+                for _ in 0..BISECTIONS {
                     let mid = 0.5 * (lo + hi);
                     if self.change(chain, q, &previous, step, mid) <= bound {
                         lo = mid;

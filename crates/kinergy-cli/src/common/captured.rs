@@ -42,10 +42,35 @@ pub struct CaptureArgs {
     /// capture's torso motion.
     #[arg(long)]
     pub fixed_base: bool,
+    /// The synergy controller: `smooth` (bounded accelerations, progress floor, the finish to
+    /// the plain optimizer after the reach's frames, the capture's start velocity; see the
+    /// README's "Synergy IK") or `paper` (Aubry et al.'s Θ ← clamp(Θ + S(t)·O(ΔX)) alone, from
+    /// rest).
+    #[arg(long, value_enum, default_value_t = ControllerKind::Smooth)]
+    pub controller: ControllerKind,
     #[command(flatten)]
     pub read: ReadArgs,
     #[command(flatten)]
     pub arm: ArmArgs,
+}
+
+/// Which synergy controller a command runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ControllerKind {
+    /// The smooth controller (the default).
+    Smooth,
+    /// The paper's controller.
+    Paper,
+}
+
+impl ControllerKind {
+    /// `reach` set up for this controller.
+    pub fn apply(self, reach: CapturedReach) -> CapturedReach {
+        match self {
+            ControllerKind::Smooth => reach,
+            ControllerKind::Paper => reach.with_smoothing(None).from_rest(),
+        }
+    }
 }
 
 /// The clips a command works on, with the segments file when it named them (so that it is
@@ -107,6 +132,17 @@ impl CaptureArgs {
     /// [`load_all`](Self::load_all), each reach with the person its segments-file row names
     /// (`None` without `--segments`).
     pub fn load_all_with_persons(
+        &self,
+        clips: &CaptureClips,
+    ) -> Result<Vec<(CapturedReach, Option<String>)>, Failure> {
+        Ok(self
+            .load_each(clips)?
+            .into_iter()
+            .map(|(reach, person)| (self.controller.apply(reach), person))
+            .collect())
+    }
+
+    fn load_each(
         &self,
         clips: &CaptureClips,
     ) -> Result<Vec<(CapturedReach, Option<String>)>, Failure> {

@@ -15,7 +15,7 @@ pub mod outputs;
 pub mod progress;
 
 pub use args::{ArmArgs, ReadArgs, SearchArgs, parse_frames, parse_point, parse_size};
-pub use captured::CaptureArgs;
+pub use captured::{CaptureArgs, ControllerKind};
 pub use clips::collect_clips;
 pub use failure::{Failure, person_failure, read_person};
 pub use limits::{check_optional, check_range};
