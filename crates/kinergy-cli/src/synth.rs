@@ -10,7 +10,7 @@ use kinergy_reach::synth::{MANIFEST, SynthSettings, write_set};
 use kinergy_train::segment::Label;
 use kinergy_train::segments_file::{SegmentRow, SegmentsFile};
 
-use crate::common::{Failure, Output, check_outputs, check_range, emit, limits};
+use crate::common::{ControllerKind, Failure, Output, check_outputs, check_range, emit, limits};
 
 /// Arguments of `kinergy synth`.
 #[derive(Debug, clap::Args)]
@@ -37,6 +37,11 @@ pub struct Args {
     /// target, for `kinergy fit --segments` (a fit should recover the motion).
     #[arg(long, value_name = "person.json")]
     pub params: Option<PathBuf>,
+    /// With --params, the synergy controller of the person's arm: `smooth` (the default) or
+    /// `paper` (the one `fit --controller paper` and `synthesize --controller paper` run, for
+    /// sets whose truth a fit must recover exactly).
+    #[arg(long, value_enum, default_value_t = ControllerKind::Smooth, requires = "params")]
+    pub controller: ControllerKind,
 }
 
 /// Runs `kinergy synth`.
@@ -80,6 +85,7 @@ fn write(args: &Args, drive: Driver<'_>) -> Result<usize, Failure> {
         reaches: args.reaches,
         seed: args.seed,
         frame_rate: args.frame_rate,
+        smooth_synergy: args.controller == ControllerKind::Smooth,
     };
     let made = write_set(&args.output, &settings, drive).map_err(|e| match (e, &args.params) {
         (e @ ReachError::Params { .. }, Some(path)) => crate::common::person_failure(path, e),

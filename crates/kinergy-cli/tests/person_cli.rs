@@ -518,6 +518,8 @@ fn synth_with_params_makes_a_set_in_the_persons_style() {
         s(&params),
         "--persons",
         "1",
+        "--controller",
+        "paper",
         "--reaches",
         "3",
         "-o",

@@ -100,7 +100,13 @@ fn grid_reaches(name: &str) -> Vec<([f64; 3], ReachMotion)> {
             assert_eq!(m.report.arm_drive, ArmDriveKind::Synergy);
             if let Some(h) = m.report.hand_over {
                 assert!(h.distance_m > 0.5 * settings.tolerance, "{what}: {h:?}");
-                assert!(h.at_s > 0.0 && h.at_s < m.report.duration, "{what}: {h:?}");
+                // A hand-over may fall on the motion's last frame (the plain IK's first step
+                // reaching): within a frame of the end.
+                assert!(
+                    h.at_s > 0.0 && h.at_s <= m.report.duration + 0.02,
+                    "{what}: {h:?}, duration {}",
+                    m.report.duration
+                );
             }
             (t, m)
         })

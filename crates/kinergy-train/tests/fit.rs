@@ -35,7 +35,7 @@ fn synthetic_capture(truth: &[f64], frames: usize) -> (Clip, ArmJoints, ParamSpa
     )
     .expect("made reach");
     assert!(
-        made.final_error < 1e-4,
+        made.final_error < 5e-4,
         "the truth ends {} m from its target",
         made.final_error
     );

@@ -49,6 +49,8 @@ pub(super) struct ArmRules<'a> {
     approach: SpeedProfile,
     dt: f64,
     tolerance: f64,
+    /// The synergy arm runs the smooth controller.
+    smooth: bool,
     /// The synergy arm has arrived within half the tolerance (it approaches its target
     /// asymptotically: stopping at the tolerance would stop it still moving).
     arrived: f64,
@@ -83,6 +85,7 @@ impl<'a> ArmRules<'a> {
             approach,
             dt,
             tolerance: s.tolerance,
+            smooth: s.smooth_synergy,
             arrived,
             // A tight tolerance (a synthetic set's) is approached with progress below
             // STALL_PROGRESS well before arrival: the least progress is then a tenth of the
@@ -267,6 +270,11 @@ pub(super) struct Synergy {
     arm: SynergyArm,
 }
 
+/// The least peak hand speed the synergy arm's bounds assume, m/s: a typical person's
+/// reaching speed (the shared raises peak at 0.8–5 m/s, the synthetic set's reaches at
+/// 0.5–1.5 m/s).
+pub const SYNERGY_PEAK_SPEED: f64 = 1.0;
+
 impl Synergy {
     /// The person's controller (their `optimizer` and `person`al synergy), started on the
     /// frame `pose` of state 1.
@@ -277,15 +285,15 @@ impl Synergy {
         pose: &Pose,
     ) -> Result<Synergy> {
         let plan = rules.plan;
-        // The smooth controller bounded by the reach's own profile over the hand's distance.
+        // The smooth controller bounded as a reach over the hand's distance peaking at the
+        // profile's speed, or at a typical person's reaching speed where the profile is slower
+        // (the paper's ease-out default: 0.2 m/s): the person's synergy sets its own pace, and
+        // bounds from a slower profile made it overshoot and miss (measured on the shared
+        // raises). The duration is the minimum-jerk one at that peak, 1.875 d / V.
         let hand = rules.character.joint_frame(plan.arm.joints()[3], pose);
         let distance = (Point3::from(hand.translation.vector) - plan.target).norm();
-        let smoothing = reach_smoothing(
-            rules.character,
-            plan.arm,
-            rules.profile.peak_speed(distance),
-            rules.profile.duration(distance),
-        );
+        let peak = rules.profile.peak_speed(distance).max(SYNERGY_PEAK_SPEED);
+        let smoothing = reach_smoothing(rules.character, plan.arm, peak, 1.875 * distance / peak);
         let arm = SynergyArm::new(
             rules.character,
             plan.arm,
@@ -295,7 +303,7 @@ impl Synergy {
             optimizer,
             person,
             rules.dt,
-            Some(smoothing),
+            rules.smooth.then_some(smoothing),
         )?;
         Ok(Synergy { arm })
     }

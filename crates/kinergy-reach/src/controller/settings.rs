@@ -49,6 +49,9 @@ pub struct ReachSettings {
     pub arm: Option<Side>,
     /// Seed of the stepping decisions.
     pub seed: u64,
+    /// The synergy arm (a person's parameters) runs the smooth controller
+    /// (`kinergy_solver::smoothing`; the default) or, `false`, the paper's.
+    pub smooth_synergy: bool,
 }
 
 impl Default for ReachSettings {
@@ -73,6 +76,7 @@ impl Default for ReachSettings {
             balance_margin: 0.01,
             arm: None,
             seed: 0,
+            smooth_synergy: true,
         }
     }
 }
