@@ -219,6 +219,8 @@ pub(crate) struct Smoother {
     hand_moved: Vector3<f64>,
     started: bool,
     trial: Vec<f64>,
+    /// A zero step (no allocation on the frames where the hand bound binds).
+    zero: Vec<f64>,
     pose: ChainPose,
 }
 
@@ -230,6 +232,7 @@ impl Smoother {
             hand_moved: Vector3::zeros(),
             started: false,
             trial: vec![0.0; n],
+            zero: vec![0.0; n],
             pose: ChainPose {
                 frames: Vec::new(),
                 end: Point3::origin(),
@@ -341,8 +344,8 @@ impl Smoother {
     fn limit_hand(&mut self, chain: &Chain, q: &[f64], step: &mut [f64], bound: f64) {
         let previous = std::mem::take(&mut self.moved);
         if self.change(chain, q, &previous, step, 1.0) > bound {
-            let zero = vec![0.0; step.len()];
             if self.change(chain, q, &previous, step, 0.0) > bound {
+                let zero = std::mem::take(&mut self.zero);
                 // Going on as on the previous frame already changes the hand's motion too
                 // much (the same joint velocity moves the hand differently as the arm bends):
                 // the previous step scales, to the share whose hand displacement changes
@@ -357,6 +360,7 @@ impl Smoother {
                 for (s, p) in step.iter_mut().zip(&previous) {
                     *s = best.1 * p;
                 }
+                self.zero = zero;
             } else {
                 let (mut lo, mut hi) = (0.0, 1.0);
                 for _ in 0..BISECTIONS {
