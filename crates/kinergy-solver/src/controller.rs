@@ -487,14 +487,16 @@ impl Controller {
                     step[k + 1] = u * t1;
                 }
             }
-            // The plain step of the progress floor and the finish, without the DoFs a zero
-            // gain freezes (they stay frozen).
-            scratch.raw.clear();
-            scratch.raw.extend(
-                step.iter()
-                    .enumerate()
-                    .map(|(i, v)| if self.synergy.gain(i) == 0.0 { 0.0 } else { *v }),
-            );
+            // The plain step of the progress floor and the finish (the smooth controller's
+            // only), without the DoFs a zero gain freezes (they stay frozen).
+            if self.settings.smoothing.is_some() {
+                scratch.raw.clear();
+                scratch.raw.extend(
+                    step.iter()
+                        .enumerate()
+                        .map(|(i, v)| if self.synergy.gain(i) == 0.0 { 0.0 } else { *v }),
+                );
+            }
             self.synergy.apply(t, step);
             if let Some(sm) = &self.settings.smoothing {
                 let beta = sm.finish_weight(t);

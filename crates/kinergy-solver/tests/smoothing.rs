@@ -187,11 +187,12 @@ fn a_synergy_with_negative_gains_still_finishes_its_reach() {
     let smooth = reach_with(Some(sm), synergy.clone(), &start, None, target);
     assert_eq!(smooth.stop, StopReason::Reached, "{}", smooth.final_error);
     // Without the finish, the progress floor alone brings it in, slowly (it closes at least a
-    // tenth of the plain optimizer's 4/s: within 1 cm in the 10 s budget).
+    // tenth of the plain optimizer's 4/s): in the 10 s budget, within a twentieth of where the
+    // paper's synergy ends.
     sm.finish = None;
     let floor = reach_with(Some(sm), synergy, &start, None, target);
     assert!(
-        floor.final_error < 0.01 && floor.final_error < paper.final_error,
+        floor.final_error < 0.05 * paper.final_error,
         "{} (paper {})",
         floor.final_error,
         paper.final_error

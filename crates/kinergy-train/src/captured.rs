@@ -218,6 +218,12 @@ impl CapturedReach {
         self
     }
 
+    /// The reach synthesized by the paper's controller (no smoothing) from rest, as Aubry et
+    /// al. have it.
+    pub fn with_paper_controller(self) -> CapturedReach {
+        self.with_smoothing(None).from_rest()
+    }
+
     /// The reach synthesized from rest instead of with the captured hand's start velocity.
     pub fn from_rest(mut self) -> CapturedReach {
         self.start_velocity = None;

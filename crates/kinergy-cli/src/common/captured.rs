@@ -68,7 +68,7 @@ impl ControllerKind {
     pub fn apply(self, reach: CapturedReach) -> CapturedReach {
         match self {
             ControllerKind::Smooth => reach,
-            ControllerKind::Paper => reach.with_smoothing(None).from_rest(),
+            ControllerKind::Paper => reach.with_paper_controller(),
         }
     }
 }
