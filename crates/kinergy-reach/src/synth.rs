@@ -301,9 +301,15 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
         })?;
         let clip = character.to_clip(&motion.poses, motion.frame_time)?;
         let rep = &motion.report;
-        let driven_end = rep.hand_over.map_or(rep.frames, |h| {
-            ((h.at_s * settings.frame_rate).round() as usize).min(rep.frames)
-        });
+        // The frames the person's synergy drove alone: to a hand-over, or to the first frame
+        // the character's limits held the arm off the synergy's step (a fit of later frames
+        // could not retrace them).
+        let frame_at = |s: f64| ((s * settings.frame_rate).round() as usize).min(rep.frames);
+        let driven_end = [rep.hand_over.map(|h| h.at_s), rep.synergy_limited_at_s]
+            .into_iter()
+            .flatten()
+            .map(frame_at)
+            .fold(rep.frames, usize::min);
         let driven = rep.arm_onset_frame.min(driven_end)..driven_end;
         clips.push(SynthClip {
             row: ManifestRow {

@@ -612,6 +612,15 @@ impl Character {
         self.arm_girdle(arm).rotation(q)
     }
 
+    /// The girdle's turn of `arm`'s base frame ([`GirdleTurn`]): a value that needs no
+    /// character to evaluate.
+    pub fn girdle_turn(&self, arm: Limb) -> GirdleTurn {
+        GirdleTurn {
+            girdle: arm.is_arm().then(|| self.arm_girdle(arm)),
+            rest: self.joints[arm.joints()[0]].rest,
+        }
+    }
+
     /// Where `arm`'s base frame moves when the arm's DoFs go from `from` to `to` and nothing
     /// else changes: `base` (the frame for `from`) shifted by the clavicle's end, turned the
     /// same (the base frame does not turn with the girdle, [`GirdleRole`]).
@@ -711,5 +720,28 @@ pub(super) fn motion_rotation(m: &Motion, q: &[f64]) -> Rotation3<f64> {
     match *m {
         Motion::Revolute { axis, .. } => axis_rotation(axis, q[0]),
         Motion::Swing { .. } => swing_rotation(q[0], q[1]),
+    }
+}
+
+/// The girdle's turn of an arm's base frame ([`Character::girdle_turn`]): for the arm's DoFs
+/// `q`, the rotation from [`Character::limb_base_frame`] (which does not turn with the girdle)
+/// to the frame the rotated clavicle carries — the frame a fit of the exported motion reads
+/// the arm in ([`kinergy_solver::CaptureArm`]'s base rides the clavicle). Identity for a leg
+/// and for an arm below the rhythm's onset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GirdleTurn {
+    /// The arm's girdle (`None`: a leg).
+    girdle: Option<ArmGirdle>,
+    /// The limb's first joint's rest rotation: the turn is taken in its frame.
+    rest: Rotation3<f64>,
+}
+
+impl GirdleTurn {
+    /// The turn for the arm's DoFs `q` (at least its shoulder swing), in the base's frame.
+    pub fn in_base(&self, q: &[f64]) -> Rotation3<f64> {
+        match &self.girdle {
+            Some(g) => self.rest.inverse() * g.rotation(q) * self.rest,
+            None => Rotation3::identity(),
+        }
     }
 }

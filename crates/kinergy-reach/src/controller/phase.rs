@@ -109,6 +109,9 @@ pub(super) struct Stepped {
     pub(super) error: f64,
     /// Whether the arm's driver has finished (the reach may end once the body has too).
     pub(super) hand_done: bool,
+    /// Whether the person's synergy arm was held off its own step on this frame
+    /// ([`SynergyArm::limited`]).
+    pub(super) limited: bool,
 }
 
 /// Who drives the reaching arm (module docs).
@@ -190,6 +193,7 @@ impl ArmPhase {
                     phase: ArmPhase::Waiting,
                     error,
                     hand_done,
+                    limited: false,
                 })
             }
             ArmPhase::Analytic(a) => Ok(a.step(rules, arm, t, error)),
@@ -261,6 +265,7 @@ impl Analytic {
             phase: ArmPhase::Analytic(self),
             error,
             hand_done,
+            limited: false,
         }
     }
 }
@@ -313,6 +318,7 @@ impl Synergy {
     /// drove longer than its [time budget](SynergyArm::time_budget) short of the target.
     fn step(mut self, rules: &ArmRules<'_>, pose: &Pose, t: f64, error: f64) -> Result<Stepped> {
         let (seen, error, stalled) = observe(&mut self.arm, rules, pose, t, error)?;
+        let limited = self.arm.limited();
         let why = if seen.is_none() {
             Some(HandOverWhy::NotFinite)
         } else if stalled {
@@ -327,6 +333,7 @@ impl Synergy {
                 phase: ArmPhase::Synergy(self),
                 error,
                 hand_done: error <= rules.arrived,
+                limited,
             });
         };
         let hand_over = HandOver {
@@ -344,6 +351,7 @@ impl Synergy {
             error,
             // After a hand-over, within the tolerance: plain IK closes in slowest at the end.
             hand_done: error <= rules.tolerance,
+            limited,
         })
     }
 }
@@ -386,6 +394,7 @@ impl PlainIk {
             phase,
             error,
             hand_done: error <= rules.tolerance,
+            limited: false,
         })
     }
 }

@@ -122,6 +122,10 @@ pub struct ReachReport {
     pub arm_drive: ArmDriveKind,
     /// When plain IK took the hand over from the synergy controller, if it did.
     pub hand_over: Option<HandOver>,
+    /// The time of the first frame on which the character's limits (or the arm's speed
+    /// limit) held the person's synergy arm off its own step, if any: from there on the arm
+    /// is not the person's synergy alone (a fit of those frames could not retrace it).
+    pub synergy_limited_at_s: Option<f64>,
 }
 
 /// Plain inverse kinematics taking the hand over from a person's synergy controller for the

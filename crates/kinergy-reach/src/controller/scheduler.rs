@@ -110,6 +110,7 @@ pub(super) fn animate(
     let mut idle = IdleArm::new(character, idle_limb, rest)?;
     let mut head = Head::default();
     let mut phase = ArmPhase::Waiting;
+    let mut synergy_limited_at_s = None;
     let mut balance = BalanceCorrection::default();
     let mut poses = Vec::new();
     let mut min_margin = f64::INFINITY;
@@ -166,6 +167,9 @@ pub(super) fn animate(
         character.clamp_pose(&mut pose);
         let stepped = phase.step(&rules, &mut arm, &pose, t, error)?;
         phase = stepped.phase;
+        if stepped.limited && synergy_limited_at_s.is_none() {
+            synergy_limited_at_s = Some(t);
+        }
         final_error = stepped.error;
         arm.settle(&pose);
         idle.settle(&pose);
@@ -197,6 +201,7 @@ pub(super) fn animate(
             .unwrap_or(frames),
         arm_drive: drive.kind(),
         hand_over: phase.hand_over(),
+        synergy_limited_at_s,
     };
     Ok(ReachMotion {
         poses,

@@ -50,7 +50,7 @@ use kinergy_solver::{
 };
 
 use super::report::ArmDriveKind;
-use crate::character::{Character, Limb, Pose};
+use crate::character::{Character, GirdleTurn, Limb, Pose};
 use crate::error::{ReachError, Result};
 
 /// How long (seconds) the synergy arm's progress may stall, once the body has stopped,
@@ -170,8 +170,8 @@ fn read_as_captured(character: &Character, limb: Limb, pose: &Pose) -> Result<Ve
 pub struct SynergyArm {
     dofs: Range<usize>,
     stepper: ArmStepper<'static>,
-    /// Character base → capture base (constant: both ride the clavicle).
-    k: Rotation3<f64>,
+    /// The character's convention and the fitted one.
+    conventions: Conventions,
     /// The last twist given to the character's shoulder (unwrapped against it).
     twist: f64,
     task: Task,
@@ -189,6 +189,8 @@ pub struct SynergyArm {
     /// When the smooth controller's finish blend is over, seconds after the start (0 for the
     /// paper's controller).
     finished_at: f64,
+    /// Whether the last frame's posture held the arm off the controller's own step.
+    limited: bool,
 }
 
 /// A DoF turning faster than this (rad/s) is still coasting under the smooth controller's
@@ -227,14 +229,14 @@ impl SynergyArm {
             ((sm.finished_at() + STALL_WINDOW) / frame_time).ceil() as usize
         });
         let controller = Controller::new(*optimizer, synergy.clone(), settings).map_err(setting)?;
-        let k = capture_rotation(character, limb, rest)?;
+        let conventions = Conventions::new(character, limb, rest)?;
         let dofs = character.limb_dofs(limb);
         let mut q: [f64; 7] = std::array::from_fn(|i| pose[dofs.start + i]);
         q[3] = q[3].max(RELAXED_ELBOW);
         // The arm as it is (a fit of this motion would read a straight arm's twist as 0,
         // which is not in its positions, and start from there: see the README), with the
         // limits widened to include it, as a captured arm's are.
-        let start = to_capture(&k, &q);
+        let start = conventions.to_capture(&q);
         let chain = synergy_chain(character, limb, &start).map_err(setting)?;
         let stepper = controller
             .stepper(&chain, &start)
@@ -243,8 +245,8 @@ impl SynergyArm {
         Ok(SynergyArm {
             dofs,
             stepper,
-            k,
-            twist: to_character(&k, &start, q[2])[2],
+            twist: conventions.to_character(&start, q[2])[2],
+            conventions,
             task: Task::Position(target),
             target,
             progress: Vec::new(),
@@ -252,6 +254,7 @@ impl SynergyArm {
             joint_speed: 0.0,
             frame_time,
             finished_at: smoothing.map_or(0.0, |sm| sm.finished_at()),
+            limited: false,
         })
     }
 
@@ -280,7 +283,9 @@ impl SynergyArm {
 
     /// Puts the controller's current arm into `pose` (character DoFs).
     pub fn pose_arm(&mut self, pose: &mut Pose) {
-        let q = to_character(&self.k, self.stepper.configuration(), self.twist);
+        let q = self
+            .conventions
+            .to_character(self.stepper.configuration(), self.twist);
         self.twist = q[2];
         pose[self.dofs.clone()].copy_from_slice(&q);
     }
@@ -291,11 +296,18 @@ impl SynergyArm {
     /// hand–target distance of the arm in `pose`, or `None` when the step was not finite.
     pub fn end_frame(&mut self, pose: &Pose, base: &IsometryMatrix3<f64>) -> Result<Option<f64>> {
         let q: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
-        let shown = to_character(&self.k, self.stepper.configuration(), self.twist);
-        if q.iter().zip(&shown).any(|(a, b)| (a - b).abs() > 1e-12) {
-            self.stepper.set_configuration(&to_capture(&self.k, &q));
+        let shown = self
+            .conventions
+            .to_character(self.stepper.configuration(), self.twist);
+        self.limited = q.iter().zip(&shown).any(|(a, b)| (a - b).abs() > 1e-12);
+        if self.limited {
+            self.stepper
+                .set_configuration(&self.conventions.to_capture(&q));
         }
-        let capture_base = IsometryMatrix3::from_parts(base.translation, base.rotation * self.k);
+        let capture_base = IsometryMatrix3::from_parts(
+            base.translation,
+            base.rotation * self.conventions.base_turn(&q),
+        );
         let seen = self
             .stepper
             .observe(&capture_base, &self.task)
@@ -324,6 +336,13 @@ impl SynergyArm {
                     why: e.to_string(),
                 })?;
         Ok(Some((shown - self.target).norm()))
+    }
+
+    /// Whether the last frame [ended](SynergyArm::end_frame) with the arm off the controller's
+    /// own step: the character's limits (or the arm's speed limit) moved it, so the frames
+    /// from there on are not the person's synergy alone (a fit of them could not retrace it).
+    pub fn limited(&self) -> bool {
+        self.limited
     }
 
     /// How long the synergy drives before the reach hands over to plain IK, seconds:
@@ -410,29 +429,70 @@ fn synergy_chain(
     Ok(widen_to_include(&chain, start)?.0)
 }
 
-/// The capture-convention arm `q` (shoulder swing x, y, twist; elbow, wrist) as the
-/// character's DoFs, the twist unwrapped near `twist`.
-fn to_character(k: &Rotation3<f64>, q: &[f64], twist: f64) -> [f64; 7] {
-    let shoulder =
-        k * swing_rotation(q[0], q[1]) * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
-    let (sx, sy, tau) = swing_twist(&shoulder);
-    let mut out = [0.0; 7];
-    out[0] = sx;
-    out[1] = sy;
-    out[2] = unwrap_near(tau, twist);
-    out[3..].copy_from_slice(&q[3..7]);
-    out
+/// The character's arm convention and the fitted (capture) one (module docs,
+/// "Conventions"): the capture base is the character's base turned by the girdle's turn
+/// `G̃(q)` of the clavicle ([`GirdleTurn`]) and the constant `K` between the two at rest; the
+/// shoulder rotations relate as `R_character = G̃(q) · K · R_capture`, the elbow and wrist DoFs
+/// are the same.
+#[derive(Debug, Clone, Copy)]
+struct Conventions {
+    /// Character base → capture base at rest.
+    k: Rotation3<f64>,
+    /// The girdle's turn of the base.
+    girdle: GirdleTurn,
 }
 
-/// The character's arm DoFs `q` in the capture convention.
-fn to_capture(k: &Rotation3<f64>, q: &[f64; 7]) -> Vec<f64> {
-    let shoulder = k.inverse()
-        * swing_rotation(q[0], q[1])
-        * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
-    let (sx, sy, tau) = swing_twist(&shoulder);
-    let mut out = vec![sx, sy, tau];
-    out.extend_from_slice(&q[3..]);
-    out
+impl Conventions {
+    /// The conventions of `limb`, `K` from the character's `rest` posture.
+    fn new(character: &Character, limb: Limb, rest: &Pose) -> Result<Conventions> {
+        Ok(Conventions {
+            k: capture_rotation(character, limb, rest)?,
+            girdle: character.girdle_turn(limb),
+        })
+    }
+
+    /// Character base → capture base for the character's arm `q`: `G̃(q) · K`.
+    fn base_turn(&self, q: &[f64]) -> Rotation3<f64> {
+        self.girdle.in_base(q) * self.k
+    }
+
+    /// The capture-convention arm `q` (shoulder swing x, y, twist; elbow, wrist) as the
+    /// character's DoFs, the twist unwrapped near `twist`. The girdle's turn depends on the
+    /// character's arm itself: a fixed point, contracting by the rhythm's slope (≤ 0.3 a
+    /// step), to 1e-14 rad.
+    fn to_character(&self, q: &[f64], twist: f64) -> [f64; 7] {
+        let captured = self.k
+            * swing_rotation(q[0], q[1])
+            * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
+        let mut shoulder = captured;
+        for _ in 0..60 {
+            let (sx, sy, _) = swing_twist(&shoulder);
+            let next = self.girdle.in_base(&[sx, sy]) * captured;
+            let moved = next.angle_to(&shoulder);
+            shoulder = next;
+            if moved < 1e-14 {
+                break;
+            }
+        }
+        let (sx, sy, tau) = swing_twist(&shoulder);
+        let mut out = [0.0; 7];
+        out[0] = sx;
+        out[1] = sy;
+        out[2] = unwrap_near(tau, twist);
+        out[3..].copy_from_slice(&q[3..7]);
+        out
+    }
+
+    /// The character's arm DoFs `q` in the capture convention.
+    fn to_capture(&self, q: &[f64; 7]) -> Vec<f64> {
+        let shoulder = self.base_turn(q).inverse()
+            * swing_rotation(q[0], q[1])
+            * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
+        let (sx, sy, tau) = swing_twist(&shoulder);
+        let mut out = vec![sx, sy, tau];
+        out.extend_from_slice(&q[3..]);
+        out
+    }
 }
 
 #[cfg(test)]
@@ -451,7 +511,7 @@ mod tests {
         let c = character();
         let rest = c.rest_pose();
         for limb in [Limb::RightArm, Limb::LeftArm] {
-            let k = capture_rotation(&c, limb, &rest).expect("K");
+            let conventions = Conventions::new(&c, limb, &rest).expect("K");
             let chain = c.limb_chain(limb);
             let mut pose = rest;
             for (i, q) in [
@@ -466,8 +526,11 @@ mod tests {
                 pose[3] = 0.1 * i as f64;
                 pose[10] = -0.2 * i as f64;
                 let base = c.limb_base_frame(limb, &pose);
-                let capture_base = IsometryMatrix3::from_parts(base.translation, base.rotation * k);
-                let qc = to_capture(&k, &q);
+                let capture_base = IsometryMatrix3::from_parts(
+                    base.translation,
+                    base.rotation * conventions.base_turn(&q),
+                );
+                let qc = conventions.to_capture(&q);
                 let ours = chain.fk(&base, &q).expect("fk");
                 let theirs = chain.fk(&capture_base, &qc).expect("fk");
                 for (a, b) in ours.frames.iter().zip(&theirs.frames) {
@@ -476,7 +539,7 @@ mod tests {
                     assert!(moved < 1e-12 && turned < 1e-9, "{limb:?} {q:?}: {a} vs {b}");
                 }
                 assert!((ours.end - theirs.end).norm() < 1e-12);
-                let back = to_character(&k, &qc, q[2]);
+                let back = conventions.to_character(&qc, q[2]);
                 for (a, b) in back.iter().zip(&q) {
                     assert!((a - b).abs() < 1e-9, "{limb:?}: {back:?} vs {q:?}");
                 }
@@ -491,8 +554,9 @@ mod tests {
         let c = character();
         let rest = c.rest_pose();
         for limb in [Limb::RightArm, Limb::LeftArm] {
-            let k = capture_rotation(&c, limb, &rest).expect("K");
-            let q = to_capture(&k, &[0.0; 7]);
+            let conventions = Conventions::new(&c, limb, &rest).expect("K");
+            let k = conventions.k;
+            let q = conventions.to_capture(&[0.0; 7]);
             let upper = swing_rotation(q[0], q[1])
                 * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2])
                 * Vector3::z();
@@ -510,6 +574,44 @@ mod tests {
                 assert!(d < 1e-9, "{limb:?}: {read:?} vs {q:?}");
             }
             assert!((ours.end - theirs.end).norm() < 1e-9);
+        }
+    }
+
+    /// A fit of the exported motion reads a raised arm, whose clavicle the girdle has turned,
+    /// as the controller's convention has it: the second frame of a two-frame export
+    /// (rest, then the arm raised), read by [`CaptureArm`], is `to_capture` of the arm (the
+    /// shoulder's three DoFs and the elbow's flexion: a fit reads joint positions, in which
+    /// the forearm's twist and the wrist are not all seen).
+    #[test]
+    fn a_fit_reads_the_raised_arm_in_the_controllers_convention() {
+        let c = character();
+        let rest = c.rest_pose();
+        for limb in [Limb::RightArm, Limb::LeftArm] {
+            let conventions = Conventions::new(&c, limb, &rest).expect("K");
+            for q in [
+                [1.2, 0.9, 0.4, 0.3, 0.5, 0.0, 0.1],
+                [2.4, -0.6, -0.5, 0.8, 0.0, 0.2, -0.1],
+                [0.3, 2.6, 0.2, 1.1, 0.1, -0.2, 0.0],
+            ] {
+                let mut raised = rest;
+                raised[c.limb_dofs(limb)].copy_from_slice(&q);
+                assert!(c.girdle_turn(limb).in_base(&q).angle() > 0.05, "{q:?}");
+                let clip = c.to_clip(&[rest, raised], 1.0 / 60.0).expect("clip");
+                let joints = ArmJoints::find(clip.skeleton(), limb.side()).expect("joints");
+                let arm = CaptureArm::new(&clip, &joints).expect("arm");
+                let read = &arm.captured_configurations()[7..14];
+                let ours = conventions.to_capture(&q);
+                for (a, b) in read[..4].iter().zip(&ours) {
+                    assert!(
+                        (a - b).abs() < 1e-6,
+                        "{limb:?} {q:?}: read {read:?}, ours {ours:?}"
+                    );
+                }
+                let back = conventions.to_character(&ours, q[2]);
+                for (a, b) in back.iter().zip(&q) {
+                    assert!((a - b).abs() < 1e-6, "{limb:?}: {back:?} vs {q:?}");
+                }
+            }
         }
     }
 }
