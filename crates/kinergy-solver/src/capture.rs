@@ -5,9 +5,9 @@
 //!
 //! **The base frame.** Its origin is the captured shoulder joint; its rotation is the
 //! shoulder's parent (clavicle) world rotation times a constant alignment A fixed in the
-//! parent's frame: A's z axis points laterally outward (on the clip's first frame, the
-//! horizontal direction from the other arm's shoulder to this one; for a skeleton with one
-//! arm, the rest pose's horizontal direction from the root to the shoulder), its x axis is
+//! parent's frame: A's z axis points laterally outward (the rest pose's horizontal direction
+//! from the root to the shoulder where the rest pose stands; else the first frame's
+//! horizontal direction from the other arm's shoulder to this one), its x axis is
 //! up × z (forward for the right arm, backward for the left), y = z × x (up). So a zero swing is the arm
 //! raised sideways, a positive `shoulder_swing_x` lowers the arm on either side, and the
 //! swing's singularity (|swing| = π) points across the body, where nobody reaches.
@@ -271,47 +271,62 @@ impl CaptureArm {
 }
 
 /// The alignment A in the shoulder's parent's frame (module docs): z out of the shoulder
-/// sideways, y up, x = y × z. With both arms, z is the horizontal line from the other arm's
-/// shoulder to this one and y the vertical, on the clip's first frame (the capture's start
-/// posture; a rest pose need not be one a body stands in: Bandai Namco's lies along its x
-/// axis with the clavicles along the spine, where the root → shoulder rule turned the frame
-/// ~95° about the vertical); with one arm, the rest pose's horizontal root → shoulder
-/// direction and its vertical.
+/// sideways, y up, x = y × z. Where the rest pose is a body standing (its spine within 30° of
+/// the vertical, its shoulders' line within 30° of the root → shoulder direction, or the
+/// skeleton has one arm), z is the rest pose's horizontal root → shoulder direction. A rest
+/// pose need not be one a body stands in (Bandai Namco's lies along its x axis with the
+/// clavicles along the spine, where that rule turned the frame ~95° about the vertical): then
+/// z is the horizontal line from the other arm's shoulder to this one on the clip's first
+/// frame (the capture's start posture). (The first frame alone is no rule for every rig: a
+/// performer's first frame can be mid-motion, shoulders turned: a Reallusion capture's
+/// turned the frame so far that a straight arm toward a far target left its limits.)
 fn alignment(clip: &Clip, joints: &ArmJoints) -> Result<Rotation3<f64>> {
     let skeleton = clip.skeleton();
     let parent = skeleton.joint(joints.shoulder).parent;
-    let from_shoulders = other_shoulder(clip, joints)
-        .map(|other| -> Result<_> {
+    let horizontal = |mut v: Vector3<f64>| {
+        v.y = 0.0;
+        v
+    };
+    // The rest pose's horizontal root → shoulder direction (the elbow's, for a shoulder
+    // above the root).
+    let rest = skeleton.fk(&skeleton.rest_pose())?;
+    let parent_rest = parent.map_or(Rotation3::identity(), |p| rest[p].rotation);
+    let shoulder_rest = rest[joints.shoulder].translation.vector;
+    let mut lateral_rest = horizontal(shoulder_rest - rest[0].translation.vector);
+    if lateral_rest.norm() < 1e-3 {
+        lateral_rest = horizontal(rest[joints.elbow].translation.vector - shoulder_rest);
+    }
+    let other = other_shoulder(clip, joints);
+    // Whether the rest pose is a body standing: its spine (root → the shoulders' middle)
+    // within 30° of the vertical and its shoulders' line within 30° of that direction.
+    let stands = other.is_none_or(|o| {
+        let across = shoulder_rest - rest[o].translation.vector;
+        let spine = (shoulder_rest + rest[o].translation.vector) * 0.5 - rest[0].translation.vector;
+        let upright = spine.norm() > 1e-9 && spine.y > spine.norm() * 30f64.to_radians().cos();
+        let across = horizontal(across);
+        let agrees = across.norm() > 1e-9
+            && lateral_rest.norm() > 1e-9
+            && across.dot(&lateral_rest)
+                > across.norm() * lateral_rest.norm() * 30f64.to_radians().cos();
+        upright && agrees
+    });
+    let (parent_rot, lateral) = match other {
+        Some(other) if !stands => {
             let first = clip
                 .frame(0)
                 .ok_or(kinergy_motion::MotionError::EmptyClip)?;
             let world = skeleton.fk(first)?;
             let parent_rot = parent.map_or(Rotation3::identity(), |p| world[p].rotation);
-            let lateral =
-                world[joints.shoulder].translation.vector - world[other].translation.vector;
-            Ok((parent_rot, lateral))
-        })
-        .transpose()?
-        .filter(|(_, lateral)| lateral.x.hypot(lateral.z) > 1e-6);
-    let (parent_rot, mut lateral) = match from_shoulders {
-        Some(found) => found,
-        None => {
-            let rest = skeleton.fk(&skeleton.rest_pose())?;
-            let parent_rest = parent.map_or(Rotation3::identity(), |p| rest[p].rotation);
-            let shoulder_rest = rest[joints.shoulder].translation.vector;
-            let mut lateral = shoulder_rest - rest[0].translation.vector;
-            lateral.y = 0.0;
-            if lateral.norm() < 1e-3 {
-                lateral = rest[joints.elbow].translation.vector - shoulder_rest;
-            }
-            lateral.y = 0.0;
-            (parent_rest, lateral)
+            let lateral = horizontal(
+                world[joints.shoulder].translation.vector - world[other].translation.vector,
+            );
+            (parent_rot, lateral)
         }
+        _ => (parent_rest, lateral_rest),
     };
-    lateral.y = 0.0;
     if lateral.norm() < 1e-6 {
         return Err(SolverError::Capture(format!(
-            "cannot tell which way `{}` points sideways in the rest pose",
+            "cannot tell which way `{}` points sideways in the rest pose or the first frame",
             skeleton.joint(joints.shoulder).name
         )));
     }

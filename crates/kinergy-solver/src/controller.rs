@@ -367,13 +367,16 @@ impl Controller {
                 break;
             }
             // The smooth controller does not stall before its finish is over, nor while the
-            // arm still turns back under its acceleration bound (a DoF faster than 0.05 rad/s).
-            let settled = match (&s.smoothing, &stepper.smoother) {
-                (Some(sm), Some(state)) => {
+            // arm still turns back under its acceleration bound: a DoF that moved on by more
+            // than COASTING rad/s over the stall window (its net motion: an arm chattering on
+            // a limit, a few hundredths of a radian back and forth, is not coasting).
+            let settled = match &s.smoothing {
+                Some(sm) => {
                     frame as f64 * dt >= sm.finished_at() + s.stall.window
-                        && !state.coasting(0.05 * dt)
+                        && (frame < window
+                            || !coasting(&out.configurations, frame, window, COASTING * dt))
                 }
-                _ => true,
+                None => true,
             };
             if long_enough
                 && settled
@@ -723,4 +726,19 @@ fn progress_floor(
             }
         }
     }
+}
+
+/// The smooth controller's arm still coasts while a DoF moves on faster than this, rad/s
+/// (net over the stall window).
+pub(crate) const COASTING: f64 = 0.05;
+
+/// True when some DoF of the configurations (`n` = their count per frame, frames stacked)
+/// moved by more than `per_frame · window` from frame `frame − window` to `frame`.
+fn coasting(configurations: &[f64], frame: usize, window: usize, per_frame: f64) -> bool {
+    let n = configurations.len() / (frame + 1);
+    let now = &configurations[frame * n..(frame + 1) * n];
+    let then = &configurations[(frame - window) * n..(frame - window + 1) * n];
+    now.iter()
+        .zip(then)
+        .any(|(a, b)| (a - b).abs() > per_frame * window as f64)
 }

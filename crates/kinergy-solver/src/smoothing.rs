@@ -250,11 +250,6 @@ impl Smoother {
         self.started = true;
     }
 
-    /// True while any DoF moved more than `per_frame` on the last frame.
-    pub(crate) fn coasting(&self, per_frame: f64) -> bool {
-        self.moved.iter().any(|m| m.abs() > per_frame)
-    }
-
     /// Bounds `step` (this frame's, from configuration `q`) by the accelerations.
     pub(crate) fn limit(
         &mut self,

@@ -181,9 +181,10 @@ pub struct SynergyArm {
     /// Frames before which the smooth controller cannot stall: its finish and a stall window
     /// (as [`Controller::synthesize`]'s rule; 0 for the paper's controller).
     settles_after: usize,
-    /// The largest joint speed of the last step, rad/s (the smooth controller does not stall
-    /// while a DoF still turns faster than [`COASTING`]).
-    joint_speed: f64,
+    /// The controller's configuration after each frame's step, stacked (the smooth controller
+    /// does not stall while a DoF still moves on faster than [`COASTING`], net over the
+    /// stall window).
+    history: Vec<f64>,
     /// Seconds per frame.
     frame_time: f64,
     /// When the smooth controller's finish blend is over, seconds after the start (0 for the
@@ -193,8 +194,9 @@ pub struct SynergyArm {
     limited: bool,
 }
 
-/// A DoF turning faster than this (rad/s) is still coasting under the smooth controller's
-/// acceleration bound, not stalled (the solver's own stall rule's value).
+/// A DoF moving on faster than this (rad/s, net over the stall window) is still coasting
+/// under the smooth controller's acceleration bound, not stalled (the solver's own stall
+/// rule's value; an arm chattering on a limit is not coasting).
 const COASTING: f64 = 0.05;
 
 impl SynergyArm {
@@ -251,7 +253,7 @@ impl SynergyArm {
             target,
             progress: Vec::new(),
             settles_after,
-            joint_speed: 0.0,
+            history: Vec::new(),
             frame_time,
             finished_at: smoothing.map_or(0.0, |sm| sm.finished_at()),
             limited: false,
@@ -277,7 +279,8 @@ impl SynergyArm {
             .map_err(setting)?
             .into_owned();
         self.progress.clear();
-        (self.settles_after, self.joint_speed) = (0, 0.0);
+        self.settles_after = 0;
+        self.history.clear();
         Ok(())
     }
 
@@ -316,15 +319,10 @@ impl SynergyArm {
                 why: e.to_string(),
             })?;
         self.progress.push(seen.progress);
-        let before = self.stepper.configuration().to_vec();
         if !seen.error.is_finite() || !self.stepper.advance() {
             return Ok(None);
         }
-        let dt = self.frame_time;
-        self.joint_speed = before
-            .iter()
-            .zip(self.stepper.configuration())
-            .fold(0.0, |m, (a, b)| m.max((b - a).abs() / dt));
+        self.history.extend_from_slice(self.stepper.configuration());
         // The distance of the arm shown (the controller's own chain clamps into its own
         // limits, which can leave its arm a little off the character's).
         let shown =
@@ -361,6 +359,20 @@ impl SynergyArm {
         self.stalled_by(window, STALL_PROGRESS)
     }
 
+    /// True when a DoF moved on by more than [`COASTING`] rad/s, net over the last `window`
+    /// frames.
+    fn coasting(&self, window: usize) -> bool {
+        let n = self.stepper.configuration().len();
+        let frames = self.history.len() / n.max(1);
+        if frames <= window {
+            return true;
+        }
+        let now = &self.history[(frames - 1) * n..frames * n];
+        let then = &self.history[(frames - 1 - window) * n..(frames - window) * n];
+        let largest = COASTING * self.frame_time * window as f64;
+        now.iter().zip(then).any(|(a, b)| (a - b).abs() > largest)
+    }
+
     /// [`SynergyArm::stalled`] with another least progress, meters: a reach that must arrive
     /// closer than [`STALL_PROGRESS`] allows watches for smaller progress.
     pub fn stalled_by(&self, window: usize, min_progress: f64) -> bool {
@@ -370,7 +382,7 @@ impl SynergyArm {
         }
         // The smooth controller starts gently and brakes before the target: it is judged
         // once its finish is over, and not while a DoF still coasts.
-        if self.settles_after > 0 && (n < self.settles_after || self.joint_speed > COASTING) {
+        if self.settles_after > 0 && (n < self.settles_after || self.coasting(window)) {
             return false;
         }
         let recent = &self.progress[n - window..];
