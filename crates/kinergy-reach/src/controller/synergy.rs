@@ -464,7 +464,7 @@ impl Conventions {
     }
 
     /// Character base → capture base for the character's arm `q`: `G̃(q) · K`.
-    fn base_turn(&self, q: &[f64]) -> Rotation3<f64> {
+    fn base_turn(self, q: &[f64]) -> Rotation3<f64> {
         self.girdle.in_base(q) * self.k
     }
 
@@ -472,7 +472,7 @@ impl Conventions {
     /// character's DoFs, the twist unwrapped near `twist`. The girdle's turn depends on the
     /// character's arm itself: a fixed point, contracting by the rhythm's slope (≤ 0.3 a
     /// step), to 1e-14 rad.
-    fn to_character(&self, q: &[f64], twist: f64) -> [f64; 7] {
+    fn to_character(self, q: &[f64], twist: f64) -> [f64; 7] {
         let captured = self.k
             * swing_rotation(q[0], q[1])
             * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
@@ -496,7 +496,7 @@ impl Conventions {
     }
 
     /// The character's arm DoFs `q` in the capture convention.
-    fn to_capture(&self, q: &[f64; 7]) -> Vec<f64> {
+    fn to_capture(self, q: &[f64; 7]) -> Vec<f64> {
         let shoulder = self.base_turn(q).inverse()
             * swing_rotation(q[0], q[1])
             * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
