@@ -38,9 +38,10 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// Also write style.csv (one row per capture), summary.md and the pictures speed.svg|png
+    /// Also write style.csv (one row per capture), summary.md, the pictures speed.svg|png
     /// (the hand-speed profiles) and strip.svg|png (the first capture's reach, the character
-    /// over the capture) into this folder (made if missing).
+    /// over the capture), and each capture's two full-body reaches as BVH (NAME.params.bvh,
+    /// NAME.profile.bvh) into this folder (made if missing).
     #[arg(short, long, value_name = "DIR")]
     pub output: Option<PathBuf>,
     #[command(flatten)]
@@ -123,8 +124,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let mut rows = Vec::with_capacity(clips.len());
     let mut runs = Vec::with_capacity(clips.len());
     let mut first = None;
+    let mut names = std::collections::HashSet::new();
     for path in &clips {
         let (clip, capture, run) = compare_one(args, &person, path)?;
+        if let Some(dir) = &args.output {
+            write_reaches(dir, path, &capture, &run, &mut names)?;
+        }
         rows.push(run.row.clone());
         runs.push(run);
         if first.is_none() {
@@ -172,6 +177,39 @@ fn compare_one(
         e => Failure::from(e).naming(&name),
     })?;
     Ok((clip, capture, run))
+}
+
+/// Writes the capture's two full-body reaches (with the person's parameters, with the
+/// default profile) as `DIR/NAME.params.bvh` and `DIR/NAME.profile.bvh`, NAME the capture's
+/// file stem (`-2`, `-3`, … after a stem already written).
+fn write_reaches(
+    dir: &Path,
+    path: &Path,
+    capture: &StyleCapture,
+    run: &StyleRun,
+    names: &mut std::collections::HashSet<String>,
+) -> Result<(), Failure> {
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "reach".to_string(), |s| s.to_string_lossy().into_owned());
+    let mut name = stem.clone();
+    let mut n = 1;
+    while !names.insert(name.clone()) {
+        n += 1;
+        name = format!("{stem}-{n}");
+    }
+    for (kind, motion) in [
+        ("params", &run.params_motion),
+        ("profile", &run.profile_motion),
+    ] {
+        let out = dir.join(format!("{name}.{kind}.bvh"));
+        let clip = capture
+            .character()
+            .to_clip(&motion.poses, motion.frame_time)
+            .map_err(|e| Failure::task(&out, e))?;
+        crate::common::write_clip(&out, &clip, &Default::default())?;
+    }
+    Ok(())
 }
 
 /// The summary and the rows as markdown tables.

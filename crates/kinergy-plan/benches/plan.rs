@@ -518,6 +518,7 @@ fn persons_grasp(c: &mut Criterion, summaries: &Summaries) {
         synergy: file
             .synergy_for(&kinergy_reach::controller::arm_dof_names(plain.character()))
             .expect("the arm's DoFs"),
+        tempo: None,
     };
     let person = Planner::new(
         scene,

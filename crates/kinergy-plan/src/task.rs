@@ -514,7 +514,9 @@ impl Builder<'_> {
             plan(&self.space, &self.q, goal, &rrt).map_err(|e| in_phase(e, name))?;
         let (path, smoothing) = smooth(&self.space, &raw, &s.smoothing, rrt.seed);
         let (configs, synergy) = match &s.arm {
-            ArmDrive::Synergy { optimizer, synergy } if reach => {
+            ArmDrive::Synergy {
+                optimizer, synergy, ..
+            } if reach => {
                 let person = PersonArm {
                     character: &self.planner.character,
                     body: &self.planner.start,

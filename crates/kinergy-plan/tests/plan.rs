@@ -632,6 +632,7 @@ fn person(name: &str, planner: &Planner) -> ArmDrive {
         synergy: file
             .synergy_for(&arm_dof_names(planner.character()))
             .unwrap(),
+        tempo: None,
     }
 }
 

@@ -44,6 +44,7 @@ fn per_frame(c: &mut Criterion) {
         synergy: file
             .synergy_for(&arm_dof_names(&character))
             .expect("the arm's DoFs"),
+        tempo: None,
     };
     for (name, target) in [
         ("near_synergy", [0.25, 1.1, 0.35]),

@@ -90,6 +90,7 @@ impl PersonArm {
             drive: ArmDrive::Synergy {
                 optimizer: at.params.optimizer,
                 synergy,
+                tempo: at.params.fit.as_ref().and_then(|f| f.tempo()),
             },
             params: at.params,
             field: at.field,

@@ -20,6 +20,7 @@ fn synergy(c: &Character) -> ArmDrive {
     ArmDrive::Synergy {
         optimizer: OptimizerKind::Dls.default_optimizer(),
         synergy: Synergy::identity(arm_dof_names(c).len()),
+        tempo: None,
     }
 }
 

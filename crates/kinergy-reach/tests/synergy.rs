@@ -30,6 +30,7 @@ fn drive(c: &Character, name: &str) -> ArmDrive {
     ArmDrive::Synergy {
         optimizer: file.optimizer,
         synergy: file.synergy_for(&arm_dof_names(c)).expect("the arm's DoFs"),
+        tempo: None,
     }
 }
 
@@ -175,6 +176,7 @@ fn a_synergy_that_cannot_move_hands_over_and_says_so() {
     let drive = ArmDrive::Synergy {
         optimizer: file.optimizer,
         synergy,
+        tempo: None,
     };
     let target = Point3::new(0.25, 1.1, 0.35);
     let m = reach_full_body_driven(&c, target, &ReachSettings::default(), &drive).expect("reach");

@@ -194,6 +194,81 @@ pub struct FittedReach {
     /// The arm the reach was captured with (absent in files written before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub arm: Option<FittedArm>,
+    /// How fast the captured hand moved (absent in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tempo: Option<ReachTempo>,
+}
+
+/// How fast a captured hand moved over a reach, relative to the shoulder: a person's tempo,
+/// which a full-body reach in their style keeps ([`FitRecord::tempo`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ReachTempo {
+    /// The hand's peak speed relative to the shoulder, m/s.
+    pub peak_speed_m_s: f64,
+    /// The reach's duration, seconds.
+    pub duration_s: f64,
+    /// The straight distance from the hand's first to its last place relative to the
+    /// shoulder (in the arm's base frame on each frame), meters.
+    pub travel_m: f64,
+}
+
+/// A person's tempo over their fitted reaches ([`FitRecord::tempo`]): the medians of each
+/// reach's mean speed (travel ÷ duration) and shape (peak speed × duration ÷ travel, 1.875 for
+/// a minimum-jerk reach).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PersonTempo {
+    /// Median travel ÷ duration, m/s.
+    pub mean_speed_m_s: f64,
+    /// Median peak speed × duration ÷ travel.
+    pub shape: f64,
+}
+
+impl PersonTempo {
+    /// The peak speed (m/s) and duration (s) of the person's reach over `distance` meters:
+    /// T = distance ÷ mean speed, V = shape × distance ÷ T.
+    pub fn for_distance(&self, distance: f64) -> (f64, f64) {
+        let duration = distance / self.mean_speed_m_s;
+        (self.shape * distance / duration, duration)
+    }
+}
+
+impl FitRecord {
+    /// The person's tempo over the reaches that record theirs (finite, positive duration and
+    /// travel of at least 5 cm); `None` when none does.
+    pub fn tempo(&self) -> Option<PersonTempo> {
+        let usable: Vec<ReachTempo> = self
+            .reaches
+            .iter()
+            .filter_map(|r| r.tempo)
+            .filter(|t| {
+                [t.peak_speed_m_s, t.duration_s, t.travel_m]
+                    .iter()
+                    .all(|v| v.is_finite() && *v > 0.0)
+                    && t.travel_m >= 0.05
+            })
+            .collect();
+        if usable.is_empty() {
+            return None;
+        }
+        let median = |mut v: Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            let n = v.len();
+            if n % 2 == 1 {
+                v[n / 2]
+            } else {
+                0.5 * (v[n / 2 - 1] + v[n / 2])
+            }
+        };
+        Some(PersonTempo {
+            mean_speed_m_s: median(usable.iter().map(|t| t.travel_m / t.duration_s).collect()),
+            shape: median(
+                usable
+                    .iter()
+                    .map(|t| t.peak_speed_m_s * t.duration_s / t.travel_m)
+                    .collect(),
+            ),
+        })
+    }
 }
 
 /// The captured arm a reach was fitted on: which side, its joints, its bones.

@@ -14,7 +14,7 @@ use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, Trajectory, motion_distance};
 use kinergy_solver::{
     ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FittedArm, Optimizer,
-    Smoothing, StopReason, Synergy, Synthesis, Task,
+    ReachTempo, Smoothing, StopReason, Synergy, Synthesis, Task,
 };
 
 use crate::error::{Result, TrainError};
@@ -146,6 +146,11 @@ impl CapturedReach {
     /// the reach's first frame.
     pub fn fitted_arm(&self) -> &FittedArm {
         &self.fitted_arm
+    }
+
+    /// How fast the captured hand moved over the reach, relative to the shoulder.
+    pub fn tempo(&self) -> ReachTempo {
+        reach_tempo(&self.captured, self.frame_time)
     }
 
     /// The synthesis arm made from the capture.
@@ -289,13 +294,27 @@ impl CapturedReach {
 
 /// [`CapturedReach::smoothing`] of a captured arm trajectory (shoulder first, hand last).
 fn reach_smoothing(captured: &Trajectory, frame_time: f64, arm: &FittedArm) -> Smoothing {
+    let t = reach_tempo(captured, frame_time);
+    Smoothing::for_reach(
+        t.peak_speed_m_s,
+        t.duration_s,
+        arm.upper_arm_m + arm.forearm_m + arm.hand_m,
+    )
+}
+
+/// The captured hand's [`ReachTempo`] relative to the shoulder (the trajectory's first and
+/// last joints).
+fn reach_tempo(captured: &Trajectory, frame_time: f64) -> ReachTempo {
     let last = captured.joint_count() - 1;
+    let n = captured.frame_count();
     let relative = |i: usize| captured.frame(i)[last] - captured.frame(i)[0];
-    let peak = (1..captured.frame_count())
-        .map(|i| (relative(i) - relative(i - 1)).norm() / frame_time)
-        .fold(0.0, f64::max);
-    let duration = (captured.frame_count() - 1) as f64 * frame_time;
-    Smoothing::for_reach(peak, duration, arm.upper_arm_m + arm.forearm_m + arm.hand_m)
+    ReachTempo {
+        peak_speed_m_s: (1..n)
+            .map(|i| (relative(i) - relative(i - 1)).norm() / frame_time)
+            .fold(0.0, f64::max),
+        duration_s: n.saturating_sub(1) as f64 * frame_time,
+        travel_m: (relative(n - 1) - relative(0)).norm(),
+    }
 }
 
 /// The damping of [`start_velocity`]'s least squares, m/rad.

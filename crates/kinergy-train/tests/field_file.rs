@@ -24,6 +24,7 @@ fn reaches(count: usize) -> Vec<FittedReach> {
                 forearm_m: 0.25,
                 hand_m: 0.0,
             }),
+            tempo: None,
         })
         .collect()
 }

@@ -208,6 +208,7 @@ fn records(count: usize, side: Side) -> Vec<FittedReach> {
                 forearm_m: 0.24,
                 hand_m: 0.0,
             }),
+            tempo: None,
         })
         .collect()
 }

@@ -133,9 +133,11 @@ impl ArmPhase {
         let mut phase = match self {
             ArmPhase::Waiting if t >= rules.timeline.t_arm => match rules.drive {
                 ArmDrive::Profile => ArmPhase::Analytic(Analytic::from_state_1(rules)),
-                ArmDrive::Synergy { optimizer, synergy } => {
-                    ArmPhase::Synergy(Synergy::start(rules, optimizer, synergy, pose)?)
-                }
+                ArmDrive::Synergy {
+                    optimizer,
+                    synergy,
+                    tempo,
+                } => ArmPhase::Synergy(Synergy::start(rules, optimizer, synergy, *tempo, pose)?),
             },
             phase => phase,
         };
@@ -287,18 +289,26 @@ impl Synergy {
         rules: &ArmRules<'_>,
         optimizer: &Optimizer,
         person: &kinergy_solver::Synergy,
+        tempo: Option<kinergy_solver::PersonTempo>,
         pose: &Pose,
     ) -> Result<Synergy> {
         let plan = rules.plan;
-        // The smooth controller bounded as a reach over the hand's distance peaking at the
-        // profile's speed, or at a typical person's reaching speed where the profile is slower
-        // (the paper's ease-out default: 0.2 m/s): the person's synergy sets its own pace, and
-        // bounds from a slower profile made it overshoot and miss (measured on the shared
-        // raises). The duration is the minimum-jerk one at that peak, 1.875 d / V.
+        // The smooth controller bounded as the person's own reach over the hand's distance
+        // (their tempo: peak speed and duration from their fitted reaches); without a tempo,
+        // a reach peaking at the profile's speed, or at a typical person's reaching speed
+        // where the profile is slower (the paper's ease-out default: 0.2 m/s), with the
+        // minimum-jerk duration at that peak, 1.875 d / V. Bounds from a slower reach than the
+        // person's made their synergy overshoot and miss, or crawl: Bandai's *active* raises
+        // (4–5 m/s captured) ran at 1.3 m/s under the 1 m/s bounds and handed over on 2 of 4
+        // takes.
         let hand = rules.character.joint_frame(plan.arm.joints()[3], pose);
         let distance = (Point3::from(hand.translation.vector) - plan.target).norm();
-        let peak = rules.profile.peak_speed(distance).max(SYNERGY_PEAK_SPEED);
-        let smoothing = reach_smoothing(rules.character, plan.arm, peak, 1.875 * distance / peak);
+        let least = rules.profile.peak_speed(distance).max(SYNERGY_PEAK_SPEED);
+        let (peak, duration) = match tempo.map(|t| t.for_distance(distance)) {
+            Some((peak, duration)) if peak > least && duration > 0.0 => (peak, duration),
+            _ => (least, 1.875 * distance / least),
+        };
+        let smoothing = reach_smoothing(rules.character, plan.arm, peak, duration);
         let arm = SynergyArm::new(
             rules.character,
             plan.arm,

@@ -46,7 +46,7 @@ use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
 use kinergy_motion::rotation::{swing_rotation, swing_twist, unwrap_near};
 use kinergy_solver::{
     ArmStepper, BaseMode, CaptureArm, Controller, ControllerSettings, Optimizer, OptimizerKind,
-    Smoothing, StallRule, Synergy, Task, widen_to_include,
+    PersonTempo, Smoothing, StallRule, Synergy, Task, widen_to_include,
 };
 
 use super::report::ArmDriveKind;
@@ -86,6 +86,11 @@ pub enum ArmDrive {
         optimizer: Optimizer,
         /// The person's synergy.
         synergy: Synergy,
+        /// The person's tempo over their fitted reaches ([`kinergy_solver::FitRecord::tempo`]):
+        /// the smooth controller's bounds are those of a reach of theirs over the hand's
+        /// distance. `None` (files without it): a reach peaking at [`super::SYNERGY_PEAK_SPEED`]
+        /// or the profile's peak, whichever is faster.
+        tempo: Option<PersonTempo>,
     },
 }
 

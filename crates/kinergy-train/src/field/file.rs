@@ -5,7 +5,7 @@ use std::path::Path;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::{
     Bounds, FitGrouping, FitMethod, FitRecord, FitStatus, FittedArm, FittedReach, Model, Optimizer,
-    ParamSpace, ParamsFile,
+    ParamSpace, ParamsFile, ReachTempo,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -134,6 +134,7 @@ impl FieldFile {
                 frames: [r.frames().start, r.frames().end],
                 distance_m: f.distances.first().copied().unwrap_or(f.score),
                 arm: Some(r.fitted_arm().clone()),
+                tempo: Some(r.tempo()),
             })
             .collect();
         let field = ParamField::fit(&first.space, &samples, settings)?;
@@ -501,6 +502,9 @@ struct SampleDoc {
     frames: [usize; 2],
     arm: FittedArm,
     distance_m: f64,
+    /// How fast the captured hand moved (absent in files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tempo: Option<ReachTempo>,
     target: [f64; 3],
     values: Vec<f64>,
 }
@@ -536,6 +540,7 @@ impl Doc {
                         hand_m: 0.0,
                     }),
                     distance_m: r.distance_m,
+                    tempo: r.tempo,
                     target: [t.x, t.y, t.z],
                     values: values.clone(),
                 })
@@ -620,6 +625,7 @@ impl Doc {
                 frames: s.frames,
                 distance_m: s.distance_m,
                 arm: Some(s.arm),
+                tempo: s.tempo,
             });
         }
         check_reaches(&reaches)?;

@@ -152,6 +152,7 @@ impl Fit {
                     frames: [r.frames().start, r.frames().end],
                     distance_m,
                     arm: Some(r.fitted_arm().clone()),
+                    tempo: Some(r.tempo()),
                 })
                 .collect(),
             per: None,
