@@ -22,6 +22,12 @@
 //!   three planes). We take the middles, 15.5° and 8.5° per 100°, as linear rates beyond 20°:
 //!   [`RETRACTION_RATE`] and [`ELEVATION_RATE`], extrapolated to 180° (24.8° and 13.6°).
 //!
+//! Checked against stored copies of the sources (2026-12-02): Inman's 2 : 1 beyond 30° and
+//! 180° = 120° GH + 60° ST (textbook summaries of Inman 1944), Braman et al.'s 2.3 raising
+//! and 2.7 lowering (their abstract, PMC2841046). Ludewig et al.'s clavicle ranges could not
+//! be read here (the paper's text is not in the stored corpus): they are the values as
+//! remembered from its abstract and must be checked against the paper.
+//!
 //! | θ (humerothoracic) | 0° | 20° | 60° | 90° | 120° | 180° |
 //! |---|---|---|---|---|---|---|
 //! | SC elevation (Ludewig) | 0 | 0 | 3.4° | 5.95° | 8.5° | 13.6° |

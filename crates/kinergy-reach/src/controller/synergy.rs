@@ -197,6 +197,10 @@ pub struct SynergyArm {
     finished_at: f64,
     /// Whether the last frame's posture held the arm off the controller's own step.
     limited: bool,
+    /// The girdle's turn of the arm last converted to the character's DoFs.
+    turn: Rotation3<f64>,
+    /// The last configuration converted to the character's DoFs, and its conversion.
+    shown: Option<(Vec<f64>, [f64; 7])>,
 }
 
 /// A DoF moving on faster than this (rad/s, net over the stall window) is still coasting
@@ -262,6 +266,8 @@ impl SynergyArm {
             frame_time,
             finished_at: smoothing.map_or(0.0, |sm| sm.finished_at()),
             limited: false,
+            turn: Rotation3::identity(),
+            shown: None,
         })
     }
 
@@ -291,11 +297,27 @@ impl SynergyArm {
 
     /// Puts the controller's current arm into `pose` (character DoFs).
     pub fn pose_arm(&mut self, pose: &mut Pose) {
-        let q = self
-            .conventions
-            .to_character(self.stepper.configuration(), self.twist);
+        let q = self.shown();
         self.twist = q[2];
         pose[self.dofs.clone()].copy_from_slice(&q);
+    }
+
+    /// The controller's current arm in the character's DoFs, computed once per configuration
+    /// (the frame's start poses it, its end compares the final posture with it), the girdle's
+    /// fixed point started from the last frame's turn.
+    fn shown(&mut self) -> [f64; 7] {
+        let config = self.stepper.configuration();
+        if let Some((at, shown)) = &self.shown
+            && at.as_slice() == config
+        {
+            return *shown;
+        }
+        let (shown, turn) = self
+            .conventions
+            .to_character_from(config, self.twist, &self.turn);
+        self.turn = turn;
+        self.shown = Some((config.to_vec(), shown));
+        shown
     }
 
     /// Ends a frame whose final posture is `pose` (the arm clamped into the character's
@@ -304,9 +326,7 @@ impl SynergyArm {
     /// hand–target distance of the arm in `pose`, or `None` when the step was not finite.
     pub fn end_frame(&mut self, pose: &Pose, base: &IsometryMatrix3<f64>) -> Result<Option<f64>> {
         let q: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
-        let shown = self
-            .conventions
-            .to_character(self.stepper.configuration(), self.twist);
+        let shown = self.shown();
         self.limited = q.iter().zip(&shown).any(|(a, b)| (a - b).abs() > 1e-12);
         if self.limited {
             self.stepper
@@ -478,15 +498,29 @@ impl Conventions {
     /// character's arm itself: a fixed point, contracting by the rhythm's slope (≤ 0.3 a
     /// step), to 1e-14 rad.
     fn to_character(self, q: &[f64], twist: f64) -> [f64; 7] {
+        self.to_character_from(q, twist, &Rotation3::identity()).0
+    }
+
+    /// [`Conventions::to_character`] with the fixed point started from the girdle's turn
+    /// `turn` (the previous frame's: a frame's arm moves little, so a few passes do); also
+    /// returns the girdle's turn it ended on.
+    fn to_character_from(
+        self,
+        q: &[f64],
+        twist: f64,
+        turn: &Rotation3<f64>,
+    ) -> ([f64; 7], Rotation3<f64>) {
         let captured = self.k
             * swing_rotation(q[0], q[1])
             * Rotation3::from_axis_angle(&Vector3::z_axis(), q[2]);
-        let mut shoulder = captured;
+        let mut turn = *turn;
+        let mut shoulder = turn * captured;
         for _ in 0..60 {
             let (sx, sy, _) = swing_twist(&shoulder);
-            let next = self.girdle.in_base(&[sx, sy]) * captured;
-            let moved = next.angle_to(&shoulder);
-            shoulder = next;
+            let next_turn = self.girdle.in_base(&[sx, sy]);
+            let moved = next_turn.angle_to(&turn);
+            turn = next_turn;
+            shoulder = turn * captured;
             if moved < 1e-14 {
                 break;
             }
@@ -497,7 +531,7 @@ impl Conventions {
         out[1] = sy;
         out[2] = unwrap_near(tau, twist);
         out[3..].copy_from_slice(&q[3..7]);
-        out
+        (out, turn)
     }
 
     /// The character's arm DoFs `q` in the capture convention.
