@@ -88,7 +88,7 @@ pub enum ArmDrive {
         synergy: Synergy,
         /// The person's tempo over their fitted reaches ([`kinergy_solver::FitRecord::tempo`]):
         /// the smooth controller's bounds are those of a reach of theirs over the hand's
-        /// distance. `None` (files without it): a reach peaking at [`super::SYNERGY_PEAK_SPEED`]
+        /// distance. `None` (files without it): a reach peaking at 1 m/s (`SYNERGY_PEAK_SPEED`)
         /// or the profile's peak, whichever is faster.
         tempo: Option<PersonTempo>,
     },
