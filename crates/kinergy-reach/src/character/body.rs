@@ -655,6 +655,7 @@ impl Character {
                 match *m {
                     Motion::Revolute { min, max, .. } => {
                         let v = pose[k];
+                        let (min, max) = revolute_range(j, min, max, pose, k);
                         if v < min - 1e-12 || v > max + 1e-12 {
                             return Err(format!(
                                 "DoF `{}` = {:.3}° is outside [{:.3}°, {:.3}°]",
@@ -699,7 +700,10 @@ impl Character {
             let mut k = j.first_dof + if j.translates { 3 } else { 0 };
             for m in &j.motions {
                 match *m {
-                    Motion::Revolute { min, max, .. } => pose[k] = pose[k].clamp(min, max),
+                    Motion::Revolute { min, max, .. } => {
+                        let (min, max) = revolute_range(j, min, max, pose, k);
+                        pose[k] = pose[k].clamp(min, max);
+                    }
                     Motion::Swing { rx, ry } => {
                         let e = (pose[k] / rx).powi(2) + (pose[k + 1] / ry).powi(2);
                         if e > 1.0 {
@@ -713,6 +717,29 @@ impl Character {
             }
         }
     }
+}
+
+/// Where the shoulder's twist range starts to widen: humerothoracic elevations above 120°.
+pub const OVERHEAD_TWIST_FROM: f64 = 120.0 * std::f64::consts::PI / 180.0;
+
+/// The range of the revolute DoF `k` of joint `j` (`[min, max]` in its table) at `pose`: the
+/// table's, except the shoulder's twist (the revolute after an arm's swing), whose range widens
+/// linearly from the table's at [`OVERHEAD_TWIST_FROM`] of elevation to ±180° at 180°. The
+/// twist is that of the swing–twist split from the hanging arm, singular with the arm
+/// straight up: there a swing of π about u followed by a twist τ is the swing of π about u
+/// turned by −τ/2, with no twist (a π turn about a horizontal axis flips z, so
+/// `S(πu)·Rz(τ) = Rz(−τ/2)·S(πu)·Rz(τ/2) = S(π·Rz(−τ/2)u)`); near it, a small turn of the arm
+/// moves the twist coordinate by a lot. A fixed ±90° there limited nothing anatomical, and
+/// clamping the coordinate turned an overhead arm by up to 1.6 rad on single frames (Bandai
+/// *active* raises under the person's synergy).
+fn revolute_range(j: &CharacterJoint, min: f64, max: f64, pose: &Pose, k: usize) -> (f64, f64) {
+    use std::f64::consts::PI;
+    if !matches!(j.girdle, Some(GirdleRole::Shoulder(_))) || k < 2 {
+        return (min, max);
+    }
+    let elevation = pose[k - 2].hypot(pose[k - 1]);
+    let w = ((elevation - OVERHEAD_TWIST_FROM) / (PI - OVERHEAD_TWIST_FROM)).clamp(0.0, 1.0);
+    (min + w * (-PI - min), max + w * (PI - max))
 }
 
 /// The rotation of one motion at DoF values `q` (its first one or two).
