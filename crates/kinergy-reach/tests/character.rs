@@ -12,7 +12,8 @@ use kinergy_motion::{
 };
 use kinergy_reach::ReachError;
 use kinergy_reach::character::{
-    BONE_COUNT, Character, DOF_COUNT, Limb, Pose, Proportions, Ratios, SpineJoint, dof, joint,
+    BONE_COUNT, Character, DOF_COUNT, Limb, OVERHEAD_TWIST_FROM, Pose, Proportions, Ratios,
+    SpineJoint, dof, joint,
 };
 use proptest::prelude::*;
 use rand::rngs::Xoshiro256PlusPlus;
@@ -559,6 +560,49 @@ fn the_exported_character_reads_back_as_proportions() {
     assert_relative_eq!(p.shoulder_width, q.shoulder_width, epsilon = 1e-12);
     assert_relative_eq!(p.hip_width, q.hip_width, epsilon = 1e-12);
     assert_relative_eq!(p.height(), 1.8, epsilon = 1e-9);
+}
+
+/// The shoulder's twist range widens overhead: the table's ±90° up to 120° of elevation,
+/// ±180° at 180°, linearly between. Why (an independent check of the identity the widening
+/// rests on): with the arm straight up, a twist is the same rotation as a swing about another
+/// horizontal axis, S(πu)·Rz(τ) = S(π·Rz(−τ/2)u), so no twist is out of reach there.
+#[test]
+fn the_shoulder_twist_range_widens_to_any_twist_straight_up() {
+    use kinergy_motion::rotation::{Axis, axis_rotation, swing_rotation};
+    use std::f64::consts::PI;
+    for (u, tau) in [(0.3f64, -2.9f64), (1.9, 1.2), (-2.4, 3.0)] {
+        let (ux, uy) = (u.cos(), u.sin());
+        let twisted = swing_rotation(PI * ux, PI * uy) * axis_rotation(Axis::Z, tau);
+        let (vx, vy) = ((u - tau / 2.0).cos(), (u - tau / 2.0).sin());
+        let swung = swing_rotation(PI * vx, PI * vy);
+        assert!(
+            (twisted.matrix() - swung.matrix()).norm() < 1e-12,
+            "u {u}, tau {tau}"
+        );
+    }
+    let b = body();
+    let arm = b.limb_dofs(Limb::RightArm);
+    let limit = |elevation_deg: f64| {
+        let mut pose = b.rest_pose();
+        let e = elevation_deg.to_radians();
+        pose[arm.start] = e * 0.6;
+        pose[arm.start + 1] = e * 0.8;
+        pose[arm.start + 2] = -4.0;
+        b.clamp_pose(&mut pose);
+        let low = pose[arm.start + 2];
+        pose[arm.start + 2] = 4.0;
+        b.clamp_pose(&mut pose);
+        assert_eq!(b.joint_limits_ok(&pose), Ok(()));
+        (low.to_degrees(), pose[arm.start + 2].to_degrees())
+    };
+    let from = OVERHEAD_TWIST_FROM.to_degrees();
+    for (e, expect) in [(60.0, 90.0), (from, 90.0), (150.0, 135.0), (180.0, 180.0)] {
+        let (low, high) = limit(e);
+        assert!(
+            (low + expect).abs() < 1e-9 && (high - expect).abs() < 1e-9,
+            "{e}°: [{low}, {high}]"
+        );
+    }
 }
 
 proptest! {
