@@ -4,7 +4,8 @@
 //!
 //! The files: `convert` of the shared captures (`../shared/data/`: `real-bvh/`, `formats/`,
 //! two of `bandai-raise-left/`, cut to 20 frames), `convert --up-out y` of a Z-up file,
-//! `synthesize` on a Bandai and a Character Creator capture, `reach`, `plan --task relocate`
+//! `synthesize` on a Bandai and a Character Creator capture, `reach` (one overhead, its
+//! clavicle turned by the girdle), `plan --task relocate`
 //! (the character with fingers) and `synth`. Blender is launched once for all of them
 //! (`tests/blender/import_bvh.py`). Skipped, saying so, where `blender` is not on PATH.
 
@@ -142,6 +143,11 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
     let out = dir.join("reach.bvh");
     run(&["reach", "--target", "0.2,1.0,0.4", "-o", utf8(&out)]);
     files.push(("reach".into(), out));
+    // Overhead: the shoulder girdle turns the left clavicle joint (up to ~10° on its
+    // rotation channels), so the import follows a rotating clavicle too.
+    let out = dir.join("reach-overhead.bvh");
+    run(&["reach", "--target", "0.25,1.85,0.2", "-o", utf8(&out)]);
+    files.push(("reach overhead".into(), out));
 
     let out = dir.join("plan.bvh");
     let scene = repo().join("examples/bookshelf/scene.json");
