@@ -719,8 +719,10 @@ impl Character {
     }
 }
 
-/// Where the shoulder's twist range starts to widen: humerothoracic elevations above 120°.
-pub const OVERHEAD_TWIST_FROM: f64 = 120.0 * std::f64::consts::PI / 180.0;
+/// Where the shoulder's twist range starts to widen: humerothoracic elevations above 90°
+/// (from 120° a synergy that turns the twist hard still met the clamp at 130°–150° and circled
+/// the arm overhead: Bandai *active* fitted on takes 1–6, r 0.50 with 120°, 0.81 with 90°).
+pub const OVERHEAD_TWIST_FROM: f64 = 90.0 * std::f64::consts::PI / 180.0;
 
 /// The range of the revolute DoF `k` of joint `j` (`[min, max]` in its table) at `pose`: the
 /// table's, except the shoulder's twist (the revolute after an arm's swing), whose range widens
