@@ -111,6 +111,15 @@ struct Report<'a> {
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.read.check()?;
     let clips = crate::common::collect_clips(&args.clips)?;
+    // Each capture's two reaches, written into -o's folder, checked with the folder against
+    // the inputs before any work.
+    let reach_files: Vec<[PathBuf; 2]> = match &args.output {
+        Some(dir) => reach_names(&clips)
+            .into_iter()
+            .map(|name| ["params", "profile"].map(|kind| dir.join(format!("{name}.{kind}.bvh"))))
+            .collect(),
+        None => Vec::new(),
+    };
     if let Some(dir) = &args.output {
         let mut inputs: Vec<&Path> = clips.iter().map(PathBuf::as_path).collect();
         inputs.push(&args.params);
@@ -119,16 +128,21 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         // the run with an OS error about style.csv).
         std::fs::create_dir_all(dir)
             .map_err(|e| Failure::input(dir, format!("cannot create the folder: {e}")))?;
+        let files: Vec<_> = reach_files
+            .iter()
+            .flatten()
+            .map(|f| crate::common::Output::File("-o", f))
+            .collect();
+        crate::common::check_outputs(&inputs, &files)?;
     }
     let person = crate::common::read_person(&args.params)?;
     let mut rows = Vec::with_capacity(clips.len());
     let mut runs = Vec::with_capacity(clips.len());
     let mut first = None;
-    let mut names = std::collections::HashSet::new();
-    for path in &clips {
+    for (k, path) in clips.iter().enumerate() {
         let (clip, capture, run) = compare_one(args, &person, path)?;
-        if let Some(dir) = &args.output {
-            write_reaches(dir, path, &capture, &run, &mut names)?;
+        if let Some(files) = reach_files.get(k) {
+            write_reaches(files, &capture, &run)?;
         }
         rows.push(run.row.clone());
         runs.push(run);
@@ -180,36 +194,41 @@ fn compare_one(
 }
 
 /// Writes the capture's two full-body reaches (with the person's parameters, with the
-/// default profile) as `DIR/NAME.params.bvh` and `DIR/NAME.profile.bvh`, NAME the capture's
-/// file stem (`-2`, `-3`, … after a stem already written).
+/// default profile) to `files` (`DIR/NAME.params.bvh`, `DIR/NAME.profile.bvh`).
 fn write_reaches(
-    dir: &Path,
-    path: &Path,
+    files: &[PathBuf; 2],
     capture: &StyleCapture,
     run: &StyleRun,
-    names: &mut std::collections::HashSet<String>,
 ) -> Result<(), Failure> {
-    let stem = path
-        .file_stem()
-        .map_or_else(|| "reach".to_string(), |s| s.to_string_lossy().into_owned());
-    let mut name = stem.clone();
-    let mut n = 1;
-    while !names.insert(name.clone()) {
-        n += 1;
-        name = format!("{stem}-{n}");
-    }
-    for (kind, motion) in [
-        ("params", &run.params_motion),
-        ("profile", &run.profile_motion),
-    ] {
-        let out = dir.join(format!("{name}.{kind}.bvh"));
+    for (out, motion) in files.iter().zip([&run.params_motion, &run.profile_motion]) {
         let clip = capture
             .character()
             .to_clip(&motion.poses, motion.frame_time)
-            .map_err(|e| Failure::task(&out, e))?;
-        crate::common::write_clip(&out, &clip, &Default::default())?;
+            .map_err(|e| Failure::task(out, e))?;
+        crate::common::write_clip(out, &clip, &Default::default())?;
     }
     Ok(())
+}
+
+/// Each capture's NAME for its reaches' files: its file stem, `-2`, `-3`, … after a stem
+/// already taken.
+fn reach_names(clips: &[PathBuf]) -> Vec<String> {
+    let mut taken = std::collections::HashSet::new();
+    clips
+        .iter()
+        .map(|path| {
+            let stem = path
+                .file_stem()
+                .map_or_else(|| "reach".to_string(), |s| s.to_string_lossy().into_owned());
+            let mut name = stem.clone();
+            let mut n = 1;
+            while !taken.insert(name.clone()) {
+                n += 1;
+                name = format!("{stem}-{n}");
+            }
+            name
+        })
+        .collect()
 }
 
 /// The summary and the rows as markdown tables.

@@ -58,8 +58,9 @@ pub fn speed_jumps(speeds: &[f64]) -> Vec<SpeedJump> {
         .collect()
 }
 
-/// The median of a non-empty slice of finite values.
-fn median(values: &[f64]) -> f64 {
+/// The median of a non-empty slice of finite values (the mean of the middle two for an even
+/// count).
+pub fn median(values: &[f64]) -> f64 {
     let mut v = values.to_vec();
     v.sort_by(f64::total_cmp);
     let n = v.len();

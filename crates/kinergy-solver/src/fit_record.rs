@@ -250,15 +250,7 @@ impl FitRecord {
         if usable.is_empty() {
             return None;
         }
-        let median = |mut v: Vec<f64>| {
-            v.sort_by(f64::total_cmp);
-            let n = v.len();
-            if n % 2 == 1 {
-                v[n / 2]
-            } else {
-                0.5 * (v[n / 2 - 1] + v[n / 2])
-            }
-        };
+        let median = |v: Vec<f64>| kinergy_motion::jumps::median(&v);
         Some(PersonTempo {
             mean_speed_m_s: median(usable.iter().map(|t| t.travel_m / t.duration_s).collect()),
             shape: median(

@@ -200,7 +200,7 @@ pub struct SynergyArm {
     /// The girdle's turn of the arm last converted to the character's DoFs.
     turn: Rotation3<f64>,
     /// The last configuration converted to the character's DoFs, and its conversion.
-    shown: Option<(Vec<f64>, [f64; 7])>,
+    shown: Option<([f64; 7], [f64; 7])>,
 }
 
 /// A DoF moving on faster than this (rad/s, net over the stall window) is still coasting
@@ -312,11 +312,12 @@ impl SynergyArm {
         {
             return *shown;
         }
+        let at: [f64; 7] = std::array::from_fn(|i| config.get(i).copied().unwrap_or(0.0));
         let (shown, turn) = self
             .conventions
             .to_character_from(config, self.twist, &self.turn);
         self.turn = turn;
-        self.shown = Some((config.to_vec(), shown));
+        self.shown = Some((at, shown));
         shown
     }
 
