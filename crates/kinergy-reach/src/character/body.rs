@@ -643,6 +643,42 @@ impl Character {
 
 // The joint limits' values are `limits.rs`'s; the check and the clamp walk the joints here.
 impl Character {
+    /// The radii `(rx, ry)` of the swing ellipse whose first DoF is `k` (the swing `(k, k + 1)`
+    /// lies within it when `(q_k / rx)² + (q_(k+1) / ry)² ≤ 1`); `None` when DoF `k` does not
+    /// start a swing.
+    pub fn swing_radii(&self, k: usize) -> Option<(f64, f64)> {
+        for j in &self.joints {
+            let mut at = j.first_dof + if j.translates { 3 } else { 0 };
+            for m in &j.motions {
+                if let Motion::Swing { rx, ry } = *m
+                    && at == k
+                {
+                    return Some((rx, ry));
+                }
+                at += m.dof_count();
+            }
+        }
+        None
+    }
+
+    /// The range `[min, max]` of DoF `k` of `pose` when it is a revolute one (at `pose`: the
+    /// shoulder's twist range widens with the arm's elevation); `None` for a swing's or a
+    /// root's DoF, or `k` out of range.
+    pub fn revolute_range(&self, k: usize, pose: &Pose) -> Option<(f64, f64)> {
+        for j in &self.joints {
+            let mut at = j.first_dof + if j.translates { 3 } else { 0 };
+            for m in &j.motions {
+                if let Motion::Revolute { min, max, .. } = *m
+                    && at == k
+                {
+                    return Some(revolute_range(j, min, max, pose, at));
+                }
+                at += m.dof_count();
+            }
+        }
+        None
+    }
+
     /// `Ok` when every value is finite and every rotation DoF within its limits (swings
     /// inside their ellipse, 1e-12 of slack); otherwise the first violation, naming the DoF.
     pub fn joint_limits_ok(&self, pose: &Pose) -> std::result::Result<(), String> {

@@ -6,11 +6,19 @@
 //! unreachable target ends at the nearest point.
 //!
 //! Beyond the paper, the arm moves continuously: each frame's orbit search starts at the
-//! previous frame's orbit angle ([`ArmFollower`]), and no arm DoF turns faster than
-//! [`ARM_MAX_SPEED`] — the whole step scaled, so the arm keeps its direction of motion. (From
+//! previous frame's orbit angle ([`ArmFollower`]), and the arm shown *tracks* the analytic
+//! solution rather than taking it: the solution's own joint velocity fed forward, the lag
+//! closed in [`ARM_TRACKING_TIME`] no faster than the arm can brake, the joint velocity
+//! changing by at most [`ARM_ACCELERATION`]·dt a frame and no DoF faster than
+//! [`ARM_MAX_SPEED`] — each bound scaling the whole vector, so the arm keeps its direction of
+//! motion. The hand relative to the shoulder is a function of the arm's DoFs alone (the
+//! girdle follows them), so its speed cannot jump either, whatever the body does. Why: from
 //! the hanging, straight arm the analytic solution flexes the elbow like the square root of
-//! the hand's travel; clamping each DoF alone let the shoulder swing on while the elbow was
-//! held back, and the hand jumped sideways at 2.5 m/s in the first frames.)
+//! the hand's travel (0.12 rad for the first 1.7 mm). Clamping each DoF alone let the shoulder
+//! swing on while the elbow was held back, and the hand jumped sideways at 2.5 m/s; a ramped
+//! joint-speed limit instead chased those solutions for 0.28 s and then dropped to the
+//! profile's speed in one frame (0.7 → 0.2 m/s on 9 of 10 grid targets); a stepping body
+//! moving the shoulder away from the hand's world path threw it from 0.7 to 2.1 m/s.
 //!
 //! The shoulder rides the clavicle, which the girdle turns with the arm's elevation
 //! ([`crate::character::girdle`]): the arm's base depends on the arm's own solution. Every
@@ -18,12 +26,14 @@
 //! girdle puts it for the previous frame's arm, move the base to where the girdle puts it for
 //! the solution, solve again. The base moves by the clavicle's end, at most ~5 cm per radian of
 //! elevation, while the solution's elevation moves by about a radian per meter of base: each
-//! pass shrinks the base's error some tenfold.
+//! pass shrinks the base's error some tenfold. Near a straight arm the elevation turns much
+//! faster with the base and the plain iteration can swing from side to side of the fixed
+//! point: the passes mix the last two (Anderson mixing of depth one), which settles there.
 
 use std::ops::Range;
 
 use kinergy_motion::Side;
-use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector2, Vector3};
 use kinergy_solver::analytic::{LimbIk, OrbitSearch, OrbitSense};
 
 use crate::character::{Character, Limb, Pose};
@@ -42,8 +52,33 @@ const ARM_MAX_SPEED: f64 = 8.0;
 /// around 1–2 m/s; the body's own motion adds to it).
 const HAND_MAX_SPEED: f64 = 2.0;
 
-/// How long the reaching arm's speed limit takes to rise to [`ARM_MAX_SPEED`], seconds.
-const ARM_SPEED_RAMP: f64 = 0.5;
+/// The most a reaching arm DoF's speed changes, rad/s² (the whole change of the arm's joint
+/// velocity scaled alike): about the hand's 6 m/s² of a brisk 0.4 m reach in 0.6 s
+/// (minimum jerk: 5.77 D/T²) on the half-arm lever, 0.4 m.
+const ARM_ACCELERATION: f64 = 16.0;
+
+/// How long the reaching arm takes to close on the posture it lags behind, seconds (the
+/// gain of [`track`] is its inverse).
+const ARM_TRACKING_TIME: f64 = 0.05;
+
+/// The most the reaching hand's velocity relative to the shoulder changes, m/s² (a brisk
+/// reach peaks near 6 m/s²; [`ARM_ACCELERATION`] alone lets all seven DoFs add up to more):
+/// 0.13 m/s a frame at 60 Hz, under a quarter of what a speed jump is at 30 Hz.
+const HAND_ACCELERATION: f64 = 8.0;
+
+/// The elbow's flexion among the arm's seven DoFs (shoulder swing and twist before it).
+const ELBOW: usize = 3;
+
+/// Bisection steps of [`ArmFollower`]'s hand bound (the change to 1/256).
+const HAND_BISECTIONS: usize = 8;
+
+/// How far, radians, the arm shown may lie from the goal posture and still count as on it.
+const HELD: f64 = 1e-9;
+
+/// How far, radians, the arm may lag behind its goal posture once its profile has run its
+/// course and still count as arrived (1e-4 rad moves the hand at most the arm's length ×
+/// 1e-4, under 0.1 mm: a synthetic clip ends with its hand at rest where its target is).
+const CAUGHT_UP: f64 = 1e-4;
 
 /// The most solves of the arm's fixed-point iteration with the girdle (module docs).
 pub(super) const GIRDLE_PASSES: usize = 5;
@@ -63,17 +98,39 @@ fn on_girdle(
     first: &[f64; 7],
     mut solve: impl FnMut(&IsometryMatrix3<f64>) -> Option<(f64, [f64; 7])>,
 ) -> Option<(f64, [f64; 7])> {
+    // Only the base's origin moves (the base frame does not turn with the girdle): the
+    // iteration is on that point, x ↦ g(x) = where the girdle puts the base for the arm
+    // solved at x, with Anderson mixing of depth one (below).
     let mut b = character.arm_base_moved(limb, base, at, first);
     let mut found = None;
+    let mut last: Option<(Vector3<f64>, Vector3<f64>)> = None;
     for _ in 0..GIRDLE_PASSES {
         let Some((a, q)) = solve(&b) else { break };
         found = Some((a, q));
-        let next = character.arm_base_moved(limb, base, at, &q);
-        let moved = (next.translation.vector - b.translation.vector).norm();
-        b = next;
-        if moved < GIRDLE_TOLERANCE {
+        let x = b.translation.vector;
+        let residual = character
+            .arm_base_moved(limb, base, at, &q)
+            .translation
+            .vector
+            - x;
+        if residual.norm() < GIRDLE_TOLERANCE {
             break;
         }
+        // Near a straight arm the solution's elevation turns fast with the base and the
+        // plain iteration x + r can swing from side to side of the fixed point without
+        // settling (the map's slope near −1); the secant along the last step, γ, takes the
+        // point where the residual, linear between the two passes, is least.
+        let mut step = residual;
+        if let Some((x0, r0)) = last {
+            let dr = residual - r0;
+            let dd = dr.norm_squared();
+            if dd > 0.0 {
+                let gamma = dr.dot(&residual) / dd;
+                step = residual - gamma * ((x - x0) + dr);
+            }
+        }
+        last = Some((x, residual));
+        b.translation.vector = x + step;
     }
     found
 }
@@ -111,6 +168,17 @@ pub(super) struct ArmFollower {
     alpha: Option<f64>,
     /// The previous frame's arm DoFs (the rest pose's before the first frame).
     previous: [f64; 7],
+    /// The arm's joint velocity over the previous frame, rad/s (rest before the first).
+    velocity: [f64; 7],
+    /// The previous frame's goal posture (the analytic solution the arm tracks), on the
+    /// current path.
+    goal: Option<[f64; 7]>,
+    /// How far the arm shown lay from its goal posture at the last frame's end, radians
+    /// (the largest DoF's gap).
+    lag: f64,
+    /// The hand relative to the shoulder (the arm's base frame) at the last frame's end, and
+    /// how far it moved over that frame.
+    hand: Option<(Point3<f64>, Vector3<f64>)>,
     /// Upper arm + forearm + hand, meters.
     length: f64,
 }
@@ -125,6 +193,10 @@ impl ArmFollower {
             limb,
             length: segments.upper_arm + segments.forearm + segments.hand,
             previous: std::array::from_fn(|i| rest[dofs.start + i]),
+            velocity: [0.0; 7],
+            goal: None,
+            lag: 0.0,
+            hand: None,
             dofs,
             ik,
             search: OrbitSearch::default(),
@@ -198,70 +270,221 @@ impl ArmFollower {
     }
 
     /// Ends a frame of `dt` seconds: the orbit angle solved in it (`alpha`, if any) is where
-    /// the next frame's search starts, and no arm DoF of `pose` turns faster than
-    /// [`ARM_MAX_SPEED`] from the previous frame. True when that limit held the arm back.
+    /// the next frame's search starts, and the arm of `pose` — the frame's goal posture, the
+    /// analytic solution — is replaced by the arm [tracking](track) it from the previous
+    /// frames' motion. True when the arm shown is off the goal posture.
     ///
-    /// The limit rises from a tenth to all of it over the arm's first [`ARM_SPEED_RAMP`]
-    /// seconds (`elapsed`): an arm starts gently, and the first solution of a reach that
-    /// starts mid-step can lie a few degrees from the resting arm.
-    ///
-    /// The hand, too, moves at most [`HAND_MAX_SPEED`] relative to the shoulder (a goal far
-    /// from the hand — one beyond reach, whose nearest point swings round — would otherwise be
-    /// chased at the joints' top speed).
+    /// The goal's own joint velocity (from the previous frame's goal) is fed forward, so a
+    /// goal moving smoothly is followed without lag; what the arm lags behind it closes in
+    /// [`ARM_TRACKING_TIME`], no faster than it can brake at [`ARM_ACCELERATION`]; no DoF
+    /// turns faster than [`ARM_MAX_SPEED`], the hand moves at most [`HAND_MAX_SPEED`]
+    /// relative to the shoulder (a goal far from the hand — one beyond reach, whose nearest
+    /// point swings round — would otherwise be chased at the joints' top speed), and the
+    /// joint velocity changes by at most [`ARM_ACCELERATION`]·dt a frame, the whole change
+    /// scaled alike.
     pub(super) fn end_frame(
         &mut self,
         character: &Character,
         pose: &mut Pose,
         alpha: Option<f64>,
-        elapsed: f64,
         dt: f64,
     ) -> bool {
         if alpha.is_some() {
             self.alpha = alpha;
         }
-        let ramp = (elapsed / ARM_SPEED_RAMP).clamp(0.1, 1.0);
+        let goal: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
+        let goal_velocity = match self.goal {
+            Some(before) => std::array::from_fn(|i| (goal[i] - before[i]) / dt),
+            None => [0.0; 7],
+        };
+        self.goal = Some(goal);
+        let fade = self.edge_fade(character, pose, &goal, &goal_velocity);
+        let goal_velocity = goal_velocity.map(|v| v * fade);
+        let mut wanted = track(&goal, &goal_velocity, &self.previous);
+        self.brake_before_limits(character, pose, &mut wanted, ARM_ACCELERATION);
+        self.cap_hand_speed(character, &mut wanted, dt);
+        let mut velocity = accelerate(&self.velocity, &wanted, ARM_ACCELERATION * dt);
+        self.bound_hand_acceleration(character, &mut velocity, dt);
+        // The bounds above scale the whole change: a DoF braking for its limit while others
+        // speed up could be held back from braking. Its own braking comes first.
+        self.brake_before_limits(character, pose, &mut velocity, 2.0 * ARM_ACCELERATION);
         let values = &mut pose[self.dofs.clone()];
-        let held = limit_speed(values, &self.previous, ramp * ARM_MAX_SPEED * dt);
+        for (i, value) in values.iter_mut().enumerate() {
+            *value = self.previous[i] + velocity[i] * dt;
+        }
+        self.lag = values
+            .iter()
+            .zip(&goal)
+            .fold(0.0, |m, (v, g)| m.max((v - g).abs()));
+        self.lag > HELD
+    }
+
+    /// How much of the goal's joint velocity the arm takes on (0–1): all of it, unless the
+    /// goal's elbow is straightening onto its limit — the reach's edge, where the goal stops
+    /// dead — sooner than the arm, moving at the goal's speed, could brake at
+    /// [`ARM_ACCELERATION`]. Near full extension the elbow turns like the square root of the
+    /// hand's distance from the edge: a hand closing slowly on it has the shoulder and elbow
+    /// turning fast against each other (2.6 and −2.3 rad/s at 0.3 m/s on a floor reach with a
+    /// stoop), the goal stops as the elbow straightens, and an arm taking on that speed to the
+    /// end ran 0.2 rad (14 cm of hand) past it and back. The fade is `2·A·t / v`, `t` the
+    /// time the goal's elbow needs to reach its limit at its speed and `v` the goal's fastest
+    /// DoF speed: the arm brakes from `v` within the goal's remaining travel, `v·t`.
+    fn edge_fade(
+        &self,
+        character: &Character,
+        pose: &Pose,
+        goal: &[f64; 7],
+        goal_velocity: &[f64; 7],
+    ) -> f64 {
+        let Some((min, _)) = character.revolute_range(self.dofs.start + ELBOW, pose) else {
+            return 1.0;
+        };
+        let closing = -goal_velocity[ELBOW];
+        let fastest = goal_velocity.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if closing <= 0.0 || fastest <= 0.0 {
+            return 1.0;
+        }
+        let time = (goal[ELBOW] - min).max(0.0) / closing;
+        (2.0 * ARM_ACCELERATION * time / fastest).min(1.0)
+    }
+
+    /// Holds the change of the hand's motion to [`HAND_ACCELERATION`]: the hand's displacement
+    /// relative to the shoulder over the frame with the joint `velocity` differs from the
+    /// last frame's by at most A·dt², the change from the last frame's joint velocity scaled
+    /// back (by bisection) where it would not. Every joint turning at its bound can move the
+    /// hand at √7 × the lever × [`ARM_ACCELERATION`], a one-frame change of 0.3 m/s at 60 Hz.
+    fn bound_hand_acceleration(&self, character: &Character, velocity: &mut [f64; 7], dt: f64) {
+        let Some((hand, moved)) = self.hand else {
+            return;
+        };
+        let chain = character.limb_chain(self.limb);
+        let shoulder = IsometryMatrix3::identity();
+        let largest = HAND_ACCELERATION * dt * dt;
+        let change = |v: &[f64; 7]| -> Option<f64> {
+            let next: [f64; 7] = std::array::from_fn(|i| self.previous[i] + v[i] * dt);
+            let to = chain.end_position(&shoulder, &next).ok()?;
+            Some(((to - hand) - moved).norm())
+        };
+        if change(velocity).is_none_or(|c| c <= largest) {
+            return;
+        }
+        let from = self.velocity;
+        let at =
+            |s: f64| -> [f64; 7] { std::array::from_fn(|i| from[i] + s * (velocity[i] - from[i])) };
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..HAND_BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            if change(&at(mid)).is_some_and(|c| c <= largest) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        *velocity = at(lo);
+    }
+
+    /// Whether the arm has caught up with the posture it tracks (within [`CAUGHT_UP`]): a
+    /// profile that has run its course is over only then (the goal stops at once, the arm
+    /// brakes onto it).
+    pub(super) fn caught_up(&self) -> bool {
+        self.lag <= CAUGHT_UP
+    }
+
+    /// Slows the joint `velocity` where it heads for the character's limits (at `pose`): its
+    /// speed toward the limit at most √(`a`·gap) — with `a` = [`ARM_ACCELERATION`], the
+    /// margin of [`track`], half the deceleration it has; with 2A, the most it can brake — for
+    /// a revolute DoF toward either end of its range, a swing radially toward its ellipse. The
+    /// goal can stop dead on a limit — the elbow straightens onto the reach sphere's edge and
+    /// stays — and the arm tracking it would run into the limit and be clamped there within a
+    /// frame.
+    fn brake_before_limits(
+        &self,
+        character: &Character,
+        pose: &Pose,
+        velocity: &mut [f64; 7],
+        a: f64,
+    ) {
+        let at = &self.previous;
+        let mut i = 0;
+        while i < 7 {
+            let k = self.dofs.start + i;
+            if let Some((min, max)) = character.revolute_range(k, pose) {
+                let up = (a * (max - at[i]).max(0.0)).sqrt();
+                let down = (a * (at[i] - min).max(0.0)).sqrt();
+                velocity[i] = velocity[i].clamp(-down, up);
+            } else if let Some((rx, ry)) = character.swing_radii(k)
+                && i + 1 < 7
+            {
+                let s = Vector2::new(at[i], at[i + 1]);
+                let rho = (s.x / rx).hypot(s.y / ry);
+                if let Some(out) = s.try_normalize(1e-9)
+                    && rho > 0.0
+                {
+                    // The boundary along the swing's own direction: s / ρ.
+                    let gap = s.norm() * (1.0 / rho - 1.0).max(0.0);
+                    let v = Vector2::new(velocity[i], velocity[i + 1]);
+                    let excess = v.dot(&out) - (a * gap).sqrt();
+                    if excess > 0.0 {
+                        velocity[i] -= excess * out.x;
+                        velocity[i + 1] -= excess * out.y;
+                    }
+                }
+                i += 1;
+            }
+            i += 1;
+        }
+    }
+
+    /// Scales the joint `velocity` down so that the hand moves at most [`HAND_MAX_SPEED`]
+    /// relative to the shoulder over a frame of `dt` seconds from the previous posture.
+    fn cap_hand_speed(&self, character: &Character, velocity: &mut [f64; 7], dt: f64) {
         let largest = HAND_MAX_SPEED * dt;
         // No DoF moves the hand further than the arm's length times its turn: most frames
         // need no forward kinematics to know the hand is slow enough.
-        let turned: f64 = values
-            .iter()
-            .zip(&self.previous)
-            .map(|(v, b)| (v - b).abs())
-            .sum();
+        let turned: f64 = velocity.iter().map(|v| (v * dt).abs()).sum();
         if self.length * turned <= largest {
-            return held;
+            return;
         }
         let chain = character.limb_chain(self.limb);
         let shoulder = IsometryMatrix3::identity();
+        let next: [f64; 7] = std::array::from_fn(|i| self.previous[i] + velocity[i] * dt);
         let (Ok(from), Ok(to)) = (
             chain.end_position(&shoulder, &self.previous),
-            chain.end_position(&shoulder, values),
+            chain.end_position(&shoulder, &next),
         ) else {
-            return held;
+            return;
         };
         let moved = (to - from).norm();
-        if moved <= largest {
-            return held;
+        if moved > largest {
+            let scale = largest / moved;
+            velocity.iter_mut().for_each(|v| *v *= scale);
         }
-        let scale = largest / moved;
-        for (value, before) in values.iter_mut().zip(&self.previous) {
-            *value = before + (*value - before) * scale;
-        }
-        true
     }
 
-    /// Keeps the frame's final arm posture (`pose`, clamped) as the previous one.
-    pub(super) fn settle(&mut self, pose: &Pose) {
-        self.previous = std::array::from_fn(|i| pose[self.dofs.start + i]);
+    /// Keeps the frame's final arm posture (`pose`, clamped) as the previous one, and the
+    /// arm's joint velocity over the frame of `dt` seconds that led to it (whoever drove it:
+    /// the analytic IK takes over from a person's arm at the speed it moved).
+    pub(super) fn settle(&mut self, character: &Character, pose: &Pose, dt: f64) {
+        let now: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
+        self.velocity = std::array::from_fn(|i| (now[i] - self.previous[i]) / dt);
+        self.previous = now;
+        let chain = character.limb_chain(self.limb);
+        self.hand = chain
+            .end_position(&IsometryMatrix3::identity(), &now)
+            .ok()
+            .map(|h| {
+                (
+                    h,
+                    self.hand.map_or(Vector3::zeros(), |(before, _)| h - before),
+                )
+            });
     }
 
     /// Takes the arm over as it is in `pose` (from another driver): the next
     /// [`ArmFollower::follow`] starts a new straight path where the hand is then.
-    pub(super) fn resume_from(&mut self, pose: &Pose) {
-        self.settle(pose);
+    pub(super) fn resume_from(&mut self) {
         self.hand_start = None;
+        self.goal = None;
         self.last = None;
         self.alpha = None;
     }
@@ -270,6 +493,49 @@ impl ArmFollower {
     /// the arm controller started).
     pub(super) fn path_length(&self, target: &Point3<f64>) -> f64 {
         self.hand_start.map_or(0.0, |h| (target - h).norm())
+    }
+}
+
+/// The joint velocity with which an arm at `at` follows a `goal` posture moving at
+/// `goal_velocity`: the goal's velocity (at most [`ARM_MAX_SPEED`]) plus the gap closed in
+/// [`ARM_TRACKING_TIME`], the closing speed no more than the arm can brake from within the gap
+/// at [`ARM_ACCELERATION`] (√(A·gap), half the distance a full brake needs: the goal moves
+/// meanwhile), and the whole at most [`ARM_MAX_SPEED`] in every DoF (scaled alike).
+fn track(goal: &[f64; 7], goal_velocity: &[f64; 7], at: &[f64; 7]) -> [f64; 7] {
+    let mut feed = *goal_velocity;
+    scale_to(&mut feed, ARM_MAX_SPEED);
+    let gap: [f64; 7] = std::array::from_fn(|i| goal[i] - at[i]);
+    let largest = gap.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+    let closing = if largest > 0.0 {
+        (largest / ARM_TRACKING_TIME).min((ARM_ACCELERATION * largest).sqrt()) / largest
+    } else {
+        0.0
+    };
+    let mut wanted: [f64; 7] = std::array::from_fn(|i| feed[i] + gap[i] * closing);
+    scale_to(&mut wanted, ARM_MAX_SPEED);
+    wanted
+}
+
+/// The joint velocity after a frame whose change from `velocity` toward `wanted` is at most
+/// `largest` in every DoF, the whole change scaled alike (the arm keeps the direction of its
+/// change in joint space).
+fn accelerate(velocity: &[f64; 7], wanted: &[f64; 7], largest: f64) -> [f64; 7] {
+    let mut change: [f64; 7] = std::array::from_fn(|i| wanted[i] - velocity[i]);
+    scale_to(&mut change, largest);
+    std::array::from_fn(|i| velocity[i] + change[i])
+}
+
+/// Scales `values` so that none is larger than `largest` in magnitude (unchanged when none
+/// is; non-finite values become 0).
+fn scale_to(values: &mut [f64; 7], largest: f64) {
+    if values.iter().any(|v| !v.is_finite()) {
+        *values = [0.0; 7];
+        return;
+    }
+    let top = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if top > largest {
+        let scale = largest / top;
+        values.iter_mut().for_each(|v| *v *= scale);
     }
 }
 
@@ -485,25 +751,26 @@ fn solve_arm_near(
         }
     };
     const SCALES: [f64; 8] = [1.0, 0.999, 0.995, 0.99, 0.98, 0.96, 0.93, 0.9];
-    // The goal itself, or a point a little closer on the same line (a goal exactly at full
-    // extension can fail by rounding) ...
+    // Out of reach, the point at the reach radius on the goal's line; else the goal itself.
+    // Then, where the limits refuse it (or rounding at full extension does), a point a little
+    // closer on the same line. The order matters near full extension, where the elbow turns
+    // like the square root of the distance: 0.1 % of the distance is 0.09 rad of elbow, and a
+    // goal just beyond reach solved 0.1 % short threw the elbow from straight to bent within a
+    // frame while one just within reach kept it straight.
+    let (_, outer) = ik.position_reach().unwrap_or_else(|| ik.wrist_reach());
+    let aim = if r > outer && r > 1e-9 {
+        outer / r
+    } else {
+        1.0
+    };
     for scale in SCALES {
         let p = if r > 1e-9 {
-            Point3::from(local.coords * scale)
+            Point3::from(local.coords * (aim * scale))
         } else {
             local
         };
         if let Some(found) = solve(&p) {
             return Some(found);
-        }
-    }
-    // ... and only then, out of reach, the point at the reach radius on that line.
-    let (_, outer) = ik.position_reach().unwrap_or_else(|| ik.wrist_reach());
-    if r > outer {
-        for scale in SCALES {
-            if let Some(found) = solve(&Point3::from(local.coords * (outer / r) * scale)) {
-                return Some(found);
-            }
         }
     }
     None

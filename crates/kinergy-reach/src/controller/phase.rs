@@ -169,11 +169,10 @@ impl ArmPhase {
         arm: &mut ArmFollower,
         pose: &mut Pose,
         alpha: Option<f64>,
-        t: f64,
     ) -> Option<f64> {
         match self {
-            ArmPhase::Waiting => Analytic::from_state_1(rules).hold(rules, arm, pose, alpha, t),
-            ArmPhase::Analytic(a) => a.hold(rules, arm, pose, alpha, t),
+            ArmPhase::Waiting => Analytic::from_state_1(rules).hold(rules, arm, pose, alpha),
+            ArmPhase::Analytic(a) => a.hold(rules, arm, pose, alpha),
             ArmPhase::Synergy(_) | ArmPhase::PlainIk(_) => None,
         }
     }
@@ -232,11 +231,6 @@ impl Analytic {
         }
     }
 
-    /// Seconds on the profile's clock at `t` (0 before the arm controller starts).
-    fn elapsed(&self, rules: &ArmRules<'_>, t: f64) -> f64 {
-        t - self.from.max(rules.timeline.t_arm)
-    }
-
     /// [`ArmPhase::hold`].
     fn hold(
         &self,
@@ -244,20 +238,21 @@ impl Analytic {
         arm: &mut ArmFollower,
         pose: &mut Pose,
         alpha: Option<f64>,
-        t: f64,
     ) -> Option<f64> {
         let c = rules.character;
-        if !arm.end_frame(c, pose, alpha, self.elapsed(rules, t), rules.dt) {
+        let held = arm.end_frame(c, pose, alpha, rules.dt);
+        if !held {
             return None;
         }
         let hand = c.joint_frame(rules.plan.arm.joints()[3], pose);
         Some((Point3::from(hand.translation.vector) - rules.target()).norm())
     }
 
-    /// Whether the profile has run its course at `t`.
+    /// Whether the profile has run its course at `t` and the arm has caught up with it.
     fn hand_done(&self, rules: &ArmRules<'_>, arm: &ArmFollower, t: f64) -> bool {
         t >= self.from.max(rules.timeline.t_arm)
             + self.profile.duration(arm.path_length(&rules.target()))
+            && arm.caught_up()
     }
 
     /// Stays: the analytic IK finishes the reach.
@@ -388,7 +383,7 @@ impl PlainIk {
         let slow = t - self.hand_over.at_s >= PLAIN_IK_TIME;
         let phase = if seen.is_none() || stalled || slow {
             let from = t + rules.dt;
-            follower.resume_from(pose);
+            follower.resume_from();
             ArmPhase::Analytic(Analytic {
                 from,
                 profile: rules.approach,

@@ -161,7 +161,7 @@ pub(super) fn animate(
         // The frame's end: the arms held to their speeds, the pose within the limits, then
         // the arm's phase steps.
         let error = phase
-            .hold(&rules, &mut arm, &mut pose, arm_alpha, t)
+            .hold(&rules, &mut arm, &mut pose, arm_alpha)
             .unwrap_or(balanced.error);
         idle.end_frame(&mut pose, idle_alpha, dt);
         character.clamp_pose(&mut pose);
@@ -171,7 +171,7 @@ pub(super) fn animate(
             synergy_limited_at_s = Some(t);
         }
         final_error = stepped.error;
-        arm.settle(&pose);
+        arm.settle(character, &pose, dt);
         idle.settle(&pose);
         poses.push(pose);
 

@@ -179,6 +179,9 @@ pub struct SynergyArm {
     conventions: Conventions,
     /// The last twist given to the character's shoulder (unwrapped against it).
     twist: f64,
+    /// The smooth controller's bounds (`None`: the paper's controller): plain IK after a
+    /// hand-over moves under them too, from the arm's velocity then.
+    smoothing: Option<Smoothing>,
     task: Task,
     target: Point3<f64>,
     /// The progress of every frame so far (for the stall rule).
@@ -257,6 +260,7 @@ impl SynergyArm {
             dofs,
             stepper,
             twist: conventions.to_character(&start, q[2])[2],
+            smoothing,
             conventions,
             task: Task::Position(target),
             target,
@@ -272,23 +276,51 @@ impl SynergyArm {
     }
 
     /// Hands the arm over to plain inverse kinematics (damped least squares, no synergy) from
-    /// where it is (module docs); its progress is watched afresh.
+    /// where it is (module docs); its progress is watched afresh. Under the smooth controller
+    /// plain IK keeps its acceleration bounds (at once, no onset; no finish: it is the plain
+    /// step already) and starts at the speed the arm moved on the last frame: started at the
+    /// plain step's own speed, the hand jumped from 0.25 to 2.5 m/s at the seam.
     pub fn hand_over(&mut self, frame_time: f64) -> Result<()> {
         let setting = |e: kinergy_solver::SolverError| ReachError::Setting {
             field: "hand-over".into(),
             why: e.to_string(),
         };
         let chain = self.stepper.chain();
+        let n = chain.dof_count();
+        let smoothing = self.smoothing.map(|sm| Smoothing {
+            finish: None,
+            onset: 0.0,
+            ..sm
+        });
         let controller = Controller::new(
             OptimizerKind::Dls.default_optimizer(),
-            Synergy::identity(chain.dof_count()),
-            ControllerSettings::at_frame_time(frame_time),
+            Synergy::identity(n),
+            ControllerSettings {
+                smoothing,
+                ..ControllerSettings::at_frame_time(frame_time)
+            },
         )
         .map_err(setting)?;
-        self.stepper = controller
+        // The arm's velocity over the last frame, in the controller's convention.
+        let frames = self.history.len() / n.max(1);
+        let velocity: Vec<f64> = if frames >= 2 {
+            let now = &self.history[(frames - 1) * n..frames * n];
+            let then = &self.history[(frames - 2) * n..(frames - 1) * n];
+            now.iter()
+                .zip(then)
+                .map(|(a, b)| (a - b) / frame_time)
+                .collect()
+        } else {
+            vec![0.0; n]
+        };
+        let mut stepper = controller
             .stepper(chain, self.stepper.configuration())
             .map_err(setting)?
             .into_owned();
+        if smoothing.is_some() {
+            stepper.set_start_velocity(&velocity).map_err(setting)?;
+        }
+        self.stepper = stepper;
         self.progress.clear();
         self.settles_after = 0;
         self.history.clear();
@@ -460,7 +492,9 @@ fn synergy_chain(
     for m in &mut joints[0].motions {
         match m {
             Motion::Swing { rx, ry } => (*rx, *ry) = (SYNERGY_SWING_MAX, SYNERGY_SWING_MAX),
-            Motion::Revolute { min, .. } => *min = -std::f64::consts::PI,
+            Motion::Revolute { min, max, .. } => {
+                (*min, *max) = (-std::f64::consts::PI, *max);
+            }
         }
     }
     let chain = Chain::new(joints, default.end_effector())?;
