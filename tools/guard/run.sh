@@ -25,7 +25,7 @@ run inspect tests/data/006_14.bvh
 run segment $C --json
 run segment data-synthetic/p01 --manifest $W/seg.csv
 run segment tests/data/006_14.bvh --arm left --select all
-run convert $C --frames 10..87 -o $W/cap.bvh
+run convert $C --frames 7..87 -o $W/cap.bvh
 run fit $C --model sa --per clip -o $W/sa.json
 run fit $C --model sc --per clip -o $W/sc.json --json
 run fit $C --model sd --per clip --budget 600 -o $W/sd.json

@@ -231,9 +231,10 @@ fn params_for_another_chain_are_refused() {
 /// Tried and left out: braking before the character's twist limit (cleared the first two, but
 /// the held-out Bandai *active* raises fell from r 0.73 to 0.53: their overhead twist is the
 /// style); braking the swing radially (moved the jumps to the hand-over); easing the
-/// character's elbow into the controller's relaxed start (`RELAXED_ELBOW`, whose first frame
-/// snaps the elbow by 10° — a spike before the onset this measures from): at 0.25–0.5 s it
-/// made a 30 Hz held-out raise jump or moved its peak 0.13 late.
+/// character's elbow into the controller's relaxed start (`RELAXED_ELBOW`) after the onset:
+/// at 0.25–0.5 s it made a 30 Hz held-out raise jump or moved its peak 0.13 late. (That
+/// first-frame snap of the elbow is gone another way: the reaching arm hangs relaxed before
+/// its reach, as the idle arm does.)
 #[test]
 fn reaches_on_the_grid_have_no_speed_jumps() {
     use kinergy_motion::jumps::speed_jumps;

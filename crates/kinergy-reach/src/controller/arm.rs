@@ -66,6 +66,10 @@ const ARM_TRACKING_TIME: f64 = 0.05;
 /// 0.13 m/s a frame at 60 Hz, under a quarter of what a speed jump is at 30 Hz.
 const HAND_ACCELERATION: f64 = 8.0;
 
+/// Below this elbow flexion, radians, the reaching arm's orbit angle is chosen by posture
+/// rather than carried on ([`ArmFollower::follow`]).
+const NEARLY_STRAIGHT: f64 = 0.3;
+
 /// The elbow's flexion among the arm's seven DoFs (shoulder swing and twist before it).
 const ELBOW: usize = 3;
 
@@ -240,12 +244,20 @@ impl ArmFollower {
         let hand_now = self.hand(character, base, pose, *target);
         let start = *self.hand_start.get_or_insert(hand_now);
         let goal = profile.position(&start, target, elapsed);
-        let near = match self.alpha {
-            Some(a) => Near::Alpha(a),
-            None => Near::Posture(self.previous),
-        };
         let at: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
-        let previous = self.previous;
+        // The previous frame's goal, not the arm shown, which lags it: the reference for a
+        // flip of the orbit angle and the girdle's first guess. (Against the lagging arm the
+        // flip test fired on most frames of a start, each time searching 72 orbit angles.)
+        let previous = self.goal.unwrap_or(self.previous);
+        // Near a straight arm the orbit angle hardly shows in the posture but decides the
+        // twist that follows: from the hanging arm, keeping the first angle found turned the
+        // goal's twist 1.5 rad in 0.35 s (the hand spinning at 0.6 m/s with the elbow). While
+        // the elbow is nearly straight the angle is the one closest to the last posture.
+        let near = match self.alpha {
+            Some(a) if previous[ELBOW] >= NEARLY_STRAIGHT => Near::Alpha(a),
+            Some(a) => Near::PostureAround(previous, a),
+            None => Near::Posture(previous),
+        };
         let (ik, search) = (&self.ik, &self.search);
         let solved = on_girdle(character, self.limb, base, &at, &previous, |b| {
             let mut solved = solve_arm_near(ik, b, &goal, search, near);
@@ -300,7 +312,14 @@ impl ArmFollower {
         self.goal = Some(goal);
         let fade = self.edge_fade(character, pose, &goal, &goal_velocity);
         let goal_velocity = goal_velocity.map(|v| v * fade);
-        let mut wanted = track(&goal, &goal_velocity, &self.previous);
+        let hand_gap = self.hand.and_then(|(hand, _)| {
+            let chain = character.limb_chain(self.limb);
+            let to = chain
+                .end_position(&IsometryMatrix3::identity(), &goal)
+                .ok()?;
+            Some((to - hand).norm())
+        });
+        let mut wanted = track(&goal, &goal_velocity, &self.previous, hand_gap);
         self.brake_before_limits(character, pose, &mut wanted, ARM_ACCELERATION);
         self.cap_hand_speed(character, &mut wanted, dt);
         let mut velocity = accelerate(&self.velocity, &wanted, ARM_ACCELERATION * dt);
@@ -461,6 +480,11 @@ impl ArmFollower {
         }
     }
 
+    /// The arm's posture at the last frame's end.
+    pub(super) fn last_posture(&self) -> &[f64; 7] {
+        &self.previous
+    }
+
     /// Keeps the frame's final arm posture (`pose`, clamped) as the previous one, and the
     /// arm's joint velocity over the frame of `dt` seconds that led to it (whoever drove it:
     /// the analytic IK takes over from a person's arm at the speed it moved).
@@ -500,14 +524,28 @@ impl ArmFollower {
 /// `goal_velocity`: the goal's velocity (at most [`ARM_MAX_SPEED`]) plus the gap closed in
 /// [`ARM_TRACKING_TIME`], the closing speed no more than the arm can brake from within the gap
 /// at [`ARM_ACCELERATION`] (√(A·gap), half the distance a full brake needs: the goal moves
-/// meanwhile), and the whole at most [`ARM_MAX_SPEED`] in every DoF (scaled alike).
-fn track(goal: &[f64; 7], goal_velocity: &[f64; 7], at: &[f64; 7]) -> [f64; 7] {
+/// meanwhile), and the whole at most [`ARM_MAX_SPEED`] in every DoF (scaled alike). The hand
+/// closes on where the goal puts it, `hand_gap` meters away, no faster than it can brake at
+/// [`HAND_ACCELERATION`] either (√(H·gap); the closing motion moves the hand by about the
+/// gap): the hand's bound is what brakes a long arm, and closing at the joints' rate alone ran
+/// a lagging arm past its goal and back (a 3 cm return after a low reach with a bend).
+fn track(
+    goal: &[f64; 7],
+    goal_velocity: &[f64; 7],
+    at: &[f64; 7],
+    hand_gap: Option<f64>,
+) -> [f64; 7] {
     let mut feed = *goal_velocity;
     scale_to(&mut feed, ARM_MAX_SPEED);
     let gap: [f64; 7] = std::array::from_fn(|i| goal[i] - at[i]);
     let largest = gap.iter().fold(0.0f64, |m, g| m.max(g.abs()));
     let closing = if largest > 0.0 {
-        (largest / ARM_TRACKING_TIME).min((ARM_ACCELERATION * largest).sqrt()) / largest
+        let joints =
+            (largest / ARM_TRACKING_TIME).min((ARM_ACCELERATION * largest).sqrt()) / largest;
+        match hand_gap {
+            Some(h) if h > 0.0 => joints.min((HAND_ACCELERATION / h).sqrt()),
+            _ => joints,
+        }
     } else {
         0.0
     };
@@ -674,6 +712,15 @@ impl IdleArm {
     pub(super) fn settle(&mut self, pose: &Pose) {
         self.previous = std::array::from_fn(|i| pose[self.dofs.start + i]);
     }
+
+    /// Keeps the orbit angle solved in a frame (`alpha`, if any) for the next frame's search,
+    /// when another controller holds the arm to its speed ([`ArmFollower::end_frame`]: the
+    /// reaching arm hanging before it reaches).
+    pub(super) fn solved_at(&mut self, alpha: Option<f64>) {
+        if alpha.is_some() {
+            self.alpha = alpha;
+        }
+    }
 }
 
 /// The direction of a frame's x axis on the ground (x if it points straight up or down).
@@ -693,6 +740,8 @@ enum Near {
     Alpha(f64),
     /// At the angle whose posture is closest to this one (in the shoulder and elbow DoFs).
     Posture([f64; 7]),
+    /// As [`Near::Posture`], among the angles within 30° of this one.
+    PostureAround([f64; 7], f64),
 }
 
 /// The `arm` (its analytic IK `ik`) for the hand at `goal` (world), the body as in `pose`,
@@ -732,6 +781,7 @@ fn solve_arm_near(
             Near::Default => None,
             Near::Alpha(a) => Some(a),
             Near::Posture(q0) => closest_alpha(&ik, p, &q0),
+            Near::PostureAround(q0, a) => closest_alpha_around(&ik, p, &q0, a),
         };
         match start {
             None => ik.solve_position(p, search).ok(),
@@ -782,6 +832,24 @@ fn closest_alpha(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7]) -> Option<f64> {
     use std::f64::consts::PI;
     (0..72)
         .map(|k| -PI + (k as f64) * 5f64.to_radians())
+        .filter_map(|a| {
+            let q = ik.solve_position_at(p, a).ok()?;
+            ik.within_limits(&q).then(|| {
+                let d: f64 = (0..5).map(|i| (q[i] - q0[i]).powi(2)).sum();
+                (a, d)
+            })
+        })
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .map(|(a, _)| a)
+}
+
+/// The orbit angle within 30° of `center`, on a 5° grid, whose posture within the limits is
+/// closest to `q0` in the shoulder and elbow DoFs ([`closest_alpha`] over 13 angles instead of
+/// 72: from one frame to the next the closest angle moves little, and a flip is caught by
+/// [`ARM_JUMP`]'s test).
+fn closest_alpha_around(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], center: f64) -> Option<f64> {
+    (-6..=6)
+        .map(|k| center + f64::from(k) * 5f64.to_radians())
         .filter_map(|a| {
             let q = ik.solve_position_at(p, a).ok()?;
             ik.within_limits(&q).then(|| {

@@ -17,7 +17,7 @@
 //! ([`ArmPhase::hold`]); at the frame's end each phase's `step` returns the next phase (or
 //! itself) and whether the hand is done.
 
-use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
 use kinergy_solver::Optimizer;
 
 use super::arm::ArmFollower;
@@ -163,16 +163,19 @@ impl ArmPhase {
     /// Holds the analytic arm (or the waiting one) to its speed after the frame's balance,
     /// its orbit angle `alpha` when it was solved; returns the hand's distance from the
     /// target when the arm was held back. The person's arm is not held.
+    ///
+    /// `base` is the reaching arm's base frame for the arm `pose` has before it is held.
     pub(super) fn hold(
         &self,
         rules: &ArmRules<'_>,
         arm: &mut ArmFollower,
         pose: &mut Pose,
         alpha: Option<f64>,
+        base: &IsometryMatrix3<f64>,
     ) -> Option<f64> {
         match self {
-            ArmPhase::Waiting => Analytic::from_state_1(rules).hold(rules, arm, pose, alpha),
-            ArmPhase::Analytic(a) => a.hold(rules, arm, pose, alpha),
+            ArmPhase::Waiting => Analytic::from_state_1(rules).hold(rules, arm, pose, alpha, base),
+            ArmPhase::Analytic(a) => a.hold(rules, arm, pose, alpha, base),
             ArmPhase::Synergy(_) | ArmPhase::PlainIk(_) => None,
         }
     }
@@ -238,14 +241,20 @@ impl Analytic {
         arm: &mut ArmFollower,
         pose: &mut Pose,
         alpha: Option<f64>,
+        base: &IsometryMatrix3<f64>,
     ) -> Option<f64> {
         let c = rules.character;
+        let limb = rules.plan.arm;
+        let before: [f64; 7] = std::array::from_fn(|i| pose[c.limb_dofs(limb).start + i]);
         let held = arm.end_frame(c, pose, alpha, rules.dt);
         if !held {
             return None;
         }
-        let hand = c.joint_frame(rules.plan.arm.joints()[3], pose);
-        Some((Point3::from(hand.translation.vector) - rules.target()).norm())
+        // Only the arm moved: its base moves with the girdle alone (no body FK).
+        let after: [f64; 7] = std::array::from_fn(|i| pose[c.limb_dofs(limb).start + i]);
+        let moved = c.arm_base_moved(limb, base, &before, &after);
+        let target = rules.target();
+        Some((arm.hand(c, &moved, pose, target) - target).norm())
     }
 
     /// Whether the profile has run its course at `t` and the arm has caught up with it.

@@ -44,8 +44,12 @@ struct FrameLimbs<'a> {
     /// Seconds into the profile, and the profile, when it drives the reaching arm.
     follow: Option<(f64, &'a SpeedProfile)>,
     arm: &'a mut ArmFollower,
+    /// The reaching arm hanging as the idle one does, before it reaches.
+    waiting: Option<&'a mut IdleArm>,
     idle: &'a mut IdleArm,
     idle_limb: Limb,
+    /// The reaching arm's base frame after the last pass (the girdle where the arm put it).
+    arm_base: IsometryMatrix3<f64>,
     /// The orbit angles solved at, for the frame's end.
     arm_alpha: Option<f64>,
     idle_alpha: Option<f64>,
@@ -77,6 +81,11 @@ impl FrameLimbs<'_> {
         {
             self.arm_alpha = Some(a);
         }
+        if let Some(hanging) = self.waiting.as_deref_mut()
+            && let Some(a) = hanging.hang(c, pose, &base)
+        {
+            self.arm_alpha = Some(a);
+        }
         if let Some(a) = self
             .idle
             .hang(c, pose, &c.limb_base_frame_in(self.idle_limb, &above))
@@ -85,6 +94,7 @@ impl FrameLimbs<'_> {
         }
         // The arm's base where the girdle puts it for the arm just solved.
         let base = c.limb_base_frame(self.plan.arm, pose);
+        self.arm_base = base;
         (self.arm.hand(c, &base, pose, self.plan.target) - self.plan.target).norm()
     }
 }
@@ -108,6 +118,10 @@ pub(super) fn animate(
     let rules = ArmRules::new(character, rest, plan, s, drive, timeline, dt)?;
     let idle_limb = Limb::arm(plan.arm.side().opposite());
     let mut idle = IdleArm::new(character, idle_limb, rest)?;
+    // Before its reach the reaching arm hangs relaxed like the other: its elbow already bent
+    // a little where a reach starts (a synergy starts from `RELAXED_ELBOW` at least, and
+    // from the straight rest arm that was a one-frame snap of the elbow).
+    let mut hanging = IdleArm::new(character, plan.arm, rest)?;
     let mut head = Head::default();
     let mut phase = ArmPhase::Waiting;
     let mut synergy_limited_at_s = None;
@@ -130,7 +144,10 @@ pub(super) fn animate(
             head.turn_toward(character, &pose, &plan.target, s.head_speed * dt);
         }
         head.apply(&mut pose);
+        // The reaching arm as it ended the last frame: where any driver starts from.
+        pose[character.limb_dofs(plan.arm)].copy_from_slice(arm.last_posture());
         phase = phase.begin(&rules, t, &mut pose)?;
+        let waiting = matches!(phase, ArmPhase::Waiting);
 
         // Limbs, then balance.
         let feet = body.feet(t);
@@ -142,8 +159,10 @@ pub(super) fn animate(
             height: planned.height,
             follow: phase.follow(&rules, t),
             arm: &mut arm,
+            waiting: waiting.then_some(&mut hanging),
             idle: &mut idle,
             idle_limb,
+            arm_base: IsometryMatrix3::identity(),
             arm_alpha: None,
             idle_alpha: None,
         };
@@ -155,14 +174,17 @@ pub(super) fn animate(
             &mut pose,
             |pose, first_pass| limbs.solve(pose, first_pass),
         );
-        let (arm_alpha, idle_alpha) = (limbs.arm_alpha, limbs.idle_alpha);
+        let (arm_alpha, idle_alpha, arm_base) = (limbs.arm_alpha, limbs.idle_alpha, limbs.arm_base);
         min_margin = min_margin.min(balanced.margin);
 
         // The frame's end: the arms held to their speeds, the pose within the limits, then
         // the arm's phase steps.
         let error = phase
-            .hold(&rules, &mut arm, &mut pose, arm_alpha)
+            .hold(&rules, &mut arm, &mut pose, arm_alpha, &arm_base)
             .unwrap_or(balanced.error);
+        if waiting {
+            hanging.solved_at(arm_alpha);
+        }
         idle.end_frame(&mut pose, idle_alpha, dt);
         character.clamp_pose(&mut pose);
         let stepped = phase.step(&rules, &mut arm, &pose, t, error)?;
@@ -173,6 +195,7 @@ pub(super) fn animate(
         final_error = stepped.error;
         arm.settle(character, &pose, dt);
         idle.settle(&pose);
+        hanging.settle(&pose);
         poses.push(pose);
 
         // State 3: the end.
