@@ -729,16 +729,8 @@ fn style_makes_its_output_folder_or_says_why_it_cannot() {
 /// fitted on its first six takes, make `reach` correlate with that style's captured
 /// hand-speed profiles better than the default profile does, and peak nearer the captured
 /// peak time. Skipped, saying so, where the captures are absent.
-///
-/// Ignored: fails for *elderly* (issue 23 open). Its vector fitted on takes 1–6 drives the
-/// character's arm into a fold (elbow flexion to 2.5 rad, the shoulder twist swinging from
-/// +1.27 to −1.6 rad) on takes 2, 5 and 6 — the takes it was fitted on, which it reaches on
-/// the captured torso — and those end in a hand-over after 4 s ("too long"): params r 0.37–0.50
-/// against the default profile's 0.53 (0.41 before the analytic arm tracked its goal; on
-/// `main` before that the same 3 of 8 handed over). The vector of takes 1–4 does not fold:
-/// the held-out test of issue 23 (`smooth_cli`) scores it on takes 5–8.
+
 #[test]
-#[ignore = "issue 23: elderly's vector of takes 1-6 folds the character's arm on 3 of 8 takes"]
 fn each_bandai_styles_parameters_reach_more_like_it_than_the_default_profile() {
     let Some(folder) = shared("bandai-raise-left", "") else {
         return;
