@@ -4,7 +4,9 @@
 //! the capture's own target — the hand's last position of its main reach, carried over in the
 //! arm's fitted base frame — once with the person's parameters and once with the default
 //! profile; each motion's hand-speed profile (relative to the shoulder, from the reach's onset
-//! to its end, time-normalized) is compared with the captured one: Pearson correlation, and
+//! to where, past its peak, it falls to the share of the peak at which the captured segment
+//! ends — [`kinergy_reach::style::ended_like`] — time-normalized) is compared with the
+//! captured one: Pearson correlation, and
 //! the fraction of the movement at which the speed peaks; and each motion's arm path (elbow,
 //! wrist and hand from the shoulder, time-normalized, in arm lengths,
 //! [`kinergy_reach::style::arm_path`]) against the captured one. Where the synergy handed the
@@ -236,7 +238,8 @@ fn markdown(params: &Path, s: &Summary, rows: &[Row]) -> String {
     let n = s.captures;
     let mut out = format!(
         "# Style: {} against {n} captures\n\nHand speed relative to the shoulder, from the \
-         reach's onset to its end, time-normalized: r is Pearson's correlation with the \
+         reach's onset to where, past its peak, it falls to the share of the peak at which \
+         the captured segment ends, time-normalized: r is Pearson's correlation with the \
          captured profile, peak error |the fraction of the movement at which the speed peaks \
          − the captured one's|. Arm path: the RMS distance of elbow, wrist and hand from the \
          captured ones, each from the shoulder in the body's frame at the reach's start (y up, z from \

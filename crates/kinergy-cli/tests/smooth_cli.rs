@@ -176,11 +176,10 @@ fn held_out_takes_of_the_shared_people_are_smooth_arrive_and_start_as_captured()
 /// takes 1–4, drive `reach` (through `style`) toward the targets of takes 5–8. Every raise,
 /// overhead included, is reached by the person's synergy without a hand-over; the person's
 /// parameters beat the default profile on every take for the hand-speed correlation and the
-/// peak time; the mean correlation is at least 0.75 (measured 0.78 active, 0.87 elderly,
-/// 0.87 normal: issue 23 asks 0.8, which *active*'s takes, cut while the hand already moves
-/// at 2–3.5 m/s, miss by 0.02 against a character that starts from rest), the mean peak
-/// error at most 0.11 (measured 0.09–0.10) and the mean arm path closer than the default's;
-/// and no full-body reach has more hand-speed jumps than its capture.
+/// peak time; the mean correlation is at least 0.8 (issue 23 §4; measured 0.81 active, 0.85
+/// elderly, 0.94 normal, each reach's speeds ended as its capture's segment ends), the mean
+/// peak error at most 0.1 (measured 0.03, 0.095, 0.06) and the mean arm path closer than the
+/// default's; and no full-body reach has more hand-speed jumps than its capture.
 #[test]
 fn held_out_full_body_reaches_keep_each_persons_style() {
     let Some(folder) = shared("bandai-raise-left", "") else {
@@ -214,8 +213,8 @@ fn held_out_full_body_reaches_keep_each_persons_style() {
         assert_eq!(count("hand_overs"), 0, "{person}: {summary}");
         assert_eq!(count("params_better_correlation"), 4, "{person}: {summary}");
         assert_eq!(count("params_better_peak"), 4, "{person}: {summary}");
-        assert!(get("params_correlation") >= 0.75, "{person}: {summary}");
-        assert!(get("params_peak_error") <= 0.11, "{person}: {summary}");
+        assert!(get("params_correlation") >= 0.8, "{person}: {summary}");
+        assert!(get("params_peak_error") <= 0.1, "{person}: {summary}");
         assert!(
             get("params_arm_path") < get("profile_arm_path"),
             "{person}: {summary}"

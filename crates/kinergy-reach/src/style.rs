@@ -130,9 +130,10 @@ pub struct StyleRun {
     pub row: StyleRow,
     /// The captured hand speed over its main reach, time-normalized.
     pub captured_speed: Vec<f64>,
-    /// The `reach --params` hand speed from the arm's onset to the end, time-normalized.
+    /// The `reach --params` hand speed from the arm's onset, [ended](ended_like) as the
+    /// captured segment ends, time-normalized.
     pub params_speed: Vec<f64>,
-    /// The default `reach`'s, time-normalized.
+    /// The default `reach`'s, ended and time-normalized alike.
     pub profile_speed: Vec<f64>,
     /// The character's reach driven by the person's parameters.
     pub params_motion: ReachMotion,
@@ -277,9 +278,10 @@ impl StyleCapture {
         let with = run(&synergy)?;
         let without = run(&ArmDrive::Profile)?;
         let captured = normalized(&self.speeds);
-        let ours = normalized(&with.arm_speeds(character, false));
-        let own = normalized(&with.arm_speeds(character, true));
-        let theirs = normalized(&without.arm_speeds(character, false));
+        let share = end_share(&self.speeds);
+        let ours = normalized(ended_like(&with.arm_speeds(character, false), share));
+        let own = normalized(ended_like(&with.arm_speeds(character, true), share));
+        let theirs = normalized(ended_like(&without.arm_speeds(character, false), share));
         let tip = with.report.arm.joints()[3];
         let hand_at_end =
             character.world_positions(with.poses.last().unwrap_or(&character.rest_pose()))[tip];
@@ -360,6 +362,38 @@ pub fn normalized(values: &[f64]) -> Vec<f64> {
             values[i] * (1.0 - u) + values[i + 1] * u
         })
         .collect()
+}
+
+/// The share of its peak speed at which a captured segment ends (its last speed over its
+/// largest; 0 for an empty or still one).
+pub fn end_share(speeds: &[f64]) -> f64 {
+    let top = speeds.iter().copied().fold(0.0f64, f64::max);
+    match speeds.last() {
+        Some(&last) if top > 0.0 => (last / top).clamp(0.0, 1.0),
+        _ => 0.0,
+    }
+}
+
+/// A synthesized reach's speeds `values` ended as the captured segment ends: at the first
+/// frame past its peak where the speed has fallen to `share` of the peak (the whole of it when
+/// it never does). The capture's segment ends where its speed falls to a share of its peak
+/// (the segmenter's rule), while a synthesized reach runs on until the hand is at rest on the
+/// target: compared whole, its bell was squeezed into the first part of the normalized time
+/// and its peak came early.
+pub fn ended_like(values: &[f64], share: f64) -> &[f64] {
+    let Some((top, peak)) = values
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(i, v)| (i, v))
+    else {
+        return values;
+    };
+    match (top + 1..values.len()).find(|&k| values[k] <= share * peak) {
+        Some(k) => &values[..=k],
+        None => values,
+    }
 }
 
 /// The fraction of the movement at which a normalized profile peaks (the first maximum).
@@ -490,6 +524,22 @@ mod tests {
         assert_eq!(s.hand_overs, 2);
         approx::assert_relative_eq!(s.params_arm_path, 0.8 / 3.0, epsilon = 1e-12);
         approx::assert_relative_eq!(s.profile_peak_error, 0.3, epsilon = 1e-12);
+    }
+
+    #[test]
+    fn a_synthesized_reach_ends_where_its_speed_falls_to_the_captures_end_share() {
+        let captured = [0.0, 0.5, 1.0, 0.5, 0.2];
+        assert!((end_share(&captured) - 0.2).abs() < 1e-12);
+        let ours = [0.0, 1.0, 2.0, 1.0, 0.5, 0.4, 0.1, 0.0];
+        // Past the peak (2.0) the first speed at or below 0.2 × 2.0 = 0.4 is frame 5.
+        assert_eq!(ended_like(&ours, 0.2), &ours[..6]);
+        // A rise before the peak at the share does not end it; never falling keeps it whole.
+        assert_eq!(
+            ended_like(&[0.1, 0.3, 1.0, 0.9], 0.2),
+            &[0.1, 0.3, 1.0, 0.9]
+        );
+        assert_eq!(end_share(&[]), 0.0);
+        assert!(ended_like(&[], 0.5).is_empty());
     }
 
     #[test]
