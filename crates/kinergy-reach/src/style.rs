@@ -386,7 +386,6 @@ pub fn ended_like(values: &[f64], share: f64) -> &[f64] {
         .copied()
         .enumerate()
         .max_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(i, v)| (i, v))
     else {
         return values;
     };
