@@ -130,7 +130,7 @@ fn select_picks_the_segments_of_each_clip() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("p.json");
     // p04/r12 (a full step and a squat): a first reach 52..88 while the body steps, then the
-    // main reach 91..192.
+    // main reach 93..190.
     let clip = repo()
         .join("data-synthetic/p04/r12.bvh")
         .canonicalize()
@@ -145,10 +145,10 @@ fn select_picks_the_segments_of_each_clip() {
             .map(|r| r["frames"].clone())
             .collect::<Vec<_>>()
     };
-    assert_eq!(frames("main"), [serde_json::json!([91, 192])]);
+    assert_eq!(frames("main"), [serde_json::json!([93, 190])]);
     assert_eq!(
         frames("all"),
-        [serde_json::json!([52, 88]), serde_json::json!([91, 192])]
+        [serde_json::json!([52, 88]), serde_json::json!([93, 190])]
     );
     assert_eq!(frames("0"), [serde_json::json!([52, 88])]);
     let out = dir.path().join("bad.json");

@@ -582,27 +582,43 @@ fn the_shoulder_twist_range_widens_to_any_twist_straight_up() {
     }
     let b = body();
     let arm = b.limb_dofs(Limb::RightArm);
-    let limit = |elevation_deg: f64| {
+    let posed = |elevation_deg: f64, twist: f64| {
         let mut pose = b.rest_pose();
         let e = elevation_deg.to_radians();
         pose[arm.start] = e * 0.6;
         pose[arm.start + 1] = e * 0.8;
-        pose[arm.start + 2] = -4.0;
-        b.clamp_pose(&mut pose);
-        let low = pose[arm.start + 2];
-        pose[arm.start + 2] = 4.0;
-        b.clamp_pose(&mut pose);
-        assert_eq!(b.joint_limits_ok(&pose), Ok(()));
-        (low.to_degrees(), pose[arm.start + 2].to_degrees())
+        pose[arm.start + 2] = twist;
+        pose
     };
     let from = OVERHEAD_TWIST_FROM.to_degrees();
     let between = 0.5 * (from + 180.0);
     for (e, expect) in [(60.0, 90.0), (from, 90.0), (between, 135.0), (180.0, 180.0)] {
-        let (low, high) = limit(e);
+        let (low, high) = b
+            .revolute_range(arm.start + 2, &posed(e, 0.0))
+            .expect("the twist is revolute");
+        let (low, high) = (low.to_degrees(), high.to_degrees());
         assert!(
             (low + expect).abs() < 1e-9 && (high - expect).abs() < 1e-9,
             "{e}°: [{low}, {high}]"
         );
+        // Clamped, a twist beyond the range is the same rotation a turn away where that lies
+        // within it (wide ranges overhead), else the range's end.
+        for twist in [-4.0f64, 4.0] {
+            let mut pose = posed(e, twist);
+            b.clamp_pose(&mut pose);
+            assert_eq!(b.joint_limits_ok(&pose), Ok(()));
+            let got = pose[arm.start + 2].to_degrees();
+            let turned = (twist - twist.signum() * std::f64::consts::TAU).to_degrees();
+            let want = if (low..=high).contains(&turned) {
+                turned
+            } else {
+                twist.signum() * expect
+            };
+            assert!(
+                (got - want).abs() < 1e-9,
+                "{e}°, twist {twist}: {got}° ({want}°)"
+            );
+        }
     }
 }
 

@@ -738,7 +738,7 @@ impl Character {
                 match *m {
                     Motion::Revolute { min, max, .. } => {
                         let (min, max) = revolute_range(j, min, max, pose, k);
-                        pose[k] = pose[k].clamp(min, max);
+                        pose[k] = wrap_or_clamp(pose[k], min, max);
                     }
                     Motion::Swing { rx, ry } => {
                         let e = (pose[k] / rx).powi(2) + (pose[k + 1] / ry).powi(2);
@@ -752,6 +752,22 @@ impl Character {
                 k += m.dof_count();
             }
         }
+    }
+}
+
+/// A revolute DoF's value `v` within `[min, max]`: the same rotation a turn away (`v ∓ 2π`)
+/// where that lies within the range, else clamped. Near the arm straight up the shoulder's
+/// twist range reaches ±180° and a twist carried on continuously passes beyond it: clamped,
+/// 3.79 rad became 3.11 — a different arm, the hand thrown 12 cm in a frame — where −2.50 is
+/// the same arm within the range.
+pub fn wrap_or_clamp(v: f64, min: f64, max: f64) -> f64 {
+    use std::f64::consts::TAU;
+    if v > max && v - TAU >= min {
+        v - TAU
+    } else if v < min && v + TAU <= max {
+        v + TAU
+    } else {
+        v.clamp(min, max)
     }
 }
 

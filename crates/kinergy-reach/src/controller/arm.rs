@@ -490,7 +490,10 @@ impl ArmFollower {
     /// the analytic IK takes over from a person's arm at the speed it moved).
     pub(super) fn settle(&mut self, character: &Character, pose: &Pose, dt: f64) {
         let now: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
-        self.velocity = std::array::from_fn(|i| (now[i] - self.previous[i]) / dt);
+        // A twist wrapped a turn by the clamp (`wrap_or_clamp`) did not move.
+        self.velocity = std::array::from_fn(|i| {
+            super::synergy::angle_difference(now[i], self.previous[i]) / dt
+        });
         self.previous = now;
         let chain = character.limb_chain(self.limb);
         self.hand = chain

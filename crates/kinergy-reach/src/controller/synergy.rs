@@ -360,7 +360,13 @@ impl SynergyArm {
     pub fn end_frame(&mut self, pose: &Pose, base: &IsometryMatrix3<f64>) -> Result<Option<f64>> {
         let q: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
         let shown = self.shown();
-        self.limited = q.iter().zip(&shown).any(|(a, b)| (a - b).abs() > 1e-12);
+        // A twist a whole turn away is the same arm (`wrap_or_clamp`): not a limit.
+        self.limited = q
+            .iter()
+            .zip(&shown)
+            .any(|(a, b)| angle_difference(*a, *b).abs() > 1e-12);
+        // The next frame's conversion continues from the twist the character shows.
+        self.twist = q[2];
         if self.limited {
             self.stepper
                 .set_configuration(&self.conventions.to_capture(&q));
@@ -581,6 +587,13 @@ impl Conventions {
     }
 }
 
+/// `a − b` wrapped into (−π, π]: a revolute DoF's change, the same for values a turn apart.
+pub(super) fn angle_difference(a: f64, b: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let d = (a - b).rem_euclid(TAU);
+    if d > PI { d - TAU } else { d }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -699,5 +712,14 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn an_angle_difference_is_the_same_for_values_a_turn_apart() {
+        use std::f64::consts::{PI, TAU};
+        assert!((angle_difference(0.3, 0.1) - 0.2).abs() < 1e-12);
+        assert!((angle_difference(3.787 - TAU, 3.787)).abs() < 1e-12);
+        assert!((angle_difference(-3.0, 3.0) - (TAU - 6.0)).abs() < 1e-12);
+        assert!((angle_difference(PI, 0.0) - PI).abs() < 1e-12);
     }
 }
