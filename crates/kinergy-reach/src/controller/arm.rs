@@ -847,21 +847,45 @@ fn closest_alpha(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7]) -> Option<f64> {
 }
 
 /// The orbit angle within 30° of `center`, on a 5° grid, whose posture within the limits is
-/// closest to `q0` in the shoulder and elbow DoFs ([`closest_alpha`] over 13 angles instead of
-/// 72: from one frame to the next the closest angle moves little, and a flip is caught by
-/// [`ARM_JUMP`]'s test).
+/// closest to `q0` in the shoulder and elbow DoFs, found by walking downhill from `center`
+/// ([`closest_alpha`] searches all 72 angles; from one frame to the next the closest angle
+/// moves little, and a flip is caught by [`ARM_JUMP`]'s test). Three to five solves a frame
+/// where a scan of the 13 angles took 13.
 fn closest_alpha_around(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], center: f64) -> Option<f64> {
-    (-6..=6)
-        .map(|k| center + f64::from(k) * 5f64.to_radians())
-        .filter_map(|a| {
-            let q = ik.solve_position_at(p, a).ok()?;
-            ik.within_limits(&q).then(|| {
-                let d: f64 = (0..5).map(|i| (q[i] - q0[i]).powi(2)).sum();
-                (a, d)
-            })
-        })
-        .min_by(|x, y| x.1.total_cmp(&y.1))
-        .map(|(a, _)| a)
+    const STEP: f64 = 5.0 * std::f64::consts::PI / 180.0;
+    const STEPS: i32 = 6;
+    let distance = |k: i32| -> Option<f64> {
+        let q = ik.solve_position_at(p, center + f64::from(k) * STEP).ok()?;
+        ik.within_limits(&q)
+            .then(|| (0..5).map(|i| (q[i] - q0[i]).powi(2)).sum())
+    };
+    let Some(mut best) = distance(0) else {
+        // The last angle is no longer within the limits: the whole window, scanned.
+        return (-STEPS..=STEPS)
+            .filter_map(|k| distance(k).map(|d| (k, d)))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .map(|(k, _)| center + f64::from(k) * STEP);
+    };
+    let mut at: i32 = 0;
+    for direction in [1, -1] {
+        let mut k = at + direction;
+        let mut moved = false;
+        while k.abs() <= STEPS {
+            match distance(k) {
+                Some(d) if d < best => {
+                    best = d;
+                    at = k;
+                    moved = true;
+                    k += direction;
+                }
+                _ => break,
+            }
+        }
+        if moved {
+            break;
+        }
+    }
+    Some(center + f64::from(at) * STEP)
 }
 
 /// The shoulder: the arm chain's base, in world.
