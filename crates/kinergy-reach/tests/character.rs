@@ -622,6 +622,36 @@ fn the_shoulder_twist_range_widens_to_any_twist_straight_up() {
     }
 }
 
+/// A limb's limits read in one walk (`limb_limits`, what the arm controller bounds each
+/// frame with) are those read one DoF at a time, for every limb, at poses whose shoulder twist
+/// range widens overhead.
+#[test]
+fn a_limbs_limits_read_at_once_are_those_read_one_dof_at_a_time() {
+    use kinergy_reach::character::DofLimit;
+    let b = body();
+    for limb in Limb::ALL {
+        let dofs = b.limb_dofs(limb);
+        for elevation in [0.0f64, 100.0, 170.0] {
+            let mut pose = b.rest_pose();
+            pose[dofs.start] = elevation.to_radians() * 0.6;
+            pose[dofs.start + 1] = elevation.to_radians() * 0.8;
+            let limits = b.limb_limits(limb, &pose);
+            for (i, limit) in limits.iter().enumerate().take(dofs.len().min(7)) {
+                let k = dofs.start + i;
+                let expected = match (b.revolute_range(k, &pose), b.swing_radii(k)) {
+                    (Some((min, max)), _) => DofLimit::Revolute { min, max },
+                    (None, Some((rx, ry))) => DofLimit::Swing { rx, ry },
+                    (None, None) if i > 0 && b.swing_radii(k - 1).is_some() => {
+                        DofLimit::SwingSecond
+                    }
+                    (None, None) => DofLimit::Free,
+                };
+                assert_eq!(*limit, expected, "{limb:?} DoF {i} at {elevation}°");
+            }
+        }
+    }
+}
+
 proptest! {
     #[test]
     fn clamping_lands_within_limits(values in proptest::collection::vec(-4.0f64..4.0, DOF_COUNT)) {

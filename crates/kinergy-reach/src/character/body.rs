@@ -661,6 +661,39 @@ impl Character {
         None
     }
 
+    /// The limits of `limb`'s seven DoFs at `pose` (in the limb's DoF order, as
+    /// [`Character::revolute_range`] and [`Character::swing_radii`] give them one DoF at a
+    /// time), walking the limb's own joints once: what a controller bounding every DoF of an
+    /// arm each frame needs.
+    pub fn limb_limits(&self, limb: Limb, pose: &Pose) -> [DofLimit; 7] {
+        let mut out = [DofLimit::Free; 7];
+        let start = self.limb_dofs(limb).start;
+        for &ji in &limb.joints()[..3] {
+            let j = &self.joints[ji];
+            let mut at = j.first_dof + if j.translates { 3 } else { 0 };
+            for m in &j.motions {
+                let Some(i) = at.checked_sub(start).filter(|&i| i < 7) else {
+                    at += m.dof_count();
+                    continue;
+                };
+                match *m {
+                    Motion::Revolute { min, max, .. } => {
+                        let (min, max) = revolute_range(j, min, max, pose, at);
+                        out[i] = DofLimit::Revolute { min, max };
+                    }
+                    Motion::Swing { rx, ry } => {
+                        out[i] = DofLimit::Swing { rx, ry };
+                        if i + 1 < 7 {
+                            out[i + 1] = DofLimit::SwingSecond;
+                        }
+                    }
+                }
+                at += m.dof_count();
+            }
+        }
+        out
+    }
+
     /// The range `[min, max]` of DoF `k` of `pose` when it is a revolute one (at `pose`: the
     /// shoulder's twist range widens with the arm's elevation); `None` for a swing's or a
     /// root's DoF, or `k` out of range.
@@ -753,6 +786,29 @@ impl Character {
             }
         }
     }
+}
+
+/// A DoF's limit ([`Character::limb_limits`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DofLimit {
+    /// No limit (or not a rotation DoF).
+    Free,
+    /// A revolute DoF's range at the pose.
+    Revolute {
+        /// The least value, radians.
+        min: f64,
+        /// The largest value, radians.
+        max: f64,
+    },
+    /// The first DoF of a swing, within the ellipse `(q / rx)² + (q_next / ry)² ≤ 1`.
+    Swing {
+        /// The ellipse's radius along this DoF, radians.
+        rx: f64,
+        /// Its radius along the next DoF, radians.
+        ry: f64,
+    },
+    /// The second DoF of a swing (its limit is the first's).
+    SwingSecond,
 }
 
 /// A revolute DoF's value `v` within `[min, max]`: the same rotation a turn away (`v ∓ 2π`)

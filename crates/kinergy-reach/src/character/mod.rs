@@ -82,7 +82,9 @@ pub mod mass;
 pub mod measure;
 pub mod proportions;
 
-pub use body::{Bone, Character, CharacterJoint, GirdleRole, GirdleTurn, OVERHEAD_TWIST_FROM};
+pub use body::{
+    Bone, Character, CharacterJoint, DofLimit, GirdleRole, GirdleTurn, OVERHEAD_TWIST_FROM,
+};
 pub use girdle::{ArmGirdle, Girdle, GirdleAngles};
 pub use layout::{BONE_COUNT, DOF_COUNT, DofKind, Limb, Pose, SpineJoint, dof, joint};
 pub use mass::{CONTACT_TOLERANCE, FOOT_BREADTH, MassSegment, SupportPolygon};

@@ -36,7 +36,7 @@ use kinergy_motion::Side;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector2, Vector3};
 use kinergy_solver::analytic::{LimbIk, OrbitSearch, OrbitSense};
 
-use crate::character::{Character, Limb, Pose};
+use crate::character::{Character, DofLimit, Limb, Pose};
 use crate::error::{ReachError, Result};
 use crate::profile::SpeedProfile;
 
@@ -310,7 +310,8 @@ impl ArmFollower {
             None => [0.0; 7],
         };
         self.goal = Some(goal);
-        let fade = self.edge_fade(character, pose, &goal, &goal_velocity);
+        let limits = character.limb_limits(self.limb, pose);
+        let fade = self.edge_fade(&limits, &goal, &goal_velocity);
         let goal_velocity = goal_velocity.map(|v| v * fade);
         let hand_gap = self.hand.and_then(|(hand, _)| {
             let chain = character.limb_chain(self.limb);
@@ -320,13 +321,13 @@ impl ArmFollower {
             Some((to - hand).norm())
         });
         let mut wanted = track(&goal, &goal_velocity, &self.previous, hand_gap);
-        self.brake_before_limits(character, pose, &mut wanted, ARM_ACCELERATION);
+        self.brake_before_limits(&limits, &mut wanted, ARM_ACCELERATION);
         self.cap_hand_speed(character, &mut wanted, dt);
         let mut velocity = accelerate(&self.velocity, &wanted, ARM_ACCELERATION * dt);
         self.bound_hand_acceleration(character, &mut velocity, dt);
         // The bounds above scale the whole change: a DoF braking for its limit while others
         // speed up could be held back from braking. Its own braking comes first.
-        self.brake_before_limits(character, pose, &mut velocity, 2.0 * ARM_ACCELERATION);
+        self.brake_before_limits(&limits, &mut velocity, 2.0 * ARM_ACCELERATION);
         let values = &mut pose[self.dofs.clone()];
         for (i, value) in values.iter_mut().enumerate() {
             *value = self.previous[i] + velocity[i] * dt;
@@ -348,14 +349,8 @@ impl ArmFollower {
     /// end ran 0.2 rad (14 cm of hand) past it and back. The fade is `2·A·t / v`, `t` the
     /// time the goal's elbow needs to reach its limit at its speed and `v` the goal's fastest
     /// DoF speed: the arm brakes from `v` within the goal's remaining travel, `v·t`.
-    fn edge_fade(
-        &self,
-        character: &Character,
-        pose: &Pose,
-        goal: &[f64; 7],
-        goal_velocity: &[f64; 7],
-    ) -> f64 {
-        let Some((min, _)) = character.revolute_range(self.dofs.start + ELBOW, pose) else {
+    fn edge_fade(&self, limits: &[DofLimit; 7], goal: &[f64; 7], goal_velocity: &[f64; 7]) -> f64 {
+        let DofLimit::Revolute { min, .. } = limits[ELBOW] else {
             return 1.0;
         };
         let closing = -goal_velocity[ELBOW];
@@ -416,22 +411,15 @@ impl ArmFollower {
     /// goal can stop dead on a limit — the elbow straightens onto the reach sphere's edge and
     /// stays — and the arm tracking it would run into the limit and be clamped there within a
     /// frame.
-    fn brake_before_limits(
-        &self,
-        character: &Character,
-        pose: &Pose,
-        velocity: &mut [f64; 7],
-        a: f64,
-    ) {
+    fn brake_before_limits(&self, limits: &[DofLimit; 7], velocity: &mut [f64; 7], a: f64) {
         let at = &self.previous;
         let mut i = 0;
         while i < 7 {
-            let k = self.dofs.start + i;
-            if let Some((min, max)) = character.revolute_range(k, pose) {
+            if let DofLimit::Revolute { min, max } = limits[i] {
                 let up = (a * (max - at[i]).max(0.0)).sqrt();
                 let down = (a * (at[i] - min).max(0.0)).sqrt();
                 velocity[i] = velocity[i].clamp(-down, up);
-            } else if let Some((rx, ry)) = character.swing_radii(k)
+            } else if let DofLimit::Swing { rx, ry } = limits[i]
                 && i + 1 < 7
             {
                 let s = Vector2::new(at[i], at[i + 1]);
