@@ -622,6 +622,16 @@ fn the_shoulder_twist_range_widens_to_any_twist_straight_up() {
     }
 }
 
+#[test]
+fn an_angle_difference_is_the_same_for_values_a_turn_apart() {
+    use kinergy_reach::character::angle_difference;
+    use std::f64::consts::PI;
+    assert!((angle_difference(0.3, 0.1) - 0.2).abs() < 1e-12);
+    assert!((angle_difference(3.787 - TAU, 3.787)).abs() < 1e-12);
+    assert!((angle_difference(-3.0, 3.0) - (TAU - 6.0)).abs() < 1e-12);
+    assert!((angle_difference(PI, 0.0) - PI).abs() < 1e-12);
+}
+
 /// A limb's limits read in one walk (`limb_limits`, what the arm controller bounds each
 /// frame with) are those read one DoF at a time, for every limb, at poses whose shoulder twist
 /// range widens overhead.

@@ -827,6 +827,17 @@ pub fn wrap_or_clamp(v: f64, min: f64, max: f64) -> f64 {
     }
 }
 
+/// `a − b` wrapped into (−π, π]: a revolute DoF's change, the same for values a turn apart
+/// (what [`wrap_or_clamp`] may put between two frames). Not
+/// `kinergy_motion::rotation::unwrap_near(a, b) − b`, which is exact where this rounds a
+/// negative change by 1e-16: the committed synthetic set was made with this one, and three of
+/// its clips part by up to 4.7° from such a rounding.
+pub fn angle_difference(a: f64, b: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let d = (a - b).rem_euclid(TAU);
+    if d > PI { d - TAU } else { d }
+}
+
 /// Where the shoulder's twist range starts to widen: humerothoracic elevations above 90°
 /// (from 120° a synergy that turns the twist hard still met the clamp at 130°–150° and circled
 /// the arm overhead: Bandai *active* fitted on takes 1–6, r 0.50 with 120°, 0.81 with 90°).

@@ -84,6 +84,7 @@ pub mod proportions;
 
 pub use body::{
     Bone, Character, CharacterJoint, DofLimit, GirdleRole, GirdleTurn, OVERHEAD_TWIST_FROM,
+    angle_difference, wrap_or_clamp,
 };
 pub use girdle::{ArmGirdle, Girdle, GirdleAngles};
 pub use layout::{BONE_COUNT, DOF_COUNT, DofKind, Limb, Pose, SpineJoint, dof, joint};

@@ -36,7 +36,7 @@ use kinergy_motion::Side;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector2, Vector3};
 use kinergy_solver::analytic::{LimbIk, OrbitSearch, OrbitSense};
 
-use crate::character::{Character, DofLimit, Limb, Pose};
+use crate::character::{Character, DofLimit, Limb, Pose, angle_difference};
 use crate::error::{ReachError, Result};
 use crate::profile::SpeedProfile;
 
@@ -455,10 +455,12 @@ impl ArmFollower {
         let chain = character.limb_chain(self.limb);
         let shoulder = IsometryMatrix3::identity();
         let next: [f64; 7] = std::array::from_fn(|i| self.previous[i] + velocity[i] * dt);
-        let (Ok(from), Ok(to)) = (
-            chain.end_position(&shoulder, &self.previous),
-            chain.end_position(&shoulder, &next),
-        ) else {
+        // The hand at the previous posture: kept by `settle`, else computed.
+        let from = match self.hand {
+            Some((hand, _)) => Ok(hand),
+            None => chain.end_position(&shoulder, &self.previous),
+        };
+        let (Ok(from), Ok(to)) = (from, chain.end_position(&shoulder, &next)) else {
             return;
         };
         let moved = (to - from).norm();
@@ -479,9 +481,7 @@ impl ArmFollower {
     pub(super) fn settle(&mut self, character: &Character, pose: &Pose, dt: f64) {
         let now: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
         // A twist wrapped a turn by the clamp (`wrap_or_clamp`) did not move.
-        self.velocity = std::array::from_fn(|i| {
-            super::synergy::angle_difference(now[i], self.previous[i]) / dt
-        });
+        self.velocity = std::array::from_fn(|i| angle_difference(now[i], self.previous[i]) / dt);
         self.previous = now;
         let chain = character.limb_chain(self.limb);
         self.hand = chain
@@ -823,15 +823,17 @@ fn closest_alpha(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7]) -> Option<f64> {
     use std::f64::consts::PI;
     (0..72)
         .map(|k| -PI + (k as f64) * 5f64.to_radians())
-        .filter_map(|a| {
-            let q = ik.solve_position_at(p, a).ok()?;
-            ik.within_limits(&q).then(|| {
-                let d: f64 = (0..5).map(|i| (q[i] - q0[i]).powi(2)).sum();
-                (a, d)
-            })
-        })
+        .filter_map(|a| posture_distance(ik, p, q0, a).map(|d| (a, d)))
         .min_by(|x, y| x.1.total_cmp(&y.1))
         .map(|(a, _)| a)
+}
+
+/// The squared distance, in the shoulder and elbow DoFs, from `q0` of the posture reaching
+/// `p` at orbit angle `a`; `None` when there is none within the limits.
+fn posture_distance(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], a: f64) -> Option<f64> {
+    let q = ik.solve_position_at(p, a).ok()?;
+    ik.within_limits(&q)
+        .then(|| (0..5).map(|i| (q[i] - q0[i]).powi(2)).sum())
 }
 
 /// The orbit angle within 30° of `center`, on a 5° grid, whose posture within the limits is
@@ -842,11 +844,7 @@ fn closest_alpha(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7]) -> Option<f64> {
 fn closest_alpha_around(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], center: f64) -> Option<f64> {
     const STEP: f64 = 5.0 * std::f64::consts::PI / 180.0;
     const STEPS: i32 = 6;
-    let distance = |k: i32| -> Option<f64> {
-        let q = ik.solve_position_at(p, center + f64::from(k) * STEP).ok()?;
-        ik.within_limits(&q)
-            .then(|| (0..5).map(|i| (q[i] - q0[i]).powi(2)).sum())
-    };
+    let distance = |k: i32| posture_distance(ik, p, q0, center + f64::from(k) * STEP);
     let Some(mut best) = distance(0) else {
         // The last angle is no longer within the limits: the whole window, scanned.
         return (-STEPS..=STEPS)

@@ -245,13 +245,14 @@ impl Analytic {
     ) -> Option<f64> {
         let c = rules.character;
         let limb = rules.plan.arm;
-        let before: [f64; 7] = std::array::from_fn(|i| pose[c.limb_dofs(limb).start + i]);
+        let start = c.limb_dofs(limb).start;
+        let before: [f64; 7] = std::array::from_fn(|i| pose[start + i]);
         let held = arm.end_frame(c, pose, alpha, rules.dt);
         if !held {
             return None;
         }
         // Only the arm moved: its base moves with the girdle alone (no body FK).
-        let after: [f64; 7] = std::array::from_fn(|i| pose[c.limb_dofs(limb).start + i]);
+        let after: [f64; 7] = std::array::from_fn(|i| pose[start + i]);
         let moved = c.arm_base_moved(limb, base, &before, &after);
         let target = rules.target();
         Some((arm.hand(c, &moved, pose, target) - target).norm())

@@ -50,7 +50,7 @@ use kinergy_solver::{
 };
 
 use super::report::ArmDriveKind;
-use crate::character::{Character, GirdleTurn, Limb, Pose};
+use crate::character::{Character, GirdleTurn, Limb, Pose, angle_difference};
 use crate::error::{ReachError, Result};
 
 /// How long (seconds) the synergy arm's progress may stall, once the body has stopped,
@@ -587,13 +587,6 @@ impl Conventions {
     }
 }
 
-/// `a − b` wrapped into (−π, π]: a revolute DoF's change, the same for values a turn apart.
-pub(super) fn angle_difference(a: f64, b: f64) -> f64 {
-    use std::f64::consts::{PI, TAU};
-    let d = (a - b).rem_euclid(TAU);
-    if d > PI { d - TAU } else { d }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -712,14 +705,5 @@ mod tests {
                 }
             }
         }
-    }
-
-    #[test]
-    fn an_angle_difference_is_the_same_for_values_a_turn_apart() {
-        use std::f64::consts::{PI, TAU};
-        assert!((angle_difference(0.3, 0.1) - 0.2).abs() < 1e-12);
-        assert!((angle_difference(3.787 - TAU, 3.787)).abs() < 1e-12);
-        assert!((angle_difference(-3.0, 3.0) - (TAU - 6.0)).abs() < 1e-12);
-        assert!((angle_difference(PI, 0.0) - PI).abs() < 1e-12);
     }
 }
