@@ -225,9 +225,11 @@ fn params_for_another_chain_are_refused() {
 ///   before a twist a turn away counted as the same arm), where the character's swing
 ///   ellipse clamps the circling arm;
 /// - the synthetic person's toward a low target behind its side ([-0.6, 0.6, 0.5]), once:
-///   the capture convention's twist range (+90°) and the character's hold the arm at once;
-///   when its capture-convention twist wraps, the smooth controller's memory of the last frame
-///   is in the other representation and the hand stops within a frame (1.8 m/s → 0).
+///   traced while the synergy's chain held its twist at the table's +90°, that limit and the
+///   character's held the arm at once, and where its capture-convention twist wrapped, the
+///   smooth controller's memory of the last frame was in the other representation and the
+///   hand stopped within a frame (1.8 m/s → 0). With the twist open to ±π the jump remains
+///   (1.58 → 1.20 m/s at frame 147), not traced again.
 ///
 /// Tried and left out: braking before the character's twist limit (cleared the first two, but
 /// the held-out Bandai *active* raises fell from r 0.73 to 0.53: their overhead twist is the

@@ -18,12 +18,12 @@
 //! # Limits
 //! The character's limits are the character's: a configuration the controller reaches is
 //! clamped into them, and the controller continues from the clamped arm. The controller's own
-//! chain ([`SYNERGY_SWING_MAX`], `synergy_chain`) has the character's elbow and wrist limits
-//! but bounds the shoulder only away from its convention's singular swing of π (the arm across
-//! the chest), with the twist open on the side a raise turns it to: the generic table's shoulder limits read in the capture
-//! convention are not the character's anatomical ones (the hanging arm sits on their −90°
-//! twist, which stopped an overhead raise), and the character's humerothoracic limits
-//! ([`crate::character::girdle`]) clamp the arm anyway. The synergy arm has arrived when the
+//! chain (`synergy_chain`) has the character's elbow and wrist limits but bounds the shoulder
+//! only away from its convention's singular swing of π (the arm across the chest), its twist
+//! open to ±π: the generic table's shoulder limits read in the capture convention are not the
+//! character's anatomical ones (the hanging arm sits on their ±90° twist, and every raise turns
+//! it further), and the character's humerothoracic limits ([`crate::character::girdle`]) clamp
+//! the arm anyway. The synergy arm has arrived when the
 //! hand is within half the reach's tolerance.
 //!
 //! # Hand-over
@@ -480,12 +480,19 @@ pub const SYNERGY_SWING_MAX: f64 = 160.0 * std::f64::consts::PI / 180.0;
 /// The chain the synergy arm of `limb` steps, in the capture convention, from `start`
 /// (module docs, "Limits"): the character's bones, elbow and wrist limits (the same DoFs in
 /// both conventions); the shoulder's swing bounded only by [`SYNERGY_SWING_MAX`], its twist
-/// by the table's +90° and −180° (the hanging arm sits on the table's −90° in this
-/// convention, and a raise turns it further that way), widened to include `start`. The shoulder's anatomical limits are the character's
-/// (humerothoracic, [`crate::character::girdle`]), which clamp the arm every frame: the
-/// generic table's ±90° twist and 130° × 100° ellipse, read in the capture convention, put
-/// the hanging arm on the twist limit (−90°) and stopped an overhead raise there, 0.42 m
-/// short, with the character's own twist at 55° of its ±90°.
+/// open to ±π, widened to include `start`. The shoulder's anatomical limits are the
+/// character's (humerothoracic, [`crate::character::girdle`]), which clamp the arm every frame.
+/// The generic table's ±90° twist and 130° × 100° ellipse, read in the capture convention, put
+/// the hanging arm on the twist limit (left arm −90°, right arm +90°) and held every raise
+/// there: on the left arm an overhead raise stopped 0.42 m short with the character's own
+/// twist at 55° of its ±90°; on the right arm (the twist was opened on the left arm's side
+/// only) a high reach drove the character's twist onto its −90° limit while the synergy's sat
+/// on its +90°, both clamped frame after frame (`synth --params`: 14 of 56 clips with speed
+/// jumps; 1 with the twist open both ways).
+///
+/// A fit reads a capture on the table's chain widened to include the captured motion
+/// ([`CaptureArm`]), the person's own range: a clip this arm turned past the table's twist is
+/// fitted with that DoF's limit at its captured peak.
 fn synergy_chain(
     character: &Character,
     limb: Limb,
@@ -499,7 +506,7 @@ fn synergy_chain(
         match m {
             Motion::Swing { rx, ry } => (*rx, *ry) = (SYNERGY_SWING_MAX, SYNERGY_SWING_MAX),
             Motion::Revolute { min, max, .. } => {
-                (*min, *max) = (-std::f64::consts::PI, *max);
+                (*min, *max) = (-std::f64::consts::PI, std::f64::consts::PI);
             }
         }
     }
