@@ -13,7 +13,7 @@ use kinergy_motion::{Chain, Linearization, Trajectory};
 
 use crate::error::{Result, SolverError, require};
 use crate::optimizer::{Optimizer, StepScratch};
-use crate::reachability::{Guidance, ReachSphere};
+use crate::reachability::{Guidance, ReachSphere, StraightArm};
 use crate::smoothing::{Frame, Smoother, Smoothing};
 
 mod limits;
@@ -642,13 +642,28 @@ impl ArmStepper<'_> {
                 &base.rotation,
                 &self.controller.optimizer,
                 self.controller.settings.frame_time,
-                self.controller.settings.smoothing.is_some(),
+                self.straight_arm(),
             ),
             _ => None,
         };
         let progress = guidance.as_ref().map_or(e, Guidance::progress);
         self.pending = Some((error, guidance));
         Ok(Observation { error: e, progress })
+    }
+
+    /// How the guidance reads a near-straight arm on this frame ([`StraightArm`]).
+    fn straight_arm(&self) -> StraightArm {
+        match &self.controller.settings.smoothing {
+            None => StraightArm::Ignored,
+            Some(sm) => {
+                let t = self.frame as f64 * self.controller.settings.frame_time;
+                if sm.finish.is_some() && sm.finish_weight(t) >= 1.0 {
+                    StraightArm::FromHinge
+                } else {
+                    StraightArm::FromDistance
+                }
+            }
+        }
     }
 
     /// One frame's step from the last observation: Θ ← clamp(Θ + S(t)·O(ΔX)). False (and
