@@ -140,7 +140,7 @@ impl PersonArm<'_> {
         let mut distance = distance;
         for frame in 0..max_frames {
             let mut pose = start;
-            arm.pose_arm(&mut pose);
+            arm.pose_arm(self.character, limb, &mut pose);
             self.character.clamp_pose(&mut pose);
             let q = self.space.config_of(&pose);
             if let Some(why) = self.blocked(&previous, &q) {

@@ -93,7 +93,7 @@ pub use report::{
 pub use settings::ReachSettings;
 pub use synergy::{
     ArmDrive, PLAIN_IK_TIME, RELAXED_ELBOW, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, SynergyArm,
-    arm_dof_names, fitted_base_at_rest, reach_smoothing,
+    TWIST_BRAKE_BELOW, arm_dof_names, fitted_base_at_rest, reach_smoothing,
 };
 
 use crate::character::Character;

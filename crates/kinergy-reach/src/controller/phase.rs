@@ -143,7 +143,7 @@ impl ArmPhase {
         };
         match &mut phase {
             ArmPhase::Synergy(Synergy { arm }) | ArmPhase::PlainIk(PlainIk { arm, .. }) => {
-                arm.pose_arm(pose);
+                arm.pose_arm(rules.character, rules.plan.arm, pose);
             }
             ArmPhase::Waiting | ArmPhase::Analytic(_) => {}
         }

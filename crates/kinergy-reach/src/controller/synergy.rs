@@ -204,6 +204,8 @@ pub struct SynergyArm {
     turn: Rotation3<f64>,
     /// The last configuration converted to the character's DoFs, and its conversion.
     shown: Option<([f64; 7], [f64; 7])>,
+    /// The arm the last frame ended with (character DoFs).
+    last: Option<[f64; 7]>,
 }
 
 /// A DoF moving on faster than this (rad/s, net over the stall window) is still coasting
@@ -272,6 +274,7 @@ impl SynergyArm {
             limited: false,
             turn: Rotation3::identity(),
             shown: None,
+            last: None,
         })
     }
 
@@ -327,9 +330,37 @@ impl SynergyArm {
         Ok(())
     }
 
-    /// Puts the controller's current arm into `pose` (character DoFs).
-    pub fn pose_arm(&mut self, pose: &mut Pose) {
-        let q = self.shown();
+    /// Puts the controller's current arm into `pose` (character DoFs) of `limb`. The smooth
+    /// controller's shoulder and elbow brake before the character's limits at `pose` (its own
+    /// chain does not know the shoulder's, module docs "Limits"): a DoF heading for one no
+    /// faster than it can stop in the gap at half the controller's joint acceleration, the shoulder
+    /// twist only below [`TWIST_BRAKE_BELOW`] of elevation. The clamp stopped such a DoF within
+    /// a frame: a speed jump on 4 of the 20 person-synergy reaches of the `reach` grid
+    /// (`tests/synergy.rs`), none with the brake (the shoulder alone left one). The forearm's
+    /// twist and the wrist do not brake: their limits are the controller's own, and braking them
+    /// held the wrist off its synergy near its limits (held-out Bandai *normal* take 5 then
+    /// ended its full-body reach with three speed jumps, 1.8 → 0.3 m/s within 0.1 s). The
+    /// frames the brake holds the arm off the controller's step are
+    /// [limited](SynergyArm::limited).
+    pub fn pose_arm(&mut self, character: &Character, limb: Limb, pose: &mut Pose) {
+        let mut q = self.shown();
+        if let (Some(sm), Some(before)) = (self.smoothing, self.last) {
+            let mut limits = character.limb_limits(limb, pose);
+            if before[0].hypot(before[1]) > TWIST_BRAKE_BELOW {
+                limits[2] = crate::character::DofLimit::Free;
+            }
+            // The forearm's twist and the wrist have the controller's own limits.
+            for l in &mut limits[4..] {
+                *l = crate::character::DofLimit::Free;
+            }
+            brake_before_limits(
+                &limits,
+                &before,
+                &mut q,
+                sm.joint_acceleration,
+                self.frame_time,
+            );
+        }
         self.twist = q[2];
         pose[self.dofs.clone()].copy_from_slice(&q);
     }
@@ -359,6 +390,7 @@ impl SynergyArm {
     /// hand–target distance of the arm in `pose`, or `None` when the step was not finite.
     pub fn end_frame(&mut self, pose: &Pose, base: &IsometryMatrix3<f64>) -> Result<Option<f64>> {
         let q: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
+        self.last = Some(q);
         let shown = self.shown();
         // A twist a whole turn away is the same arm (`wrap_or_clamp`): not a limit.
         self.limited = q
@@ -454,6 +486,62 @@ impl SynergyArm {
         let worst = first.iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b));
         let best = second.iter().fold(f64::INFINITY, |a, &b| a.min(b));
         worst - best < min_progress
+    }
+}
+
+/// The shoulder elevation (radians from the hanging arm) above which the synergy arm's twist
+/// does not brake before the character's twist limits: toward the arm straight up the twist
+/// coordinate is singular (it moves by a lot for a small turn of the arm,
+/// [`crate::character::OVERHEAD_TWIST_FROM`]), and braking it there made a person's synergy
+/// chatter on high reaches (`synth --params tests/data/params/synthetic-p01-r09-sc.json`,
+/// braking at every elevation: 3 of 56 clips with speed jumps, 36 on p02/r05; from 150° on, 1,
+/// as without the brake, and the `reach` grid stays without jumps).
+pub const TWIST_BRAKE_BELOW: f64 = 150.0 * std::f64::consts::PI / 180.0;
+
+/// Moves `q` (the arm the controller steps to, character DoFs) back toward `before` (the last
+/// frame's) where a DoF heads for the character's `limits` faster than √(`a`·gap), over frames
+/// of `dt` seconds: it stops in the gap at half the joint acceleration `a` (the margin the
+/// analytic arm's brake keeps, `controller::arm`), a revolute DoF toward either end of its range, a
+/// swing radially toward its ellipse.
+fn brake_before_limits(
+    limits: &[crate::character::DofLimit; 7],
+    before: &[f64; 7],
+    q: &mut [f64; 7],
+    a: f64,
+    dt: f64,
+) {
+    use crate::character::DofLimit;
+    let mut i = 0;
+    while i < 7 {
+        match limits[i] {
+            DofLimit::Revolute { min, max } => {
+                let v = angle_difference(q[i], before[i]) / dt;
+                let up = (a * (max - before[i]).max(0.0)).sqrt();
+                let down = (a * (before[i] - min).max(0.0)).sqrt();
+                let braked = v.clamp(-down, up);
+                if braked != v {
+                    q[i] = before[i] + braked * dt;
+                }
+            }
+            DofLimit::Swing { rx, ry } if i + 1 < 7 => {
+                let (sx, sy) = (before[i], before[i + 1]);
+                let rho = (sx / rx).hypot(sy / ry);
+                let norm = sx.hypot(sy);
+                if rho > 0.0 && norm > 1e-9 {
+                    let (ox, oy) = (sx / norm, sy / norm);
+                    let gap = norm * (1.0 / rho - 1.0).max(0.0);
+                    let (vx, vy) = ((q[i] - sx) / dt, (q[i + 1] - sy) / dt);
+                    let excess = vx * ox + vy * oy - (a * gap).sqrt();
+                    if excess > 0.0 {
+                        q[i] -= excess * ox * dt;
+                        q[i + 1] -= excess * oy * dt;
+                    }
+                }
+                i += 1;
+            }
+            _ => {}
+        }
+        i += 1;
     }
 }
 
