@@ -333,14 +333,14 @@ impl SynergyArm {
     /// Puts the controller's current arm into `pose` (character DoFs) of `limb`. The smooth
     /// controller's shoulder and elbow brake before the character's limits at `pose` (its own
     /// chain does not know the shoulder's, module docs "Limits"): a DoF heading for one no
-    /// faster than it can stop in the gap at half the controller's joint acceleration, the shoulder
-    /// twist only below [`TWIST_BRAKE_BELOW`] of elevation. The clamp stopped such a DoF within
-    /// a frame: a speed jump on 4 of the 20 person-synergy reaches of the `reach` grid
-    /// (`tests/synergy.rs`), none with the brake (the shoulder alone left one). The forearm's
-    /// twist and the wrist do not brake: their limits are the controller's own, and braking them
-    /// held the wrist off its synergy near its limits (held-out Bandai *normal* take 5 then
-    /// ended its full-body reach with three speed jumps, 1.8 → 0.3 m/s within 0.1 s). The
-    /// frames the brake holds the arm off the controller's step are
+    /// faster than it can stop in the gap at half the controller's joint acceleration, the
+    /// shoulder twist only below [`TWIST_BRAKE_BELOW`] of elevation. The clamp stopped such a
+    /// DoF within a frame: a speed jump on 4 of the 20 person-synergy reaches of the `reach`
+    /// grid (`tests/synergy.rs`), none with the brake (the shoulder alone left one). The
+    /// forearm's twist and the wrist do not brake: their limits are the controller's own, and
+    /// braking them held the wrist off its synergy near its limits (held-out Bandai *normal*
+    /// take 5 then ended its full-body reach with three speed jumps, 1.8 → 0.3 m/s within
+    /// 0.1 s). The frames the brake holds the arm off the controller's step are
     /// [limited](SynergyArm::limited).
     pub fn pose_arm(&mut self, character: &Character, limb: Limb, pose: &mut Pose) {
         let mut q = self.shown();
@@ -490,13 +490,17 @@ impl SynergyArm {
 }
 
 /// The shoulder elevation (radians from the hanging arm) above which the synergy arm's twist
-/// does not brake before the character's twist limits: toward the arm straight up the twist
-/// coordinate is singular (it moves by a lot for a small turn of the arm,
-/// [`crate::character::OVERHEAD_TWIST_FROM`]), and braking it there made a person's synergy
-/// chatter on high reaches (`synth --params tests/data/params/synthetic-p01-r09-sc.json`,
-/// braking at every elevation: 3 of 56 clips with speed jumps, 36 on p02/r05; from 150° on, 1,
-/// as without the brake, and the `reach` grid stays without jumps).
-pub const TWIST_BRAKE_BELOW: f64 = 150.0 * std::f64::consts::PI / 180.0;
+/// does not brake before the character's twist limits: where the character's twist range
+/// starts to widen ([`crate::character::OVERHEAD_TWIST_FROM`]), toward the arm straight up,
+/// where the twist coordinate is singular (it moves by a lot for a small turn of the arm).
+/// Braking the twist higher up held a person's overhead style back: Bandai *active*'s vector
+/// fitted on takes 1–6 (`--budget 800 --seed 1`) drove `style` on all 8 takes to r 0.66 with
+/// 1 hand-over braking below 90°, 0.32 with 2 braking below 150° (0.56 with 1 without the
+/// brake). Braked at every elevation, the twist made high reaches chatter (`synth --params
+/// tests/data/params/synthetic-p01-r09-sc.json`: 3 of 56 clips with speed jumps, 36 on
+/// p02/r05); never braked, 3 of the `reach` grid's 20 person-synergy reaches kept a jump;
+/// braked below 90°, 1 clip (as without the brake) and no grid reach.
+pub const TWIST_BRAKE_BELOW: f64 = crate::character::OVERHEAD_TWIST_FROM;
 
 /// Moves `q` (the arm the controller steps to, character DoFs) back toward `before` (the last
 /// frame's) where a DoF heads for the character's `limits` faster than √(`a`·gap), over frames
