@@ -77,8 +77,8 @@ impl Objective {
                     clip: r.name().to_string(),
                     why: format!(
                         "its arm's DoFs ({}) differ from the parameters' ({})",
-                        r.dof_names().join(", "),
-                        space.dof_names().join(", ")
+                        kinergy_io::list_some(&r.dof_names(), 8),
+                        kinergy_io::list_some(space.dof_names(), 8)
                     ),
                 });
             }

@@ -561,8 +561,8 @@ impl Doc {
                 "names",
                 format!(
                     "are [{}]: expected [{}] for model {} on these DoFs",
-                    self.names.join(", "),
-                    space.names().join(", "),
+                    kinergy_io::list_some(&self.names, 8),
+                    kinergy_io::list_some(space.names(), 8),
                     self.model
                 ),
             ));
