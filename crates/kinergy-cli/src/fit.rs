@@ -315,7 +315,8 @@ fn destination(args: &Args, several: bool) -> Result<(&Path, bool), Failure> {
 /// Each group's file name inside the output folder: its clip's path from the clips' common
 /// folder with `.json` for `.bvh` (`p01/r01.json`), so clips with one name in different
 /// folders keep their own results; several reaches of one clip add their frames
-/// (`r01_120-245.json`).
+/// (`r01_120-245.json`), and reaches of one clip over the same frames their arm
+/// (`r01_6-72_right.json`, `r01_6-72_left.json`).
 fn output_names(groups: &[Vec<CapturedReach>]) -> Vec<PathBuf> {
     let paths: Vec<PathBuf> = groups
         .iter()
@@ -343,18 +344,44 @@ fn output_names(groups: &[Vec<CapturedReach>]) -> Vec<PathBuf> {
                 .filter(|g| g[0].name() == first.name())
                 .count()
                 > 1;
-            let name = if repeated {
-                format!(
+            // Two reaches of one clip over the same frames differ by their arm: the name says
+            // which (both were written to one name, and the first fit was lost).
+            let same_frames = groups
+                .iter()
+                .filter(|g| g[0].name() == first.name() && g[0].frames() == first.frames())
+                .count()
+                > 1;
+            let name = match (repeated, same_frames) {
+                (false, _) => format!("{stem}.json"),
+                (true, false) => format!(
                     "{stem}_{}-{}.json",
                     first.frames().start,
                     first.frames().end
-                )
-            } else {
-                format!("{stem}.json")
+                ),
+                (true, true) => format!(
+                    "{stem}_{}-{}_{}.json",
+                    first.frames().start,
+                    first.frames().end,
+                    arm_label(first)
+                ),
             };
             relative.with_file_name(name)
         })
         .collect()
+}
+
+/// The arm of a reach as an output name says it: its side, or its first joint's name where
+/// the side is unclear (joints named by hand), made safe for a file name.
+fn arm_label(reach: &CapturedReach) -> String {
+    let arm = reach.fitted_arm();
+    match (arm.side, arm.joints.first()) {
+        (Some(side), _) => side.to_string(),
+        (None, Some(joint)) => joint
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+            .collect(),
+        (None, None) => "arm".into(),
+    }
 }
 
 /// The deepest folder that holds every one of `paths`.

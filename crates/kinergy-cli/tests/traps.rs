@@ -48,6 +48,46 @@ fn fit_per_clip_keeps_every_result_of_clips_with_one_name() {
     assert_eq!(before, after);
 }
 
+/// Issue 27 #2: two reaches of one clip that differ only by their arm keep a result each
+/// (both were written to `r01_6-72.json`, the right arm's fit lost).
+#[test]
+fn fit_per_clip_keeps_both_arms_of_one_clips_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let clip = common::repo().join("data-synthetic/p01/r01.bvh");
+    let segments = dir.path().join("s.csv");
+    std::fs::write(
+        &segments,
+        format!(
+            "clip,onset,end,arm\n{c},6,72,right\n{c},6,72,left\n",
+            c = clip.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("fits");
+    let o = kinergy(&[
+        "fit",
+        "--segments",
+        segments.to_str().unwrap(),
+        "--model",
+        "sa",
+        "--per",
+        "clip",
+        "--budget",
+        "20",
+        "--out-dir",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    for side in ["right", "left"] {
+        let file = out.join(format!("r01_6-72_{side}.json"));
+        let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{file:?}: {e}"));
+        let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(json["fit"]["reaches"][0]["arm"]["side"], side);
+    }
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 2);
+}
+
 #[test]
 fn fit_per_clip_with_out_dir_names_the_folder() {
     let dir = tempfile::tempdir().unwrap();
