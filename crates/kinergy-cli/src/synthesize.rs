@@ -236,7 +236,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
 
     let (reach, target_from) = match &args.target {
-        Some(t) => (reach.with_target(parse_point(t, "--target")?), "--target"),
+        Some(t) => (
+            reach
+                .with_target(parse_point(t, "--target")?)
+                .map_err(|e| Failure::Input(format!("--target `{t}`: {e}")))?,
+            "--target",
+        ),
         None => (reach, "the capture's final hand position"),
     };
     let target = reach.target();

@@ -88,6 +88,71 @@ fn fit_per_clip_keeps_both_arms_of_one_clips_frames() {
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 2);
 }
 
+/// Issue 27 #7: a target no body reaches is bad input (exit 2) naming where it came from,
+/// never fitted into an infinite distance: `synthesize --target`, and a segments file's target
+/// columns for `fit` and `compare`, with the file and line.
+#[test]
+fn a_target_farther_than_any_body_reaches_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let clip = common::repo().join("data-synthetic/p01/r01.bvh");
+    let o = kinergy(&[
+        "synthesize",
+        clip.to_str().unwrap(),
+        "--target",
+        "1e155,0,0",
+        "-o",
+        dir.path().join("x.bvh").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let message = stderr(&o);
+    assert!(
+        message.contains("--target") && message.contains("1.000e155 m"),
+        "{message}"
+    );
+    assert!(!dir.path().join("x.bvh").exists());
+    for (x, shown) in [
+        ("1e308", "1.000e308 m"),
+        ("1e6", "1.000e6 m"),
+        ("12", "12.27 m"),
+    ] {
+        let segments = dir.path().join("s.csv");
+        std::fs::write(
+            &segments,
+            format!(
+                "clip,onset,end,arm,label,person,target_x,target_y,target_z\n\
+                 {},6,72,right,reach,p01,{x},0,0\n",
+                clip.display()
+            ),
+        )
+        .unwrap();
+        let out = dir.path().join("fit.json");
+        for args in [
+            vec![
+                "fit", "--model", "sa", "--per", "clip", "--budget", "20", "-o",
+            ],
+            vec!["compare", "-q", "-o"],
+        ] {
+            let mut args: Vec<&str> = args;
+            let out_arg = if args[0] == "fit" {
+                out.to_str().unwrap().to_string()
+            } else {
+                dir.path().join("cmp").to_str().unwrap().to_string()
+            };
+            args.push(&out_arg);
+            args.extend(["--segments", segments.to_str().unwrap()]);
+            let o = kinergy(&args);
+            assert_eq!(o.status.code(), Some(2), "{x} {}: {}", args[0], stderr(&o));
+            let message = stderr(&o);
+            assert!(
+                message.contains("s.csv line 2") && message.contains(shown),
+                "{x} {}: {message}",
+                args[0]
+            );
+            assert!(!out.exists());
+        }
+    }
+}
+
 #[test]
 fn fit_per_clip_with_out_dir_names_the_folder() {
     let dir = tempfile::tempdir().unwrap();

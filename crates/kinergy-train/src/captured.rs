@@ -22,6 +22,21 @@ use crate::error::{Result, TrainError};
 /// The default ε of a fitting synthesis, meters (the controller's default).
 pub const DEFAULT_TOLERANCE: f64 = 0.005;
 
+/// The farthest a reach's target may lie from the arm's base (the clavicle) on the reach's
+/// last frame, meters: beyond any arm with the trunk bending and a step (the synthetic set's
+/// farthest stepping reach ends 1.3 m from the shoulder); a farther target is bad input.
+pub const MAX_TARGET_DISTANCE: f64 = 10.0;
+
+/// A length for a message: meters with two decimals, or in scientific notation when huge
+/// (never a 309-digit number).
+fn meters(v: f64) -> String {
+    if v.abs() < 1e6 {
+        format!("{v:.2} m")
+    } else {
+        format!("{v:.3e} m")
+    }
+}
+
 /// One captured reach, ready to be synthesized and scored.
 #[derive(Debug, Clone)]
 pub struct CapturedReach {
@@ -174,9 +189,35 @@ impl CapturedReach {
     }
 
     /// The same reach toward another target, world meters (the capture it is scored
-    /// against stays the same).
-    pub fn with_target(self, target: Point3<f64>) -> CapturedReach {
-        CapturedReach { target, ..self }
+    /// against stays the same). The target must be finite and within [`MAX_TARGET_DISTANCE`]
+    /// of the arm's base (the clavicle) on the reach's last frame: farther, no body reaches
+    /// it, and a fit's distances overflowed (a target of 1e308 m was fitted to "inf mm" and
+    /// stored as 1.797e308; issue 27 #7). Else [`TrainError::Setting`] naming `target`.
+    pub fn with_target(self, target: Point3<f64>) -> Result<CapturedReach> {
+        let field = || "target".to_string();
+        if !target.iter().all(|v| v.is_finite()) {
+            return Err(TrainError::Setting {
+                field: field(),
+                why: "the target's coordinates must be finite numbers".into(),
+            });
+        }
+        let last = self.base.at(self.frame_count().saturating_sub(1));
+        let shoulder = Point3::from(last.translation.vector);
+        // `hypot` does not overflow where the squares would (a target of 1e155 m).
+        let d = target - shoulder;
+        let distance = d.x.hypot(d.y).hypot(d.z);
+        if distance > MAX_TARGET_DISTANCE {
+            return Err(TrainError::Setting {
+                field: field(),
+                why: format!(
+                    "the target is {} from the arm's shoulder on the reach's last frame, \
+                     beyond what any body reaches (at most {MAX_TARGET_DISTANCE} m): a target \
+                     in another unit, or a typo?",
+                    meters(distance)
+                ),
+            });
+        }
+        Ok(CapturedReach { target, ..self })
     }
 
     /// The base the synthesized arm rides on.

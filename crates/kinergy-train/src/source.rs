@@ -169,7 +169,7 @@ impl Capture {
         let reach =
             CapturedReach::new(&self.name(), &self.clip, &joints, frames, mode).map_err(in_row)?;
         Ok(match row.target {
-            Some(t) => reach.with_target(Point3::from(t)),
+            Some(t) => reach.with_target(Point3::from(t)).map_err(in_row)?,
             None => reach,
         })
     }
