@@ -267,16 +267,29 @@ fn run_group(
         return Err(Failure::Task("nothing was fitted".into()));
     };
     let last = match args.refine {
-        Some(max_evaluations) => last
-            .refined(
-                group,
-                settings,
-                &RefineSettings {
-                    max_evaluations,
-                    ..RefineSettings::default()
-                },
-            )
-            .map_err(Failure::from)?,
+        Some(max_evaluations) => {
+            let refined = last
+                .refined_until(
+                    group,
+                    settings,
+                    &RefineSettings {
+                        max_evaluations,
+                        ..RefineSettings::default()
+                    },
+                    Some(&INTERRUPTED),
+                )
+                .map_err(Failure::from)?;
+            // Ctrl-C during the refinement: its vector is not the refined one; nothing of
+            // this fit is written (issue 27 #5: it ran on and wrote it as finished).
+            if refined.refinement.as_ref().is_some_and(|r| r.interrupted) {
+                return Err(Failure::Task(
+                    "interrupted during --refine: this fit is not written (the refinement \
+                     has no checkpoint; run it again)"
+                        .into(),
+                ));
+            }
+            refined
+        }
         None => last,
     };
     fits.fits.push(last);

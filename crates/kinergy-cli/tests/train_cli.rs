@@ -683,3 +683,54 @@ fn compare_holdout_takes_clips_and_persons_from_a_segments_file() {
         &out.join("x"),
     );
 }
+
+/// Issue 27 #5: Ctrl-C during `fit --refine` stops the refinement at once (no evaluation starts
+/// after it), exits 1 saying the fit was interrupted and writes nothing for it. Before, the
+/// refinement ran on for its whole budget and the file was written as if finished.
+#[test]
+fn ctrl_c_during_refine_stops_it_and_writes_nothing() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("p.json");
+    let mut args: Vec<String> = ["fit", "--model", "sd", "--per", "person"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    for p in ["p01", "p02", "p03", "p04"] {
+        for r in 1..=14 {
+            args.push(
+                repo()
+                    .join(format!("data-synthetic/{p}/r{r:02}.bvh"))
+                    .to_string_lossy()
+                    .into_owned(),
+            );
+        }
+    }
+    args.extend(
+        ["--refine", "10000000", "--budget", "8", "-q", "-o"]
+            .iter()
+            .map(|s| s.to_string()),
+    );
+    args.push(out.to_string_lossy().into_owned());
+    let child = Command::new(env!("CARGO_BIN_EXE_kinergy"))
+        .args(&args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    // The annealing (8 evaluations) is over within the first second; the refinement of the
+    // 56 reaches runs far longer (8 s for half of them on 2 cores), so at 2 s it is running.
+    std::thread::sleep(std::time::Duration::from_secs(2));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(killed.success());
+    let o = child.wait_with_output().expect("wait");
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("interrupted during --refine"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!out.exists(), "an interrupted refinement wrote its fit");
+}

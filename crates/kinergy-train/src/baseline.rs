@@ -59,7 +59,7 @@
 
 use std::fmt;
 use std::str::FromStr;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, PoisonError};
 
 use argmin::core::{
@@ -219,6 +219,18 @@ pub fn minimize(
     start: &[f64],
     settings: &BaselineSettings,
 ) -> Result<BaselineResult> {
+    minimize_until(method, cost, start, settings, None)
+}
+
+/// [`minimize`], stopping early (with the best point so far) once `interrupt` is raised: no
+/// evaluation starts after it (Ctrl-C during `fit --refine`).
+pub fn minimize_until(
+    method: BaselineMethod,
+    cost: &dyn CostFunction,
+    start: &[f64],
+    settings: &BaselineSettings,
+    interrupt: Option<&AtomicBool>,
+) -> Result<BaselineResult> {
     settings.validate()?;
     let (lower, upper) = crate::objective::checked_bounds(cost, start)?;
     let n = cost.dimension();
@@ -239,6 +251,7 @@ pub fn minimize(
         budget: settings.max_evaluations,
         used: AtomicUsize::new(0),
         best: Mutex::new(None),
+        interrupt,
     };
     // Every iteration makes at least one evaluation until the budget stops the run, so the
     // iteration cap is only a backstop.
@@ -315,6 +328,7 @@ where
         solver,
         used: &tracker.used,
         budget: tracker.budget,
+        interrupt: tracker.interrupt,
     };
     let result = Executor::new(Evaluator(tracker), solver)
         .configure(configure)
@@ -377,11 +391,12 @@ struct Tracker<'a> {
     budget: usize,
     used: AtomicUsize,
     best: Mutex<Option<(Param, f64)>>,
+    interrupt: Option<&'a AtomicBool>,
 }
 
 impl Tracker<'_> {
     fn evaluate(&self, x: &[f64]) -> f64 {
-        if x.iter().any(|v| !v.is_finite()) {
+        if x.iter().any(|v| !v.is_finite()) || interrupted(self.interrupt) {
             return f64::MAX;
         }
         let claimed = self
@@ -431,11 +446,17 @@ impl ArgminCost for Evaluator<'_> {
     }
 }
 
-/// A solver that also stops once the budget is spent.
+/// Whether `interrupt` is raised.
+fn interrupted(interrupt: Option<&AtomicBool>) -> bool {
+    interrupt.is_some_and(|f| f.load(Ordering::SeqCst))
+}
+
+/// A solver that also stops once the budget is spent or it is interrupted.
 struct WithBudget<'a, S> {
     solver: S,
     used: &'a AtomicUsize,
     budget: usize,
+    interrupt: Option<&'a AtomicBool>,
 }
 
 impl<O, I: State, S: Solver<O, I>> Solver<O, I> for WithBudget<'_, S> {
@@ -461,7 +482,9 @@ impl<O, I: State, S: Solver<O, I>> Solver<O, I> for WithBudget<'_, S> {
 
     fn terminate(&mut self, state: &I) -> TerminationStatus {
         let inner = self.solver.terminate(state);
-        if inner.terminated() || self.used.load(Ordering::SeqCst) < self.budget {
+        if interrupted(self.interrupt) {
+            TerminationStatus::Terminated(TerminationReason::SolverExit("interrupted".into()))
+        } else if inner.terminated() || self.used.load(Ordering::SeqCst) < self.budget {
             inner
         } else {
             TerminationStatus::Terminated(TerminationReason::SolverExit(

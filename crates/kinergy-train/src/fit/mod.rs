@@ -27,5 +27,5 @@ pub use nested::{
     ClipFrames, FitProblem, NestedCheckpoint, NestedFit, NestedOutcome, NestedRun, Stage,
     fit_nested,
 };
-pub use refine::{RefineSettings, Refinement, refine};
+pub use refine::{RefineSettings, Refinement, refine, refine_until};
 pub use single::{Fit, FitSettings, fit_model, model_seed};

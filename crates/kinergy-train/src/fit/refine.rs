@@ -31,6 +31,8 @@
 
 use kinergy_solver::Synergy;
 use nalgebra::{DMatrix, DVector};
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -104,6 +106,8 @@ pub struct Refinement {
     pub evaluations: usize,
     /// Rounds (Nelder–Mead then Levenberg–Marquardt).
     pub rounds: usize,
+    /// Whether it was interrupted ([`refine_until`]) before it ended on its own.
+    pub interrupted: bool,
 }
 
 /// One evaluation: the residuals and the mean motion distance of `x`, or `None` when a
@@ -163,7 +167,21 @@ pub fn refine(
     start: &[f64],
     settings: &RefineSettings,
 ) -> Result<Refinement> {
+    refine_until(objective, start, settings, None)
+}
+
+/// [`refine`], stopping once `interrupt` is raised (Ctrl-C): no evaluation starts after it,
+/// and the result says [`Refinement::interrupted`] (the best vector so far, which a caller
+/// should not take for a finished refinement). Before, `fit --refine 10000000` ran on for
+/// its whole budget after Ctrl-C and wrote its file as if uninterrupted.
+pub fn refine_until(
+    objective: &Objective,
+    start: &[f64],
+    settings: &RefineSettings,
+    interrupt: Option<&AtomicBool>,
+) -> Result<Refinement> {
     settings.validate()?;
+    let stop = || interrupt.is_some_and(|f| f.load(Ordering::SeqCst));
     let (lower, upper) = crate::objective::checked_bounds(objective, start)?;
     let n = start.len();
     let start_score = objective.score(start)?;
@@ -173,6 +191,7 @@ pub fn refine(
         start_score,
         evaluations: 1,
         rounds: 0,
+        interrupted: false,
     };
     let bounds = Bounds { lower, upper };
     loop {
@@ -181,8 +200,12 @@ pub fn refine(
         if left < 2 * (n + 1) {
             break;
         }
+        if stop() {
+            out.interrupted = true;
+            break;
+        }
         out.rounds += 1;
-        let simplex = crate::baseline::minimize(
+        let simplex = crate::baseline::minimize_until(
             BaselineMethod::NelderMead,
             objective,
             &out.values,
@@ -192,6 +215,7 @@ pub fn refine(
                 sd_tolerance: 1e-9,
                 ..BaselineSettings::default()
             },
+            interrupt,
         )?;
         out.evaluations += simplex.evaluations;
         if simplex.best_cost < out.score {
@@ -199,8 +223,12 @@ pub fn refine(
             out.values = simplex.best_x;
         }
         let left = settings.max_evaluations.saturating_sub(out.evaluations);
+        if stop() {
+            out.interrupted = true;
+            break;
+        }
         let (x, score, evaluations) =
-            levenberg_marquardt(objective, &out.values, &bounds, left, settings);
+            levenberg_marquardt(objective, &out.values, &bounds, left, settings, &stop);
         out.evaluations += evaluations;
         if score < out.score {
             out.score = score;
@@ -210,6 +238,8 @@ pub fn refine(
             break;
         }
     }
+    // Raised inside a round: the round ended early.
+    out.interrupted |= stop();
     Ok(out)
 }
 
@@ -227,6 +257,7 @@ fn levenberg_marquardt(
     bounds: &Bounds,
     budget: usize,
     settings: &RefineSettings,
+    stop: &dyn Fn() -> bool,
 ) -> (Vec<f64>, f64, usize) {
     let (lower, upper) = (&bounds.lower, &bounds.upper);
     let n = start.len();
@@ -240,7 +271,7 @@ fn levenberg_marquardt(
     let mut x = start.to_vec();
     let mut lambda = settings.damping;
     // An iteration needs n evaluations for J and at least one trial.
-    while evaluations + n < budget && lambda <= 1e10 {
+    while evaluations + n < budget && lambda <= 1e10 && !stop() {
         let columns: Vec<Option<DVector<f64>>> = (0..n)
             .into_par_iter()
             .map(|k| {

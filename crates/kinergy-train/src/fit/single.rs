@@ -5,7 +5,7 @@ use kinergy_solver::{
     Bounds, FitMethod, FitRecord, FittedReach, Model, Optimizer, ParamSpace, ParamsFile,
 };
 
-use super::refine::{RefineSettings, Refinement, refine};
+use super::refine::{RefineSettings, Refinement, refine_until};
 use crate::anneal::{AnnealSettings, AnnealState, Annealer, Control, Observer, Status};
 use crate::captured::{CapturedReach, DEFAULT_TOLERANCE};
 use crate::error::{Result, require};
@@ -117,8 +117,21 @@ impl Fit {
         settings: &FitSettings,
         refine_settings: &RefineSettings,
     ) -> Result<Fit> {
+        self.refined_until(reaches, settings, refine_settings, None)
+    }
+
+    /// [`Fit::refined`], stopping once `interrupt` is raised (Ctrl-C): the fit's
+    /// [`Refinement::interrupted`](super::Refinement::interrupted) says so, and its values are
+    /// the best so far, not a finished refinement's.
+    pub fn refined_until(
+        self,
+        reaches: &[CapturedReach],
+        settings: &FitSettings,
+        refine_settings: &RefineSettings,
+        interrupt: Option<&std::sync::atomic::AtomicBool>,
+    ) -> Result<Fit> {
         let objective = settings.objective(reaches, self.model(), self.optimizer)?;
-        let refinement = refine(&objective, &self.values, refine_settings)?;
+        let refinement = refine_until(&objective, &self.values, refine_settings, interrupt)?;
         let evaluations = self.evaluations + refinement.evaluations;
         Ok(Fit {
             distances: objective.distances(&refinement.values)?,
