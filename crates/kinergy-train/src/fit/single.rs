@@ -108,7 +108,7 @@ impl Fit {
         self.space.model()
     }
 
-    /// This fit refined by Nelder–Mead and Levenberg–Marquardt ([`refine`]) on `reaches` (the reaches it was
+    /// This fit refined by Nelder–Mead and Levenberg–Marquardt ([`refine`](super::refine)) on `reaches` (the reaches it was
     /// fitted on) with the ε of `settings`: the values, score and distances of the best
     /// vector the refinement saw (never worse than the annealing's), the evaluations added.
     pub fn refined(
