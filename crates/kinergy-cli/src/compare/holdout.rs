@@ -304,7 +304,7 @@ fn markdown(
         let name = line
             .person
             .as_deref()
-            .map_or("**all**".to_string(), |p| format!("`{p}`"));
+            .map_or("**all**".to_string(), md_code);
         md.push_str(&format!("| {name} | {split} | {} |", cell(&line.neutral)));
         for (_, s) in &line.models {
             md.push_str(&format!(" {} |", cell(s)));
@@ -327,13 +327,13 @@ fn markdown(
         "\n## Person × person — each person's {cm} vector on every person's held-out takes, mean\n\n| vector of ↓ · takes of → |"
     ));
     for p in &summary.persons {
-        md.push_str(&format!(" `{p}` |"));
+        md.push_str(&format!(" {} |", md_code(p)));
     }
     md.push_str("\n|---|");
     md.push_str(&"---|".repeat(persons));
     md.push('\n');
     for (i, p) in summary.persons.iter().enumerate() {
-        md.push_str(&format!("| `{p}` |"));
+        md.push_str(&format!("| {} |", md_code(p)));
         for j in 0..persons {
             let v = mm(summary.cross[i][j]);
             if i == j {
@@ -379,7 +379,7 @@ fn markdown(
     md.push_str(&"---|".repeat(models.len()));
     md.push('\n');
     for f in &results.fits {
-        md.push_str(&format!("| `{}` |", f.person));
+        md.push_str(&format!("| {} |", md_code(&f.person)));
         for (_, _, score) in &f.models {
             md.push_str(&format!(" {} |", mm(*score)));
         }
@@ -412,7 +412,7 @@ fn field_table(summary: &HoldoutSummary, results: &HoldoutResults) -> String {
         let name = line
             .person
             .as_deref()
-            .map_or("**all**".to_string(), |p| format!("`{p}`"));
+            .map_or("**all**".to_string(), md_code);
         let bandwidth = line
             .person
             .as_deref()
@@ -445,4 +445,46 @@ fn field_table(summary: &HoldoutSummary, results: &HoldoutResults) -> String {
         if persons == 1 { "" } else { "s" }
     ));
     md
+}
+
+/// `text` as an inline code span in a Markdown table cell: a fence of one backtick more than
+/// the longest run inside (padded where the text starts or ends with one), `|` escaped (GFM
+/// splits cells on it even inside code) and line breaks as spaces. A person named `a|b` or
+/// with a backtick broke the tables' columns (issue 27 #9).
+fn md_code(text: &str) -> String {
+    let mut longest = 0;
+    let mut run = 0;
+    for c in text.chars() {
+        run = if c == '`' { run + 1 } else { 0 };
+        longest = longest.max(run);
+    }
+    let fence = "`".repeat(longest + 1);
+    let pad = if text.starts_with('`') || text.ends_with('`') {
+        " "
+    } else {
+        ""
+    };
+    let body = text.replace('|', "\\|").replace(['\n', '\r'], " ");
+    format!("{fence}{pad}{body}{pad}{fence}")
+}
+
+#[cfg(test)]
+mod md_tests {
+    use super::md_code;
+
+    #[test]
+    fn a_person_name_stays_in_its_cell() {
+        assert_eq!(md_code("active"), "`active`");
+        assert_eq!(md_code("a|b"), "`a\\|b`");
+        assert_eq!(md_code("a`b"), "``a`b``");
+        assert_eq!(md_code("`x"), "`` `x ``");
+        assert_eq!(md_code("two\nlines"), "`two lines`");
+        // A GFM table row splits on `|` not preceded by a backslash: this row has two cells.
+        let row = format!("| {} | 1 |", md_code("x|y|z"));
+        let bars = row
+            .char_indices()
+            .filter(|&(i, c)| c == '|' && !row[..i].ends_with('\\'))
+            .count();
+        assert_eq!(bars, 3, "{row}");
+    }
 }
