@@ -160,6 +160,26 @@ pub fn to_pretty_json<T: Serialize + ?Sized>(value: &T) -> Result<String, serde_
 /// Writes `value` as pretty JSON, atomically (see [`crate::write_atomic`]).
 pub fn write_json<T: Serialize + ?Sized>(path: &Path, value: &T) -> io::Result<()> {
     let text = to_pretty_json(value).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
+    write_json_text(path, &text)
+}
+
+/// Writes JSON `text` atomically, refusing (nothing written) a text longer than
+/// [`crate::MAX_JSON_BYTES`], the most any Kinergy reader accepts: what Kinergy writes, it
+/// reads back (a per-person fit of 100,000 segment rows wrote a 51 MB parameters file every
+/// reader then refused).
+pub fn write_json_text(path: &Path, text: &str) -> io::Result<()> {
+    let size = text.len() as u64;
+    if size > crate::MAX_JSON_BYTES {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "the file would be {:.1} MB, over the {} a Kinergy reader accepts; nothing \
+                 written (fit fewer reaches into one file, e.g. --per clip)",
+                size as f64 / 1e6,
+                crate::format_limit(crate::MAX_JSON_BYTES)
+            ),
+        ));
+    }
     crate::write_atomic(path, text.as_bytes())
 }
 
@@ -167,6 +187,24 @@ pub fn write_json<T: Serialize + ?Sized>(path: &Path, value: &T) -> io::Result<(
 mod tests {
     use super::*;
     use serde::Deserialize;
+
+    #[test]
+    fn a_text_no_reader_accepts_is_not_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("big.json");
+        let big = format!("\"{}\"", "x".repeat(crate::MAX_JSON_BYTES as usize));
+        let err = write_json_text(&path, &big).expect_err("over the cap");
+        assert_eq!(err.kind(), io::ErrorKind::InvalidInput);
+        assert!(err.to_string().contains("16 MiB"), "{err}");
+        assert!(!path.exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        let fits = format!("\"{}\"", "x".repeat(crate::MAX_JSON_BYTES as usize - 2));
+        write_json_text(&path, &fits).expect("at the cap");
+        assert_eq!(
+            std::fs::metadata(&path).unwrap().len(),
+            crate::MAX_JSON_BYTES
+        );
+    }
 
     #[derive(Debug, PartialEq, Serialize, Deserialize)]
     #[serde(deny_unknown_fields)]

@@ -22,7 +22,9 @@ mod text;
 
 pub use atomic::{AtomicFile, STALE_AFTER, describe_full_disk, is_disk_full, write_atomic};
 #[cfg(feature = "json")]
-pub use json::{JsonError, check_version, parse_versioned, to_pretty_json, write_json};
+pub use json::{
+    JsonError, check_version, parse_versioned, to_pretty_json, write_json, write_json_text,
+};
 pub use read::{
     MAX_CAPTURE_BYTES, MAX_JSON_BYTES, MIB, describe_file_type, format_limit, not_regular,
     read_limited, read_to_string_limited,

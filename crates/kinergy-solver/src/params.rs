@@ -104,7 +104,7 @@ impl ParamsFile {
 
     /// Writes the file atomically.
     pub fn write(&self, path: &Path) -> Result<()> {
-        kinergy_io::write_atomic(path, self.to_json().as_bytes())
+        kinergy_io::write_json_text(path, &self.to_json())
             .map_err(|e| SolverError::ParamsFile(format!("cannot write {}: {e}", path.display())))
     }
 
@@ -296,6 +296,27 @@ mod tests {
         );
         assert_ne!(top, json);
         assert!(ParamsFile::from_json(&top).is_err());
+    }
+
+    /// Issue 27 #8: a file no reader would accept is not written (what Kinergy writes, it
+    /// reads back): the error says so and no file or temporary is left.
+    #[test]
+    fn a_file_over_the_readers_cap_is_not_written() {
+        let names: Vec<String> = (0..700_000).map(|i| format!("dof_{i}")).collect();
+        let space = ParamSpace::new(Model::Sb, &names, Bounds::default()).expect("space");
+        let file = ParamsFile::new(
+            &space,
+            OptimizerKind::Svd.default_optimizer(),
+            &vec![1.0; names.len()],
+        )
+        .expect("file");
+        let dir = std::env::temp_dir().join(format!("kinergy-params-cap-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("p.json");
+        let err = file.write(&path).expect_err("over the cap");
+        assert!(err.to_string().contains("16 MiB"), "{err}");
+        assert_eq!(std::fs::read_dir(&dir).expect("dir").count(), 0);
+        std::fs::remove_dir_all(&dir).expect("clean");
     }
 
     /// Issue 27 #6 and #11: a file with 200,000 DoF names (a value each) is checked in one

@@ -412,7 +412,7 @@ impl FieldFile {
 
     /// Writes the file atomically.
     pub fn write(&self, path: &Path) -> Result<()> {
-        kinergy_io::write_atomic(path, self.to_json().as_bytes()).map_err(|source| TrainError::Io {
+        kinergy_io::write_json_text(path, &self.to_json()).map_err(|source| TrainError::Io {
             path: path.to_path_buf(),
             source,
         })
