@@ -143,22 +143,12 @@ fn an_interrupted_fit_resumes_to_the_uninterrupted_result() {
         "--checkpoint-every".into(),
         "5".into(),
     ]);
-    let child = Command::new(env!("CARGO_BIN_EXE_kinergy"))
-        .args(&first)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("spawn");
-    let clock = std::time::Instant::now();
-    while !checkpoint.exists() && clock.elapsed().as_secs() < 60 {
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill");
-    assert!(killed.success());
-    let o = child.wait_with_output().expect("wait");
+    let o = interrupted(&first, || {
+        let clock = std::time::Instant::now();
+        while !checkpoint.exists() && clock.elapsed().as_secs() < 60 {
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+    });
     if o.status.code() == Some(0) {
         // The fit finished before the signal arrived: nothing to resume on this machine.
         eprintln!("the fit ended before it could be interrupted; resume not exercised");
@@ -711,21 +701,11 @@ fn ctrl_c_during_refine_stops_it_and_writes_nothing() {
             .map(|s| s.to_string()),
     );
     args.push(out.to_string_lossy().into_owned());
-    let child = Command::new(env!("CARGO_BIN_EXE_kinergy"))
-        .args(&args)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("spawn");
     // The annealing (8 evaluations) is over within the first second; the refinement of the
     // 56 reaches runs far longer (8 s for half of them on 2 cores), so at 2 s it is running.
-    std::thread::sleep(std::time::Duration::from_secs(2));
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill");
-    assert!(killed.success());
-    let o = child.wait_with_output().expect("wait");
+    let o = interrupted(&args, || {
+        std::thread::sleep(std::time::Duration::from_secs(2))
+    });
     assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).contains("interrupted during --refine"),
@@ -733,4 +713,21 @@ fn ctrl_c_during_refine_stops_it_and_writes_nothing() {
         text(&o.stderr)
     );
     assert!(!out.exists(), "an interrupted refinement wrote its fit");
+}
+
+/// Runs `kinergy ARGS`, sends it SIGINT once `wait` returns, and collects its output.
+fn interrupted(args: &[String], wait: impl FnOnce()) -> Output {
+    let child = Command::new(env!("CARGO_BIN_EXE_kinergy"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    wait();
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(killed.success());
+    child.wait_with_output().expect("wait")
 }

@@ -199,6 +199,28 @@ mod tests {
         ParamSpace::new(Model::Sc, &dofs, Bounds::default()).expect("space")
     }
 
+    /// An S_C file on [`space`]'s DoFs.
+    fn sample() -> ParamsFile {
+        ParamsFile::new(
+            &space(),
+            OptimizerKind::Svd.default_optimizer(),
+            &[1.0, 1.0, 2.0, 0.0],
+        )
+        .expect("file")
+    }
+
+    /// An S_B file on `n` DoFs named `dof_0` … with every gain 1.
+    fn sb_file(n: usize) -> ParamsFile {
+        let names: Vec<String> = (0..n).map(|i| format!("dof_{i}")).collect();
+        let space = ParamSpace::new(Model::Sb, &names, Bounds::default()).expect("space");
+        ParamsFile::new(
+            &space,
+            OptimizerKind::Svd.default_optimizer(),
+            &vec![1.0; n],
+        )
+        .expect("file")
+    }
+
     #[test]
     fn round_trips_exactly() {
         let values = [1.25, -0.1, 3.0, 0.3];
@@ -211,12 +233,7 @@ mod tests {
 
     #[test]
     fn errors_name_the_field() {
-        let file = ParamsFile::new(
-            &space(),
-            OptimizerKind::Svd.default_optimizer(),
-            &[1.0, 1.0, 2.0, 0.0],
-        )
-        .expect("file");
+        let file = sample();
         let json = file.to_json();
         let cases = [
             (json.replace("\"s\": 2.0", "\"s\": 20.0"), "`s` = 20"),
@@ -275,12 +292,7 @@ mod tests {
     /// given twice is (serde_json's map kept the last), with the line of the second.
     #[test]
     fn a_value_named_twice_is_refused() {
-        let file = ParamsFile::new(
-            &space(),
-            OptimizerKind::Svd.default_optimizer(),
-            &[1.0, 1.0, 2.0, 0.0],
-        )
-        .expect("file");
+        let file = sample();
         let json = file.to_json();
         let twice = json.replace("\"g_b\": 1.0", "\"g_b\": 1.0,\n    \"g_b\": 3.0");
         assert_ne!(twice, json);
@@ -302,14 +314,7 @@ mod tests {
     /// reads back): the error says so and no file or temporary is left.
     #[test]
     fn a_file_over_the_readers_cap_is_not_written() {
-        let names: Vec<String> = (0..700_000).map(|i| format!("dof_{i}")).collect();
-        let space = ParamSpace::new(Model::Sb, &names, Bounds::default()).expect("space");
-        let file = ParamsFile::new(
-            &space,
-            OptimizerKind::Svd.default_optimizer(),
-            &vec![1.0; names.len()],
-        )
-        .expect("file");
+        let file = sb_file(700_000);
         let dir = std::env::temp_dir().join(format!("kinergy-params-cap-{}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("dir");
         let path = dir.join("p.json");
@@ -324,14 +329,10 @@ mod tests {
     /// `synthesize` now), and the messages that name its lists stay short.
     #[test]
     fn a_huge_dof_list_is_checked_in_one_pass_and_named_briefly() {
-        let names: Vec<String> = (0..200_000).map(|i| format!("dof_{i}")).collect();
-        let space = ParamSpace::new(Model::Sb, &names, Bounds::default()).expect("space");
-        let values = vec![1.0; names.len()];
-        let file =
-            ParamsFile::new(&space, OptimizerKind::Svd.default_optimizer(), &values).expect("file");
+        let file = sb_file(200_000);
         let mut text = file.to_json();
         let back = ParamsFile::from_json(&text).expect("a huge file reads");
-        assert_eq!(back.values().expect("values").len(), names.len());
+        assert_eq!(back.values().expect("values").len(), 200_000);
         let err = back.synergy_for(&["a".into()]).expect_err("other chain");
         assert!(err.to_string().len() < 400, "{}", err.to_string().len());
         text = text.replace("\"g_dof_7\"", "\"g_nothing\"");

@@ -250,11 +250,13 @@ impl ReachSphere {
         };
         // The smooth controller guides also while the arm itself is near straight: a hanging
         // arm's start, where the radial direction has no singular value.
+        // The hinge's sinusoid, computed once a frame where it is needed.
+        let mut sinusoid: Option<(f64, f64, f64)> = None;
         let now = match straight_arm {
             StraightArm::Ignored => 0.0,
             StraightArm::FromDistance => weight_at((r * r - u * u - l * l) / (2.0 * u * l)),
             StraightArm::FromHinge => {
-                let (_, amp, psi) = self.hinge_sinusoid(lin);
+                let (_, amp, psi) = *sinusoid.get_or_insert_with(|| self.hinge_sinusoid(lin));
                 if amp > tiny * tiny {
                     weight_at(psi.cos())
                 } else {
@@ -266,7 +268,7 @@ impl ReachSphere {
         if weight <= 0.0 || r <= tiny || d <= tiny {
             return None;
         }
-        let (c0, amp, psi) = self.hinge_sinusoid(lin);
+        let (c0, amp, psi) = sinusoid.unwrap_or_else(|| self.hinge_sinusoid(lin));
         if amp <= tiny * tiny {
             return None;
         }
