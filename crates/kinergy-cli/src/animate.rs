@@ -203,11 +203,19 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             paths.len()
         )));
     }
+    // Read before the output check (reading writes nothing): its meshes are inputs too. A
+    // scene that cannot be read is reported after the outputs are checked.
+    let scene = args
+        .scene
+        .as_deref()
+        .map(|path| read_props(path, args.report.as_deref(), args.read.max_input_mb));
     {
         use crate::common::{Output, check_outputs};
         let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
         inputs.extend(paths.iter().map(PathBuf::as_path));
         inputs.extend(args.scene.as_deref());
+        let meshes = scene.iter().flatten().flat_map(|s| &s.meshes);
+        inputs.extend(meshes.map(PathBuf::as_path));
         inputs.extend(args.report.as_deref());
         check_outputs(
             &inputs,
@@ -252,10 +260,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         });
         tracks.push(track);
     }
-    let props = match &args.scene {
-        Some(path) => read_props(path, args.report.as_deref(), args.read.max_input_mb)?,
-        None => Vec::new(),
-    };
+    let props = scene.transpose()?.map(|s| s.props).unwrap_or_default();
     let moving_objects: Vec<String> = props
         .iter()
         .filter(|p| p.moving())

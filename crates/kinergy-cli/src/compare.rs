@@ -102,9 +102,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     {
         use crate::common::{Output, check_outputs};
         let mut inputs: Vec<&std::path::Path> = paths.iter().map(PathBuf::as_path).collect();
-        inputs.extend(clips.paths.iter().map(PathBuf::as_path));
+        inputs.extend(clips.inputs());
         inputs.extend(args.reach.segments.as_deref());
-        check_outputs(&inputs, &[Output::Folder("-o", &args.output)])?;
+        let files = output_files(&args.output, holdout.is_some());
+        check_outputs(&inputs, &[Output::Folder("-o", &args.output, &files)])?;
     }
     if let Some(k) = holdout {
         let reaches = args.reach.load_all_with_persons(&clips)?;
@@ -173,6 +174,24 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .collect::<Vec<_>>()
             .join(", ")
     ))
+}
+
+/// Every file `compare -o DIR` may write: with `--holdout`, holdout.csv and summary.md;
+/// without, results.csv, summary.md and the charts.
+fn output_files(dir: &std::path::Path, holdout: bool) -> Vec<PathBuf> {
+    let names: &[&str] = if holdout {
+        &["holdout.csv", "summary.md"]
+    } else {
+        &[
+            "results.csv",
+            "summary.md",
+            "fig3.svg",
+            "fig3.png",
+            "fig4.svg",
+            "fig4.png",
+        ]
+    };
+    names.iter().map(|name| dir.join(name)).collect()
 }
 
 /// Fig. 3 (per model) and Fig. 4 (per optimizer, S_A and S_C) as bar charts of the mean

@@ -117,15 +117,16 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     {
         use crate::common::{Output, check_outputs};
         let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
-        inputs.extend(clips.paths.iter().map(PathBuf::as_path));
+        inputs.extend(clips.inputs());
         inputs.extend(args.reach.segments.as_deref());
         let option = if args.out_dir.is_some() {
             "--out-dir"
         } else {
             "-o"
         };
+        let files: Vec<PathBuf> = names.iter().map(|name| dest.join(name)).collect();
         let mut outputs = vec![if folder {
-            Output::Folder(option, dest)
+            Output::Folder(option, dest, &files)
         } else {
             Output::File(option, dest)
         }];

@@ -232,10 +232,14 @@ fn reach_target(args: &Args, scene: &Scene) -> Result<Point3<f64>, Failure> {
 pub fn run(args: &Args) -> Result<(), Failure> {
     check_range("--distance", args.distance, limits::PLAN_DISTANCE)?;
     check_optional("--budget-ms", args.budget_ms, limits::PLAN_BUDGET_MS)?;
+    // Read first (reading writes nothing): the meshes it names are inputs too. A scene that
+    // cannot be read is reported after the outputs are checked, as every input is.
+    let scene = Scene::read(&args.scene);
     let mut inputs = vec![args.scene.as_path()];
+    inputs.extend(scene.iter().flat_map(Scene::mesh_files));
     inputs.extend(args.params.as_deref());
     crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
-    let scene = Scene::read(&args.scene).map_err(|e| Failure::input(&args.scene, e))?;
+    let scene = scene.map_err(|e| Failure::input(&args.scene, e))?;
     let limb = Limb::arm(args.arm);
     let mut settings = TaskSettings {
         limb,

@@ -125,17 +125,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(dir) = &args.output {
         let mut inputs: Vec<&Path> = clips.iter().map(PathBuf::as_path).collect();
         inputs.push(&args.params);
-        crate::common::check_outputs(&inputs, &[crate::common::Output::Folder("-o", dir)])?;
+        let mut files: Vec<PathBuf> = reach_files.iter().flatten().cloned().collect();
+        files.extend(
+            ["style.csv", "summary.md"]
+                .into_iter()
+                .chain(pictures::FILES)
+                .map(|name| dir.join(name)),
+        );
+        crate::common::check_outputs(&inputs, &[crate::common::Output::Folder("-o", dir, &files)])?;
         // Made before any work, as `compare -o` makes its own (a missing folder used to end
         // the run with an OS error about style.csv).
         std::fs::create_dir_all(dir)
             .map_err(|e| Failure::input(dir, format!("cannot create the folder: {e}")))?;
-        let files: Vec<_> = reach_files
-            .iter()
-            .flatten()
-            .map(|f| crate::common::Output::File("-o", f))
-            .collect();
-        crate::common::check_outputs(&inputs, &files)?;
     }
     let person = crate::common::read_person(&args.params)?;
     let mut rows = Vec::with_capacity(clips.len());

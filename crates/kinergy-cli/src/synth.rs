@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use kinergy_motion::Side;
 use kinergy_reach::ReachError;
 use kinergy_reach::drive::Driver;
-use kinergy_reach::synth::{MANIFEST, SynthSettings, write_set};
+use kinergy_reach::synth::{MANIFEST, SynthSettings, set_files, write_set};
 use kinergy_train::segment::Label;
 use kinergy_train::segments_file::{SegmentRow, SegmentsFile};
 
@@ -50,7 +50,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     check_range("--reaches", args.reaches, limits::SYNTH_REACHES)?;
     check_range("--frame-rate", args.frame_rate, limits::SYNTH_FRAME_RATE)?;
     let inputs: Vec<&Path> = args.params.iter().map(PathBuf::as_path).collect();
-    check_outputs(&inputs, &[Output::Folder("-o", &args.output)])?;
+    let mut names = set_files(&settings(args));
+    if args.params.is_some() {
+        names.push(SEGMENTS.into());
+    }
+    let files: Vec<PathBuf> = names.iter().map(|name| args.output.join(name)).collect();
+    check_outputs(&inputs, &[Output::Folder("-o", &args.output, &files)])?;
     let person = args
         .params
         .as_deref()
@@ -77,23 +82,31 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     ))
 }
 
-/// Writes the set (the clips and the manifest, by the library) and, with --params, the
-/// segments file; the number of clips.
-fn write(args: &Args, drive: Driver<'_>) -> Result<usize, Failure> {
-    let settings = SynthSettings {
+/// The segments file a set made with --params has beside its manifest.
+const SEGMENTS: &str = "segments.csv";
+
+/// The set's settings from the command line.
+fn settings(args: &Args) -> SynthSettings {
+    SynthSettings {
         persons: args.persons,
         reaches: args.reaches,
         seed: args.seed,
         frame_rate: args.frame_rate,
         smooth_synergy: args.controller == ControllerKind::Smooth,
-    };
-    let made = write_set(&args.output, &settings, drive).map_err(|e| match (e, &args.params) {
-        (e @ ReachError::Params { .. }, Some(path)) => crate::common::person_failure(path, e),
-        (e @ ReachError::Io { .. }, _) => Failure::Task(e.to_string()),
-        (e, _) => Failure::Input(e.to_string()),
-    })?;
+    }
+}
+
+/// Writes the set (the clips and the manifest, by the library) and, with --params, the
+/// segments file; the number of clips.
+fn write(args: &Args, drive: Driver<'_>) -> Result<usize, Failure> {
+    let made =
+        write_set(&args.output, &settings(args), drive).map_err(|e| match (e, &args.params) {
+            (e @ ReachError::Params { .. }, Some(path)) => crate::common::person_failure(path, e),
+            (e @ ReachError::Io { .. }, _) => Failure::Task(e.to_string()),
+            (e, _) => Failure::Input(e.to_string()),
+        })?;
     if drive.is_person() {
-        let path = args.output.join("segments.csv");
+        let path = args.output.join(SEGMENTS);
         let segments = made
             .iter()
             .map(|(row, frames)| {

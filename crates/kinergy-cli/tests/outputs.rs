@@ -465,3 +465,165 @@ fn a_full_disk_during_synth_says_disk_full_and_leaves_no_folder() {
         "keep me"
     );
 }
+
+/// A file inside an output folder is an output like `-o FILE` (issue 27 #1, #3, #4): every
+/// command that writes into a folder refuses, before any work, a run whose files would
+/// replace one of its inputs — a segments file, a params file, a clip, a scene's mesh — and
+/// the input is left as it was.
+#[test]
+fn a_file_an_output_folder_would_replace_is_refused_as_an_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().join("D");
+    std::fs::create_dir(&d).unwrap();
+    let clip = d.join("p01").join("r01.bvh");
+    std::fs::create_dir(d.join("p01")).unwrap();
+    std::fs::copy(common::synthetic("r01.bvh"), &clip).unwrap();
+    std::fs::copy(common::synthetic("r02.bvh"), d.join("p01/r02.bvh")).unwrap();
+    let c = |p: &Path| p.to_str().unwrap().to_string();
+    let segments = |name: &str| {
+        let path = d.join(name);
+        let o = kinergy(&["segment", &c(&clip), "--manifest", &c(&path)]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        path
+    };
+    let copy = |from: &Path, name: &str| {
+        let path = d.join(name);
+        std::fs::copy(from, &path).unwrap();
+        path
+    };
+    let shelf = dir.path().join("shelf");
+    std::fs::create_dir(&shelf).unwrap();
+    for name in ["scene.json", "shelf.obj"] {
+        std::fs::copy(
+            repo().join("examples/bookshelf").join(name),
+            shelf.join(name),
+        )
+        .unwrap();
+    }
+    let people = repo().join("data-synthetic/manifest.csv");
+    let sa = ["--model", "sa", "--budget", "50"];
+    // Each case runs as soon as it is set up (two write files of one name).
+    let check = |case: &str, input: PathBuf, args: Vec<String>| {
+        let before = std::fs::read(&input).unwrap();
+        refused(case, &args, "is one of the inputs");
+        assert_eq!(
+            std::fs::read(&input).unwrap(),
+            before,
+            "{case}: input replaced"
+        );
+    };
+    {
+        let s = segments("results.csv");
+        let args = [
+            "compare",
+            "--segments",
+            &c(&s),
+            "--models",
+            "sa",
+            "-o",
+            &c(&d),
+        ];
+        check("compare results.csv", s.clone(), strings(&args));
+    }
+    {
+        let s = segments("summary.md");
+        let args = [
+            "compare",
+            "--segments",
+            &c(&s),
+            "--models",
+            "sa",
+            "-o",
+            &c(&d),
+        ];
+        check("compare summary.md", s.clone(), strings(&args));
+    }
+    {
+        let s = segments("holdout.csv");
+        let args = [
+            "compare",
+            "--segments",
+            &c(&s),
+            "--per",
+            "person",
+            "--holdout",
+            "1",
+        ];
+        let mut args = strings(&args);
+        args.extend(strings(&["-o", &c(&d)]));
+        check("compare --holdout holdout.csv", s.clone(), args);
+    }
+    {
+        let f = copy(&clip, "fig3.svg");
+        let args = ["compare", &c(&f), "--models", "sa", "-o", &c(&d)];
+        check(
+            "compare with a clip named fig3.svg",
+            f.clone(),
+            strings(&args),
+        );
+    }
+    {
+        let p = copy(&people, "summary.md");
+        let args = ["style", &c(&clip), "--params", &c(&p), "-o", &c(&d)];
+        check("style --params summary.md", p.clone(), strings(&args));
+    }
+    {
+        let p = copy(&people, "manifest.csv");
+        let args = ["synth", "--params", &c(&p), "-o", &c(&d)];
+        check("synth --params manifest.csv", p.clone(), strings(&args));
+    }
+    {
+        let p = copy(&people, "segments.csv");
+        let args = ["synth", "--params", &c(&p), "-o", &c(&d)];
+        check("synth --params segments.csv", p.clone(), strings(&args));
+    }
+    {
+        // Params named like one of the set's clips, p01/r03.bvh.
+        let p = copy(&people, "p01/r03.bvh");
+        let args = ["synth", "--params", &c(&p), "--persons", "1", "-o", &c(&d)];
+        check("synth --params p01/r03.bvh", p.clone(), strings(&args));
+    }
+    {
+        let s = segments("r01.json");
+        let mut args = strings(&["fit", "--segments", &c(&s), "--per", "clip"]);
+        args.extend(strings(&["--out-dir", &c(&d)]));
+        args.extend(strings(&sa));
+        check("fit --segments r01.json --out-dir", s.clone(), args);
+    }
+    {
+        let f = copy(&clip, "r01.json");
+        let mut args = strings(&["fit", &c(&f), "--per", "clip", "--out-dir", &c(&d)]);
+        args.extend(strings(&sa));
+        check("fit a capture named r01.json --out-dir", f.clone(), args);
+    }
+    {
+        let mesh = shelf.join("shelf.obj");
+        let scene = c(&shelf.join("scene.json"));
+        let args = [
+            "plan",
+            "--scene",
+            &scene,
+            "--task",
+            "grasp",
+            "--object",
+            "blue_book",
+        ];
+        let mut args = strings(&args);
+        args.extend(strings(&["-o", &c(&mesh)]));
+        check("plan -o the scene's mesh", mesh, args);
+    }
+    {
+        let s = segments("both.csv");
+        let other = d.join("p01/r02.bvh");
+        let text = std::fs::read_to_string(&s).unwrap();
+        let row = text
+            .lines()
+            .last()
+            .unwrap()
+            .replacen("r01.bvh", "r02.bvh", 1);
+        std::fs::write(&s, format!("{text}{row}\n")).unwrap();
+        let mut args = strings(&["fit", &c(&clip), "--segments", &c(&s), "-o", &c(&other)]);
+        args.extend(strings(&sa));
+        check("fit CLIP --segments S -o a clip S names", other, args);
+    }
+}

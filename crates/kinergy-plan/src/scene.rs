@@ -187,6 +187,15 @@ impl Scene {
         self.objects.iter().position(|o| o.name == name)
     }
 
+    /// The mesh files the scene was read from (its objects' `shape.file`, joined to the
+    /// scene's folder): inputs as much as the scene file itself.
+    pub fn mesh_files(&self) -> impl Iterator<Item = &Path> {
+        self.objects.iter().filter_map(|o| match &o.shape {
+            Shape::Mesh { file, .. } if !file.as_os_str().is_empty() => Some(file.as_path()),
+            _ => None,
+        })
+    }
+
     /// Triangles in all meshes.
     pub fn triangle_count(&self) -> usize {
         self.objects.iter().map(|o| o.shape.triangle_count()).sum()

@@ -20,7 +20,7 @@
 //! ([`MANIFEST`]). The BVH text is kinergy-motion's ([`kinergy_motion::clip_to_bvh`]).
 
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{Clip, Side};
@@ -199,6 +199,25 @@ impl SynthSet {
     }
 }
 
+/// Person `p`'s folder name in a set (0-based `p`): `p01`, `p02`, …
+fn person_id(p: usize) -> String {
+    format!("p{:02}", p + 1)
+}
+
+/// Reach `r` of person `p` (0-based) as the set names it: `p01/r01.bvh`, …
+fn clip_name(p: usize, r: usize) -> String {
+    format!("{}/r{:02}.bvh", person_id(p), r + 1)
+}
+
+/// Every file a set made with `settings` holds, relative to its folder: each clip
+/// (`pNN/rNN.bvh`) and the manifest ([`MANIFEST`]). Known before the set is made, so that a
+/// caller can check it replaces nothing it must keep.
+pub fn set_files(settings: &SynthSettings) -> Vec<PathBuf> {
+    let clips = (0..settings.persons)
+        .flat_map(|p| (0..settings.reaches).map(move |r| PathBuf::from(clip_name(p, r))));
+    clips.chain([PathBuf::from(MANIFEST)]).collect()
+}
+
 /// Makes the set ([`SynthSet::make`]) and writes it into `dir` ([`SynthSet::write`]) one
 /// person at a time, so that only one person's clips are in memory at once (a large set at a
 /// high frame rate need not fit). Returns each clip's manifest row and the frames its arm
@@ -244,7 +263,7 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
         p_max: rng.random_range(0.6..0.95),
     };
     let character = Character::new(&Proportions::from_height(person.height)?)?;
-    let id = format!("p{:02}", p + 1);
+    let id = person_id(p);
     let arm = character.proportions().arm(Side::Right);
     let steps = StepSettings {
         p_max: person.p_max,
@@ -313,7 +332,7 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
         let driven = rep.arm_onset_frame.min(driven_end)..driven_end;
         clips.push(SynthClip {
             row: ManifestRow {
-                clip: format!("{id}/r{:02}.bvh", r + 1),
+                clip: clip_name(p, r),
                 person: id.clone(),
                 height_m: person.height,
                 flexibility: person.flexibility,

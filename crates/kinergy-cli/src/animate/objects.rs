@@ -102,13 +102,36 @@ impl Prop {
     }
 }
 
+/// The scene's objects, and the mesh files the scene was read from (inputs too).
+pub(super) struct Props {
+    /// The objects to draw.
+    pub props: Vec<Prop>,
+    /// The scene's mesh files.
+    pub meshes: Vec<std::path::PathBuf>,
+}
+
 /// Reads the scene `path` and, with `report`, the poses of the objects a plan moved.
 pub(super) fn read_props(
     path: &Path,
     report: Option<&Path>,
     max_input_mb: u64,
-) -> Result<Vec<Prop>, Failure> {
+) -> Result<Props, Failure> {
     let plan_scene = kinergy_plan::scene::Scene::read(path).map_err(|e| Failure::input(path, e))?;
+    let meshes = plan_scene.mesh_files().map(Path::to_path_buf).collect();
+    Ok(Props {
+        props: scene_props(path, &plan_scene, report, max_input_mb)?,
+        meshes,
+    })
+}
+
+/// The objects of `plan_scene` (read from `path`) and, with `report`, the poses of those a
+/// plan moved.
+fn scene_props(
+    path: &Path,
+    plan_scene: &kinergy_plan::scene::Scene,
+    report: Option<&Path>,
+    max_input_mb: u64,
+) -> Result<Vec<Prop>, Failure> {
     let mut props: Vec<Prop> = plan_scene
         .objects
         .iter()

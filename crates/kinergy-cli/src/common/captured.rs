@@ -82,6 +82,19 @@ pub struct CaptureClips {
     segments: Option<SegmentsFile>,
 }
 
+impl CaptureClips {
+    /// Every clip file the command reads or could be asked to: [`paths`](Self::paths) and,
+    /// with `--segments`, every clip the file names (also those CLIPS leave out), for the
+    /// output check.
+    pub fn inputs(&self) -> Vec<&Path> {
+        let mut inputs: Vec<&Path> = self.paths.iter().map(PathBuf::as_path).collect();
+        if let Some(segments) = &self.segments {
+            inputs.extend(segments.rows().iter().map(|row| row.clip.as_path()));
+        }
+        inputs
+    }
+}
+
 impl CaptureArgs {
     /// The base mode chosen.
     pub fn mode(&self) -> BaseMode {
@@ -110,9 +123,11 @@ impl CaptureArgs {
                     segments: Some(segments),
                 })
             }
-            _ => Ok(CaptureClips {
+            // CLIPS filter the segments file's rows; the file is read now all the same, so
+            // that the clips it names are known as inputs (an output over one is refused).
+            (segments, _) => Ok(CaptureClips {
                 paths: collect_clips(given)?,
-                segments: None,
+                segments: segments.as_deref().map(read_segments).transpose()?,
             }),
         }
     }

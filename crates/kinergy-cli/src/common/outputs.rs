@@ -9,7 +9,11 @@
 //! - an output folder that exists and is not a folder;
 //! - an output that is one of the inputs, however spelled (`./x/../a.bvh`, a symbolic or
 //!   hard link): compared by canonical path and, where the file exists, by device and inode;
-//! - two outputs that are the same file (`--checkpoint` equal to `-o`).
+//!   for an output folder, every file the command will write into it is compared (a folder
+//!   output names them all: `compare -o D` with `D/results.csv` as its segments file is
+//!   refused, not run);
+//! - two outputs that are the same file (`--checkpoint` equal to `-o`, or two reaches'
+//!   results given one name).
 //!
 //! A file output `-` is standard output and passes.
 
@@ -23,20 +27,21 @@ use super::failure::Failure;
 pub enum Output<'a> {
     /// A file, written (atomically) or replaced.
     File(&'a str, &'a Path),
-    /// A folder the command writes files into; it may be created, its parent must exist.
-    Folder(&'a str, &'a Path),
+    /// A folder the command writes files into (it may be created, its parent must exist)
+    /// and every file it will write there, as paths (the folder joined with each name).
+    Folder(&'a str, &'a Path, &'a [PathBuf]),
 }
 
 impl<'a> Output<'a> {
     fn option(&self) -> &'a str {
         match *self {
-            Output::File(option, _) | Output::Folder(option, _) => option,
+            Output::File(option, _) | Output::Folder(option, ..) => option,
         }
     }
 
     fn path(&self) -> &'a Path {
         match *self {
-            Output::File(_, path) | Output::Folder(_, path) => path,
+            Output::File(_, path) | Output::Folder(_, path, _) => path,
         }
     }
 }
@@ -113,15 +118,63 @@ fn kind(m: &Metadata) -> &'static str {
 
 /// Checks `outputs` before any work (see the [module docs](self)): each one's folder
 /// exists, an existing file output is a regular file (an existing folder output a folder),
-/// none is one of `inputs` (files or folders, however spelled), and no two are the same.
+/// none is one of `inputs` (files or folders, however spelled), no file a folder output
+/// will hold is one of them, and no two outputs are the same file.
 /// Inputs that do not exist are ignored here (reading them reports them).
 pub fn check_outputs(inputs: &[&Path], outputs: &[Output<'_>]) -> Result<(), Failure> {
     let inputs: Vec<(&Path, Identity)> = inputs
         .iter()
         .filter_map(|p| Identity::of(p).map(|id| (*p, id)))
         .collect();
+    // Whole outputs first (their folders must exist before their files can be compared),
+    // then each file a folder output will hold, as if named with `-o` itself.
     let mut seen: Vec<(Output<'_>, Identity)> = Vec::with_capacity(outputs.len());
-    for &output in outputs {
+    check_each(&inputs, outputs.iter().copied(), &mut seen)?;
+    let held = outputs.iter().flat_map(|output| match *output {
+        Output::Folder(option, _, files) => files.iter().map(|f| Output::File(option, f)).collect(),
+        Output::File(..) => Vec::new(),
+    });
+    // A file inside a folder still to be made cannot be an input; its name is compared
+    // only with the other outputs.
+    let mut within = Vec::new();
+    for output in held {
+        let path = output.path();
+        if fs::metadata(folder_of(path)).is_ok_and(|m| m.is_dir()) {
+            check_each(&inputs, std::iter::once(output), &mut seen)?;
+        } else {
+            within.push(output);
+        }
+    }
+    let mut names: Vec<(&Path, &str)> = Vec::with_capacity(within.len());
+    for output in within {
+        let (option, path) = (output.option(), output.path());
+        if let Some((_, first)) = names.iter().find(|(p, _)| *p == path) {
+            let named = format!("{option} {}", path.display());
+            return Err(Failure::Input(twice(&named, first, option)));
+        }
+        names.push((path, option));
+    }
+    Ok(())
+}
+
+/// The message for an output `named` that an earlier output (of option `first`) already
+/// writes; `option` names its own.
+fn twice(named: &str, first: &str, option: &str) -> String {
+    if first == option {
+        format!("{named}: would be written twice (two of its results have this name)")
+    } else {
+        format!("{named}: is also the {first} output: choose different files")
+    }
+}
+
+/// The checks of [`check_outputs`] on `outputs`, each compared with `inputs` and with the
+/// outputs already `seen` (to which it is added).
+fn check_each<'a>(
+    inputs: &[(&Path, Identity)],
+    outputs: impl Iterator<Item = Output<'a>>,
+    seen: &mut Vec<(Output<'a>, Identity)>,
+) -> Result<(), Failure> {
+    for output in outputs {
         let (option, path) = (output.option(), output.path());
         if let Output::File(..) = output
             && is_stdout(path)
@@ -182,11 +235,7 @@ pub fn check_outputs(inputs: &[&Path], outputs: &[Output<'_>]) -> Result<(), Fai
             )));
         }
         if let Some((first, _)) = seen.iter().find(|(_, i)| i.same(&id)) {
-            return Err(Failure::Input(format!(
-                "{}: is also the {} output: choose different files",
-                named(),
-                first.option()
-            )));
+            return Err(Failure::Input(twice(&named(), first.option(), option)));
         }
         seen.push((output, id));
     }
@@ -249,7 +298,7 @@ mod tests {
         assert!(m.contains("does not exist"), "{m}");
         let m = refused(check_outputs(&[], &[Output::File("-o", dir.path())]));
         assert!(m.contains("a folder"), "{m}");
-        check_outputs(&[], &[Output::Folder("-o", dir.path())]).unwrap();
-        check_outputs(&[], &[Output::Folder("-o", &dir.path().join("new"))]).unwrap();
+        check_outputs(&[], &[Output::Folder("-o", dir.path(), &[])]).unwrap();
+        check_outputs(&[], &[Output::Folder("-o", &dir.path().join("new"), &[])]).unwrap();
     }
 }

@@ -43,6 +43,9 @@ pub(super) fn person_name(params: &Path) -> String {
         .unwrap_or_else(|| params.display().to_string())
 }
 
+/// The files the pictures are written to in `-o DIR` (for the output check).
+pub(super) const FILES: [&str; 4] = ["speed.svg", "speed.png", "strip.svg", "strip.png"];
+
 /// Saves `figure` as `DIR/name.svg` and `DIR/name.png`.
 fn save_both(
     figure: &impl crate::draw::Figure,
