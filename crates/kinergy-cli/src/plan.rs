@@ -171,7 +171,10 @@ fn parse_target(text: &str) -> Result<HandTarget, Failure> {
         return Err(bad("every value must be finite"));
     }
     let position = match values.len() {
-        3 | 7 => Point3::new(values[0], values[1], values[2]),
+        3 | 7 => {
+            let xyz = Point3::new(values[0], values[1], values[2]);
+            crate::common::check_world_target(xyz, text, "--target")?
+        }
         n => return Err(bad(&format!("expected 3 or 7 numbers, found {n}"))),
     };
     let orientation = if values.len() == 7 {
@@ -291,7 +294,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 .to
                 .as_deref()
                 .ok_or_else(|| Failure::Input("--task relocate needs --to x,y,z".into()))?;
-            let to = crate::common::parse_point(to, "--to")?;
+            let to = crate::common::parse_world_target(to, "--to")?;
             (format!("relocate {object}"), planner.relocate(&object, &to))
         }
         (None, Some(Task::Grasp)) => {

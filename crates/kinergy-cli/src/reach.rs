@@ -12,9 +12,7 @@ use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use kinergy_solver::FieldUse;
 use serde::Serialize;
 
-use crate::common::{
-    Failure, ReadArgs, check_range, emit, length, limits, parse_point, print_json,
-};
+use crate::common::{Failure, ReadArgs, check_range, emit, length, limits, print_json};
 
 /// The hand's speed profile.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -97,7 +95,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .collect::<Vec<_>>(),
         &[crate::common::Output::File("-o", &args.output)],
     )?;
-    let target = parse_point(&args.target, "--target")?;
+    let target = crate::common::parse_world_target(&args.target, "--target")?;
     let proportions = match &args.person {
         Some(path) => {
             let (clip, _) = args.read.read(path)?;

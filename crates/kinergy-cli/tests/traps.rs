@@ -153,6 +153,59 @@ fn a_target_farther_than_any_body_reaches_is_bad_input() {
     }
 }
 
+/// Issue 27 #7, the full body: `reach --target`, `plan --target` (with or without a hand
+/// orientation) and `plan --to` beyond any body's reach are bad input (exit 2), the distance
+/// said in a readable number, nothing written; a far target a body cannot reach but could
+/// is still the task's failure (exit 1) with the nearest motion.
+#[test]
+fn a_full_body_target_farther_than_any_body_reaches_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.bvh");
+    let o_arg = out.to_str().unwrap();
+    let scene = common::repo().join("examples/bookshelf/scene.json");
+    let scene = scene.to_str().unwrap();
+    for (args, shown) in [
+        (vec!["reach", "--target", "1e155,0,0"], "1.000e155 m"),
+        (vec!["reach", "--target", "0,1e308,0"], "1.000e308 m"),
+        (
+            vec!["plan", "--scene", scene, "--target", "1e308,1,0"],
+            "1.000e308 m",
+        ),
+        (
+            vec!["plan", "--scene", scene, "--target", "0,1,-12,0,0,0,1"],
+            "12.04 m",
+        ),
+        (
+            vec![
+                "plan",
+                "--scene",
+                scene,
+                "--task",
+                "relocate",
+                "--object",
+                "blue_book",
+                "--to",
+                "1e9,1,0",
+            ],
+            "1.000e9 m",
+        ),
+    ] {
+        let mut args = args;
+        args.extend(["-o", o_arg]);
+        let o = kinergy(&args);
+        let message = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {message}");
+        assert!(
+            message.contains("beyond what any body reaches") && message.contains(shown),
+            "{args:?}: {message}"
+        );
+        assert!(!out.exists(), "{args:?}");
+    }
+    let o = kinergy(&["reach", "--target", "3,1,0", "-o", o_arg]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(out.exists(), "the nearest motion is written");
+}
+
 #[test]
 fn fit_per_clip_with_out_dir_names_the_folder() {
     let dir = tempfile::tempdir().unwrap();

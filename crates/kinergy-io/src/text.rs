@@ -34,6 +34,16 @@ pub fn list_some<S: AsRef<str>>(items: &[S], max: usize) -> String {
     out
 }
 
+/// A length for a message: meters with two decimals, or in scientific notation when huge
+/// (never a 309-digit number: `1e308` is `1.000e308 m`).
+pub fn meters(v: f64) -> String {
+    if v.abs() < 1e6 {
+        format!("{v:.2} m")
+    } else {
+        format!("{v:.3e} m")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -27,16 +27,6 @@ pub const DEFAULT_TOLERANCE: f64 = 0.005;
 /// farthest stepping reach ends 1.3 m from the shoulder); a farther target is bad input.
 pub const MAX_TARGET_DISTANCE: f64 = 10.0;
 
-/// A length for a message: meters with two decimals, or in scientific notation when huge
-/// (never a 309-digit number).
-fn meters(v: f64) -> String {
-    if v.abs() < 1e6 {
-        format!("{v:.2} m")
-    } else {
-        format!("{v:.3e} m")
-    }
-}
-
 /// One captured reach, ready to be synthesized and scored.
 #[derive(Debug, Clone)]
 pub struct CapturedReach {
@@ -213,7 +203,7 @@ impl CapturedReach {
                     "the target is {} from the arm's shoulder on the reach's last frame, \
                      beyond what any body reaches (at most {MAX_TARGET_DISTANCE} m): a target \
                      in another unit, or a typo?",
-                    meters(distance)
+                    kinergy_io::meters(distance)
                 ),
             });
         }

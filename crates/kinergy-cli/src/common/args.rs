@@ -238,6 +238,35 @@ pub fn parse_point(text: &str, flag: &str) -> Result<Point3<f64>, Failure> {
     Ok(Point3::new(v[0], v[1], v[2]))
 }
 
+/// Parses a world target `x,y,z` (meters) for the character standing at the origin: a
+/// finite point within [`kinergy_train::MAX_TARGET_DISTANCE`] of the origin. Farther, no
+/// body reaches it whatever it does (it is a target in another unit, or a typo): bad input,
+/// not an unreachable target to walk the arm toward.
+pub fn parse_world_target(text: &str, flag: &str) -> Result<Point3<f64>, Failure> {
+    check_world_target(parse_point(text, flag)?, text, flag)
+}
+
+/// `point`, read from `text` given with `flag`, when it is a target a body could reach
+/// (see [`parse_world_target`]).
+pub fn check_world_target(
+    point: Point3<f64>,
+    text: &str,
+    flag: &str,
+) -> Result<Point3<f64>, Failure> {
+    // `hypot` does not overflow where the squares would (a target of 1e155 m).
+    let distance = point.x.hypot(point.y).hypot(point.z);
+    let max = kinergy_train::MAX_TARGET_DISTANCE;
+    if distance > max {
+        return Err(Failure::Input(format!(
+            "{flag} `{}`: the target is {} from the character (standing at the origin), \
+             beyond what any body reaches (at most {max} m): a target in another unit, or a typo?",
+            kinergy_io::clip_text(text, 60),
+            kinergy_io::meters(distance)
+        )));
+    }
+    Ok(point)
+}
+
 /// `A..B` → `A..B`, with `A < B`.
 pub fn parse_frames(text: &str) -> Result<std::ops::Range<usize>, Failure> {
     let bad = |why: &str| Failure::Input(format!("--frames `{text}`: {why}"));

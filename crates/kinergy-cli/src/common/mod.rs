@@ -14,7 +14,10 @@ pub mod names;
 pub mod outputs;
 pub mod progress;
 
-pub use args::{ArmArgs, ReadArgs, SearchArgs, parse_frames, parse_point, parse_size};
+pub use args::{
+    ArmArgs, ReadArgs, SearchArgs, check_world_target, parse_frames, parse_point, parse_size,
+    parse_world_target,
+};
 pub use captured::{CaptureArgs, ControllerKind};
 pub use clips::collect_clips;
 pub use failure::{Failure, person_failure, read_person};
