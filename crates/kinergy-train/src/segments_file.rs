@@ -182,31 +182,44 @@ impl SegmentsFile {
             .parent()
             .filter(|p| !p.as_os_str().is_empty())
             .unwrap_or(Path::new("."));
-        // One record per line, split by the csv crate (quotes, doubled quotes), so every row
-        // knows its line; comment and blank lines are skipped.
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .map(|(i, l)| (i + 1, l))
-            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-        let fields = |line: usize, l: &str| -> Result<Vec<String>, SegmentsFileError> {
-            let mut reader = csv::ReaderBuilder::new()
-                .has_headers(false)
-                .trim(csv::Trim::All)
-                .from_reader(l.as_bytes());
-            let mut record = csv::StringRecord::new();
-            reader
-                .read_record(&mut record)
-                .map_err(|e| fail(Some(line), format!("unreadable: {e}")))?;
-            Ok(record.iter().map(str::to_string).collect())
-        };
-        let Some((header_at, header_text)) = lines.next() else {
+        // The csv crate splits the records (quotes, doubled quotes, a quoted line break in a
+        // clip's name) and says where each one starts; lines ended by CR LF or CR alone are
+        // read as lines ended by LF. Comment lines (`#` first, after any spaces, not in
+        // quotes) and blank lines are skipped.
+        let text = text.replace("\r\n", "\n").replace('\r', "\n");
+        let mut records = Vec::new();
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .trim(csv::Trim::All)
+            .from_reader(text.as_bytes());
+        let mut record = csv::StringRecord::new();
+        loop {
+            let line = reader.position().line() as usize;
+            match reader.read_record(&mut record) {
+                Ok(false) => break,
+                Ok(true) => {}
+                Err(e) => {
+                    let at = e.position().map_or(line, |p| p.line() as usize);
+                    return Err(fail(Some(at), format!("unreadable: {e}")));
+                }
+            }
+            let (at, raw) = match record.position() {
+                Some(p) => record_start(&text, p.byte() as usize, p.line() as usize),
+                None => (line, ""),
+            };
+            if raw.starts_with('#') || (record.len() == 1 && record.get(0) == Some("")) {
+                continue;
+            }
+            records.push((at, record.iter().map(str::to_string).collect::<Vec<_>>()));
+        }
+        let mut lines = records.into_iter();
+        let Some((header_at, header)) = lines.next() else {
             return Err(fail(
                 None,
                 format!("no header: expected the columns {}", COLUMNS.join(",")),
             ));
         };
-        let header = fields(header_at, header_text)?;
         let header_line = Some(header_at);
         let mut column: HashMap<&str, usize> = HashMap::new();
         for (i, name) in header.iter().enumerate() {
@@ -243,8 +256,7 @@ impl SegmentsFile {
 
         let mut rows = Vec::new();
         let mut seen: HashMap<(PathBuf, Side, usize, usize), usize> = HashMap::new();
-        for (at, l) in lines {
-            let record = fields(at, l)?;
+        for (at, record) in lines {
             let line = Some(at);
             if record.len() != header.len() {
                 return Err(fail(
@@ -393,9 +405,14 @@ impl SegmentsFile {
         let mut write = || -> csv::Result<()> {
             writer.write_record(columns)?;
             for r in &self.rows {
-                let clip = relative_to(folder, &r.clip);
+                let mut clip = relative_to(folder, &r.clip).to_string_lossy().into_owned();
+                // A name the reader would take for a comment (`#` first) or trim (spaces
+                // first) is written from `./`, which reads back as the same file.
+                if clip.starts_with(['#', ' ', '\t']) {
+                    clip.insert_str(0, "./");
+                }
                 let mut record = vec![
-                    clip.to_string_lossy().into_owned(),
+                    clip,
                     r.frames.start.to_string(),
                     r.frames.end.to_string(),
                     r.arm.to_string(),
@@ -431,6 +448,23 @@ impl SegmentsFile {
                 why: e.to_string(),
             }
         })
+    }
+}
+
+/// Where a record that the csv reader says starts at `byte` (on `line`) really starts: past
+/// the blank lines and spaces before it. Its line and its text from there.
+fn record_start(text: &str, byte: usize, line: usize) -> (usize, &str) {
+    let mut rest = text.get(byte..).unwrap_or("");
+    let mut line = line;
+    loop {
+        rest = rest.trim_start_matches([' ', '\t']);
+        match rest.strip_prefix('\n') {
+            Some(after) => {
+                rest = after;
+                line += 1;
+            }
+            None => return (line, rest),
+        }
     }
 }
 

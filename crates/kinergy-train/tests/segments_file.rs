@@ -291,3 +291,53 @@ fn a_window_outside_the_clip_is_an_error_when_resolved() {
         "{msg}"
     );
 }
+
+/// Issue 27 #9, #11: what the writer writes the reader reads — clips named with a line break,
+/// a leading `#` or a leading space, persons with quotes and line breaks — and a file whose
+/// lines end in CR alone (classic Mac) or CR LF reads the same rows with the right lines.
+#[test]
+fn awkward_names_and_line_ends_round_trip() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let names = ["a\nb.bvh", "#take.bvh", " lead.bvh", "q\"uote,d.bvh"];
+    let rows: Vec<SegmentRow> = names
+        .iter()
+        .enumerate()
+        .map(|(k, name)| {
+            let clip = dir.path().join(name);
+            std::fs::write(&clip, "").expect("clip");
+            SegmentRow {
+                person: format!("p\n{k} \"x\""),
+                ..SegmentRow::new(clip, k..k + 5, Side::Right, Label::Reach)
+            }
+        })
+        .collect();
+    let path = dir.path().join("s.csv");
+    SegmentsFile::new(&path, rows.clone())
+        .write()
+        .expect("write");
+    let read = SegmentsFile::read(&path).expect("read back");
+    assert_eq!(read.rows().len(), rows.len());
+    for (r, w) in read.rows().iter().zip(&rows) {
+        assert_eq!(
+            std::fs::canonicalize(&r.clip).expect("clip"),
+            std::fs::canonicalize(&w.clip).expect("clip")
+        );
+        assert_eq!((&r.frames, &r.person), (&w.frames, &w.person));
+    }
+
+    let (_dir, ann, _) = folder();
+    let lf = "# comment\nclip,onset,end,arm\n  # indented comment\nr1.bvh,0,10,right\n\nr2.bvh,3,9,left\n";
+    for text in [
+        lf.to_string(),
+        lf.replace('\n', "\r"),
+        lf.replace('\n', "\r\n"),
+    ] {
+        let file = SegmentsFile::parse(&text, &ann.join("s.csv")).expect("parsed");
+        let frames: Vec<_> = file.rows().iter().map(|r| r.frames.clone()).collect();
+        assert_eq!(frames, vec![0..10, 3..9], "{text:?}");
+        // Lines are counted the same way whatever ends them: the bad row is on line 4.
+        let bad = text.replace("0,10", "10,0");
+        let e = SegmentsFile::parse(&bad, &ann.join("s.csv")).expect_err("empty frames");
+        assert_eq!(e.line, Some(4), "{text:?}: {e}");
+    }
+}
