@@ -24,6 +24,7 @@ use kinergy_train::PersonParams;
 use serde::Serialize;
 
 use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
+use kinergy_train::source::names_clip;
 
 mod pictures;
 
@@ -188,6 +189,19 @@ fn compare_one(
     let (clip, _) = args.read.read(path)?;
     let joints = args.arm.find(&clip, path)?;
     let name = path.display().to_string();
+    // As `synthesize` does: parameters fitted on another arm or skeleton say so (the
+    // comparison still runs: a person's style may be tried on anyone).
+    let record = person.record();
+    let fitted = record
+        .as_ref()
+        .and_then(|r| r.arm(|clip| names_clip(clip, path)));
+    if let Some(fitted) = fitted {
+        let here =
+            kinergy_train::measured_arm(&clip, &joints).map_err(|e| Failure::input(path, e))?;
+        if let Some(warning) = crate::common::arm_mismatch(fitted, &here) {
+            eprintln!("warning: {name}: {warning}");
+        }
+    }
     let capture = StyleCapture::new(&clip, &joints, &name).map_err(|e| Failure::input(path, e))?;
     let run = capture.compare(args.arm.arm, person).map_err(|e| match e {
         e @ ReachError::Params { .. } => crate::common::person_failure(&args.params, e),

@@ -99,10 +99,6 @@ pub struct Args {
     chain: Option<Vec<String>>,
 }
 
-/// Bones of the capture's arm and the fitted one differing by more than this fraction get a
-/// warning.
-const ARM_LENGTH_TOLERANCE: f64 = 0.10;
-
 #[derive(Debug, Serialize)]
 struct Report {
     input: String,
@@ -210,29 +206,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .map(|r| args.controller.apply(r))
         .map_err(|e| Failure::input(from, e))?;
     let dof_names = reach.dof_names();
-    if let Some(fitted) = fitted_arm {
-        let here = reach.fitted_arm();
-        let other_side = matches!((fitted.side, here.side), (Some(a), Some(b)) if a != b);
-        let difference = fitted.length_difference(here);
-        if other_side || difference > ARM_LENGTH_TOLERANCE {
-            eprintln!(
-                "warning: the parameters were fitted on a {} arm ({}; upper arm {:.3} m, forearm \
-                 {:.3} m) and drive a {} arm ({}; {:.3} m, {:.3} m){}",
-                side_name(fitted.side),
-                fitted.joints.join(" → "),
-                fitted.upper_arm_m,
-                fitted.forearm_m,
-                side_name(here.side),
-                here.joints.join(" → "),
-                here.upper_arm_m,
-                here.forearm_m,
-                if difference > ARM_LENGTH_TOLERANCE {
-                    format!(": bones differ by up to {:.0} %", difference * 100.0)
-                } else {
-                    String::new()
-                }
-            );
-        }
+    if let Some(warning) =
+        fitted_arm.and_then(|f| crate::common::arm_mismatch(f, reach.fitted_arm()))
+    {
+        eprintln!("warning: {warning}");
     }
 
     let (reach, target_from) = match &args.target {
@@ -355,10 +332,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             synthesis.final_error * 1000.0
         ))),
     }
-}
-
-fn side_name(side: Option<Side>) -> String {
-    side.map_or_else(|| "named".to_string(), |s| s.to_string())
 }
 
 /// Shoulder to end effector, fully stretched.

@@ -703,6 +703,23 @@ fn style_compares_hand_speed_profiles_with_the_captures() {
         .expect("mean");
     assert!((mean - sum / 2.0).abs() < 1e-12);
     assert!(out.join("style.csv").is_file() && out.join("summary.md").is_file());
+    // The person's own arm: no warning.
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+}
+
+/// Issue 27 #9: `style` with parameters fitted on another skeleton's arm warns as
+/// `synthesize` does (which arm, which bones, how much they differ), and still compares.
+#[test]
+fn style_warns_when_the_params_come_from_another_arm() {
+    let params = repo().join("tests/data/params/synthetic-p01-r09-sc.json");
+    let other = repo().join("tests/data/006_14.bvh");
+    let o = kinergy(&["style", s(&other), "--params", s(&params)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("warning") && err.contains("006_14.bvh") && err.contains("bones differ"),
+        "{err}"
+    );
 }
 
 /// `style -o DIR` makes a missing folder (it used to fail with an OS error about style.csv

@@ -27,6 +27,23 @@ pub const DEFAULT_TOLERANCE: f64 = 0.005;
 /// farthest stepping reach ends 1.3 m from the shoulder); a farther target is bad input.
 pub const MAX_TARGET_DISTANCE: f64 = 10.0;
 
+/// The arm `joints` of `clip` as a fit records it: its side, its joints' names and its
+/// bones on the clip's first frame.
+pub fn measured_arm(clip: &Clip, joints: &ArmJoints) -> Result<FittedArm> {
+    let lengths = joints.lengths(clip)?;
+    Ok(FittedArm {
+        side: joints.side,
+        joints: joints
+            .names(clip.skeleton())
+            .into_iter()
+            .map(String::from)
+            .collect(),
+        upper_arm_m: lengths.upper_arm,
+        forearm_m: lengths.forearm,
+        hand_m: lengths.hand,
+    })
+}
+
 /// One captured reach, ready to be synthesized and scored.
 #[derive(Debug, Clone)]
 pub struct CapturedReach {
@@ -74,18 +91,7 @@ impl CapturedReach {
         }
         let segment = clip.slice(frames.clone())?;
         let arm = CaptureArm::new(&segment, joints)?;
-        let lengths = joints.lengths(&segment)?;
-        let fitted_arm = FittedArm {
-            side: joints.side,
-            joints: joints
-                .names(clip.skeleton())
-                .into_iter()
-                .map(String::from)
-                .collect(),
-            upper_arm_m: lengths.upper_arm,
-            forearm_m: lengths.forearm,
-            hand_m: lengths.hand,
-        };
+        let fitted_arm = measured_arm(&segment, joints)?;
         let captured = arm.captured_trajectory(&segment)?;
         let last = captured.frame(captured.frame_count() - 1);
         let target = *last

@@ -15,8 +15,8 @@ pub mod outputs;
 pub mod progress;
 
 pub use args::{
-    ArmArgs, ReadArgs, SearchArgs, check_world_target, parse_frames, parse_point, parse_size,
-    parse_world_target,
+    ArmArgs, ReadArgs, SearchArgs, arm_mismatch, check_world_target, parse_frames, parse_point,
+    parse_size, parse_world_target,
 };
 pub use captured::{CaptureArgs, ControllerKind};
 pub use clips::collect_clips;
