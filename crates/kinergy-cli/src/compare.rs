@@ -130,7 +130,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "--models and --optimizers need at least one each".into(),
         ));
     }
-    std::fs::create_dir_all(&args.output).map_err(|e| Failure::input(&args.output, e))?;
+    crate::common::make_folder(&args.output)?;
     let clock = Instant::now();
     let bar = Bar::counting(reaches.len() as u64, "clips");
     let results = experiment::run(&reaches, &settings, &|| bar.inc());

@@ -140,7 +140,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         check_outputs(&inputs, &outputs)?;
     }
     if folder {
-        std::fs::create_dir_all(dest).map_err(|e| Failure::input(dest, e))?;
+        crate::common::make_folder(dest)?;
     }
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .map_err(|e| Failure::Task(format!("cannot watch for Ctrl-C: {e}")))?;
@@ -164,7 +164,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let mut reports = Vec::new();
     for (g, group) in groups.iter().enumerate() {
-        let fits = run_group(args, group, &models, &settings, log.as_mut())?;
+        let fits = run_group(args, group, &models, &settings, log.as_mut())
+            .map_err(|e| written_before(e, &reports, groups.len(), dest))?;
         let output = if folder {
             let path = dest.join(&names[g]);
             if let Some(parent) = path.parent() {
@@ -178,50 +179,81 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .params_file(group, args.per.grouping())
             .map_err(Failure::from)?;
         file.write(&output).map_err(Failure::from)?;
-        reports.push(report(&output, args, group, &fits.fits, &fits.violations()));
+        let done = report(&output, args, group, &fits.fits, &fits.violations());
+        // Said as soon as it is written: what a killed or interrupted run reported is on disk.
+        if !args.json {
+            emit(&report_text(&done))?;
+        }
+        reports.push(done);
     }
     if let Some(log) = log {
         log.finish().map_err(Failure::from)?;
     }
-    if args.json {
-        return if reports.len() == 1 {
-            print_json(&reports[0])
-        } else {
-            print_json(&reports)
-        };
+    if !args.json {
+        return Ok(());
     }
+    if reports.len() == 1 {
+        print_json(&reports[0])
+    } else {
+        print_json(&reports)
+    }
+}
+
+/// A failure `e` of the fit after `written` of `total` results were written into `dest`:
+/// with several, the message says which are safe (an interrupted run used to say "nothing
+/// saved" with 44 of 56 results written).
+fn written_before(e: Failure, written: &[FitReport], total: usize, dest: &Path) -> Failure {
+    if total < 2 {
+        return e;
+    }
+    let done = match written.last() {
+        Some(last) => format!(
+            "{} of {total} results were written to {} before it (the last {}); the others \
+             were not: fit them again",
+            written.len(),
+            dest.display(),
+            last.output
+        ),
+        None => format!("none of the {total} results was written"),
+    };
+    match e {
+        Failure::Task(why) => Failure::Task(format!("{why}; {done}")),
+        Failure::Input(why) => Failure::Input(format!("{why}; {done}")),
+    }
+}
+
+/// One result as the text output shows it.
+fn report_text(r: &FitReport) -> String {
     let mut text = String::new();
-    for r in &reports {
-        text.push_str(&format!("{} ({} fit, {}):\n", r.output, r.per, r.optimizer));
-        for m in &r.models {
-            text.push_str(&format!(
-                "  {}  {:8.3} mm  (from {:.3} mm, {} evaluations, {})\n",
-                m.model,
-                m.score_m * 1e3,
-                m.start_score_m * 1e3,
-                m.evaluations,
-                m.status
-            ));
-        }
-        for reach in &r.reaches {
-            text.push_str(&format!(
-                "  {}  frames {}..{}{}  {:.3} mm\n",
-                reach.clip,
-                reach.frames[0],
-                reach.frames[1],
-                reach
-                    .arm
-                    .as_ref()
-                    .and_then(|a| a.side)
-                    .map_or_else(String::new, |s| format!("  {s} arm")),
-                reach.distance_m * 1e3
-            ));
-        }
-        for v in &r.nested_violations {
-            text.push_str(&format!("  note: {v}\n"));
-        }
+    text.push_str(&format!("{} ({} fit, {}):\n", r.output, r.per, r.optimizer));
+    for m in &r.models {
+        text.push_str(&format!(
+            "  {}  {:8.3} mm  (from {:.3} mm, {} evaluations, {})\n",
+            m.model,
+            m.score_m * 1e3,
+            m.start_score_m * 1e3,
+            m.evaluations,
+            m.status
+        ));
     }
-    emit(&text)
+    for reach in &r.reaches {
+        text.push_str(&format!(
+            "  {}  frames {}..{}{}  {:.3} mm\n",
+            reach.clip,
+            reach.frames[0],
+            reach.frames[1],
+            reach
+                .arm
+                .as_ref()
+                .and_then(|a| a.side)
+                .map_or_else(String::new, |s| format!("  {s} arm")),
+            reach.distance_m * 1e3
+        ));
+    }
+    for v in &r.nested_violations {
+        text.push_str(&format!("  note: {v}\n"));
+    }
+    text
 }
 
 /// One nested fit of `group` with the progress bar, the CSV log, checkpoints and Ctrl-C; an

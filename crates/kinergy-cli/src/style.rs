@@ -136,8 +136,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         crate::common::check_outputs(&inputs, &[crate::common::Output::Folder("-o", dir, &files)])?;
         // Made before any work, as `compare -o` makes its own (a missing folder used to end
         // the run with an OS error about style.csv).
-        std::fs::create_dir_all(dir)
-            .map_err(|e| Failure::input(dir, format!("cannot create the folder: {e}")))?;
+        crate::common::make_folder(dir)?;
     }
     let person = crate::common::read_person(&args.params)?;
     let mut rows = Vec::with_capacity(clips.len());

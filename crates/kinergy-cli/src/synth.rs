@@ -65,6 +65,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Some(person) => Driver::Person(person),
         None => Driver::Profile,
     };
+    if args.output.is_dir() {
+        crate::common::clean_folder(&args.output);
+    }
     let before = Written::before(&args.output);
     let result = write(args, drive);
     if result.is_err() {

@@ -245,19 +245,79 @@ fn remove_stale_temporaries(dir: &Path, file_name: &OsStr) {
         if pid == me {
             continue;
         }
-        let stale = match process_gone(pid) {
-            Some(gone) => gone,
-            None => entry
-                .metadata()
-                .and_then(|m| m.modified())
-                .ok()
-                .and_then(|t| t.elapsed().ok())
-                .is_some_and(|age| age >= STALE_AFTER),
-        };
+        let stale = is_stale(&entry, pid);
         let is_file = entry.file_type().is_ok_and(|t| t.is_file());
         if stale && is_file {
             let _ = fs::remove_file(entry.path());
         }
+    }
+}
+
+/// The process that wrote `name`, if it is a temporary file of any name by our rule
+/// (`.<name>.<pid>.<n>.tmp`, `<name>` not empty).
+fn any_temp_owner(name: &OsStr) -> Option<u32> {
+    let rest = name.to_str()?.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (rest, n) = rest.rsplit_once('.')?;
+    let (file_name, pid) = rest.rsplit_once('.')?;
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    (!file_name.is_empty() && digits(pid) && digits(n)).then(|| pid.parse().ok())?
+}
+
+/// How deep [`remove_stale_temporaries_in`] looks into a folder's subfolders.
+const CLEAN_DEPTH: usize = 8;
+
+/// Removes the stale temporaries of *every* name in `dir` and its subfolders (up to 8
+/// levels, symbolic links not followed): the debris of earlier runs killed while writing
+/// there, by the rule of the [module docs](self) (their process gone, or untouched for
+/// [`STALE_AFTER`] where that cannot be told). A command that writes many files into a
+/// folder calls it once at its start, so that a killed run's temporaries of names the next
+/// run does not write are cleaned too. Returns the files removed; a folder that cannot be
+/// read is skipped (best effort, like the cleaning before each write).
+pub fn remove_stale_temporaries_in(dir: &Path) -> Vec<PathBuf> {
+    let mut removed = Vec::new();
+    clean(dir, CLEAN_DEPTH, &mut removed);
+    removed.sort();
+    removed
+}
+
+fn clean(dir: &Path, depth: usize, removed: &mut Vec<PathBuf>) {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    let me = std::process::id();
+    for entry in entries.flatten() {
+        let Ok(kind) = entry.file_type() else {
+            continue;
+        };
+        if kind.is_dir() {
+            if depth > 0 {
+                clean(&entry.path(), depth - 1, removed);
+            }
+            continue;
+        }
+        let Some(pid) = any_temp_owner(&entry.file_name()) else {
+            continue;
+        };
+        if kind.is_file()
+            && pid != me
+            && is_stale(&entry, pid)
+            && fs::remove_file(entry.path()).is_ok()
+        {
+            removed.push(entry.path());
+        }
+    }
+}
+
+/// Whether the temporary `entry` of process `pid` is a killed writer's.
+fn is_stale(entry: &fs::DirEntry, pid: u32) -> bool {
+    match process_gone(pid) {
+        Some(gone) => gone,
+        None => entry
+            .metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok())
+            .is_some_and(|age| age >= STALE_AFTER),
     }
 }
 
@@ -328,6 +388,34 @@ mod tests {
         }
         write_atomic(&dir.path().join("out.bvh"), b"whole").unwrap();
         assert_eq!(names(dir.path()).len(), 4);
+    }
+
+    #[test]
+    fn a_folder_is_cleaned_of_every_stale_temporary_and_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let sub = dir.path().join("p01");
+        std::fs::create_dir(&sub).unwrap();
+        let live = format!(".r01.json.{}.3.tmp", std::process::id());
+        let keep = [
+            dir.path().join(&live),
+            dir.path().join(".x.json.999999.tmp"),
+            dir.path().join("r01.json"),
+            dir.path().join("..999999.0.tmp"),
+        ];
+        let stale = [
+            dir.path().join(".r01.json.999999.0.tmp"),
+            dir.path().join(".a.b.c.999998.12.tmp"),
+            sub.join(".r02.bvh.999997.1.tmp"),
+        ];
+        for p in keep.iter().chain(&stale) {
+            std::fs::write(p, b"x").unwrap();
+        }
+        let mut expected = stale.to_vec();
+        expected.sort();
+        assert_eq!(super::remove_stale_temporaries_in(dir.path()), expected);
+        assert!(keep.iter().all(|p| p.exists()));
+        assert!(stale.iter().all(|p| !p.exists()));
+        assert!(super::remove_stale_temporaries_in(&dir.path().join("missing")).is_empty());
     }
 
     #[test]

@@ -20,7 +20,10 @@ pub mod json;
 pub mod read;
 mod text;
 
-pub use atomic::{AtomicFile, STALE_AFTER, describe_full_disk, is_disk_full, write_atomic};
+pub use atomic::{
+    AtomicFile, STALE_AFTER, describe_full_disk, is_disk_full, remove_stale_temporaries_in,
+    write_atomic,
+};
 #[cfg(feature = "json")]
 pub use json::{
     JsonError, check_version, parse_versioned, to_pretty_json, write_json, write_json_text,

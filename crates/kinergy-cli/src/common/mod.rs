@@ -22,7 +22,7 @@ pub use captured::{CaptureArgs, ControllerKind};
 pub use clips::collect_clips;
 pub use failure::{Failure, person_failure, read_person};
 pub use limits::{check_optional, check_range};
-pub use outputs::{Output, check_outputs, is_stdout};
+pub use outputs::{Output, check_outputs, clean_folder, is_stdout, make_folder};
 pub use progress::Bar;
 
 /// Writes `rows` as CSV (a header from the row type's fields) to `path`, atomically.

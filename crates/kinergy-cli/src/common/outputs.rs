@@ -242,6 +242,31 @@ fn check_each<'a>(
     Ok(())
 }
 
+/// Makes the output folder `dir` (and its parents) once the outputs are checked, and
+/// removes the temporaries that earlier runs killed while writing there left behind
+/// ([`kinergy_io::remove_stale_temporaries_in`]), saying so on stderr.
+pub fn make_folder(dir: &Path) -> Result<(), Failure> {
+    fs::create_dir_all(dir)
+        .map_err(|e| Failure::input(dir, format!("cannot create the folder: {e}")))?;
+    clean_folder(dir);
+    Ok(())
+}
+
+/// Removes the stale temporaries in `dir` (see [`make_folder`]), saying so on stderr.
+pub fn clean_folder(dir: &Path) {
+    let removed = kinergy_io::remove_stale_temporaries_in(dir);
+    if !removed.is_empty() {
+        let names: Vec<String> = removed.iter().map(|p| p.display().to_string()).collect();
+        eprintln!(
+            "note: removed {} temporary file{} that killed runs left in {}: {}",
+            removed.len(),
+            if removed.len() == 1 { "" } else { "s" },
+            dir.display(),
+            kinergy_io::list_some(&names, 5)
+        );
+    }
+}
+
 /// Whether `path` is `-`: standard output instead of a file.
 pub fn is_stdout(path: &std::path::Path) -> bool {
     path.as_os_str() == "-"

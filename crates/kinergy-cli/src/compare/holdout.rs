@@ -69,7 +69,7 @@ pub fn run(
     settings.fit.anneal.validate().map_err(Failure::from)?;
     experiment::check_split(&takes, holdout)
         .map_err(|e| Failure::Input(format!("--holdout {holdout}: {}", why(&e))))?;
-    std::fs::create_dir_all(&args.output).map_err(|e| Failure::input(&args.output, e))?;
+    crate::common::make_folder(&args.output)?;
     let persons = experiment::group_by_person(&takes).len();
     let clock = Instant::now();
     let bar = Bar::counting(persons as u64, "persons");
