@@ -325,6 +325,108 @@ fn a_fit_killed_at_random_moments_resumes_bit_for_bit() {
 }
 
 // ---------------------------------------------------------------------------------------
+// kill -9 of a folder fit at 50 random moments: no result partial, none reported lost, no
+// temporary outlives the next run (issue 27 #10).
+
+/// The files of `dir` (recursively), relative, with their bytes.
+fn files_in(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    for (path, bytes) in snapshot(dir) {
+        let relative = path.strip_prefix(dir).expect("inside").to_path_buf();
+        out.insert(relative, bytes);
+    }
+    out
+}
+
+/// Whether `name` is an atomic writer's temporary (`.<name>.<pid>.<n>.tmp`).
+fn is_temporary(name: &Path) -> bool {
+    name.file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.starts_with('.') && n.ends_with(".tmp"))
+}
+
+#[test]
+fn a_folder_fit_killed_at_50_random_moments_loses_nothing_reported_and_leaves_no_debris() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let clips = repo().join("data-synthetic/p01");
+    let args = |out: &Path| -> Vec<String> {
+        [
+            "fit",
+            s(&clips),
+            "--per",
+            "clip",
+            "--model",
+            "sb",
+            "--budget",
+            "300",
+            "--out-dir",
+            s(out),
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let reference = dir.path().join("reference");
+    let clock = Instant::now();
+    let o = run(&args(&reference));
+    let whole_run = clock.elapsed();
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let expected = files_in(&reference);
+    assert_eq!(expected.len(), 14);
+
+    let out = dir.path().join("fits");
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let (mut killed, mut debris_seen) = (0, 0);
+    for round in 0..50 {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        // Anywhere from the start to a little past the uninterrupted run's end.
+        let span = whole_run.as_micros() as u64 * 11 / 10 + 1;
+        let delay = Duration::from_micros((state >> 33) % span);
+        let mut child = Command::new(env!("CARGO_BIN_EXE_kinergy"))
+            .args(args(&out))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("spawn");
+        std::thread::sleep(delay);
+        let _ = child.kill(); // SIGKILL
+        let o = child.wait_with_output().expect("wait");
+        killed += usize::from(!o.status.success());
+        let now = files_in(&out);
+        // Nothing partial: every result on disk is the uninterrupted run's, byte for byte.
+        for (name, bytes) in &now {
+            if is_temporary(name) {
+                debris_seen += 1;
+                continue;
+            }
+            assert_eq!(
+                Some(bytes),
+                expected.get(name),
+                "round {round} (killed after {delay:?}): {name:?} is not a whole result"
+            );
+        }
+        // Nothing reported lost: every result the run said it wrote is there.
+        for line in text(&o.stdout).lines() {
+            if let Some(file) = line.strip_suffix(" (clip fit, svd):") {
+                let name = Path::new(file).strip_prefix(&out).expect("in the folder");
+                assert!(now.contains_key(name), "round {round}: {file} reported, not written");
+            }
+        }
+        // Every tenth round, a run to the end: it cleans what the killed ones left.
+        if round % 10 == 9 {
+            let o = run(&args(&out));
+            assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+            assert_eq!(files_in(&out), expected, "round {round}: debris or a wrong result");
+        }
+    }
+    eprintln!(
+        "{killed} of 50 runs killed before their end; {debris_seen} temporaries seen after kills"
+    );
+    assert!(killed >= 25, "only {killed} kills landed before the end");
+}
+
+// ---------------------------------------------------------------------------------------
 // Mutated inputs of every JSON/CSV kind: exit 0, 1 or 2, never a panic, never an input
 // changed.
 
