@@ -19,6 +19,9 @@ pub const MIB: u64 = 1024 * 1024;
 /// CSV file (segments files): 16 MiB.
 pub const MAX_JSON_BYTES: u64 = 16 * MIB;
 
+/// The UTF-8 byte-order mark.
+const UTF8_BOM: &[u8] = b"\xef\xbb\xbf";
+
 /// The default limit of a motion capture (BVH) or a mesh (OBJ): 256 MiB.
 pub const MAX_CAPTURE_BYTES: u64 = 256 * MIB;
 
@@ -104,9 +107,13 @@ pub fn read_limited(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
 }
 
 /// [`read_limited`], then the bytes as UTF-8 (else [`io::ErrorKind::InvalidData`], as
-/// `std::fs::read_to_string`).
+/// `std::fs::read_to_string`), without the byte-order mark some Windows editors put first
+/// (a JSON file saved with one read as "expected value at line 1 column 1").
 pub fn read_to_string_limited(path: &Path, limit: u64) -> io::Result<String> {
-    let bytes = read_limited(path, limit)?;
+    let mut bytes = read_limited(path, limit)?;
+    if bytes.starts_with(UTF8_BOM) {
+        bytes.drain(..UTF8_BOM.len());
+    }
     String::from_utf8(bytes).map_err(|e| {
         io::Error::new(
             io::ErrorKind::InvalidData,
@@ -121,6 +128,17 @@ pub fn read_to_string_limited(path: &Path, limit: u64) -> io::Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_byte_order_mark_is_not_part_of_the_text() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bom.json");
+        std::fs::write(&path, b"\xef\xbb\xbf{\"a\": 1}").unwrap();
+        assert_eq!(read_to_string_limited(&path, 100).unwrap(), "{\"a\": 1}");
+        // Only first: elsewhere it is text.
+        std::fs::write(&path, b"x\xef\xbb\xbf").unwrap();
+        assert_eq!(read_to_string_limited(&path, 100).unwrap(), "x\u{feff}");
+    }
 
     #[test]
     fn reads_a_file_up_to_its_limit_and_refuses_one_byte_more() {

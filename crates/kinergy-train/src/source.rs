@@ -326,11 +326,8 @@ pub fn capture_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
             out.extend(found);
         } else if p.is_file() {
             out.push(p.clone());
-        } else if let Ok(metadata) = std::fs::metadata(p) {
-            let kind = kinergy_io::describe_file_type(&metadata);
-            return Err(bad(p, format!("not a regular file ({kind})")));
         } else {
-            return Err(bad(p, "no such file or folder".into()));
+            return Err(bad(p, not_a_capture(p)));
         }
     }
     if out.is_empty() {
@@ -340,6 +337,31 @@ pub fn capture_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
         });
     }
     Ok(out)
+}
+
+/// Why `path`, neither a file nor a folder, is no capture: what it is (a device, a FIFO),
+/// a symbolic link that leads nowhere or in a loop, or nothing at all; else the system's
+/// reason it cannot be looked at.
+fn not_a_capture(path: &Path) -> String {
+    match std::fs::metadata(path) {
+        Ok(metadata) => format!(
+            "not a regular file ({})",
+            kinergy_io::describe_file_type(&metadata)
+        ),
+        Err(e) if std::fs::symlink_metadata(path).is_ok() => {
+            // The link itself is there: its target is not, or links lead back to it.
+            if e.kind() == std::io::ErrorKind::NotFound {
+                "a symbolic link to a missing file".into()
+            } else if e.to_string().contains("symbolic links") {
+                // ELOOP, said so by every Unix ("Too many levels of symbolic links").
+                "a symbolic link loop (too many levels of symbolic links)".into()
+            } else {
+                format!("a symbolic link that cannot be followed: {e}")
+            }
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => "no such file or folder".into(),
+        Err(e) => format!("cannot be read: {e}"),
+    }
 }
 
 /// Every `*.bvh` file under `dir`.
@@ -360,4 +382,37 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::capture_files;
+    use std::path::PathBuf;
+
+    fn why(path: PathBuf) -> String {
+        match capture_files(&[path]) {
+            Err(crate::TrainError::File { why, .. }) => why,
+            other => panic!("expected a file error, got {other:?}"),
+        }
+    }
+
+    /// Issue 27 #11: each kind of non-capture is said as what it is ("no such file" was said
+    /// of a symbolic link loop).
+    #[cfg(unix)]
+    #[test]
+    fn what_is_not_a_capture_is_said_as_what_it_is() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+        std::os::unix::fs::symlink(&b, &a).unwrap();
+        std::os::unix::fs::symlink(&a, &b).unwrap();
+        assert!(why(a).contains("symbolic link loop"));
+        let dangling = dir.path().join("dangling");
+        std::os::unix::fs::symlink(dir.path().join("gone"), &dangling).unwrap();
+        assert!(why(dangling).contains("link to a missing file"));
+        assert!(why(dir.path().join("nothing")).contains("no such file or folder"));
+        assert!(why("/dev/zero".into()).contains("not a regular file (a character device)"));
+        let empty = dir.path().join("empty");
+        std::fs::create_dir(&empty).unwrap();
+        assert!(why(empty).contains("no .bvh files"));
+    }
 }
