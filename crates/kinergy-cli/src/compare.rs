@@ -130,12 +130,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "--models and --optimizers need at least one each".into(),
         ));
     }
-    crate::common::make_folder(&args.output)?;
     let clock = Instant::now();
     let bar = Bar::counting(reaches.len() as u64, "clips");
     let results = experiment::run(&reaches, &settings, &|| bar.inc());
     bar.finish();
     let results = results.map_err(Failure::from)?;
+    // Made once there is something to write: a failed run leaves no empty folder.
+    crate::common::make_folder(&args.output)?;
     let seconds = clock.elapsed().as_secs_f64();
 
     let csv_path = args.output.join("results.csv");

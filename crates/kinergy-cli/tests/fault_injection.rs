@@ -410,14 +410,21 @@ fn a_folder_fit_killed_at_50_random_moments_loses_nothing_reported_and_leaves_no
         for line in text(&o.stdout).lines() {
             if let Some(file) = line.strip_suffix(" (clip fit, svd):") {
                 let name = Path::new(file).strip_prefix(&out).expect("in the folder");
-                assert!(now.contains_key(name), "round {round}: {file} reported, not written");
+                assert!(
+                    now.contains_key(name),
+                    "round {round}: {file} reported, not written"
+                );
             }
         }
         // Every tenth round, a run to the end: it cleans what the killed ones left.
         if round % 10 == 9 {
             let o = run(&args(&out));
             assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-            assert_eq!(files_in(&out), expected, "round {round}: debris or a wrong result");
+            assert_eq!(
+                files_in(&out),
+                expected,
+                "round {round}: debris or a wrong result"
+            );
         }
     }
     eprintln!(

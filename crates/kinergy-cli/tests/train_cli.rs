@@ -770,13 +770,20 @@ fn ctrl_c_in_a_per_clip_fit_says_which_results_were_written() {
         .lines()
         .filter_map(|l| l.strip_suffix(" (clip fit, svd):"))
         .collect();
-    assert!(!written.is_empty() && written.len() < 14, "{written:?} {err}");
+    assert!(
+        !written.is_empty() && written.len() < 14,
+        "{written:?} {err}"
+    );
     assert!(
         err.contains(&format!("{} of 14 results were written", written.len())),
         "{err}"
     );
     let on_disk: Vec<_> = std::fs::read_dir(&out).expect("folder").flatten().collect();
-    assert_eq!(on_disk.len(), written.len(), "temporaries or unreported files left");
+    assert_eq!(
+        on_disk.len(),
+        written.len(),
+        "temporaries or unreported files left"
+    );
     for file in written {
         let params: serde_json::Value =
             serde_json::from_slice(&std::fs::read(file).expect("reported, written"))

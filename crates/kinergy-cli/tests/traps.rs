@@ -682,3 +682,48 @@ fn a_failed_write_names_the_path_once() {
     assert_eq!(err.matches(out).count(), 1, "{err}");
     assert!(!err.contains("Os {"), "{err}");
 }
+
+/// Issue 27 #11: `compare --per person` with one person's takes on both arms runs (it failed
+/// with "invalid `samples[1].arm.side`" and left an empty folder): the single vector is fitted
+/// on both arms, the field (one arm's) is left out and the summary says why.
+#[test]
+fn a_holdout_of_a_person_reaching_with_both_arms_says_why_there_is_no_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let segments = dir.path().join("both.csv");
+    let mut text = String::from("clip,onset,end,arm,label,person\n");
+    for (take, arm) in [
+        (1, "right"),
+        (2, "right"),
+        (3, "right"),
+        (5, "left"),
+        (6, "left"),
+    ] {
+        let clip = common::synthetic(&format!("r{take:02}.bvh"));
+        text.push_str(&format!("{},6,60,{arm},reach,p01\n", clip.display()));
+    }
+    std::fs::write(&segments, text).unwrap();
+    let out = dir.path().join("cmp");
+    let o = kinergy(&[
+        "compare",
+        "--segments",
+        segments.to_str().unwrap(),
+        "--per",
+        "person",
+        "--holdout",
+        "1",
+        "--models",
+        "sa",
+        "--budget",
+        "40",
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(
+        summary.contains("No parameter field for `p01`: their takes reach with both arms"),
+        "{summary}"
+    );
+    assert!(out.join("holdout.csv").is_file());
+}

@@ -69,13 +69,14 @@ pub fn run(
     settings.fit.anneal.validate().map_err(Failure::from)?;
     experiment::check_split(&takes, holdout)
         .map_err(|e| Failure::Input(format!("--holdout {holdout}: {}", why(&e))))?;
-    crate::common::make_folder(&args.output)?;
     let persons = experiment::group_by_person(&takes).len();
     let clock = Instant::now();
     let bar = Bar::counting(persons as u64, "persons");
     let results = experiment::run_holdout(&takes, &settings, &|| bar.inc());
     bar.finish();
     let results = results.map_err(Failure::from)?;
+    // Made once there is something to write: a failed run leaves no empty folder.
+    crate::common::make_folder(&args.output)?;
     let seconds = clock.elapsed().as_secs_f64();
 
     let csv_path = args.output.join("holdout.csv");
@@ -370,6 +371,22 @@ fn markdown(
     ));
     if !summary.field.is_empty() {
         md.push_str(&field_table(summary, results));
+    }
+    // A field holds one arm's reaches: a person whose takes reach with both has none.
+    let without: Vec<String> = results
+        .fits
+        .iter()
+        .filter(|f| f.field.is_none())
+        .map(|f| md_code(&f.person))
+        .collect();
+    if settings.field.is_some() && !without.is_empty() {
+        md.push_str(&format!(
+            "
+No parameter field for {}: their takes reach with both arms, and a field holds \
+             one arm's reaches (its targets are in that arm's base frame); their single vector \
+             is fitted on both.\n",
+            without.join(", ")
+        ));
     }
     md.push_str("\n## In sample — the same vectors on the training takes, mean\n\n| person |");
     for m in &models {

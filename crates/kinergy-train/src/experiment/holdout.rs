@@ -409,8 +409,14 @@ pub fn run_holdout(
             let (train, test) = split(members);
             let clock = Instant::now();
             let nested = fit_nested(&train, &settings.models, optimizer, &settings.fit)?;
+            // A field holds one arm's reaches (its targets are in that arm's base frame): a
+            // person whose takes reach with both arms gets the single vector only.
+            let sides: std::collections::BTreeSet<_> = members
+                .iter()
+                .map(|&i| takes[i].reach.fitted_arm().side.map(|s| s.to_string()))
+                .collect();
             let field = match &settings.field {
-                Some(field) => {
+                Some(field) if sides.len() == 1 => {
                     let models: Vec<Model> = settings
                         .models
                         .iter()
@@ -432,7 +438,7 @@ pub fn run_holdout(
                     let file = file.anchored(single, &train, settings.fit.tolerance)?;
                     Some((file, fits))
                 }
-                None => None,
+                _ => None,
             };
             let field_evaluations: usize = field
                 .iter()
