@@ -379,17 +379,40 @@ impl Skeleton {
         Ok(jac)
     }
 
-    /// The lowest and highest world point of the skeleton and its largest extent along any
-    /// world axis, at `pose`.
+    /// The skeleton's largest extent along any world axis at `pose`: the body's size, without
+    /// the reference joints above it (see [`Skeleton::reference_joints`]) — a performer who
+    /// walked 5 m away from a `joint_Root` left at the origin is still a 1.7 m body, not a
+    /// 5.4 m one.
     pub fn extent(&self, pose: &[f64]) -> Result<f64> {
         let pts = self.world_positions(pose)?;
+        let skip = self.reference_joints();
         let mut lo = Vector3::repeat(f64::INFINITY);
         let mut hi = Vector3::repeat(f64::NEG_INFINITY);
-        for p in &pts {
+        for p in &pts[skip..] {
             lo = lo.inf(&p.coords);
             hi = hi.sup(&p.coords);
         }
         Ok((hi - lo).max())
+    }
+
+    /// How many joints, from the root down, are reference joints rather than the body: the
+    /// root and its descendants while each has exactly one child (a `joint_Root` or
+    /// `Reference` above the hips, which exporters leave at the origin while the body moves
+    /// away). The hips, where the legs and the spine branch, are body. Leaving such a joint
+    /// out of a size costs nothing when it sits in the body (its one child is near it).
+    /// Joints are in parent-first order, so the reference joints are the first ones. A
+    /// skeleton that never branches (one chain, an arm alone) has none.
+    pub fn reference_joints(&self) -> usize {
+        let mut joint = 0;
+        while joint < self.joints.len() {
+            let mut children = self.children(joint);
+            match (children.next(), children.next()) {
+                (Some(only), None) if only == joint + 1 => joint = only,
+                (Some(_), Some(_)) => return joint,
+                _ => return 0,
+            }
+        }
+        0
     }
 }
 
@@ -442,6 +465,31 @@ pub(crate) mod tests {
             ..j("RightHand_End", Some(5), [-0.09, 0.0, 0.01], vec![])
         });
         Skeleton::new(joints).expect("valid")
+    }
+
+    #[test]
+    fn reference_joints_are_the_single_child_joints_above_the_first_branch() {
+        let skeleton = test_skeleton();
+        // Hips has one child (Spine), where the arm and the head branch.
+        assert_eq!(skeleton.reference_joints(), 1);
+        // A chain never branches: nothing is a reference joint.
+        let chain: Vec<Joint> = skeleton.joints()[2..6]
+            .iter()
+            .enumerate()
+            .map(|(k, j)| Joint {
+                parent: k.checked_sub(1),
+                ..j.clone()
+            })
+            .collect();
+        let chain = Skeleton::new(chain).expect("chain");
+        assert_eq!(chain.reference_joints(), 0);
+        // A reference far away does not count in the extent; the body does.
+        let mut joints = skeleton.joints().to_vec();
+        joints[0].offset = Vector3::new(0.0, 0.9, -5.4);
+        let far = Skeleton::new(joints).expect("far");
+        let pose = vec![0.0; far.dof_count()];
+        let near = skeleton.extent(&pose).expect("extent");
+        assert_relative_eq!(far.extent(&pose).expect("extent"), near, epsilon = 1e-12);
     }
 
     #[test]

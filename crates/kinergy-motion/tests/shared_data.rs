@@ -440,3 +440,64 @@ fn a_missing_shared_folder_fails_only_when_required() {
         "{failure}"
     );
 }
+
+/// Issue 24 #0: a take whose reference root stays at the origin while the performer starts
+/// 5.4 m away (the Bandai library's walks and runs: `joint_Root` at 0, `Hips` at z = −543 cm)
+/// is read in centimeters as a 1.2–2.0 m body: the unit guess measures the body, not the
+/// distance to the reference joint (it read as a 0.14 m body, in millimeters). Built from
+/// every shared Bandai take, the hips' position channel moved 5.43 m away in every frame.
+#[test]
+fn a_reference_root_far_from_the_body_does_not_change_the_unit() {
+    let dir = shared_dir().join("bandai-raise-left");
+    if !dir.exists() {
+        require_shared::shared_absent(&format!("skipping: {} is absent", dir.display()));
+        return;
+    }
+    let mut takes: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("folder")
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "bvh"))
+        .collect();
+    takes.sort();
+    assert_eq!(takes.len(), 24);
+    for path in &takes {
+        let text = std::fs::read_to_string(path).expect("read");
+        let mut bvh = kinergy_motion::kinergy_bvh::parse(&text).expect("parse");
+        assert_eq!(
+            (bvh.joints[0].name.as_deref(), bvh.joints[1].name.as_deref()),
+            (Some("joint_Root"), Some("Hips"))
+        );
+        // The hips' channels: Xposition Yposition Zposition first.
+        let z = bvh.joints[1].first_channel + 2;
+        let channels = bvh.channel_count();
+        for frame in 0..bvh.frame_count {
+            bvh.motion[frame * channels + z] -= 543.0;
+        }
+        let (clip, report) =
+            kinergy_motion::clip_from_bvh(&bvh, &ImportOptions::default()).expect("import");
+        assert_eq!(
+            report.unit,
+            kinergy_motion::LengthUnit::Centimeter,
+            "{path:?}"
+        );
+        assert_eq!(report.up, UpAxis::Y, "{path:?}");
+        let p = clip
+            .skeleton()
+            .world_positions(clip.frame(0).expect("frame 0"))
+            .expect("fk");
+        let ys: Vec<f64> = body_points(&clip).iter().map(|&j| p[j].y).collect();
+        let height = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            - ys.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!(
+            (1.2..=2.0).contains(&height),
+            "{path:?}: a {height:.3} m body"
+        );
+        // The body is 5.4 m from the reference joint, as captured.
+        let away = (p[1] - p[0]).norm();
+        assert!(
+            (5.0..6.0).contains(&away),
+            "{path:?}: hips {away:.2} m from the root"
+        );
+    }
+}
