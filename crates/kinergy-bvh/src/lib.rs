@@ -61,6 +61,28 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Bvh, Error> {
     })
 }
 
+/// The frame count a BVH file's `Frames:` line states, read from the file's start without
+/// parsing it (for weighing a library's takes before reading them): `Ok(None)` when the
+/// first 4 MiB hold no such line. Only a regular file is read.
+pub fn header_frame_count(path: &Path) -> std::io::Result<Option<usize>> {
+    use std::io::{BufRead, BufReader, Read};
+    const HEADER_BYTES: u64 = 4 << 20;
+    let metadata = std::fs::metadata(path)?;
+    if let Some(e) = kinergy_io::not_regular(&metadata) {
+        return Err(e);
+    }
+    let reader = BufReader::new(std::fs::File::open(path)?.take(HEADER_BYTES));
+    for line in reader.split(b'\n') {
+        let line = line?;
+        let text = String::from_utf8_lossy(&line);
+        let text = text.trim();
+        if let Some(rest) = text.strip_prefix("Frames:") {
+            return Ok(rest.trim().parse().ok());
+        }
+    }
+    Ok(None)
+}
+
 /// Writes a document as BVH text, after [`Bvh::validate`].
 pub fn to_string(bvh: &Bvh) -> Result<String, WriteError> {
     write::render(bvh)

@@ -4,6 +4,7 @@
 
 mod args;
 mod field;
+pub mod library;
 
 pub use args::{Args, Per};
 
@@ -71,7 +72,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     args.search.apply_threads()?;
     let clips = args.reach.clips(&args.clips)?;
-    let reaches = args.reach.load_all(&clips)?;
     let settings = args.search.settings();
     settings.anneal.validate().map_err(Failure::from)?;
     let models: Vec<Model> = if args.no_nested {
@@ -89,6 +89,22 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 .into(),
         ));
     }
+    if let (dest, true) = destination(args, false)?
+        && args.per == Per::Clip
+    {
+        return library_run(args, &clips, &models, &settings, dest);
+    }
+    if args.shard.is_some() {
+        return Err(Failure::Input(
+            "--shard shares a library: fit --per clip --out-dir DIR".into(),
+        ));
+    }
+    if args.resume && args.checkpoint.is_none() {
+        return Err(Failure::Input(
+            "--resume continues a --checkpoint, or a library (fit --per clip --out-dir DIR)".into(),
+        ));
+    }
+    let reaches = args.reach.load_all(&clips)?;
     if args.field {
         field::check_one_arm(&reaches)?;
     }
@@ -104,10 +120,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             dest.display()
         )));
     }
-    let names = if folder {
-        output_names(&groups)
-    } else {
-        Vec::new()
+    // A folder here holds one person's fit, named by its first clip.
+    let names = match groups.first().and_then(|g| g.first()) {
+        Some(first) if folder => take_names(
+            Path::new(""),
+            Path::new(first.name()),
+            std::slice::from_ref(first),
+        ),
+        _ => Vec::new(),
     };
     if several && args.checkpoint.is_some() {
         return Err(Failure::Input(
@@ -152,11 +172,18 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if args.field {
         let mut fits = Vec::with_capacity(groups.len());
         for group in &groups {
-            fits.push(run_group(args, group, &models, &settings, log.as_mut())?);
+            fits.push(run_group(
+                args,
+                group,
+                &models,
+                &settings,
+                log.as_mut(),
+                true,
+            )?);
         }
         // The person's single vector, the field's anchor: all the reaches at once.
         let reaches: Vec<CapturedReach> = groups.into_iter().flatten().collect();
-        let person = run_group(args, &reaches, &models, &settings, log.as_mut())?;
+        let person = run_group(args, &reaches, &models, &settings, log.as_mut(), true)?;
         if let Some(log) = log {
             log.finish().map_err(Failure::from)?;
         }
@@ -164,7 +191,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let mut reports = Vec::new();
     for (g, group) in groups.iter().enumerate() {
-        let fits = run_group(args, group, &models, &settings, log.as_mut())
+        let fits = run_group(args, group, &models, &settings, log.as_mut(), true)
             .map_err(|e| written_before(e, &reports, groups.len(), dest))?;
         let output = if folder {
             let path = dest.join(&names[g]);
@@ -264,6 +291,7 @@ fn run_group(
     models: &[Model],
     settings: &FitSettings,
     log: Option<&mut CsvLog>,
+    show_bar: bool,
 ) -> Result<NestedFit, Failure> {
     let run = NestedRun {
         reaches: group,
@@ -271,7 +299,11 @@ fn run_group(
         optimizer: args.optimizer.default_optimizer(),
         settings,
     };
-    let mut bar = Bar::new((settings.anneal.max_evaluations * models.len()) as u64);
+    let mut bar = if show_bar {
+        Bar::new((settings.anneal.max_evaluations * models.len()) as u64)
+    } else {
+        Bar::hidden()
+    };
     let control = Control {
         checkpoint: args.checkpoint.as_ref().map(|p| p as &dyn Checkpoint),
         checkpoint_every: args.checkpoint_every,
@@ -280,9 +312,11 @@ fn run_group(
     let mut hook = InterruptAfter {
         left: args.interrupt_after,
     };
+    // A library's --resume skips finished reaches; a fit's continues its checkpoint.
+    let resume = args.resume && args.checkpoint.is_some();
     let outcome = match log {
-        Some(log) => run.run(&mut ((&mut bar, &mut hook), log), &control, args.resume),
-        None => run.run(&mut (&mut bar, &mut hook), &control, args.resume),
+        Some(log) => run.run(&mut ((&mut bar, &mut hook), log), &control, resume),
+        None => run.run(&mut (&mut bar, &mut hook), &control, resume),
     };
     bar.finish();
     let outcome = outcome.map_err(Failure::from)?;
@@ -329,6 +363,52 @@ fn run_group(
     Ok(fits)
 }
 
+/// `fit --per clip` into a folder: checks the outputs, then runs the library
+/// ([`library::run`]).
+fn library_run(
+    args: &Args,
+    clips: &crate::common::CaptureClips,
+    models: &[Model],
+    settings: &FitSettings,
+    dest: &Path,
+) -> Result<(), Failure> {
+    use crate::common::{Output, check_outputs};
+    if args.checkpoint.is_some() || args.log.is_some() {
+        return Err(Failure::Input(
+            "--checkpoint and --log follow one fit: a library (--per clip into a folder) \
+             resumes with --resume alone"
+                .into(),
+        ));
+    }
+    let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
+    inputs.extend(clips.inputs());
+    inputs.extend(args.reach.segments.as_deref());
+    // Every take's first result name (a take with several reaches adds their frames) and the
+    // library's tables.
+    let common = common_folder(
+        &clips
+            .paths
+            .iter()
+            .map(|t| std::fs::canonicalize(t).unwrap_or_else(|_| t.clone()))
+            .collect::<Vec<_>>(),
+    );
+    let mut files: Vec<PathBuf> = clips
+        .paths
+        .iter()
+        .map(|take| dest.join(relative_name(&common, take).with_extension("json")))
+        .collect();
+    files.extend([library::LIBRARY, library::SKIPPED].map(|f| dest.join(f)));
+    let option = if args.out_dir.is_some() {
+        "--out-dir"
+    } else {
+        "-o"
+    };
+    check_outputs(&inputs, &[Output::Folder(option, dest, &files)])?;
+    ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
+        .map_err(|e| Failure::Task(format!("cannot watch for Ctrl-C: {e}")))?;
+    library::run(args, clips, models, settings, dest)
+}
+
 /// Where the results go and whether it is a folder: `--out-dir`, or `-o` ending in a path
 /// separator, is a folder; a plain `-o` is one file, refused when there are several results.
 fn destination(args: &Args, several: bool) -> Result<(&Path, bool), Failure> {
@@ -358,58 +438,40 @@ fn destination(args: &Args, several: bool) -> Result<(&Path, bool), Failure> {
     Ok((output, folder))
 }
 
-/// Each group's file name inside the output folder: its clip's path from the clips' common
-/// folder with `.json` for `.bvh` (`p01/r01.json`), so clips with one name in different
-/// folders keep their own results; several reaches of one clip add their frames
-/// (`r01_120-245.json`), and reaches of one clip over the same frames their arm
-/// (`r01_6-72_right.json`, `r01_6-72_left.json`).
-fn output_names(groups: &[Vec<CapturedReach>]) -> Vec<PathBuf> {
-    let paths: Vec<PathBuf> = groups
+/// The capture `take`'s path from the folder `common` (canonical paths; plain names only,
+/// never `..`): where its results go in the output folder.
+fn relative_name(common: &Path, take: &Path) -> PathBuf {
+    let path = std::fs::canonicalize(take).unwrap_or_else(|_| take.to_path_buf());
+    let relative = path.strip_prefix(common).unwrap_or(&path);
+    relative
+        .components()
+        .filter(|c| matches!(c, std::path::Component::Normal(_)))
+        .collect()
+}
+
+/// The result names of the reaches of the capture `take` (in order), relative to the
+/// output folder: the take's path from `common` (the library's common folder), with
+/// `.json` — `p01/r01.json`; `p01/r01_<onset>-<end>.json` when the take gives several
+/// reaches, and `_<arm>` after the frames when two of them share their frames (they differ
+/// by arm: both were once written to one name, and the first fit was lost).
+fn take_names(common: &Path, take: &Path, reaches: &[CapturedReach]) -> Vec<PathBuf> {
+    let relative = relative_name(common, take);
+    let stem = relative
+        .file_stem()
+        .map_or_else(|| "clip".into(), |s| s.to_string_lossy().into_owned());
+    reaches
         .iter()
-        .map(|g| {
-            let p = Path::new(g[0].name());
-            std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf())
-        })
-        .collect();
-    let common = common_folder(&paths);
-    groups
-        .iter()
-        .zip(&paths)
-        .map(|(group, path)| {
-            let relative = path.strip_prefix(&common).unwrap_or(path);
-            let relative = relative
-                .components()
-                .filter(|c| matches!(c, std::path::Component::Normal(_)))
-                .collect::<PathBuf>();
-            let stem = relative
-                .file_stem()
-                .map_or_else(|| "clip".into(), |s| s.to_string_lossy().into_owned());
-            let first = &group[0];
-            let repeated = groups
+        .map(|reach| {
+            let same_frames = reaches
                 .iter()
-                .filter(|g| g[0].name() == first.name())
+                .filter(|r| r.frames() == reach.frames())
                 .count()
                 > 1;
-            // Two reaches of one clip over the same frames differ by their arm: the name says
-            // which (both were written to one name, and the first fit was lost).
-            let same_frames = groups
-                .iter()
-                .filter(|g| g[0].name() == first.name() && g[0].frames() == first.frames())
-                .count()
-                > 1;
-            let name = match (repeated, same_frames) {
+            let (start, end) = (reach.frames().start, reach.frames().end);
+            let name = match (reaches.len() > 1, same_frames) {
                 (false, _) => format!("{stem}.json"),
-                (true, false) => format!(
-                    "{stem}_{}-{}.json",
-                    first.frames().start,
-                    first.frames().end
-                ),
-                (true, true) => format!(
-                    "{stem}_{}-{}_{}.json",
-                    first.frames().start,
-                    first.frames().end,
-                    arm_label(first)
-                ),
+                (true, false) => format!("{stem}_{start}-{end}.json"),
+                (true, true) => format!("{stem}_{start}-{end}_{}.json", arm_label(reach)),
             };
             relative.with_file_name(name)
         })

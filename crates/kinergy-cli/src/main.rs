@@ -5,6 +5,7 @@ use std::process::ExitCode;
 use clap::{CommandFactory, Parser, Subcommand};
 
 mod animate;
+mod collect;
 mod common;
 mod compare;
 mod convert;
@@ -63,6 +64,13 @@ enum Command {
         after_help = "Examples:\n  kinergy fit me/ --model sc --optimizer svd -o me.json\n  kinergy fit reach.bvh --model sc --per clip --frames 12..140 --checkpoint fit.ckpt -o p.json\n  kinergy fit me/ --model sc --checkpoint fit.ckpt --resume -o me.json"
     )]
     Fit(fit::Args),
+    /// Collect a library fitted into a folder (`fit --per clip --out-dir DIR`, in shards or
+    /// not): check every take was fitted or skipped and every result is whole, and write
+    /// DIR/library.csv and DIR/skipped.csv. Idempotent; exit 1 naming what is missing.
+    #[command(after_help = "Examples:
+  kinergy collect fits/
+  sbatch --dependency=afterany:$ARRAY_JOB --wrap 'kinergy collect fits/'")]
+    Collect(collect::Args),
     /// Run the paper's experiments on captures (default: data-synthetic/): S_A–S_D per clip
     /// (Fig. 3), optimizers with S_A and S_C (Fig. 4), and annealing vs argmin's optimizers;
     /// writes results.csv, summary.md and the Fig. 3 / Fig. 4 charts.
@@ -125,6 +133,7 @@ fn main() -> ExitCode {
         Command::Synthesize(args) => synthesize::run(&args),
         Command::Segment(args) => segment::run(&args),
         Command::Fit(args) => fit::run(&args),
+        Command::Collect(args) => collect::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Reach(args) => reach::run(&args),
         Command::Style(args) => style::run(&args),

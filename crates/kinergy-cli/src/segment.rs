@@ -107,7 +107,7 @@ fn segment_clip(
                 .collect()
         }
     };
-    let side = arm.side.unwrap_or(args.arm.arm);
+    let side = arm.side.unwrap_or(args.arm.side()?);
     let dt = clip.frame_time();
     let rows = picked
         .iter()

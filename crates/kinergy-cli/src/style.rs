@@ -165,7 +165,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         if let Some((clip, capture)) = &first {
             let who = pictures::person_name(&args.params);
             pictures::speed_chart(dir, &who, &summary, &runs)?;
-            pictures::film_strip(dir, &who, clip, capture, &runs[0], args.arm.arm)?;
+            pictures::film_strip(dir, &who, clip, capture, &runs[0], args.arm.side()?)?;
         }
     }
     if args.json {
@@ -202,10 +202,12 @@ fn compare_one(
         }
     }
     let capture = StyleCapture::new(&clip, &joints, &name).map_err(|e| Failure::input(path, e))?;
-    let run = capture.compare(args.arm.arm, person).map_err(|e| match e {
-        e @ ReachError::Params { .. } => crate::common::person_failure(&args.params, e),
-        e => Failure::from(e).naming(&name),
-    })?;
+    let run = capture
+        .compare(args.arm.side()?, person)
+        .map_err(|e| match e {
+            e @ ReachError::Params { .. } => crate::common::person_failure(&args.params, e),
+            e => Failure::from(e).naming(&name),
+        })?;
     Ok((clip, capture, run))
 }
 

@@ -154,11 +154,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let record = record.as_ref();
     let fitted_arm = record.and_then(|r| r.arm(same_clip));
     let (whole, _) = args.read.read(from)?;
+    let side = args
+        .arm
+        .or(fitted_arm.and_then(|a| a.side))
+        .unwrap_or(Side::Right);
     let arm_args = ArmArgs {
-        arm: args
-            .arm
-            .or(fitted_arm.and_then(|a| a.side))
-            .unwrap_or(Side::Right),
+        arm: crate::common::ArmSide::Side(side),
         chain: args.chain.clone(),
     };
     let joints = arm_args.find(&whole, from)?;
@@ -228,7 +229,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let (optimizer, synergy) = match (&params, &args.params) {
         (Some(person), Some(path)) => {
             // The arm that reaches here: a field fitted on the other arm is asked mirrored.
-            let side = reach.fitted_arm().side.unwrap_or(arm_args.arm);
+            let side = reach.fitted_arm().side.unwrap_or(side);
             let at = person
                 .params_for_arm(&local, side)
                 .map_err(|e| Failure::input(path, e))?;

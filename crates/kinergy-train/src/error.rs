@@ -110,6 +110,15 @@ pub enum TrainError {
         /// The segments file.
         file: PathBuf,
     },
+    /// A take with nothing to fit: no arm of it reaches (a walk, a wave that never leaves
+    /// the hand somewhere). Not bad input in a library: the take is skipped, saying why.
+    #[error("{}: nothing to fit: {why}", path.display())]
+    NothingToFit {
+        /// The capture.
+        path: PathBuf,
+        /// What there is instead, arm by arm.
+        why: String,
+    },
     /// The frames chosen for a reach are outside the clip or fewer than 2.
     #[error(
         "frames {}..{}: {clip} has {available} frames and a reach needs at least 2",
@@ -124,6 +133,18 @@ pub enum TrainError {
         /// The clip's frames.
         available: usize,
     },
+}
+
+impl TrainError {
+    /// Whether the error says a take has nothing to fit (no reach on the arm asked for, or
+    /// on any arm with `--arm auto`), rather than that an input is wrong: a library run
+    /// skips such a take and lists it.
+    pub fn is_nothing_to_fit(&self) -> bool {
+        matches!(
+            self,
+            TrainError::NothingToFit { .. } | TrainError::Motion(MotionError::Reach { .. })
+        )
+    }
 }
 
 /// `e` naming `path` once: errors about files often name them already.

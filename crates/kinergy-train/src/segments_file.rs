@@ -151,6 +151,21 @@ impl SegmentsFile {
         &self.rows
     }
 
+    /// The rows of each clip, by the clip's file (its canonical path): each row's clip
+    /// looked up once, so that a library of takes finds its rows in linear time.
+    pub fn rows_by_clip(&self) -> HashMap<PathBuf, Vec<&SegmentRow>> {
+        let mut index: HashMap<PathBuf, Vec<&SegmentRow>> = HashMap::new();
+        for row in &self.rows {
+            index.entry(file_key(&row.clip)).or_default().push(row);
+        }
+        index
+    }
+
+    /// The key [`rows_by_clip`](Self::rows_by_clip) finds `clip`'s rows under.
+    pub fn clip_key(clip: &Path) -> PathBuf {
+        file_key(clip)
+    }
+
     /// The rows of one clip (compared as files on disk), in file order.
     pub fn rows_for<'a>(&'a self, clip: &Path) -> impl Iterator<Item = &'a SegmentRow> + 'a {
         let key = file_key(clip);

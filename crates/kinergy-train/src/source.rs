@@ -90,6 +90,10 @@ pub enum ReachFrames {
     Segments(Selection),
 }
 
+/// With `--arm auto`, an arm's reach counts when the hand moves at least this share of the
+/// most any arm of the take moves over its reach.
+pub const AUTO_ARM_SHARE: f64 = 0.5;
+
 /// A capture file, read for its reaches.
 #[derive(Debug, Clone)]
 pub struct Capture {
@@ -150,6 +154,70 @@ impl Capture {
             .into_iter()
             .map(|window| CapturedReach::new(&name, &self.clip, &joints, window, mode))
             .collect()
+    }
+
+    /// The reaches of the arms that reach (`--arm auto`): for each arm the skeleton has,
+    /// the segments `selection` takes (`main` or `all`), kept where the arm moves at least
+    /// [`AUTO_ARM_SHARE`] of the most any arm of the take moves (the idle arm of a one-hand
+    /// raise sways; a both-hands take gives one reach per arm). Right arm first, each in
+    /// time order. [`TrainError::NothingToFit`], saying what each arm does, when no arm
+    /// reaches; [`TrainError::Setting`] for a selection of one numbered segment (whose arm?).
+    pub fn reaches_of_reaching_arms(
+        &self,
+        selection: Selection,
+        mode: BaseMode,
+    ) -> Result<Vec<CapturedReach>> {
+        if let Selection::Nth(_) = selection {
+            return Err(TrainError::Setting {
+                field: "select".into(),
+                why: "one numbered segment names no arm: with the arm chosen per take, select \
+                      main or all"
+                    .into(),
+            });
+        }
+        let name = self.name();
+        let mut found: Vec<(ArmJoints, Vec<Segment>)> = Vec::new();
+        let mut why = Vec::new();
+        for side in [Side::Right, Side::Left] {
+            let Ok(joints) = ArmJoints::find(self.clip.skeleton(), side) else {
+                why.push(format!("no {side} arm found"));
+                continue;
+            };
+            let segments = find_segments(&self.clip, &joints, &SegmentSettings::default())?;
+            match select(&segments, selection, &name) {
+                Ok(chosen) => found.push((joints, chosen)),
+                Err(MotionError::Reach { why: reason, .. }) => {
+                    why.push(format!("{side} arm: {reason}"));
+                }
+                Err(e) => return Err(e.into()),
+            }
+        }
+        let largest = found
+            .iter()
+            .flat_map(|(_, segments)| segments)
+            .map(|s| s.displacement)
+            .fold(0.0_f64, f64::max);
+        let mut reaches = Vec::new();
+        for (joints, segments) in &found {
+            for segment in segments {
+                if segment.displacement >= AUTO_ARM_SHARE * largest {
+                    reaches.push(CapturedReach::new(
+                        &name,
+                        &self.clip,
+                        joints,
+                        segment.frames(),
+                        mode,
+                    )?);
+                }
+            }
+        }
+        if reaches.is_empty() {
+            return Err(TrainError::NothingToFit {
+                path: self.path.clone(),
+                why: why.join("; "),
+            });
+        }
+        Ok(reaches)
     }
 
     /// The reach a row of the segments `file` gives of this capture: the row's frames
@@ -221,15 +289,12 @@ pub fn segment_reaches<'a>(
     mode: BaseMode,
 ) -> Result<Vec<(CapturedReach, &'a SegmentRow)>> {
     let mut out = Vec::new();
+    let index = file.rows_by_clip();
     for path in clips {
-        let rows: Vec<&SegmentRow> = file.rows_for(path).collect();
-        let Some(first) = rows.first() else {
-            continue;
-        };
-        let capture = Capture::read(path, options).map_err(|e| in_row(file, first, path, e))?;
-        for row in rows {
-            out.push((capture.row_reach(file, row, mode)?, row));
-        }
+        let rows = index
+            .get(&SegmentsFile::clip_key(path))
+            .map_or(&[][..], Vec::as_slice);
+        out.extend(rows_reaches(file, rows, path, options, mode)?);
     }
     if out.is_empty() {
         return Err(TrainError::NoRows {
@@ -237,6 +302,24 @@ pub fn segment_reaches<'a>(
         });
     }
     Ok(out)
+}
+
+/// The reaches `rows` (rows of the segments `file`, all of the capture at `path`) give:
+/// the capture read once, each row's reach in the rows' order (see [`segment_reaches`]).
+pub fn rows_reaches<'a>(
+    file: &SegmentsFile,
+    rows: &[&'a SegmentRow],
+    path: &Path,
+    options: &ImportOptions,
+    mode: BaseMode,
+) -> Result<Vec<(CapturedReach, &'a SegmentRow)>> {
+    let Some(first) = rows.first() else {
+        return Ok(Vec::new());
+    };
+    let capture = Capture::read(path, options).map_err(|e| in_row(file, first, path, e))?;
+    rows.iter()
+        .map(|row| Ok((capture.row_reach(file, row, mode)?, *row)))
+        .collect()
 }
 
 /// Whether a fit record's clip `name` names the capture at `path`: the same path, or the same

@@ -85,12 +85,35 @@ impl ReadArgs {
     }
 }
 
+/// Which arm `--arm` names: one side, or `auto`, each take's arms that reach.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ArmSide {
+    /// This arm.
+    Side(Side),
+    /// Every arm of the take that reaches (a both-hands take: both).
+    Auto,
+}
+
+impl std::str::FromStr for ArmSide {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s.eq_ignore_ascii_case("auto") {
+            return Ok(ArmSide::Auto);
+        }
+        s.parse::<Side>()
+            .map(ArmSide::Side)
+            .map_err(|_| format!("unknown arm `{s}`: expected right, left or auto"))
+    }
+}
+
 /// How to find the arm chain.
 #[derive(Debug, clap::Args)]
 pub struct ArmArgs {
-    /// Which arm.
-    #[arg(long, default_value = "right", value_name = "SIDE")]
-    pub arm: Side,
+    /// Which arm: right, left, or `auto` (fit, compare and segment: the arms of each take that
+    /// reach — a both-hands take gives one reach per arm; a take where neither reaches is
+    /// skipped, saying why).
+    #[arg(long, default_value = "right", value_name = "right|left|auto")]
+    pub arm: ArmSide,
     /// The arm's joints by name, overriding the search: clavicle,shoulder,elbow,wrist (or
     /// shoulder,elbow,wrist).
     #[arg(long, value_delimiter = ',', value_name = "JOINTS")]
@@ -98,18 +121,36 @@ pub struct ArmArgs {
 }
 
 impl ArmArgs {
+    /// The one arm named, for the commands that work on one (`--arm auto` is refused:
+    /// they cannot choose).
+    pub fn side(&self) -> Result<Side, Failure> {
+        match self.arm {
+            ArmSide::Side(side) => Ok(side),
+            ArmSide::Auto => Err(Failure::Input(
+                "--arm auto: this command works on one arm; name it (right or left) — fit, \
+                 compare and segment take auto"
+                    .into(),
+            )),
+        }
+    }
+
     /// The arm's joints in `clip` (read from `path`, named in errors). An unknown `--chain`
     /// joint gets "did you mean …"; an arm not found, the other arm (`--arm left`) when the
     /// skeleton has it, and `--chain`.
     pub fn find(&self, clip: &Clip, path: &Path) -> Result<ArmJoints, Failure> {
+        self.find_side(clip, path, self.side()?)
+    }
+
+    /// [`find`](Self::find) on `side`.
+    pub fn find_side(&self, clip: &Clip, path: &Path, side: Side) -> Result<ArmJoints, Failure> {
         let found = match &self.chain {
             Some(names) => {
                 let names: Vec<&str> = names.iter().map(String::as_str).collect();
                 ArmJoints::from_names(clip.skeleton(), &names)
             }
-            None => ArmJoints::find(clip.skeleton(), self.arm),
+            None => ArmJoints::find(clip.skeleton(), side),
         };
-        found.map_err(|e| arm_failure(e, clip, path, Some(self.arm)))
+        found.map_err(|e| arm_failure(e, clip, path, Some(side)))
     }
 }
 

@@ -10,12 +10,14 @@ use std::path::{Path, PathBuf};
 
 use kinergy_solver::BaseMode;
 use kinergy_train::segment::Selection;
-use kinergy_train::segments_file::SegmentsFile;
-use kinergy_train::source::{ArmChoice, Capture, ReachFrames, segment_clips, segment_reaches};
+use kinergy_train::segments_file::{SegmentRow, SegmentsFile};
+use kinergy_train::source::{
+    ArmChoice, Capture, ReachFrames, rows_reaches, segment_clips, segment_reaches,
+};
 use kinergy_train::{CapturedReach, TrainError};
 
 use super::args::arm_failure_with;
-use super::args::{ArmArgs, ReadArgs, parse_frames};
+use super::args::{ArmArgs, ArmSide, ReadArgs, parse_frames};
 use super::clips::collect_clips;
 use super::failure::Failure;
 
@@ -83,6 +85,11 @@ pub struct CaptureClips {
 }
 
 impl CaptureClips {
+    /// The segments file, when the clips came with one.
+    pub fn segments(&self) -> Option<&SegmentsFile> {
+        self.segments.as_ref()
+    }
+
     /// Every clip file the command reads or could be asked to: [`paths`](Self::paths) and,
     /// with `--segments`, every clip the file names (also those CLIPS leave out), for the
     /// output check.
@@ -133,9 +140,11 @@ impl CaptureArgs {
     }
 
     /// The reaches of every clip, in order (a clip's reaches in time order; with
-    /// `--segments`, in the file's row order). Everything is checked before anything is
-    /// fitted: with `--segments` every error names the segments file and the row's line (a
-    /// clip that cannot be read, frames outside it, an arm its skeleton lacks).
+    /// `--segments`, in the file's row order), and the takes skipped because they have
+    /// nothing to fit ([`Skipped`]; said on stderr). Everything is checked before anything
+    /// is fitted: with `--segments` every error names the segments file and the row's line
+    /// (a clip that cannot be read, frames outside it, an arm its skeleton lacks). No reach
+    /// at all is a failed task (exit 1) listing why each take was skipped.
     pub fn load_all(&self, clips: &CaptureClips) -> Result<Vec<CapturedReach>, Failure> {
         Ok(self
             .load_all_with_persons(clips)?
@@ -150,50 +159,101 @@ impl CaptureArgs {
         &self,
         clips: &CaptureClips,
     ) -> Result<Vec<(CapturedReach, Option<String>)>, Failure> {
-        Ok(self
-            .load_each(clips)?
+        let mut reaches = Vec::new();
+        let mut skipped = Vec::new();
+        match &self.segments {
+            Some(path) => {
+                let segments = match &clips.segments {
+                    Some(segments) => segments,
+                    None => &read_segments(path)?,
+                };
+                let options = self.read.options();
+                let found = segment_reaches(segments, &clips.paths, &options, self.mode())
+                    .map_err(|e| self.failure(path, e))?;
+                reaches.extend(
+                    found
+                        .into_iter()
+                        .map(|(reach, row)| (reach, Some(row.person.clone()))),
+                );
+            }
+            None => {
+                for path in &clips.paths {
+                    match self.take(path)? {
+                        Ok(found) => reaches.extend(found.into_iter().map(|r| (r, None))),
+                        Err(skip) => skipped.push(skip),
+                    }
+                }
+            }
+        }
+        report_skipped(&skipped);
+        if reaches.is_empty() {
+            return Err(nothing_to_fit(&skipped));
+        }
+        Ok(reaches
             .into_iter()
             .map(|(reach, person)| (self.controller.apply(reach), person))
             .collect())
     }
 
-    fn load_each(
+    /// The reaches the segments file's `rows` (all of the take at `path`) give, with the
+    /// persons they name and the controller applied; errors name the file and the line.
+    pub fn take_rows(
         &self,
-        clips: &CaptureClips,
+        segments: &SegmentsFile,
+        rows: &[&SegmentRow],
+        path: &Path,
     ) -> Result<Vec<(CapturedReach, Option<String>)>, Failure> {
-        let options = self.read.options();
-        let Some(path) = &self.segments else {
-            let frames = match &self.frames {
-                Some(text) => ReachFrames::Window(parse_frames(text)?),
-                None => ReachFrames::Segments(self.select.unwrap_or_default()),
-            };
-            let arm = ArmChoice {
-                side: self.arm.arm,
-                joints: self.arm.chain.clone(),
-            };
-            let mut out = Vec::new();
-            for c in &clips.paths {
-                let reaches = Capture::read(c, &options)
-                    .and_then(|capture| capture.reaches(&arm, &frames, self.mode()))
-                    .map_err(|e| self.failure(c, e))?;
-                out.extend(reaches.into_iter().map(|r| (r, None)));
-            }
-            return Ok(out);
-        };
-        let read;
-        let segments = match &clips.segments {
-            Some(segments) => segments,
-            None => {
-                read = read_segments(path)?;
-                &read
-            }
-        };
-        let reaches = segment_reaches(segments, &clips.paths, &options, self.mode())
-            .map_err(|e| self.failure(path, e))?;
-        Ok(reaches
+        let found = rows_reaches(segments, rows, path, &self.read.options(), self.mode())
+            .map_err(|e| self.failure(segments.path(), e))?;
+        Ok(found
             .into_iter()
-            .map(|(reach, row)| (reach, Some(row.person.clone())))
+            .map(|(reach, row)| (self.controller.apply(reach), Some(row.person.clone())))
             .collect())
+    }
+
+    /// The reaches of the take at `path` (without `--segments`), with the controller
+    /// applied: `Ok(Err(skipped))` when it has nothing to fit (no reach on the arm asked
+    /// for, or on any arm with `--arm auto`); an input error otherwise.
+    pub fn take(&self, path: &Path) -> Result<Result<Vec<CapturedReach>, Skipped>, Failure> {
+        let frames = match &self.frames {
+            Some(text) => ReachFrames::Window(parse_frames(text)?),
+            None => ReachFrames::Segments(self.select.unwrap_or_default()),
+        };
+        let capture =
+            Capture::read(path, &self.read.options()).map_err(|e| self.failure(path, e))?;
+        let found = match (self.arm.arm, &frames) {
+            (ArmSide::Auto, ReachFrames::Segments(selection)) => {
+                capture.reaches_of_reaching_arms(*selection, self.mode())
+            }
+            (ArmSide::Auto, ReachFrames::Window(_)) => {
+                return Err(Failure::Input(
+                    "--arm auto finds each take's reaches: drop --frames (one window for \
+                     every take and arm)"
+                        .into(),
+                ));
+            }
+            (ArmSide::Side(side), frames) => {
+                let arm = ArmChoice {
+                    side,
+                    joints: self.arm.chain.clone(),
+                };
+                capture.reaches(&arm, frames, self.mode())
+            }
+        };
+        match found {
+            Ok(reaches) => Ok(Ok(reaches
+                .into_iter()
+                .map(|r| self.controller.apply(r))
+                .collect())),
+            Err(e) if e.is_nothing_to_fit() => Ok(Err(Skipped {
+                clip: path.to_path_buf(),
+                why: skip_reason(&e),
+            })),
+            Err(TrainError::Setting { field, why }) => {
+                Err(Failure::Input(format!("--{field}: {why}")))
+            }
+            Err(e) => Err(self.failure(path, e)),
+        }
     }
 
     /// A capture at `path` that gave no reaches, said for the command line (bad input).
@@ -228,6 +288,65 @@ impl CaptureArgs {
             }
             e => Failure::input(path, e),
         }
+    }
+}
+
+/// A take skipped: it has nothing to fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Skipped {
+    /// The capture.
+    pub clip: PathBuf,
+    /// Why, arm by arm.
+    pub why: String,
+}
+
+/// The reason of a nothing-to-fit error, without the clip's name it starts with.
+fn skip_reason(e: &TrainError) -> String {
+    match e {
+        TrainError::NothingToFit { why, .. } => why.clone(),
+        TrainError::Motion(kinergy_motion::MotionError::Reach { why, .. }) => why.clone(),
+        e => e.to_string(),
+    }
+}
+
+/// Says on stderr which takes were skipped and why (the first few; the count of the rest).
+pub fn report_skipped(skipped: &[Skipped]) {
+    if skipped.is_empty() {
+        return;
+    }
+    eprintln!(
+        "skipped {} take{} with nothing to fit:",
+        skipped.len(),
+        if skipped.len() == 1 { "" } else { "s" }
+    );
+    for s in skipped.iter().take(SKIPPED_SHOWN) {
+        eprintln!(
+            "  {}: {}",
+            s.clip.display(),
+            kinergy_io::clip_text(&s.why, 300)
+        );
+    }
+    if skipped.len() > SKIPPED_SHOWN {
+        eprintln!("  … and {} more", skipped.len() - SKIPPED_SHOWN);
+    }
+}
+
+/// How many skipped takes stderr names.
+const SKIPPED_SHOWN: usize = 10;
+
+/// The failure of a run where every take was skipped (exit 1: the input was fine, there is
+/// nothing in it to fit).
+pub fn nothing_to_fit(skipped: &[Skipped]) -> Failure {
+    match skipped {
+        [one] => Failure::Task(format!(
+            "{}: nothing to fit: {}",
+            one.clip.display(),
+            kinergy_io::clip_text(&one.why, 600)
+        )),
+        _ => Failure::Task(format!(
+            "nothing to fit: all {} takes were skipped (listed above)",
+            skipped.len()
+        )),
     }
 }
 

@@ -15,10 +15,12 @@ pub mod outputs;
 pub mod progress;
 
 pub use args::{
-    ArmArgs, ReadArgs, SearchArgs, arm_mismatch, check_world_target, parse_frames, parse_point,
-    parse_size, parse_world_target,
+    ArmArgs, ArmSide, ReadArgs, SearchArgs, arm_mismatch, check_world_target, parse_frames,
+    parse_point, parse_size, parse_world_target,
 };
-pub use captured::{CaptureArgs, ControllerKind};
+pub use captured::{
+    CaptureArgs, CaptureClips, ControllerKind, Skipped, nothing_to_fit, report_skipped,
+};
 pub use clips::collect_clips;
 pub use failure::{Failure, person_failure, read_person};
 pub use limits::{check_optional, check_range};

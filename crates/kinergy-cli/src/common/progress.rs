@@ -16,12 +16,25 @@ impl Bar {
         Bar::counting(total, "evaluations")
     }
 
-    /// A bar for `total` things named `unit` (`clips`, `frames`).
+    /// A bar that shows nothing.
+    pub fn hidden() -> Bar {
+        Bar {
+            bar: indicatif::ProgressBar::hidden(),
+            offset: 0,
+            last: 0,
+        }
+    }
+
+    /// A bar for `total` things named `unit` (`clips`, `frames`), with the time left
+    /// (hidden with `-q`).
     pub fn counting(total: u64, unit: &str) -> Bar {
+        if super::QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+            return Bar::hidden();
+        }
         let bar = indicatif::ProgressBar::new(total);
         bar.set_style(
             indicatif::ProgressStyle::with_template(&format!(
-                "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit}  {{msg}}"
+                "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit}, {{eta}} left  {{msg}}"
             ))
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
             .progress_chars("=> "),

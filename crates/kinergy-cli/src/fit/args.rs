@@ -45,7 +45,9 @@ pub struct Args {
     pub output: Option<PathBuf>,
     /// A folder that receives one file per fit, named by the clip's path from the clips'
     /// common folder (`p01/r01.json`; `p01/r01_<onset>-<end>.json` for several reaches of
-    /// one clip). It is created if missing; its parent must exist.
+    /// one clip). It is created if missing; its parent must exist. With `--per clip` it
+    /// holds a library: `library.csv` (one row per reach), `skipped.csv` (takes with nothing
+    /// to fit, and why) and `shards/` (each shard's record, for `kinergy collect`).
     #[arg(long, value_name = "DIR", conflicts_with = "output")]
     pub out_dir: Option<PathBuf>,
     /// Checkpoint file, written atomically every `--checkpoint-every` iterations and on
@@ -56,9 +58,17 @@ pub struct Args {
     #[arg(long, default_value_t = 20, value_name = "N")]
     pub checkpoint_every: usize,
     /// Continue the fit saved in `--checkpoint` (same clips and settings); the result is bit
-    /// for bit the uninterrupted fit's.
-    #[arg(long, requires = "checkpoint")]
+    /// for bit the uninterrupted fit's. For a library (`--per clip` into a folder): skip the
+    /// reaches whose result file is already complete, fit the rest.
+    #[arg(long)]
     pub resume: bool,
+    /// For a library (`--per clip --out-dir DIR`): fit shard I of N (1 ≤ I ≤ N) — a
+    /// deterministic share of the takes, balanced by their frame counts — writing into DIR
+    /// beside the other shards; then `kinergy collect DIR`. Default: the Slurm array task
+    /// (`SLURM_ARRAY_TASK_ID` from `SLURM_ARRAY_TASK_MIN`, of `SLURM_ARRAY_TASK_COUNT`) when
+    /// those are set, else the whole library.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
     /// Write the score of every iteration to this CSV file.
     #[arg(long, value_name = "F.csv")]
     pub log: Option<PathBuf>,
