@@ -11,7 +11,10 @@ use kinergy_train::segment::{Segment, SegmentSettings, Selection, find_segments,
 use kinergy_train::segments_file::{SegmentRow, SegmentsFile, default_person};
 use serde::Serialize;
 
-use crate::common::{ArmArgs, Failure, ReadArgs, check_range, emit, limits, print_json};
+use crate::common::{
+    ArmArgs, ArmSide, Failure, ReadArgs, Skipped, check_range, emit, limits, print_json,
+};
+use kinergy_train::source::Capture;
 
 /// The frame convention, said once in every listing.
 const FRAMES: &str =
@@ -83,20 +86,65 @@ struct Report {
     segments: Vec<Row>,
 }
 
-/// Segments one clip and keeps the selected ones (numbered as in the full list).
+/// Segments one clip: for the arm named, the selected segments; with `--arm auto`, the
+/// reaches of each arm that reaches (as `fit --arm auto` finds them), or the reason it has
+/// none (`Ok(Err(skipped))`).
 fn segment_clip(
     args: &Args,
     path: &Path,
     settings: &SegmentSettings,
-) -> Result<(Report, Vec<SegmentRow>), Failure> {
+) -> Result<Result<Vec<(Report, Vec<SegmentRow>)>, Skipped>, Failure> {
     let (clip, _) = args.read.read(path)?;
-    let arm = args.arm.find(&clip, path)?;
+    if args.arm.arm != ArmSide::Auto {
+        let arm = args.arm.find(&clip, path)?;
+        return Ok(Ok(vec![segment_arm(
+            args, path, &clip, &arm, settings, None,
+        )?]));
+    }
+    let capture = Capture::from_clip(path, clip.clone());
+    let selection = args.select.unwrap_or_default();
+    match capture.reaching_segments(selection, settings) {
+        Ok(arms) => arms
+            .iter()
+            .map(|(arm, kept)| segment_arm(args, path, &clip, arm, settings, Some(kept)))
+            .collect::<Result<Vec<_>, _>>()
+            .map(Ok),
+        Err(e) if e.is_nothing_to_fit() => Ok(Err(Skipped {
+            clip: path.to_path_buf(),
+            why: match e {
+                kinergy_train::TrainError::NothingToFit { why, .. } => why,
+                e => e.to_string(),
+            },
+        })),
+        Err(kinergy_train::TrainError::Setting { field, why }) => {
+            Err(Failure::Input(format!("--{field}: {why}")))
+        }
+        Err(e) => Err(Failure::input(path, e)),
+    }
+}
+
+/// Segments the arm `arm` of `clip` and keeps the selected segments (numbered as in the
+/// full list): those `kept` when given, else those `--select` takes.
+fn segment_arm(
+    args: &Args,
+    path: &Path,
+    clip: &kinergy_motion::Clip,
+    arm: &kinergy_motion::ArmJoints,
+    settings: &SegmentSettings,
+    kept: Option<&[Segment]>,
+) -> Result<(Report, Vec<SegmentRow>), Failure> {
     let name = path.display().to_string();
-    let found = find_segments(&clip, &arm, settings).map_err(|e| Failure::input(path, e))?;
+    let found = find_segments(clip, arm, settings).map_err(|e| Failure::input(path, e))?;
     let main = main_index(&found);
-    let picked: Vec<(usize, Segment)> = match args.select {
-        None => found.iter().copied().enumerate().collect(),
-        Some(selection) => {
+    let picked: Vec<(usize, Segment)> = match (kept, args.select) {
+        (Some(kept), _) => found
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|(_, s)| kept.contains(s))
+            .collect(),
+        (None, None) => found.iter().copied().enumerate().collect(),
+        (None, Some(selection)) => {
             let chosen =
                 kinergy_train::segment::select(&found, selection, &name).map_err(Failure::from)?;
             found
@@ -107,7 +155,10 @@ fn segment_clip(
                 .collect()
         }
     };
-    let side = arm.side.unwrap_or(args.arm.side()?);
+    let side = match (arm.side, args.arm.arm) {
+        (Some(side), _) | (None, ArmSide::Side(side)) => side,
+        (None, ArmSide::Auto) => Side::Right,
+    };
     let dt = clip.frame_time();
     let rows = picked
         .iter()
@@ -235,10 +286,21 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .map_err(|e| Failure::Input(format!("--min-peak-speed {}: {e}", args.min_peak_speed)))?;
     let mut reports = Vec::with_capacity(clips.len());
     let mut rows = Vec::new();
+    let mut skipped = Vec::new();
     for path in &clips {
-        let (report, clip_rows) = segment_clip(args, path, &settings)?;
-        reports.push(report);
-        rows.extend(clip_rows);
+        match segment_clip(args, path, &settings)? {
+            Ok(arms) => {
+                for (report, clip_rows) in arms {
+                    reports.push(report);
+                    rows.extend(clip_rows);
+                }
+            }
+            Err(skip) => skipped.push(skip),
+        }
+    }
+    crate::common::report_skipped(&skipped);
+    if reports.is_empty() {
+        return Err(crate::common::nothing_to_fit(&skipped));
     }
     if manifest_to_stdout {
         // Clips relative to the current folder, as a file written here would list them.

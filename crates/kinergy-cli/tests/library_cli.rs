@@ -29,7 +29,10 @@ fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
 
 /// The rows of a CSV file as maps from column to value.
 fn rows(path: &Path) -> Vec<BTreeMap<String, String>> {
-    let mut reader = csv::Reader::from_path(path).expect("csv");
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_path(path)
+        .expect("csv");
     let header = reader.headers().expect("header").clone();
     reader
         .records()
@@ -139,6 +142,45 @@ fn a_mixed_folder_fits_every_reach_of_whichever_arm_and_lists_what_it_skips() {
             row["arm"].as_str()
         );
     }
+
+    // `segment --arm auto --manifest` lists the same reaches for the folder.
+    let manifest = dir.path().join("segments.csv");
+    let o = kinergy(&[
+        "segment",
+        s(&takes),
+        "--arm",
+        "auto",
+        "--manifest",
+        s(&manifest),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("walk.bvh"), "{}", stderr(&o));
+    let listed: Vec<(String, String, String, String)> = rows(&manifest)
+        .into_iter()
+        .map(|r| {
+            let clip = Path::new(&r["clip"])
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            (clip, r["arm"].clone(), r["onset"].clone(), r["end"].clone())
+        })
+        .collect();
+    let mut fitted: Vec<(String, String, String, String)> = library
+        .iter()
+        .map(|r| {
+            let clip = Path::new(&r["clip"])
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            (clip, r["arm"].clone(), r["onset"].clone(), r["end"].clone())
+        })
+        .collect();
+    fitted.sort();
+    let mut listed_sorted = listed.clone();
+    listed_sorted.sort();
+    assert_eq!(listed_sorted, fitted);
 
     // Nothing to fit anywhere: exit 1, saying why; a malformed take: exit 2, as ever.
     let walks = dir.path().join("walks");

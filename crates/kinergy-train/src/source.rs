@@ -116,6 +116,14 @@ impl Capture {
         })
     }
 
+    /// A capture of `clip`, already read from `path`.
+    pub fn from_clip(path: &Path, clip: Clip) -> Capture {
+        Capture {
+            path: path.to_path_buf(),
+            clip,
+        }
+    }
+
     /// The file it was read from.
     pub fn path(&self) -> &Path {
         &self.path
@@ -167,6 +175,30 @@ impl Capture {
         selection: Selection,
         mode: BaseMode,
     ) -> Result<Vec<CapturedReach>> {
+        let name = self.name();
+        let mut reaches = Vec::new();
+        for (joints, segments) in self.reaching_segments(selection, &SegmentSettings::default())? {
+            for segment in segments {
+                reaches.push(CapturedReach::new(
+                    &name,
+                    &self.clip,
+                    &joints,
+                    segment.frames(),
+                    mode,
+                )?);
+            }
+        }
+        Ok(reaches)
+    }
+
+    /// The segments behind [`reaches_of_reaching_arms`](Self::reaches_of_reaching_arms):
+    /// each reaching arm with its kept segments (never empty), right arm first, segmented
+    /// with `settings`.
+    pub fn reaching_segments(
+        &self,
+        selection: Selection,
+        settings: &SegmentSettings,
+    ) -> Result<Vec<(ArmJoints, Vec<Segment>)>> {
         if let Selection::Nth(_) = selection {
             return Err(TrainError::Setting {
                 field: "select".into(),
@@ -183,7 +215,7 @@ impl Capture {
                 why.push(format!("no {side} arm found"));
                 continue;
             };
-            let segments = find_segments(&self.clip, &joints, &SegmentSettings::default())?;
+            let segments = find_segments(&self.clip, &joints, settings)?;
             match select(&segments, selection, &name) {
                 Ok(chosen) => found.push((joints, chosen)),
                 Err(MotionError::Reach { why: reason, .. }) => {
@@ -197,27 +229,17 @@ impl Capture {
             .flat_map(|(_, segments)| segments)
             .map(|s| s.displacement)
             .fold(0.0_f64, f64::max);
-        let mut reaches = Vec::new();
-        for (joints, segments) in &found {
-            for segment in segments {
-                if segment.displacement >= AUTO_ARM_SHARE * largest {
-                    reaches.push(CapturedReach::new(
-                        &name,
-                        &self.clip,
-                        joints,
-                        segment.frames(),
-                        mode,
-                    )?);
-                }
-            }
+        for (_, segments) in &mut found {
+            segments.retain(|s| s.displacement >= AUTO_ARM_SHARE * largest);
         }
-        if reaches.is_empty() {
+        found.retain(|(_, segments)| !segments.is_empty());
+        if found.is_empty() {
             return Err(TrainError::NothingToFit {
                 path: self.path.clone(),
                 why: why.join("; "),
             });
         }
-        Ok(reaches)
+        Ok(found)
     }
 
     /// The reach a row of the segments `file` gives of this capture: the row's frames
