@@ -594,7 +594,11 @@ def fam_outdir_inputs(rng, n):
         for d in dspell:
             for s in ispell:
                 combos.append(("synth", name, "params", d, s))
-    for name in ["r01.json", "r02.json", "r01_7-71.json"]:
+    fit_names = ["r01.json", "r02.json", "r01_7-71.json"]
+    # newer binaries also write tables into the folder (`fit --help` names them)
+    fit_help = kin(["fit", "--help"], check=False).stdout.decode(errors="replace")
+    fit_names += [t for t in ("library.csv", "skipped.csv") if t in fit_help]
+    for name in fit_names:
         for kind in ["segments", "clip_self"]:
             for d in dspell:
                 for s in ispell:

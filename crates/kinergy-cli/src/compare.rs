@@ -28,6 +28,7 @@
 
 mod args;
 mod holdout;
+mod library;
 
 pub use args::{Args, Per, model_label};
 
@@ -61,6 +62,9 @@ struct CsvRow<'a> {
 
 /// Runs `kinergy compare`.
 pub fn run(args: &Args) -> Result<(), Failure> {
+    if let Some(dir) = &args.library {
+        return library::run(args, dir);
+    }
     args.search.check()?;
     args.reach.read.check()?;
     check_optional("--holdout", args.holdout, limits::HOLDOUT)?;

@@ -278,6 +278,26 @@ fn shards_give_what_one_machine_gives_and_collect_names_a_missing_shard() {
         let takes = record.iter().filter(|r| r["kind"] == "take").count();
         assert!((5..=14).contains(&takes), "shard {i}: {takes} takes");
     }
+    // The library as a whole, from library.csv alone: the all row's S_A mean is the
+    // table's.
+    let report = dir.path().join("report");
+    let o = kinergy(&["compare", "--library", s(&sharded), "-o", s(&report)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = rows(&sharded.join("library.csv"));
+    let mean_sa = table
+        .iter()
+        .map(|r| r["distance_sa_m"].parse::<f64>().unwrap() * 1e3)
+        .sum::<f64>()
+        / table.len() as f64;
+    let summary = std::fs::read_to_string(report.join("summary.md")).expect("summary");
+    let all = summary
+        .lines()
+        .find(|l| l.starts_with("| **all** | 28 |"))
+        .unwrap_or_else(|| panic!("{summary}"));
+    assert!(all.contains(&format!(" {mean_sa:.2} (")), "{all} vs {mean_sa:.2}");
+    assert!(summary.contains("| `p01` | 14 |") && summary.contains("| `p02` | 14 |"));
+    assert!(report.join("fig3.svg").is_file() && report.join("fig3.png").is_file());
+
     // collect is idempotent, and names a missing shard (exit 1).
     let before = files(&sharded);
     let o = kinergy(&["collect", s(&sharded)]);

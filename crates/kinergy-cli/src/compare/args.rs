@@ -41,6 +41,11 @@ pub struct Args {
     /// Default: `segments` when a segments file is given, else `folder`.
     #[arg(long, value_name = "folder|prefix|segments")]
     pub person: Option<PersonBy>,
+    /// A fitted library (`fit --per clip --out-dir DIR`, or `collect DIR`): summarise its
+    /// `library.csv` per person and per model and draw Fig. 3 from it, without refitting
+    /// (writes summary.md and fig3.svg/png to -o).
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["clips", "segments", "holdout"])]
+    pub library: Option<PathBuf>,
     /// Print the summary as JSON too.
     #[arg(long)]
     pub json: bool,

@@ -468,7 +468,7 @@ fn field_table(summary: &HoldoutSummary, results: &HoldoutResults) -> String {
 /// the longest run inside (padded where the text starts or ends with one), `|` escaped (GFM
 /// splits cells on it even inside code) and line breaks as spaces. A person named `a|b` or
 /// with a backtick broke the tables' columns (issue 27 #9).
-fn md_code(text: &str) -> String {
+pub(super) fn md_code(text: &str) -> String {
     let mut longest = 0;
     let mut run = 0;
     for c in text.chars() {

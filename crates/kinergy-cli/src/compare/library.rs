@@ -1,0 +1,197 @@
+//! `compare --library DIR`: a fitted library's results as a whole, from its `library.csv`
+//! (`fit --per clip --out-dir DIR`, or `collect`), without refitting: per person and per
+//! model, the reaches' motion distances, and the Fig. 3 chart.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use kinergy_solver::Model;
+use kinergy_train::experiment::Stats;
+use serde::{Deserialize, Serialize};
+
+use super::Args;
+use super::args::model_label;
+use crate::common::{Failure, emit, print_json};
+use crate::draw::{Bar, BarChart, save};
+use crate::fit::library::LIBRARY;
+
+/// The models a library row may hold a distance for, poorest first.
+const MODELS: [Model; 4] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
+
+/// The columns of `library.csv` this report reads.
+#[derive(Debug, Deserialize)]
+struct Row {
+    clip: String,
+    person: String,
+    distance_sa_m: Option<f64>,
+    distance_sb_m: Option<f64>,
+    distance_sc_m: Option<f64>,
+    distance_sd_m: Option<f64>,
+}
+
+impl Row {
+    fn distance(&self, model: Model) -> Option<f64> {
+        match model {
+            Model::Sa => self.distance_sa_m,
+            Model::Sb => self.distance_sb_m,
+            Model::Sc => self.distance_sc_m,
+            Model::Sd => self.distance_sd_m,
+        }
+    }
+}
+
+/// One person's (or everyone's) line: reaches, and each model's distances in mm.
+#[derive(Debug, Serialize)]
+struct Line {
+    person: String,
+    reaches: usize,
+    takes: usize,
+    models: Vec<(String, Stats)>,
+}
+
+/// The files `compare --library -o DIR` writes.
+pub const FILES: [&str; 3] = ["summary.md", "fig3.svg", "fig3.png"];
+
+/// Runs `compare --library DIR`.
+pub fn run(args: &Args, library: &Path) -> Result<(), Failure> {
+    let table = if library.is_dir() {
+        library.join(LIBRARY)
+    } else {
+        library.to_path_buf()
+    };
+    let files: Vec<PathBuf> = FILES.iter().map(|f| args.output.join(f)).collect();
+    crate::common::check_outputs(
+        &[&table],
+        &[crate::common::Output::Folder("-o", &args.output, &files)],
+    )?;
+    let text = kinergy_io::read_to_string_limited(&table, 1 << 30)
+        .map_err(|e| Failure::input(&table, e))?;
+    let mut reader = csv::Reader::from_reader(text.as_bytes());
+    let rows = reader
+        .deserialize()
+        .enumerate()
+        .map(|(i, r)| r.map_err(|e| Failure::input(&table, format!("row {}: {e}", i + 2))))
+        .collect::<Result<Vec<Row>, Failure>>()?;
+    if rows.is_empty() {
+        return Err(Failure::Input(format!(
+            "{}: no reach: nothing to compare",
+            table.display()
+        )));
+    }
+    let mut persons: BTreeMap<&str, Vec<&Row>> = BTreeMap::new();
+    for row in &rows {
+        persons.entry(&row.person).or_default().push(row);
+    }
+    let mut lines: Vec<Line> = persons
+        .iter()
+        .map(|(person, rows)| line(person, rows))
+        .collect();
+    lines.push(line("all", &rows.iter().collect::<Vec<_>>()));
+    let models: Vec<Model> = MODELS
+        .into_iter()
+        .filter(|&m| rows.iter().any(|r| r.distance(m).is_some()))
+        .collect();
+    let markdown = markdown(&table, &lines, &models);
+    crate::common::make_folder(&args.output)?;
+    let md = args.output.join("summary.md");
+    kinergy_io::write_atomic(&md, markdown.as_bytes()).map_err(|e| Failure::task(&md, e))?;
+    let all = lines.last().expect("the all line");
+    let chart = BarChart {
+        title: format!(
+            "Fig. 3: synergy models ({} reaches of {} persons)",
+            all.reaches,
+            lines.len() - 1
+        ),
+        x_label: "synergy model".into(),
+        y_label: "motion distance to the capture (mm)".into(),
+        series: vec!["mean, min–max".into()],
+        groups: all
+            .models
+            .iter()
+            .map(|(label, s)| {
+                let bar = Bar {
+                    series: 0,
+                    mean: s.mean,
+                    min: s.min,
+                    max: s.max,
+                };
+                (label.clone(), vec![bar])
+            })
+            .collect(),
+    };
+    for ext in ["svg", "png"] {
+        save(&chart, &args.output.join(format!("fig3.{ext}")), (800, 500))?;
+    }
+    if args.json {
+        return print_json(&lines);
+    }
+    emit(&format!(
+        "{markdown}\nwritten: {}, {} and {}\n",
+        md.display(),
+        args.output.join("fig3.svg").display(),
+        args.output.join("fig3.png").display()
+    ))
+}
+
+/// The line of `person`'s reaches `rows`: each model's distances, mm.
+fn line(person: &str, rows: &[&Row]) -> Line {
+    let takes: std::collections::BTreeSet<&str> = rows.iter().map(|r| r.clip.as_str()).collect();
+    Line {
+        person: person.to_string(),
+        reaches: rows.len(),
+        takes: takes.len(),
+        models: MODELS
+            .into_iter()
+            .filter_map(|m| {
+                let stats = Stats::of(rows.iter().filter_map(|r| r.distance(m)).map(|d| d * 1e3))?;
+                Some((model_label(m), stats))
+            })
+            .collect(),
+    }
+}
+
+/// The summary: per person, each model's mean (min–max) distance, and the richest model's
+/// reduction against S_A.
+fn markdown(table: &Path, lines: &[Line], models: &[Model]) -> String {
+    let all = &lines[lines.len() - 1];
+    let mut md = format!(
+        "# A library's fits, per person and model\n\n{} reaches of {} takes, {} persons, from \
+         `{}` (nested fits: each model's distance is that of its stage). Mean motion distance \
+         to the capture, mm (min–max).\n\n| person | reaches |",
+        all.reaches,
+        all.takes,
+        lines.len() - 1,
+        table.display()
+    );
+    for m in models {
+        md.push_str(&format!(" {} |", model_label(*m)));
+    }
+    md.push_str(" richest vs S_A |\n|---|---|");
+    md.push_str(&"---|".repeat(models.len() + 1));
+    md.push('\n');
+    for l in lines {
+        let name = if l.person == "all" && std::ptr::eq(l, all) {
+            "**all**".to_string()
+        } else {
+            super::holdout::md_code(&l.person)
+        };
+        md.push_str(&format!("| {name} | {} |", l.reaches));
+        for m in models {
+            let label = model_label(*m);
+            match l.models.iter().find(|(x, _)| *x == label) {
+                Some((_, s)) => {
+                    md.push_str(&format!(" {:.2} ({:.2}–{:.2}) |", s.mean, s.min, s.max))
+                }
+                None => md.push_str(" — |"),
+            }
+        }
+        let reduction = match (l.models.first(), l.models.last()) {
+            (Some((_, first)), Some((_, last))) if l.models.len() > 1 && first.mean > 0.0 => {
+                format!("{:+.0} %", (last.mean / first.mean - 1.0) * 100.0)
+            }
+            _ => "—".into(),
+        };
+        md.push_str(&format!(" {reduction} |\n"));
+    }
+    md
+}
