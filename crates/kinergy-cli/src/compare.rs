@@ -51,6 +51,9 @@ pub const DEFAULT_DATA: &str = "data-synthetic";
 #[derive(Debug, Serialize)]
 struct CsvRow<'a> {
     clip: &'a str,
+    arm: String,
+    onset: usize,
+    end: usize,
     model: &'static str,
     optimizer: &'static str,
     method: &'static str,
@@ -148,6 +151,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         &csv_path,
         results.rows.iter().map(|r| CsvRow {
             clip: &r.clip,
+            arm: r.arm.map_or_else(String::new, |s| s.to_string()),
+            onset: r.onset,
+            end: r.end,
             model: r.model.name(),
             optimizer: r.optimizer.name(),
             method: r.method.name(),

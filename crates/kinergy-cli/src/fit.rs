@@ -392,8 +392,7 @@ fn library_run(
             .map(|t| std::fs::canonicalize(t).unwrap_or_else(|_| t.clone()))
             .collect::<Vec<_>>(),
     );
-    let mut files: Vec<PathBuf> = clips
-        .paths
+    let mut files: Vec<PathBuf> = unique_takes(&clips.paths)
         .iter()
         .map(|take| dest.join(relative_name(&common, take).with_extension("json")))
         .collect();
@@ -407,6 +406,17 @@ fn library_run(
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .map_err(|e| Failure::Task(format!("cannot watch for Ctrl-C: {e}")))?;
     library::run(args, clips, models, settings, dest)
+}
+
+/// The takes `paths` name, each file once (the first spelling kept): a segments file may
+/// name one capture as `a/r01.bvh` and `a/../a/r01.bvh`.
+fn unique_takes(paths: &[PathBuf]) -> Vec<PathBuf> {
+    let mut seen = std::collections::HashSet::new();
+    paths
+        .iter()
+        .filter(|p| seen.insert(std::fs::canonicalize(p).unwrap_or_else(|_| (*p).clone())))
+        .cloned()
+        .collect()
 }
 
 /// Where the results go and whether it is a folder: `--out-dir`, or `-o` ending in a path

@@ -298,7 +298,7 @@ fn compare_writes_results_and_both_figures() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("clip,model,optimizer,method,distance_m,frames,evaluations,seconds")
+        Some("clip,arm,onset,end,model,optimizer,method,distance_m,frames,evaluations,seconds")
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     for r in &rows {

@@ -294,7 +294,10 @@ fn shards_give_what_one_machine_gives_and_collect_names_a_missing_shard() {
         .lines()
         .find(|l| l.starts_with("| **all** | 28 |"))
         .unwrap_or_else(|| panic!("{summary}"));
-    assert!(all.contains(&format!(" {mean_sa:.2} (")), "{all} vs {mean_sa:.2}");
+    assert!(
+        all.contains(&format!(" {mean_sa:.2} (")),
+        "{all} vs {mean_sa:.2}"
+    );
     assert!(summary.contains("| `p01` | 14 |") && summary.contains("| `p02` | 14 |"));
     assert!(report.join("fig3.svg").is_file() && report.join("fig3.png").is_file());
 
@@ -351,4 +354,71 @@ fn resume_fits_only_the_reaches_without_a_complete_result() {
         28,
         "every reach in the table"
     );
+}
+
+/// The sweep's findings (issue 27): a segments file naming one capture under two spellings,
+/// once per arm, is one take with two reaches (it was refused as two results of one name),
+/// and `compare`'s results.csv tells the two reaches apart by arm and frames.
+#[test]
+fn one_capture_spelled_twice_is_one_take_and_its_arms_stay_apart() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let clip = repo().join("data-synthetic/p01/r03.bvh");
+    let respelled = repo().join("data-synthetic/p01/../p01/r03.bvh");
+    let segments = dir.path().join("s.csv");
+    std::fs::write(
+        &segments,
+        format!(
+            "clip,onset,end,arm\n{},3,73,left\n{},3,73,right\n",
+            clip.display(),
+            respelled.display()
+        ),
+    )
+    .expect("write");
+    let out = dir.path().join("fits");
+    let o = kinergy(&[
+        "fit",
+        "--segments",
+        s(&segments),
+        "--per",
+        "clip",
+        "--model",
+        "sa",
+        "--budget",
+        "20",
+        "-q",
+        "--out-dir",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(out.join("r03_3-73_left.json").is_file() && out.join("r03_3-73_right.json").is_file());
+    let cmp = dir.path().join("cmp");
+    let o = kinergy(&[
+        "compare",
+        "--segments",
+        s(&segments),
+        "--models",
+        "sa",
+        "--optimizers",
+        "svd",
+        "--no-baselines",
+        "--budget",
+        "20",
+        "-q",
+        "-o",
+        s(&cmp),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let results = rows(&cmp.join("results.csv"));
+    // Each row names its reach; the file is read once (not once per spelling).
+    let arms: std::collections::BTreeSet<&str> =
+        results.iter().map(|r| r["arm"].as_str()).collect();
+    assert_eq!(arms.into_iter().collect::<Vec<_>>(), ["left", "right"]);
+    let clips: std::collections::BTreeSet<&str> =
+        results.iter().map(|r| r["clip"].as_str()).collect();
+    assert_eq!(clips.len(), 1, "{results:?}");
+    let left = results.iter().find(|r| r["arm"] == "left").unwrap();
+    let right = results
+        .iter()
+        .find(|r| r["arm"] == "right" && r["model"] == left["model"]);
+    assert_ne!(left["distance_m"], right.unwrap()["distance_m"]);
 }

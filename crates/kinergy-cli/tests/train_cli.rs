@@ -267,7 +267,7 @@ fn compare_writes_results_and_a_summary() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("clip,model,optimizer,method,distance_m,frames,evaluations,seconds")
+        Some("clip,arm,onset,end,model,optimizer,method,distance_m,frames,evaluations,seconds")
     );
     let rows: Vec<Vec<String>> = lines
         .map(|l| l.split(',').map(String::from).collect())

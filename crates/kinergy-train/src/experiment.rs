@@ -136,6 +136,12 @@ impl ExperimentSettings {
 pub struct Row {
     /// The clip's name.
     pub clip: String,
+    /// The reach's arm (two reaches of one clip may differ only by it).
+    pub arm: Option<kinergy_motion::Side>,
+    /// The reach's first frame in the clip.
+    pub onset: usize,
+    /// The frame after the reach's last.
+    pub end: usize,
     /// The model.
     pub model: Model,
     /// The optimizer the motions were synthesized with.
@@ -243,6 +249,9 @@ fn clip_results(reach: &CapturedReach, settings: &ExperimentSettings) -> Result<
     let mut rows = Vec::new();
     let row = |model, optimizer, method, distance_m, evaluations, seconds| Row {
         clip: reach.name().to_string(),
+        arm: reach.fitted_arm().side,
+        onset: reach.frames().start,
+        end: reach.frames().end,
         model,
         optimizer,
         method,
@@ -420,6 +429,9 @@ fn field_rows(
             let reach = &reaches[members[row.index]];
             rows.push(Row {
                 clip: reach.name().to_string(),
+                arm: reach.fitted_arm().side,
+                onset: reach.frames().start,
+                end: reach.frames().end,
                 model: Model::Sc,
                 optimizer: settings.optimizer,
                 method: Method::FieldLeaveOneOut,

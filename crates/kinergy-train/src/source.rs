@@ -290,13 +290,13 @@ fn in_row(file: &SegmentsFile, row: &SegmentRow, clip: &Path, e: TrainError) -> 
 
 /// The clips a segments file names, in the order they first appear.
 pub fn segment_clips(file: &SegmentsFile) -> Vec<PathBuf> {
-    let mut clips: Vec<PathBuf> = Vec::new();
-    for row in file.rows() {
-        if !clips.contains(&row.clip) {
-            clips.push(row.clip.clone());
-        }
-    }
-    clips
+    // One entry per file, however the rows spell it (`a/r01.bvh`, `a/../a/r01.bvh`).
+    let mut seen = std::collections::HashSet::new();
+    file.rows()
+        .iter()
+        .filter(|row| seen.insert(SegmentsFile::clip_key(&row.clip)))
+        .map(|row| row.clip.clone())
+        .collect()
 }
 
 /// The reaches the rows of the segments `file` give for `clips` (see
@@ -312,10 +312,13 @@ pub fn segment_reaches<'a>(
 ) -> Result<Vec<(CapturedReach, &'a SegmentRow)>> {
     let mut out = Vec::new();
     let index = file.rows_by_clip();
+    let mut seen = std::collections::HashSet::new();
     for path in clips {
-        let rows = index
-            .get(&SegmentsFile::clip_key(path))
-            .map_or(&[][..], Vec::as_slice);
+        let key = SegmentsFile::clip_key(path);
+        if !seen.insert(key.clone()) {
+            continue; // the same file given twice: its rows once
+        }
+        let rows = index.get(&key).map_or(&[][..], Vec::as_slice);
         out.extend(rows_reaches(file, rows, path, options, mode)?);
     }
     if out.is_empty() {

@@ -261,7 +261,7 @@ pub fn run(
             .map_err(Failure::Input)?
             .unwrap_or(Shard::ALL),
     };
-    let takes = &clips.paths;
+    let takes = &super::unique_takes(&clips.paths);
     let weights: Vec<u64> = takes
         .iter()
         .map(|t| {
