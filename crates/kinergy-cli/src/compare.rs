@@ -22,7 +22,7 @@
 //! per person (`--person folder|prefix`), `--models` fitted on all but the last K takes in
 //! name order, scored on those K against neutral parameters and every other person's vector,
 //! and the person's parameter field of the training takes (each fitted on its own) against
-//! their single vector; `DIR/holdout.csv` (`person,clip,fitted_on,model,optimizer,distance_m,
+//! their single vector; `DIR/holdout.csv` (`person,clip,arm,onset,end,fitted_on,model,optimizer,distance_m,
 //! frames,params`, `fitted_on` empty for the neutral parameters, `params` one of `neutral`,
 //! `vector`, `field`) and `DIR/summary.md`.
 

@@ -134,11 +134,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 .map(|name| dir.join(name)),
         );
         crate::common::check_outputs(&inputs, &[crate::common::Output::Folder("-o", dir, &files)])?;
-        // Made before any work, as `compare -o` makes its own (a missing folder used to end
-        // the run with an OS error about style.csv).
-        crate::common::make_folder(dir)?;
     }
     let person = crate::common::read_person(&args.params)?;
+    if let Some(dir) = &args.output {
+        // Made before the work (a missing folder used to end the run with an OS error about
+        // style.csv), once the parameters read: bad ones leave no empty folder.
+        crate::common::make_folder(dir)?;
+    }
     let mut rows = Vec::with_capacity(clips.len());
     let mut runs = Vec::with_capacity(clips.len());
     let mut first = None;

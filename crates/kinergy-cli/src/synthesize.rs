@@ -217,7 +217,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         Some(t) => (
             reach
                 .with_target(parse_point(t, "--target")?)
-                .map_err(|e| Failure::Input(format!("--target `{t}`: {e}")))?,
+                .map_err(|e| {
+                    Failure::Input(format!("--target `{}`: {e}", kinergy_io::clip_text(t, 60)))
+                })?,
             "--target",
         ),
         None => (reach, "the capture's final hand position"),

@@ -463,7 +463,7 @@ fn compare_per_person_holdout_writes_both_tables() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("person,clip,fitted_on,model,optimizer,distance_m,frames,params")
+        Some("person,clip,arm,onset,end,fitted_on,model,optimizer,distance_m,frames,params")
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     // Per person's held-out take (r02): neutral, own S_A–S_D, own field, the other's S_C.

@@ -727,3 +727,64 @@ fn a_holdout_of_a_person_reaching_with_both_arms_says_why_there_is_no_field() {
     );
     assert!(out.join("holdout.csv").is_file());
 }
+
+/// The adversarial sweep's findings (issue 27): `style` with bad parameters leaves no empty
+/// output folder; `fit --resume` of a missing checkpoint is bad input (exit 2) naming it,
+/// not an OS error with exit 1; a library never writes a result over an input kept in its
+/// folder under a result's name (a segments file `out/r01_7-71.json`).
+#[test]
+fn the_sweeps_findings_stay_fixed() {
+    let dir = tempfile::tempdir().unwrap();
+    let clip = common::synthetic("r01.bvh");
+    let st = dir.path().join("st");
+    let o = kinergy(&[
+        "style",
+        clip.to_str().unwrap(),
+        "--params",
+        "/nonexistent/params.json",
+        "-o",
+        st.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!st.exists(), "an empty output folder was left");
+
+    let missing = dir.path().join("nope.ckpt");
+    let o = kinergy(&[
+        "fit",
+        clip.to_str().unwrap(),
+        "--model",
+        "sa",
+        "--budget",
+        "20",
+        "--checkpoint",
+        missing.to_str().unwrap(),
+        "--resume",
+        "-o",
+        dir.path().join("x.json").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("nope.ckpt"), "{}", stderr(&o));
+
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    let segments = out.join("r01_7-71.json");
+    let c = clip.display();
+    let text = format!("clip,onset,end,arm\n{c},7,71,right\n{c},10,60,right\n");
+    std::fs::write(&segments, &text).unwrap();
+    let o = kinergy(&[
+        "fit",
+        "--segments",
+        segments.to_str().unwrap(),
+        "--model",
+        "sa",
+        "--budget",
+        "20",
+        "--per",
+        "clip",
+        "-q",
+        "--out-dir",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&segments).unwrap(), text);
+}

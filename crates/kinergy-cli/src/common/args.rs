@@ -295,7 +295,10 @@ pub fn arm_mismatch(
 /// Parses `x,y,z` (meters) into a finite point.
 pub fn parse_point(text: &str, flag: &str) -> Result<Point3<f64>, Failure> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let bad = |why: String| Failure::Input(format!("{flag} `{text}`: {why}"));
+    let bad = |why: String| {
+        let quoted = kinergy_io::clip_text(text, 60);
+        Failure::Input(format!("{flag} `{quoted}`: {why}"))
+    };
     if parts.len() != 3 {
         return Err(bad(format!(
             "expected three comma-separated numbers x,y,z, got {}",

@@ -24,6 +24,9 @@ use crate::common::{Bar, Failure, emit, print_json};
 struct CsvRow<'a> {
     person: &'a str,
     clip: &'a str,
+    arm: String,
+    onset: usize,
+    end: usize,
     /// Whose training takes the vector was fitted on; empty for the neutral parameters.
     fitted_on: &'a str,
     model: &'static str,
@@ -85,6 +88,9 @@ pub fn run(
         results.rows.iter().map(|r| CsvRow {
             person: &r.person,
             clip: &r.clip,
+            arm: r.arm.map_or_else(String::new, |s| s.to_string()),
+            onset: r.onset,
+            end: r.end,
             fitted_on: r.params.fitted_on().unwrap_or(""),
             model: r.params.model().name(),
             optimizer: settings.optimizer.name(),

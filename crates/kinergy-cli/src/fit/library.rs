@@ -9,7 +9,7 @@
 //! collects at its end. A result depends on its reach and the seed only, so every number in
 //! it is the same whichever shard fitted it.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -240,6 +240,9 @@ struct Library<'a> {
     common: PathBuf,
     /// With `--segments`, the file's rows by clip.
     rows: Option<HashMap<PathBuf, Vec<&'a SegmentRow>>>,
+    /// The inputs' canonical paths: no result may be written over one (a result's name is
+    /// known only once its take is segmented, after the output check).
+    inputs: HashSet<PathBuf>,
     record: Record,
     /// Set on the first error: no worker starts another take.
     stop: AtomicBool,
@@ -294,6 +297,12 @@ pub fn run(
                 .collect::<Vec<_>>(),
         ),
         rows: clips.segments().map(SegmentsFile::rows_by_clip),
+        inputs: clips
+            .inputs()
+            .into_iter()
+            .chain(args.reach.segments.as_deref())
+            .filter_map(|p| std::fs::canonicalize(p).ok())
+            .collect(),
         record: Record {
             path: shards.join(shard.record_name()),
             rows: Mutex::new(mine.iter().map(|t| RecordRow::take(t)).collect()),
@@ -434,6 +443,7 @@ impl Library<'_> {
             if let Some(parent) = output.parent() {
                 std::fs::create_dir_all(parent).map_err(|e| Failure::input(parent, e))?;
             }
+            self.check_not_input(&output)?;
             let file = fits
                 .params_file(group, self.args.per.grouping())
                 .map_err(Failure::from)?;
@@ -450,6 +460,26 @@ impl Library<'_> {
         }
         self.record.push(rows.clone())?;
         Ok(TakeOutcome::Fitted(rows))
+    }
+}
+
+impl Library<'_> {
+    /// Refuses to write the result `output` over one of the inputs (a segments file kept
+    /// in the output folder under a result's name).
+    fn check_not_input(&self, output: &Path) -> Result<(), Failure> {
+        let canonical = match (output.parent(), output.file_name()) {
+            (Some(folder), Some(name)) => std::fs::canonicalize(folder).map(|f| f.join(name)),
+            _ => std::fs::canonicalize(output),
+        };
+        match canonical {
+            Ok(path) if self.inputs.contains(&path) => Err(Failure::Input(format!(
+                "{}: a result would be written over this input: move it out of {}, or fit \
+                 into another folder",
+                output.display(),
+                self.dest.display()
+            ))),
+            _ => Ok(()),
+        }
     }
 }
 

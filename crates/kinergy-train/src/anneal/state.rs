@@ -306,11 +306,13 @@ impl AnnealState {
 /// Reads and decodes a checkpoint file of either kind (versioned JSON), naming the file in
 /// errors. The caller checks what it holds.
 pub(crate) fn read_checkpoint<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
+    // A checkpoint that cannot be read (missing, a link loop, a folder) is bad input, like
+    // one that reads wrong: it is what `--resume` was told to continue.
     let text =
         kinergy_io::read_to_string_limited(path, kinergy_io::MAX_JSON_BYTES).map_err(|source| {
-            TrainError::Io {
+            TrainError::Checkpoint {
                 path: path.to_path_buf(),
-                source,
+                why: format!("cannot be read: {source}"),
             }
         })?;
     kinergy_io::parse_versioned(&text, CHECKPOINT_VERSION).map_err(|e| TrainError::Checkpoint {

@@ -134,6 +134,12 @@ pub struct HoldoutRow {
     pub person: String,
     /// The take's clip name.
     pub clip: String,
+    /// The reach's arm (a take may give one reach per arm).
+    pub arm: Option<kinergy_motion::Side>,
+    /// The reach's first frame in the clip.
+    pub onset: usize,
+    /// The frame after its last.
+    pub end: usize,
     /// The parameters it was synthesized with.
     pub params: Params,
     /// Mean motion distance to the capture, meters.
@@ -521,6 +527,9 @@ pub fn run_holdout(
                 .map(|(r, distance_m)| HoldoutRow {
                     person: groups[j].0.clone(),
                     clip: r.name().to_string(),
+                    arm: r.fitted_arm().side,
+                    onset: r.frames().start,
+                    end: r.frames().end,
                     params: params.clone(),
                     distance_m,
                     frames: r.frame_count(),
