@@ -392,10 +392,25 @@ fn library_run(
             .map(|t| std::fs::canonicalize(t).unwrap_or_else(|_| t.clone()))
             .collect::<Vec<_>>(),
     );
-    let mut files: Vec<PathBuf> = unique_takes(&clips.paths)
-        .iter()
-        .map(|take| dest.join(relative_name(&common, take).with_extension("json")))
-        .collect();
+    // With a segments file every result's name is known now (its rows give the reaches);
+    // otherwise each take's first name, and the rest are checked as they are written.
+    let rows = clips
+        .segments()
+        .map(kinergy_train::segments_file::SegmentsFile::rows_by_clip);
+    let mut files: Vec<PathBuf> = Vec::new();
+    for take in unique_takes(&clips.paths) {
+        let key = kinergy_train::segments_file::SegmentsFile::clip_key(&take);
+        match rows.as_ref().and_then(|index| index.get(&key)) {
+            Some(rows) => {
+                let keys: Vec<_> = rows
+                    .iter()
+                    .map(|r| (r.frames.clone(), r.arm.to_string()))
+                    .collect();
+                files.extend(names_of(&common, &take, &keys).iter().map(|n| dest.join(n)));
+            }
+            None => files.push(dest.join(relative_name(&common, &take).with_extension("json"))),
+        }
+    }
     files.extend([library::LIBRARY, library::SKIPPED].map(|f| dest.join(f)));
     let option = if args.out_dir.is_some() {
         "--out-dir"
@@ -465,23 +480,32 @@ fn relative_name(common: &Path, take: &Path) -> PathBuf {
 /// reaches, and `_<arm>` after the frames when two of them share their frames (they differ
 /// by arm: both were once written to one name, and the first fit was lost).
 fn take_names(common: &Path, take: &Path, reaches: &[CapturedReach]) -> Vec<PathBuf> {
+    let keys: Vec<(std::ops::Range<usize>, String)> = reaches
+        .iter()
+        .map(|r| (r.frames().clone(), arm_label(r)))
+        .collect();
+    names_of(common, take, &keys)
+}
+
+/// [`take_names`] for reaches given by their frames and arm labels.
+fn names_of(
+    common: &Path,
+    take: &Path,
+    reaches: &[(std::ops::Range<usize>, String)],
+) -> Vec<PathBuf> {
     let relative = relative_name(common, take);
     let stem = relative
         .file_stem()
         .map_or_else(|| "clip".into(), |s| s.to_string_lossy().into_owned());
     reaches
         .iter()
-        .map(|reach| {
-            let same_frames = reaches
-                .iter()
-                .filter(|r| r.frames() == reach.frames())
-                .count()
-                > 1;
-            let (start, end) = (reach.frames().start, reach.frames().end);
+        .map(|(frames, arm)| {
+            let same_frames = reaches.iter().filter(|(f, _)| f == frames).count() > 1;
+            let (start, end) = (frames.start, frames.end);
             let name = match (reaches.len() > 1, same_frames) {
                 (false, _) => format!("{stem}.json"),
                 (true, false) => format!("{stem}_{start}-{end}.json"),
-                (true, true) => format!("{stem}_{start}-{end}_{}.json", arm_label(reach)),
+                (true, true) => format!("{stem}_{start}-{end}_{arm}.json"),
             };
             relative.with_file_name(name)
         })

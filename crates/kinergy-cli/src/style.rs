@@ -136,17 +136,21 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         crate::common::check_outputs(&inputs, &[crate::common::Output::Folder("-o", dir, &files)])?;
     }
     let person = crate::common::read_person(&args.params)?;
-    if let Some(dir) = &args.output {
-        // Made before the work (a missing folder used to end the run with an OS error about
-        // style.csv), once the parameters read: bad ones leave no empty folder.
-        crate::common::make_folder(dir)?;
-    }
+    // The folder is made before the first file is written into it (a missing folder used
+    // to end the run with an OS error about style.csv), not before: a run that fails on
+    // its first capture or on the parameters leaves no empty folder.
+    let make_folder = || {
+        args.output
+            .as_deref()
+            .map_or(Ok(()), crate::common::make_folder)
+    };
     let mut rows = Vec::with_capacity(clips.len());
     let mut runs = Vec::with_capacity(clips.len());
     let mut first = None;
     for (k, path) in clips.iter().enumerate() {
         let (clip, capture, run) = compare_one(args, &person, path)?;
         if let Some(files) = reach_files.get(k) {
+            make_folder()?;
             write_reaches(files, &capture, &run)?;
         }
         rows.push(run.row.clone());
@@ -158,6 +162,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let summary = Summary::of(&rows);
     if let Some(dir) = &args.output {
         let flat: Vec<CsvRow<'_>> = rows.iter().map(CsvRow::from).collect();
+        make_folder()?;
         crate::common::write_csv(&dir.join("style.csv"), &flat)?;
         kinergy_io::write_atomic(
             &dir.join("summary.md"),

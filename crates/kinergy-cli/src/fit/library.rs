@@ -229,6 +229,28 @@ fn poisoned() -> Failure {
     Failure::Task("a worker of the library run failed".into())
 }
 
+/// What a run made before it fitted anything, so that a run that fails first undoes it.
+struct Made {
+    /// The output folder was made.
+    dest: bool,
+    /// Its `shards` folder was made.
+    shards: bool,
+}
+
+impl Made {
+    /// Removes the shard's `record` and the folders this run made, where empty (best
+    /// effort: the run's error is what gets reported).
+    fn undo(&self, dest: &Path, record: &Path) {
+        let _ = std::fs::remove_file(record);
+        if self.shards {
+            let _ = std::fs::remove_dir(dest.join(SHARDS));
+        }
+        if self.dest {
+            let _ = std::fs::remove_dir(dest);
+        }
+    }
+}
+
 /// Everything a shard's workers share.
 struct Library<'a> {
     args: &'a Args,
@@ -281,6 +303,10 @@ pub fn run(
         .filter(|(_, s)| **s == shard.index)
         .map(|(t, _)| t)
         .collect();
+    let made = Made {
+        dest: !dest.exists(),
+        shards: !dest.join(SHARDS).exists(),
+    };
     crate::common::make_folder(dest)?;
     let shards = dest.join(SHARDS);
     std::fs::create_dir_all(&shards).map_err(|e| Failure::input(&shards, e))?;
@@ -343,6 +369,10 @@ pub fn run(
     }
     library.record.write()?;
     report_skipped(&skipped);
+    if fitted == 0 && (first_error.is_some() || INTERRUPTED.load(Ordering::SeqCst)) {
+        // Nothing written but the record: a failed run leaves the folder as it found it.
+        made.undo(dest, &library.record.path);
+    }
     if INTERRUPTED.load(Ordering::SeqCst) {
         return Err(Failure::Task(format!(
             "interrupted: {fitted} reaches fitted and written to {}; the rest were not: run \
