@@ -245,10 +245,16 @@ impl CaptureArgs {
                 .into_iter()
                 .map(|r| self.controller.apply(r))
                 .collect())),
-            Err(e) if e.is_nothing_to_fit() => Ok(Err(Skipped {
-                clip: path.to_path_buf(),
-                why: skip_reason(&e),
-            })),
+            // A numbered segment the take lacks is a wrong --select, not an empty take.
+            Err(e)
+                if e.is_nothing_to_fit()
+                    && !matches!(frames, ReachFrames::Segments(Selection::Nth(_))) =>
+            {
+                Ok(Err(Skipped {
+                    clip: path.to_path_buf(),
+                    why: skip_reason(&e),
+                }))
+            }
             Err(TrainError::Setting { field, why }) => {
                 Err(Failure::Input(format!("--{field}: {why}")))
             }

@@ -269,6 +269,8 @@ struct Library<'a> {
     /// Set on the first error: no worker starts another take.
     stop: AtomicBool,
     bar: Bar,
+    /// With `--json`, the reports of the reaches fitted, printed at the end.
+    reports: Mutex<Vec<super::FitReport>>,
 }
 
 /// Runs `fit --per clip` into the folder `dest`: this run's shard of the library of
@@ -336,6 +338,7 @@ pub fn run(
         },
         stop: AtomicBool::new(false),
         bar: Bar::counting(mine.len() as u64, "takes"),
+        reports: Mutex::new(Vec::new()),
     };
     library.record.write()?;
     let outcomes: Vec<Result<TakeOutcome, Failure>> = mine
@@ -390,6 +393,17 @@ pub fn run(
             Failure::Input(why) => Failure::Input(format!("{why}; {note}")),
             Failure::Task(why) => Failure::Task(format!("{}: {why}; {note}", take.display())),
         });
+    }
+    if args.json {
+        let mut reports = library.reports.into_inner().map_err(|_| poisoned())?;
+        reports.sort_by(|a, b| a.output.cmp(&b.output));
+        if shard.count == 1 {
+            collect(dest)?;
+        }
+        if reports.is_empty() && fitted == 0 {
+            return Err(crate::common::nothing_to_fit(&skipped));
+        }
+        return crate::common::print_json(&reports);
     }
     if shard.count == 1 {
         let summary = collect(dest)?;
@@ -479,8 +493,10 @@ impl Library<'_> {
                 .map_err(Failure::from)?;
             file.write(&output).map_err(Failure::from)?;
             let seconds = clock.elapsed().as_secs_f64();
-            if !self.args.json {
-                let done = report(&output, self.args, group, &fits.fits, &fits.violations());
+            let done = report(&output, self.args, group, &fits.fits, &fits.violations());
+            if self.args.json {
+                self.reports.lock().map_err(|_| poisoned())?.push(done);
+            } else {
                 emit(&report_text(&done))?;
             }
             rows.push(RecordRow {
@@ -727,22 +743,22 @@ mod tests {
             }
         };
         assert_eq!(Shard::from_slurm(env(&[])), Ok(None));
-        let zero_based = [
+        const ZERO_BASED: [(&str, &str); 3] = [
             ("SLURM_ARRAY_TASK_ID", "0"),
             ("SLURM_ARRAY_TASK_MIN", "0"),
             ("SLURM_ARRAY_TASK_COUNT", "3"),
         ];
         assert_eq!(
-            Shard::from_slurm(env(&zero_based)),
+            Shard::from_slurm(env(&ZERO_BASED)),
             Ok(Some(Shard { index: 1, count: 3 }))
         );
-        let one_based = [
+        const ONE_BASED: [(&str, &str); 3] = [
             ("SLURM_ARRAY_TASK_ID", "3"),
             ("SLURM_ARRAY_TASK_MIN", "1"),
             ("SLURM_ARRAY_TASK_COUNT", "3"),
         ];
         assert_eq!(
-            Shard::from_slurm(env(&one_based)),
+            Shard::from_slurm(env(&ONE_BASED)),
             Ok(Some(Shard { index: 3, count: 3 }))
         );
         assert!(Shard::from_slurm(env(&[("SLURM_ARRAY_TASK_ID", "3")])).is_err());
