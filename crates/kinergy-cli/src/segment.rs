@@ -86,6 +86,9 @@ struct Report {
     segments: Vec<Row>,
 }
 
+/// One arm's listing and its segments-file rows.
+type ArmSegments = (Report, Vec<SegmentRow>);
+
 /// Segments one clip: for the arm named, the selected segments; with `--arm auto`, the
 /// reaches of each arm that reaches (as `fit --arm auto` finds them), or the reason it has
 /// none (`Ok(Err(skipped))`).
@@ -93,7 +96,7 @@ fn segment_clip(
     args: &Args,
     path: &Path,
     settings: &SegmentSettings,
-) -> Result<Result<Vec<(Report, Vec<SegmentRow>)>, Skipped>, Failure> {
+) -> Result<Result<Vec<ArmSegments>, Skipped>, Failure> {
     let (clip, _) = args.read.read(path)?;
     if args.arm.arm != ArmSide::Auto {
         let arm = args.arm.find(&clip, path)?;
