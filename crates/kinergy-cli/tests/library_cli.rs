@@ -186,33 +186,26 @@ fn a_mixed_folder_fits_every_reach_of_whichever_arm_and_lists_what_it_skips() {
     let walks = dir.path().join("walks");
     std::fs::create_dir(&walks).expect("folder");
     std::fs::copy(fixture("cmu_12_01_walk.bvh"), walks.join("walk.bvh")).expect("copy");
-    let o = kinergy(&[
-        "fit",
-        s(&walks),
-        "--arm",
-        "auto",
-        "--per",
-        "clip",
-        "--model",
-        "sa",
-        "--out-dir",
-        s(&dir.path().join("none")),
-    ]);
+    let fit_sa = |takes: &Path, out: &Path| {
+        let args = [
+            "fit",
+            s(takes),
+            "--arm",
+            "auto",
+            "--per",
+            "clip",
+            "--model",
+            "sa",
+        ];
+        let mut args = args.to_vec();
+        args.extend(["--out-dir", s(out)]);
+        kinergy(&args)
+    };
+    let o = fit_sa(&walks, &dir.path().join("none"));
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("nothing to fit"), "{}", stderr(&o));
     std::fs::write(takes.join("broken.bvh"), "HIERARCHY\nROOT x {").expect("write");
-    let o = kinergy(&[
-        "fit",
-        s(&takes),
-        "--arm",
-        "auto",
-        "--per",
-        "clip",
-        "--model",
-        "sa",
-        "--out-dir",
-        s(&dir.path().join("bad")),
-    ]);
+    let o = fit_sa(&takes, &dir.path().join("bad"));
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("broken.bvh"), "{}", stderr(&o));
 }

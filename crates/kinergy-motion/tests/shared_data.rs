@@ -104,19 +104,26 @@ const FLOATING: [(&str, &str); 1] = [(
 /// above it in their first frame (the Z-up file's toes, 4.2 cm, the most; CMU's 2.1 cm).
 const GROUND: f64 = 0.05;
 
+/// The clip's world joint positions on frame 0, and its body's height there (lowest to
+/// highest body point along Y).
+fn first_frame(clip: &Clip) -> (Vec<Point3<f64>>, f64) {
+    let p = clip
+        .skeleton()
+        .world_positions(clip.frame(0).expect("frame 0"))
+        .expect("fk");
+    let ys: Vec<f64> = body_points(clip).iter().map(|&j| p[j].y).collect();
+    let height = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+        - ys.iter().copied().fold(f64::INFINITY, f64::min);
+    (p, height)
+}
+
 #[test]
 fn every_shared_file_stands_a_human_sized_body_on_the_ground_y_up() {
     let Some(files) = shared_files() else { return };
     for path in &files {
         let (clip, report) = read(path);
         let file = name(path);
-        let p = clip
-            .skeleton()
-            .world_positions(clip.frame(0).expect("frame 0"))
-            .expect("fk");
-        let ys: Vec<f64> = body_points(&clip).iter().map(|&j| p[j].y).collect();
-        let height = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max)
-            - ys.iter().copied().fold(f64::INFINITY, f64::min);
+        let (p, height) = first_frame(&clip);
         let feet = feet(&clip);
         assert!(!feet.is_empty(), "{file}: no foot joint");
         let lowest_foot = feet.iter().map(|&j| p[j].y).fold(f64::INFINITY, f64::min);
@@ -482,13 +489,7 @@ fn a_reference_root_far_from_the_body_does_not_change_the_unit() {
             "{path:?}"
         );
         assert_eq!(report.up, UpAxis::Y, "{path:?}");
-        let p = clip
-            .skeleton()
-            .world_positions(clip.frame(0).expect("frame 0"))
-            .expect("fk");
-        let ys: Vec<f64> = body_points(&clip).iter().map(|&j| p[j].y).collect();
-        let height = ys.iter().copied().fold(f64::NEG_INFINITY, f64::max)
-            - ys.iter().copied().fold(f64::INFINITY, f64::min);
+        let (p, height) = first_frame(&clip);
         assert!(
             (1.2..=2.0).contains(&height),
             "{path:?}: a {height:.3} m body"
