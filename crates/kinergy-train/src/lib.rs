@@ -31,6 +31,7 @@ pub mod error;
 pub mod experiment;
 pub mod field;
 pub mod fit;
+pub mod library;
 pub mod objective;
 pub mod person;
 pub mod segments_file;

@@ -1,13 +1,13 @@
 //! `fit --per clip` into a folder: a library of captures, one result per reach.
 //!
-//! The takes are weighed by their frame count and dealt to shards (`--shard I/N`, or the
-//! Slurm array's task; one shard on one machine); a shard fits its takes in parallel, each
-//! reach's result written atomically as soon as it is fitted, and keeps a record of what it
-//! did in `DIR/shards/I-of-N.csv` (the takes it was dealt, then each reach fitted and each
-//! take skipped or failed). [`collect`] turns the records and the result files into
-//! `DIR/library.csv` and `DIR/skipped.csv`, and says what is missing; a one-shard run
-//! collects at its end. A result depends on its reach and the seed only, so every number in
-//! it is the same whichever shard fitted it.
+//! The takes are weighed by their frame count and dealt to shards
+//! ([`kinergy_train::library`]: `--shard I/N`, or the Slurm array's task; one shard on one
+//! machine); a shard fits its takes in parallel, each reach's result written atomically as
+//! soon as it is fitted, and keeps a record of what it did in `DIR/shards/I-of-N.csv` (the
+//! takes it was dealt, then each reach fitted and each take skipped or failed). [`collect`]
+//! turns the records and the result files into `DIR/library.csv` and `DIR/skipped.csv`, and
+//! says what is missing; a one-shard run collects at its end. A result depends on its reach
+//! and the seed only, so every number in it is the same whichever shard fitted it.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -18,6 +18,7 @@ use std::time::Instant;
 use kinergy_solver::{Model, ParamsFile};
 use kinergy_train::CapturedReach;
 use kinergy_train::fit::FitSettings;
+use kinergy_train::library::{Shard, deal};
 use kinergy_train::segments_file::{SegmentRow, SegmentsFile, default_person};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -34,97 +35,6 @@ pub const SKIPPED: &str = "skipped.csv";
 
 /// The models a library row gives a distance for, when the nested fit reached them.
 const MODELS: [Model; 4] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
-
-/// Which share of a library's takes this run fits: shard `index` (1-based) of `count`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Shard {
-    /// 1 to `count`.
-    pub index: usize,
-    /// How many shards share the library.
-    pub count: usize,
-}
-
-impl Shard {
-    /// The whole library.
-    pub const ALL: Shard = Shard { index: 1, count: 1 };
-
-    /// `--shard I/N` (1 ≤ I ≤ N ≤ 100,000).
-    pub fn parse(text: &str) -> Result<Shard, String> {
-        let bad = || format!("`{text}`: expected I/N with 1 ≤ I ≤ N, e.g. 2/8");
-        let (i, n) = text.split_once('/').ok_or_else(bad)?;
-        let index: usize = i.trim().parse().map_err(|_| bad())?;
-        let count: usize = n.trim().parse().map_err(|_| bad())?;
-        if index == 0 || index > count || count > MAX_SHARDS {
-            return Err(bad());
-        }
-        Ok(Shard { index, count })
-    }
-
-    /// The shard a Slurm array task is: task `SLURM_ARRAY_TASK_ID` of the array's
-    /// `SLURM_ARRAY_TASK_COUNT`, counted from `SLURM_ARRAY_TASK_MIN` (so `--array=0-7` and
-    /// `--array=1-8` both make 8 shards). `None` outside an array job.
-    pub fn from_slurm(env: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, String> {
-        let Some(id) = env("SLURM_ARRAY_TASK_ID") else {
-            return Ok(None);
-        };
-        let number = |name: &str| -> Result<usize, String> {
-            let text = env(name).ok_or_else(|| {
-                format!("SLURM_ARRAY_TASK_ID is set but {name} is not: is this an array job?")
-            })?;
-            text.trim()
-                .parse()
-                .map_err(|_| format!("{name}=`{text}` is not a whole number"))
-        };
-        let id: usize = id
-            .trim()
-            .parse()
-            .map_err(|_| format!("SLURM_ARRAY_TASK_ID=`{id}` is not a whole number"))?;
-        let (min, count) = (
-            number("SLURM_ARRAY_TASK_MIN")?,
-            number("SLURM_ARRAY_TASK_COUNT")?,
-        );
-        let index = id
-            .checked_sub(min)
-            .map(|k| k + 1)
-            .filter(|&i| i <= count)
-            .ok_or_else(|| {
-                format!(
-                    "SLURM_ARRAY_TASK_ID={id} is outside the array (from {min}, {count} tasks): \
-                     use a contiguous --array=A-B, or --shard I/N"
-                )
-            })?;
-        Ok(Some(Shard { index, count }))
-    }
-
-    /// The record's file name: `I-of-N.csv`.
-    fn record_name(self) -> String {
-        format!("{}-of-{}.csv", self.index, self.count)
-    }
-}
-
-/// The most shards a library is dealt to.
-const MAX_SHARDS: usize = 100_000;
-
-/// Deals `weights` (one per take, in the library's order) to `count` shards, heaviest first,
-/// each to the lightest shard so far (ties: the lower shard, then the earlier take): every
-/// shard gets about the same frames. The same takes and weights deal the same way on every
-/// machine. Returns each take's shard, 1-based.
-pub fn deal(weights: &[u64], count: usize) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..weights.len()).collect();
-    order.sort_by(|&a, &b| weights[b].cmp(&weights[a]).then(a.cmp(&b)));
-    let mut load = vec![0u64; count.max(1)];
-    let mut shard_of = vec![0; weights.len()];
-    for take in order {
-        let (lightest, _) = load
-            .iter()
-            .enumerate()
-            .min_by(|a, b| a.1.cmp(b.1).then(a.0.cmp(&b.0)))
-            .unwrap_or((0, &0));
-        load[lightest] += weights[take].max(1);
-        shard_of[take] = lightest + 1;
-    }
-    shard_of
-}
 
 /// One line of a shard's record.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -332,7 +242,7 @@ pub fn run(
             .filter_map(|p| std::fs::canonicalize(p).ok())
             .collect(),
         record: Record {
-            path: shards.join(shard.record_name()),
+            path: shards.join(format!("{}-of-{}.csv", shard.index, shard.count)),
             rows: Mutex::new(mine.iter().map(|t| RecordRow::take(t)).collect()),
             last_write: Mutex::new(Instant::now()),
         },
@@ -723,59 +633,4 @@ fn library_row(dir: &Path, row: &RecordRow) -> Result<LibraryRow, String> {
         seconds: row.seconds.parse().ok(),
         result: row.result.clone(),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{Shard, deal};
-
-    #[test]
-    fn shards_parse_and_come_from_slurm() {
-        assert_eq!(Shard::parse("2/8"), Ok(Shard { index: 2, count: 8 }));
-        for bad in ["0/3", "4/3", "x/3", "3", "1/0", ""] {
-            assert!(Shard::parse(bad).is_err(), "{bad}");
-        }
-        let env = |vars: &'static [(&'static str, &'static str)]| {
-            move |name: &str| {
-                vars.iter()
-                    .find(|(k, _)| *k == name)
-                    .map(|(_, v)| (*v).to_string())
-            }
-        };
-        assert_eq!(Shard::from_slurm(env(&[])), Ok(None));
-        const ZERO_BASED: [(&str, &str); 3] = [
-            ("SLURM_ARRAY_TASK_ID", "0"),
-            ("SLURM_ARRAY_TASK_MIN", "0"),
-            ("SLURM_ARRAY_TASK_COUNT", "3"),
-        ];
-        assert_eq!(
-            Shard::from_slurm(env(&ZERO_BASED)),
-            Ok(Some(Shard { index: 1, count: 3 }))
-        );
-        const ONE_BASED: [(&str, &str); 3] = [
-            ("SLURM_ARRAY_TASK_ID", "3"),
-            ("SLURM_ARRAY_TASK_MIN", "1"),
-            ("SLURM_ARRAY_TASK_COUNT", "3"),
-        ];
-        assert_eq!(
-            Shard::from_slurm(env(&ONE_BASED)),
-            Ok(Some(Shard { index: 3, count: 3 }))
-        );
-        assert!(Shard::from_slurm(env(&[("SLURM_ARRAY_TASK_ID", "3")])).is_err());
-    }
-
-    #[test]
-    fn takes_are_dealt_by_weight_to_balanced_shards() {
-        let weights = [100, 10, 90, 20, 80, 30, 70, 40, 60, 50];
-        let shards = deal(&weights, 3);
-        let mut load = [0u64; 3];
-        for (w, s) in weights.iter().zip(&shards) {
-            load[s - 1] += w;
-        }
-        let (lo, hi) = (load.iter().min().unwrap(), load.iter().max().unwrap());
-        assert!(hi - lo <= 20, "{load:?}");
-        assert_eq!(deal(&weights, 3), shards, "deterministic");
-        assert!(deal(&weights, 1).iter().all(|&s| s == 1));
-        assert_eq!(deal(&[], 4), Vec::<usize>::new());
-    }
 }
