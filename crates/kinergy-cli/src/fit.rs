@@ -384,31 +384,28 @@ fn library_run(
     inputs.extend(clips.inputs());
     inputs.extend(args.reach.segments.as_deref());
     // Every take's first result name (a take with several reaches adds their frames) and the
-    // library's tables.
-    let common = common_folder(
-        &clips
-            .paths
-            .iter()
-            .map(|t| std::fs::canonicalize(t).unwrap_or_else(|_| t.clone()))
-            .collect::<Vec<_>>(),
-    );
-    // With a segments file every result's name is known now (its rows give the reaches);
-    // otherwise each take's first name, and the rest are checked as they are written.
-    let rows = clips
-        .segments()
-        .map(kinergy_train::segments_file::SegmentsFile::rows_by_clip);
+    // library's tables. With a segments file every result's name is known now (its rows give
+    // the reaches); otherwise each take's first name, and the rest are checked as they are
+    // written.
+    let takes = library::Takes::of(clips);
     let mut files: Vec<PathBuf> = Vec::new();
-    for take in unique_takes(&clips.paths) {
-        let key = kinergy_train::segments_file::SegmentsFile::clip_key(&take);
-        match rows.as_ref().and_then(|index| index.get(&key)) {
+    for take in &takes.paths {
+        match takes.rows_of(take) {
             Some(rows) => {
                 let keys: Vec<_> = rows
                     .iter()
                     .map(|r| (r.frames.clone(), r.arm.to_string()))
                     .collect();
-                files.extend(names_of(&common, &take, &keys).iter().map(|n| dest.join(n)));
+                files.extend(
+                    names_of(&takes.common, take, &keys)
+                        .iter()
+                        .map(|n| dest.join(n)),
+                );
             }
-            None => files.push(dest.join(relative_name(&common, &take).with_extension("json"))),
+            None => {
+                let name = relative_name(&takes.common, take).with_extension("json");
+                files.push(dest.join(name));
+            }
         }
     }
     files.extend([library::LIBRARY, library::SKIPPED].map(|f| dest.join(f)));
@@ -420,7 +417,7 @@ fn library_run(
     check_outputs(&inputs, &[Output::Folder(option, dest, &files)])?;
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .map_err(|e| Failure::Task(format!("cannot watch for Ctrl-C: {e}")))?;
-    library::run(args, clips, models, settings, dest)
+    library::run(args, clips, takes, models, settings, dest)
 }
 
 /// The takes `paths` name, each file once (the first spelling kept): a segments file may

@@ -139,10 +139,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     // The folder is made before the first file is written into it (a missing folder used
     // to end the run with an OS error about style.csv), not before: a run that fails on
     // its first capture or on the parameters leaves no empty folder.
-    let make_folder = || {
-        args.output
-            .as_deref()
-            .map_or(Ok(()), crate::common::make_folder)
+    let made = std::cell::Cell::new(false);
+    let make_folder = || match args.output.as_deref() {
+        Some(dir) if !made.replace(true) => crate::common::make_folder(dir),
+        _ => Ok(()),
     };
     let mut rows = Vec::with_capacity(clips.len());
     let mut runs = Vec::with_capacity(clips.len());

@@ -47,6 +47,25 @@ fn rows(path: &Path) -> Vec<BTreeMap<String, String>> {
         .collect()
 }
 
+/// The reaches rows name — (clip file name, arm, onset, end) — sorted.
+fn reaches(rows: &[BTreeMap<String, String>]) -> Vec<(String, String, String, String)> {
+    let mut out: Vec<_> = rows
+        .iter()
+        .map(|r| {
+            let clip = Path::new(&r["clip"]).file_name().unwrap().to_string_lossy();
+            let field = |k: &str| r[k].clone();
+            (
+                clip.into_owned(),
+                field("arm"),
+                field("onset"),
+                field("end"),
+            )
+        })
+        .collect();
+    out.sort();
+    out
+}
+
 /// `library.csv` without its `seconds` column (the one number a run's timing decides).
 fn without_seconds(path: &Path) -> Vec<BTreeMap<String, String>> {
     let mut rows = rows(path);
@@ -155,32 +174,7 @@ fn a_mixed_folder_fits_every_reach_of_whichever_arm_and_lists_what_it_skips() {
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("walk.bvh"), "{}", stderr(&o));
-    let listed: Vec<(String, String, String, String)> = rows(&manifest)
-        .into_iter()
-        .map(|r| {
-            let clip = Path::new(&r["clip"])
-                .file_name()
-                .unwrap()
-                .to_string_lossy()
-                .into_owned();
-            (clip, r["arm"].clone(), r["onset"].clone(), r["end"].clone())
-        })
-        .collect();
-    let mut fitted: Vec<(String, String, String, String)> = library
-        .iter()
-        .map(|r| {
-            let clip = Path::new(&r["clip"])
-                .file_name()
-                .unwrap()
-                .to_string_lossy()
-                .into_owned();
-            (clip, r["arm"].clone(), r["onset"].clone(), r["end"].clone())
-        })
-        .collect();
-    fitted.sort();
-    let mut listed_sorted = listed.clone();
-    listed_sorted.sort();
-    assert_eq!(listed_sorted, fitted);
+    assert_eq!(reaches(&rows(&manifest)), reaches(&library));
 
     // Nothing to fit anywhere: exit 1, saying why; a malformed take: exit 2, as ever.
     let walks = dir.path().join("walks");

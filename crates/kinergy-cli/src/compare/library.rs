@@ -170,7 +170,7 @@ fn markdown(table: &Path, lines: &[Line], models: &[Model]) -> String {
     md.push_str(&"---|".repeat(models.len() + 1));
     md.push('\n');
     for l in lines {
-        let name = if l.person == "all" && std::ptr::eq(l, all) {
+        let name = if std::ptr::eq(l, all) {
             "**all**".to_string()
         } else {
             super::holdout::md_code(&l.person)

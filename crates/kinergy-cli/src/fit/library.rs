@@ -36,6 +36,44 @@ pub const SKIPPED: &str = "skipped.csv";
 /// The models a library row gives a distance for, when the nested fit reached them.
 const MODELS: [Model; 4] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
 
+/// A library's takes, found once: each capture once (the first spelling kept), in the
+/// library's order, their common folder (results are named from it) and, with a segments
+/// file, its rows by clip.
+pub struct Takes<'a> {
+    /// Each capture once.
+    pub paths: Vec<PathBuf>,
+    /// Their common folder (of their canonical paths).
+    pub common: PathBuf,
+    /// With `--segments`, the file's rows by clip ([`SegmentsFile::rows_by_clip`]).
+    rows: Option<HashMap<PathBuf, Vec<&'a SegmentRow>>>,
+}
+
+impl<'a> Takes<'a> {
+    /// The takes of `clips`.
+    pub fn of(clips: &'a CaptureClips) -> Takes<'a> {
+        let paths = super::unique_takes(&clips.paths);
+        let canonical: Vec<PathBuf> = paths
+            .iter()
+            .map(|t| std::fs::canonicalize(t).unwrap_or_else(|_| t.clone()))
+            .collect();
+        Takes {
+            common: super::common_folder(&canonical),
+            paths,
+            rows: clips.segments().map(SegmentsFile::rows_by_clip),
+        }
+    }
+
+    /// The segments file's rows of `take`, with a segments file.
+    pub fn rows_of(&self, take: &Path) -> Option<&[&'a SegmentRow]> {
+        let index = self.rows.as_ref()?;
+        Some(
+            index
+                .get(&SegmentsFile::clip_key(take))
+                .map_or(&[][..], Vec::as_slice),
+        )
+    }
+}
+
 /// One line of a shard's record.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 struct RecordRow {
@@ -168,10 +206,8 @@ struct Library<'a> {
     models: &'a [Model],
     settings: &'a FitSettings,
     dest: &'a Path,
-    /// The takes' common folder, from which results are named.
-    common: PathBuf,
-    /// With `--segments`, the file's rows by clip.
-    rows: Option<HashMap<PathBuf, Vec<&'a SegmentRow>>>,
+    /// The library's takes.
+    takes: &'a Takes<'a>,
     /// The inputs' canonical paths: no result may be written over one (a result's name is
     /// known only once its take is segmented, after the output check).
     inputs: HashSet<PathBuf>,
@@ -188,6 +224,7 @@ struct Library<'a> {
 pub fn run(
     args: &Args,
     clips: &CaptureClips,
+    takes: Takes<'_>,
     models: &[Model],
     settings: &FitSettings,
     dest: &Path,
@@ -198,8 +235,8 @@ pub fn run(
             .map_err(Failure::Input)?
             .unwrap_or(Shard::ALL),
     };
-    let takes = &super::unique_takes(&clips.paths);
     let weights: Vec<u64> = takes
+        .paths
         .iter()
         .map(|t| {
             kinergy_bvh::header_frame_count(t)
@@ -210,6 +247,7 @@ pub fn run(
         .collect();
     let dealt = deal(&weights, shard.count);
     let mine: Vec<&PathBuf> = takes
+        .paths
         .iter()
         .zip(&dealt)
         .filter(|(_, s)| **s == shard.index)
@@ -228,13 +266,7 @@ pub fn run(
         models,
         settings,
         dest,
-        common: super::common_folder(
-            &takes
-                .iter()
-                .map(|t| std::fs::canonicalize(t).unwrap_or_else(|_| t.clone()))
-                .collect::<Vec<_>>(),
-        ),
-        rows: clips.segments().map(SegmentsFile::rows_by_clip),
+        takes: &takes,
         inputs: clips
             .inputs()
             .into_iter()
@@ -343,12 +375,8 @@ impl Library<'_> {
     /// Fits the reaches of one take (or finds them fitted, with `--resume`) and records
     /// them.
     fn take(&self, take: &Path) -> Result<TakeOutcome, Failure> {
-        let found = match (self.clips.segments(), &self.rows) {
-            (Some(segments), Some(index)) => {
-                let key = SegmentsFile::clip_key(take);
-                let rows = index.get(&key).map_or(&[][..], Vec::as_slice);
-                Ok(self.args.reach.take_rows(segments, rows, take)?)
-            }
+        let found = match (self.clips.segments(), self.takes.rows_of(take)) {
+            (Some(segments), Some(rows)) => Ok(self.args.reach.take_rows(segments, rows, take)?),
             _ => self
                 .args
                 .reach
@@ -367,7 +395,7 @@ impl Library<'_> {
             }
         };
         let just: Vec<CapturedReach> = reaches.iter().map(|(r, _)| r.clone()).collect();
-        let names = super::take_names(&self.common, take, &just);
+        let names = super::take_names(&self.takes.common, take, &just);
         let mut rows = Vec::with_capacity(reaches.len());
         for ((reach, person), name) in reaches.iter().zip(names) {
             let output = self.dest.join(&name);
