@@ -70,6 +70,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     args.search.check()?;
     args.reach.read.check()?;
+    args.reach.check_arm()?;
     check_optional("--holdout", args.holdout, limits::HOLDOUT)?;
     args.search.apply_threads()?;
     let holdout = match (args.per, args.holdout) {

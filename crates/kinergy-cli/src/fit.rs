@@ -62,6 +62,7 @@ struct FitReport {
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.search.check()?;
     args.reach.read.check()?;
+    args.reach.check_arm()?;
     check_range(
         "--checkpoint-every",
         args.checkpoint_every,

@@ -257,6 +257,11 @@ fn text(report: &Report, settings: &SegmentSettings, selected: bool) -> String {
 /// Runs `kinergy segment`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.read.check()?;
+    if let (ArmSide::Auto, Some(Selection::Nth(n))) = (args.arm.arm, args.select) {
+        return Err(Failure::Input(format!(
+            "--select {n}: one numbered segment names no arm: with --arm auto select main or all"
+        )));
+    }
     check_range(
         "--min-peak-speed",
         args.min_peak_speed,

@@ -204,6 +204,36 @@ fn a_mixed_folder_fits_every_reach_of_whichever_arm_and_lists_what_it_skips() {
     assert!(stderr(&o).contains("broken.bvh"), "{}", stderr(&o));
 }
 
+/// `--arm auto` finds each take's reaches itself: with one `--frames` window or one numbered
+/// segment it is refused before any work (exit 2), nothing written.
+#[test]
+fn arm_auto_refuses_a_window_or_a_numbered_segment_before_any_work() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let clip = repo().join("data-synthetic/p01/r01.bvh");
+    let out = dir.path().join("fits");
+    for (flag, value) in [("--frames", "5..40"), ("--select", "1")] {
+        let o = kinergy(&[
+            "fit",
+            s(&clip),
+            "--arm",
+            "auto",
+            flag,
+            value,
+            "--per",
+            "clip",
+            "--model",
+            "sa",
+            "--out-dir",
+            s(&out),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{flag}: {}", stderr(&o));
+        assert!(stderr(&o).contains(flag), "{}", stderr(&o));
+        assert!(!out.exists(), "{flag}: wrote {out:?}");
+    }
+    let o = kinergy(&["segment", s(&clip), "--arm", "auto", "--select", "1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
 /// The synthetic set's first two persons (28 takes) as a library.
 fn library_args(out: &Path) -> Vec<String> {
     let takes = repo().join("data-synthetic");

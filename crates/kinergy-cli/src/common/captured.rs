@@ -112,6 +112,29 @@ impl CaptureArgs {
         }
     }
 
+    /// Checks, before any work, that `--arm auto` comes with what it can work with: it
+    /// finds each take's reaches itself, so not with one `--frames` window for all, nor with
+    /// one numbered segment (`--select N`: of which arm?).
+    pub fn check_arm(&self) -> Result<(), Failure> {
+        if self.arm.arm != ArmSide::Auto || self.segments.is_some() {
+            return Ok(());
+        }
+        if self.frames.is_some() {
+            return Err(Failure::Input(
+                "--arm auto finds each take's reaches: drop --frames (one window for every \
+                 take and arm)"
+                    .into(),
+            ));
+        }
+        if let Some(Selection::Nth(n)) = self.select {
+            return Err(Failure::Input(format!(
+                "--select {n}: one numbered segment names no arm: with --arm auto select main \
+                 or all"
+            )));
+        }
+        Ok(())
+    }
+
     /// The clip files: `given` (files or folders, see [`collect_clips`]); with `--segments`
     /// and nothing given, the segments file's clips in the order they first appear.
     pub fn clips(&self, given: &[PathBuf]) -> Result<CaptureClips, Failure> {
