@@ -35,8 +35,8 @@
 //!    before the first, rest by default) toward the new one by at most the joint bound a_j·dt²
 //!    in every DoF (the whole change scaled alike), each DoF brakes before its limit so that
 //!    it can stop there at a_j, and the hand's displacement relative to the chain's base —
-//!    exact forward kinematics, the change scaled by bisection — changes by at most
-//!    a_h·dt². So the hand's speed changes by at most a_h·dt per frame.
+//!    exact forward kinematics, the change scaled as 8 bisection steps would, found in about
+//!    2 evaluations by a line through the bracket — changes by at most a_h·dt². So the hand's speed changes by at most a_h·dt per frame.
 //!
 //! 5. *Approach braking.* The hand moves no faster than it can stop from within the remaining
 //!    distance e at its bound: |Δh| ≤ dt √(2 a_h e). A step proportional to the error under an
@@ -99,9 +99,11 @@ pub const FINISH_OVER: f64 = 0.25;
 /// The share of a reach's duration over which [`Smoothing::for_reach`]'s bounds rise: where a
 /// minimum-jerk reach's acceleration peaks, τ = (3 − √3)/6.
 pub const ONSET_SHARE: f64 = 0.211_324_865_405_187_1;
-/// Bisection steps of the hand bound's scale (to 1/256 of the change; 5 steps, tried, left
-/// 3 speed jumps on a held-out raise at 30 Hz that 8 do not).
-const BISECTIONS: usize = 8;
+/// The hand bound's scale is found to 1/2⁸ of the change (as 8 bisection steps would; 5,
+/// tried, left 3 speed jumps on a held-out raise at 30 Hz that 8 do not).
+const BISECTIONS: u32 = 8;
+/// Rounds of [`largest_scale`] guided by the line through the bracket before it halves.
+const MODEL_ROUNDS: usize = 4;
 /// The least hand acceleration bound, m/s².
 pub const MIN_HAND_ACCELERATION: f64 = 1.0;
 
@@ -224,6 +226,47 @@ pub(crate) struct Smoother {
     /// A zero step (no allocation on the frames where the hand bound binds).
     zero: Vec<f64>,
     pose: ChainPose,
+    /// The hand at the configurations forward kinematics last saw (see [`Known`]).
+    known: Known,
+}
+
+/// The hand at the last two configurations forward kinematics was run on. A frame asks for
+/// the hand at the same configuration more than once (the approach brake and the record of
+/// the frame's motion both at the step taken; the hand bound's scan of the previous step at
+/// its ends): an exact match (every DoF `==`) answers without recomputing, so the answer is
+/// the one forward kinematics gives.
+#[derive(Debug, Clone)]
+struct Known {
+    configurations: [Vec<f64>; 2],
+    hands: [Point3<f64>; 2],
+    valid: [bool; 2],
+    /// The entry the next new configuration replaces.
+    next: usize,
+}
+
+impl Known {
+    fn new(n: usize) -> Known {
+        Known {
+            configurations: [vec![0.0; n], vec![0.0; n]],
+            hands: [Point3::origin(); 2],
+            valid: [false; 2],
+            next: 0,
+        }
+    }
+
+    fn get(&self, q: &[f64]) -> Option<Point3<f64>> {
+        (0..2)
+            .find(|&i| self.valid[i] && self.configurations[i].as_slice() == q)
+            .map(|i| self.hands[i])
+    }
+
+    fn put(&mut self, q: &[f64], hand: Point3<f64>) {
+        let i = self.next;
+        self.configurations[i].copy_from_slice(q);
+        self.hands[i] = hand;
+        self.valid[i] = true;
+        self.next = 1 - i;
+    }
 }
 
 impl Smoother {
@@ -239,6 +282,7 @@ impl Smoother {
                 frames: Vec::new(),
                 end: Point3::origin(),
             },
+            known: Known::new(n),
         }
     }
 
@@ -317,31 +361,42 @@ impl Smoother {
         self.hand = now;
     }
 
+    /// The hand in the chain's base frame at configuration `q` (forward kinematics, or the
+    /// [`Known`] answer for the same configuration).
     fn hand_at(&mut self, chain: &Chain, q: &[f64]) -> Point3<f64> {
+        if let Some(hand) = self.known.get(q) {
+            return hand;
+        }
         match chain.fk_into(&IsometryMatrix3::identity(), q, &mut self.pose) {
-            Ok(()) => self.pose.end,
+            Ok(()) => {
+                self.known.put(q, self.pose.end);
+                self.pose.end
+            }
             Err(_) => self.hand,
         }
     }
 
-    /// How much the hand's displacement in the base frame changes from the previous frame's
-    /// when the configuration moves from `q` by `a + k (b − a)`.
-    fn change(&mut self, chain: &Chain, q: &[f64], a: &[f64], b: &[f64], k: f64) -> f64 {
+    /// How the hand's displacement in the base frame changes from the previous frame's when
+    /// the configuration moves from `q` by `a + k (b − a)`.
+    fn change(&mut self, chain: &Chain, q: &[f64], a: &[f64], b: &[f64], k: f64) -> Vector3<f64> {
         let mut trial = std::mem::take(&mut self.trial);
         for (i, t) in trial.iter_mut().enumerate() {
             *t = q[i] + a[i] + k * (b[i] - a[i]);
         }
         let h = self.hand_at(chain, &trial);
         self.trial = trial;
-        (h - self.hand - self.hand_moved).norm()
+        h - self.hand - self.hand_moved
     }
 
     /// Scales the change of `step` from the previous frame's so that the hand's displacement
-    /// in the base frame changes by at most `bound` meters (forward kinematics, bisection).
+    /// in the base frame changes by at most `bound` meters (exact forward kinematics; the
+    /// scale found as in [`largest_scale`]).
     fn limit_hand(&mut self, chain: &Chain, q: &[f64], step: &mut [f64], bound: f64) {
         let previous = std::mem::take(&mut self.moved);
-        if self.change(chain, q, &previous, step, 1.0) > bound {
-            if self.change(chain, q, &previous, step, 0.0) > bound {
+        let full = self.change(chain, q, &previous, step, 1.0);
+        if full.norm() > bound {
+            let none = self.change(chain, q, &previous, step, 0.0);
+            if none.norm() > bound {
                 let zero = std::mem::take(&mut self.zero);
                 // Going on as on the previous frame already changes the hand's motion too
                 // much (the same joint velocity moves the hand differently as the arm bends):
@@ -349,7 +404,7 @@ impl Smoother {
                 // least.
                 let mut best = (f64::INFINITY, 1.0);
                 for k in [1.0, 0.75, 0.5, 0.25, 0.0] {
-                    let c = self.change(chain, q, &zero, &previous, k);
+                    let c = self.change(chain, q, &zero, &previous, k).norm();
                     if c < best.0 {
                         best = (c, k);
                     }
@@ -359,15 +414,9 @@ impl Smoother {
                 }
                 self.zero = zero;
             } else {
-                let (mut lo, mut hi) = (0.0, 1.0);
-                for _ in 0..BISECTIONS {
-                    let mid = 0.5 * (lo + hi);
-                    if self.change(chain, q, &previous, step, mid) <= bound {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
+                let lo = largest_scale(none, full, bound, |k| {
+                    self.change(chain, q, &previous, step, k)
+                });
                 for (s, p) in step.iter_mut().zip(&previous) {
                     *s = p + lo * (*s - p);
                 }
@@ -375,6 +424,68 @@ impl Smoother {
         }
         self.moved = previous;
     }
+}
+
+/// The largest scale k = j / 256 (j = 0…256) at which the change `c(k)` (a vector, nearly
+/// affine in k) stays within `bound`, given `c(0)` = `at_zero` within it and `c(1)` =
+/// `at_one` beyond: the answer eight bisection steps give, in fewer evaluations.
+///
+/// Each round puts a line through the bracket's two changes, takes the grid point just below
+/// where its norm meets the bound (a quadratic; exact when `c` is affine), strictly inside the
+/// bracket, and keeps the side the exact change falls on. When the line is right, two rounds
+/// end it: the grid point below the crossing, then the one above. After [`MODEL_ROUNDS`]
+/// rounds the search halves the bracket, as bisection does. Where |c| grows with k (a change
+/// nearly affine in k, as here) the answer is bisection's to the bit.
+fn largest_scale(
+    at_zero: Vector3<f64>,
+    at_one: Vector3<f64>,
+    bound: f64,
+    mut change: impl FnMut(f64) -> Vector3<f64>,
+) -> f64 {
+    const GRID: u32 = 1 << BISECTIONS;
+    let (mut lo, mut c_lo) = (0_u32, at_zero);
+    let (mut hi, mut c_hi) = (GRID, at_one);
+    let mut rounds = 0;
+    while hi - lo > 1 {
+        let j = if rounds < MODEL_ROUNDS {
+            let t = line_meets_bound(&c_lo, &(c_hi - c_lo), bound);
+            let crossing = lo as f64 + t * (hi - lo) as f64;
+            (crossing.floor() as u32).clamp(lo + 1, hi - 1)
+        } else {
+            lo + (hi - lo) / 2
+        };
+        rounds += 1;
+        let c = change(j as f64 / GRID as f64);
+        if c.norm() <= bound {
+            (lo, c_lo) = (j, c);
+        } else {
+            (hi, c_hi) = (j, c);
+        }
+    }
+    lo as f64 / GRID as f64
+}
+
+/// The t ≥ 0 at which |c + t d| = bound, for |c| ≤ bound (the larger root of
+/// |d|² t² + 2 (c·d) t + |c|² − bound² = 0, in its cancellation-free form); 0 when `d` is
+/// zero.
+fn line_meets_bound(c: &Vector3<f64>, d: &Vector3<f64>, bound: f64) -> f64 {
+    let a = d.norm_squared();
+    let b = 2.0 * c.dot(d);
+    let k = (c.norm_squared() - bound * bound).min(0.0);
+    if a <= 0.0 {
+        return 0.0;
+    }
+    let root = (b * b - 4.0 * a * k).max(0.0).sqrt();
+    let t = if b >= 0.0 {
+        if b + root > 0.0 {
+            -2.0 * k / (b + root)
+        } else {
+            0.0
+        }
+    } else {
+        (root - b) / (2.0 * a)
+    };
+    if t.is_finite() { t.max(0.0) } else { 0.0 }
 }
 
 /// Moves `step` from `previous` toward itself by at most `bound` in every DoF, the change
@@ -468,6 +579,77 @@ mod tests {
         let h = 1e-6;
         assert!((s.finish_weight(0.5 + h) - s.finish_weight(0.5)) / h < 1e-4);
         assert!((s.finish_weight(0.75) - s.finish_weight(0.75 - h)) / h < 1e-4);
+    }
+
+    /// Eight bisection steps, as the hand bound searched before (the independent truth).
+    fn bisected(c: impl Fn(f64) -> Vector3<f64>, bound: f64) -> f64 {
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            if c(mid).norm() <= bound {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    #[test]
+    fn the_scale_of_an_affine_change_is_bisections_in_two_rounds() {
+        let (c0, d) = (
+            Vector3::new(0.01, -0.02, 0.005),
+            Vector3::new(0.3, 0.1, -0.2),
+        );
+        let c = |k: f64| c0 + d * k;
+        for bound in [0.03, 0.1, 0.2, 0.37] {
+            let mut rounds = 0;
+            let k = largest_scale(c(0.0), c(1.0), bound, |k| {
+                rounds += 1;
+                c(k)
+            });
+            assert_eq!(k.to_bits(), bisected(c, bound).to_bits(), "bound {bound}");
+            assert!(rounds <= 2, "bound {bound}: {rounds} rounds");
+        }
+    }
+
+    #[test]
+    fn the_scale_of_a_curved_change_is_bisections_and_keeps_the_bound() {
+        // The hand swinging on an arc as the scale grows, a change that grows slowly then
+        // fast, and one that turns back inside the bound.
+        let arc = |k: f64| Vector3::new(0.2 * (2.5 * k).sin(), 0.2 * (1.0 - (2.5 * k).cos()), 0.0);
+        let cubic = |k: f64| Vector3::new(k * k * k * 0.9, 0.05 * k, -0.01);
+        let back = |k: f64| Vector3::new(0.05 - 0.2 * k + 0.5 * k * k, 0.0, 0.0);
+        for (name, c, bound) in [
+            ("arc", &arc as &dyn Fn(f64) -> Vector3<f64>, 0.17),
+            ("cubic", &cubic, 0.3),
+            ("cubic, tight", &cubic, 0.0101),
+            ("back", &back, 0.1),
+        ] {
+            let mut rounds = 0;
+            let k = largest_scale(c(0.0), c(1.0), bound, |k| {
+                rounds += 1;
+                c(k)
+            });
+            assert!(c(k).norm() <= bound, "{name}: the bound holds");
+            assert_eq!(k.to_bits(), bisected(c, bound).to_bits(), "{name}");
+            assert!(
+                rounds <= MODEL_ROUNDS + BISECTIONS as usize,
+                "{name}: {rounds} rounds"
+            );
+        }
+    }
+
+    #[test]
+    fn the_line_meets_the_bound_where_the_quadratic_says() {
+        let c = Vector3::new(0.0, 0.0, 0.0);
+        let d = Vector3::new(2.0, 0.0, 0.0);
+        assert!((line_meets_bound(&c, &d, 1.0) - 0.5).abs() < 1e-15);
+        // Starting on the bound, moving inward first: the far crossing.
+        let c = Vector3::new(-1.0, 0.0, 0.0);
+        assert!((line_meets_bound(&c, &d, 1.0) - 1.0).abs() < 1e-15);
+        // No motion: no scale.
+        assert_eq!(line_meets_bound(&c, &Vector3::zeros(), 1.0), 0.0);
     }
 
     #[test]
