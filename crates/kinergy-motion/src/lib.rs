@@ -68,7 +68,7 @@ pub use limbs::{ArmJoints, ArmLengths, LegJoints};
 pub use rotation::Axis;
 pub use side::Side;
 pub use skeleton::{Dof, Joint, PositionReading, Skeleton};
-pub use trajectory::{Trajectory, motion_distance, speed_series};
+pub use trajectory::{Trajectory, frame_distance, motion_distance, speed_series};
 pub use units::{LengthUnit, UnitChoice};
 pub use up::{UpAxis, UpChoice, UpDetection};
 

@@ -154,10 +154,18 @@ pub fn motion_distance(a: &Trajectory, b: &Trajectory) -> Result<f64> {
     if frames == 0 {
         return Err(MotionError::EmptyClip);
     }
-    let per_frame = a.frames().zip(b.frames()).map(|(pa, pb)| {
-        pa.iter().zip(pb).map(|(x, y)| (x - y).norm()).sum::<f64>() / pa.len() as f64
-    });
+    let per_frame = a
+        .frames()
+        .zip(b.frames())
+        .map(|(pa, pb)| frame_distance(pa, pb));
     Ok(per_frame.sum::<f64>() / frames as f64)
+}
+
+/// One frame's term of [`motion_distance`]: the mean Euclidean distance between
+/// corresponding points of `a` and `b` (pairs up to the shorter's length, divided by `a`'s
+/// length). Never negative, so a partial sum of frames' terms never exceeds the whole.
+pub fn frame_distance(a: &[Point3<f64>], b: &[Point3<f64>]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).norm()).sum::<f64>() / a.len() as f64
 }
 
 #[cfg(test)]

@@ -320,6 +320,29 @@ impl Controller {
     /// budget runs out, progress stalls or a step is not finite. Near the reach sphere's edge
     /// Δθ is guided ([`crate::reachability`]) and the stall rule watches the guided error.
     pub fn synthesize(&self, arm: &ArmTask<'_>) -> Result<Synthesis> {
+        Ok(self.run(arm, &mut |_| true)?.0)
+    }
+
+    /// [`Controller::synthesize`], shown the motion so far after each frame is recorded
+    /// (`keep_going(&synthesis)`); it stops and returns `None` as soon as `keep_going` says
+    /// `false` — for a caller that scores the motion as it grows, such as the trainer, which
+    /// abandons a motion already worse than it could accept. Every frame is computed exactly
+    /// as [`Controller::synthesize`] computes it.
+    pub fn synthesize_while(
+        &self,
+        arm: &ArmTask<'_>,
+        mut keep_going: impl FnMut(&Synthesis) -> bool,
+    ) -> Result<Option<Synthesis>> {
+        let (synthesis, abandoned) = self.run(arm, &mut keep_going)?;
+        Ok((!abandoned).then_some(synthesis))
+    }
+
+    /// The synthesis loop; true beside the motion when `keep_going` stopped it.
+    fn run(
+        &self,
+        arm: &ArmTask<'_>,
+        keep_going: &mut dyn FnMut(&Synthesis) -> bool,
+    ) -> Result<(Synthesis, bool)> {
         let chain = arm.chain;
         let n = chain.dof_count();
         arm.base.validate()?;
@@ -355,6 +378,9 @@ impl Controller {
             out.points.extend_from_slice(&stepper.lin.joints);
             out.points.push(stepper.lin.end);
             out.final_error = e;
+            if !keep_going(&out) {
+                return Ok((out, true));
+            }
             errors.push(seen.progress);
             let frames = frame + 1;
             let long_enough = frames >= s.min_frames;
@@ -397,7 +423,7 @@ impl Controller {
             }
             frame += 1;
         }
-        Ok(out)
+        Ok((out, false))
     }
 
     /// The controller run one frame at a time ([`ArmStepper`]) on `chain` from `start`

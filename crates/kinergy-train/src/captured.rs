@@ -11,7 +11,7 @@
 use std::ops::Range;
 
 use kinergy_motion::nalgebra::Point3;
-use kinergy_motion::{ArmJoints, Clip, Trajectory, motion_distance};
+use kinergy_motion::{ArmJoints, Clip, Trajectory, frame_distance, motion_distance};
 use kinergy_solver::{
     ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FittedArm, Optimizer,
     ReachTempo, Smoothing, StopReason, Synergy, Synthesis, Task,
@@ -326,6 +326,49 @@ impl CapturedReach {
     pub fn evaluate(&self, optimizer: Optimizer, synergy: Synergy, tolerance: f64) -> Result<f64> {
         let synthesis = self.synthesize(optimizer, synergy, tolerance)?;
         self.distance(&synthesis)
+    }
+
+    /// [`CapturedReach::evaluate`] for a caller that needs the distance only where it is at
+    /// most `limit` (a search about to reject anything worse): the synthesis is abandoned on
+    /// the first frame after which the distance is sure to exceed `limit` — the frames' terms
+    /// so far, summed in order over the reach's frame count, are a lower bound of the
+    /// distance, every term being non-negative — and that lower bound, greater than `limit`,
+    /// is returned. A distance of at most `limit` is [`CapturedReach::evaluate`]'s to the bit,
+    /// and so is every distance when `limit` is not finite.
+    pub fn evaluate_within(
+        &self,
+        optimizer: Optimizer,
+        synergy: Synergy,
+        tolerance: f64,
+        limit: f64,
+    ) -> Result<f64> {
+        let captured = &self.captured;
+        if !limit.is_finite()
+            || (captured.frame_time() - self.frame_time).abs() > 1e-9 * self.frame_time
+        {
+            return self.evaluate(optimizer, synergy, tolerance);
+        }
+        let controller = Controller::new(optimizer, synergy, self.settings(tolerance))?;
+        let frames = captured.frame_count();
+        let tracked = captured.joint_count();
+        let per = self.arm.chain().joints().len() + 1;
+        let (mut sum, mut bound) = (0.0, 0.0);
+        let synthesis = controller.synthesize_while(&self.task(), |s| {
+            let k = s.frame_count() - 1;
+            let Some(points) = s.points.get(k * per..k * per + tracked) else {
+                return true;
+            };
+            if k >= frames {
+                return true;
+            }
+            sum += frame_distance(points, captured.frame(k));
+            bound = sum / frames as f64;
+            bound <= limit
+        })?;
+        match synthesis {
+            Some(synthesis) => self.distance(&synthesis),
+            None => Ok(bound),
+        }
     }
 }
 

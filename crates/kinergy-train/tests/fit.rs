@@ -355,3 +355,133 @@ fn a_refinement_finds_the_floor_of_the_basin_on_any_thread_count() {
         kinergy_solver::FitMethod::RefinedAnnealing
     );
 }
+
+/// The objective without early abandonment: `cost_within` left at its default (the cost).
+struct Whole<'a>(&'a Objective);
+
+impl CostFunction for Whole<'_> {
+    fn dimension(&self) -> usize {
+        self.0.dimension()
+    }
+    fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        self.0.bounds()
+    }
+    fn cost(&self, x: &[f64]) -> f64 {
+        self.0.cost(x)
+    }
+}
+
+/// Two made reaches scored together (a person's objective: the mean over reaches).
+fn two_reach_objective() -> Objective {
+    let (clip, arm) = capture();
+    let made = kinergy_train::synthetic::made_set(
+        &clip,
+        &arm,
+        2,
+        90,
+        OptimizerKind::Svd.default_optimizer(),
+        7,
+    )
+    .expect("made set");
+    let space = made[0].space.clone();
+    Objective::new(
+        made.into_iter().map(|m| m.reach).collect(),
+        space,
+        OptimizerKind::Svd.default_optimizer(),
+    )
+    .expect("objective")
+}
+
+#[test]
+fn a_score_within_a_limit_is_the_score_below_it_and_a_lower_bound_above() {
+    let objective = two_reach_objective();
+    let space = objective.space().clone();
+    let mut x = space.neutral();
+    x[0] = 0.4;
+    x[3] = 2.5;
+    let score = objective.score(&x).expect("score");
+    assert!(score > 0.0);
+    // At or above the score: the score, to the bit (and with no limit at all).
+    for limit in [score, score * 1.5, f64::INFINITY, f64::MAX] {
+        let within = objective.score_within(&x, limit).expect("within");
+        assert_eq!(within.to_bits(), score.to_bits(), "limit {limit}");
+    }
+    // Below it: above the limit and not above the score.
+    for share in [0.0, 0.1, 0.5, 0.9, 0.999] {
+        let limit = score * share;
+        let within = objective.score_within(&x, limit).expect("within");
+        assert!(
+            within > limit && within <= score,
+            "limit {limit}: {within} (score {score})"
+        );
+    }
+    // Each reach alone: the same contract, per reach.
+    for reach in objective.reaches() {
+        let optimizer = objective.optimizer();
+        let synergy = Synergy::new(&space, &x).expect("synergy");
+        let d = reach
+            .evaluate(optimizer, synergy.clone(), objective.tolerance())
+            .expect("distance");
+        let cut = reach
+            .evaluate_within(optimizer, synergy.clone(), objective.tolerance(), 0.3 * d)
+            .expect("within");
+        assert!(cut > 0.3 * d && cut <= d, "{cut} against {d}");
+        let whole = reach
+            .evaluate_within(optimizer, synergy, objective.tolerance(), d)
+            .expect("within");
+        assert_eq!(whole.to_bits(), d.to_bits());
+    }
+}
+
+#[test]
+fn abandoning_motions_the_annealer_would_reject_changes_no_bit_of_the_fit() {
+    use kinergy_train::anneal::Annealer;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// Counts the evaluations the objective stopped early.
+    struct Counting<'a>(&'a Objective, AtomicUsize);
+    impl CostFunction for Counting<'_> {
+        fn dimension(&self) -> usize {
+            self.0.dimension()
+        }
+        fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
+            self.0.bounds()
+        }
+        fn cost(&self, x: &[f64]) -> f64 {
+            self.0.cost(x)
+        }
+        fn cost_within(&self, x: &[f64], limit: f64) -> f64 {
+            let c = self.0.cost_within(x, limit);
+            if c != self.0.cost(x) {
+                self.1.fetch_add(1, Ordering::Relaxed);
+            }
+            c
+        }
+    }
+
+    let objective = two_reach_objective();
+    let start = objective.space().neutral();
+    for temperature in [0.02, 0.0] {
+        let annealer = Annealer::new(AnnealSettings {
+            max_evaluations: 400,
+            temperature,
+            seed: 11,
+            ..AnnealSettings::default()
+        })
+        .expect("annealer");
+        let counting = Counting(&objective, AtomicUsize::new(0));
+        let cut = annealer.minimize(&counting, &start).expect("run");
+        let whole = annealer.minimize(&Whole(&objective), &start).expect("run");
+        assert_eq!(
+            serde_json::to_string(&cut).expect("json"),
+            serde_json::to_string(&whole).expect("json"),
+            "temperature {temperature}"
+        );
+        let abandoned = counting.1.load(Ordering::Relaxed);
+        eprintln!(
+            "temperature {temperature}: {abandoned} of {} evaluations abandoned early",
+            cut.evaluations
+        );
+        assert!(abandoned > 0, "temperature {temperature}: none abandoned");
+    }
+}

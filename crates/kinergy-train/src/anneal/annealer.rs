@@ -137,7 +137,7 @@ impl Annealer {
                 let mut rng = member_rng(s.seed, k, m);
                 let x = propose(&member.x, member.step, lower, upper, &mut rng);
                 let u: f64 = rng.random();
-                let c = clean(cost.cost(&x));
+                let c = clean(cost.cost_within(&x, rejected_above(member.cost, t, u)));
                 (x, c, u)
             })
             .collect();
@@ -284,6 +284,25 @@ fn propose(x: &[f64], step: f64, lower: &[f64], upper: &[f64], rng: &mut ChaCha8
         })
         .collect()
 }
+
+/// A cost above which a proposal is surely rejected by the Metropolis rule below (the
+/// proposal's draw `u` known before its cost): the member's `cost` at temperature zero,
+/// `cost − t ln u` (where exp(−(c − cost)/t) = u) otherwise, raised by a relative 10⁻⁹ so
+/// that rounding in the rule's own `exp` cannot accept a cost above it; infinite when every
+/// cost could be accepted. A cost above it is also above the best, which is never above a
+/// member's: so the exact cost of such a proposal is never used, and the objective may stop
+/// evaluating it early ([`CostFunction::cost_within`]).
+fn rejected_above(cost: f64, t: f64, u: f64) -> f64 {
+    let threshold = if t > 0.0 { cost - t * u.ln() } else { cost };
+    if threshold.is_finite() && threshold < f64::MAX {
+        threshold + REJECTION_MARGIN * threshold.abs()
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The relative margin of [`rejected_above`].
+const REJECTION_MARGIN: f64 = 1e-9;
 
 /// Non-finite costs count as the worst.
 fn clean(c: f64) -> f64 {
