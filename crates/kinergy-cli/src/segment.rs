@@ -69,6 +69,10 @@ struct Row {
     duration_s: f64,
     peak_speed_m_s: f64,
     displacement_m: f64,
+    /// The segment was read in the world although the listing is relative to the shoulder (a
+    /// reach the trunk carries, `kinergy_motion::segment` step 7): its speed and `moves` are
+    /// the world hand's.
+    in_world: bool,
     main: bool,
 }
 
@@ -180,6 +184,7 @@ fn segment_arm(
             duration_s: s.duration(dt),
             peak_speed_m_s: s.peak_speed,
             displacement_m: s.displacement,
+            in_world: s.from_world,
             main: main == Some(i),
         })
         .collect();
@@ -240,7 +245,7 @@ fn text(report: &Report, settings: &SegmentSettings, selected: bool) -> String {
             (false, false) => "",
         };
         out.push_str(&format!(
-            "  {:>4}  {:<9}  {:<6} {:>5}  {:>6.2} s  {:>6.2} m/s  {:.2} m{cut}{}\n",
+            "  {:>4}  {:<9}  {:<6} {:>5}  {:>6.2} s  {:>6.2} m/s  {:.2} m{}{cut}{}\n",
             r.index,
             r.frames,
             r.label,
@@ -248,6 +253,7 @@ fn text(report: &Report, settings: &SegmentSettings, selected: bool) -> String {
             r.duration_s,
             r.peak_speed_m_s,
             r.displacement_m,
+            if r.in_world { " (in the world)" } else { "" },
             if r.main { "  ← main reach" } else { "" }
         ));
     }

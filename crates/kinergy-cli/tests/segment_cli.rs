@@ -263,3 +263,90 @@ fn manifest_bad_input_writes_nothing() {
     assert!(stderr(&o).contains("walk.bvh"), "{}", stderr(&o));
     assert!(!out.exists(), "a partial segments file was written");
 }
+
+// A reach down to the floor, generated: `kinergy synth` makes the takes and its manifest says
+// where each target is. The main reach of every `floor_far` take, relative to the shoulder
+// and with `--world`, is a whole reach whose last frame is within 6 frames (0.2 s) of the hand's
+// arrival: the first frame from which the hand stays within 1 cm of the target. (Before pick-ups
+// were read in the world, p07/r04 had no reach relative to the shoulder: the trunk carries the
+// hand down, and the arm ends hanging as if going back to rest.)
+#[test]
+fn a_generated_reach_to_the_floor_ends_at_its_target() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let set = dir.path().join("set");
+    let o = kinergy(&[
+        "synth",
+        "-o",
+        utf8(&set),
+        "--persons",
+        "8",
+        "--reaches",
+        "4",
+        "--frame-rate",
+        "30",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let manifest = std::fs::read_to_string(set.join("manifest.csv")).expect("manifest");
+    let mut lines = manifest.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|&h| h == name)
+            .unwrap_or_else(|| panic!("no `{name}` column in {header:?}"))
+    };
+    let (clip_at, kind_at, x_at) = (column("clip"), column("kind"), column("target_x"));
+    let mut checked = 0;
+    let mut wrong = Vec::new();
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        if cells[kind_at] != "floor_far" {
+            continue;
+        }
+        let target = kinergy_motion::nalgebra::Point3::new(
+            cells[x_at].parse::<f64>().expect("x"),
+            cells[x_at + 1].parse::<f64>().expect("y"),
+            cells[x_at + 2].parse::<f64>().expect("z"),
+        );
+        let path = set.join(cells[clip_at]);
+        let (clip, _) = kinergy_motion::read_clip(&path, &Default::default()).expect("clip");
+        let arm = kinergy_motion::ArmJoints::find(clip.skeleton(), kinergy_motion::Side::Right)
+            .expect("right arm");
+        let hand = clip
+            .trajectory(&[arm.end_effector()])
+            .expect("trajectory")
+            .path(0);
+        let mut arrival = hand.len();
+        while arrival > 0 && (hand[arrival - 1] - target).norm() < 0.01 {
+            arrival -= 1;
+        }
+        assert!(
+            arrival < hand.len(),
+            "{}: never at its target",
+            cells[clip_at]
+        );
+        for world in [false, true] {
+            let mut args = vec!["segment", utf8(&path), "--json"];
+            if world {
+                args.push("--world");
+            }
+            let report = json(&kinergy(&args));
+            let main = report["main"]
+                .as_u64()
+                .map(|i| &report["segments"][i as usize]);
+            let end = main
+                .filter(|m| m["label"] == "reach" && m["truncated"] == false)
+                .and_then(|m| m["end"].as_u64());
+            match end {
+                Some(end) if (end as usize - 1).abs_diff(arrival) <= 6 => {}
+                _ => wrong.push(format!(
+                    "{} (world: {world}): main {main:?}, the hand arrives on frame {arrival}",
+                    cells[clip_at]
+                )),
+            }
+        }
+        checked += 1;
+    }
+    assert_eq!(checked, 8);
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}

@@ -19,8 +19,9 @@ use kinergy_motion::{
     read_clip,
 };
 use kinergy_train::segment::{
-    Label, Segment, SegmentSettings, find_segments, hand_speed, main_index, main_segment,
+    Label, Segment, SegmentSettings, Selection, find_segments, hand_speed, main_index, main_segment,
 };
+use kinergy_train::source::Capture;
 
 const FRAME_TIME: f64 = 1.0 / 60.0;
 
@@ -282,6 +283,87 @@ fn walking_is_not_reaching_relative_to_the_shoulder() {
     assert_eq!(found[0].label, Label::Reach);
 }
 
+// Truth 5: the trunk carrying the hand down while the arm reaches 10 cm forward (the body goes
+// 0.5 m down in 0.8 s, holds, comes back up as the arm draws back): relative to the shoulder
+// the arm moves too little for a reach, but the hand goes down to where it is held and back.
+// The way down is a reach and the way up its return, found where they are in the world (the
+// sum of the two minimum-jerk movements), and read in the world.
+#[test]
+fn a_stoop_is_a_reach_down_and_the_way_up_its_return() {
+    let (start, back) = (20, 120);
+    let body = |start, d| Move {
+        start,
+        frames: 48,
+        d,
+    };
+    let (down, up) = (
+        body(start, Vector3::new(0.0, -0.5, 0.0)),
+        body(back, Vector3::new(0.0, 0.5, 0.0)),
+    );
+    let (out, home) = (
+        body(start, Vector3::new(0.0, 0.0, 0.1)),
+        body(back, Vector3::new(0.0, 0.0, -0.1)),
+    );
+    let c = clip(200, &[down, up], &[out, home]);
+    let found = segments(&c);
+    assert_eq!(labels(&found), [Label::Reach, Label::Return], "{found:?}");
+    let world = SegmentSettings {
+        relative_to_shoulder: false,
+        ..SegmentSettings::default()
+    };
+    assert_detects(&found[0], &body(start, down.d + out.d), &world);
+    assert_detects(&found[1], &body(back, up.d + home.d), &world);
+    assert!(found.iter().all(|s| s.from_world), "{found:?}");
+    assert_eq!(main_index(&found), Some(0));
+    // With --world, the same segments.
+    let in_world = find_segments(&c, &right_arm(&c), &world).expect("segments");
+    assert_eq!(in_world.len(), 2, "{in_world:?}");
+    for (a, b) in found.iter().zip(&in_world) {
+        assert_eq!((a.onset, a.end, a.label), (b.onset, b.end, b.label));
+        assert!(!b.from_world);
+    }
+    // An arm that does not move at all is a hand the body carries, not one that reaches (the
+    // idle hand of a one-hand pick-up): relative to the shoulder, nothing.
+    let idle = clip(200, &[down, up], &[]);
+    assert_eq!(segments(&idle), []);
+    let in_world = find_segments(&idle, &right_arm(&idle), &world).expect("segments");
+    assert_eq!(labels(&in_world), [Label::Reach, Label::Return]);
+}
+
+// Truth 6: walking 2 m while the arm comes halfway down to the side from where it was held out.
+// Relative to the shoulder that is the arm going back toward its rest; in the world the hand
+// goes 2 m and is held: a reach, but one the walk makes, so relative to the shoulder there is
+// still no reach.
+#[test]
+fn lowering_the_arm_while_walking_is_no_reach() {
+    let walk = Move {
+        start: 10,
+        frames: 120,
+        d: Vector3::new(0.0, 0.0, 2.0),
+    };
+    // At rest the hand is 0.63 m out along −X; hanging, 0.63 m below the shoulder.
+    let lower = Move {
+        start: 20,
+        frames: 100,
+        d: 0.6 * Vector3::new(0.63, -0.63, 0.0),
+    };
+    let c = clip(160, &[walk], &[lower]);
+    let found = segments(&c);
+    assert!(
+        !found.is_empty() && found.iter().all(|s| s.label != Label::Reach),
+        "{found:?}"
+    );
+    let world = SegmentSettings {
+        relative_to_shoulder: false,
+        ..SegmentSettings::default()
+    };
+    let in_world = find_segments(&c, &right_arm(&c), &world).expect("segments");
+    assert!(
+        in_world.iter().any(|s| s.label == Label::Reach),
+        "{in_world:?}"
+    );
+}
+
 /// REACH, a hold, and the way back, 10% past the start so the return moves farther than the
 /// reach.
 fn reach_and_return() -> (Clip, Move) {
@@ -483,14 +565,14 @@ fn repo(path: &str) -> PathBuf {
 /// A Bandai Namco capture from `../shared/data/`, or `None` (with a notice) where it is absent.
 fn shared(name: &str) -> Option<PathBuf> {
     let root = repo("../shared/data");
-    let found = ["bandai-raise-left", "real-bvh"]
+    let found = ["bandai-raise-left", "real-bvh", "formats"]
         .iter()
         .map(|set| root.join(set).join(name))
         .find(|p| p.exists());
     if found.is_none() {
         require_shared::shared_absent(&format!(
-            "skipping {name}: not in {}/{{bandai-raise-left,real-bvh}} (the Bandai Namco \
-             captures are never committed)",
+            "skipping {name}: not in {}/{{bandai-raise-left,real-bvh,formats}} (the Bandai \
+             Namco captures are never committed)",
             root.display()
         ));
     }
@@ -615,6 +697,35 @@ fn the_main_reach_is_the_labelled_one() {
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
+// Raising a hand is the arm's own movement: on the 24 Bandai raise-left takes, neither arm
+// has a segment read in the world (step 7 takes nothing: the shoulder barely rises or falls,
+// and the relative reading has the reach; the idle right arm's small moves as the body sways
+// stay small).
+#[test]
+fn raises_take_nothing_from_the_world() {
+    let mut checked = 0;
+    for r in references()
+        .iter()
+        .filter(|r| !r.clip.starts_with("dataset"))
+    {
+        let Some(path) = shared(&r.clip) else {
+            continue;
+        };
+        let c = read(&path);
+        for side in [Side::Right, Side::Left] {
+            let arm = ArmJoints::find(c.skeleton(), side).expect("arm");
+            let found = find_segments(&c, &arm, &SegmentSettings::default()).expect("segments");
+            assert!(
+                found.iter().all(|s| !s.from_world),
+                "{} {side}: {found:?}",
+                r.clip
+            );
+        }
+        checked += 1;
+    }
+    eprintln!("{checked} raise-left takes checked");
+}
+
 // cmu_12_01 is a straight walk with the arms swinging: relative to the shoulder there is no
 // reach on either arm (the swing is other).
 #[test]
@@ -676,6 +787,144 @@ fn some_segment_of_006_14_ends_where_the_hand_ends() {
     assert_eq!(last.end, c.frame_count());
     assert!(last.truncated_end, "{last:?}");
     assert!((hand[last.end - 1] - hand[c.frame_count() - 1]).norm() < 0.05);
+}
+
+/// A committed fixture of this crate (`tests/data/`).
+fn fixture(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(path)
+}
+
+/// Where an arm's hand goes down in a pick-up, from the hand's and shoulder's world heights
+/// alone: (the frame the bend starts — the shoulder first 2 cm below its height on frame 1,
+/// frame 0 being a T-pose; the first frame the hand is within 1 cm of its lowest; its lowest
+/// height; its height on frame 1).
+fn way_down(c: &Clip, arm: &ArmJoints) -> (usize, usize, f64, f64) {
+    let t = c
+        .trajectory(&[arm.end_effector(), arm.shoulder])
+        .expect("trajectory");
+    let (hand, shoulder) = (t.path(0), t.path(1));
+    let lowest = hand.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+    let bottom = (1..hand.len())
+        .find(|&i| hand[i].y <= lowest + 0.01)
+        .expect("a lowest frame");
+    let bend = (1..shoulder.len())
+        .find(|&i| shoulder[i].y < shoulder[1].y - 0.02)
+        .expect("a bend");
+    (bend, bottom, lowest, hand[1].y)
+}
+
+// CMU 26_10 and 26_11 (bend, pick something up from the floor with both hands, lift it): for
+// each arm, relative to the shoulder and in the world, the main reach is the way down. It
+// starts before the bend does (the arms move first) but less than 1 s before, with the hand
+// still within 3 cm of its height on frame 1; it ends when the hand has got down: its last
+// frame within 6 frames (0.2 s) after the hand first comes within 1 cm of its lowest, and
+// still within 1 cm of it. The lift that follows is the reach's return (the relative reading
+// called it a reach: the arm moves more relative to the shoulder lifting than stooping).
+#[test]
+fn a_pick_up_reaches_down_to_the_object_with_both_hands() {
+    let mut wrong = Vec::new();
+    for name in ["26_10.bvh", "26_11.bvh"] {
+        let c = read(&fixture(&format!("cmu-lift/{name}")));
+        let rate = c.frame_rate();
+        for side in [Side::Right, Side::Left] {
+            let arm = ArmJoints::find(c.skeleton(), side).expect("arm");
+            let (bend, bottom, lowest, start) = way_down(&c, &arm);
+            let hand = c
+                .trajectory(&[arm.end_effector()])
+                .expect("trajectory")
+                .path(0);
+            eprintln!("{name} {side}: bend from {bend}, hand down on {bottom} at {lowest:.3} m");
+            for relative in [true, false] {
+                let settings = SegmentSettings {
+                    relative_to_shoulder: relative,
+                    ..SegmentSettings::default()
+                };
+                let found = report(&c, name, side, &settings);
+                let Some(i) = main_index(&found) else {
+                    wrong.push(format!("{name} {side} relative {relative}: no main reach"));
+                    continue;
+                };
+                let main = found[i];
+                let last = main.end - 1;
+                let ok = !main.truncated()
+                    && main.onset <= bend
+                    && (bend - main.onset) as f64 <= rate
+                    && (hand[main.onset].y - start).abs() <= 0.03
+                    && (bottom..=bottom + 6).contains(&last)
+                    && hand[last].y <= lowest + 0.01
+                    && found.get(i + 1).is_some_and(|s| s.label == Label::Return);
+                if !ok {
+                    wrong.push(format!(
+                        "{name} {side} relative {relative}: main {}..{} (hand at {:.3} m on its                          last frame), bend from {bend}, hand down on {bottom}; after it {:?}",
+                        main.onset,
+                        main.end,
+                        hand[last].y,
+                        found.get(i + 1).map(|s| s.label)
+                    ));
+                }
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+// `--arm auto` on a both-hands pick-up: each arm's main reach is the way down and both count
+// (each moves the hand at least half as far as the other), one reach per arm.
+#[test]
+fn arm_auto_takes_both_hands_of_a_pick_up() {
+    for name in ["26_10.bvh", "26_11.bvh"] {
+        let path = fixture(&format!("cmu-lift/{name}"));
+        let c = read(&path);
+        let capture = Capture::from_clip(&path, c.clone());
+        let arms = capture
+            .reaching_segments(Selection::Main, &SegmentSettings::default())
+            .expect("reaching arms");
+        let sides: Vec<_> = arms.iter().map(|(joints, _)| joints.side).collect();
+        assert_eq!(sides, [Some(Side::Right), Some(Side::Left)], "{name}");
+        for (joints, segments) in &arms {
+            assert_eq!(segments.len(), 1, "{name}: {segments:?}");
+            let (_, bottom, _, _) = way_down(&c, joints);
+            assert!(
+                (bottom..=bottom + 6).contains(&(segments[0].end - 1)),
+                "{name} {:?}: {:?}, hand down on {bottom}",
+                joints.side,
+                segments[0]
+            );
+        }
+    }
+}
+
+// The Mixamo walk (`../shared/data/formats/mixamo_walk.bvh`) turns as it goes, the left arm
+// swinging wide: relative to the shoulder that arm does nothing but swing (other); in the
+// world the hand comes to rest after a stretch of the walk, a reach the walk makes. The swing
+// is not a reach the relative reading missed: still no reach relative to the shoulder.
+#[test]
+fn a_turning_walk_s_arm_swing_is_no_reach() {
+    let Some(path) = shared("mixamo_walk.bvh") else {
+        return;
+    };
+    let c = read(&path);
+    let world = SegmentSettings {
+        relative_to_shoulder: false,
+        ..SegmentSettings::default()
+    };
+    let in_world = report(&c, "mixamo_walk.bvh", Side::Left, &world);
+    assert!(
+        in_world.iter().any(|s| s.label == Label::Reach),
+        "{in_world:?}"
+    );
+    let found = report(
+        &c,
+        "mixamo_walk.bvh",
+        Side::Left,
+        &SegmentSettings::default(),
+    );
+    assert!(
+        !found.is_empty() && found.iter().all(|s| s.label == Label::Other),
+        "{found:?}"
+    );
 }
 
 // cmu_12_01 in world space: the walk never stops, so the hand never comes to rest: one

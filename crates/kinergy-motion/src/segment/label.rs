@@ -9,13 +9,22 @@ use super::types::{Label, Segment, SegmentSettings};
 /// The cosine below which two sub-movements go opposite ways (135°).
 const OPPOSITE_COS: f64 = -0.7;
 
+/// A labelled segment and whether it is one directed movement (a chain of step 3, whatever
+/// its label) rather than oscillation or the small sub-movements left over (dither, waving in
+/// place), which are `other` whatever way they go.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Labelled {
+    pub segment: Segment,
+    pub directed: bool,
+}
+
 /// The labelled segments of a clip's motions and sub-movements, in time order and disjoint.
 pub(super) fn label(
     signal: &Signal,
     motions: &[Motion],
     strokes: &[Stroke],
     settings: &SegmentSettings,
-) -> Vec<Segment> {
+) -> Vec<Labelled> {
     let c = Context {
         signal,
         motions,
@@ -63,24 +72,28 @@ pub(super) fn label(
     groups.sort_by_key(|(g, _)| strokes[g[0]].onset);
 
     let mut reach_starts: Vec<Point3<f64>> = Vec::new();
-    let mut out: Vec<Segment> = Vec::new();
+    let mut out: Vec<Labelled> = Vec::new();
     for (group, fixed) in groups {
         let label = fixed.unwrap_or_else(|| c.label_of(&group, &reach_starts));
         if label == Label::Reach {
             reach_starts.push(signal.path[strokes[group[0]].onset]);
         }
-        out.push(c.segment(&group, label));
+        out.push(Labelled {
+            segment: c.segment(&group, label),
+            directed: fixed.is_none(),
+        });
     }
     // Two segments split at a speed minimum both hold its frame: it ends the first.
     for i in 1..out.len() {
-        let previous_end = out[i - 1].end;
-        if out[i].onset < previous_end {
-            out[i].onset = previous_end.min(out[i].end - 1);
-            out[i].peak = out[i].peak.max(out[i].onset);
-            out[i].truncated_start = false;
+        let previous_end = out[i - 1].segment.end;
+        let s = &mut out[i].segment;
+        if s.onset < previous_end {
+            s.onset = previous_end.min(s.end - 1);
+            s.peak = s.peak.max(s.onset);
+            s.truncated_start = false;
         }
     }
-    out.retain(|s| s.duration(signal.frame_time) >= settings.min_duration);
+    out.retain(|l| l.segment.duration(signal.frame_time) >= settings.min_duration);
     out
 }
 
@@ -296,6 +309,7 @@ impl Context<'_> {
             truncated_start: self.cut_start(first),
             truncated_end: self.cut_end(last),
             displacement: (self.signal.path[end] - self.signal.path[onset]).norm(),
+            from_world: false,
         }
     }
 }

@@ -6,7 +6,9 @@
 //! This module cuts a clip into labelled segments so a fit can take the reach (`kinergy
 //! segment CLIP.bvh` prints them):
 //!
-//! - [`Label::Reach`]: the hand leaves where it was and ends held somewhere away from it;
+//! - [`Label::Reach`]: the hand leaves where it was and ends held somewhere away from it,
+//!   whether the arm carries it or the trunk (the reach of a pick-up ends at the object on the
+//!   floor);
 //! - [`Label::Return`]: the hand goes back toward where an earlier reach of the clip started
 //!   — or, with no earlier reach, toward the arm's rest, hanging straight down;
 //! - [`Label::Other`]: the rest: oscillation (waving, the arm swing of walking, dribbling),
@@ -15,8 +17,9 @@
 //! A segment that starts on the clip's first frame with the hand already moving, or runs into
 //! its last frame still moving, is *truncated* ([`Segment::truncated_start`],
 //! [`Segment::truncated_end`]). The clip's *main* reach ([`main_index`], [`main_segment`]) is
-//! the reach whose hand moves farthest from onset to end; a reach cut by the clip's end (its
-//! target unseen) is the main one only when no reach is whole.
+//! the reach whose hand moves farthest from onset to end ([`Segment::displacement`]: relative
+//! to the shoulder, or in the world for a reach the trunk carries, step 7); a reach cut by the
+//! clip's end (its target unseen) is the main one only when no reach is whole.
 //!
 //! # Frames
 //!
@@ -61,7 +64,8 @@
 //! about the shoulder still moves the hand (a torso twist is part of many reaches). The world
 //! paths of the hand and the shoulder used below are despiked the same way, and the arm's
 //! length L (shoulder → elbow → wrist → hand point) is the median over frames, so one bad
-//! frame changes nothing.
+//! frame changes nothing. What the relative reading misses — a stoop or a squat carrying the
+//! hand down to the floor while the arm moves little — step 7 takes from the world reading.
 //!
 //! # The rule
 //!
@@ -108,8 +112,8 @@
 //!    sub-movements before the first that does not are cut off as a chain of their own, cut
 //!    the same way. In the world because a reach's goal is a place: a step or a squat that
 //!    carries the hand toward it is part of reaching it, while a dribble before a shot is
-//!    not. The hand must still move relative to the shoulder (steps 1–2), so walking alone is
-//!    never a reach.
+//!    not. The hand must still move relative to the shoulder (steps 1–2), or be carried up or
+//!    down by the trunk (step 7), so walking alone is never a reach.
 //! 5. **Labels**, in time order, for each chain from a to b (p at its first and last frame,
 //!    d = b − a):
 //!    - *return* when, for the onset position r of some earlier reach of the clip (with
@@ -127,6 +131,43 @@
 //! 6. **Output** — segments in time order, disjoint: two segments split at a speed minimum
 //!    share its frame, which goes to the first. Segments shorter than `min_duration` are
 //!    dropped. The peak of a segment is its fastest frame.
+//! 7. **Reaches the trunk carries** (relative to the shoulder only) — relative to the
+//!    shoulder, a stoop to the floor barely moves the hand, and a hand that ends hanging
+//!    straight down under a bent trunk looks like the arm going back to rest: a pick-up's way
+//!    down to the object reads as `other` and `return`, and the lift after it as the reach.
+//!    So the clip is also read in the world (steps 1–6 on the world path: what `--world`
+//!    gives). Take a world segment w (a reach or a return), D the hand's world displacement
+//!    over it, S the shoulder's, G = (S_x, 0, S_z) the shoulder's displacement over the
+//!    ground and o = |D − G| the hand's *own way*, without the body's travel. It counts only
+//!    when:
+//!    - o ≥ `min_reach` · L, and the shoulder's path over the ground (frame to frame) is at
+//!      most o + L: a step and a lean carry the hand toward what it reaches, walking carries
+//!      it farther (walking alone is never a reach); and
+//!    - the relative reading has segments on at least half of w's frames: the arm itself
+//!      moves (a hand the body carries while the arm hangs still — the idle hand of a
+//!      one-hand pick-up — reaches for nothing).
+//!
+//!    The *trunk carries* w when the shoulder rises or falls by at least half of o and by at
+//!    least `min_reach` · L (a stoop, a squat, standing up). Then:
+//!    - a reach w that ends held (not cut by the clip's end), where a relative reach overlaps
+//!      w and ends in its later half (the relative reading has it): the relative reach stays,
+//!      and if the trunk carries w its displacement is measured in the world;
+//!    - a reach w that ends held, without such a relative reach, *replaces* the relative
+//!      segments over its frames if the trunk carries it, or if the relative reading missed
+//!      it: the relative segments at least half inside w cover at least half of it, each one
+//!      directed movement (a chain of step 3, not oscillation nor dither — an arm swing is no
+//!      reach missed) and one at least `min_reach` · L long, labelled `other` or `return`;
+//!    - a return the trunk carries (the lift after a pick-up) replaces them too.
+//!
+//!    A relative segment with at least half of its frames inside replacing world segments is
+//!    dropped; one with fewer is cut to its longest stretch outside them (peak and
+//!    displacement taken again). A replacing segment is the world reading's: frames, label,
+//!    peak, speed and displacement. Segments measured or replacing are marked
+//!    [`Segment::from_world`]. The two hands of a both-hands pick-up — one arm's reach found
+//!    relative to the shoulder, the other's only in the world — so compare alike (`--arm
+//!    auto` keeps an arm by its reach's displacement). Raises, pointing and reaches at a
+//!    table change nothing: the shoulder barely rises or falls and the relative reading has
+//!    the reach.
 //!
 //! Empty, one-frame and motionless clips give no segment (never a panic).
 //!
@@ -151,6 +192,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod carry;
 mod label;
 mod motion;
 mod signal;
@@ -228,7 +270,23 @@ pub fn find_segments(
     Ok(segments_of(&signal, settings))
 }
 
+/// The segments of `signal`; relative to the shoulder, with the world's in the stretches
+/// step 7 takes them.
 fn segments_of(signal: &signal::Signal, settings: &SegmentSettings) -> Vec<Segment> {
+    let found = labelled(signal, settings);
+    if !signal.relative {
+        return found.into_iter().map(|l| l.segment).collect();
+    }
+    let world = signal.in_world(settings);
+    let in_world: Vec<Segment> = labelled(&world, settings)
+        .into_iter()
+        .map(|l| l.segment)
+        .collect();
+    carry::merge(signal, found, &world, &in_world, settings)
+}
+
+/// Steps 1 to 6 on one signal.
+fn labelled(signal: &signal::Signal, settings: &SegmentSettings) -> Vec<label::Labelled> {
     let motions = motion::motions(&signal.speed, signal.frame_time, settings);
     let strokes = motion::strokes(&signal.speed, &motions, settings);
     label::label(signal, &motions, &strokes, settings)
@@ -365,6 +423,7 @@ mod tests {
             truncated_start: false,
             truncated_end: false,
             displacement,
+            from_world: false,
         }
     }
 

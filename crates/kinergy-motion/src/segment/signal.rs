@@ -69,6 +69,16 @@ impl Signal {
         })
     }
 
+    /// The same clip read in the world: the path is the world hand's, and the speed along it.
+    pub fn in_world(&self, settings: &SegmentSettings) -> Signal {
+        Signal {
+            path: self.world.clone(),
+            speed: smoothed_speed(&self.world, self.frame_time, settings.smoothing),
+            relative: false,
+            ..self.clone()
+        }
+    }
+
     /// Frames in the clip.
     pub fn len(&self) -> usize {
         self.speed.len()

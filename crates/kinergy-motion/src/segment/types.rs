@@ -27,7 +27,9 @@ pub struct SegmentSettings {
     /// Default 0.2 s.
     pub min_duration: f64,
     /// True (the default): the hand's motion relative to the shoulder, so walking and torso
-    /// translation do not count. False: the hand's motion in the world.
+    /// translation do not count — except a reach the trunk carries (a stoop or a squat to the
+    /// floor), read in the world ([module docs](super), step 7). False: the hand's motion in
+    /// the world.
     pub relative_to_shoulder: bool,
     /// A speed minimum inside a motion splits it into sub-movements when it is at most this
     /// fraction of the slower of the two peaks beside it. In (0, 1]; default 0.5.
@@ -196,8 +198,15 @@ pub struct Segment {
     /// The hand is still moving on the clip's last frame, which is `end − 1`.
     pub truncated_end: bool,
     /// How far the hand moves from `onset` to `end − 1`, meters (relative to the shoulder by
-    /// default, like the speed).
+    /// default, like the speed; in the world for a segment [`from_world`](Self::from_world)).
     pub displacement: f64,
+    /// Measured in the world although the segmentation is relative to the shoulder (module
+    /// docs, step 7): its `displacement` is the world hand's. A reach or return the trunk
+    /// carries, or a reach the relative reading misses, is the world reading's segment (its
+    /// frames, label, peak and peak speed too); a reach the relative reading found and the
+    /// trunk carries keeps the relative frames and peak. Always false when the whole
+    /// segmentation is in the world ([`SegmentSettings::relative_to_shoulder`] false).
+    pub from_world: bool,
 }
 
 impl Segment {
