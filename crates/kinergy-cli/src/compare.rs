@@ -337,6 +337,20 @@ impl SummaryReport {
     }
 }
 
+/// How the fits searched, for a summary's first lines: budget, population, temperature,
+/// stopping rule and seed.
+pub(crate) fn search_line(anneal: &kinergy_train::anneal::AnnealSettings) -> String {
+    format!(
+        "simulated annealing, {} evaluations per fit, population {}, temperature {}, stopping when the mean score changes by at most {} % over {} iterations, seed {}",
+        anneal.max_evaluations,
+        anneal.population,
+        anneal.temperature,
+        anneal.stable_tolerance * 100.0,
+        anneal.stable_window,
+        anneal.seed
+    )
+}
+
 /// summary.md: the tables of Fig. 3, Fig. 4, the methods and the field, the nested-model
 /// notes and the paper's figures.
 fn markdown(report: &SummaryReport, summary: &Summary, settings: &ExperimentSettings) -> String {
@@ -347,9 +361,10 @@ fn markdown(report: &SummaryReport, summary: &Summary, settings: &ExperimentSett
     let mut md = String::new();
     md.push_str("# Synergy models compared\n\n");
     md.push_str(&format!(
-        "{clips} clip{}; simulated annealing, {} evaluations per fit, population {}, seed {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand), in millimeters.\n\n",
+        "{clips} clip{}; {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand), in millimeters.\n\n",
         if clips == 1 { "" } else { "s" },
-        anneal.max_evaluations, anneal.population, anneal.seed, report.seconds
+        search_line(anneal),
+        report.seconds
     ));
     md.push_str(&format!(
         "## Fig. 3 — models, per clip, {fig3_opt}\n\n| model | mean | min | max | reduction of the mean | paper |\n|---|---|---|---|---|---|\n"

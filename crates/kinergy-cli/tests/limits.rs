@@ -260,6 +260,25 @@ fn absurd_rates_durations_sizes_and_counts_are_refused_before_any_work() {
         ),
         (
             vec![
+                "fit",
+                clip,
+                "--model",
+                "sa",
+                "-o",
+                s(&params),
+                "--stable-change",
+                "NaN",
+            ],
+            "--stable-change",
+            &params,
+        ),
+        (
+            vec!["compare", clip, "-o", s(&set), "--stable-window", "0"],
+            "--stable-window",
+            &set,
+        ),
+        (
+            vec![
                 "compare",
                 clip,
                 "-o",

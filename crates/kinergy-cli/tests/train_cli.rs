@@ -808,3 +808,43 @@ fn ctrl_c_in_a_per_clip_fit_says_which_results_were_written() {
         assert!(params["values"].is_object(), "{file}");
     }
 }
+
+#[test]
+fn the_stopping_rule_is_the_one_asked_for() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let clip = fixture("006_14.bvh");
+    let fit = |extra: &[&str]| -> serde_json::Value {
+        let out = dir.path().join("p.json");
+        let mut args = vec![
+            "fit",
+            clip.to_str().expect("utf-8"),
+            "--model",
+            "sa",
+            "--no-nested",
+            "-o",
+            out.to_str().expect("utf-8"),
+            "-q",
+        ];
+        args.extend(extra);
+        let o = Command::new(env!("CARGO_BIN_EXE_kinergy"))
+            .args(&args)
+            .output()
+            .expect("run");
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+        let params: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).expect("params")).expect("json");
+        params["fit"].clone()
+    };
+    // Any change within 100 % over one iteration is stable: the population (8) is evaluated,
+    // one iteration runs, and the fit has converged.
+    let quick = fit(&["--stable-change", "1", "--stable-window", "1"]);
+    assert_eq!(quick["status"], "converged", "{quick}");
+    assert_eq!(quick["iterations"], 1, "{quick}");
+    assert_eq!(quick["evaluations"], 16, "{quick}");
+    // The default rule runs at least its 25-iteration window.
+    let default = fit(&[]);
+    assert!(
+        default["iterations"].as_u64().expect("iterations") > 25,
+        "{default}"
+    );
+}

@@ -173,5 +173,35 @@ fn experiments(_: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, experiments, frames_per_second);
+/// A library's unit of work (issue 24): one reach fitted S_A → S_D nested at the default
+/// budget, on one core — the smooth controller's synthesis and the annealer's evaluations
+/// together.
+fn library_reach(c: &mut Criterion) {
+    let set = made();
+    let reach = set[0].reach.clone();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool");
+    let mut group = c.benchmark_group("library_reach");
+    group.sample_size(10);
+    group.bench_function("nested_sd_svd", |b| {
+        pool.install(|| {
+            b.iter(|| {
+                black_box(
+                    fit_nested(
+                        std::slice::from_ref(&reach),
+                        &[Model::Sa, Model::Sb, Model::Sc, Model::Sd],
+                        OptimizerKind::Svd.default_optimizer(),
+                        &settings(AnnealSettings::default().max_evaluations),
+                    )
+                    .expect("fit"),
+                )
+            })
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, experiments, frames_per_second, library_reach);
 criterion_main!(benches);

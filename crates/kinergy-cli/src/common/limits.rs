@@ -63,6 +63,10 @@ pub const BUDGET: (usize, usize) = (1, 10_000_000);
 pub const POPULATION: (usize, usize) = (1, 1000);
 /// `--temperature` (fit, compare).
 pub const TEMPERATURE: (f64, f64) = (0.0, 1e6);
+/// `--stable-change` (fit, compare): relative change of the mean score.
+pub const STABLE_CHANGE: (f64, f64) = (0.0, 1.0);
+/// `--stable-window` (fit, compare): iterations.
+pub const STABLE_WINDOW: (usize, usize) = (1, 100_000);
 /// `fit --checkpoint-every`, iterations.
 pub const CHECKPOINT_EVERY: (usize, usize) = (1, 1_000_000);
 /// `compare --holdout`, takes per person.

@@ -269,15 +269,13 @@ fn markdown(
     let mut md = String::new();
     md.push_str("# Per person, on held-out takes\n\n");
     md.push_str(&format!(
-        "{} takes of {persons} person{}; per person the last {} take{} in name order held out, the models fitted (nested) on the rest; {}; simulated annealing, {} evaluations per fit, population {}, seed {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand) of the held-out takes, each synthesized from its own start posture to its own target, in millimeters.\n\n",
+        "{} takes of {persons} person{}; per person the last {} take{} in name order held out, the models fitted (nested) on the rest; {}; {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand) of the held-out takes, each synthesized from its own start posture to its own target, in millimeters.\n\n",
         report.takes,
         if persons == 1 { "" } else { "s" },
         settings.holdout,
         if settings.holdout == 1 { "" } else { "s" },
         settings.optimizer.name().to_uppercase(),
-        anneal.max_evaluations,
-        anneal.population,
-        anneal.seed,
+        super::search_line(anneal),
         report.seconds
     ));
     let models: Vec<Model> = summary
