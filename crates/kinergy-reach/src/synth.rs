@@ -86,7 +86,8 @@ pub struct ManifestRow {
     pub r_tw: f64,
     /// Half-step probability at the CRR.
     pub p_max: f64,
-    /// The kind of target.
+    /// The kind of target (where a person reaches none of 20 draws of it, the target is the
+    /// first draw pulled toward `front_near` that they reach).
     pub kind: &'static str,
     /// Target, world meters.
     pub target_x: f64,
@@ -112,6 +113,10 @@ pub struct ManifestRow {
     /// The reach's own seed.
     pub seed: u64,
 }
+
+/// Draws of a reach's target before they are pulled toward the first kind's (see
+/// `make_person`).
+const DRAWS: u64 = 20;
 
 /// The fourteen kinds of target: (name, x, y, z) with y as a fraction of the height and x, z
 /// in meters per meter of height; the character faces +Z and its left is +X.
@@ -273,15 +278,22 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
     for r in 0..settings.reaches {
         let (kind, kx, ky, kz) = KINDS[r % KINDS.len()];
         let mut made = None;
-        for attempt in 0..20u64 {
+        for attempt in 0..2 * DRAWS {
             let seed = mix(settings.seed, p as u64, (r as u64) << 8 | attempt);
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let h = person.height;
             let jitter = |rng: &mut ChaCha8Rng| rng.random_range(-0.04..0.04);
+            // After DRAWS draws out of this person's reach (a stiff, tall person and a target
+            // on the floor), each further draw is pulled toward the comfortable `front_near`
+            // point by another 1/DRAWS of the way: the set is made, its target the nearest to
+            // the kind's that the person reaches.
+            let pull = attempt.saturating_sub(DRAWS - 1) as f64 / DRAWS as f64;
+            let (_, nx, ny, nz) = KINDS[0];
+            let toward = |k: f64, n: f64| k + pull * (n - k);
             let target = Point3::new(
-                kx * h + jitter(&mut rng),
-                (ky * h + jitter(&mut rng)).max(0.03),
-                kz * h + jitter(&mut rng),
+                toward(kx, nx) * h + jitter(&mut rng),
+                (toward(ky, ny) * h + jitter(&mut rng)).max(0.03),
+                toward(kz, nz) * h + jitter(&mut rng),
             );
             let reach_settings = ReachSettings {
                 frame_rate: settings.frame_rate,
@@ -316,7 +328,11 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
         }
         let (motion, target, seed) = made.ok_or_else(|| ReachError::Setting {
             field: "synth".into(),
-            why: format!("{id}: no `{kind}` target drawn in 20 tries was reached"),
+            why: format!(
+                "{id}: no `{kind}` target drawn in {} tries was reached, even pulled to `{}`",
+                2 * DRAWS,
+                KINDS[0].0
+            ),
         })?;
         let clip = character.to_clip(&motion.poses, motion.frame_time)?;
         let rep = &motion.report;

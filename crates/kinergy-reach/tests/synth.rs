@@ -51,3 +51,37 @@ fn the_set_in_memory_writes_what_write_set_writes() {
     );
     assert!(ours == theirs, "the same files, byte for byte");
 }
+
+#[test]
+fn a_person_who_reaches_no_draw_of_a_kind_gets_the_nearest_target_they_reach() {
+    // Person 43 of the default seed (1.83 m tall, the least flexible legs, 0.62) reaches none
+    // of 20 `floor_far` targets drawn around 0.15 m above the floor: the set used to fail
+    // there. Each further draw is pulled toward `front_near`, and one is reached.
+    let settings = SynthSettings {
+        persons: 43,
+        reaches: 4,
+        ..SynthSettings::default()
+    };
+    let set = SynthSet::make(&settings, Driver::Profile).expect("a set of any size is made");
+    assert_eq!(set.clips.len(), 43 * 4);
+    let row = &set
+        .clips
+        .iter()
+        .find(|c| c.row.clip == "p43/r04.bvh")
+        .expect("p43/r04")
+        .row;
+    assert_eq!(row.kind, "floor_far");
+    let drawn_at_most = (0.08 * row.height_m + 0.04).max(0.03);
+    assert!(
+        row.target_y > drawn_at_most,
+        "pulled up from the floor: {} m",
+        row.target_y
+    );
+    assert!(row.final_error_m < 0.01, "reached: {} m", row.final_error_m);
+    // Everyone else's floor target is as drawn.
+    for c in set.clips.iter().filter(|c| c.row.kind == "floor_far") {
+        if c.row.person != "p43" {
+            assert!(c.row.target_y <= (0.08 * c.row.height_m + 0.04).max(0.03) + 1e-12);
+        }
+    }
+}
