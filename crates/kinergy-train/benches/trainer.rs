@@ -44,14 +44,19 @@ fn made() -> Vec<MadeReach> {
     .expect("made set")
 }
 
+/// A pool of one thread: a core's throughput.
+fn one_core() -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool")
+}
+
 /// Frames synthesized per second on one core, through the objective the trainer calls.
 fn frames_per_second(c: &mut Criterion) {
     let set = made();
     let reach = set[0].reach.clone();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("pool");
+    let pool = one_core();
     let mut group = c.benchmark_group("objective_one_core");
     group.throughput(Throughput::Elements(reach.frame_count() as u64));
     for kind in OptimizerKind::ALL {
@@ -179,10 +184,7 @@ fn experiments(_: &mut Criterion) {
 fn library_reach(c: &mut Criterion) {
     let set = made();
     let reach = set[0].reach.clone();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("pool");
+    let pool = one_core();
     let mut group = c.benchmark_group("library_reach");
     group.sample_size(10);
     group.bench_function("nested_sd_svd", |b| {

@@ -356,18 +356,45 @@ fn a_refinement_finds_the_floor_of_the_basin_on_any_thread_count() {
     );
 }
 
-/// The objective without early abandonment: `cost_within` left at its default (the cost).
-struct Whole<'a>(&'a Objective);
+/// The objective, with its early abandonment (`abandon`) or without (`cost_within` as the
+/// whole cost), counting the evaluations it abandoned.
+struct Watched<'a> {
+    objective: &'a Objective,
+    abandon: bool,
+    abandoned: std::sync::atomic::AtomicUsize,
+}
 
-impl CostFunction for Whole<'_> {
+impl<'a> Watched<'a> {
+    fn new(objective: &'a Objective, abandon: bool) -> Watched<'a> {
+        Watched {
+            objective,
+            abandon,
+            abandoned: Default::default(),
+        }
+    }
+}
+
+impl CostFunction for Watched<'_> {
     fn dimension(&self) -> usize {
-        self.0.dimension()
+        self.objective.dimension()
     }
     fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
-        self.0.bounds()
+        self.objective.bounds()
     }
     fn cost(&self, x: &[f64]) -> f64 {
-        self.0.cost(x)
+        self.objective.cost(x)
+    }
+    fn cost_within(&self, x: &[f64], limit: f64) -> f64 {
+        let whole = self.objective.cost(x);
+        if !self.abandon {
+            return whole;
+        }
+        let c = self.objective.cost_within(x, limit);
+        if c != whole {
+            self.abandoned
+                .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
+        c
     }
 }
 
@@ -436,28 +463,6 @@ fn a_score_within_a_limit_is_the_score_below_it_and_a_lower_bound_above() {
 #[test]
 fn abandoning_motions_the_annealer_would_reject_changes_no_bit_of_the_fit() {
     use kinergy_train::anneal::Annealer;
-    use std::sync::atomic::{AtomicUsize, Ordering};
-
-    /// Counts the evaluations the objective stopped early.
-    struct Counting<'a>(&'a Objective, AtomicUsize);
-    impl CostFunction for Counting<'_> {
-        fn dimension(&self) -> usize {
-            self.0.dimension()
-        }
-        fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
-            self.0.bounds()
-        }
-        fn cost(&self, x: &[f64]) -> f64 {
-            self.0.cost(x)
-        }
-        fn cost_within(&self, x: &[f64], limit: f64) -> f64 {
-            let c = self.0.cost_within(x, limit);
-            if c != self.0.cost(x) {
-                self.1.fetch_add(1, Ordering::Relaxed);
-            }
-            c
-        }
-    }
 
     let objective = two_reach_objective();
     let start = objective.space().neutral();
@@ -469,15 +474,17 @@ fn abandoning_motions_the_annealer_would_reject_changes_no_bit_of_the_fit() {
             ..AnnealSettings::default()
         })
         .expect("annealer");
-        let counting = Counting(&objective, AtomicUsize::new(0));
-        let cut = annealer.minimize(&counting, &start).expect("run");
-        let whole = annealer.minimize(&Whole(&objective), &start).expect("run");
+        let cutting = Watched::new(&objective, true);
+        let cut = annealer.minimize(&cutting, &start).expect("run");
+        let whole = annealer
+            .minimize(&Watched::new(&objective, false), &start)
+            .expect("run");
         assert_eq!(
             serde_json::to_string(&cut).expect("json"),
             serde_json::to_string(&whole).expect("json"),
             "temperature {temperature}"
         );
-        let abandoned = counting.1.load(Ordering::Relaxed);
+        let abandoned = cutting.abandoned.load(std::sync::atomic::Ordering::Relaxed);
         eprintln!(
             "temperature {temperature}: {abandoned} of {} evaluations abandoned early",
             cut.evaluations
