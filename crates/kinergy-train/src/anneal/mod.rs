@@ -16,6 +16,12 @@
 //! ever evaluated is returned; member 0 starts at the given start vector, so the result is
 //! never worse than the start.
 //!
+//! A proposal's acceptance draw is made before its cost, so the cost above which it will be
+//! rejected is known beforehand: the annealer asks the cost function for the cost *within*
+//! that limit ([`CostFunction::cost_within`](crate::objective::CostFunction::cost_within)),
+//! and the trainer's objective stops synthesizing a motion once it is surely worse. A rejected
+//! proposal's exact cost is never used, so the run is the same bit for bit.
+//!
 //! Split as argmin splits it (STYLE.md, "long-running work"): the problem is a
 //! [`CostFunction`](crate::objective::CostFunction), the [`AnnealState`] holds everything that changes (serializable), the
 //! [`Annealer`] is the executor, [`Observer`]s watch it, and [`Control`] says where to write
