@@ -58,7 +58,8 @@
 //! with them: 0.79 against 0.87 on the shared people; 6 V/T left a one-frame change of
 //! 0.55 m/s, a speed jump, on a fast held-out 30 Hz raise, Bandai *normal* take 7). The joint bound a_j = a_h / (L/2), L the arm's length: a DoF
 //! turning the hand about a lever of half the arm. V and T come from the reach's capture
-//! (its hand speed relative to the shoulder) or from the planned profile.
+//! (its hand speed relative to the shoulder, or in the arm's base frame where the base turns
+//! under the hand: `kinergy_train::captured`) or from the planned profile.
 
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
 use kinergy_motion::{Chain, ChainPose, Motion};

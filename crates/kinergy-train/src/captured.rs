@@ -98,7 +98,12 @@ impl CapturedReach {
             .last()
             .ok_or_else(|| bad("the arm has no joints".into()))?;
         let start_velocity = start_velocity(&arm, &captured, clip.frame_time())?;
-        let smoothing = Some(reach_smoothing(&captured, clip.frame_time(), &fitted_arm));
+        let smoothing = Some(reach_smoothing(
+            &arm,
+            &captured,
+            clip.frame_time(),
+            &fitted_arm,
+        ));
         Ok(CapturedReach {
             smoothing,
             start_velocity: Some(start_velocity),
@@ -373,13 +378,47 @@ impl CapturedReach {
 }
 
 /// [`CapturedReach::smoothing`] of a captured arm trajectory (shoulder first, hand last).
-fn reach_smoothing(captured: &Trajectory, frame_time: f64, arm: &FittedArm) -> Smoothing {
+///
+/// The bounds limit the hand's motion relative to the chain's base, frame and all, but their
+/// peak speed V is the hand's relative to the shoulder's position (what the bounds were tuned
+/// on, on the shared people's raises). The two agree within a few percent for raises and
+/// pointing (the base barely turns: 0.98–1.02 × on the Bandai takes). A trunk that bends while
+/// the arm hangs — a pick-up — turns the base under a hand that barely moves relative to the
+/// shoulder, and the arm must swing as fast as the base turns (CMU 26_11: 0.37 m/s relative,
+/// 1.06 m/s in the base frame; with V = 0.37 the synthesis lagged the capture by 2 s and ended
+/// 126 mm from it). So V is the base-frame peak beyond [`BASE_TURN_SLACK`] × the relative one,
+/// when that is more: max(v_rel, v_base − 0.25 v_rel), continuous, the same for raises.
+fn reach_smoothing(
+    arm: &CaptureArm,
+    captured: &Trajectory,
+    frame_time: f64,
+    fitted: &FittedArm,
+) -> Smoothing {
     let t = reach_tempo(captured, frame_time);
+    let relative = t.peak_speed_m_s;
+    let base = base_peak_speed(arm, captured, frame_time);
     Smoothing::for_reach(
-        t.peak_speed_m_s,
+        relative.max(base - BASE_TURN_SLACK * relative),
         t.duration_s,
-        arm.upper_arm_m + arm.forearm_m + arm.hand_m,
+        fitted.upper_arm_m + fitted.forearm_m + fitted.hand_m,
     )
+}
+
+/// How much faster than relative to the shoulder the hand may move in the base frame before
+/// the base-frame speed sets the smooth controller's bounds ([`reach_smoothing`]).
+const BASE_TURN_SLACK: f64 = 0.25;
+
+/// The captured hand's peak speed in the arm's base frame (the replayed base of each frame).
+fn base_peak_speed(arm: &CaptureArm, captured: &Trajectory, frame_time: f64) -> f64 {
+    let Base::Replay(bases) = arm.base(BaseMode::Replay) else {
+        return 0.0;
+    };
+    let last = captured.joint_count() - 1;
+    let in_base =
+        |i: usize| bases[i.min(bases.len() - 1)].inverse_transform_point(&captured.frame(i)[last]);
+    (1..captured.frame_count())
+        .map(|i| (in_base(i) - in_base(i - 1)).norm() / frame_time)
+        .fold(0.0, f64::max)
 }
 
 /// The captured hand's [`ReachTempo`] relative to the shoulder (the trajectory's first and
