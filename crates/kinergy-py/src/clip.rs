@@ -1,0 +1,459 @@
+//! `kinergy.Clip`: a capture or a synthesized motion, with numpy arrays out and in.
+//!
+//! Arrays are made once per call from the clip's own values (an owned `ndarray` handed to
+//! numpy without a further copy). World positions are Kinergy's: meters, Y up, whatever the
+//! file's unit and up axis. Rotations are unit quaternions `(w, x, y, z)`, each joint's
+//! rotation relative to its parent (the root's relative to the Y-up world).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use kinergy_motion::nalgebra::{Rotation3, UnitQuaternion, Vector3};
+use kinergy_motion::rotation::{euler_angles, nearest_euler};
+use kinergy_motion::{
+    Axis, Dof, ExportOptions, ExportUp, ImportOptions, Joint, LengthUnit, PositionReading,
+    PositionReadingChoice, Skeleton, UnitChoice, UpChoice,
+};
+use numpy::ndarray::{Array2, Array3};
+use numpy::{IntoPyArray, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
+use pyo3::prelude::*;
+
+use crate::errors;
+
+/// The largest BVH file read by default, MiB (the CLI's `--max-input-mb` default).
+pub const DEFAULT_INPUT_MB: u64 = 256;
+
+/// A motion: a skeleton and one pose per frame (`kinergy.read_bvh`, `Clip.from_arrays`,
+/// `kinergy.synthesize`, `kinergy.reach`).
+#[pyclass(module = "kinergy", frozen)]
+#[derive(Clone)]
+pub struct Clip {
+    /// The motion.
+    pub inner: kinergy_motion::Clip,
+    /// The file it was read from, if any (named in errors and by `fit`).
+    pub path: Option<PathBuf>,
+}
+
+/// Parses `value` of the keyword argument `name` with `FromStr`; errors name both.
+pub fn parse<T: std::str::FromStr>(name: &str, value: &str) -> PyResult<T>
+where
+    T::Err: std::fmt::Display,
+{
+    value
+        .parse()
+        .map_err(|e| errors::input(format!("{name}={value:?}: {e}")))
+}
+
+/// The import options of the keyword arguments (the CLI's `--from-unit`, `--up`,
+/// `--positions`, `--max-input-mb`).
+pub fn import_options(
+    unit: &str,
+    up: &str,
+    positions: &str,
+    max_input_mb: u64,
+) -> PyResult<ImportOptions> {
+    if !(1..=4096).contains(&max_input_mb) {
+        return Err(errors::input(format!(
+            "max_input_mb={max_input_mb}: expected 1 to 4096"
+        )));
+    }
+    Ok(ImportOptions {
+        unit: parse::<UnitChoice>("unit", unit)?,
+        position_reading: parse::<PositionReadingChoice>("positions", positions)?,
+        up: parse::<UpChoice>("up", up)?,
+        max_file_bytes: Some(max_input_mb.saturating_mul(kinergy_io::MIB)),
+    })
+}
+
+/// Reads a BVH file into a Clip, as every `kinergy` command reads it.
+///
+/// unit: the file's length unit — "m", "cm", "mm", "in", "cmu" or "auto" (guessed from the
+/// body's size). up: "y", "z", "x", "-y", "-z", "-x" or "auto". positions: how position
+/// channels combine with OFFSETs — "auto", "add" or "replace". max_input_mb: a larger file
+/// is refused while reading. Raises BvhError (with path, line and column) for a file that
+/// cannot be read.
+#[pyfunction]
+#[pyo3(signature = (path, *, unit = "auto", up = "auto", positions = "auto", max_input_mb = DEFAULT_INPUT_MB))]
+pub fn read_bvh(
+    py: Python<'_>,
+    path: PathBuf,
+    unit: &str,
+    up: &str,
+    positions: &str,
+    max_input_mb: u64,
+) -> PyResult<Clip> {
+    let options = import_options(unit, up, positions, max_input_mb)?;
+    let read = py.detach(|| kinergy_motion::read_clip(&path, &options));
+    let (inner, _) = read.map_err(errors::motion)?;
+    Ok(Clip {
+        inner,
+        path: Some(path),
+    })
+}
+
+impl Clip {
+    /// A clip made here (no file).
+    pub fn made(inner: kinergy_motion::Clip) -> Clip {
+        Clip { inner, path: None }
+    }
+
+    /// The world positions, frame after frame, joint after joint, x y z (meters).
+    pub fn world_positions(&self) -> PyResult<Vec<f64>> {
+        let skeleton = self.inner.skeleton();
+        let mut out = Vec::with_capacity(self.inner.frame_count() * skeleton.joint_count() * 3);
+        let mut world = Vec::with_capacity(skeleton.joint_count());
+        for pose in self.inner.frames() {
+            skeleton.fk_into(pose, &mut world).map_err(errors::motion)?;
+            for t in &world {
+                out.extend(t.translation.vector.iter());
+            }
+        }
+        Ok(out)
+    }
+}
+
+#[pymethods]
+impl Clip {
+    /// The joints' names (End Sites are named "<parent>_End").
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.inner
+            .skeleton()
+            .joints()
+            .iter()
+            .map(|j| j.name.clone())
+            .collect()
+    }
+
+    /// Each joint's parent index, -1 for the root.
+    #[getter]
+    fn parents(&self) -> Vec<i64> {
+        self.inner
+            .skeleton()
+            .joints()
+            .iter()
+            .map(|j| j.parent.map_or(-1, |p| p as i64))
+            .collect()
+    }
+
+    /// True for the joints that are BVH End Sites.
+    #[getter]
+    fn end_sites(&self) -> Vec<bool> {
+        self.inner
+            .skeleton()
+            .joints()
+            .iter()
+            .map(|j| j.end_site)
+            .collect()
+    }
+
+    /// The names of the pose values (`values`' columns): "<joint>.<channel>".
+    #[getter]
+    fn dof_names(&self) -> Vec<String> {
+        let skeleton = self.inner.skeleton();
+        (0..skeleton.dof_count())
+            .map(|d| skeleton.dof_name(d).unwrap_or_default())
+            .collect()
+    }
+
+    /// Seconds between frames.
+    #[getter]
+    fn frame_time(&self) -> f64 {
+        self.inner.frame_time()
+    }
+
+    /// Frames per second.
+    #[getter]
+    fn frame_rate(&self) -> f64 {
+        self.inner.frame_rate()
+    }
+
+    /// The number of frames.
+    #[getter]
+    fn frame_count(&self) -> usize {
+        self.inner.frame_count()
+    }
+
+    /// The file the clip was read from, or None.
+    #[getter]
+    fn path(&self) -> Option<PathBuf> {
+        self.path.clone()
+    }
+
+    fn __len__(&self) -> usize {
+        self.inner.frame_count()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Clip({}{} joints, {} frames at {:.4} s)",
+            self.path
+                .as_ref()
+                .map_or_else(String::new, |p| format!("{:?}, ", p.display().to_string())),
+            self.inner.skeleton().joint_count(),
+            self.inner.frame_count(),
+            self.inner.frame_time()
+        )
+    }
+
+    /// World joint positions, float64 (frames, joints, 3), meters, Y up.
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let joints = self.inner.skeleton().joint_count();
+        let values = py.detach(|| self.world_positions())?;
+        let array = Array3::from_shape_vec((self.inner.frame_count(), joints, 3), values)
+            .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
+        Ok(array.into_pyarray(py))
+    }
+
+    /// Local joint rotations as unit quaternions (w, x, y, z), float64 (frames, joints, 4):
+    /// each relative to its parent's frame, the root's relative to the Y-up world.
+    #[getter]
+    fn rotations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let skeleton = self.inner.skeleton();
+        let joints = skeleton.joint_count();
+        let mut out = Vec::with_capacity(self.inner.frame_count() * joints * 4);
+        for pose in self.inner.frames() {
+            for j in 0..joints {
+                let r = skeleton.local_transform(j, pose).rotation;
+                let q = UnitQuaternion::from_rotation_matrix(&r);
+                out.extend([q.w, q.i, q.j, q.k]);
+            }
+        }
+        let array = Array3::from_shape_vec((self.inner.frame_count(), joints, 4), out)
+            .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
+        Ok(array.into_pyarray(py))
+    }
+
+    /// The root joint's world position, float64 (frames, 3), meters, Y up.
+    #[getter]
+    fn root_translation<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let skeleton = self.inner.skeleton();
+        let out: Vec<f64> = self
+            .inner
+            .frames()
+            .flat_map(|pose| skeleton.local_transform(0, pose).translation.vector.data.0[0])
+            .collect();
+        let array = Array2::from_shape_vec((self.inner.frame_count(), 3), out)
+            .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
+        Ok(array.into_pyarray(py))
+    }
+
+    /// Each joint's offset from its parent in the parent's frame, float64 (joints, 3),
+    /// meters (the root's turned into the Y-up world): with `parents` and `rotations`, what
+    /// `Clip.from_arrays` takes.
+    #[getter]
+    fn offsets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let skeleton = self.inner.skeleton();
+        let w = skeleton.world_from_file();
+        let out: Vec<f64> = skeleton
+            .joints()
+            .iter()
+            .flat_map(|j| {
+                let o = if j.parent.is_none() {
+                    w * j.offset
+                } else {
+                    j.offset
+                };
+                [o.x, o.y, o.z]
+            })
+            .collect();
+        let array = Array2::from_shape_vec((skeleton.joint_count(), 3), out)
+            .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
+        Ok(array.into_pyarray(py))
+    }
+
+    /// The pose values as read (radians, meters in the file's frame), float64 (frames,
+    /// dofs); `dof_names` names the columns.
+    #[getter]
+    fn values<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let dofs = self.inner.skeleton().dof_count();
+        let array = Array2::from_shape_vec(
+            (self.inner.frame_count(), dofs),
+            self.inner.values().to_vec(),
+        )
+        .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
+        Ok(array.into_pyarray(py))
+    }
+
+    /// Frames `start..end` (end excluded) as a new clip.
+    fn slice(&self, start: usize, end: usize) -> PyResult<Clip> {
+        if start >= end || end > self.inner.frame_count() {
+            return Err(errors::input(format!(
+                "slice({start}, {end}): the clip has {} frames; expected start < end ≤ {}",
+                self.inner.frame_count(),
+                self.inner.frame_count()
+            )));
+        }
+        let inner = self.inner.slice(start..end).map_err(errors::motion)?;
+        Ok(Clip {
+            inner,
+            path: self.path.clone(),
+        })
+    }
+
+    /// Writes the clip as BVH, atomically (a temporary file renamed into place): the same
+    /// bytes as `kinergy convert` of the same clip with the same unit and up.
+    ///
+    /// unit: "cm" (default), "m", "mm", "in" or "cmu". up: "as-read" (the file's own axis)
+    /// or "y" (the turn baked into the root).
+    #[pyo3(signature = (path, *, unit = "cm", up = "as-read"))]
+    fn write_bvh(&self, py: Python<'_>, path: PathBuf, unit: &str, up: &str) -> PyResult<()> {
+        let options = export_options(unit, up)?;
+        py.detach(|| kinergy_motion::write_clip(&path, &self.inner, &options))
+            .map_err(errors::motion)
+    }
+
+    /// The BVH text `write_bvh` writes.
+    #[pyo3(signature = (*, unit = "cm", up = "as-read"))]
+    fn to_bvh(&self, unit: &str, up: &str) -> PyResult<String> {
+        let options = export_options(unit, up)?;
+        kinergy_bvh::to_string(&kinergy_motion::clip_to_bvh(&self.inner, &options))
+            .map_err(|e| errors::BvhError::new_err(e.to_string()))
+    }
+
+    /// A clip from arrays: joint names, parent indices (-1 for the root, parents before
+    /// children), offsets (joints, 3) meters, local rotations (frames, joints, 4) as unit
+    /// quaternions (w, x, y, z), the root's world position (frames, 3), the frame time, and
+    /// optionally which joints are End Sites (no rotation). Y up. Every joint but End Sites
+    /// gets three rotation channels (Z, X, Y), the root also three position channels; the
+    /// Euler angles are kept continuous from frame to frame.
+    #[staticmethod]
+    #[pyo3(signature = (joint_names, parents, offsets, rotations, root_translation, frame_time, *, end_sites = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_arrays(
+        joint_names: Vec<String>,
+        parents: Vec<i64>,
+        offsets: PyReadonlyArray2<'_, f64>,
+        rotations: PyReadonlyArray3<'_, f64>,
+        root_translation: PyReadonlyArray2<'_, f64>,
+        frame_time: f64,
+        end_sites: Option<Vec<bool>>,
+    ) -> PyResult<Clip> {
+        let n = joint_names.len();
+        let offsets = offsets.as_array();
+        let rotations = rotations.as_array();
+        let root = root_translation.as_array();
+        let shape = |what: &str, found: &[usize], expected: String| {
+            errors::input(format!(
+                "from_arrays: {what} has shape {found:?}, expected {expected}"
+            ))
+        };
+        if parents.len() != n {
+            return Err(errors::input(format!(
+                "from_arrays: {} parents for {n} joint names",
+                parents.len()
+            )));
+        }
+        if offsets.shape() != [n, 3] {
+            return Err(shape("offsets", offsets.shape(), format!("({n}, 3)")));
+        }
+        let frames = rotations.shape()[0];
+        if rotations.shape() != [frames, n, 4] {
+            return Err(shape(
+                "rotations",
+                rotations.shape(),
+                format!("(frames, {n}, 4)"),
+            ));
+        }
+        if root.shape() != [frames, 3] {
+            return Err(shape(
+                "root_translation",
+                root.shape(),
+                format!("({frames}, 3) (one row per frame of rotations)"),
+            ));
+        }
+        let end_sites = end_sites.unwrap_or_else(|| vec![false; n]);
+        if end_sites.len() != n {
+            return Err(errors::input(format!(
+                "from_arrays: {} end_sites for {n} joints",
+                end_sites.len()
+            )));
+        }
+        let rotation_dofs = [Axis::Z, Axis::X, Axis::Y].map(Dof::Rotation);
+        let mut joints = Vec::with_capacity(n);
+        for (i, name) in joint_names.iter().enumerate() {
+            let parent = match parents[i] {
+                -1 => None,
+                p if p >= 0 && (p as usize) < i => Some(p as usize),
+                p => {
+                    return Err(errors::input(format!(
+                        "from_arrays: parents[{i}] = {p}: expected -1 (the root) or the index \
+                         of an earlier joint"
+                    )));
+                }
+            };
+            let mut dofs = Vec::new();
+            if parent.is_none() {
+                dofs.extend([Axis::X, Axis::Y, Axis::Z].map(Dof::Translation));
+            }
+            if !end_sites[i] {
+                dofs.extend(rotation_dofs);
+            }
+            joints.push(Joint {
+                name: name.clone(),
+                parent,
+                offset: Vector3::new(offsets[[i, 0]], offsets[[i, 1]], offsets[[i, 2]]),
+                dofs,
+                end_site: end_sites[i],
+                position_reading: PositionReading::AddToOffset,
+            });
+        }
+        let skeleton = Arc::new(Skeleton::new(joints).map_err(errors::motion)?);
+        let mut values = Vec::with_capacity(frames * skeleton.dof_count());
+        let mut previous: Vec<[f64; 3]> = vec![[0.0; 3]; n];
+        for f in 0..frames {
+            for (i, joint) in skeleton.joints().iter().enumerate() {
+                if joint.parent.is_none() {
+                    for a in 0..3 {
+                        values.push(root[[f, a]] - joint.offset[a]);
+                    }
+                }
+                if joint.end_site {
+                    continue;
+                }
+                let q = [0, 1, 2, 3].map(|k| rotations[[f, i, k]]);
+                let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+                if !(norm.is_finite() && (norm - 1.0).abs() < 1e-6) {
+                    return Err(errors::input(format!(
+                        "from_arrays: rotations[{f}, {i}] ({}) is not a unit quaternion \
+                         (norm {norm})",
+                        joint.name
+                    )));
+                }
+                let r: Rotation3<f64> = UnitQuaternion::from_quaternion(
+                    kinergy_motion::nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]),
+                )
+                .to_rotation_matrix();
+                let angles = euler_angles([Axis::Z, Axis::X, Axis::Y], &r)
+                    .ok_or_else(|| errors::KinergyError::new_err("Euler axes not distinct"))?;
+                let angles = if f == 0 {
+                    angles
+                } else {
+                    nearest_euler(angles, previous[i])
+                };
+                previous[i] = angles;
+                values.extend(angles);
+            }
+        }
+        let inner =
+            kinergy_motion::Clip::new(skeleton, frame_time, values).map_err(errors::motion)?;
+        Ok(Clip::made(inner))
+    }
+}
+
+/// The export options of `unit` and `up` ("as-read" or "y").
+fn export_options(unit: &str, up: &str) -> PyResult<ExportOptions> {
+    Ok(ExportOptions {
+        unit: parse::<LengthUnit>("unit", unit)?,
+        up: match up {
+            "as-read" => ExportUp::AsRead,
+            "y" => ExportUp::Y,
+            _ => {
+                return Err(errors::input(format!(
+                    "up={up:?}: expected \"as-read\" or \"y\""
+                )));
+            }
+        },
+    })
+}

@@ -1,0 +1,99 @@
+//! Watching a long call from Python: Ctrl-C and the optional progress callback.
+//!
+//! A fit runs with the GIL released; after every annealing iteration [`Watch`] attaches to
+//! the interpreter for a moment to run its signal handlers (`KeyboardInterrupt` on Ctrl-C)
+//! and call the user's callback. An exception from either stops the run at the end of that
+//! iteration (the annealer's interrupt flag) and is raised when the call returns.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use kinergy_train::anneal::{Observer, Progress};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// The observer of a fit called from Python.
+pub struct Watch<'a> {
+    /// Called after every iteration with a dict (see `kinergy.fit`).
+    pub callback: Option<&'a Py<PyAny>>,
+    /// Raised to stop the run.
+    pub interrupt: &'a AtomicBool,
+    /// The exception that stopped it.
+    pub error: Option<PyErr>,
+    /// The model being fitted (0-based stage of the nested fit) and how many there are.
+    pub stage: usize,
+    /// The models fitted in turn, by name.
+    pub models: Vec<&'static str>,
+    /// The evaluation count of the last iteration seen (it falls when a new stage starts).
+    last_evaluations: usize,
+}
+
+impl<'a> Watch<'a> {
+    /// A watch calling `callback`, raising `interrupt`.
+    pub fn new(
+        callback: Option<&'a Py<PyAny>>,
+        interrupt: &'a AtomicBool,
+        models: Vec<&'static str>,
+    ) -> Watch<'a> {
+        Watch {
+            callback,
+            interrupt,
+            error: None,
+            stage: 0,
+            models,
+            last_evaluations: 0,
+        }
+    }
+
+    /// Runs the signal handlers and the callback; an exception stops the run.
+    fn check(&mut self, progress: Option<&Progress>) {
+        if self.error.is_some() {
+            return;
+        }
+        let outcome = Python::attach(|py| -> PyResult<()> {
+            py.check_signals()?;
+            if let (Some(callback), Some(p)) = (self.callback, progress) {
+                let info = PyDict::new(py);
+                info.set_item(
+                    "model",
+                    self.models.get(self.stage).copied().unwrap_or("?"),
+                )?;
+                info.set_item("stage", self.stage)?;
+                info.set_item("stages", self.models.len())?;
+                info.set_item("iteration", p.iteration)?;
+                info.set_item("evaluations", p.evaluations)?;
+                info.set_item("max_evaluations", p.max_evaluations)?;
+                info.set_item("best_m", p.best_cost)?;
+                info.set_item("mean_m", p.mean_cost)?;
+                info.set_item("temperature", p.temperature)?;
+                callback.call1(py, (info,))?;
+            }
+            Ok(())
+        });
+        if let Err(e) = outcome {
+            self.error = Some(e);
+            self.interrupt.store(true, Ordering::SeqCst);
+        }
+    }
+
+    /// Marks the start of the next group of models (a per-clip fit's next reach).
+    pub fn next_group(&mut self) {
+        self.stage = 0;
+        self.last_evaluations = 0;
+    }
+
+    /// The exception that stopped the run, if one did; otherwise checks once more.
+    pub fn finish(&mut self) -> PyResult<()> {
+        self.check(None);
+        self.error.take().map_or(Ok(()), Err)
+    }
+}
+
+impl Observer for Watch<'_> {
+    fn on_iteration(&mut self, progress: &Progress) {
+        if progress.evaluations < self.last_evaluations {
+            self.stage += 1;
+        }
+        self.last_evaluations = progress.evaluations;
+        self.check(Some(progress));
+    }
+}

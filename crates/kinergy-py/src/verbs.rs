@@ -1,0 +1,802 @@
+//! The toolkit's verbs from Python — `segment`, `fit`, `synthesize`, `reach` — each doing
+//! what the `kinergy` command of the same name does, with the same defaults.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+
+use kinergy_motion::{ImportOptions, Side};
+use kinergy_reach::character::{Character, Proportions};
+use kinergy_reach::controller::{ArmDrive, Ending, ReachSettings, reach_full_body_driven};
+use kinergy_reach::drive::PersonArm;
+use kinergy_reach::profile::{BellTiming, SpeedProfile};
+use kinergy_solver::{
+    BaseMode, Controller, FitGrouping, Model, OptimizerKind, ParamSpace, PersonStyle, StopReason,
+    Synergy,
+};
+use kinergy_train::anneal::{AnnealSettings, Control};
+use kinergy_train::fit::{FitSettings, NestedRun, RefineSettings};
+use kinergy_train::segment::{SegmentSettings, Selection, find_segments, main_index};
+use kinergy_train::source::{
+    ArmChoice, Capture, FrameChoice, ReachFrames, capture_files, names_clip, segment_reaches,
+};
+use kinergy_train::segments_file::SegmentsFile;
+use kinergy_train::{CapturedReach, PersonParams};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::clip::{Clip, DEFAULT_INPUT_MB, import_options, parse};
+use crate::errors;
+use crate::params::Params;
+use crate::progress::Watch;
+
+/// A clip argument: a `Clip`, or a path read with `options`. Returns the clip and the path
+/// it is named by (a made clip: `<clip>`).
+fn clip_arg(
+    py: Python<'_>,
+    arg: &Bound<'_, PyAny>,
+    options: &ImportOptions,
+) -> PyResult<(kinergy_motion::Clip, PathBuf)> {
+    if let Ok(clip) = arg.cast::<Clip>() {
+        let clip = clip.get();
+        let path = clip
+            .path
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("<clip>"));
+        return Ok((clip.inner.clone(), path));
+    }
+    let path: PathBuf = arg.extract().map_err(|_| {
+        errors::input(format!(
+            "expected a kinergy.Clip or a path to a BVH file, got {}",
+            arg.get_type()
+                .name()
+                .map_or_else(|_| "?".to_string(), |n| n.to_string())
+        ))
+    })?;
+    let read = py.detach(|| kinergy_motion::read_clip(&path, options));
+    let (clip, _) = read.map_err(errors::motion)?;
+    Ok((clip, path))
+}
+
+/// The arm named `arm` ("right", "left") or by `chain` in `clip` read from `path`.
+fn arm_joints(
+    clip: &kinergy_motion::Clip,
+    path: &Path,
+    side: Side,
+    chain: Option<Vec<String>>,
+) -> PyResult<kinergy_motion::ArmJoints> {
+    ArmChoice {
+        side,
+        joints: chain,
+    }
+    .find(clip, path)
+    .map_err(errors::train)
+}
+
+/// The labelled segments of a clip's hand speed: a list of dicts with `index`, `onset`,
+/// `peak`, `end` (frames, end excluded), `label` ("reach", "return" or "other"), `arm`,
+/// `peak_speed_m_s`, `displacement_m`, `duration_s`, `in_world` and `main` (the clip's main
+/// reach), as `kinergy segment --json` lists them.
+///
+/// clip: a Clip or a path. arm: "right", "left" or "auto" (the arms that reach; their
+/// reaches). select: None (every segment), "main", "all" (every reach) or a segment number.
+/// world: measure the hand's speed in the world instead of relative to the shoulder.
+#[pyfunction]
+#[pyo3(signature = (clip, *, arm = "right", chain = None, select = None, world = false, min_peak_speed = None, unit = "auto", up = "auto", positions = "auto"))]
+#[allow(clippy::too_many_arguments)]
+pub fn segment<'py>(
+    py: Python<'py>,
+    clip: &Bound<'py, PyAny>,
+    arm: &str,
+    chain: Option<Vec<String>>,
+    select: Option<&Bound<'py, PyAny>>,
+    world: bool,
+    min_peak_speed: Option<f64>,
+    unit: &str,
+    up: &str,
+    positions: &str,
+) -> PyResult<Bound<'py, PyList>> {
+    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+    let (clip, path) = clip_arg(py, clip, &options)?;
+    let selection = selection_arg(select)?;
+    let defaults = SegmentSettings::default();
+    let settings = SegmentSettings {
+        relative_to_shoulder: !world,
+        min_peak_speed: min_peak_speed.unwrap_or(defaults.min_peak_speed),
+        ..defaults
+    };
+    settings
+        .validate()
+        .map_err(|e| errors::input(format!("min_peak_speed: {e}")))?;
+    let arms: Vec<(kinergy_motion::ArmJoints, Option<Vec<kinergy_train::segment::Segment>>)> =
+        if arm == "auto" {
+            let capture = Capture::from_clip(&path, clip.clone());
+            capture
+                .reaching_segments(selection.unwrap_or_default(), &settings)
+                .map_err(errors::train)?
+                .into_iter()
+                .map(|(joints, kept)| (joints, Some(kept)))
+                .collect()
+        } else {
+            let side = parse::<Side>("arm", arm)?;
+            vec![(arm_joints(&clip, &path, side, chain)?, None)]
+        };
+    let out = PyList::empty(py);
+    let dt = clip.frame_time();
+    let name = path.display().to_string();
+    for (joints, kept) in arms {
+        let found = find_segments(&clip, &joints, &settings).map_err(errors::motion)?;
+        let main = main_index(&found);
+        let chosen = match (&kept, selection) {
+            (Some(kept), _) => kept.clone(),
+            (None, None) => found.clone(),
+            (None, Some(selection)) => kinergy_train::segment::select(&found, selection, &name)
+                .map_err(|e| errors::input(e.to_string()))?,
+        };
+        let side = joints.side.map_or_else(|| "named".to_string(), |s| s.to_string());
+        for (i, s) in found.iter().enumerate().filter(|(_, s)| chosen.contains(s)) {
+            let row = PyDict::new(py);
+            row.set_item("index", i)?;
+            row.set_item("onset", s.onset)?;
+            row.set_item("peak", s.peak)?;
+            row.set_item("end", s.end)?;
+            row.set_item("label", s.label.as_str())?;
+            row.set_item("arm", &side)?;
+            row.set_item("peak_speed_m_s", s.peak_speed)?;
+            row.set_item("displacement_m", s.displacement)?;
+            row.set_item("onset_s", s.onset as f64 * dt)?;
+            row.set_item("duration_s", s.duration(dt))?;
+            row.set_item("truncated", s.truncated())?;
+            row.set_item("in_world", s.from_world)?;
+            row.set_item("main", main == Some(i))?;
+            out.append(row)?;
+        }
+    }
+    Ok(out)
+}
+
+/// `select=`: None, "main", "all" or a segment number.
+fn selection_arg(select: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Selection>> {
+    let Some(select) = select else {
+        return Ok(None);
+    };
+    if let Ok(n) = select.extract::<usize>() {
+        return Ok(Some(Selection::Nth(n)));
+    }
+    let text: String = select
+        .extract()
+        .map_err(|_| errors::input("select: expected \"main\", \"all\" or a segment number"))?;
+    parse::<Selection>("select", &text).map(Some)
+}
+
+/// The search settings of `fit`'s keyword arguments, checked as the CLI checks its flags.
+#[allow(clippy::too_many_arguments)]
+fn fit_settings(
+    seed: u64,
+    budget: Option<usize>,
+    population: Option<usize>,
+    temperature: Option<f64>,
+    stable_change: Option<f64>,
+    stable_window: Option<usize>,
+) -> PyResult<FitSettings> {
+    let defaults = AnnealSettings::default();
+    let anneal = AnnealSettings {
+        seed,
+        max_evaluations: budget.unwrap_or(defaults.max_evaluations),
+        population: population.unwrap_or(defaults.population),
+        temperature: temperature.unwrap_or(defaults.temperature),
+        stable_tolerance: stable_change.unwrap_or(defaults.stable_tolerance),
+        stable_window: stable_window.unwrap_or(defaults.stable_window),
+        ..defaults
+    };
+    if anneal.max_evaluations < anneal.population {
+        return Err(errors::input(format!(
+            "budget={}: at least population ({}), the evaluations of the first generation",
+            anneal.max_evaluations, anneal.population
+        )));
+    }
+    anneal.validate().map_err(errors::train)?;
+    Ok(FitSettings {
+        anneal,
+        ..FitSettings::default()
+    })
+}
+
+/// The reaches of `clips` (paths, folders or Clips), or of a segments file's rows.
+#[allow(clippy::too_many_arguments)]
+fn load_reaches(
+    py: Python<'_>,
+    clips: &[Bound<'_, PyAny>],
+    segments: Option<PathBuf>,
+    arm: &str,
+    chain: Option<Vec<String>>,
+    select: Option<Selection>,
+    frames: Option<(usize, usize)>,
+    mode: BaseMode,
+    options: &ImportOptions,
+) -> PyResult<Vec<CapturedReach>> {
+    // Paths as given (folders expanded as the CLI expands them), Clips as they are.
+    let mut paths = Vec::new();
+    let mut made = Vec::new();
+    for c in clips {
+        if let Ok(clip) = c.cast::<Clip>() {
+            let clip = clip.get();
+            made.push(Capture::from_clip(
+                clip.path.as_deref().unwrap_or(Path::new("<clip>")),
+                clip.inner.clone(),
+            ));
+            paths.push(None);
+        } else {
+            let path: PathBuf = c.extract().map_err(|_| {
+                errors::input("clips: expected paths (files or folders) or kinergy.Clip objects")
+            })?;
+            paths.push(Some(path));
+        }
+    }
+    if let Some(file) = segments {
+        let file = SegmentsFile::read(&file).map_err(|e| errors::input(e.to_string()))?;
+        let given: Vec<PathBuf> = paths.iter().flatten().cloned().collect();
+        let wanted = if given.is_empty() {
+            kinergy_train::source::segment_clips(&file)
+        } else {
+            capture_files(&given).map_err(errors::train)?
+        };
+        let found = py.detach(|| segment_reaches(&file, &wanted, options, mode));
+        return Ok(found
+            .map_err(errors::train)?
+            .into_iter()
+            .map(|(r, _)| r)
+            .collect());
+    }
+    let reach_frames = match frames {
+        Some((a, b)) if a < b => ReachFrames::Window(a..b),
+        Some((a, b)) => {
+            return Err(errors::input(format!(
+                "frames=({a}, {b}): expected (start, end) with start < end"
+            )));
+        }
+        None => ReachFrames::Segments(select.unwrap_or_default()),
+    };
+    let side = if arm == "auto" {
+        if frames.is_some() {
+            return Err(errors::input(
+                "arm=\"auto\" finds each take's reaches: drop frames (one window for every take and arm)",
+            ));
+        }
+        None
+    } else {
+        Some(parse::<Side>("arm", arm)?)
+    };
+    let mut made = made.into_iter();
+    let mut reaches = Vec::new();
+    let mut skipped = Vec::new();
+    for given in paths {
+        let captures: Vec<Capture> = match given {
+            None => made.next().into_iter().collect(),
+            Some(path) => {
+                let files = capture_files(&[path]).map_err(errors::train)?;
+                let read = py.detach(|| {
+                    files
+                        .iter()
+                        .map(|f| Capture::read(f, options))
+                        .collect::<Result<Vec<_>, _>>()
+                });
+                read.map_err(errors::train)?
+            }
+        };
+        for capture in captures {
+            let found = match side {
+                None => match &reach_frames {
+                    ReachFrames::Segments(s) => capture.reaches_of_reaching_arms(*s, mode),
+                    ReachFrames::Window(_) => unreachable_window(),
+                },
+                Some(side) => capture.reaches(
+                    &ArmChoice {
+                        side,
+                        joints: chain.clone(),
+                    },
+                    &reach_frames,
+                    mode,
+                ),
+            };
+            match found {
+                Ok(found) => reaches.extend(found),
+                Err(e)
+                    if e.is_nothing_to_fit()
+                        && !matches!(reach_frames, ReachFrames::Segments(Selection::Nth(_))) =>
+                {
+                    skipped.push(e.to_string());
+                }
+                Err(e) => return Err(errors::train(e)),
+            }
+        }
+    }
+    if reaches.is_empty() {
+        return Err(errors::input(match skipped.as_slice() {
+            [one] => one.clone(),
+            _ => format!(
+                "nothing to fit: all {} takes were skipped: {}",
+                skipped.len(),
+                skipped.join("; ")
+            ),
+        }));
+    }
+    Ok(reaches)
+}
+
+/// A window with `arm="auto"` was refused before: never reached.
+fn unreachable_window() -> kinergy_train::Result<Vec<CapturedReach>> {
+    Err(kinergy_train::TrainError::Setting {
+        field: "frames".into(),
+        why: "arm=\"auto\" takes no window".into(),
+    })
+}
+
+/// Fits synergy parameters to captured reaches by simulated annealing, as `kinergy fit`
+/// does: for the same inputs and seed, `Params.save` writes the CLI's bytes.
+///
+/// clips: a path (file or folder), a Clip, or a list of them; or None with `segments` (a
+/// segments file, as `kinergy segment --manifest` writes). model: "sa", "sb", "sc" or "sd";
+/// nested (default) fits the poorer models first, each from the previous solution.
+/// optimizer: "jt", "njt", "svd" or "dls". per: "person" (one vector for all the reaches:
+/// returns one Params) or "clip" (one per reach: returns a list). arm: "right", "left" or
+/// "auto". select: "main" (default), "all" or a segment number; frames: (start, end) instead.
+/// seed, budget, population, temperature, stable_change, stable_window: the annealer's
+/// settings (CLI defaults). refine: evaluations of a local refinement after the annealing.
+/// threads: worker threads (default: all cores; the result does not depend on it).
+/// progress: called after every annealing iteration with a dict (model, stage, stages,
+/// iteration, evaluations, max_evaluations, best_m, mean_m, temperature); an exception it
+/// raises stops the fit and is raised here. The GIL is released while fitting; Ctrl-C raises
+/// KeyboardInterrupt.
+#[pyfunction]
+#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, refine = None, threads = None, progress = None, unit = "auto", up = "auto", positions = "auto"))]
+#[allow(clippy::too_many_arguments)]
+pub fn fit<'py>(
+    py: Python<'py>,
+    clips: Option<&Bound<'py, PyAny>>,
+    model: &str,
+    optimizer: &str,
+    per: &str,
+    nested: bool,
+    arm: &str,
+    chain: Option<Vec<String>>,
+    select: Option<&Bound<'py, PyAny>>,
+    frames: Option<(usize, usize)>,
+    segments: Option<PathBuf>,
+    fixed_base: bool,
+    controller: &str,
+    seed: u64,
+    budget: Option<usize>,
+    population: Option<usize>,
+    temperature: Option<f64>,
+    stable_change: Option<f64>,
+    stable_window: Option<usize>,
+    refine: Option<usize>,
+    threads: Option<usize>,
+    progress: Option<Py<PyAny>>,
+    unit: &str,
+    up: &str,
+    positions: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let model = parse::<Model>("model", model)?;
+    let optimizer = parse::<OptimizerKind>("optimizer", optimizer)?.default_optimizer();
+    let grouping = match per {
+        "person" => FitGrouping::Person,
+        "clip" => FitGrouping::Clip,
+        _ => {
+            return Err(errors::input(format!(
+                "per={per:?}: expected \"person\" or \"clip\""
+            )));
+        }
+    };
+    let paper = match controller {
+        "smooth" => false,
+        "paper" => true,
+        _ => {
+            return Err(errors::input(format!(
+                "controller={controller:?}: expected \"smooth\" or \"paper\""
+            )));
+        }
+    };
+    let settings = fit_settings(
+        seed,
+        budget,
+        population,
+        temperature,
+        stable_change,
+        stable_window,
+    )?;
+    if let Some(n) = refine
+        && !(1..=10_000_000).contains(&n)
+    {
+        return Err(errors::input(format!("refine={n}: expected 1 to 10000000")));
+    }
+    let pool = thread_pool(threads)?;
+    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+    let clips: Vec<Bound<'py, PyAny>> = match clips {
+        None => Vec::new(),
+        Some(c) if c.is_instance_of::<PyList>() || c.is_instance_of::<pyo3::types::PyTuple>() => {
+            c.try_iter()?.collect::<PyResult<_>>()?
+        }
+        Some(c) => vec![c.clone()],
+    };
+    if clips.is_empty() && segments.is_none() {
+        return Err(errors::input(
+            "name the captures (paths, folders or Clips), or a segments file with segments=",
+        ));
+    }
+    let mode = if fixed_base {
+        BaseMode::Fixed
+    } else {
+        BaseMode::Replay
+    };
+    let reaches = load_reaches(
+        py,
+        &clips,
+        segments,
+        arm,
+        chain,
+        selection_arg(select)?,
+        frames,
+        mode,
+        &options,
+    )?;
+    let reaches: Vec<CapturedReach> = reaches
+        .into_iter()
+        .map(|r| if paper { r.with_paper_controller() } else { r })
+        .collect();
+    let models: Vec<Model> = if nested {
+        Model::ALL.into_iter().filter(|m| *m <= model).collect()
+    } else {
+        vec![model]
+    };
+    let groups: Vec<Vec<CapturedReach>> = match grouping {
+        FitGrouping::Person => vec![reaches],
+        FitGrouping::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
+    };
+    let interrupt = AtomicBool::new(false);
+    let names: Vec<&'static str> = models.iter().map(|m| m.name()).collect();
+    let mut watch = Watch::new(progress.as_ref(), &interrupt, names);
+    let mut files = Vec::with_capacity(groups.len());
+    for group in &groups {
+        watch.next_group();
+        let run = NestedRun {
+            reaches: group,
+            models: &models,
+            optimizer,
+            settings: &settings,
+        };
+        let outcome = {
+            let watch = &mut watch;
+            let pool = &pool;
+            let interrupt = &interrupt;
+            let work = move || {
+                let mut go = move || {
+                    let control = Control {
+                        checkpoint: None,
+                        checkpoint_every: 0,
+                        interrupt: Some(interrupt),
+                    };
+                    run.run(watch, &control, false)
+                };
+                match pool {
+                    Some(pool) => pool.install(go),
+                    None => go(),
+                }
+            };
+            py.detach(work)
+        };
+        watch.finish()?;
+        let outcome = outcome.map_err(errors::train)?;
+        if outcome.interrupted {
+            return Err(errors::KinergyError::new_err("the fit was interrupted"));
+        }
+        let mut fits = outcome.fits;
+        if let Some(max_evaluations) = refine
+            && let Some(last) = fits.fits.pop()
+        {
+            let refined = py.detach(|| {
+                last.refined_until(
+                    group,
+                    &settings,
+                    &RefineSettings {
+                        max_evaluations,
+                        ..RefineSettings::default()
+                    },
+                    Some(&interrupt),
+                )
+            });
+            fits.fits.push(refined.map_err(errors::train)?);
+        }
+        let file = fits.params_file(group, grouping).map_err(errors::train)?;
+        files.push(Params {
+            inner: PersonParams::Vector(file),
+        });
+    }
+    match grouping {
+        FitGrouping::Person => Ok(Bound::new(py, files.remove(0))?.into_any()),
+        FitGrouping::Clip => Ok(PyList::new(py, files)?.into_any()),
+    }
+}
+
+/// A rayon pool of `threads` workers, or None for the global pool (all cores).
+fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
+    match threads {
+        None => Ok(None),
+        Some(n) if (1..=1024).contains(&n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map(Some)
+            .map_err(|e| errors::KinergyError::new_err(format!("threads={n}: {e}"))),
+        Some(n) => Err(errors::input(format!("threads={n}: expected 1 to 1024"))),
+    }
+}
+
+/// A synergy reach on a capture's skeleton, as `kinergy synthesize` makes it: from the
+/// capture's frame where the reach starts toward its final hand position (or `target`,
+/// world meters), with the capture's torso replayed. Returns the motion as a Clip (the
+/// capture's skeleton; `Clip.report` says how it ended).
+///
+/// clip: a Clip or a path. params: Params (or a path to a parameters or field file);
+/// None drives the neutral `model` with `optimizer`. frames: "fit" (the frames the params
+/// were fitted on for this capture; the default), "auto" (the main reach), "all", or
+/// (start, end). arm: "right" or "left" (default: the fitted arm, else right). check: raise
+/// UnreachableError (its `clip` holds the motion) when the target is not reached.
+#[pyfunction]
+#[pyo3(signature = (clip, params = None, *, frames = None, target = None, model = "sa", optimizer = "svd", arm = None, chain = None, fixed_base = false, controller = "smooth", stop_at_reach = false, tolerance = 0.005, max_seconds = 10.0, check = true, unit = "auto", up = "auto", positions = "auto"))]
+#[allow(clippy::too_many_arguments)]
+pub fn synthesize<'py>(
+    py: Python<'py>,
+    clip: &Bound<'py, PyAny>,
+    params: Option<&Bound<'py, PyAny>>,
+    frames: Option<&Bound<'py, PyAny>>,
+    target: Option<[f64; 3]>,
+    model: &str,
+    optimizer: &str,
+    arm: Option<&str>,
+    chain: Option<Vec<String>>,
+    fixed_base: bool,
+    controller: &str,
+    stop_at_reach: bool,
+    tolerance: f64,
+    max_seconds: f64,
+    check: bool,
+    unit: &str,
+    up: &str,
+    positions: &str,
+) -> PyResult<Clip> {
+    if !(1e-5..=1.0).contains(&tolerance) {
+        return Err(errors::input(format!("tolerance={tolerance}: expected 1e-5 to 1 m")));
+    }
+    if !(0.01..=60.0).contains(&max_seconds) {
+        return Err(errors::input(format!("max_seconds={max_seconds}: expected 0.01 to 60 s")));
+    }
+    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+    let (whole, from) = clip_arg(py, clip, &options)?;
+    let person = params.map(params_arg).transpose()?;
+    let record = person.as_ref().and_then(PersonParams::record);
+    let fitted_arm = record
+        .as_ref()
+        .and_then(|r| r.arm(|name| names_clip(name, &from)));
+    let side = match arm {
+        Some(a) => parse::<Side>("arm", a)?,
+        None => fitted_arm.and_then(|a| a.side).unwrap_or(Side::Right),
+    };
+    let joints = arm_joints(&whole, &from, side, chain)?;
+    let choice = match frames {
+        None => FrameChoice::Fitted,
+        Some(f) => match f.extract::<(usize, usize)>() {
+            Ok((a, b)) if a < b => FrameChoice::Window(a..b),
+            Ok((a, b)) => {
+                return Err(errors::input(format!(
+                    "frames=({a}, {b}): expected (start, end) with start < end"
+                )));
+            }
+            Err(_) => match f.extract::<String>()?.as_str() {
+                "fit" => FrameChoice::Fitted,
+                "auto" => FrameChoice::Main,
+                "all" => FrameChoice::All,
+                other => {
+                    return Err(errors::input(format!(
+                        "frames={other:?}: expected \"fit\", \"auto\", \"all\" or (start, end)"
+                    )));
+                }
+            },
+        },
+    };
+    let window = choice
+        .resolve(&whole, &from, &joints, record.as_ref())
+        .map_err(errors::train)?;
+    let mode = if fixed_base {
+        BaseMode::Fixed
+    } else {
+        BaseMode::Replay
+    };
+    let name = from.display().to_string();
+    let reach = CapturedReach::new(&name, &whole, &joints, window, mode).map_err(errors::train)?;
+    let reach = match controller {
+        "smooth" => reach,
+        "paper" => reach.with_paper_controller(),
+        _ => {
+            return Err(errors::input(format!(
+                "controller={controller:?}: expected \"smooth\" or \"paper\""
+            )));
+        }
+    };
+    let reach = match target {
+        Some([x, y, z]) => reach
+            .with_target(kinergy_motion::nalgebra::Point3::new(x, y, z))
+            .map_err(|e| errors::input(format!("target: {e}")))?,
+        None => reach,
+    };
+    let dof_names = reach.dof_names();
+    let (optimizer, synergy) = match &person {
+        Some(person) => {
+            let side = reach.fitted_arm().side.unwrap_or(side);
+            let at = person
+                .params_for_arm(&reach.local_target(), side)
+                .map_err(|e| errors::ParamsError::new_err(e.to_string()))?;
+            let synergy = at
+                .params
+                .synergy_for(&dof_names)
+                .map_err(|e| errors::ParamsError::new_err(e.to_string()))?;
+            (at.params.optimizer, synergy)
+        }
+        None => {
+            let model = parse::<Model>("model", model)?;
+            let space =
+                ParamSpace::new(model, &dof_names, Default::default()).map_err(errors::solver)?;
+            let synergy = Synergy::new(&space, &space.neutral()).map_err(errors::solver)?;
+            (
+                parse::<OptimizerKind>("optimizer", optimizer)?.default_optimizer(),
+                synergy,
+            )
+        }
+    };
+    let settings = reach.open_settings(tolerance, max_seconds, stop_at_reach);
+    let controller = Controller::new(optimizer, synergy, settings).map_err(errors::solver)?;
+    let synthesis = py
+        .detach(|| controller.synthesize(&reach.task()))
+        .map_err(errors::solver)?;
+    let motion = reach.to_clip(&whole, &synthesis).map_err(errors::train)?;
+    let out = Clip::made(motion);
+    if check && synthesis.stop != StopReason::Reached {
+        return Err(unreachable(
+            py,
+            format!(
+                "the target was not reached ({}): the motion ends {:.1} mm from it",
+                synthesis.stop,
+                synthesis.final_error * 1000.0
+            ),
+            out,
+        ));
+    }
+    Ok(out)
+}
+
+/// `UnreachableError(message)` carrying the motion made as `clip`.
+fn unreachable(py: Python<'_>, message: String, clip: Clip) -> PyErr {
+    let err = errors::UnreachableError::new_err(message);
+    if let Ok(clip) = Bound::new(py, clip) {
+        let _ = err.value(py).setattr("clip", clip);
+    }
+    err
+}
+
+/// `params=`: a Params, or a path to a parameters or field file.
+fn params_arg(arg: &Bound<'_, PyAny>) -> PyResult<PersonParams> {
+    if let Ok(p) = arg.cast::<Params>() {
+        return Ok(p.get().inner.clone());
+    }
+    let path: PathBuf = arg
+        .extract()
+        .map_err(|_| errors::input("params: expected a kinergy.Params or a path to its file"))?;
+    PersonParams::read(&path).map_err(errors::train)
+}
+
+/// One full-body reach of the 43-DoF character toward `target` (world meters, the
+/// character standing at the origin facing +z), as `kinergy reach` makes it: stepping,
+/// twisting, bending and squatting as needed. With `params` (a person's Params or its
+/// file), the person's synergy drives the arm (their style); without, the speed profile.
+///
+/// height: the character's height in meters (or `person`: a BVH whose skeleton gives the
+/// proportions). flexibility, arm ("right"/"left", default: the nearer), profile
+/// ("ease-out" or "minimum-jerk"), seed, timeout (seconds): as the CLI's options. check:
+/// raise UnreachableError (its `clip` holds the motion) when the hand does not arrive.
+#[pyfunction]
+#[pyo3(signature = (target, *, params = None, height = 1.75, person = None, flexibility = 1.0, arm = None, profile = "ease-out", seed = 0, timeout = None, check = true))]
+#[allow(clippy::too_many_arguments)]
+pub fn reach<'py>(
+    py: Python<'py>,
+    target: [f64; 3],
+    params: Option<&Bound<'py, PyAny>>,
+    height: f64,
+    person: Option<&Bound<'py, PyAny>>,
+    flexibility: f64,
+    arm: Option<&str>,
+    profile: &str,
+    seed: u64,
+    timeout: Option<f64>,
+    check: bool,
+) -> PyResult<Clip> {
+    let point = kinergy_motion::nalgebra::Point3::new(target[0], target[1], target[2]);
+    let distance = point.coords.norm();
+    if !distance.is_finite() || distance > kinergy_train::MAX_TARGET_DISTANCE {
+        return Err(errors::input(format!(
+            "target {target:?}: {distance} m from the character (standing at the origin), \
+             beyond what any body reaches (at most {} m): a target in another unit, or a typo?",
+            kinergy_train::MAX_TARGET_DISTANCE
+        )));
+    }
+    if !(0.5..=2.5).contains(&height) {
+        return Err(errors::input(format!("height={height}: expected 0.5 to 2.5 m")));
+    }
+    if !(0.1..=10.0).contains(&flexibility) {
+        return Err(errors::input(format!("flexibility={flexibility}: expected 0.1 to 10")));
+    }
+    let defaults = ReachSettings::default();
+    let timeout = timeout.unwrap_or(defaults.timeout);
+    if !(0.1..=60.0).contains(&timeout) {
+        return Err(errors::input(format!("timeout={timeout}: expected 0.1 to 60 s")));
+    }
+    let proportions = match person {
+        Some(p) => {
+            let (clip, path) = clip_arg(py, p, &ImportOptions::default())?;
+            Proportions::from_clip(&clip)
+                .map_err(|e| errors::input(format!("{}: {e}", path.display())))?
+        }
+        None => Proportions::from_height(height)
+            .map_err(|e| errors::input(format!("height={height}: {e}")))?,
+    };
+    let character = Character::new(&proportions).map_err(errors::reach)?;
+    let settings = ReachSettings {
+        flexibility,
+        seed,
+        timeout,
+        arm: arm.map(|a| parse::<Side>("arm", a)).transpose()?,
+        profile: match profile {
+            "ease-out" => SpeedProfile::default(),
+            "minimum-jerk" => SpeedProfile::MinimumJerk {
+                timing: BellTiming::default(),
+            },
+            _ => {
+                return Err(errors::input(format!(
+                    "profile={profile:?}: expected \"ease-out\" or \"minimum-jerk\""
+                )));
+            }
+        },
+        ..defaults
+    };
+    let drive = match params {
+        Some(p) => {
+            let person = params_arg(p)?;
+            PersonArm::toward(&character, &person, &point, settings.arm)
+                .map_err(errors::reach)?
+                .drive
+        }
+        None => ArmDrive::Profile,
+    };
+    let motion = py
+        .detach(|| reach_full_body_driven(&character, point, &settings, &drive))
+        .map_err(errors::reach)?;
+    let clip = character
+        .to_clip(&motion.poses, motion.frame_time)
+        .map_err(errors::reach)?;
+    let out = Clip::made(clip);
+    match Ending::of(&character, &motion) {
+        Ending::Reached => Ok(out),
+        _ if !check => Ok(out),
+        Ending::Beyond(by) => Err(unreachable(
+            py,
+            format!("the target is beyond reach by {by:.3} m: the motion ends with the hand at the nearest point it reaches"),
+            out,
+        )),
+        Ending::StillMoving => Err(unreachable(
+            py,
+            format!(
+                "the hand was still moving when the timeout of {timeout} s ran out, {:.3} m from the target: raise timeout",
+                motion.report.final_error
+            ),
+            out,
+        )),
+    }
+}

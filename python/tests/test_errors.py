@@ -1,0 +1,119 @@
+"""Bad input from Python: exceptions with the CLI's messages, never a crash."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import kinergy
+from conftest import ROOT
+
+INVALID = sorted((ROOT / "tests/data/bvh-quirks/invalid").glob("*.bvh"))
+R09 = ROOT / "data-synthetic/p01/r09.bvh"
+
+
+def test_the_hierarchy_of_exceptions():
+    for e in (kinergy.BvhError, kinergy.ParamsError, kinergy.UnreachableError, kinergy.InputError):
+        assert issubclass(e, kinergy.KinergyError) and issubclass(e, Exception)
+
+
+@pytest.mark.parametrize("path", INVALID, ids=lambda p: p.name)
+def test_every_malformed_bvh_raises_bvh_error_with_its_place(path):
+    with pytest.raises(kinergy.KinergyError) as caught:
+        kinergy.read_bvh(path)
+    message = str(caught.value)
+    assert path.name in message
+    if isinstance(caught.value, kinergy.BvhError) and caught.value.line is not None:
+        assert caught.value.line >= 1 and caught.value.column >= 1
+        assert f"line {caught.value.line}" in message
+
+
+def test_most_malformed_files_say_the_line():
+    lines = 0
+    for path in INVALID:
+        try:
+            kinergy.read_bvh(path)
+        except kinergy.BvhError as e:
+            lines += e.line is not None
+        except kinergy.KinergyError:
+            pass
+    assert len(INVALID) >= 30 and lines >= len(INVALID) - 6
+
+
+def test_a_missing_file_and_a_file_too_large():
+    with pytest.raises(kinergy.BvhError) as caught:
+        kinergy.read_bvh(ROOT / "no-such.bvh")
+    assert caught.value.path.endswith("no-such.bvh") and caught.value.line is None
+    with pytest.raises(kinergy.InputError):
+        kinergy.read_bvh(R09, max_input_mb=0)
+
+
+def test_bad_params_files_raise_params_error_naming_the_field(tmp_path):
+    good = json.loads((ROOT / "tests/data/params/synthetic-p01-r09-sc.json").read_text())
+    (tmp_path / "garbage.json").write_text("{ not json")
+    bad = dict(good, values=dict(good["values"], **{next(iter(good["values"])): "fast"}))
+    (tmp_path / "value.json").write_text(json.dumps(bad))
+    unknown = dict(good, colour="blue")
+    (tmp_path / "field.json").write_text(json.dumps(unknown))
+    for name, says in [("garbage.json", "not JSON"), ("value.json", "values"), ("field.json", "colour")]:
+        with pytest.raises(kinergy.ParamsError) as caught:
+            kinergy.Params.load(tmp_path / name)
+        assert name in str(caught.value) and says in str(caught.value), str(caught.value)
+    with pytest.raises(kinergy.ParamsError):
+        kinergy.Params.load(tmp_path / "absent.json")
+
+
+def test_unreachable_targets_raise_with_the_motion_made():
+    with pytest.raises(kinergy.UnreachableError) as caught:
+        kinergy.reach([0.0, 1.2, 2.5])
+    assert isinstance(caught.value.clip, kinergy.Clip) and len(caught.value.clip) > 10
+    assert kinergy.reach([0.0, 1.2, 2.5], check=False).frame_count == len(caught.value.clip)
+    with pytest.raises(kinergy.UnreachableError) as caught:
+        kinergy.synthesize(R09, frames="auto", target=[0.0, 1.4, 3.0])
+    assert caught.value.clip.joint_names == kinergy.read_bvh(R09).joint_names
+    with pytest.raises(kinergy.InputError):
+        kinergy.reach([0.0, 1.2, 1e6])
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: kinergy.fit(R09, model="se"),
+        lambda: kinergy.fit(R09, optimizer="newton"),
+        lambda: kinergy.fit(R09, per="day"),
+        lambda: kinergy.fit(R09, budget=0),
+        lambda: kinergy.fit(R09, budget=10, population=100),
+        lambda: kinergy.fit(R09, threads=0),
+        lambda: kinergy.fit(R09, arm="middle"),
+        lambda: kinergy.fit(R09, frames=(9, 3)),
+        lambda: kinergy.fit(R09, select="most"),
+        lambda: kinergy.fit(R09, chain=["Nope", "Nada", "Rien"]),
+        lambda: kinergy.fit([R09, 42]),
+        lambda: kinergy.fit(),
+        lambda: kinergy.fit(R09, arm="auto", frames=(0, 9)),
+        lambda: kinergy.read_bvh(R09, unit="furlong"),
+        lambda: kinergy.read_bvh(R09, up="sideways"),
+        lambda: kinergy.segment(R09, min_peak_speed=-1.0),
+        lambda: kinergy.synthesize(R09, frames=(5, 2)),
+        lambda: kinergy.synthesize(R09, frames="most"),
+        lambda: kinergy.synthesize(R09, tolerance=float("nan")),
+        lambda: kinergy.synthesize(R09, target=[float("nan"), 0, 0]),
+        lambda: kinergy.reach([float("nan"), 1, 0]),
+        lambda: kinergy.reach([0, 1, 0.4], height=9.0),
+        lambda: kinergy.reach([0, 1, 0.4], profile="jerky"),
+        lambda: kinergy.read_bvh(R09).slice(5, 5),
+    ],
+)
+def test_bad_arguments_raise_kinergy_errors(call):
+    with pytest.raises(kinergy.KinergyError):
+        call()
+
+
+def test_a_wrong_type_is_a_type_error_not_a_crash():
+    with pytest.raises((TypeError, kinergy.KinergyError)):
+        kinergy.read_bvh(42)
+    with pytest.raises((TypeError, kinergy.KinergyError)):
+        kinergy.Clip.from_arrays(["a"], [-1], np.zeros((1, 3), dtype=np.float32),
+                                 np.ones((1, 1, 4)), np.zeros((1, 3)), 0.1)

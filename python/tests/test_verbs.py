@@ -1,0 +1,147 @@
+"""The verbs: the same results as the CLI, the GIL released, Ctrl-C and progress."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import kinergy
+from conftest import ROOT, run
+
+R09 = "data-synthetic/p01/r09.bvh"
+
+
+def test_segment_lists_what_the_cli_lists(cli, at_root):
+    ours = kinergy.segment(R09)
+    theirs = json.loads(run(cli, "segment", R09, "--json", quiet=False).stdout)["segments"]
+    assert [(s["onset"], s["peak"], s["end"], s["label"], s["main"]) for s in ours] == [
+        (s["onset"], s["peak"], s["end"], s["label"], s["main"]) for s in theirs
+    ]
+    assert kinergy.segment(kinergy.read_bvh(R09), select="main")[0]["main"]
+
+
+def test_a_clip_fit_writes_the_cli_s_params_file_byte_for_byte(cli, at_root, tmp_path):
+    [params] = kinergy.fit(R09, model="sc", per="clip", budget=240, seed=3)
+    params.save(tmp_path / "py.json")
+    run(cli, "fit", R09, "--model", "sc", "--per", "clip", "--budget", "240", "--seed", "3",
+        "-o", str(tmp_path / "cli.json"))
+    assert (tmp_path / "py.json").read_bytes() == (tmp_path / "cli.json").read_bytes()
+    assert list(params.distances) == ["sa", "sb", "sc"]
+    assert params.distances["sc"] <= params.distances["sa"]
+    assert params.model == "sc" and params.optimizer == "svd"
+    assert set(params.vector) == set(json.loads(params.to_json())["values"])
+
+
+def test_a_person_fit_of_a_folder_is_the_cli_s(cli, at_root, tmp_path):
+    params = kinergy.fit("data-synthetic/p02", model="sb", budget=160, optimizer="njt")
+    params.save(tmp_path / "py.json")
+    run(cli, "fit", "data-synthetic/p02", "--model", "sb", "--budget", "160",
+        "--optimizer", "njt", "-o", str(tmp_path / "cli.json"))
+    assert (tmp_path / "py.json").read_bytes() == (tmp_path / "cli.json").read_bytes()
+    loaded = kinergy.Params.load(tmp_path / "cli.json")
+    assert loaded.to_json() == params.to_json()
+    assert len(loaded.record["reaches"]) == 14
+
+
+def test_the_fit_does_not_depend_on_threads(at_root):
+    one = kinergy.fit(R09, model="sb", budget=160, threads=1)
+    two = kinergy.fit(R09, model="sb", budget=160, threads=2)
+    assert one.to_json() == two.to_json()
+
+
+def test_a_synthesized_clip_is_the_cli_s_output_read_back(cli, at_root, tmp_path):
+    [params] = kinergy.fit(R09, model="sc", per="clip", budget=160)
+    params.save(tmp_path / "p.json")
+    motion = kinergy.synthesize(R09, params, check=False)
+    run(cli, "synthesize", R09, "--params", str(tmp_path / "p.json"), "-o",
+        str(tmp_path / "s.bvh"), ok=(0, 1))
+    back = kinergy.read_bvh(tmp_path / "s.bvh", unit="cm")
+    assert motion.positions.shape == back.positions.shape
+    assert np.abs(motion.positions - back.positions).max() <= 1e-9
+    # Also with the neutral model and a given target.
+    neutral = kinergy.synthesize(R09, frames="auto", target=[-0.2, 1.3, 0.4], check=False)
+    run(cli, "synthesize", R09, "--frames", "auto", "--target", "-0.2,1.3,0.4", "-o",
+        str(tmp_path / "n.bvh"), ok=(0, 1))
+    back = kinergy.read_bvh(tmp_path / "n.bvh", unit="cm")
+    assert np.abs(neutral.positions - back.positions).max() <= 1e-9
+
+
+def test_a_full_body_reach_in_a_person_s_style_is_the_cli_s(cli, at_root, tmp_path):
+    params = kinergy.Params.load("tests/data/params/synthetic-p01-r09-sc.json")
+    body = kinergy.reach([-0.3, 1.3, 0.45], params=params)
+    run(cli, "reach", "--target", "-0.3,1.3,0.45", "--params",
+        "tests/data/params/synthetic-p01-r09-sc.json", "-o", str(tmp_path / "r.bvh"))
+    back = kinergy.read_bvh(tmp_path / "r.bvh", unit="cm")
+    assert np.abs(body.positions - back.positions).max() <= 1e-9
+    # The hand point (the hand's End Site) arrives at the target.
+    hand = body.joint_names.index("RightHand_End")
+    assert np.linalg.norm(body.positions[-1, hand] - [-0.3, 1.3, 0.45]) < 0.01
+
+
+def test_compare_rows_are_the_nested_per_clip_distances(at_root):
+    rows = kinergy.compare(["data-synthetic/p01/r01.bvh", R09], models=("sa", "sb"), budget=80)
+    assert [(r["clip"], r["model"]) for r in rows] == [
+        ("data-synthetic/p01/r01.bvh", "sa"), ("data-synthetic/p01/r01.bvh", "sb"),
+        (R09, "sa"), (R09, "sb"),
+    ]
+    assert all(r["distance_m"] > 0 for r in rows)
+    records = kinergy.compare([R09], models=("sa",), budget=40, as_records=True)
+    assert records.distance_m.shape == (1,) and records.model[0] == "sa"
+
+
+def test_progress_is_reported_and_its_exception_stops_the_fit(at_root):
+    seen = []
+    kinergy.fit(R09, model="sb", budget=160, progress=seen.append)
+    assert seen and {s["model"] for s in seen} == {"sa", "sb"}
+    assert all(s["evaluations"] <= s["max_evaluations"] for s in seen)
+
+    class Stop(Exception):
+        pass
+
+    def stop_after_three(info, calls=[]):
+        calls.append(info)
+        if len(calls) == 3:
+            raise Stop("enough")
+
+    with pytest.raises(Stop):
+        kinergy.fit(R09, model="sd", budget=4000, progress=stop_after_three)
+
+
+def test_ctrl_c_raises_keyboard_interrupt_promptly(at_root):
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            kinergy.fit("data-synthetic/p01", model="sd", budget=100000)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 10
+
+
+def test_the_gil_is_released_while_fitting(at_root):
+    ticks = []
+    done = threading.Event()
+
+    def tick():
+        while not done.is_set():
+            ticks.append(1)
+            time.sleep(0.001)
+
+    ticker = threading.Thread(target=tick)
+    ticker.start()
+    try:
+        start = time.monotonic()
+        kinergy.fit("data-synthetic/p01", model="sb", budget=400, threads=1)
+        elapsed = time.monotonic() - start
+    finally:
+        done.set()
+        ticker.join()
+    # The ticker ran through the fit, not only in the moments between iterations.
+    assert len(ticks) > 0.3 * elapsed / 0.0011
