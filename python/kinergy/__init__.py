@@ -28,9 +28,12 @@ from ._kinergy import (
     ParamsError,
     UnreachableError,
     fit,
+    hand_speed,
+    plan,
     reach,
     read_bvh,
     segment,
+    style,
     synthesize,
 )
 
@@ -47,46 +50,13 @@ __all__ = [
     "compare",
     "fit",
     "hand_speed",
+    "plan",
     "reach",
     "read_bvh",
     "segment",
+    "style",
     "synthesize",
 ]
-
-
-def hand_speed(clip: Clip, joint: str | int | None = None, *, arm: str = "right"):
-    """The speed of one joint in the world, m/s, one value per frame (a float64 array of
-    ``len(clip)``; central differences inside, one-sided at the ends).
-
-    joint: a joint's name or index; by default the hand of ``arm`` ("right" or "left"): the
-    first joint whose name holds the side and "hand" or "wrist", as the arm search finds it.
-    """
-    import numpy as np
-
-    names = clip.joint_names
-    if joint is None:
-        side = arm.lower()
-        candidates = [
-            i
-            for i, n in enumerate(names)
-            if (side in n.lower() or n.lower().startswith(side[0]))
-            and ("hand" in n.lower() or "wrist" in n.lower())
-            and not clip.end_sites[i]
-        ]
-        if not candidates:
-            raise InputError(f"no {side} hand or wrist joint in {names}: name it with joint=")
-        index = candidates[0]
-    elif isinstance(joint, str):
-        if joint not in names:
-            raise InputError(f"no joint {joint!r}; the joints: {', '.join(names)}")
-        index = names.index(joint)
-    else:
-        index = int(joint)
-    p = clip.positions[:, index, :]
-    if len(p) < 2:
-        return np.zeros(len(p))
-    v = np.gradient(p, clip.frame_time, axis=0)
-    return np.linalg.norm(v, axis=1)
 
 
 def compare(

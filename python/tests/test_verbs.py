@@ -145,3 +145,42 @@ def test_the_gil_is_released_while_fitting(at_root):
         ticker.join()
     # The ticker ran through the fit, not only in the moments between iterations.
     assert len(ticks) > 0.3 * elapsed / 0.0011
+
+
+def test_hand_speed_is_the_cli_s_speed_csv(cli, at_root, tmp_path):
+    for relative in (False, True):
+        flags = ["--relative"] if relative else []
+        run(cli, "plot", "speed", R09, "-o", str(tmp_path / "s.svg"), "--csv",
+            str(tmp_path / "s.csv"), *flags)
+        theirs = np.loadtxt(tmp_path / "s.csv", delimiter=",", skiprows=1, usecols=2)
+        ours = kinergy.hand_speed(R09, relative=relative)
+        assert ours.shape == theirs.shape and np.allclose(ours, theirs, rtol=1e-12, atol=1e-12)
+    # Independent: central differences of the hand point's world positions, in numpy.
+    clip = kinergy.read_bvh(R09)
+    speed = kinergy.hand_speed(clip)
+    hand = clip.positions[:, clip.joint_names.index("RightHand_End")]
+    inner = np.linalg.norm(hand[2:] - hand[:-2], axis=1) / (2 * clip.frame_time)
+    assert np.allclose(speed[1:-1], inner, atol=1e-9)
+
+
+def test_style_rows_are_the_cli_s(cli, at_root):
+    params = "tests/data/params/synthetic-p01-r09-sc.json"
+    clips = ["data-synthetic/p01/r09.bvh", "data-synthetic/p01/r02.bvh"]
+    ours = kinergy.style(clips, params, motions=True)
+    theirs = json.loads(run(cli, "style", *clips, "--params", params, "--json", quiet=False).stdout)
+    assert ours["rows"] == theirs["rows"] and ours["summary"] == theirs["summary"]
+    assert [m["clip"] for m in ours["motions"]] == clips
+    assert all(isinstance(m["params"], kinergy.Clip) for m in ours["motions"])
+
+
+def test_a_planned_grasp_is_the_cli_s(cli, at_root, tmp_path):
+    scene = "examples/bookshelf/scene.json"
+    ours = kinergy.plan(scene, task="grasp", object="blue_book", seed=2)
+    run(cli, "plan", "--scene", scene, "--task", "grasp", "--object", "blue_book", "--seed", "2",
+        "-o", str(tmp_path / "g.bvh"))
+    back = kinergy.read_bvh(tmp_path / "g.bvh", unit="cm")
+    assert np.abs(ours.positions - back.positions).max() <= 1e-9
+    with pytest.raises(kinergy.InputError, match="atlass"):
+        kinergy.plan(scene, task="grasp", object="atlass")
+    with pytest.raises(kinergy.InputError):
+        kinergy.plan(scene)

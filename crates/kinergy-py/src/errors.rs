@@ -7,31 +7,31 @@ use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 
 create_exception!(
-    _kinergy,
+    kinergy,
     KinergyError,
     PyException,
     "Every error Kinergy raises (the CLI's messages)."
 );
 create_exception!(
-    _kinergy,
+    kinergy,
     BvhError,
     KinergyError,
     "A BVH file that cannot be read or written; `path`, `line` and `column` say where (None when unknown)."
 );
 create_exception!(
-    _kinergy,
+    kinergy,
     ParamsError,
     KinergyError,
     "A parameters or field file that cannot be read, or does not fit the arm it drives."
 );
 create_exception!(
-    _kinergy,
+    kinergy,
     UnreachableError,
     KinergyError,
     "A target the motion did not reach (beyond the arm, or not reached in time); `clip` holds the motion made."
 );
 create_exception!(
-    _kinergy,
+    kinergy,
     InputError,
     KinergyError,
     "An argument Kinergy refuses (a value out of range, an unknown name, a take with nothing to fit)."

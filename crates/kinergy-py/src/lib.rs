@@ -13,6 +13,7 @@
 
 use pyo3::prelude::*;
 
+pub mod body;
 pub mod clip;
 pub mod errors;
 pub mod params;
@@ -29,6 +30,9 @@ fn _kinergy(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(verbs::fit, m)?)?;
     m.add_function(wrap_pyfunction!(verbs::synthesize, m)?)?;
     m.add_function(wrap_pyfunction!(verbs::reach, m)?)?;
+    m.add_function(wrap_pyfunction!(verbs::hand_speed, m)?)?;
+    m.add_function(wrap_pyfunction!(body::style, m)?)?;
+    m.add_function(wrap_pyfunction!(body::plan, m)?)?;
     errors::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -121,10 +121,7 @@ impl Params {
                         out.set_item(s.model.name(), s.score_m)?;
                     }
                 }
-                None => out.set_item(
-                    self.inner.model().name().to_string(),
-                    record.score_m,
-                )?,
+                None => out.set_item(self.inner.model().name().to_string(), record.score_m)?,
             }
         }
         Ok(out)

@@ -53,10 +53,7 @@ impl<'a> Watch<'a> {
             py.check_signals()?;
             if let (Some(callback), Some(p)) = (self.callback, progress) {
                 let info = PyDict::new(py);
-                info.set_item(
-                    "model",
-                    self.models.get(self.stage).copied().unwrap_or("?"),
-                )?;
+                info.set_item("model", self.models.get(self.stage).copied().unwrap_or("?"))?;
                 info.set_item("stage", self.stage)?;
                 info.set_item("stages", self.models.len())?;
                 info.set_item("iteration", p.iteration)?;

@@ -16,10 +16,10 @@ use kinergy_solver::{
 use kinergy_train::anneal::{AnnealSettings, Control};
 use kinergy_train::fit::{FitSettings, NestedRun, RefineSettings};
 use kinergy_train::segment::{SegmentSettings, Selection, find_segments, main_index};
+use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, Capture, FrameChoice, ReachFrames, capture_files, names_clip, segment_reaches,
 };
-use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::{CapturedReach, PersonParams};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -38,10 +38,7 @@ fn clip_arg(
 ) -> PyResult<(kinergy_motion::Clip, PathBuf)> {
     if let Ok(clip) = arg.cast::<Clip>() {
         let clip = clip.get();
-        let path = clip
-            .path
-            .clone()
-            .unwrap_or_else(|| PathBuf::from("<clip>"));
+        let path = clip.path.clone().unwrap_or_else(|| PathBuf::from("<clip>"));
         return Ok((clip.inner.clone(), path));
     }
     let path: PathBuf = arg.extract().map_err(|_| {
@@ -107,19 +104,21 @@ pub fn segment<'py>(
     settings
         .validate()
         .map_err(|e| errors::input(format!("min_peak_speed: {e}")))?;
-    let arms: Vec<(kinergy_motion::ArmJoints, Option<Vec<kinergy_train::segment::Segment>>)> =
-        if arm == "auto" {
-            let capture = Capture::from_clip(&path, clip.clone());
-            capture
-                .reaching_segments(selection.unwrap_or_default(), &settings)
-                .map_err(errors::train)?
-                .into_iter()
-                .map(|(joints, kept)| (joints, Some(kept)))
-                .collect()
-        } else {
-            let side = parse::<Side>("arm", arm)?;
-            vec![(arm_joints(&clip, &path, side, chain)?, None)]
-        };
+    let arms: Vec<(
+        kinergy_motion::ArmJoints,
+        Option<Vec<kinergy_train::segment::Segment>>,
+    )> = if arm == "auto" {
+        let capture = Capture::from_clip(&path, clip.clone());
+        capture
+            .reaching_segments(selection.unwrap_or_default(), &settings)
+            .map_err(errors::train)?
+            .into_iter()
+            .map(|(joints, kept)| (joints, Some(kept)))
+            .collect()
+    } else {
+        let side = parse::<Side>("arm", arm)?;
+        vec![(arm_joints(&clip, &path, side, chain)?, None)]
+    };
     let out = PyList::empty(py);
     let dt = clip.frame_time();
     let name = path.display().to_string();
@@ -132,7 +131,9 @@ pub fn segment<'py>(
             (None, Some(selection)) => kinergy_train::segment::select(&found, selection, &name)
                 .map_err(|e| errors::input(e.to_string()))?,
         };
-        let side = joints.side.map_or_else(|| "named".to_string(), |s| s.to_string());
+        let side = joints
+            .side
+            .map_or_else(|| "named".to_string(), |s| s.to_string());
         for (i, s) in found.iter().enumerate().filter(|(_, s)| chosen.contains(s)) {
             let row = PyDict::new(py);
             row.set_item("index", i)?;
@@ -565,10 +566,14 @@ pub fn synthesize<'py>(
     positions: &str,
 ) -> PyResult<Clip> {
     if !(1e-5..=1.0).contains(&tolerance) {
-        return Err(errors::input(format!("tolerance={tolerance}: expected 1e-5 to 1 m")));
+        return Err(errors::input(format!(
+            "tolerance={tolerance}: expected 1e-5 to 1 m"
+        )));
     }
     if !(0.01..=60.0).contains(&max_seconds) {
-        return Err(errors::input(format!("max_seconds={max_seconds}: expected 0.01 to 60 s")));
+        return Err(errors::input(format!(
+            "max_seconds={max_seconds}: expected 0.01 to 60 s"
+        )));
     }
     let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
     let (whole, from) = clip_arg(py, clip, &options)?;
@@ -683,7 +688,7 @@ fn unreachable(py: Python<'_>, message: String, clip: Clip) -> PyErr {
 }
 
 /// `params=`: a Params, or a path to a parameters or field file.
-fn params_arg(arg: &Bound<'_, PyAny>) -> PyResult<PersonParams> {
+pub fn params_arg(arg: &Bound<'_, PyAny>) -> PyResult<PersonParams> {
     if let Ok(p) = arg.cast::<Params>() {
         return Ok(p.get().inner.clone());
     }
@@ -728,15 +733,21 @@ pub fn reach<'py>(
         )));
     }
     if !(0.5..=2.5).contains(&height) {
-        return Err(errors::input(format!("height={height}: expected 0.5 to 2.5 m")));
+        return Err(errors::input(format!(
+            "height={height}: expected 0.5 to 2.5 m"
+        )));
     }
     if !(0.1..=10.0).contains(&flexibility) {
-        return Err(errors::input(format!("flexibility={flexibility}: expected 0.1 to 10")));
+        return Err(errors::input(format!(
+            "flexibility={flexibility}: expected 0.1 to 10"
+        )));
     }
     let defaults = ReachSettings::default();
     let timeout = timeout.unwrap_or(defaults.timeout);
     if !(0.1..=60.0).contains(&timeout) {
-        return Err(errors::input(format!("timeout={timeout}: expected 0.1 to 60 s")));
+        return Err(errors::input(format!(
+            "timeout={timeout}: expected 0.1 to 60 s"
+        )));
     }
     let proportions = match person {
         Some(p) => {
@@ -787,7 +798,9 @@ pub fn reach<'py>(
         _ if !check => Ok(out),
         Ending::Beyond(by) => Err(unreachable(
             py,
-            format!("the target is beyond reach by {by:.3} m: the motion ends with the hand at the nearest point it reaches"),
+            format!(
+                "the target is beyond reach by {by:.3} m: the motion ends with the hand at the nearest point it reaches"
+            ),
             out,
         )),
         Ending::StillMoving => Err(unreachable(
@@ -799,4 +812,41 @@ pub fn reach<'py>(
             out,
         )),
     }
+}
+
+/// The hand's speed, m/s, one value per frame (float64 array), as `kinergy plot speed
+/// --csv` computes it: central differences of the arm's hand point, in the world (default) or
+/// relative to the shoulder (`relative=True`, the arm's own motion), optionally smoothed by a
+/// moving average of `smoothing` seconds (0 to 10; 0: raw).
+#[pyfunction]
+#[pyo3(signature = (clip, *, arm = "right", chain = None, relative = false, smoothing = 0.0, unit = "auto", up = "auto", positions = "auto"))]
+#[allow(clippy::too_many_arguments)]
+pub fn hand_speed<'py>(
+    py: Python<'py>,
+    clip: &Bound<'py, PyAny>,
+    arm: &str,
+    chain: Option<Vec<String>>,
+    relative: bool,
+    smoothing: f64,
+    unit: &str,
+    up: &str,
+    positions: &str,
+) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+    use numpy::IntoPyArray;
+    if !(0.0..=10.0).contains(&smoothing) {
+        return Err(errors::input(format!(
+            "smoothing={smoothing}: expected 0 to 10 s"
+        )));
+    }
+    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+    let (clip, path) = clip_arg(py, clip, &options)?;
+    let joints = arm_joints(&clip, &path, parse::<Side>("arm", arm)?, chain)?;
+    let settings = SegmentSettings {
+        smoothing,
+        relative_to_shoulder: relative,
+        ..SegmentSettings::default()
+    };
+    let speed =
+        kinergy_train::segment::hand_speed(&clip, &joints, &settings).map_err(errors::motion)?;
+    Ok(speed.into_pyarray(py))
 }

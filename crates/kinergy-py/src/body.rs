@@ -1,0 +1,276 @@
+//! The full-body verbs beyond one reach: `style` (does a person's drive reach in their
+//! style?) and `plan` (collision-free reaching and manipulation in a scene).
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use kinergy_motion::Side;
+use kinergy_motion::nalgebra::{Point3, Quaternion, UnitQuaternion};
+use kinergy_plan::PlanError;
+use kinergy_plan::hand::HandShape;
+use kinergy_plan::rrt::Warp;
+use kinergy_plan::scene::Scene;
+use kinergy_plan::space::HandTarget;
+use kinergy_plan::task::{Planner, TaskSettings};
+use kinergy_reach::character::{Character, Limb};
+use kinergy_reach::drive::PersonArm;
+use kinergy_reach::style::{StyleCapture, StyleSummary};
+use kinergy_train::source::capture_files;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::clip::{Clip, DEFAULT_INPUT_MB, import_options, parse};
+use crate::errors;
+use crate::verbs::params_arg;
+
+/// `json.loads(serde_json of value)`.
+fn to_python<'py, T: serde::Serialize>(py: Python<'py>, value: &T) -> PyResult<Bound<'py, PyAny>> {
+    let text = kinergy_io::to_pretty_json(value)
+        .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+/// Whether a person's parameters make the full-body character reach in their style, as
+/// `kinergy style` measures it: for each capture (paths or folders), the character reaches
+/// the capture's target with the person's drive and with the default profile, and each hand
+/// speed profile is compared with the captured one.
+///
+/// Returns a dict: `summary` (means over the captures), `rows` (one dict per capture:
+/// correlations, peak times, arm paths, as `style.csv`), and with `motions=True` also
+/// `motions`, one dict per capture with the two full-body Clips (`params`, `profile`).
+#[pyfunction]
+#[pyo3(signature = (clips, params, *, arm = "right", chain = None, motions = false, unit = "auto", up = "auto", positions = "auto"))]
+#[allow(clippy::too_many_arguments)]
+pub fn style<'py>(
+    py: Python<'py>,
+    clips: Vec<PathBuf>,
+    params: &Bound<'py, PyAny>,
+    arm: &str,
+    chain: Option<Vec<String>>,
+    motions: bool,
+    unit: &str,
+    up: &str,
+    positions: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+    let side = parse::<Side>("arm", arm)?;
+    let person = params_arg(params)?;
+    let paths = capture_files(&clips).map_err(errors::train)?;
+    let runs = py.detach(|| -> Result<Vec<_>, PyErr> {
+        let mut runs = Vec::with_capacity(paths.len());
+        for path in &paths {
+            let (clip, _) = kinergy_motion::read_clip(path, &options).map_err(errors::motion)?;
+            let joints = kinergy_train::source::ArmChoice {
+                side,
+                joints: chain.clone(),
+            }
+            .find(&clip, path)
+            .map_err(errors::train)?;
+            let name = path.display().to_string();
+            let capture = StyleCapture::new(&clip, &joints, &name)
+                .map_err(|e| errors::input(format!("{name}: {e}")))?;
+            let run = capture.compare(side, &person).map_err(errors::reach)?;
+            runs.push((capture, run));
+        }
+        Ok(runs)
+    })?;
+    let rows: Vec<_> = runs.iter().map(|(_, run)| run.row.clone()).collect();
+    let out = PyDict::new(py);
+    out.set_item("summary", to_python(py, &StyleSummary::of(&rows))?)?;
+    out.set_item("rows", to_python(py, &rows)?)?;
+    if motions {
+        let list = PyList::empty(py);
+        for (capture, run) in &runs {
+            let item = PyDict::new(py);
+            item.set_item("clip", &run.row.clip)?;
+            for (key, motion) in [
+                ("params", &run.params_motion),
+                ("profile", &run.profile_motion),
+            ] {
+                let clip = capture
+                    .character()
+                    .to_clip(&motion.poses, motion.frame_time)
+                    .map_err(errors::reach)?;
+                item.set_item(key, Bound::new(py, Clip::made(clip))?)?;
+            }
+            list.append(item)?;
+        }
+        out.set_item("motions", list)?;
+    }
+    Ok(out)
+}
+
+/// A planning error: the task's failures (no path, an unreachable or colliding goal) as
+/// UnreachableError, bad scenes and settings as InputError.
+fn plan_error(e: PlanError) -> PyErr {
+    if e.is_task_failure() {
+        errors::UnreachableError::new_err(e.to_string())
+    } else {
+        errors::input(e.to_string())
+    }
+}
+
+/// Collision-free reaching and manipulation in a scene (Kallmann 2005), as `kinergy plan`
+/// makes it: IK with collision avoidance, RRT-Connect and smoothing. Returns the motion as
+/// a Clip of the character (with fingers).
+///
+/// scene: a scene file (JSON, see examples/bookshelf/). Either `target` — the grip point
+/// [x, y, z] in world meters, optionally with the hand's rotation [x, y, z, qx, qy, qz, qw]
+/// — or `task`: "grasp", "relocate" (with `to`), "pull" or "push" (by `distance` meters) on
+/// the scene's `object`. params: a person's Params (or file): their synergy drives the arm
+/// and their hand-speed bell times the path. arm: the acting arm. seed: the planner's random
+/// stream. budget_ms: the planner's time budget (default: its iteration budget only).
+/// Raises UnreachableError when no collision-free motion is found.
+#[pyfunction]
+#[pyo3(signature = (scene, *, target = None, task = None, object = None, to = None, distance = 0.2, arm = "right", seed = 0, params = None, budget_ms = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn plan<'py>(
+    py: Python<'py>,
+    scene: PathBuf,
+    target: Option<Vec<f64>>,
+    task: Option<&str>,
+    object: Option<String>,
+    to: Option<[f64; 3]>,
+    distance: f64,
+    arm: &str,
+    seed: u64,
+    params: Option<&Bound<'py, PyAny>>,
+    budget_ms: Option<u64>,
+) -> PyResult<Clip> {
+    if !(-2.0..=2.0).contains(&distance) {
+        return Err(errors::input(format!(
+            "distance={distance}: expected -2 to 2 m"
+        )));
+    }
+    if let Some(ms) = budget_ms
+        && !(1..=600_000).contains(&ms)
+    {
+        return Err(errors::input(format!(
+            "budget_ms={ms}: expected 1 to 600000"
+        )));
+    }
+    let side = parse::<Side>("arm", arm)?;
+    let scene_file = Scene::read(&scene).map_err(plan_error)?;
+    let target = target.map(|t| hand_target(&t)).transpose()?;
+    let mut settings = TaskSettings {
+        limb: Limb::arm(side),
+        ..TaskSettings::default()
+    };
+    settings.rrt.seed = seed;
+    if let Some(ms) = budget_ms {
+        settings.rrt.budget.time = Some(Duration::from_millis(ms));
+    }
+    let scene_name = scene.display().to_string();
+    let object_named = |scene: &Scene| -> PyResult<String> {
+        let name = object
+            .clone()
+            .ok_or_else(|| errors::input("task needs object=NAME"))?;
+        if scene.object(&name).is_none() {
+            let known: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
+            return Err(errors::input(format!(
+                "object={name:?}: no such object in {}; the objects: {}",
+                scene_name,
+                known.join(", ")
+            )));
+        }
+        Ok(name)
+    };
+    if let Some(p) = params {
+        let person = params_arg(p)?;
+        let aim = match &target {
+            Some(t) => t.position,
+            None => {
+                let name = object_named(&scene_file)?;
+                let o = scene_file
+                    .object(&name)
+                    .ok_or_else(|| errors::input("task needs object=NAME"))?;
+                match &o.grasp {
+                    Some(g) => o.pose * g.position,
+                    None => Point3::from(o.pose.translation.vector),
+                }
+            }
+        };
+        let character =
+            Character::from_height(scene_file.character_height).map_err(errors::reach)?;
+        let arm =
+            PersonArm::toward(&character, &person, &aim, Some(side)).map_err(errors::reach)?;
+        let warp: Warp = kinergy_plan::person::person_warp(&character, &arm).map_err(plan_error)?;
+        settings.warp = warp;
+        settings.arm = arm.drive;
+    }
+    let task_object = match (&target, task) {
+        (None, Some(_)) => Some(object_named(&scene_file)?),
+        _ => None,
+    };
+    let planner = Planner::new(scene_file, settings).map_err(plan_error)?;
+    let motion = py.detach(|| -> PyResult<_> {
+        Ok(match (&target, task) {
+            (Some(t), _) => planner.reach(t, HandShape::relaxed()),
+            (None, Some(kind)) => {
+                let object = task_object.clone().unwrap_or_default();
+                match kind {
+                    "grasp" => planner.grasp(&object),
+                    "relocate" => {
+                        let [x, y, z] = to
+                            .ok_or_else(|| errors::input("task=\"relocate\" needs to=[x, y, z]"))?;
+                        planner.relocate(&object, &Point3::new(x, y, z))
+                    }
+                    "pull" | "push" => {
+                        if !(distance.is_finite() && distance > 0.0) {
+                            return Err(errors::input(format!(
+                                "distance={distance}: expected a number > 0"
+                            )));
+                        }
+                        let signed = if kind == "pull" { distance } else { -distance };
+                        planner.pull(&object, signed)
+                    }
+                    other => {
+                        return Err(errors::input(format!(
+                            "task={other:?}: expected \"grasp\", \"relocate\", \"pull\" or \"push\""
+                        )));
+                    }
+                }
+            }
+            (None, None) => return Err(errors::input("give target=[x, y, z] or task=")),
+        })
+    })?;
+    let motion = motion.map_err(plan_error)?;
+    let clip = motion.to_clip(planner.character()).map_err(plan_error)?;
+    Ok(Clip::made(clip))
+}
+
+/// `target=`: [x, y, z] or [x, y, z, qx, qy, qz, qw], finite, within reach of any body.
+fn hand_target(values: &[f64]) -> PyResult<HandTarget> {
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(errors::input(format!(
+            "target {values:?}: every value must be finite"
+        )));
+    }
+    if !(values.len() == 3 || values.len() == 7) {
+        return Err(errors::input(format!(
+            "target: expected [x, y, z] or [x, y, z, qx, qy, qz, qw], got {} numbers",
+            values.len()
+        )));
+    }
+    let position = Point3::new(values[0], values[1], values[2]);
+    let reach = position.coords.norm();
+    if reach > kinergy_train::MAX_TARGET_DISTANCE {
+        return Err(errors::input(format!(
+            "target: {reach} m from the character, beyond what any body reaches (at most {} m)",
+            kinergy_train::MAX_TARGET_DISTANCE
+        )));
+    }
+    let orientation = if values.len() == 7 {
+        let q = Quaternion::new(values[6], values[3], values[4], values[5]);
+        if q.norm() < 1e-9 {
+            return Err(errors::input("target: the quaternion must not be zero"));
+        }
+        Some(UnitQuaternion::from_quaternion(q))
+    } else {
+        None
+    };
+    Ok(HandTarget {
+        position,
+        orientation,
+    })
+}

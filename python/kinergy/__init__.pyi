@@ -1,0 +1,40 @@
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+from ._kinergy import (
+    BvhError as BvhError,
+    Clip as Clip,
+    ClipLike,
+    InputError as InputError,
+    KinergyError as KinergyError,
+    Params as Params,
+    ParamsError as ParamsError,
+    UnreachableError as UnreachableError,
+    fit as fit,
+    hand_speed as hand_speed,
+    plan as plan,
+    reach as reach,
+    read_bvh as read_bvh,
+    segment as segment,
+    style as style,
+    synthesize as synthesize,
+)
+
+__version__: str
+
+def compare(
+    clips: ClipLike | Sequence[ClipLike],
+    *,
+    models: Sequence[str] = ("sa", "sb", "sc", "sd"),
+    optimizer: str = "svd",
+    seed: int = 1,
+    budget: int | None = None,
+    threads: int | None = None,
+    as_records: bool = False,
+    **options: Any,
+) -> list[dict[str, Any]] | np.recarray:
+    """The paper's Fig. 3 experiment: per-clip nested fits, one row per reach and model."""

@@ -1,0 +1,294 @@
+"""Type stubs of the extension module `kinergy._kinergy` (crates/kinergy-py)."""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Literal, Sequence, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+PathLike = Union[str, "os.PathLike[str]"]
+ClipLike = Union["Clip", PathLike]
+Arm = Literal["right", "left"]
+Model = Literal["sa", "sb", "sc", "sd"]
+Optimizer = Literal["jt", "njt", "svd", "dls"]
+
+class KinergyError(Exception):
+    """Every error Kinergy raises (the CLI's messages)."""
+
+class BvhError(KinergyError):
+    """A BVH file that cannot be read or written; `path`, `line` and `column` say where."""
+
+    path: str | None
+    line: int | None
+    column: int | None
+
+class ParamsError(KinergyError):
+    """A parameters or field file that cannot be read, or does not fit the arm it drives."""
+
+class UnreachableError(KinergyError):
+    """A target the motion did not reach; `clip` holds the motion made."""
+
+    clip: Clip
+
+class InputError(KinergyError):
+    """An argument Kinergy refuses (out of range, unknown name, nothing to fit)."""
+
+class Clip:
+    """A motion: a skeleton and one pose per frame. World positions are meters, Y up."""
+
+    @property
+    def joint_names(self) -> list[str]:
+        """The joints' names (End Sites are named "<parent>_End")."""
+    @property
+    def parents(self) -> list[int]:
+        """Each joint's parent index, -1 for the root."""
+    @property
+    def end_sites(self) -> list[bool]:
+        """True for the joints that are BVH End Sites."""
+    @property
+    def dof_names(self) -> list[str]:
+        """The names of the pose values (`values`' columns): "<joint>.<channel>"."""
+    @property
+    def frame_time(self) -> float:
+        """Seconds between frames."""
+    @property
+    def frame_rate(self) -> float:
+        """Frames per second."""
+    @property
+    def frame_count(self) -> int:
+        """The number of frames."""
+    @property
+    def path(self) -> str | None:
+        """The file the clip was read from, or None."""
+    @property
+    def positions(self) -> npt.NDArray[np.float64]:
+        """World joint positions, (frames, joints, 3), meters, Y up."""
+    @property
+    def rotations(self) -> npt.NDArray[np.float64]:
+        """Local joint rotations, unit quaternions (w, x, y, z), (frames, joints, 4)."""
+    @property
+    def root_translation(self) -> npt.NDArray[np.float64]:
+        """The root joint's world position, (frames, 3), meters, Y up."""
+    @property
+    def offsets(self) -> npt.NDArray[np.float64]:
+        """Each joint's offset from its parent in the parent's frame, (joints, 3), meters."""
+    @property
+    def values(self) -> npt.NDArray[np.float64]:
+        """The pose values as read (radians, meters in the file's frame), (frames, dofs)."""
+    def __len__(self) -> int: ...
+    def slice(self, start: int, end: int) -> Clip:
+        """Frames `start..end` (end excluded) as a new clip."""
+    def write_bvh(
+        self, path: PathLike, *, unit: str = "cm", up: Literal["as-read", "y"] = "as-read"
+    ) -> None:
+        """Writes the clip as BVH, atomically: the bytes `kinergy convert` writes."""
+    def to_bvh(self, *, unit: str = "cm", up: Literal["as-read", "y"] = "as-read") -> str:
+        """The BVH text `write_bvh` writes."""
+    @staticmethod
+    def from_arrays(
+        joint_names: Sequence[str],
+        parents: Sequence[int],
+        offsets: npt.ArrayLike,
+        rotations: npt.ArrayLike,
+        root_translation: npt.ArrayLike,
+        frame_time: float,
+        *,
+        end_sites: Sequence[bool] | None = None,
+    ) -> Clip:
+        """A clip from arrays (offsets (joints, 3) m, rotations (frames, joints, 4) w x y z,
+        root_translation (frames, 3) m), Y up."""
+
+class Params:
+    """A person's synergy parameters: one vector (a parameters file) or a field file."""
+
+    @staticmethod
+    def load(path: PathLike) -> Params:
+        """Reads a parameters file or a field file (ParamsError naming the field)."""
+    @staticmethod
+    def from_json(text: str) -> Params:
+        """Parses the text of a parameters or field file."""
+    def save(self, path: PathLike) -> None:
+        """Writes the file atomically: the bytes the CLI writes."""
+    def to_json(self) -> str:
+        """The file's JSON text."""
+    @property
+    def is_field(self) -> bool:
+        """True for a field file."""
+    @property
+    def model(self) -> Model:
+        """The synergy model."""
+    @property
+    def optimizer(self) -> Optimizer:
+        """The IK optimizer the motions are synthesized with."""
+    @property
+    def vector(self) -> dict[str, float] | None:
+        """The parameter vector by name (None for a field)."""
+    @property
+    def record(self) -> dict[str, Any] | None:
+        """How the parameters were fitted (the file's `fit` record)."""
+    @property
+    def distances(self) -> dict[str, float]:
+        """Each nested model's fitted distance, meters, by model name."""
+
+def read_bvh(
+    path: PathLike,
+    *,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: Literal["auto", "add", "replace"] = "auto",
+    max_input_mb: int = 256,
+) -> Clip:
+    """Reads a BVH file as every `kinergy` command reads it."""
+
+def segment(
+    clip: ClipLike,
+    *,
+    arm: Literal["right", "left", "auto"] = "right",
+    chain: Sequence[str] | None = None,
+    select: str | int | None = None,
+    world: bool = False,
+    min_peak_speed: float | None = None,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: str = "auto",
+) -> list[dict[str, Any]]:
+    """The labelled segments of a clip's hand speed (`kinergy segment --json`'s rows)."""
+
+@overload
+def fit(
+    clips: ClipLike | Sequence[ClipLike] | None = None,
+    *,
+    model: Model = "sc",
+    optimizer: Optimizer = "svd",
+    per: Literal["person"] = "person",
+    nested: bool = True,
+    arm: Literal["right", "left", "auto"] = "right",
+    chain: Sequence[str] | None = None,
+    select: str | int | None = None,
+    frames: tuple[int, int] | None = None,
+    segments: PathLike | None = None,
+    fixed_base: bool = False,
+    controller: Literal["smooth", "paper"] = "smooth",
+    seed: int = 1,
+    budget: int | None = None,
+    population: int | None = None,
+    temperature: float | None = None,
+    stable_change: float | None = None,
+    stable_window: int | None = None,
+    refine: int | None = None,
+    threads: int | None = None,
+    progress: Callable[[dict[str, Any]], object] | None = None,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: str = "auto",
+) -> Params: ...
+@overload
+def fit(
+    clips: ClipLike | Sequence[ClipLike] | None = None,
+    *,
+    model: Model = "sc",
+    optimizer: Optimizer = "svd",
+    per: Literal["clip"],
+    nested: bool = True,
+    arm: Literal["right", "left", "auto"] = "right",
+    chain: Sequence[str] | None = None,
+    select: str | int | None = None,
+    frames: tuple[int, int] | None = None,
+    segments: PathLike | None = None,
+    fixed_base: bool = False,
+    controller: Literal["smooth", "paper"] = "smooth",
+    seed: int = 1,
+    budget: int | None = None,
+    population: int | None = None,
+    temperature: float | None = None,
+    stable_change: float | None = None,
+    stable_window: int | None = None,
+    refine: int | None = None,
+    threads: int | None = None,
+    progress: Callable[[dict[str, Any]], object] | None = None,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: str = "auto",
+) -> list[Params]: ...
+def synthesize(
+    clip: ClipLike,
+    params: Params | PathLike | None = None,
+    *,
+    frames: str | tuple[int, int] | None = None,
+    target: Sequence[float] | None = None,
+    model: Model = "sa",
+    optimizer: Optimizer = "svd",
+    arm: Arm | None = None,
+    chain: Sequence[str] | None = None,
+    fixed_base: bool = False,
+    controller: Literal["smooth", "paper"] = "smooth",
+    stop_at_reach: bool = False,
+    tolerance: float = 0.005,
+    max_seconds: float = 10.0,
+    check: bool = True,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: str = "auto",
+) -> Clip:
+    """A synergy reach on a capture's skeleton, as `kinergy synthesize` makes it."""
+
+def reach(
+    target: Sequence[float],
+    *,
+    params: Params | PathLike | None = None,
+    height: float = 1.75,
+    person: ClipLike | None = None,
+    flexibility: float = 1.0,
+    arm: Arm | None = None,
+    profile: Literal["ease-out", "minimum-jerk"] = "ease-out",
+    seed: int = 0,
+    timeout: float | None = None,
+    check: bool = True,
+) -> Clip:
+    """One full-body reach of the 43-DoF character, as `kinergy reach` makes it."""
+
+def hand_speed(
+    clip: ClipLike,
+    *,
+    arm: Arm = "right",
+    chain: Sequence[str] | None = None,
+    relative: bool = False,
+    smoothing: float = 0.0,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: str = "auto",
+) -> npt.NDArray[np.float64]:
+    """The hand's speed, m/s, per frame, as `kinergy plot speed --csv` computes it."""
+
+def style(
+    clips: Sequence[PathLike],
+    params: Params | PathLike,
+    *,
+    arm: Arm = "right",
+    chain: Sequence[str] | None = None,
+    motions: bool = False,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: str = "auto",
+) -> dict[str, Any]:
+    """Whether a person's drive reaches in their style, as `kinergy style` measures it:
+    `summary`, `rows` and with motions=True the full-body Clips."""
+
+def plan(
+    scene: PathLike,
+    *,
+    target: Sequence[float] | None = None,
+    task: Literal["grasp", "relocate", "pull", "push"] | None = None,
+    object: str | None = None,
+    to: Sequence[float] | None = None,
+    distance: float = 0.2,
+    arm: Arm = "right",
+    seed: int = 0,
+    params: Params | PathLike | None = None,
+    budget_ms: int | None = None,
+) -> Clip:
+    """Collision-free reaching and manipulation in a scene, as `kinergy plan` makes it."""
