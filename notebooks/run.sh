@@ -4,30 +4,18 @@
 #   notebooks/run.sh                 # all notebooks
 #   notebooks/run.sh fig5_speed      # only these (names or paths)
 #
-# Environment: KINERGY_VENV (venv, default target/notebook-venv), KINERGY_NOTEBOOK_OUT
-# (executed copies and results, default target/notebooks), KINERGY_BUDGET, KINERGY_SEED,
-# KINERGY_REAL_BVH, KINERGY_FIG5_CLIP (read by the notebooks), PYTHON (the interpreter
-# that creates the venv, default python3). See notebooks/README.md.
+# Environment: KINERGY_VENV (the venv, with the kinergy package built into it by
+# tools/python-env.sh; default target/notebook-venv), KINERGY_NOTEBOOK_OUT (executed copies
+# and results, default target/notebooks), KINERGY_BUDGET, KINERGY_SEED, KINERGY_REAL_BVH,
+# KINERGY_FIG5_CLIP, KINERGY_PERSON (read by the notebooks), PYTHON (the interpreter that
+# creates the venv, default python3). See notebooks/README.md.
 set -euo pipefail
 
-REPO="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-VENV="${KINERGY_VENV:-$REPO/target/notebook-venv}"
-OUT_DIR="${KINERGY_NOTEBOOK_OUT:-$REPO/target/notebooks}"
-REQUIREMENTS="$REPO/notebooks/requirements.txt"
+OUT_DIR="${KINERGY_NOTEBOOK_OUT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/target/notebooks}"
 start=$SECONDS
 
-# 1. The Python environment: created once, reinstalled only when requirements.txt changes.
-if [ ! -x "$VENV/bin/python" ]; then
-    echo "creating the notebook venv in $VENV"
-    "${PYTHON:-python3}" -m venv "$VENV"
-fi
-stamp="$VENV/.kinergy-requirements"
-if ! cmp -s "$REQUIREMENTS" "$stamp"; then
-    echo "installing notebooks/requirements.txt"
-    "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --only-binary=:all: \
-        -r "$REQUIREMENTS"
-    cp "$REQUIREMENTS" "$stamp"
-fi
+# 1. The Python environment and the `kinergy` package (tools/python-env.sh).
+source "$(dirname "${BASH_SOURCE[0]}")/../tools/python-env.sh"
 # The venv's own kernel, found before any user-wide "python3" kernelspec (JUPYTER_PATH comes first).
 export JUPYTER_PATH="$VENV/share/jupyter"
 export JUPYTER_PLATFORM_DIRS=1
@@ -37,14 +25,9 @@ if [ ! -f "$JUPYTER_PATH/kernels/python3/kernel.json" ]; then
     "$VENV/bin/python" -m ipykernel install --prefix "$VENV" --name python3 >/dev/null
 fi
 
-# 2. The CLI, built once (the release profile of `cargo test --release`).
-(cd "$REPO" && cargo build --release -p kinergy-cli)
-export KINERGY="${CARGO_TARGET_DIR:-$REPO/target}/release/kinergy"
-case "$KINERGY" in /*) ;; *) KINERGY="$REPO/$KINERGY" ;; esac
-[ -x "$KINERGY" ] || { echo "error: $KINERGY was not built" >&2; exit 1; }
-
-# 3. The notebooks, executed in notebooks/ (their relative paths start there); executed
-#    copies go to $OUT_DIR, the committed notebooks are never written.
+# 2. The notebooks (they call the package, not the CLI), executed in notebooks/ (their
+#    relative paths start there); executed copies go to $OUT_DIR, the committed notebooks
+#    are never written.
 mkdir -p "$OUT_DIR"
 export KINERGY_NOTEBOOK_OUT="$(cd "$OUT_DIR" && pwd)"
 notebooks=()
