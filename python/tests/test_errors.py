@@ -117,3 +117,53 @@ def test_a_wrong_type_is_a_type_error_not_a_crash():
     with pytest.raises((TypeError, kinergy.KinergyError)):
         kinergy.Clip.from_arrays(["a"], [-1], np.zeros((1, 3), dtype=np.float32),
                                  np.ones((1, 1, 4)), np.zeros((1, 3)), 0.1)
+
+
+def test_mangled_files_raise_kinergy_errors_never_a_panic(tmp_path):
+    # Seeded mutations of a valid BVH and a valid parameters file: byte flips, cut ends,
+    # lines dropped or doubled. Each must read or raise a KinergyError — a PanicException
+    # (a Rust panic across the boundary) or any other exception is a defect.
+    import random
+
+    rng = random.Random(25)
+    bvh = (ROOT / "data-synthetic/p01/r09.bvh").read_bytes()
+    params = (ROOT / "tests/data/params/synthetic-p01-r09-sc.json").read_bytes()
+
+    def mangle(data: bytes) -> bytes:
+        data = bytearray(data)
+        kind = rng.randrange(5)
+        if kind == 4:  # digits changed: mostly still a valid file, with other values
+            digits = [i for i, b in enumerate(data) if 48 <= b <= 57]
+            for i in rng.sample(digits, 20):
+                data[i] = rng.choice(b"0123456789")
+        elif kind == 0:
+            for _ in range(rng.randrange(1, 8)):
+                data[rng.randrange(len(data))] = rng.choice(b"-.e9 \n{}:xX\x00\xff")
+        elif kind == 1:
+            data = data[: rng.randrange(len(data))]
+        else:
+            lines = bytes(data).split(b"\n")
+            i = rng.randrange(len(lines))
+            lines[i:i + 1] = [] if kind == 2 else [lines[i], lines[i]]
+            data = bytearray(b"\n".join(lines))
+        return bytes(data)
+
+    path = tmp_path / "m.bvh"
+    outcomes = {"read": 0, "raised": 0}
+    for _ in range(150):
+        path.write_bytes(mangle(bvh))
+        try:
+            clip = kinergy.read_bvh(path)
+            clip.positions, clip.rotations
+            kinergy.segment(clip)
+            outcomes["read"] += 1
+        except kinergy.KinergyError:
+            outcomes["raised"] += 1
+    assert outcomes["raised"] > 20 and outcomes["read"] > 10, outcomes
+    clip = kinergy.read_bvh(R09)
+    for _ in range(150):
+        try:
+            p = kinergy.Params.from_json(mangle(params).decode("utf-8", "replace"))
+            kinergy.synthesize(clip, p, check=False)
+        except kinergy.KinergyError:
+            pass
