@@ -184,3 +184,19 @@ def test_a_planned_grasp_is_the_cli_s(cli, at_root, tmp_path):
         kinergy.plan(scene, task="grasp", object="atlass")
     with pytest.raises(kinergy.InputError):
         kinergy.plan(scene)
+
+
+def test_a_field_fit_is_the_cli_s_field_file_and_drives_as_it(cli, at_root, tmp_path):
+    clips = ["data-synthetic/p01/r01.bvh", "data-synthetic/p01/r02.bvh", "data-synthetic/p01/r03.bvh"]
+    field = kinergy.fit(clips, model="sb", field=True, budget=80)
+    assert field.is_field and field.vector is None
+    field.save(tmp_path / "py.json")
+    run(cli, "fit", *clips, "--model", "sb", "--field", "--budget", "80", "-o", str(tmp_path / "cli.json"))
+    assert (tmp_path / "py.json").read_bytes() == (tmp_path / "cli.json").read_bytes()
+    motion = kinergy.synthesize(R09, field, frames="auto", check=False)
+    run(cli, "synthesize", R09, "--params", str(tmp_path / "cli.json"), "--frames", "auto",
+        "-o", str(tmp_path / "s.bvh"), ok=(0, 1))
+    back = kinergy.read_bvh(tmp_path / "s.bvh", unit="cm")
+    assert np.abs(motion.positions - back.positions).max() <= 1e-9
+    with pytest.raises(kinergy.InputError):
+        kinergy.fit(clips, field=True, per="clip", budget=80)

@@ -10,11 +10,12 @@ use kinergy_reach::controller::{ArmDrive, Ending, ReachSettings, reach_full_body
 use kinergy_reach::drive::PersonArm;
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use kinergy_solver::{
-    BaseMode, Controller, FitGrouping, Model, OptimizerKind, ParamSpace, PersonStyle, StopReason,
-    Synergy,
+    BaseMode, Controller, FitGrouping, Model, Optimizer, OptimizerKind, ParamSpace, PersonStyle,
+    StopReason, Synergy,
 };
 use kinergy_train::anneal::{AnnealSettings, Control};
-use kinergy_train::fit::{FitSettings, NestedRun, RefineSettings};
+use kinergy_train::field::{FieldFile, FieldSettings};
+use kinergy_train::fit::{FitSettings, NestedFit, NestedRun, RefineSettings};
 use kinergy_train::segment::{SegmentSettings, Selection, find_segments, main_index};
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
@@ -339,7 +340,9 @@ fn unreachable_window() -> kinergy_train::Result<Vec<CapturedReach>> {
 /// segments file, as `kinergy segment --manifest` writes). model: "sa", "sb", "sc" or "sd";
 /// nested (default) fits the poorer models first, each from the previous solution.
 /// optimizer: "jt", "njt", "svd" or "dls". per: "person" (one vector for all the reaches:
-/// returns one Params) or "clip" (one per reach: returns a list). arm: "right", "left" or
+/// returns one Params) or "clip" (one per reach: returns a list). field: the person's
+/// parameter field over their reaches' targets instead of one vector (`fit --field`: each
+/// reach fitted on its own, anchored to the person's vector; one arm). arm: "right", "left" or
 /// "auto". select: "main" (default), "all" or a segment number; frames: (start, end) instead.
 /// seed, budget, population, temperature, stable_change, stable_window: the annealer's
 /// settings (CLI defaults). refine: evaluations of a local refinement after the annealing.
@@ -349,7 +352,7 @@ fn unreachable_window() -> kinergy_train::Result<Vec<CapturedReach>> {
 /// raises stops the fit and is raised here. The GIL is released while fitting; Ctrl-C raises
 /// KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, refine = None, threads = None, progress = None, unit = "auto", up = "auto", positions = "auto"))]
+#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, field = false, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, refine = None, threads = None, progress = None, unit = "auto", up = "auto", positions = "auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,
@@ -358,6 +361,7 @@ pub fn fit<'py>(
     optimizer: &str,
     per: &str,
     nested: bool,
+    field: bool,
     arm: &str,
     chain: Option<Vec<String>>,
     select: Option<&Bound<'py, PyAny>>,
@@ -411,7 +415,6 @@ pub fn fit<'py>(
     {
         return Err(errors::input(format!("refine={n}: expected 1 to 10000000")));
     }
-    let pool = thread_pool(threads)?;
     let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
     let clips: Vec<Bound<'py, PyAny>> = match clips {
         None => Vec::new(),
@@ -450,64 +453,27 @@ pub fn fit<'py>(
     } else {
         vec![model]
     };
+    let interrupt = AtomicBool::new(false);
+    let names: Vec<&'static str> = models.iter().map(|m| m.name()).collect();
+    let mut runner = Runner {
+        models: &models,
+        optimizer,
+        settings: &settings,
+        refine,
+        pool: thread_pool(threads)?,
+        interrupt: &interrupt,
+        watch: Watch::new(progress.as_ref(), &interrupt, names),
+    };
+    if field {
+        return fit_field(py, &mut runner, reaches, grouping);
+    }
     let groups: Vec<Vec<CapturedReach>> = match grouping {
         FitGrouping::Person => vec![reaches],
         FitGrouping::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
     };
-    let interrupt = AtomicBool::new(false);
-    let names: Vec<&'static str> = models.iter().map(|m| m.name()).collect();
-    let mut watch = Watch::new(progress.as_ref(), &interrupt, names);
     let mut files = Vec::with_capacity(groups.len());
     for group in &groups {
-        watch.next_group();
-        let run = NestedRun {
-            reaches: group,
-            models: &models,
-            optimizer,
-            settings: &settings,
-        };
-        let outcome = {
-            let watch = &mut watch;
-            let pool = &pool;
-            let interrupt = &interrupt;
-            let work = move || {
-                let mut go = move || {
-                    let control = Control {
-                        checkpoint: None,
-                        checkpoint_every: 0,
-                        interrupt: Some(interrupt),
-                    };
-                    run.run(watch, &control, false)
-                };
-                match pool {
-                    Some(pool) => pool.install(go),
-                    None => go(),
-                }
-            };
-            py.detach(work)
-        };
-        watch.finish()?;
-        let outcome = outcome.map_err(errors::train)?;
-        if outcome.interrupted {
-            return Err(errors::KinergyError::new_err("the fit was interrupted"));
-        }
-        let mut fits = outcome.fits;
-        if let Some(max_evaluations) = refine
-            && let Some(last) = fits.fits.pop()
-        {
-            let refined = py.detach(|| {
-                last.refined_until(
-                    group,
-                    &settings,
-                    &RefineSettings {
-                        max_evaluations,
-                        ..RefineSettings::default()
-                    },
-                    Some(&interrupt),
-                )
-            });
-            fits.fits.push(refined.map_err(errors::train)?);
-        }
+        let fits = runner.nested(py, group)?;
         let file = fits.params_file(group, grouping).map_err(errors::train)?;
         files.push(Params {
             inner: PersonParams::Vector(file),
@@ -516,6 +482,125 @@ pub fn fit<'py>(
     match grouping {
         FitGrouping::Person => Ok(Bound::new(py, files.remove(0))?.into_any()),
         FitGrouping::Clip => Ok(PyList::new(py, files)?.into_any()),
+    }
+}
+
+/// `fit(field=True)`: each reach fitted on its own (nested), the person's single vector (all
+/// the reaches at once), and the field over the reaches' targets anchored to it, as
+/// `kinergy fit --field` makes it.
+fn fit_field<'py>(
+    py: Python<'py>,
+    runner: &mut Runner<'_>,
+    reaches: Vec<CapturedReach>,
+    grouping: FitGrouping,
+) -> PyResult<Bound<'py, PyAny>> {
+    if grouping == FitGrouping::Clip {
+        return Err(errors::input(
+            "field=True fits one field per person (each reach on its own inside it): drop per=\"clip\"",
+        ));
+    }
+    if let Some(first) = reaches.first()
+        && let Some(other) = reaches
+            .iter()
+            .find(|r| r.fitted_arm().side != first.fitted_arm().side)
+    {
+        return Err(errors::input(format!(
+            "field=True: {} and {} are reaches of different arms; a field holds one arm's \
+             reaches: fit each arm on its own",
+            first.name(),
+            other.name()
+        )));
+    }
+    let mut last = Vec::with_capacity(reaches.len());
+    for reach in &reaches {
+        let fits = runner.nested(py, std::slice::from_ref(reach))?;
+        last.extend(fits.fits.last().cloned());
+    }
+    let person = runner.nested(py, &reaches)?;
+    let anchor = person
+        .fits
+        .last()
+        .ok_or_else(|| errors::KinergyError::new_err("no model was fitted"))?;
+    let tolerance = runner.settings.tolerance;
+    let file = py
+        .detach(|| {
+            FieldFile::from_fits(&reaches, &last, &FieldSettings::default())
+                .and_then(|f| f.anchored(anchor.values.clone(), &reaches, tolerance))
+        })
+        .map_err(errors::train)?;
+    Ok(Bound::new(
+        py,
+        Params {
+            inner: PersonParams::Field(file),
+        },
+    )?
+    .into_any())
+}
+
+/// What every nested fit of one `fit` call shares: the models, settings, threads and the
+/// watch of Ctrl-C and the progress callback.
+struct Runner<'a> {
+    models: &'a [Model],
+    optimizer: Optimizer,
+    settings: &'a FitSettings,
+    refine: Option<usize>,
+    pool: Option<rayon::ThreadPool>,
+    interrupt: &'a AtomicBool,
+    watch: Watch<'a>,
+}
+
+impl Runner<'_> {
+    /// The nested fit of `group` (then its refinement, with `refine`), with the GIL released.
+    fn nested(&mut self, py: Python<'_>, group: &[CapturedReach]) -> PyResult<NestedFit> {
+        self.watch.next_group();
+        let run = NestedRun {
+            reaches: group,
+            models: self.models,
+            optimizer: self.optimizer,
+            settings: self.settings,
+        };
+        let (watch, pool, interrupt) = (&mut self.watch, &self.pool, self.interrupt);
+        let (settings, refine) = (self.settings, self.refine);
+        let work = move || {
+            let mut go = move || -> kinergy_train::Result<(NestedFit, bool)> {
+                let control = Control {
+                    checkpoint: None,
+                    checkpoint_every: 0,
+                    interrupt: Some(interrupt),
+                };
+                let outcome = run.run(watch, &control, false)?;
+                let mut fits = outcome.fits;
+                if outcome.interrupted {
+                    return Ok((fits, true));
+                }
+                if let Some(max_evaluations) = refine
+                    && let Some(last) = fits.fits.pop()
+                {
+                    let refine = RefineSettings {
+                        max_evaluations,
+                        ..RefineSettings::default()
+                    };
+                    fits.fits.push(last.refined_until(
+                        group,
+                        settings,
+                        &refine,
+                        Some(interrupt),
+                    )?);
+                }
+                Ok((fits, false))
+            };
+            match pool {
+                Some(pool) => pool.install(go),
+                None => go(),
+            }
+        };
+        let outcome = py.detach(work);
+        self.watch.finish()?;
+        let (fits, interrupted) = outcome.map_err(errors::train)?;
+        if interrupted {
+            return Err(errors::KinergyError::new_err("the fit was interrupted"));
+        }
+        Ok(fits)
     }
 }
 
