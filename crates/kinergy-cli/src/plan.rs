@@ -15,7 +15,7 @@ use kinergy_plan::task::{Manipulation, Planner, TaskSettings};
 use kinergy_reach::character::Limb;
 use kinergy_reach::controller::ArmDrive;
 use kinergy_reach::drive::PersonArm;
-use nalgebra::{Point3, Quaternion, UnitQuaternion};
+use nalgebra::Point3;
 use serde::Serialize;
 
 use crate::common::{Failure, check_optional, check_range, emit, limits, print_json};
@@ -167,35 +167,11 @@ fn parse_target(text: &str) -> Result<HandTarget, Failure> {
         .map(|v| v.trim().parse::<f64>())
         .collect::<Result<_, _>>()
         .map_err(|_| bad("expected comma-separated numbers x,y,z[,qx,qy,qz,qw]"))?;
-    if values.iter().any(|v| !v.is_finite()) {
-        return Err(bad("every value must be finite"));
-    }
-    let position = match values.len() {
-        3 | 7 => {
-            let xyz = Point3::new(values[0], values[1], values[2]);
-            crate::common::check_world_target(xyz, text, "--target")?
-        }
-        n => return Err(bad(&format!("expected 3 or 7 numbers, found {n}"))),
-    };
-    let orientation = if values.len() == 7 {
-        let q = Quaternion::new(values[6], values[3], values[4], values[5]);
-        if q.norm() < 1e-9 {
-            return Err(bad("the quaternion must not be zero"));
-        }
-        Some(UnitQuaternion::from_quaternion(q))
-    } else {
-        None
-    };
-    Ok(HandTarget {
-        position,
-        orientation,
-    })
+    let target = HandTarget::from_values(&values).map_err(|why| bad(&why))?;
+    crate::common::check_world_target(target.position, text, "--target")?;
+    Ok(target)
 }
 
-/// The person whose parameters are at `path`, for a reach toward `target` (world; a field
-/// gives their vector for it) by the arm on `side` of a character `height` tall: their
-/// synergy as the arm drive, and their bell as the plan's time warp
-/// ([`kinergy_plan::person::person_warp`]).
 fn person(
     path: &Path,
     height: f64,

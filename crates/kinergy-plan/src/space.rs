@@ -99,6 +99,34 @@ pub struct HandTarget {
     pub orientation: Option<UnitQuaternion<f64>>,
 }
 
+impl HandTarget {
+    /// A target from its numbers: `[x, y, z]` (the grip point, world meters) or `[x, y, z,
+    /// qx, qy, qz, qw]` (and the hand's rotation, normalized). Errors say why, for the caller to
+    /// name where the numbers came from: a value not finite, another count, a zero quaternion.
+    /// (How far the point is from the character is the caller's check.)
+    pub fn from_values(values: &[f64]) -> Result<HandTarget, String> {
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err("every value must be finite".into());
+        }
+        if !(values.len() == 3 || values.len() == 7) {
+            return Err(format!("expected 3 or 7 numbers, found {}", values.len()));
+        }
+        let orientation = if values.len() == 7 {
+            let q = nalgebra::Quaternion::new(values[6], values[3], values[4], values[5]);
+            if q.norm() < 1e-9 {
+                return Err("the quaternion must not be zero".into());
+            }
+            Some(UnitQuaternion::from_quaternion(q))
+        } else {
+            None
+        };
+        Ok(HandTarget {
+            position: Point3::new(values[0], values[1], values[2]),
+            orientation,
+        })
+    }
+}
+
 /// An object held in the hand.
 #[derive(Clone)]
 struct Held {

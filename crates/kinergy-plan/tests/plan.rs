@@ -796,3 +796,23 @@ fn the_planned_path_stays_where_the_synergy_would_collide() {
         );
     }
 }
+
+#[test]
+fn a_hand_target_from_its_numbers() {
+    let t = HandTarget::from_values(&[0.1, 1.2, 0.4]).expect("a point");
+    assert_eq!(t.position, Point3::new(0.1, 1.2, 0.4));
+    assert!(t.orientation.is_none());
+    // A quarter turn about y, given unnormalized (qx, qy, qz, qw) = (0, 2, 0, 2).
+    let t = HandTarget::from_values(&[0.1, 1.2, 0.4, 0.0, 2.0, 0.0, 2.0]).expect("a pose");
+    let q = t.orientation.expect("turned");
+    let expected = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
+    assert!(q.angle_to(&expected) < 1e-12);
+    for (values, says) in [
+        (&[0.1, 1.2][..], "found 2"),
+        (&[0.1, f64::NAN, 0.4][..], "finite"),
+        (&[0.1, 1.2, 0.4, 0.0, 0.0, 0.0, 0.0][..], "zero"),
+    ] {
+        let why = HandTarget::from_values(values).expect_err("refused");
+        assert!(why.contains(says), "{why}");
+    }
+}

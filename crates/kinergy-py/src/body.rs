@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use kinergy_motion::Side;
-use kinergy_motion::nalgebra::{Point3, Quaternion, UnitQuaternion};
+use kinergy_motion::nalgebra::Point3;
 use kinergy_plan::PlanError;
 use kinergy_plan::hand::HandShape;
 use kinergy_plan::rrt::Warp;
@@ -241,36 +241,14 @@ pub fn plan<'py>(
 
 /// `target=`: [x, y, z] or [x, y, z, qx, qy, qz, qw], finite, within reach of any body.
 fn hand_target(values: &[f64]) -> PyResult<HandTarget> {
-    if values.iter().any(|v| !v.is_finite()) {
-        return Err(errors::input(format!(
-            "target {values:?}: every value must be finite"
-        )));
-    }
-    if !(values.len() == 3 || values.len() == 7) {
-        return Err(errors::input(format!(
-            "target: expected [x, y, z] or [x, y, z, qx, qy, qz, qw], got {} numbers",
-            values.len()
-        )));
-    }
-    let position = Point3::new(values[0], values[1], values[2]);
-    let reach = position.coords.norm();
+    let target = HandTarget::from_values(values)
+        .map_err(|why| errors::input(format!("target {values:?}: {why}")))?;
+    let reach = target.position.coords.norm();
     if reach > kinergy_train::MAX_TARGET_DISTANCE {
         return Err(errors::input(format!(
             "target: {reach} m from the character, beyond what any body reaches (at most {} m)",
             kinergy_train::MAX_TARGET_DISTANCE
         )));
     }
-    let orientation = if values.len() == 7 {
-        let q = Quaternion::new(values[6], values[3], values[4], values[5]);
-        if q.norm() < 1e-9 {
-            return Err(errors::input("target: the quaternion must not be zero"));
-        }
-        Some(UnitQuaternion::from_quaternion(q))
-    } else {
-        None
-    };
-    Ok(HandTarget {
-        position,
-        orientation,
-    })
+    Ok(target)
 }

@@ -201,9 +201,7 @@ impl Clip {
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
         let joints = self.inner.skeleton().joint_count();
         let values = py.detach(|| self.world_positions())?;
-        let array = Array3::from_shape_vec((self.inner.frame_count(), joints, 3), values)
-            .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
-        Ok(array.into_pyarray(py))
+        array3(py, (self.inner.frame_count(), joints, 3), values)
     }
 
     /// Local joint rotations as unit quaternions (w, x, y, z), float64 (frames, joints, 4):
@@ -220,9 +218,7 @@ impl Clip {
                 out.extend([q.w, q.i, q.j, q.k]);
             }
         }
-        let array = Array3::from_shape_vec((self.inner.frame_count(), joints, 4), out)
-            .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
-        Ok(array.into_pyarray(py))
+        array3(py, (self.inner.frame_count(), joints, 4), out)
     }
 
     /// The root joint's world position, float64 (frames, 3), meters, Y up.
@@ -234,9 +230,7 @@ impl Clip {
             .frames()
             .flat_map(|pose| skeleton.local_transform(0, pose).translation.vector.data.0[0])
             .collect();
-        let array = Array2::from_shape_vec((self.inner.frame_count(), 3), out)
-            .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
-        Ok(array.into_pyarray(py))
+        array2(py, (self.inner.frame_count(), 3), out)
     }
 
     /// Each joint's offset from its parent in the parent's frame, float64 (joints, 3),
@@ -258,9 +252,7 @@ impl Clip {
                 [o.x, o.y, o.z]
             })
             .collect();
-        let array = Array2::from_shape_vec((skeleton.joint_count(), 3), out)
-            .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
-        Ok(array.into_pyarray(py))
+        array2(py, (skeleton.joint_count(), 3), out)
     }
 
     /// The pose values as read (radians, meters in the file's frame), float64 (frames,
@@ -268,12 +260,11 @@ impl Clip {
     #[getter]
     fn values<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let dofs = self.inner.skeleton().dof_count();
-        let array = Array2::from_shape_vec(
+        array2(
+            py,
             (self.inner.frame_count(), dofs),
             self.inner.values().to_vec(),
         )
-        .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
-        Ok(array.into_pyarray(py))
     }
 
     /// Frames `start..end` (end excluded) as a new clip.
@@ -440,6 +431,28 @@ impl Clip {
             kinergy_motion::Clip::new(skeleton, frame_time, values).map_err(errors::motion)?;
         Ok(Clip::made(inner))
     }
+}
+
+/// `values` as a numpy array of `shape`, handed over without a copy.
+fn array3(
+    py: Python<'_>,
+    shape: (usize, usize, usize),
+    values: Vec<f64>,
+) -> PyResult<Bound<'_, PyArray3<f64>>> {
+    let array = Array3::from_shape_vec(shape, values)
+        .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
+    Ok(array.into_pyarray(py))
+}
+
+/// `values` as a numpy array of `shape`, handed over without a copy.
+fn array2(
+    py: Python<'_>,
+    shape: (usize, usize),
+    values: Vec<f64>,
+) -> PyResult<Bound<'_, PyArray2<f64>>> {
+    let array = Array2::from_shape_vec(shape, values)
+        .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
+    Ok(array.into_pyarray(py))
 }
 
 /// The export options of `unit` and `up` ("as-read" or "y").
