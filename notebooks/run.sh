@@ -7,8 +7,8 @@
 # Environment: KINERGY_VENV (the venv, with the kinergy package built into it by
 # tools/python-env.sh; default target/notebook-venv), KINERGY_NOTEBOOK_OUT (executed copies
 # and results, default target/notebooks), KINERGY_BUDGET, KINERGY_SEED, KINERGY_REAL_BVH,
-# KINERGY_FIG5_CLIP, KINERGY_PERSON (read by the notebooks), PYTHON (the interpreter that
-# creates the venv, default python3). See notebooks/README.md.
+# KINERGY_FIG5_CLIP, KINERGY_PERSON, KINERGY_PERSON_ARM (read by the notebooks), PYTHON (the
+# interpreter that creates the venv, default python3). See notebooks/README.md.
 set -euo pipefail
 
 OUT_DIR="${KINERGY_NOTEBOOK_OUT:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/target/notebooks}"

@@ -59,63 +59,23 @@ __all__ = [
 ]
 
 
-def compare(
-    clips,
-    *,
-    models=("sa", "sb", "sc", "sd"),
-    optimizer: str = "svd",
-    seed: int = 1,
-    budget: int | None = None,
-    threads: int | None = None,
-    as_records: bool = False,
-    **options,
-):
-    """The paper's Fig. 3 experiment on ``clips``: each reach fitted on its own (per clip),
-    the models nested poorest first; one row per reach and model with its distance.
+def compare(clips=None, *, as_records: bool = False, **options):
+    """The paper's experiments on captures, as ``kinergy compare`` runs them: per reach, the
+    models fitted nested (Fig. 3), S_A and S_C with each optimizer (Fig. 4), with
+    ``baselines`` S_C from neutral, Nelder–Mead and particle swarm, then the parameter field's
+    leave-one-out rows.
 
-    Returns a list of dicts (``clip``, ``frames``, ``arm``, ``model``, ``optimizer``,
-    ``distance_m``, ``evaluations``), or a numpy record array with ``as_records=True``.
-    Further keyword arguments go to :func:`fit` (arm, select, unit, …).
+    Returns one dict per fit with the columns of the CLI's ``results.csv`` (clip, arm, onset,
+    end, model, optimizer, method, distance_m, frames, evaluations, seconds), or a numpy
+    record array with ``as_records=True``. Keyword arguments: models, optimizers, optimizer,
+    baselines, seed, budget, threads, progress (called with (done, total) as each reach
+    ends), arm, select, frames, segments, unit, … (see ``kinergy._kinergy.compare``).
     """
-    richest = max(models)
-    fits = fit(
-        clips,
-        model=richest,
-        optimizer=optimizer,
-        per="clip",
-        seed=seed,
-        budget=budget,
-        threads=threads,
-        **options,
-    )
-    rows = []
-    for params in fits:
-        record = params.record
-        reach = record["reaches"][0]
-        arm = (reach.get("arm") or {}).get("side")
-        for stage in record.get("nested") or []:
-            if stage["model"] not in models:
-                continue
-            rows.append(
-                {
-                    "clip": reach["clip"],
-                    "frames": tuple(reach["frames"]),
-                    "arm": arm,
-                    "model": stage["model"],
-                    "optimizer": optimizer,
-                    "distance_m": stage["score_m"],
-                    "evaluations": stage["evaluations"],
-                }
-            )
+    rows = _kinergy.compare(clips, **options)
     if not as_records:
         return rows
     import numpy as np
 
-    return np.rec.fromrecords(
-        [
-            (r["clip"], r["frames"][0], r["frames"][1], r["arm"] or "", r["model"], r["optimizer"],
-             r["distance_m"], r["evaluations"])
-            for r in rows
-        ],
-        names="clip,onset,end,arm,model,optimizer,distance_m,evaluations",
-    )
+    names = ["clip", "arm", "onset", "end", "model", "optimizer", "method", "distance_m",
+             "frames", "evaluations", "seconds"]
+    return np.rec.fromrecords([tuple(r[n] for n in names) for r in rows], names=names)

@@ -27,14 +27,9 @@ from ._kinergy import (
 __version__: str
 
 def compare(
-    clips: ClipLike | Sequence[ClipLike],
+    clips: ClipLike | Sequence[ClipLike] | None = None,
     *,
-    models: Sequence[str] = ("sa", "sb", "sc", "sd"),
-    optimizer: str = "svd",
-    seed: int = 1,
-    budget: int | None = None,
-    threads: int | None = None,
     as_records: bool = False,
     **options: Any,
 ) -> list[dict[str, Any]] | np.recarray:
-    """The paper's Fig. 3 experiment: per-clip nested fits, one row per reach and model."""
+    """The paper's experiments, as `kinergy compare` runs them: results.csv's rows."""

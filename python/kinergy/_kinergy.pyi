@@ -65,6 +65,9 @@ class Clip:
     def path(self) -> str | None:
         """The file the clip was read from, or None."""
     @property
+    def report(self) -> dict[str, Any] | None:
+        """How a synthesized or full-body motion ended (the CLI's `--json` report), or None."""
+    @property
     def positions(self) -> npt.NDArray[np.float64]:
         """World joint positions, (frames, joints, 3), meters, Y up."""
     @property
@@ -294,3 +297,30 @@ def plan(
     budget_ms: int | None = None,
 ) -> Clip:
     """Collision-free reaching and manipulation in a scene, as `kinergy plan` makes it."""
+
+def compare(
+    clips: ClipLike | Sequence[ClipLike] | None = None,
+    *,
+    models: Sequence[Model] = ("sa", "sb", "sc", "sd"),
+    optimizers: Sequence[Optimizer] = ("jt", "njt", "svd"),
+    optimizer: Optimizer = "svd",
+    baselines: bool = True,
+    arm: Literal["right", "left", "auto"] = "right",
+    chain: Sequence[str] | None = None,
+    select: str | int | None = None,
+    frames: tuple[int, int] | None = None,
+    segments: PathLike | None = None,
+    fixed_base: bool = False,
+    seed: int = 1,
+    budget: int | None = None,
+    population: int | None = None,
+    temperature: float | None = None,
+    stable_change: float | None = None,
+    stable_window: int | None = None,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: str = "auto",
+) -> list[dict[str, Any]]:
+    """The paper's experiments, as `kinergy compare` runs them: results.csv's rows as dicts."""

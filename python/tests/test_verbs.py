@@ -64,6 +64,12 @@ def test_a_synthesized_clip_is_the_cli_s_output_read_back(cli, at_root, tmp_path
     back = kinergy.read_bvh(tmp_path / "s.bvh", unit="cm")
     assert motion.positions.shape == back.positions.shape
     assert np.abs(motion.positions - back.positions).max() <= 1e-9
+    said = json.loads(run(cli, "synthesize", R09, "--params", str(tmp_path / "p.json"), "-o",
+                          str(tmp_path / "s2.bvh"), "--json", ok=(0, 1), quiet=False).stdout)
+    for key in ("stop", "frames", "final_error_m", "target_m", "capture_frames",
+                "distance_to_capture_m", "model", "optimizer"):
+        assert motion.report[key] == said[key], key
+    assert kinergy.read_bvh(R09).report is None
     # Also with the neutral model and a given target.
     neutral = kinergy.synthesize(R09, frames="auto", target=[-0.2, 1.3, 0.4], check=False)
     run(cli, "synthesize", R09, "--frames", "auto", "--target", "-0.2,1.3,0.4", "-o",
@@ -79,20 +85,41 @@ def test_a_full_body_reach_in_a_person_s_style_is_the_cli_s(cli, at_root, tmp_pa
         "tests/data/params/synthetic-p01-r09-sc.json", "-o", str(tmp_path / "r.bvh"))
     back = kinergy.read_bvh(tmp_path / "r.bvh", unit="cm")
     assert np.abs(body.positions - back.positions).max() <= 1e-9
+    said = json.loads(run(cli, "reach", "--target", "-0.3,1.3,0.45", "--params",
+                          "tests/data/params/synthetic-p01-r09-sc.json", "-o",
+                          str(tmp_path / "r2.bvh"), "--json", quiet=False).stdout)
+    assert {k: v for k, v in said.items() if k in body.report} == body.report
     # The hand point (the hand's End Site) arrives at the target.
     hand = body.joint_names.index("RightHand_End")
     assert np.linalg.norm(body.positions[-1, hand] - [-0.3, 1.3, 0.45]) < 0.01
 
 
-def test_compare_rows_are_the_nested_per_clip_distances(at_root):
-    rows = kinergy.compare(["data-synthetic/p01/r01.bvh", R09], models=("sa", "sb"), budget=80)
-    assert [(r["clip"], r["model"]) for r in rows] == [
-        ("data-synthetic/p01/r01.bvh", "sa"), ("data-synthetic/p01/r01.bvh", "sb"),
-        (R09, "sa"), (R09, "sb"),
-    ]
-    assert all(r["distance_m"] > 0 for r in rows)
-    records = kinergy.compare([R09], models=("sa",), budget=40, as_records=True)
-    assert records.distance_m.shape == (1,) and records.model[0] == "sa"
+def test_compare_rows_are_the_cli_s_results_csv(cli, at_root, tmp_path):
+    import csv
+
+    clips = ["data-synthetic/p01/r01.bvh", R09, "data-synthetic/p02/r03.bvh"]
+    for baselines in (False, True):
+        seen = []
+        ours = kinergy.compare(clips, models=["sa", "sc"], optimizers=["jt", "svd"],
+                               baselines=baselines, budget=80, seed=2,
+                               progress=lambda done, total: seen.append((done, total)))
+        flags = [] if baselines else ["--no-baselines"]
+        run(cli, "compare", *clips, "--models", "sa,sc", "--optimizers", "jt,svd", "--budget", "80",
+            "--seed", "2", *flags, "-o", str(tmp_path / "c"))
+        with open(tmp_path / "c" / "results.csv") as f:
+            theirs = list(csv.DictReader(f))
+        assert len(ours) == len(theirs) > 0
+        for a, b in zip(ours, theirs):
+            for key in ("clip", "arm", "model", "optimizer", "method"):
+                assert str(a[key]) == b[key], (key, a, b)
+            for key in ("onset", "end", "frames", "evaluations"):
+                assert a[key] == int(b[key]), (key, a, b)
+            assert a["distance_m"] == float(b["distance_m"]), (a, b)
+        assert seen and seen[-1] == (3, 3)
+    # Fig. 3 with S_A alone; Fig. 4 fits S_A and S_C with SVD (Fig. 3 has no S_C to serve it).
+    records = kinergy.compare([R09], models=["sa"], optimizers=["svd"], baselines=False, budget=40,
+                              as_records=True)
+    assert list(records.model) == ["sa", "sa", "sc"] and records.distance_m.dtype == float
 
 
 def test_progress_is_reported_and_its_exception_stops_the_fit(at_root):
@@ -200,3 +227,15 @@ def test_a_field_fit_is_the_cli_s_field_file_and_drives_as_it(cli, at_root, tmp_
     assert np.abs(motion.positions - back.positions).max() <= 1e-9
     with pytest.raises(kinergy.InputError):
         kinergy.fit(clips, field=True, per="clip", budget=80)
+
+
+def test_ctrl_c_stops_compare_promptly(at_root):
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            kinergy.compare("data-synthetic", budget=100000)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 15

@@ -91,7 +91,8 @@ pub fn style<'py>(
                     .character()
                     .to_clip(&motion.poses, motion.frame_time)
                     .map_err(errors::reach)?;
-                item.set_item(key, Bound::new(py, Clip::made(clip))?)?;
+                let clip = Clip::made(clip).with_report(&motion.report);
+                item.set_item(key, Bound::new(py, clip)?)?;
             }
             list.append(item)?;
         }

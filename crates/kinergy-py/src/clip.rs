@@ -32,6 +32,8 @@ pub struct Clip {
     pub inner: kinergy_motion::Clip,
     /// The file it was read from, if any (named in errors and by `fit`).
     pub path: Option<PathBuf>,
+    /// How a made motion ended, as the CLI's `--json` report says it (JSON text), if any.
+    pub report: Option<String>,
 }
 
 /// Parses `value` of the keyword argument `name` with `FromStr`; errors name both.
@@ -88,13 +90,24 @@ pub fn read_bvh(
     Ok(Clip {
         inner,
         path: Some(path),
+        report: None,
     })
 }
 
 impl Clip {
     /// A clip made here (no file).
     pub fn made(inner: kinergy_motion::Clip) -> Clip {
-        Clip { inner, path: None }
+        Clip {
+            inner,
+            path: None,
+            report: None,
+        }
+    }
+
+    /// The same clip with the report of how it was made (`report` serialized).
+    pub fn with_report<T: serde::Serialize>(mut self, report: &T) -> Clip {
+        self.report = kinergy_io::to_pretty_json(report).ok();
+        self
     }
 
     /// The world positions, frame after frame, joint after joint, x y z (meters).
@@ -172,6 +185,20 @@ impl Clip {
     #[getter]
     fn frame_count(&self) -> usize {
         self.inner.frame_count()
+    }
+
+    /// How a synthesized or full-body motion ended (a dict, what the CLI's `--json` reports:
+    /// the stop reason, frames, the final hand error, a hand-over to plain IK, …), or None
+    /// for a clip read from a file or made from arrays.
+    #[getter]
+    fn report<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        match &self.report {
+            None => Ok(None),
+            Some(text) => py
+                .import("json")?
+                .call_method1("loads", (text.as_str(),))
+                .map(Some),
+        }
     }
 
     /// The file the clip was read from, or None.
@@ -280,6 +307,7 @@ impl Clip {
         Ok(Clip {
             inner,
             path: self.path.clone(),
+            report: None,
         })
     }
 

@@ -15,6 +15,7 @@ use pyo3::prelude::*;
 
 pub mod body;
 pub mod clip;
+pub mod compare;
 pub mod errors;
 pub mod params;
 pub mod progress;
@@ -33,6 +34,7 @@ fn _kinergy(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(verbs::hand_speed, m)?)?;
     m.add_function(wrap_pyfunction!(body::style, m)?)?;
     m.add_function(wrap_pyfunction!(body::plan, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     errors::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

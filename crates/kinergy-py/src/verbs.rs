@@ -157,7 +157,7 @@ pub fn segment<'py>(
 }
 
 /// `select=`: None, "main", "all" or a segment number.
-fn selection_arg(select: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Selection>> {
+pub fn selection_arg(select: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Selection>> {
     let Some(select) = select else {
         return Ok(None);
     };
@@ -172,7 +172,7 @@ fn selection_arg(select: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Selection
 
 /// The search settings of `fit`'s keyword arguments, checked as the CLI checks its flags.
 #[allow(clippy::too_many_arguments)]
-fn fit_settings(
+pub fn fit_settings(
     seed: u64,
     budget: Option<usize>,
     population: Option<usize>,
@@ -205,7 +205,7 @@ fn fit_settings(
 
 /// The reaches of `clips` (paths, folders or Clips), or of a segments file's rows.
 #[allow(clippy::too_many_arguments)]
-fn load_reaches(
+pub fn load_reaches(
     py: Python<'_>,
     clips: &[Bound<'_, PyAny>],
     segments: Option<PathBuf>,
@@ -325,6 +325,26 @@ fn load_reaches(
     Ok(reaches)
 }
 
+/// `clips=`: one path or Clip, or a list or tuple of them; none only with a segments file.
+pub fn clip_list<'py>(
+    clips: Option<&Bound<'py, PyAny>>,
+    segments: bool,
+) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let clips: Vec<Bound<'py, PyAny>> = match clips {
+        None => Vec::new(),
+        Some(c) if c.is_instance_of::<PyList>() || c.is_instance_of::<pyo3::types::PyTuple>() => {
+            c.try_iter()?.collect::<PyResult<_>>()?
+        }
+        Some(c) => vec![c.clone()],
+    };
+    if clips.is_empty() && !segments {
+        return Err(errors::input(
+            "name the captures (paths, folders or Clips), or a segments file with segments=",
+        ));
+    }
+    Ok(clips)
+}
+
 /// A window with `arm="auto"` was refused before: never reached.
 fn unreachable_window() -> kinergy_train::Result<Vec<CapturedReach>> {
     Err(kinergy_train::TrainError::Setting {
@@ -416,18 +436,7 @@ pub fn fit<'py>(
         return Err(errors::input(format!("refine={n}: expected 1 to 10000000")));
     }
     let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
-    let clips: Vec<Bound<'py, PyAny>> = match clips {
-        None => Vec::new(),
-        Some(c) if c.is_instance_of::<PyList>() || c.is_instance_of::<pyo3::types::PyTuple>() => {
-            c.try_iter()?.collect::<PyResult<_>>()?
-        }
-        Some(c) => vec![c.clone()],
-    };
-    if clips.is_empty() && segments.is_none() {
-        return Err(errors::input(
-            "name the captures (paths, folders or Clips), or a segments file with segments=",
-        ));
-    }
+    let clips = clip_list(clips, segments.is_some())?;
     let mode = if fixed_base {
         BaseMode::Fixed
     } else {
@@ -605,7 +614,7 @@ impl Runner<'_> {
 }
 
 /// A rayon pool of `threads` workers, or None for the global pool (all cores).
-fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
+pub fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
     match threads {
         None => Ok(None),
         Some(n) if (1..=1024).contains(&n) => rayon::ThreadPoolBuilder::new()
@@ -696,6 +705,7 @@ pub fn synthesize<'py>(
     let window = choice
         .resolve(&whole, &from, &joints, record.as_ref())
         .map_err(errors::train)?;
+    let (window_start, window_end) = (window.start, window.end);
     let mode = if fixed_base {
         BaseMode::Fixed
     } else {
@@ -748,7 +758,26 @@ pub fn synthesize<'py>(
         .detach(|| controller.synthesize(&reach.task()))
         .map_err(errors::solver)?;
     let motion = reach.to_clip(&whole, &synthesis).map_err(errors::train)?;
-    let out = Clip::made(motion);
+    let last = synthesis.frame_count().saturating_sub(1);
+    let distance = reach
+        .arm()
+        .synthesized_trajectory(&synthesis)
+        .ok()
+        .and_then(|s| kinergy_motion::motion_distance(reach.captured(), &s).ok());
+    let target_at = reach.target();
+    let report = SynthesisReport {
+        stop: synthesis.stop.name(),
+        frames: synthesis.frame_count(),
+        duration_s: last as f64 * reach.frame_time(),
+        final_error_m: synthesis.final_error,
+        target_m: [target_at.x, target_at.y, target_at.z],
+        capture_frames: [window_start, window_end],
+        distance_to_capture_m: distance,
+        model: controller.synergy.model().name(),
+        optimizer: optimizer.to_string(),
+        arm: reach.fitted_arm().side.map(|s| s.to_string()),
+    };
+    let out = Clip::made(motion).with_report(&report);
     if check && synthesis.stop != StopReason::Reached {
         return Err(unreachable(
             py,
@@ -761,6 +790,21 @@ pub fn synthesize<'py>(
         ));
     }
     Ok(out)
+}
+
+/// What `Clip.report` says of a synthesized reach (the CLI's `synthesize --json`, in part).
+#[derive(serde::Serialize)]
+struct SynthesisReport {
+    stop: &'static str,
+    frames: usize,
+    duration_s: f64,
+    final_error_m: f64,
+    target_m: [f64; 3],
+    capture_frames: [usize; 2],
+    distance_to_capture_m: Option<f64>,
+    model: &'static str,
+    optimizer: String,
+    arm: Option<String>,
 }
 
 /// `UnreachableError(message)` carrying the motion made as `clip`.
@@ -877,7 +921,7 @@ pub fn reach<'py>(
     let clip = character
         .to_clip(&motion.poses, motion.frame_time)
         .map_err(errors::reach)?;
-    let out = Clip::made(clip);
+    let out = Clip::made(clip).with_report(&motion.report);
     match Ending::of(&character, &motion) {
         Ending::Reached => Ok(out),
         _ if !check => Ok(out),

@@ -34,6 +34,7 @@ pub use stats::Stats;
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use kinergy_solver::{Model, OptimizerKind, ParamSpace};
@@ -41,7 +42,7 @@ use rayon::prelude::*;
 
 use crate::baseline::{BaselineMethod, BaselineSettings};
 use crate::captured::CapturedReach;
-use crate::error::{Result, require};
+use crate::error::{Result, TrainError, require};
 use crate::field::{FieldSettings, leave_one_out};
 use crate::fit::{FitSettings, fit_model, fit_nested};
 use crate::objective::{CostFunction, Objective};
@@ -209,20 +210,46 @@ pub fn run(
     settings: &ExperimentSettings,
     clip_done: &(dyn Fn() + Sync),
 ) -> Result<Results> {
+    let never = AtomicBool::new(false);
+    match run_until(reaches, settings, clip_done, &never)? {
+        Some(results) => Ok(results),
+        // Nothing raises `never`: a run without a stop flag always ends with its results.
+        None => Err(TrainError::Setting {
+            field: "stop".into(),
+            why: "the experiment stopped though nothing asked it to".into(),
+        }),
+    }
+}
+
+/// [`run`] that stops early when `stop` becomes true: the clips already started finish, the
+/// others are not started, and the result is `None`. (A caller watching for Ctrl-C raises it;
+/// the results of a run that was not stopped are [`run`]'s.)
+pub fn run_until(
+    reaches: &[CapturedReach],
+    settings: &ExperimentSettings,
+    clip_done: &(dyn Fn() + Sync),
+    stop: &AtomicBool,
+) -> Result<Option<Results>> {
     require(!reaches.is_empty(), "reaches", "at least one reach")?;
     require(
         !settings.models.is_empty() && !settings.optimizers.is_empty(),
         "models/optimizers",
         "at least one each",
     )?;
-    let per_clip: Vec<ClipResults> = reaches
+    let per_clip: Vec<Option<ClipResults>> = reaches
         .par_iter()
         .map(|reach| {
+            if stop.load(Ordering::SeqCst) {
+                return Ok(None);
+            }
             let results = clip_results(reach, settings);
             clip_done();
-            results
+            results.map(Some)
         })
         .collect::<Result<_>>()?;
+    let Some(per_clip) = per_clip.into_iter().collect::<Option<Vec<ClipResults>>>() else {
+        return Ok(None);
+    };
     let mut rows = Vec::new();
     let mut violations = Vec::new();
     let mut sc = Vec::with_capacity(per_clip.len());
@@ -232,7 +259,7 @@ pub fn run(
         sc.push(clip.sc);
     }
     rows.extend(field_rows(reaches, &sc, settings)?);
-    Ok(Results { rows, violations })
+    Ok(Some(Results { rows, violations }))
 }
 
 /// One clip's rows, its Fig. 3 violations and its Fig. 3 S_C values (for the field).
