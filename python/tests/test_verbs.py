@@ -49,6 +49,18 @@ def test_a_person_fit_of_a_folder_is_the_cli_s(cli, at_root, tmp_path):
     assert len(loaded.record["reaches"]) == 14
 
 
+def test_a_fit_with_the_speed_term_is_the_cli_s(cli, at_root, tmp_path):
+    [params] = kinergy.fit(R09, model="sb", per="clip", budget=120, objective="positions+speed",
+                           speed_weight=0.1)
+    params.save(tmp_path / "py.json")
+    run(cli, "fit", R09, "--model", "sb", "--per", "clip", "--budget", "120", "--objective",
+        "positions+speed", "--speed-weight", "0.1", "-o", str(tmp_path / "cli.json"))
+    assert (tmp_path / "py.json").read_bytes() == (tmp_path / "cli.json").read_bytes()
+    assert params.record["objective"] == {"kind": "positions+speed", "speed_weight_s": 0.1}
+    with pytest.raises(kinergy.InputError):
+        kinergy.fit(R09, objective="speed")
+
+
 def test_the_fit_does_not_depend_on_threads(at_root):
     one = kinergy.fit(R09, model="sb", budget=160, threads=1)
     two = kinergy.fit(R09, model="sb", budget=160, threads=2)

@@ -339,9 +339,17 @@ impl SummaryReport {
 
 /// How the fits searched, for a summary's first lines: budget, population, temperature,
 /// stopping rule and seed.
-pub(crate) fn search_line(anneal: &kinergy_train::anneal::AnnealSettings) -> String {
+pub(crate) fn search_line(fit: &kinergy_train::fit::FitSettings) -> String {
+    let anneal = &fit.anneal;
+    let objective = match fit.objective {
+        kinergy_solver::FitObjective::Positions => String::new(),
+        o => format!(
+            ", minimizing the joint-position distance + {} s × the hand's RMS speed error (the fitted scores include it)",
+            o.speed_weight()
+        ),
+    };
     format!(
-        "simulated annealing, {} evaluations per fit, population {}, temperature {}, stopping when the mean score changes by at most {} % over {} iterations, seed {}",
+        "simulated annealing, {} evaluations per fit, population {}, temperature {}, stopping when the mean score changes by at most {} % over {} iterations, seed {}{objective}",
         anneal.max_evaluations,
         anneal.population,
         anneal.temperature,
@@ -355,7 +363,6 @@ pub(crate) fn search_line(anneal: &kinergy_train::anneal::AnnealSettings) -> Str
 /// notes and the paper's figures.
 fn markdown(report: &SummaryReport, summary: &Summary, settings: &ExperimentSettings) -> String {
     let mm = |v: f64| format!("{:.2}", v * 1e3);
-    let anneal = &settings.fit.anneal;
     let clips = report.clips;
     let fig3_opt = settings.optimizer.name();
     let mut md = String::new();
@@ -363,7 +370,7 @@ fn markdown(report: &SummaryReport, summary: &Summary, settings: &ExperimentSett
     md.push_str(&format!(
         "{clips} clip{}; {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand), in millimeters.\n\n",
         if clips == 1 { "" } else { "s" },
-        search_line(anneal),
+        search_line(&settings.fit),
         report.seconds
     ));
     md.push_str(&format!(

@@ -848,3 +848,61 @@ fn the_stopping_rule_is_the_one_asked_for() {
         "{default}"
     );
 }
+
+/// `--objective positions+speed` records what the fit minimized (the paper's metric records
+/// nothing: files as before), scores at least the distance, and a checkpoint of one objective
+/// is not resumed under the other.
+#[test]
+fn the_speed_objective_is_recorded_and_kept_apart() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let plain = dir.path().join("plain.json");
+    let speed = dir.path().join("speed.json");
+    assert!(fit(&plain, &[]).status.success());
+    assert!(
+        fit(
+            &speed,
+            &["--objective", "positions+speed", "--speed-weight", "0.1"]
+        )
+        .status
+        .success()
+    );
+    let read = |p: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(p).expect("read")).expect("json")
+    };
+    assert!(read(&plain)["fit"].get("objective").is_none());
+    let record = &read(&speed)["fit"];
+    assert_eq!(record["objective"]["kind"], "positions+speed");
+    assert_eq!(record["objective"]["speed_weight_s"], 0.1);
+    // Its file reads back as parameters anyone can drive with.
+    ParamsFile::read(&speed).expect("a valid parameters file");
+    // A checkpoint of the plain fit is refused for the speed objective.
+    let ckpt = dir.path().join("fit.ckpt");
+    let first = fit(
+        &dir.path().join("a.json"),
+        &["--checkpoint", ckpt.to_str().expect("utf-8")],
+    );
+    assert!(first.status.success());
+    let resumed = fit(
+        &dir.path().join("b.json"),
+        &[
+            "--checkpoint",
+            ckpt.to_str().expect("utf-8"),
+            "--resume",
+            "--objective",
+            "positions+speed",
+        ],
+    );
+    assert_eq!(resumed.status.code(), Some(2), "{}", text(&resumed.stderr));
+    assert!(
+        text(&resumed.stderr).contains("objective"),
+        "{}",
+        text(&resumed.stderr)
+    );
+    let bad = fit(&dir.path().join("c.json"), &["--speed-weight", "11"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(
+        text(&bad.stderr).contains("--speed-weight"),
+        "{}",
+        text(&bad.stderr)
+    );
+}

@@ -27,7 +27,7 @@ use crate::verbs::{clip_list, fit_settings, load_reaches, selection_arg, thread_
 /// progress: called as each reach's fits end with (done, total). Ctrl-C stops the run after
 /// the reaches in progress (KeyboardInterrupt).
 #[pyfunction]
-#[pyo3(signature = (clips = None, *, models = vec!["sa".to_string(), "sb".to_string(), "sc".to_string(), "sd".to_string()], optimizers = vec!["jt".to_string(), "njt".to_string(), "svd".to_string()], optimizer = "svd", baselines = true, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, threads = None, progress = None, unit = "auto", up = "auto", positions = "auto"))]
+#[pyo3(signature = (clips = None, *, models = vec!["sa".to_string(), "sb".to_string(), "sc".to_string(), "sd".to_string()], optimizers = vec!["jt".to_string(), "njt".to_string(), "svd".to_string()], optimizer = "svd", baselines = true, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, objective = "positions", speed_weight = None, threads = None, progress = None, unit = "auto", up = "auto", positions = "auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn compare<'py>(
     py: Python<'py>,
@@ -48,6 +48,8 @@ pub fn compare<'py>(
     temperature: Option<f64>,
     stable_change: Option<f64>,
     stable_window: Option<usize>,
+    objective: &str,
+    speed_weight: Option<f64>,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
     unit: &str,
@@ -79,6 +81,8 @@ pub fn compare<'py>(
             temperature,
             stable_change,
             stable_window,
+            objective,
+            speed_weight,
         )?,
     };
     let pool = thread_pool(threads)?;

@@ -10,8 +10,8 @@ use kinergy_reach::controller::{ArmDrive, Ending, ReachSettings, reach_full_body
 use kinergy_reach::drive::PersonArm;
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use kinergy_solver::{
-    BaseMode, Controller, FitGrouping, Model, Optimizer, OptimizerKind, ParamSpace, PersonStyle,
-    StopReason, Synergy,
+    BaseMode, Controller, FitGrouping, FitObjective, Model, Optimizer, OptimizerKind, ParamSpace,
+    PersonStyle, StopReason, Synergy,
 };
 use kinergy_train::anneal::{AnnealSettings, Control};
 use kinergy_train::field::{FieldFile, FieldSettings};
@@ -170,6 +170,10 @@ pub fn selection_arg(select: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Selec
     parse::<Selection>("select", &text).map(Some)
 }
 
+/// The CLI's `--speed-weight` default, seconds (meters of distance per m/s of RMS hand-speed
+/// error).
+pub const DEFAULT_SPEED_WEIGHT: f64 = 0.05;
+
 /// The search settings of `fit`'s keyword arguments, checked as the CLI checks its flags.
 #[allow(clippy::too_many_arguments)]
 pub fn fit_settings(
@@ -179,7 +183,26 @@ pub fn fit_settings(
     temperature: Option<f64>,
     stable_change: Option<f64>,
     stable_window: Option<usize>,
+    objective: &str,
+    speed_weight: Option<f64>,
 ) -> PyResult<FitSettings> {
+    let weight = speed_weight.unwrap_or(DEFAULT_SPEED_WEIGHT);
+    if !(0.0..=10.0).contains(&weight) {
+        return Err(errors::input(format!(
+            "speed_weight={weight}: expected 0 to 10 s"
+        )));
+    }
+    let objective = match objective {
+        "positions" => FitObjective::Positions,
+        "positions+speed" => FitObjective::PositionsSpeed {
+            speed_weight_s: weight,
+        },
+        _ => {
+            return Err(errors::input(format!(
+                "objective={objective:?}: expected \"positions\" or \"positions+speed\""
+            )));
+        }
+    };
     let defaults = AnnealSettings::default();
     let anneal = AnnealSettings {
         seed,
@@ -199,6 +222,7 @@ pub fn fit_settings(
     anneal.validate().map_err(errors::train)?;
     Ok(FitSettings {
         anneal,
+        objective,
         ..FitSettings::default()
     })
 }
@@ -365,14 +389,16 @@ fn unreachable_window() -> kinergy_train::Result<Vec<CapturedReach>> {
 /// reach fitted on its own, anchored to the person's vector; one arm). arm: "right", "left" or
 /// "auto". select: "main" (default), "all" or a segment number; frames: (start, end) instead.
 /// seed, budget, population, temperature, stable_change, stable_window: the annealer's
-/// settings (CLI defaults). refine: evaluations of a local refinement after the annealing.
+/// settings (CLI defaults). objective: "positions" (the paper's distance) or
+/// "positions+speed" (plus `speed_weight` seconds × the hand's RMS speed error, default
+/// 0.05). refine: evaluations of a local refinement after the annealing.
 /// threads: worker threads (default: all cores; the result does not depend on it).
 /// progress: called after every annealing iteration with a dict (model, stage, stages,
 /// iteration, evaluations, max_evaluations, best_m, mean_m, temperature); an exception it
 /// raises stops the fit and is raised here. The GIL is released while fitting; Ctrl-C raises
 /// KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, field = false, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, refine = None, threads = None, progress = None, unit = "auto", up = "auto", positions = "auto"))]
+#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, field = false, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, objective = "positions", speed_weight = None, refine = None, threads = None, progress = None, unit = "auto", up = "auto", positions = "auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,
@@ -395,6 +421,8 @@ pub fn fit<'py>(
     temperature: Option<f64>,
     stable_change: Option<f64>,
     stable_window: Option<usize>,
+    objective: &str,
+    speed_weight: Option<f64>,
     refine: Option<usize>,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
@@ -429,6 +457,8 @@ pub fn fit<'py>(
         temperature,
         stable_change,
         stable_window,
+        objective,
+        speed_weight,
     )?;
     if let Some(n) = refine
         && !(1..=10_000_000).contains(&n)

@@ -60,6 +60,56 @@ pub struct FitRecord {
     /// Every model of a nested fit, poorest first (the last is the file's model).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nested: Option<Vec<StageScore>>,
+    /// What the fit minimized when not the paper's joint-position distance alone (absent:
+    /// the distance). With [`FitObjective::PositionsSpeed`] every score and distance of the
+    /// record is that objective's value, meters.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objective: Option<FitObjective>,
+}
+
+/// What a fit minimizes (`kinergy fit --objective`).
+///
+/// `positions` — the paper's mean joint-position distance between the synthesized and the
+/// captured arm, meters. `positions+speed` — that distance plus `speed_weight_s` times the
+/// root-mean-square difference of the hand's speed (world, central differences, over the
+/// captured frames), m/s × s = meters: a weight of 0.05 s charges 0.1 m/s of speed error as
+/// 5 mm of distance.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(tag = "kind", deny_unknown_fields)]
+pub enum FitObjective {
+    /// The joint-position distance alone (the paper's metric).
+    #[default]
+    #[serde(rename = "positions")]
+    Positions,
+    /// The distance plus the weighted hand-speed error.
+    #[serde(rename = "positions+speed")]
+    PositionsSpeed {
+        /// Seconds: meters of distance per m/s of RMS hand-speed error.
+        speed_weight_s: f64,
+    },
+}
+
+impl FitObjective {
+    /// The weight of the hand-speed term, seconds (0 for [`FitObjective::Positions`]).
+    pub fn speed_weight(self) -> f64 {
+        match self {
+            FitObjective::Positions => 0.0,
+            FitObjective::PositionsSpeed { speed_weight_s } => speed_weight_s,
+        }
+    }
+
+    /// The record's `objective`: `None` for the paper's metric (files as before).
+    pub fn recorded(self) -> Option<FitObjective> {
+        (self != FitObjective::Positions).then_some(self)
+    }
+
+    /// `positions` or `positions+speed`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FitObjective::Positions => "positions",
+            FitObjective::PositionsSpeed { .. } => "positions+speed",
+        }
+    }
 }
 
 impl FitRecord {
@@ -413,6 +463,7 @@ mod tests {
         let bare = FitRecord {
             per: None,
             nested: None,
+            objective: None,
             ..record
         };
         let text = serde_json::to_string(&bare).expect("json");

@@ -11,10 +11,10 @@
 use std::ops::Range;
 
 use kinergy_motion::nalgebra::Point3;
-use kinergy_motion::{ArmJoints, Clip, Trajectory, frame_distance, motion_distance};
+use kinergy_motion::{ArmJoints, Clip, Trajectory, frame_distance, motion_distance, speed_series};
 use kinergy_solver::{
-    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FittedArm, Optimizer,
-    ReachTempo, Smoothing, StopReason, Synergy, Synthesis, Task,
+    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FitObjective, FittedArm,
+    Optimizer, ReachTempo, Smoothing, StopReason, Synergy, Synthesis, Task,
 };
 
 use crate::error::{Result, TrainError};
@@ -327,10 +327,57 @@ impl CapturedReach {
         Ok(if d.is_finite() { d } else { f64::MAX })
     }
 
+    /// The hand's speed error of `synthesis`, m/s: the root-mean-square difference of the
+    /// synthesized and the captured hand speed (world, [`speed_series`]'s central
+    /// differences) over the captured frames (a synthesis that ran on is compared on those;
+    /// one that stopped earlier holds its last frame).
+    pub fn speed_error(&self, synthesis: &Synthesis) -> Result<f64> {
+        let synthesized = self.arm.synthesized_trajectory(synthesis)?;
+        let hand = self.captured.joint_count() - 1;
+        let n = self.captured.frame_count();
+        let captured = speed_series(&self.captured.path(hand), self.frame_time);
+        let mut path = synthesized.path(hand);
+        if let Some(&last) = path.last() {
+            path.resize(n.max(path.len()), last);
+        }
+        path.truncate(n);
+        let made = speed_series(&path, synthesized.frame_time());
+        let sum: f64 = captured
+            .iter()
+            .zip(&made)
+            .map(|(a, b)| (a - b).powi(2))
+            .sum();
+        Ok((sum / n.max(1) as f64).sqrt())
+    }
+
+    /// What a fit minimizing `objective` charges `synthesis`: its [distance](Self::distance),
+    /// plus the weighted [speed error](Self::speed_error) for
+    /// [`FitObjective::PositionsSpeed`].
+    pub fn score(&self, synthesis: &Synthesis, objective: FitObjective) -> Result<f64> {
+        let d = self.distance(synthesis)?;
+        let w = objective.speed_weight();
+        if w == 0.0 || d == f64::MAX {
+            return Ok(d);
+        }
+        let total = d + w * self.speed_error(synthesis)?;
+        Ok(if total.is_finite() { total } else { f64::MAX })
+    }
+
     /// Synthesizes and scores in one go.
     pub fn evaluate(&self, optimizer: Optimizer, synergy: Synergy, tolerance: f64) -> Result<f64> {
+        self.evaluate_for(optimizer, synergy, tolerance, FitObjective::Positions)
+    }
+
+    /// [`CapturedReach::evaluate`] scored for `objective` ([`CapturedReach::score`]).
+    pub fn evaluate_for(
+        &self,
+        optimizer: Optimizer,
+        synergy: Synergy,
+        tolerance: f64,
+        objective: FitObjective,
+    ) -> Result<f64> {
         let synthesis = self.synthesize(optimizer, synergy, tolerance)?;
-        self.distance(&synthesis)
+        self.score(&synthesis, objective)
     }
 
     /// [`CapturedReach::evaluate`] for a caller that needs the distance only where it is at
@@ -347,11 +394,30 @@ impl CapturedReach {
         tolerance: f64,
         limit: f64,
     ) -> Result<f64> {
+        self.evaluate_within_for(
+            optimizer,
+            synergy,
+            tolerance,
+            FitObjective::Positions,
+            limit,
+        )
+    }
+
+    /// [`CapturedReach::evaluate_within`] scored for `objective`: the speed term being ≥ 0,
+    /// the distance's running lower bound is the score's too.
+    pub fn evaluate_within_for(
+        &self,
+        optimizer: Optimizer,
+        synergy: Synergy,
+        tolerance: f64,
+        objective: FitObjective,
+        limit: f64,
+    ) -> Result<f64> {
         let captured = &self.captured;
         if !limit.is_finite()
             || (captured.frame_time() - self.frame_time).abs() > 1e-9 * self.frame_time
         {
-            return self.evaluate(optimizer, synergy, tolerance);
+            return self.evaluate_for(optimizer, synergy, tolerance, objective);
         }
         let controller = Controller::new(optimizer, synergy, self.settings(tolerance))?;
         let frames = captured.frame_count();
@@ -371,7 +437,7 @@ impl CapturedReach {
             bound <= limit
         })?;
         match synthesis {
-            Some(synthesis) => self.distance(&synthesis),
+            Some(synthesis) => self.score(&synthesis, objective),
             None => Ok(bound),
         }
     }

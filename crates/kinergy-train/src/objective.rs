@@ -3,7 +3,7 @@
 
 use rayon::prelude::*;
 
-use kinergy_solver::{Optimizer, ParamSpace, Synergy};
+use kinergy_solver::{FitObjective, Optimizer, ParamSpace, Synergy};
 
 use crate::captured::{CapturedReach, DEFAULT_TOLERANCE};
 use crate::error::{Result, TrainError, require};
@@ -64,13 +64,15 @@ pub fn checked_bounds(cost: &dyn CostFunction, start: &[f64]) -> Result<(Vec<f64
 }
 
 /// The mean motion distance over `reaches` of the motions synthesized with a parameter
-/// vector of `space` and `optimizer`.
+/// vector of `space` and `optimizer` — with [`FitObjective::PositionsSpeed`], each reach's
+/// distance plus its weighted hand-speed error ([`CapturedReach::score`]).
 #[derive(Debug, Clone)]
 pub struct Objective {
     reaches: Vec<CapturedReach>,
     space: ParamSpace,
     optimizer: Optimizer,
     tolerance: f64,
+    kind: FitObjective,
 }
 
 impl Objective {
@@ -100,7 +102,26 @@ impl Objective {
             space,
             optimizer,
             tolerance: DEFAULT_TOLERANCE,
+            kind: FitObjective::Positions,
         })
+    }
+
+    /// The same objective minimizing `kind` (a speed weight finite and ≥ 0, else a
+    /// `speed_weight` error).
+    pub fn with_kind(mut self, kind: FitObjective) -> Result<Objective> {
+        let w = kind.speed_weight();
+        require(
+            w.is_finite() && w >= 0.0,
+            "speed_weight",
+            "a number of seconds ≥ 0",
+        )?;
+        self.kind = kind;
+        Ok(self)
+    }
+
+    /// What it minimizes.
+    pub fn kind(&self) -> FitObjective {
+        self.kind
     }
 
     /// The same objective with ε = `tolerance` (meters, positive).
@@ -140,7 +161,7 @@ impl Objective {
         let synergy = Synergy::new(&self.space, x)?;
         self.reaches
             .par_iter()
-            .map(|r| r.evaluate(self.optimizer, synergy.clone(), self.tolerance))
+            .map(|r| r.evaluate_for(self.optimizer, synergy.clone(), self.tolerance, self.kind))
             .collect()
     }
 
@@ -160,7 +181,15 @@ impl Objective {
         let d = self
             .reaches
             .par_iter()
-            .map(|r| r.evaluate_within(self.optimizer, synergy.clone(), self.tolerance, each))
+            .map(|r| {
+                r.evaluate_within_for(
+                    self.optimizer,
+                    synergy.clone(),
+                    self.tolerance,
+                    self.kind,
+                    each,
+                )
+            })
             .collect::<Result<Vec<f64>>>()?;
         Ok(Objective::mean(&d))
     }

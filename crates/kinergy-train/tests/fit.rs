@@ -531,3 +531,112 @@ fn a_pick_up_s_synthesis_keeps_up_with_the_bending_trunk() {
         );
     }
 }
+
+/// The speed term of `--objective positions+speed`: the RMS difference of the hand's world
+/// speed (central differences) over the captured frames, computed here from the two
+/// trajectories by hand; the score is the distance plus the weight times it.
+#[test]
+fn the_speed_term_is_the_rms_hand_speed_difference_over_the_captured_frames() {
+    use kinergy_solver::FitObjective;
+
+    let (_, _, space, reach) = synthetic_capture(&TRUTH, 150);
+    let optimizer = OptimizerKind::Svd.default_optimizer();
+    let tolerance = kinergy_train::captured::DEFAULT_TOLERANCE;
+    let speed = |path: &[kinergy_motion::nalgebra::Point3<f64>], dt: f64, k: usize| {
+        let (a, b) = (k.saturating_sub(1), (k + 1).min(path.len() - 1));
+        (path[b] - path[a]).norm() / ((b - a) as f64 * dt)
+    };
+    let mut errors = Vec::new();
+    for x in [TRUTH.to_vec(), space.neutral()] {
+        let synergy = Synergy::new(&space, &x).expect("synergy");
+        let synthesis = reach
+            .synthesize(optimizer, synergy.clone(), tolerance)
+            .expect("synthesis");
+        let captured = reach.captured();
+        let made = reach
+            .arm()
+            .synthesized_trajectory(&synthesis)
+            .expect("trajectory");
+        let hand = captured.joint_count() - 1;
+        let (cap, syn) = (captured.path(hand), made.path(hand));
+        let n = cap.len();
+        assert!(
+            syn.len() >= n,
+            "a synthesis runs at least the capture's frames"
+        );
+        let syn = &syn[..n];
+        let dt = reach.frame_time();
+        let by_hand = ((0..n)
+            .map(|k| (speed(&cap, dt, k) - speed(syn, dt, k)).powi(2))
+            .sum::<f64>()
+            / n as f64)
+            .sqrt();
+        let e = reach.speed_error(&synthesis).expect("speed error");
+        assert!(
+            (e - by_hand).abs() <= 1e-12 * by_hand.max(1.0),
+            "{e} against {by_hand}"
+        );
+        let d = reach.distance(&synthesis).expect("distance");
+        for w in [0.0, 0.05, 0.3] {
+            let kind = FitObjective::PositionsSpeed { speed_weight_s: w };
+            let s = reach.score(&synthesis, kind).expect("score");
+            assert!((s - (d + w * e)).abs() <= 1e-15 * s.max(1.0), "w {w}: {s}");
+            let evaluated = reach
+                .evaluate_for(optimizer, synergy.clone(), tolerance, kind)
+                .expect("evaluate");
+            assert_eq!(evaluated.to_bits(), s.to_bits(), "w {w}");
+        }
+        errors.push(e);
+    }
+    // The truth retraces its own motion; the neutral vector moves the hand otherwise.
+    eprintln!(
+        "speed error of the truth {:e} m/s, of the neutral vector {} m/s",
+        errors[0], errors[1]
+    );
+    assert!(
+        errors[0] < 5e-3 && errors[1] > 20.0 * errors[0].max(1e-3),
+        "{errors:?}"
+    );
+}
+
+/// The abandonment contract of `score_within` holds with the speed term (the distance's
+/// running bound is the score's too): the score to the bit at or above it, a lower bound
+/// above the limit below it.
+#[test]
+fn a_score_within_a_limit_holds_with_the_speed_term() {
+    use kinergy_solver::FitObjective;
+
+    let objective = two_reach_objective()
+        .with_kind(FitObjective::PositionsSpeed {
+            speed_weight_s: 0.05,
+        })
+        .expect("objective");
+    let plain = two_reach_objective();
+    let mut x = objective.space().neutral();
+    x[0] = 0.4;
+    x[3] = 2.5;
+    let score = objective.score(&x).expect("score");
+    assert!(
+        score > plain.score(&x).expect("distance"),
+        "the speed term adds"
+    );
+    for limit in [score, score * 1.5, f64::INFINITY] {
+        let within = objective.score_within(&x, limit).expect("within");
+        assert_eq!(within.to_bits(), score.to_bits(), "limit {limit}");
+    }
+    for share in [0.0, 0.3, 0.9, 0.999] {
+        let limit = score * share;
+        let within = objective.score_within(&x, limit).expect("within");
+        assert!(
+            within > limit && within <= score,
+            "limit {limit}: {within} (score {score})"
+        );
+    }
+    assert!(
+        two_reach_objective()
+            .with_kind(FitObjective::PositionsSpeed {
+                speed_weight_s: f64::NAN
+            })
+            .is_err()
+    );
+}

@@ -8,6 +8,7 @@ use kinergy_motion::{
     ArmJoints, Clip, ImportOptions, ImportReport, MotionError, PositionReadingChoice, Side,
     UnitChoice,
 };
+use kinergy_solver::FitObjective;
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::fit::FitSettings;
 
@@ -219,6 +220,29 @@ pub struct SearchArgs {
     /// Iterations over which `--stable-change` is measured, 1 to 100000.
     #[arg(long, default_value_t = AnnealSettings::default().stable_window, value_name = "N")]
     pub stable_window: usize,
+    /// What the fit minimizes: `positions` (the paper's mean joint-position distance) or
+    /// `positions+speed` (plus `--speed-weight` × the RMS error of the hand's speed over the
+    /// captured frames; the README's "Fitting a person's synergy parameters" measures it).
+    #[arg(long, value_enum, default_value_t = ObjectiveArg::Positions, value_name = "KIND")]
+    pub objective: ObjectiveArg,
+    /// With `--objective positions+speed`: meters of distance per m/s of RMS hand-speed error
+    /// (seconds), 0 to 10.
+    #[arg(long, default_value_t = DEFAULT_SPEED_WEIGHT, value_name = "S")]
+    pub speed_weight: f64,
+}
+
+/// The weight of the hand-speed term by default, seconds: 0.1 m/s of RMS speed error costs
+/// as much as 5 mm of mean joint distance.
+pub const DEFAULT_SPEED_WEIGHT: f64 = 0.05;
+
+/// `--objective`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ObjectiveArg {
+    /// The paper's joint-position distance.
+    Positions,
+    /// The distance plus the weighted hand-speed error.
+    #[value(name = "positions+speed")]
+    PositionsSpeed,
 }
 
 impl SearchArgs {
@@ -230,6 +254,7 @@ impl SearchArgs {
         check_range("--temperature", self.temperature, limits::TEMPERATURE)?;
         check_range("--stable-change", self.stable_change, limits::STABLE_CHANGE)?;
         check_range("--stable-window", self.stable_window, limits::STABLE_WINDOW)?;
+        check_range("--speed-weight", self.speed_weight, limits::SPEED_WEIGHT)?;
         if self.budget < self.population {
             return Err(Failure::Input(format!(
                 "--budget {}: at least --population ({}), the evaluations of the first \
@@ -251,6 +276,12 @@ impl SearchArgs {
                 stable_tolerance: self.stable_change,
                 stable_window: self.stable_window,
                 ..AnnealSettings::default()
+            },
+            objective: match self.objective {
+                ObjectiveArg::Positions => FitObjective::Positions,
+                ObjectiveArg::PositionsSpeed => FitObjective::PositionsSpeed {
+                    speed_weight_s: self.speed_weight,
+                },
             },
             ..FitSettings::default()
         }

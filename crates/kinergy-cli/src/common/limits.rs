@@ -67,6 +67,8 @@ pub const TEMPERATURE: (f64, f64) = (0.0, 1e6);
 pub const STABLE_CHANGE: (f64, f64) = (0.0, 1.0);
 /// `--stable-window` (fit, compare): iterations.
 pub const STABLE_WINDOW: (usize, usize) = (1, 100_000);
+/// `--speed-weight`, seconds of distance per m/s of hand-speed error.
+pub const SPEED_WEIGHT: (f64, f64) = (0.0, 10.0);
 /// `fit --checkpoint-every`, iterations.
 pub const CHECKPOINT_EVERY: (usize, usize) = (1, 1_000_000);
 /// `compare --holdout`, takes per person.

@@ -264,7 +264,6 @@ fn markdown(
     settings: &HoldoutSettings,
 ) -> String {
     let mm = |v: f64| format!("{:.2}", v * 1e3);
-    let anneal = &settings.fit.anneal;
     let persons = summary.persons.len();
     let mut md = String::new();
     md.push_str("# Per person, on held-out takes\n\n");
@@ -275,7 +274,7 @@ fn markdown(
         settings.holdout,
         if settings.holdout == 1 { "" } else { "s" },
         settings.optimizer.name().to_uppercase(),
-        super::search_line(anneal),
+        super::search_line(&settings.fit),
         report.seconds
     ));
     let models: Vec<Model> = summary

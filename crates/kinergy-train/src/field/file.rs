@@ -322,6 +322,7 @@ impl FieldFile {
             reaches: self.reaches.clone(),
             per: Some(FitGrouping::Person),
             nested: None,
+            objective: None,
         }
     }
 

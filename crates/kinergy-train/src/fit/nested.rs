@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use kinergy_solver::{Bounds, FitGrouping, Model, Optimizer, ParamsFile, StageScore};
+use kinergy_solver::{Bounds, FitGrouping, FitObjective, Model, Optimizer, ParamsFile, StageScore};
 use serde::{Deserialize, Serialize};
 
 use super::single::{Fit, FitSettings, run_stage};
@@ -81,6 +81,9 @@ pub struct FitProblem {
     pub tolerance: f64,
     /// Parameter bounds.
     pub bounds: Bounds,
+    /// What the fit minimizes (absent in checkpoints of the paper's metric, as before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objective: Option<FitObjective>,
 }
 
 impl FitProblem {
@@ -93,6 +96,7 @@ impl FitProblem {
             ("anneal", self.anneal != other.anneal),
             ("tolerance", self.tolerance != other.tolerance),
             ("bounds", self.bounds != other.bounds),
+            ("objective", self.objective != other.objective),
         ]
         .into_iter()
         .filter(|&(_, differs)| differs)
@@ -173,6 +177,7 @@ impl Stage {
             seed: self.seed,
             frames_synthesized: self.evaluations * objective.frames_per_evaluation(),
             refinement: None,
+            objective: objective.kind(),
         })
     }
 }
@@ -346,6 +351,7 @@ impl NestedRun<'_> {
             anneal: self.settings.anneal,
             tolerance: self.settings.tolerance,
             bounds: self.settings.bounds,
+            objective: self.settings.objective.recorded(),
         }
     }
 

@@ -2,7 +2,8 @@
 //! running it ([`fit_model`]) and what it gives ([`Fit`]). See the [parent module](super).
 
 use kinergy_solver::{
-    Bounds, FitMethod, FitRecord, FittedReach, Model, Optimizer, ParamSpace, ParamsFile,
+    Bounds, FitMethod, FitObjective, FitRecord, FittedReach, Model, Optimizer, ParamSpace,
+    ParamsFile,
 };
 
 use super::refine::{RefineSettings, Refinement, refine_until};
@@ -21,6 +22,9 @@ pub struct FitSettings {
     pub tolerance: f64,
     /// Parameter bounds.
     pub bounds: Bounds,
+    /// What the fit minimizes: the paper's joint-position distance (the default), or that
+    /// plus the weighted hand-speed error ([`FitObjective`]).
+    pub objective: FitObjective,
 }
 
 impl Default for FitSettings {
@@ -29,6 +33,7 @@ impl Default for FitSettings {
             anneal: AnnealSettings::default(),
             tolerance: DEFAULT_TOLERANCE,
             bounds: Bounds::default(),
+            objective: FitObjective::Positions,
         }
     }
 }
@@ -45,7 +50,7 @@ impl FitSettings {
 
     /// The objective of `model` on `reaches` (at least one) with `optimizer`: the parameter
     /// space of the first reach's DoFs within [`FitSettings::bounds`], ε =
-    /// [`FitSettings::tolerance`].
+    /// [`FitSettings::tolerance`], minimizing [`FitSettings::objective`].
     pub fn objective(
         &self,
         reaches: &[CapturedReach],
@@ -54,7 +59,9 @@ impl FitSettings {
     ) -> Result<Objective> {
         require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
         let space = ParamSpace::new(model, &reaches[0].dof_names(), self.bounds)?;
-        Objective::new(reaches.to_vec(), space, optimizer)?.with_tolerance(self.tolerance)
+        Objective::new(reaches.to_vec(), space, optimizer)?
+            .with_tolerance(self.tolerance)?
+            .with_kind(self.objective)
     }
 }
 
@@ -100,6 +107,8 @@ pub struct Fit {
     /// The local refinement that followed the annealing ([`Fit::refined`]), if any: its
     /// evaluations are counted in `evaluations`, its result is `values`.
     pub refinement: Option<Refinement>,
+    /// What the fit minimized (its score and distances are that objective's values).
+    pub objective: FitObjective,
 }
 
 impl Fit {
@@ -170,6 +179,7 @@ impl Fit {
                 .collect(),
             per: None,
             nested: None,
+            objective: self.objective.recorded(),
         }
     }
 
@@ -238,6 +248,7 @@ pub(super) fn run_stage(
     };
     let state = annealer.run(objective, state, observer, control)?;
     Ok(Fit {
+        objective: objective.kind(),
         distances: objective.distances(&state.best_x)?,
         space: objective.space().clone(),
         optimizer: objective.optimizer(),
