@@ -6,14 +6,14 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use kinergy_solver::{BaseMode, Model, OptimizerKind};
+use kinergy_solver::{Model, OptimizerKind};
 use kinergy_train::experiment::{ExperimentSettings, Results, run_until};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::clip::{DEFAULT_INPUT_MB, import_options, parse};
+use crate::clip::parse;
 use crate::errors;
-use crate::verbs::{clip_list, fit_settings, load_reaches, selection_arg, thread_pool};
+use crate::verbs::{ReachSource, fit_settings, thread_pool};
 
 /// The paper's experiments on captures, as `kinergy compare` runs them: per reach, the models
 /// fitted nested with `optimizer` (Fig. 3), S_A and S_C with each of `optimizers` (Fig. 4),
@@ -86,24 +86,17 @@ pub fn compare<'py>(
         )?,
     };
     let pool = thread_pool(threads)?;
-    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
-    let clips = clip_list(clips, segments.is_some())?;
-    let mode = if fixed_base {
-        BaseMode::Fixed
-    } else {
-        BaseMode::Replay
-    };
-    let reaches = load_reaches(
-        py,
-        &clips,
+    let reaches = ReachSource {
+        clips,
         segments,
         arm,
         chain,
-        selection_arg(select)?,
+        select,
         frames,
-        mode,
-        &options,
-    )?;
+        fixed_base,
+        reading: (unit, up, positions),
+    }
+    .load(py)?;
     let total = reaches.len();
     let done = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);

@@ -227,9 +227,55 @@ pub fn fit_settings(
     })
 }
 
+/// Where `fit` and `compare` take their reaches from: their keyword arguments of the
+/// captures, the segments file, the arm, the frames and the reading.
+pub struct ReachSource<'a, 'py> {
+    /// One path or Clip, or a list of them (none only with `segments`).
+    pub clips: Option<&'a Bound<'py, PyAny>>,
+    /// A segments file.
+    pub segments: Option<PathBuf>,
+    /// "right", "left" or "auto".
+    pub arm: &'a str,
+    /// The arm's joints by name.
+    pub chain: Option<Vec<String>>,
+    /// "main", "all" or a segment number.
+    pub select: Option<&'a Bound<'py, PyAny>>,
+    /// One window (start, end) for every clip.
+    pub frames: Option<(usize, usize)>,
+    /// Keep the shoulder where it is on the reach's first frame.
+    pub fixed_base: bool,
+    /// unit, up, positions of the reading.
+    pub reading: (&'a str, &'a str, &'a str),
+}
+
+impl ReachSource<'_, '_> {
+    /// The reaches, read and cut as the CLI reads and cuts them.
+    pub fn load(self, py: Python<'_>) -> PyResult<Vec<CapturedReach>> {
+        let (unit, up, positions) = self.reading;
+        let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+        let clips = clip_list(self.clips, self.segments.is_some())?;
+        let mode = if self.fixed_base {
+            BaseMode::Fixed
+        } else {
+            BaseMode::Replay
+        };
+        load_reaches(
+            py,
+            &clips,
+            self.segments,
+            self.arm,
+            self.chain,
+            selection_arg(self.select)?,
+            self.frames,
+            mode,
+            &options,
+        )
+    }
+}
+
 /// The reaches of `clips` (paths, folders or Clips), or of a segments file's rows.
 #[allow(clippy::too_many_arguments)]
-pub fn load_reaches(
+fn load_reaches(
     py: Python<'_>,
     clips: &[Bound<'_, PyAny>],
     segments: Option<PathBuf>,
@@ -465,24 +511,17 @@ pub fn fit<'py>(
     {
         return Err(errors::input(format!("refine={n}: expected 1 to 10000000")));
     }
-    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
-    let clips = clip_list(clips, segments.is_some())?;
-    let mode = if fixed_base {
-        BaseMode::Fixed
-    } else {
-        BaseMode::Replay
-    };
-    let reaches = load_reaches(
-        py,
-        &clips,
+    let reaches = ReachSource {
+        clips,
         segments,
         arm,
         chain,
-        selection_arg(select)?,
+        select,
         frames,
-        mode,
-        &options,
-    )?;
+        fixed_base,
+        reading: (unit, up, positions),
+    }
+    .load(py)?;
     let reaches: Vec<CapturedReach> = reaches
         .into_iter()
         .map(|r| if paper { r.with_paper_controller() } else { r })
