@@ -38,6 +38,7 @@ fn to_python<'py, T: serde::Serialize>(py: Python<'py>, value: &T) -> PyResult<B
 /// Returns a dict: `summary` (means over the captures), `rows` (one dict per capture:
 /// correlations, peak times, arm paths, as `style.csv`), and with `motions=True` also
 /// `motions`, one dict per capture with the two full-body Clips (`params`, `profile`).
+/// Ctrl-C stops it between captures (KeyboardInterrupt).
 #[pyfunction]
 #[pyo3(signature = (clips, params, *, arm = "right", chain = None, motions = false, unit = "auto", up = "auto", positions = "auto"))]
 #[allow(clippy::too_many_arguments)]
@@ -56,9 +57,10 @@ pub fn style<'py>(
     let side = parse::<Side>("arm", arm)?;
     let person = params_arg(params)?;
     let paths = capture_files(&clips).map_err(errors::train)?;
-    let runs = py.detach(|| -> Result<Vec<_>, PyErr> {
-        let mut runs = Vec::with_capacity(paths.len());
-        for path in &paths {
+    // One capture at a time with the GIL released, Ctrl-C checked between them.
+    let mut runs = Vec::with_capacity(paths.len());
+    for path in &paths {
+        let run = py.detach(|| -> PyResult<_> {
             let (clip, _) = kinergy_motion::read_clip(path, &options).map_err(errors::motion)?;
             let joints = kinergy_train::source::ArmChoice {
                 side,
@@ -70,10 +72,11 @@ pub fn style<'py>(
             let capture = StyleCapture::new(&clip, &joints, &name)
                 .map_err(|e| errors::input(format!("{name}: {e}")))?;
             let run = capture.compare(side, &person).map_err(errors::reach)?;
-            runs.push((capture, run));
-        }
-        Ok(runs)
-    })?;
+            Ok((capture, run))
+        })?;
+        runs.push(run);
+        py.check_signals()?;
+    }
     let rows: Vec<_> = runs.iter().map(|(_, run)| run.row.clone()).collect();
     let out = PyDict::new(py);
     out.set_item("summary", to_python(py, &StyleSummary::of(&rows))?)?;
