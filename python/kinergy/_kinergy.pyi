@@ -83,6 +83,8 @@ class Clip:
     def values(self) -> npt.NDArray[np.float64]:
         """The pose values as read (radians, meters in the file's frame), (frames, dofs)."""
     def __len__(self) -> int: ...
+    def with_values(self, values: npt.ArrayLike, *, frame_time: float | None = None) -> Clip:
+        """The same skeleton with other pose values (frames, dofs), e.g. `values` edited."""
     def slice(self, start: int, end: int) -> Clip:
         """Frames `start..end` (end excluded) as a new clip."""
     def write_bvh(

@@ -162,3 +162,57 @@ def test_reading_a_clip_many_times_does_not_grow_memory():
         del clip
     grown = rss() - before
     assert grown < 16 * 2**20, f"RSS grew by {grown / 2**20:.1f} MiB over 1,000 reads"
+
+
+def test_values_edited_in_numpy_write_back_exactly(cli, tmp_path):
+    clip = kinergy.read_bvh(ROOT / CMU)
+    same = clip.with_values(clip.values)
+    assert same.to_bvh() == clip.to_bvh()
+    # Doubling the frame rate by interpolating in numpy, written and read back.
+    v = clip.values
+    mid = 0.5 * (v[:-1] + v[1:])
+    dense = np.empty((2 * len(v) - 1, v.shape[1]))
+    dense[0::2], dense[1::2] = v, mid
+    faster = clip.with_values(dense, frame_time=clip.frame_time / 2)
+    faster.write_bvh(tmp_path / "dense.bvh")
+    back = kinergy.read_bvh(tmp_path / "dense.bvh", unit="cm")
+    assert len(back) == 2 * len(clip) - 1
+    assert np.abs(back.positions[0::2] - clip.positions).max() < 1e-9
+    with pytest.raises(kinergy.InputError):
+        clip.with_values(v[:, :-1].copy())
+    with pytest.raises(kinergy.InputError):
+        clip.with_values(v * np.nan)
+
+
+def test_clips_and_params_pickle_exactly():
+    import pickle
+
+    files = [ROOT / CMU, ROOT / R09] + sorted(shared("formats").glob("*.bvh"))[:1]
+    for path in files:
+        clip = kinergy.read_bvh(path)
+        back = pickle.loads(pickle.dumps(clip))
+        assert back.path == clip.path and back.joint_names == clip.joint_names
+        assert np.array_equal(back.values, clip.values)
+        assert np.array_equal(back.positions, clip.positions), path.name
+        assert back.to_bvh() == clip.to_bvh(), path.name
+    motion = kinergy.synthesize(ROOT / R09, frames="auto", check=False)
+    assert pickle.loads(pickle.dumps(motion)).report == motion.report
+    params = kinergy.Params.load(ROOT / "tests/data/params/synthetic-p01-r09-sc.json")
+    assert pickle.loads(pickle.dumps(params)).to_json() == params.to_json()
+    with pytest.raises(kinergy.InputError):
+        kinergy._kinergy._clip_from_state(([], [1.0] * 9, 0.1, b"\x00" * 7, None, None))
+
+
+def test_fits_in_worker_processes_are_the_fits_here():
+    # The labs' pattern: one clip per worker process (multiprocessing pickles the results).
+    from concurrent.futures import ProcessPoolExecutor
+
+    clips = [str(ROOT / f"data-synthetic/p01/r0{i}.bvh") for i in (1, 2, 3)]
+    here = [kinergy.fit(c, model="sb", per="clip", budget=80)[0].to_json() for c in clips]
+    with ProcessPoolExecutor(max_workers=2) as pool:
+        there = [p[0].to_json() for p in pool.map(_fit_one, clips)]
+    assert there == here
+
+
+def _fit_one(clip):
+    return kinergy.fit(clip, model="sb", per="clip", budget=80)

@@ -294,6 +294,80 @@ impl Clip {
         )
     }
 
+    /// The same skeleton with other pose values (frames, dofs) — e.g. `clip.values` edited
+    /// in numpy — and optionally another frame time: written back, every channel keeps its
+    /// joint and order, so an unedited value writes the bytes it was read as.
+    #[pyo3(signature = (values, *, frame_time = None))]
+    fn with_values(
+        &self,
+        values: PyReadonlyArray2<'_, f64>,
+        frame_time: Option<f64>,
+    ) -> PyResult<Clip> {
+        let values = values.as_array();
+        let dofs = self.inner.skeleton().dof_count();
+        if values.ncols() != dofs {
+            return Err(errors::input(format!(
+                "with_values: {} columns, the skeleton has {dofs} DoFs (see dof_names)",
+                values.ncols()
+            )));
+        }
+        let flat: Vec<f64> = values.iter().copied().collect();
+        let inner = kinergy_motion::Clip::new(
+            self.inner.skeleton().clone(),
+            frame_time.unwrap_or(self.inner.frame_time()),
+            flat,
+        )
+        .map_err(errors::motion)?;
+        Ok(Clip {
+            inner,
+            path: self.path.clone(),
+            report: None,
+        })
+    }
+
+    /// Pickling (multiprocessing, joblib): the clip's exact state — skeleton, frame time,
+    /// values as raw float64 bytes, its path and report.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (ClipState,))> {
+        let skeleton = self.inner.skeleton();
+        let joints = skeleton
+            .joints()
+            .iter()
+            .map(|j| {
+                (
+                    j.name.clone(),
+                    j.parent.map_or(-1, |p| p as i64),
+                    [j.offset.x, j.offset.y, j.offset.z],
+                    j.dofs
+                        .iter()
+                        .map(|d| d.channel_name().to_string())
+                        .collect(),
+                    j.end_site,
+                    j.position_reading.name().to_string(),
+                )
+            })
+            .collect();
+        let w = skeleton.world_from_file();
+        let world: Vec<f64> = w.matrix().iter().copied().collect();
+        let bytes: Vec<u8> = self
+            .inner
+            .values()
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        let rebuild = py.import("kinergy._kinergy")?.getattr("_clip_from_state")?;
+        Ok((
+            rebuild,
+            ((
+                joints,
+                world,
+                self.inner.frame_time(),
+                bytes,
+                self.path.clone(),
+                self.report.clone(),
+            ),),
+        ))
+    }
+
     /// Frames `start..end` (end excluded) as a new clip.
     fn slice(&self, start: usize, end: usize) -> PyResult<Clip> {
         if start >= end || end > self.inner.frame_count() {
@@ -459,6 +533,74 @@ impl Clip {
             kinergy_motion::Clip::new(skeleton, frame_time, values).map_err(errors::motion)?;
         Ok(Clip::made(inner))
     }
+}
+
+/// A joint as pickled: name, parent (-1 for the root), offset, channel names, End Site,
+/// position reading ("add" or "replace").
+type JointState = (String, i64, [f64; 3], Vec<String>, bool, String);
+
+/// A clip as pickled ([`Clip::__reduce__`]): joints, the world-from-file rotation (9 values,
+/// column-major), frame time, values (float64 little-endian bytes), path, report.
+type ClipState = (
+    Vec<JointState>,
+    Vec<f64>,
+    f64,
+    Vec<u8>,
+    Option<PathBuf>,
+    Option<String>,
+);
+
+/// Unpickles a clip ([`Clip::__reduce__`]'s state); a state that is not one is an InputError.
+#[pyfunction]
+pub fn _clip_from_state(state: ClipState) -> PyResult<Clip> {
+    let (joints, world, frame_time, bytes, path, report) = state;
+    let bad = |why: &str| errors::input(format!("not a pickled kinergy.Clip: {why}"));
+    let mut out = Vec::with_capacity(joints.len());
+    for (name, parent, offset, channels, end_site, reading) in joints {
+        let dofs = channels
+            .iter()
+            .map(|c| match c.as_str() {
+                "Xposition" => Ok(Dof::Translation(Axis::X)),
+                "Yposition" => Ok(Dof::Translation(Axis::Y)),
+                "Zposition" => Ok(Dof::Translation(Axis::Z)),
+                "Xrotation" => Ok(Dof::Rotation(Axis::X)),
+                "Yrotation" => Ok(Dof::Rotation(Axis::Y)),
+                "Zrotation" => Ok(Dof::Rotation(Axis::Z)),
+                _ => Err(bad("an unknown channel")),
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        out.push(Joint {
+            name,
+            parent: usize::try_from(parent).ok(),
+            offset: Vector3::from(offset),
+            dofs,
+            end_site,
+            position_reading: match reading.as_str() {
+                "replace" => PositionReading::ReplaceOffset,
+                _ => PositionReading::AddToOffset,
+            },
+        });
+    }
+    if world.len() != 9 || bytes.len() % 8 != 0 {
+        return Err(bad("its sizes"));
+    }
+    let rotation = Rotation3::from_matrix_unchecked(
+        kinergy_motion::nalgebra::Matrix3::from_column_slice(&world),
+    );
+    let skeleton = Skeleton::new(out)
+        .map_err(errors::motion)?
+        .with_world_from_file(rotation);
+    let values: Vec<f64> = bytes
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
+        .collect();
+    let inner = kinergy_motion::Clip::new(Arc::new(skeleton), frame_time, values)
+        .map_err(errors::motion)?;
+    Ok(Clip {
+        inner,
+        path,
+        report,
+    })
 }
 
 /// `values` as a numpy array of `shape`, handed over without a copy.

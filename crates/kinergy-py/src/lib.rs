@@ -24,9 +24,11 @@ pub mod verbs;
 /// The module: classes, functions and exceptions.
 #[pymodule]
 fn _kinergy(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    verbs::LOADED_BY.get_or_init(std::process::id);
     m.add_class::<clip::Clip>()?;
     m.add_class::<params::Params>()?;
     m.add_function(wrap_pyfunction!(clip::read_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(clip::_clip_from_state, m)?)?;
     m.add_function(wrap_pyfunction!(verbs::segment, m)?)?;
     m.add_function(wrap_pyfunction!(verbs::fit, m)?)?;
     m.add_function(wrap_pyfunction!(verbs::synthesize, m)?)?;

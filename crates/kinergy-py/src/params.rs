@@ -65,6 +65,15 @@ impl Params {
         self.json()
     }
 
+    /// Pickling (multiprocessing, joblib): the file's text, read back by `Params.from_json`.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (String,))> {
+        let from_json = py
+            .import("kinergy._kinergy")?
+            .getattr("Params")?
+            .getattr("from_json")?;
+        Ok((from_json, (self.json(),)))
+    }
+
     /// True for a field file (a vector per target).
     #[getter]
     fn is_field(&self) -> bool {

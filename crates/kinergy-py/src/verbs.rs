@@ -2,6 +2,7 @@
 //! what the `kinergy` command of the same name does, with the same defaults.
 
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 use std::sync::atomic::AtomicBool;
 
 use kinergy_motion::{ImportOptions, Side};
@@ -600,10 +601,15 @@ fn fit_field<'py>(
         .last()
         .ok_or_else(|| errors::KinergyError::new_err("no model was fitted"))?;
     let tolerance = runner.settings.tolerance;
+    let build = || {
+        FieldFile::from_fits(&reaches, &last, &FieldSettings::default())
+            .and_then(|f| f.anchored(anchor.values.clone(), &reaches, tolerance))
+    };
+    let pool = &runner.pool;
     let file = py
-        .detach(|| {
-            FieldFile::from_fits(&reaches, &last, &FieldSettings::default())
-                .and_then(|f| f.anchored(anchor.values.clone(), &reaches, tolerance))
+        .detach(|| match pool {
+            Some(pool) => pool.install(build),
+            None => build(),
         })
         .map_err(errors::train)?;
     Ok(Bound::new(
@@ -682,17 +688,28 @@ impl Runner<'_> {
     }
 }
 
-/// A rayon pool of `threads` workers, or None for the global pool (all cores).
+/// The process that loaded the module. A process forked from it (multiprocessing's default
+/// start method on Linux, after a fit here) inherits rayon's global pool without its threads:
+/// a parallel loop on it would wait forever. Such a process runs on pools of its own.
+pub static LOADED_BY: OnceLock<u32> = OnceLock::new();
+
+/// A rayon pool of `threads` workers, or None for the global pool (all cores) — in a forked
+/// process ([`LOADED_BY`]) always a pool of its own.
 pub fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
-    match threads {
-        None => Ok(None),
-        Some(n) if (1..=1024).contains(&n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map(Some)
-            .map_err(|e| errors::KinergyError::new_err(format!("threads={n}: {e}"))),
-        Some(n) => Err(errors::input(format!("threads={n}: expected 1 to 1024"))),
-    }
+    let forked = LOADED_BY
+        .get()
+        .is_some_and(|pid| *pid != std::process::id());
+    let n = match threads {
+        None if !forked => return Ok(None),
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        Some(n) if (1..=1024).contains(&n) => n,
+        Some(n) => return Err(errors::input(format!("threads={n}: expected 1 to 1024"))),
+    };
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .map(Some)
+        .map_err(|e| errors::KinergyError::new_err(format!("threads={n}: {e}")))
 }
 
 /// A synergy reach on a capture's skeleton, as `kinergy synthesize` makes it: from the
