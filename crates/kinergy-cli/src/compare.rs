@@ -138,11 +138,21 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "--models and --optimizers need at least one each".into(),
         ));
     }
+    // Ctrl-C: the reaches in progress finish, the others are not started, nothing is written.
+    ctrlc::set_handler(|| crate::fit::INTERRUPTED.store(true, std::sync::atomic::Ordering::SeqCst))
+        .map_err(|e| Failure::Task(format!("cannot watch for Ctrl-C: {e}")))?;
     let clock = Instant::now();
     let bar = Bar::counting(reaches.len() as u64, "clips");
-    let results = experiment::run(&reaches, &settings, &|| bar.inc());
+    let results =
+        experiment::run_until(&reaches, &settings, &|| bar.inc(), &crate::fit::INTERRUPTED);
     bar.finish();
-    let results = results.map_err(Failure::from)?;
+    let Some(results) = results.map_err(Failure::from)? else {
+        return Err(Failure::Task(format!(
+            "interrupted: the reaches in progress finished, the others were not fitted; nothing \
+             was written to {}",
+            args.output.display()
+        )));
+    };
     // Made once there is something to write: a failed run leaves no empty folder.
     crate::common::make_folder(&args.output)?;
     let seconds = clock.elapsed().as_secs_f64();

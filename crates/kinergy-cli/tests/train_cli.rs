@@ -906,3 +906,38 @@ fn the_speed_objective_is_recorded_and_kept_apart() {
         text(&bad.stderr)
     );
 }
+
+/// Ctrl-C stops `compare` after the reaches in progress: a failed task (exit 1) that says so,
+/// and no output folder (it used to die by the signal, saying nothing).
+#[cfg(unix)]
+#[test]
+fn an_interrupted_compare_says_so_and_writes_nothing() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("report");
+    let child = Command::new(env!("CARGO_BIN_EXE_kinergy"))
+        .current_dir(repo())
+        .args(["compare", "data-synthetic", "-o"])
+        .arg(&out)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("compare starts");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let o = child.wait_with_output().expect("compare ends");
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("interrupted"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(
+        !out.exists(),
+        "an interrupted compare wrote {}",
+        out.display()
+    );
+}
