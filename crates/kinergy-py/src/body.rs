@@ -15,11 +15,12 @@ use kinergy_plan::task::{Planner, TaskSettings};
 use kinergy_reach::character::{Character, Limb};
 use kinergy_reach::drive::PersonArm;
 use kinergy_reach::style::{StyleCapture, StyleSummary};
+use kinergy_train::limits;
 use kinergy_train::source::capture_files;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::clip::{Clip, DEFAULT_INPUT_MB, import_options, parse};
+use crate::clip::{Clip, import_options, parse};
 use crate::errors;
 use crate::verbs::params_arg;
 
@@ -53,7 +54,7 @@ pub fn style<'py>(
     up: &str,
     positions: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+    let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
     let side = parse::<Side>("arm", arm)?;
     let person = params_arg(params)?;
     let paths = capture_files(&clips).map_err(errors::train)?;
@@ -141,17 +142,9 @@ pub fn plan<'py>(
     params: Option<&Bound<'py, PyAny>>,
     budget_ms: Option<u64>,
 ) -> PyResult<Clip> {
-    if !(-2.0..=2.0).contains(&distance) {
-        return Err(errors::input(format!(
-            "distance={distance}: expected -2 to 2 m"
-        )));
-    }
-    if let Some(ms) = budget_ms
-        && !(1..=600_000).contains(&ms)
-    {
-        return Err(errors::input(format!(
-            "budget_ms={ms}: expected 1 to 600000"
-        )));
+    errors::check_range("distance", distance, limits::PLAN_DISTANCE)?;
+    if let Some(ms) = budget_ms {
+        errors::check_range("budget_ms", ms, limits::PLAN_BUDGET_MS)?;
     }
     let side = parse::<Side>("arm", arm)?;
     let scene_file = Scene::read(&scene).map_err(plan_error)?;

@@ -14,14 +14,12 @@ use kinergy_motion::{
     Axis, Dof, ExportOptions, ExportUp, ImportOptions, Joint, LengthUnit, PositionReading,
     PositionReadingChoice, Skeleton, UnitChoice, UpChoice,
 };
+use kinergy_train::limits;
 use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
 use crate::errors;
-
-/// The largest BVH file read by default, MiB (the CLI's `--max-input-mb` default).
-pub const DEFAULT_INPUT_MB: u64 = 256;
 
 /// A motion: a skeleton and one pose per frame (`kinergy.read_bvh`, `Clip.from_arrays`,
 /// `kinergy.synthesize`, `kinergy.reach`).
@@ -54,11 +52,7 @@ pub fn import_options(
     positions: &str,
     max_input_mb: u64,
 ) -> PyResult<ImportOptions> {
-    if !(1..=4096).contains(&max_input_mb) {
-        return Err(errors::input(format!(
-            "max_input_mb={max_input_mb}: expected 1 to 4096"
-        )));
-    }
+    errors::check_range("max_input_mb", max_input_mb, limits::MAX_INPUT_MB)?;
     Ok(ImportOptions {
         unit: parse::<UnitChoice>("unit", unit)?,
         position_reading: parse::<PositionReadingChoice>("positions", positions)?,
@@ -75,7 +69,7 @@ pub fn import_options(
 /// is refused while reading. Raises BvhError (with path, line and column) for a file that
 /// cannot be read.
 #[pyfunction]
-#[pyo3(signature = (path, *, unit = "auto", up = "auto", positions = "auto", max_input_mb = DEFAULT_INPUT_MB))]
+#[pyo3(signature = (path, *, unit = "auto", up = "auto", positions = "auto", max_input_mb = limits::DEFAULT_INPUT_MB))]
 pub fn read_bvh(
     py: Python<'_>,
     path: PathBuf,

@@ -128,3 +128,18 @@ pub fn reach(e: kinergy_reach::ReachError) -> PyErr {
 pub fn input(message: impl Into<String>) -> PyErr {
     InputError::new_err(message.into())
 }
+
+/// `InputError` unless `value` of the keyword argument `name` is within `range` (both ends
+/// included; NaN never is): the ranges are the CLI's ([`kinergy_train::limits`]).
+pub fn check_range<T: PartialOrd + std::fmt::Display + Copy>(
+    name: &str,
+    value: T,
+    range: (T, T),
+) -> PyResult<()> {
+    let (lo, hi) = range;
+    if lo <= value && value <= hi {
+        Ok(())
+    } else {
+        Err(input(format!("{name}={value}: expected {lo} to {hi}")))
+    }
+}

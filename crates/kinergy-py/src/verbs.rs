@@ -22,11 +22,11 @@ use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, Capture, FrameChoice, ReachFrames, capture_files, names_clip, segment_reaches,
 };
-use kinergy_train::{CapturedReach, PersonParams};
+use kinergy_train::{CapturedReach, PersonParams, limits};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::clip::{Clip, DEFAULT_INPUT_MB, import_options, parse};
+use crate::clip::{Clip, import_options, parse};
 use crate::errors;
 use crate::params::Params;
 use crate::progress::Watch;
@@ -94,7 +94,7 @@ pub fn segment<'py>(
     up: &str,
     positions: &str,
 ) -> PyResult<Bound<'py, PyList>> {
-    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+    let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
     let (clip, path) = clip_arg(py, clip, &options)?;
     let selection = selection_arg(select)?;
     let defaults = SegmentSettings::default();
@@ -171,10 +171,6 @@ pub fn selection_arg(select: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Selec
     parse::<Selection>("select", &text).map(Some)
 }
 
-/// The CLI's `--speed-weight` default, seconds (meters of distance per m/s of RMS hand-speed
-/// error).
-pub const DEFAULT_SPEED_WEIGHT: f64 = 0.05;
-
 /// The search settings of `fit`'s keyword arguments, checked as the CLI checks its flags.
 #[allow(clippy::too_many_arguments)]
 pub fn fit_settings(
@@ -187,12 +183,8 @@ pub fn fit_settings(
     objective: &str,
     speed_weight: Option<f64>,
 ) -> PyResult<FitSettings> {
-    let weight = speed_weight.unwrap_or(DEFAULT_SPEED_WEIGHT);
-    if !(0.0..=10.0).contains(&weight) {
-        return Err(errors::input(format!(
-            "speed_weight={weight}: expected 0 to 10 s"
-        )));
-    }
+    let weight = speed_weight.unwrap_or(FitObjective::DEFAULT_SPEED_WEIGHT);
+    errors::check_range("speed_weight", weight, limits::SPEED_WEIGHT)?;
     let objective = match objective {
         "positions" => FitObjective::Positions,
         "positions+speed" => FitObjective::PositionsSpeed {
@@ -253,7 +245,7 @@ impl ReachSource<'_, '_> {
     /// The reaches, read and cut as the CLI reads and cuts them.
     pub fn load(self, py: Python<'_>) -> PyResult<Vec<CapturedReach>> {
         let (unit, up, positions) = self.reading;
-        let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+        let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
         let clips = clip_list(self.clips, self.segments.is_some())?;
         let mode = if self.fixed_base {
             BaseMode::Fixed
@@ -507,10 +499,8 @@ pub fn fit<'py>(
         objective,
         speed_weight,
     )?;
-    if let Some(n) = refine
-        && !(1..=10_000_000).contains(&n)
-    {
-        return Err(errors::input(format!("refine={n}: expected 1 to 10000000")));
+    if let Some(n) = refine {
+        errors::check_range("refine", n, limits::BUDGET)?;
     }
     let reaches = ReachSource {
         clips,
@@ -702,8 +692,10 @@ pub fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>
     let n = match threads {
         None if !forked => return Ok(None),
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        Some(n) if (1..=1024).contains(&n) => n,
-        Some(n) => return Err(errors::input(format!("threads={n}: expected 1 to 1024"))),
+        Some(n) => {
+            errors::check_range("threads", n, limits::THREADS)?;
+            n
+        }
     };
     rayon::ThreadPoolBuilder::new()
         .num_threads(n)
@@ -745,17 +737,9 @@ pub fn synthesize<'py>(
     up: &str,
     positions: &str,
 ) -> PyResult<Clip> {
-    if !(1e-5..=1.0).contains(&tolerance) {
-        return Err(errors::input(format!(
-            "tolerance={tolerance}: expected 1e-5 to 1 m"
-        )));
-    }
-    if !(0.01..=60.0).contains(&max_seconds) {
-        return Err(errors::input(format!(
-            "max_seconds={max_seconds}: expected 0.01 to 60 s"
-        )));
-    }
-    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+    errors::check_range("tolerance", tolerance, limits::TOLERANCE_M)?;
+    errors::check_range("max_seconds", max_seconds, limits::SYNTHESIZE_SECONDS)?;
+    let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
     let (whole, from) = clip_arg(py, clip, &options)?;
     let person = params.map(params_arg).transpose()?;
     let record = person.as_ref().and_then(PersonParams::record);
@@ -947,23 +931,11 @@ pub fn reach<'py>(
             kinergy_train::MAX_TARGET_DISTANCE
         )));
     }
-    if !(0.5..=2.5).contains(&height) {
-        return Err(errors::input(format!(
-            "height={height}: expected 0.5 to 2.5 m"
-        )));
-    }
-    if !(0.1..=10.0).contains(&flexibility) {
-        return Err(errors::input(format!(
-            "flexibility={flexibility}: expected 0.1 to 10"
-        )));
-    }
+    errors::check_range("height", height, limits::REACH_HEIGHT)?;
+    errors::check_range("flexibility", flexibility, limits::REACH_FLEXIBILITY)?;
     let defaults = ReachSettings::default();
     let timeout = timeout.unwrap_or(defaults.timeout);
-    if !(0.1..=60.0).contains(&timeout) {
-        return Err(errors::input(format!(
-            "timeout={timeout}: expected 0.1 to 60 s"
-        )));
-    }
+    errors::check_range("timeout", timeout, limits::REACH_TIMEOUT)?;
     let proportions = match person {
         Some(p) => {
             let (clip, path) = clip_arg(py, p, &ImportOptions::default())?;
@@ -1048,12 +1020,8 @@ pub fn hand_speed<'py>(
     positions: &str,
 ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
     use numpy::IntoPyArray;
-    if !(0.0..=10.0).contains(&smoothing) {
-        return Err(errors::input(format!(
-            "smoothing={smoothing}: expected 0 to 10 s"
-        )));
-    }
-    let options = import_options(unit, up, positions, DEFAULT_INPUT_MB)?;
+    errors::check_range("smoothing", smoothing, limits::PLOT_SMOOTHING)?;
+    let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
     let (clip, path) = clip_arg(py, clip, &options)?;
     let joints = arm_joints(&clip, &path, parse::<Side>("arm", arm)?, chain)?;
     let settings = SegmentSettings {

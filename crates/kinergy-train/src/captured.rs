@@ -323,7 +323,12 @@ impl CapturedReach {
         if synthesis.stop == StopReason::NonFinite {
             return Ok(f64::MAX);
         }
-        let d = motion_distance(&self.arm.synthesized_trajectory(synthesis)?, &self.captured)?;
+        self.distance_of(&self.arm.synthesized_trajectory(synthesis)?)
+    }
+
+    /// [`CapturedReach::distance`] of a synthesized trajectory.
+    fn distance_of(&self, synthesized: &Trajectory) -> Result<f64> {
+        let d = motion_distance(synthesized, &self.captured)?;
         Ok(if d.is_finite() { d } else { f64::MAX })
     }
 
@@ -332,7 +337,11 @@ impl CapturedReach {
     /// differences) over the captured frames (a synthesis that ran on is compared on those;
     /// one that stopped earlier holds its last frame).
     pub fn speed_error(&self, synthesis: &Synthesis) -> Result<f64> {
-        let synthesized = self.arm.synthesized_trajectory(synthesis)?;
+        Ok(self.speed_error_of(&self.arm.synthesized_trajectory(synthesis)?))
+    }
+
+    /// [`CapturedReach::speed_error`] of a synthesized trajectory.
+    fn speed_error_of(&self, synthesized: &Trajectory) -> f64 {
         let hand = self.captured.joint_count() - 1;
         let n = self.captured.frame_count();
         let captured = speed_series(&self.captured.path(hand), self.frame_time);
@@ -347,19 +356,24 @@ impl CapturedReach {
             .zip(&made)
             .map(|(a, b)| (a - b).powi(2))
             .sum();
-        Ok((sum / n.max(1) as f64).sqrt())
+        (sum / n.max(1) as f64).sqrt()
     }
 
     /// What a fit minimizing `objective` charges `synthesis`: its [distance](Self::distance),
     /// plus the weighted [speed error](Self::speed_error) for
     /// [`FitObjective::PositionsSpeed`].
     pub fn score(&self, synthesis: &Synthesis, objective: FitObjective) -> Result<f64> {
-        let d = self.distance(synthesis)?;
         let w = objective.speed_weight();
-        if w == 0.0 || d == f64::MAX {
+        if w == 0.0 || synthesis.stop == StopReason::NonFinite {
+            return self.distance(synthesis);
+        }
+        // One synthesized trajectory for both terms.
+        let synthesized = self.arm.synthesized_trajectory(synthesis)?;
+        let d = self.distance_of(&synthesized)?;
+        if d == f64::MAX {
             return Ok(d);
         }
-        let total = d + w * self.speed_error(synthesis)?;
+        let total = d + w * self.speed_error_of(&synthesized);
         Ok(if total.is_finite() { total } else { f64::MAX })
     }
 

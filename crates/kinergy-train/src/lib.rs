@@ -32,6 +32,7 @@ pub mod experiment;
 pub mod field;
 pub mod fit;
 pub mod library;
+pub mod limits;
 pub mod objective;
 pub mod person;
 pub mod segments_file;

@@ -227,13 +227,9 @@ pub struct SearchArgs {
     pub objective: ObjectiveArg,
     /// With `--objective positions+speed`: meters of distance per m/s of RMS hand-speed error
     /// (seconds), 0 to 10.
-    #[arg(long, default_value_t = DEFAULT_SPEED_WEIGHT, value_name = "S")]
+    #[arg(long, default_value_t = FitObjective::DEFAULT_SPEED_WEIGHT, value_name = "S")]
     pub speed_weight: f64,
 }
-
-/// The weight of the hand-speed term by default, seconds: 0.1 m/s of RMS speed error costs
-/// as much as 5 mm of mean joint distance.
-pub const DEFAULT_SPEED_WEIGHT: f64 = 0.05;
 
 /// `--objective`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

@@ -1,78 +1,13 @@
-//! The ranges of every rate, duration, size and count the subcommands take, in one place.
-//! Each subcommand checks its options against these before any work (exit 2 naming the
-//! option and the range, see [`check_range`]); the `--help` text of each option states its
-//! range. They keep the memory and time a command needs bounded by its inputs and options.
+//! The ranges of every rate, duration, size and count the subcommands take
+//! ([`kinergy_train::limits`], shared with the Python package). Each subcommand checks its
+//! options against these before any work (exit 2 naming the option and the range, see
+//! [`check_range`]); the `--help` text of each option states its range.
 
 use std::fmt::Display;
 
 use super::failure::Failure;
 
-/// `--max-input-mb`: the largest BVH file read, MiB (default 256).
-pub const MAX_INPUT_MB: (u64, u64) = (1, 4096);
-/// `--max-input-mb`'s default, MiB.
-pub const DEFAULT_INPUT_MB: u64 = 256;
-
-/// `synth --persons`.
-pub const SYNTH_PERSONS: (usize, usize) = (1, 100);
-/// `synth --reaches` (per person).
-pub const SYNTH_REACHES: (usize, usize) = (1, 100);
-/// `synth --frame-rate`, Hz.
-pub const SYNTH_FRAME_RATE: (f64, f64) = (1.0, 1000.0);
-
-/// `synthesize --max-seconds`.
-pub const SYNTHESIZE_SECONDS: (f64, f64) = (0.01, 60.0);
-/// `synthesize --tolerance`, meters.
-pub const TOLERANCE_M: (f64, f64) = (1e-5, 1.0);
-
-/// `reach --timeout`, seconds.
-pub const REACH_TIMEOUT: (f64, f64) = (0.1, 60.0);
-/// `reach --height`, meters.
-pub const REACH_HEIGHT: (f64, f64) = (0.5, 2.5);
-/// `reach --flexibility`.
-pub const REACH_FLEXIBILITY: (f64, f64) = (0.1, 10.0);
-
-/// `plan --budget-ms`.
-pub const PLAN_BUDGET_MS: (u64, u64) = (1, 600_000);
-/// `plan --distance`, meters (a drawer's travel, either way).
-pub const PLAN_DISTANCE: (f64, f64) = (-2.0, 2.0);
-
-/// `animate --fps`.
-pub const ANIMATE_FPS: (u32, u32) = (1, 100);
-/// `animate --strip-frames`.
-pub const ANIMATE_STRIP_FRAMES: (usize, usize) = (1, 24);
-/// Each side of a picture (`animate --size`, `plot speed --size`), pixels.
-pub const PICTURE_SIDE: (u32, u32) = (64, 3840);
-/// `animate`: GIF width × height × frames (frames = duration × fps + 1), at most: about
-/// 52 s of clip at the default 640x480 and 25 fps.
-pub const MAX_GIF_PIXELS: u64 = 400_000_000;
-/// `animate`: the film strip's width × height, at most (its bitmap, 3 bytes a pixel, is
-/// held in memory).
-pub const MAX_STRIP_PIXELS: u64 = 100_000_000;
-
-/// `plot speed --smoothing`, seconds.
-pub const PLOT_SMOOTHING: (f64, f64) = (0.0, 10.0);
-
-/// `segment --min-peak-speed`, m/s.
-pub const MIN_PEAK_SPEED: (f64, f64) = (0.001, 50.0);
-
-/// `--threads` (fit, compare).
-pub const THREADS: (usize, usize) = (1, 1024);
-/// `--budget` (fit, compare): evaluations per model fit.
-pub const BUDGET: (usize, usize) = (1, 10_000_000);
-/// `--population` (fit, compare).
-pub const POPULATION: (usize, usize) = (1, 1000);
-/// `--temperature` (fit, compare).
-pub const TEMPERATURE: (f64, f64) = (0.0, 1e6);
-/// `--stable-change` (fit, compare): relative change of the mean score.
-pub const STABLE_CHANGE: (f64, f64) = (0.0, 1.0);
-/// `--stable-window` (fit, compare): iterations.
-pub const STABLE_WINDOW: (usize, usize) = (1, 100_000);
-/// `--speed-weight`, seconds of distance per m/s of hand-speed error.
-pub const SPEED_WEIGHT: (f64, f64) = (0.0, 10.0);
-/// `fit --checkpoint-every`, iterations.
-pub const CHECKPOINT_EVERY: (usize, usize) = (1, 1_000_000);
-/// `compare --holdout`, takes per person.
-pub const HOLDOUT: (usize, usize) = (1, 1000);
+pub use kinergy_train::limits::*;
 
 /// Checks that `value` of option `name` is within `range` (both ends included; NaN never
 /// is), else bad input: `--fps 0: expected 1 to 100`.
