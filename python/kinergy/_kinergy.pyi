@@ -13,7 +13,7 @@ __version__: str
 PathLike = Union[str, "os.PathLike[str]"]
 ClipLike = Union["Clip", PathLike]
 Arm = Literal["right", "left"]
-Model = Literal["sa", "sb", "sc", "sd"]
+Model = Literal["sa", "sb", "sc", "sd", "se"]
 Optimizer = Literal["jt", "njt", "svd", "dls"]
 
 class KinergyError(Exception):

@@ -78,7 +78,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let models: Vec<Model> = if args.no_nested {
         vec![args.model]
     } else {
-        [Model::Sa, Model::Sb, Model::Sc, Model::Sd]
+        Model::ALL
             .into_iter()
             .filter(|m| *m <= args.model)
             .collect()

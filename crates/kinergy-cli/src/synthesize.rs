@@ -41,7 +41,7 @@ pub struct Args {
     #[arg(long, value_name = "P.json", conflicts_with_all = ["model", "optimizer"])]
     params: Option<PathBuf>,
     /// Synergy model without a parameters file: neutral values (gains 1, sigmoids on).
-    #[arg(long, default_value = "sa", value_name = "sa|sb|sc|sd")]
+    #[arg(long, default_value = "sa", value_name = "sa|sb|sc|sd|se")]
     model: Model,
     /// IK optimizer without a parameters file, with its default settings.
     #[arg(long, default_value = "svd", value_name = "jt|njt|svd|dls")]

@@ -13,7 +13,7 @@
 //!
 //! - the annealer's generator of member `m` at iteration `k`:
 //!   `splitmix64(seed ^ splitmix64(k ^ splitmix64(m ^ C)))`;
-//! - the nested fit's seed per model: `combine(seed, k, 0)`, `k` = 1…4 for S_A…S_D;
+//! - the nested fit's seed per model: `combine(seed, k, 0)`, `k` = 1…5 for S_A…S_E (and S_E's first phase mixes its seed once more with `k` = 1);
 //! - the synthetic set's per-person and per-reach seeds: `mix(seed, person, reach)`;
 //! - the planner's seed per phase: `weyl(salt, seed)`.
 //!

@@ -32,11 +32,17 @@ pub enum Model {
     Sc,
     /// A gain and a sigmoid per DoF.
     Sd,
+    /// Beyond the paper: S_D with a gain that grows or fades over the reach per DoF and the
+    /// person's own acceleration and onset for the smooth controller (issue 26).
+    Se,
 }
 
 impl Model {
     /// Every model, poorest first.
-    pub const ALL: [Model; 4] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
+    pub const ALL: [Model; 5] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd, Model::Se];
+
+    /// The paper's models, S_A … S_D.
+    pub const PAPER: [Model; 4] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
 
     /// `sa`, `sb`, `sc` or `sd`.
     pub fn name(self) -> &'static str {
@@ -45,6 +51,7 @@ impl Model {
             Model::Sb => "sb",
             Model::Sc => "sc",
             Model::Sd => "sd",
+            Model::Se => "se",
         }
     }
 
@@ -55,6 +62,7 @@ impl Model {
             Model::Sb => "S_B",
             Model::Sc => "S_C",
             Model::Sd => "S_D",
+            Model::Se => "S_E",
         }
     }
 
@@ -65,16 +73,18 @@ impl Model {
             Model::Sb => Some(Model::Sa),
             Model::Sc => Some(Model::Sb),
             Model::Sd => Some(Model::Sc),
+            Model::Se => Some(Model::Sd),
         }
     }
 
-    /// The number of parameters on a chain of `dofs` DoFs: 1, n, n + 2, 3n.
+    /// The number of parameters on a chain of `dofs` DoFs: 1, n, n + 2, 3n, 4n + 2.
     pub fn parameter_count(self, dofs: usize) -> usize {
         match self {
             Model::Sa => 1,
             Model::Sb => dofs,
             Model::Sc => dofs + 2,
             Model::Sd => 3 * dofs,
+            Model::Se => 4 * dofs + 2,
         }
     }
 }
@@ -95,7 +105,7 @@ impl FromStr for Model {
             .find(|m| m.name() == key)
             .ok_or_else(|| SolverError::Setting {
                 field: "model".into(),
-                why: format!("`{s}` is not one of sa, sb, sc, sd"),
+                why: format!("`{s}` is not one of sa, sb, sc, sd, se"),
             })
     }
 }
@@ -175,7 +185,20 @@ pub enum ParamKind {
     Slope,
     /// A sigmoid offset.
     Offset,
+    /// S_E: a DoF's gain growth rate k, 1/s (its gain is g·e^{kt}).
+    Growth,
+    /// S_E: the factor on the smooth controller's acceleration bounds.
+    Acceleration,
+    /// S_E: the factor on the smooth controller's onset (the time its bounds take to rise).
+    Onset,
 }
+
+/// S_E's growth rates k: [−3, 3] 1/s (over a one-second reach a gain can change 20-fold).
+pub const GROWTH: Interval = Interval::new(-3.0, 3.0);
+/// S_E's acceleration factor: [0.25, 4].
+pub const ACCELERATION: Interval = Interval::new(0.25, 4.0);
+/// S_E's onset factor: [0, 2.5] (an onset of up to half the reach).
+pub const ONSET: Interval = Interval::new(0.0, 2.5);
 
 /// The parameter space of one model on one chain: names, kinds and bounds of the entries.
 #[derive(Debug, Clone, PartialEq)]
@@ -211,7 +234,7 @@ impl ParamSpace {
                 push("s".into(), ParamKind::Slope);
                 push("o".into(), ParamKind::Offset);
             }
-            Model::Sd => {
+            Model::Sd | Model::Se => {
                 dof_names
                     .iter()
                     .for_each(|d| push(format!("s_{d}"), ParamKind::Slope));
@@ -219,6 +242,13 @@ impl ParamSpace {
                     .iter()
                     .for_each(|d| push(format!("o_{d}"), ParamKind::Offset));
             }
+        }
+        if model == Model::Se {
+            dof_names
+                .iter()
+                .for_each(|d| push(format!("k_{d}"), ParamKind::Growth));
+            push("acceleration".into(), ParamKind::Acceleration);
+            push("onset".into(), ParamKind::Onset);
         }
         Ok(ParamSpace {
             model,
@@ -255,7 +285,7 @@ impl ParamSpace {
     }
 
     /// The entries' names, in vector order: `g` or `g_<dof>`…, then `s`, `o` or
-    /// `s_<dof>`…, `o_<dof>`….
+    /// `s_<dof>`…, `o_<dof>`…, then S_E's `k_<dof>`…, `acceleration`, `onset`.
     pub fn names(&self) -> &[String] {
         &self.names
     }
@@ -271,6 +301,9 @@ impl ParamSpace {
             ParamKind::Gain => self.bounds.gain,
             ParamKind::Slope => self.bounds.slope,
             ParamKind::Offset => self.bounds.offset,
+            ParamKind::Growth => GROWTH,
+            ParamKind::Acceleration => ACCELERATION,
+            ParamKind::Onset => ONSET,
         }
     }
 
@@ -299,6 +332,8 @@ impl ParamSpace {
                     ParamKind::Gain => b.clamp(1.0),
                     ParamKind::Slope => b.upper,
                     ParamKind::Offset => b.lower,
+                    ParamKind::Growth => 0.0,
+                    ParamKind::Acceleration | ParamKind::Onset => 1.0,
                 }
             })
             .collect()
@@ -364,14 +399,24 @@ impl ParamSpace {
             Model::Sa | Model::Sb => {
                 let neutral = richer.neutral();
                 let (s, o) = match richer.model {
-                    Model::Sd => (neutral[n], neutral[2 * n]),
+                    Model::Sd | Model::Se => (neutral[n], neutral[2 * n]),
                     Model::Sc => (neutral[n], neutral[n + 1]),
                     _ => (0.0, 0.0),
                 };
                 (vec![s; n], vec![o; n])
             }
             Model::Sc => (vec![values[n]; n], vec![values[n + 1]; n]),
-            Model::Sd => (values[n..2 * n].to_vec(), values[2 * n..].to_vec()),
+            Model::Sd | Model::Se => (values[n..2 * n].to_vec(), values[2 * n..3 * n].to_vec()),
+        };
+        // S_E's own part: the growth rates and the tempo factors, neutral (no growth, the
+        // default bounds) unless extended from S_E itself.
+        let own: Vec<f64> = match self.model {
+            Model::Se => values[3 * n..].to_vec(),
+            _ => richer
+                .neutral()
+                .get(3 * n..)
+                .map(<[f64]>::to_vec)
+                .unwrap_or_default(),
         };
         let mut out = match richer.model {
             Model::Sa => vec![gains[0]],
@@ -385,6 +430,13 @@ impl ParamSpace {
                 let mut v = gains;
                 v.extend(slopes);
                 v.extend(offsets);
+                v
+            }
+            Model::Se => {
+                let mut v = gains;
+                v.extend(slopes);
+                v.extend(offsets);
+                v.extend(own);
                 v
             }
         };
@@ -408,6 +460,21 @@ enum Timing {
     Shared { slope: f64, offset: f64 },
     /// φ_i = sig(−s_i t + o_i).
     PerDof { slopes: Vec<f64>, offsets: Vec<f64> },
+    /// φ_i = e^{k_i t} sig(−s_i t + o_i) (S_E).
+    Growing {
+        slopes: Vec<f64>,
+        offsets: Vec<f64>,
+        growth: Vec<f64>,
+    },
+}
+
+/// S_E's factors on the smooth controller's bounds ([`Synergy::tempo`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TempoFactors {
+    /// On the hand's and the joints' acceleration bounds.
+    pub acceleration: f64,
+    /// On the onset, the time over which the bounds rise from zero.
+    pub onset: f64,
 }
 
 /// A synergy transform S(t, Θ) ready to apply: validated parameters of one model.
@@ -416,6 +483,7 @@ pub struct Synergy {
     model: Model,
     gains: Vec<f64>,
     timing: Timing,
+    tempo: Option<TempoFactors>,
 }
 
 impl Synergy {
@@ -437,11 +505,21 @@ impl Synergy {
                 slopes: values[n..2 * n].to_vec(),
                 offsets: values[2 * n..].to_vec(),
             },
+            Model::Se => Timing::Growing {
+                slopes: values[n..2 * n].to_vec(),
+                offsets: values[2 * n..3 * n].to_vec(),
+                growth: values[3 * n..4 * n].to_vec(),
+            },
         };
+        let tempo = (space.model == Model::Se).then(|| TempoFactors {
+            acceleration: values[4 * n],
+            onset: values[4 * n + 1],
+        });
         Ok(Synergy {
             model: space.model,
             gains,
             timing,
+            tempo,
         })
     }
 
@@ -451,7 +529,14 @@ impl Synergy {
             model: Model::Sa,
             gains: vec![1.0; dofs],
             timing: Timing::Constant,
+            tempo: None,
         }
+    }
+
+    /// S_E's factors on the smooth controller's bounds (`None` for S_A … S_D): the
+    /// controller scales its [`crate::Smoothing`] by them.
+    pub fn tempo(&self) -> Option<TempoFactors> {
+        self.tempo
     }
 
     /// The model.
@@ -475,6 +560,11 @@ impl Synergy {
             Timing::Constant => 1.0,
             Timing::Shared { slope, offset } => sig(-slope * t + offset),
             Timing::PerDof { slopes, offsets } => sig(-slopes[i] * t + offsets[i]),
+            Timing::Growing {
+                slopes,
+                offsets,
+                growth,
+            } => (growth[i] * t).exp() * sig(-slopes[i] * t + offsets[i]),
         }
     }
 
@@ -496,6 +586,15 @@ impl Synergy {
             Timing::PerDof { slopes, offsets } => {
                 for (i, d) in dtheta.iter_mut().enumerate() {
                     *d *= self.gains[i] * sig(-slopes[i] * t + offsets[i]);
+                }
+            }
+            Timing::Growing {
+                slopes,
+                offsets,
+                growth,
+            } => {
+                for (i, d) in dtheta.iter_mut().enumerate() {
+                    *d *= self.gains[i] * (growth[i] * t).exp() * sig(-slopes[i] * t + offsets[i]);
                 }
             }
         }

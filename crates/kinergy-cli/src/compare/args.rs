@@ -13,7 +13,7 @@ pub struct Args {
     /// Captures: BVH files or folders of them (default: `data-synthetic/`).
     #[arg(value_name = "CLIPS")]
     pub clips: Vec<PathBuf>,
-    /// Models for Fig. 3.
+    /// Models for Fig. 3 (the paper's four by default; add `se` for S_E, beyond the paper).
     #[arg(long, value_delimiter = ',', default_value = "sa,sb,sc,sd")]
     pub models: Vec<Model>,
     /// Optimizers for Fig. 4.

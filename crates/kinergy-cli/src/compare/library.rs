@@ -16,7 +16,7 @@ use crate::draw::{Bar, BarChart, save};
 use crate::fit::library::LIBRARY;
 
 /// The models a library row may hold a distance for, poorest first.
-const MODELS: [Model; 4] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
+const MODELS: [Model; 5] = Model::ALL;
 
 /// The columns of `library.csv` this report reads.
 #[derive(Debug, Deserialize)]
@@ -27,6 +27,9 @@ struct Row {
     distance_sb_m: Option<f64>,
     distance_sc_m: Option<f64>,
     distance_sd_m: Option<f64>,
+    /// Absent from libraries written before S_E.
+    #[serde(default)]
+    distance_se_m: Option<f64>,
 }
 
 impl Row {
@@ -36,6 +39,7 @@ impl Row {
             Model::Sb => self.distance_sb_m,
             Model::Sc => self.distance_sc_m,
             Model::Sd => self.distance_sd_m,
+            Model::Se => self.distance_se_m,
         }
     }
 }

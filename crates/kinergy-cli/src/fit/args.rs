@@ -13,8 +13,9 @@ pub struct Args {
     /// segments file names the clips); given, they keep only the rows of those clips.
     #[arg(value_name = "CLIPS", required_unless_present = "segments")]
     pub clips: Vec<PathBuf>,
-    /// The synergy model to fit.
-    #[arg(long, value_name = "sa|sb|sc|sd")]
+    /// The synergy model to fit: the paper's S_A … S_D, or `se`, S_E (beyond the paper: S_D
+    /// with per-DoF gain growth and the person's acceleration and onset; README "S_E").
+    #[arg(long, value_name = "sa|sb|sc|sd|se")]
     pub model: Model,
     /// The IK optimizer the motions are synthesized with.
     #[arg(long, default_value = "svd", value_name = "jt|njt|svd|dls")]
@@ -23,7 +24,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "person")]
     pub per: Per,
     /// Fit only the model asked for, from its neutral vector, instead of the poorer models
-    /// first (S_A → S_B → S_C → S_D), each starting from the previous solution.
+    /// first (S_A → S_B → S_C → S_D → S_E), each starting from the previous solution.
     #[arg(long)]
     pub no_nested: bool,
     /// Fit each reach on its own (nested, as `--per clip` does), then the person's parameter

@@ -34,7 +34,7 @@ pub const LIBRARY: &str = "library.csv";
 pub const SKIPPED: &str = "skipped.csv";
 
 /// The models a library row gives a distance for, when the nested fit reached them.
-const MODELS: [Model; 4] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
+const MODELS: [Model; 5] = Model::ALL;
 
 /// A library's takes, found once: each capture once (the first spelling kept), in the
 /// library's order, their common folder (results are named from it) and, with a segments
@@ -123,6 +123,7 @@ struct LibraryRow {
     distance_sb_m: Option<f64>,
     distance_sc_m: Option<f64>,
     distance_sd_m: Option<f64>,
+    distance_se_m: Option<f64>,
     evaluations: usize,
     seconds: Option<f64>,
     result: String,
@@ -641,7 +642,7 @@ fn library_row(dir: &Path, row: &RecordRow) -> Result<LibraryRow, String> {
             None => (file.model == model).then_some(record.score_m),
         }
     };
-    let [sa, sb, sc, sd] = MODELS.map(distance);
+    let [sa, sb, sc, sd, se] = MODELS.map(distance);
     let number = |s: &str| s.parse::<usize>().map_err(|_| format!("frame `{s}`"));
     let (onset, end) = (number(&row.onset)?, number(&row.end)?);
     Ok(LibraryRow {
@@ -657,6 +658,7 @@ fn library_row(dir: &Path, row: &RecordRow) -> Result<LibraryRow, String> {
         distance_sb_m: sb,
         distance_sc_m: sc,
         distance_sd_m: sd,
+        distance_se_m: se,
         evaluations: record.evaluations,
         seconds: row.seconds.parse().ok(),
         result: row.result.clone(),

@@ -1,12 +1,13 @@
 //! Fitting a synergy model to captured reaches: per clip (the paper's experiment: one reach,
 //! one vector) or per person (one vector for all of a person's reaches), and the nested
-//! sequence S_A → S_B → S_C → S_D in which each richer model starts from the poorer one's
-//! solution.
+//! sequence S_A → S_B → S_C → S_D (→ S_E) in which each richer model starts from the poorer
+//! one's solution.
 //!
 //! **The nested guarantee.** The annealer's member 0 starts at the poorer solution carried
 //! into the richer space ([`ParamSpace::extend_to`]) and the best vector ever evaluated is
 //! returned, so a richer fit never scores worse than that carried-over vector. S_A → S_B
-//! and S_C → S_D carry over exactly (the same motion). S_B → S_C does not: the paper's
+//! and S_C → S_D carry over exactly (the same motion), and so does S_D → S_E (no growth,
+//! the tempo factors 1). S_B → S_C does not: the paper's
 //! sigmoid sig(−s·t + o) with o ≥ 0 is at most ½ at t = 0, so S_C cannot reproduce S_B's
 //! constant φ = 1; the carried vector switches the sigmoid on as early as the bounds allow
 //! (s = s_max, o = o_min: φ > 0.95 after 0.3 s). [`NestedFit::violations`] lists any richer

@@ -68,13 +68,14 @@ impl FitSettings {
 /// The seed of one model's fit: the user's seed mixed with the model, so each model of a
 /// nested sequence draws differently but reproducibly: `seed ^ k · 0x9e3779b97f4a7c15`
 /// ([`kinergy_motion::seed::combine`])
-/// with k = 1, 2, 3, 4 for S_A–S_D.
+/// with k = 1, 2, 3, 4, 5 for S_A–S_E.
 pub fn model_seed(seed: u64, model: Model) -> u64 {
     let k = match model {
         Model::Sa => 1u64,
         Model::Sb => 2,
         Model::Sc => 3,
         Model::Sd => 4,
+        Model::Se => 5,
     };
     kinergy_motion::seed::combine(seed, k, 0)
 }
@@ -232,6 +233,14 @@ pub(super) fn run_stage(
     let start_score = objective.score(start)?;
     let anneal = settings.anneal_for(model);
     let annealer = Annealer::new(anneal)?;
+    // S_E first searches its own parameters with S_D's held (see `own_first`), then all;
+    // a resumed S_E stage runs that first phase again (deterministic) for its count.
+    let own = own_first(objective, start, settings, observer, control)?;
+    let own_evaluations = own.as_ref().map_or(0, |(_, e)| *e);
+    let start = match &own {
+        Some((x, _)) => x.as_slice(),
+        None => start,
+    };
     // The stage's name in the annealer's state; the problem itself is checked by value by
     // the caller's checkpoint (see `FitProblem`).
     let tag = model.name();
@@ -255,11 +264,91 @@ pub(super) fn run_stage(
         values: state.best_x,
         score: state.best_cost,
         start_score,
-        evaluations: state.evaluations,
+        evaluations: own_evaluations + state.evaluations,
         iterations: state.iteration,
         status: state.status,
         seed: anneal.seed,
-        frames_synthesized: state.evaluations * objective.frames_per_evaluation(),
+        frames_synthesized: (own_evaluations + state.evaluations)
+            * objective.frames_per_evaluation(),
         refinement: None,
     })
+}
+
+/// S_E's first phase: its own parameters (the growth rates and the tempo factors, from
+/// neutral) annealed with S_D's part held at `start`'s, on the same budget; `None` for the
+/// other models. Started at S_D's solution, an annealer moving every parameter at once found
+/// nothing better (every proposal of 30 parameters moved S_D's sharp optimum too): on the
+/// shared people's takes 1–4 the whole-vector stage ended where it began for two persons of
+/// three.
+fn own_first(
+    objective: &Objective,
+    start: &[f64],
+    settings: &FitSettings,
+    observer: &mut dyn Observer,
+    control: &Control<'_>,
+) -> Result<Option<(Vec<f64>, usize)>> {
+    let space = objective.space();
+    if space.model() != Model::Se {
+        return Ok(None);
+    }
+    let own = 3 * space.dof_names().len()..space.len();
+    let part = Subspace {
+        inner: objective,
+        base: start.to_vec(),
+        free: own.clone(),
+    };
+    let anneal = AnnealSettings {
+        seed: kinergy_motion::seed::combine(settings.anneal_for(Model::Se).seed, 1, 0),
+        ..settings.anneal
+    };
+    let annealer = Annealer::new(anneal)?;
+    let state = annealer.init(&part, &start[own.clone()], "se-own")?;
+    let quiet = Control {
+        checkpoint: None,
+        checkpoint_every: 0,
+        interrupt: control.interrupt,
+    };
+    let state = annealer.run(&part, state, observer, &quiet)?;
+    Ok(Some((part.full(&state.best_x), state.evaluations)))
+}
+
+/// A cost function over the entries `free` of `inner`'s vectors, the others held at `base`'s.
+struct Subspace<'a> {
+    inner: &'a Objective,
+    base: Vec<f64>,
+    free: std::ops::Range<usize>,
+}
+
+impl Subspace<'_> {
+    fn full(&self, x: &[f64]) -> Vec<f64> {
+        let mut v = self.base.clone();
+        v[self.free.clone()].copy_from_slice(x);
+        v
+    }
+}
+
+impl CostFunction for Subspace<'_> {
+    fn dimension(&self) -> usize {
+        self.free.len()
+    }
+
+    fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        let (lower, upper) = self.inner.bounds();
+        (
+            lower[self.free.clone()].to_vec(),
+            upper[self.free.clone()].to_vec(),
+        )
+    }
+
+    fn cost(&self, x: &[f64]) -> f64 {
+        self.inner.cost(&self.full(x))
+    }
+
+    fn cost_within(&self, x: &[f64], limit: f64) -> f64 {
+        self.inner.cost_within(&self.full(x), limit)
+    }
+
+    fn frames_per_evaluation(&self) -> usize {
+        self.inner.frames_per_evaluation()
+    }
 }
