@@ -80,7 +80,7 @@ def test_unreachable_targets_raise_with_the_motion_made():
 @pytest.mark.parametrize(
     "call",
     [
-        lambda: kinergy.fit(R09, model="se"),
+        lambda: kinergy.fit(R09, model="sf"),
         lambda: kinergy.fit(R09, optimizer="newton"),
         lambda: kinergy.fit(R09, per="day"),
         lambda: kinergy.fit(R09, budget=0),

@@ -442,7 +442,7 @@ fn synthesize_bad_input_exits_2_and_writes_nothing() {
         (vec!["--params", &wrong_version], "format_version"),
         (vec!["--params", &out_of_bounds], "`g`"),
         (vec!["--params", "/nonexistent/p.json"], "p.json"),
-        (vec!["--model", "se"], "se"),
+        (vec!["--model", "sf"], "sf"),
         (vec!["--tolerance=-1"], "tolerance"),
         (
             vec!["--chain", "CC_Base_R_Upperarm,Nope,CC_Base_R_Hand"],

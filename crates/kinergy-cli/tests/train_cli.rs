@@ -364,7 +364,7 @@ fn training_commands_reject_bad_input_with_exit_2() {
             vec!["fit", clip, "--model", "sa", "--budget", "0", "-o", out_s],
             "--budget 0: expected 1 to",
         ),
-        (vec!["fit", clip, "--model", "se", "-o", out_s], "se"),
+        (vec!["fit", clip, "--model", "sf", "-o", out_s], "sf"),
         (
             vec![
                 "fit",

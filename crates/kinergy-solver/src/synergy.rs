@@ -698,6 +698,75 @@ mod tests {
     fn models_parse_both_spellings() {
         assert_eq!("S_C".parse::<Model>().expect("S_C"), Model::Sc);
         assert_eq!("sd".parse::<Model>().expect("sd"), Model::Sd);
-        assert!("se".parse::<Model>().is_err());
+        assert_eq!("S_E".parse::<Model>().expect("S_E"), Model::Se);
+        assert!("sf".parse::<Model>().is_err());
+    }
+
+    #[test]
+    fn s_e_names_its_own_parameters_after_s_d_s() {
+        let d = dofs();
+        let se = ParamSpace::new(Model::Se, &d, Bounds::default()).expect("se");
+        assert_eq!(Model::Se.parameter_count(3), 14);
+        assert_eq!(se.len(), 14);
+        assert_eq!(
+            &se.names()[9..],
+            ["k_a", "k_b", "k_c", "acceleration", "onset"].map(String::from)
+        );
+        let neutral = se.neutral();
+        assert_eq!(&neutral[9..], &[0.0, 0.0, 0.0, 1.0, 1.0]);
+        assert_eq!(Model::Se.poorer(), Some(Model::Sd));
+        assert_eq!("se".parse::<Model>().expect("se"), Model::Se);
+        assert_eq!(Model::Se.paper_name(), "S_E");
+    }
+
+    #[test]
+    fn s_e_gains_grow_exponentially_over_s_d_s_sigmoid() {
+        let d = dofs();
+        let se = ParamSpace::new(Model::Se, &d, Bounds::default()).expect("se");
+        let values = [
+            1.5, -0.5, 2.0, 4.0, 6.0, 2.0, 1.0, 0.0, 3.0, 0.7, -1.2, 0.0, 1.3, 0.6,
+        ];
+        let s = Synergy::new(&se, &values).expect("S_E");
+        for t in [0.0, 0.1, 0.45, 1.3] {
+            let mut step = [1.0, 1.0, 1.0];
+            s.apply(t, &mut step);
+            for i in 0..3 {
+                let phi = (values[9 + i] * t).exp() * sig(-values[3 + i] * t + values[6 + i]);
+                assert_relative_eq!(s.phi(i, t), phi, epsilon = 1e-15);
+                assert_relative_eq!(step[i], values[i] * phi, epsilon = 1e-15);
+            }
+        }
+        let tempo = s.tempo().expect("tempo");
+        assert_eq!((tempo.acceleration, tempo.onset), (1.3, 0.6));
+        let sd = ParamSpace::new(Model::Sd, &d, Bounds::default()).expect("sd");
+        assert_eq!(Synergy::new(&sd, &values[..9]).expect("S_D").tempo(), None);
+    }
+
+    #[test]
+    fn s_d_carries_into_s_e_exactly_and_s_e_into_itself() {
+        let d = dofs();
+        let sd = ParamSpace::new(Model::Sd, &d, Bounds::default()).expect("sd");
+        let se = ParamSpace::new(Model::Se, &d, Bounds::default()).expect("se");
+        let v = [1.5, -0.5, 2.0, 4.0, 6.0, 2.0, 1.0, 0.0, 3.0];
+        let carried = sd.extend_to(&v, &se).expect("extend");
+        assert_eq!(&carried[..9], &v);
+        assert_eq!(&carried[9..], &se.neutral()[9..]);
+        let (a, b) = (
+            Synergy::new(&sd, &v).expect("S_D"),
+            Synergy::new(&se, &carried).expect("S_E"),
+        );
+        for t in [0.0, 0.2, 0.9] {
+            let (mut x, mut y) = ([0.3, -0.7, 1.1], [0.3, -0.7, 1.1]);
+            a.apply(t, &mut x);
+            b.apply(t, &mut y);
+            assert_eq!(x.map(f64::to_bits), y.map(f64::to_bits));
+        }
+        let mut own = carried.clone();
+        own[12] = 2.0;
+        assert_eq!(se.extend_to(&own, &se).expect("same"), own);
+        // Out of S_E's own bounds: named.
+        own[9] = 4.0;
+        let e = se.validate(&own).expect_err("out of bounds").to_string();
+        assert!(e.contains("k_a"), "{e}");
     }
 }

@@ -247,3 +247,97 @@ fn bad_smoothing_is_refused_by_name() {
         assert!(e.to_string().contains("hand_acceleration"), "{e}");
     }
 }
+
+/// An S_D vector of the arm (gains, slopes, offsets) with some spread.
+fn sd_values() -> Vec<f64> {
+    let mut v = vec![1.3, 0.8, 1.1, 0.6, 1.4, 0.9, 1.2];
+    v.extend([6.0, 8.0, 4.0, 9.0, 5.0, 7.0, 3.0]);
+    v.extend([0.5, 1.0, 0.2, 2.0, 0.0, 1.5, 0.7]);
+    v
+}
+
+fn arm_space(model: Model) -> ParamSpace {
+    let names: Vec<String> = arm().dof_names().map(String::from).collect();
+    ParamSpace::new(model, &names, kinergy_solver::Bounds::default()).expect("space")
+}
+
+fn bits(m: &Synthesis) -> Vec<u64> {
+    m.configurations.iter().map(|v| v.to_bits()).collect()
+}
+
+// S_E carried over from S_D (no growth, tempo factors 1) is S_D's controller, bit for bit.
+#[test]
+fn s_d_carried_into_s_e_moves_exactly_as_s_d() {
+    let (sd, se) = (arm_space(Model::Sd), arm_space(Model::Se));
+    let values = sd_values();
+    let carried = sd.extend_to(&values, &se).expect("extend");
+    let start = [0.0, 0.0, 0.0, 0.06, 0.0, 0.0, 0.0];
+    let target = Point3::new(0.25, -0.25, 0.3);
+    let a = reach_with(
+        Some(smoothing()),
+        Synergy::new(&sd, &values).expect("S_D"),
+        &start,
+        None,
+        target,
+    );
+    let b = reach_with(
+        Some(smoothing()),
+        Synergy::new(&se, &carried).expect("S_E"),
+        &start,
+        None,
+        target,
+    );
+    assert_eq!(bits(&a), bits(&b));
+}
+
+// S_E's tempo factors are the smooth controller's bounds scaled: the same motion as S_D under
+// bounds scaled by hand.
+#[test]
+fn s_e_tempo_factors_scale_the_smooth_controllers_bounds() {
+    let (sd, se) = (arm_space(Model::Sd), arm_space(Model::Se));
+    let values = sd_values();
+    let mut own = sd.extend_to(&values, &se).expect("extend");
+    let n = 7;
+    own[4 * n] = 1.7; // acceleration
+    own[4 * n + 1] = 0.4; // onset
+    let sm = smoothing();
+    let scaled = Smoothing {
+        hand_acceleration: sm.hand_acceleration * 1.7,
+        joint_acceleration: sm.joint_acceleration * 1.7,
+        onset: sm.onset * 0.4,
+        ..sm
+    };
+    let start = [0.0, 0.0, 0.0, 0.06, 0.0, 0.0, 0.0];
+    let target = Point3::new(0.25, -0.25, 0.3);
+    let by_hand = reach_with(
+        Some(scaled),
+        Synergy::new(&sd, &values).expect("S_D"),
+        &start,
+        None,
+        target,
+    );
+    let s_e = reach_with(
+        Some(sm),
+        Synergy::new(&se, &own).expect("S_E"),
+        &start,
+        None,
+        target,
+    );
+    assert_eq!(bits(&by_hand), bits(&s_e));
+    // And the bound in force is the scaled one: the hand's change of displacement stays
+    // within it and reaches beyond the unscaled bound.
+    let d = hand_steps(&s_e);
+    let largest = d
+        .windows(2)
+        .map(|p| (p[1] - p[0]).norm())
+        .fold(0.0, f64::max);
+    let bound = sm.hand_acceleration * DT * DT;
+    assert!(
+        largest <= 1.7 * bound * (1.0 + 1e-6),
+        "{largest} > 1.7 × {bound}"
+    );
+    assert!(
+        largest > bound,
+        "{largest} ≤ {bound}: the factor did nothing"
+    );
+}
