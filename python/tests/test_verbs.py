@@ -61,6 +61,22 @@ def test_a_fit_with_the_speed_term_is_the_cli_s(cli, at_root, tmp_path):
         kinergy.fit(R09, objective="speed")
 
 
+def test_an_s_e_fit_is_the_cli_s_and_synthesizes_as_it(cli, at_root, tmp_path):
+    [params] = kinergy.fit(R09, model="se", per="clip", budget=160, seed=2)
+    params.save(tmp_path / "py.json")
+    run(cli, "fit", R09, "--model", "se", "--per", "clip", "--budget", "160", "--seed", "2",
+        "-o", str(tmp_path / "cli.json"))
+    assert (tmp_path / "py.json").read_bytes() == (tmp_path / "cli.json").read_bytes()
+    assert list(params.distances) == ["sa", "sb", "sc", "sd", "se"]
+    assert params.distances["se"] <= params.distances["sd"]
+    assert {"acceleration", "onset", "k_elbow_flexion"} <= set(params.vector)
+    motion = kinergy.synthesize(R09, params, check=False)
+    run(cli, "synthesize", R09, "--params", str(tmp_path / "cli.json"), "-o",
+        str(tmp_path / "s.bvh"), ok=(0, 1))
+    cli_motion = kinergy.read_bvh(tmp_path / "s.bvh")
+    assert np.abs(motion.positions - cli_motion.positions).max() <= 1e-9
+
+
 def test_the_fit_does_not_depend_on_threads(at_root):
     one = kinergy.fit(R09, model="sb", budget=160, threads=1)
     two = kinergy.fit(R09, model="sb", budget=160, threads=2)

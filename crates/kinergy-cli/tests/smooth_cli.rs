@@ -359,6 +359,10 @@ fn on_held_out_takes_s_e_is_a_fifth_closer_than_s_d_for_every_person() {
 /// elderly, 0.94 normal, each reach's speeds ended as its capture's segment ends), the mean
 /// peak error at most 0.1 (measured 0.03, 0.095, 0.06) and the mean arm path closer than the
 /// default's; and no full-body reach has more hand-speed jumps than its capture.
+///
+/// Pinned to seed 1, and seed-sensitive: the same bar holds on seeds 1 and 5 of 1–6 (README
+/// "How much of this is the seed", `tools/style-seeds.sh`). A change to the fitting arithmetic
+/// draws another vector; judge it on the seeds, not on this test alone.
 #[test]
 fn held_out_full_body_reaches_keep_each_persons_style() {
     let Some(folder) = shared("bandai-raise-left", "") else {

@@ -69,6 +69,27 @@ fn frames_per_second(c: &mut Criterion) {
             pool.install(|| b.iter(|| black_box(objective.cost(black_box(&x)))))
         });
     }
+    // S_E's frame: the same truth carried into S_E with growth and tempo factors that are
+    // not neutral (every DoF's gain growth e^{k(1 − e^{−t})} computed each frame).
+    let names = reach.dof_names();
+    let sc = ParamSpace::new(Model::Sc, &names, Default::default()).expect("space");
+    let se = ParamSpace::new(Model::Se, &names, Default::default()).expect("space");
+    let mut x = sc.extend_to(&set[0].truth, &se).expect("extend");
+    let n = names.len();
+    for (i, k) in x[3 * n..4 * n].iter_mut().enumerate() {
+        *k = if i % 2 == 0 { 0.5 } else { -0.5 };
+    }
+    x[4 * n] = 1.2;
+    x[4 * n + 1] = 0.8;
+    let objective = Objective::new(
+        vec![reach.clone()],
+        se,
+        OptimizerKind::Svd.default_optimizer(),
+    )
+    .expect("objective");
+    group.bench_function("svd_se", |b| {
+        pool.install(|| b.iter(|| black_box(objective.cost(black_box(&x)))))
+    });
     group.finish();
 }
 
@@ -194,6 +215,21 @@ fn library_reach(c: &mut Criterion) {
                     fit_nested(
                         std::slice::from_ref(&reach),
                         &[Model::Sa, Model::Sb, Model::Sc, Model::Sd],
+                        OptimizerKind::Svd.default_optimizer(),
+                        &settings(AnnealSettings::default().max_evaluations),
+                    )
+                    .expect("fit"),
+                )
+            })
+        })
+    });
+    group.bench_function("nested_se_svd", |b| {
+        pool.install(|| {
+            b.iter(|| {
+                black_box(
+                    fit_nested(
+                        std::slice::from_ref(&reach),
+                        &Model::ALL,
                         OptimizerKind::Svd.default_optimizer(),
                         &settings(AnnealSettings::default().max_evaluations),
                     )
