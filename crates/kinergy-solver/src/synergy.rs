@@ -50,9 +50,6 @@ impl Model {
     /// Every model, poorest first.
     pub const ALL: [Model; 5] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd, Model::Se];
 
-    /// The paper's models, S_A … S_D.
-    pub const PAPER: [Model; 4] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
-
     /// `sa`, `sb`, `sc` or `sd`.
     pub fn name(self) -> &'static str {
         match self {
