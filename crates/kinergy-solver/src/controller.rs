@@ -311,9 +311,7 @@ impl Controller {
         // S_E carries the person's own acceleration and onset: factors on the bounds (× 1
         // for the neutral factors, exactly S_D's controller).
         if let (Some(f), Some(sm)) = (synergy.tempo(), settings.smoothing.as_mut()) {
-            sm.hand_acceleration *= f.acceleration;
-            sm.joint_acceleration *= f.acceleration;
-            sm.onset *= f.onset;
+            *sm = sm.scaled(f);
         }
         Ok(Controller {
             optimizer,

@@ -139,6 +139,17 @@ impl Smoothing {
         }
     }
 
+    /// These bounds under S_E's tempo `factors` ([`crate::Synergy::tempo`]): both acceleration
+    /// bounds × `acceleration`, the onset × `onset` (factors of 1 change nothing, bit for bit).
+    pub fn scaled(&self, factors: crate::TempoFactors) -> Smoothing {
+        Smoothing {
+            hand_acceleration: self.hand_acceleration * factors.acceleration,
+            joint_acceleration: self.joint_acceleration * factors.acceleration,
+            onset: self.onset * factors.onset,
+            ..*self
+        }
+    }
+
     /// Checks every setting, naming the field otherwise.
     pub fn validate(&self) -> Result<()> {
         let positive = |v: f64| v.is_finite() && v > 0.0;

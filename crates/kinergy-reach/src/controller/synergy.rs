@@ -258,6 +258,10 @@ impl SynergyArm {
             .stepper(&chain, &start)
             .map_err(setting)?
             .into_owned();
+        // The bounds the person's controller moves under (S_E scales them by the person's
+        // tempo): the brake before the character's limits and plain IK after a hand-over
+        // keep to them too.
+        let smoothing = smoothing.map(|sm| synergy.tempo().map_or(sm, |f| sm.scaled(f)));
         Ok(SynergyArm {
             dofs,
             stepper,
