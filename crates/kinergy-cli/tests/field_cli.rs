@@ -293,25 +293,7 @@ fn on_held_out_bandai_takes_the_field_is_at_least_as_good_as_the_single_vector()
         return;
     };
     let dir = tempfile::tempdir().expect("tempdir");
-    let o = kinergy(&[
-        "compare",
-        s(&folder),
-        "--arm",
-        "left",
-        "--person",
-        "prefix",
-        "--per",
-        "person",
-        "--holdout",
-        "2",
-        "--seed",
-        "1",
-        "--json",
-        "-o",
-        s(dir.path()),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    let report = json(&o);
+    let report = common::held_out_per_person(&folder, "1", &[], dir.path());
     let lines = report["field"].as_array().expect("field lines");
     assert_eq!(lines.len(), 4, "three persons and all: {report}");
     for line in lines {

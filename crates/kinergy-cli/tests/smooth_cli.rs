@@ -156,24 +156,7 @@ fn held_out_takes_of_the_shared_people_are_smooth_arrive_and_start_as_captured()
     let dir = tempfile::tempdir().expect("tempdir");
     for person in ["active", "elderly", "normal"] {
         let params = dir.path().join(format!("{person}.json"));
-        let takes: Vec<String> = (1..=4)
-            .map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string())
-            .collect();
-        let mut args = vec!["fit"];
-        args.extend(takes.iter().map(String::as_str));
-        args.extend([
-            "--arm",
-            "left",
-            "--model",
-            "sc",
-            "--per",
-            "person",
-            "-o",
-            s(&params),
-            "-q",
-        ]);
-        let o = kinergy(&args);
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        fit_person(&folder, person, &[1, 2, 3, 4], "sc", &params);
         for t in 5..=8 {
             let clip = folder.join(format!("{person}_00{t}.bvh"));
             let (cap, syn, _) =
@@ -297,27 +280,7 @@ fn on_held_out_takes_s_e_is_a_fifth_closer_than_s_d_for_every_person() {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut sums = std::collections::BTreeMap::<String, (f64, f64)>::new();
     for seed in ["1", "2"] {
-        let o = kinergy(&[
-            "compare",
-            s(&folder),
-            "--arm",
-            "left",
-            "--person",
-            "prefix",
-            "--per",
-            "person",
-            "--holdout",
-            "2",
-            "--models",
-            "sd,se",
-            "--seed",
-            seed,
-            "--json",
-            "-o",
-            s(dir.path()),
-        ]);
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-        let report = json(&o);
+        let report = common::held_out_per_person(&folder, seed, &["--models", "sd,se"], dir.path());
         for line in report["own"].as_array().expect("own") {
             let Some(person) = line["person"].as_str() else {
                 continue;
@@ -372,17 +335,7 @@ fn held_out_full_body_reaches_keep_each_persons_style() {
     for person in ["active", "elderly", "normal"] {
         let params = dir.path().join(format!("{person}.json"));
         let take = |t: usize| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string();
-        let mut args = vec!["fit".to_string()];
-        args.extend((1..=4).map(take));
-        args.extend(
-            [
-                "--arm", "left", "--model", "sc", "--per", "person", "-q", "-o",
-            ]
-            .map(String::from),
-        );
-        args.push(s(&params).to_string());
-        let o = kinergy(&args.iter().map(String::as_str).collect::<Vec<_>>());
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        fit_person(&folder, person, &[1, 2, 3, 4], "sc", &params);
         let out = dir.path().join(format!("style-{person}"));
         let mut args = vec!["style".to_string()];
         args.extend((5..=8).map(take));

@@ -86,3 +86,34 @@ pub fn assert_bad_input(args: &[&str], needle: &str, out: &Path) {
     assert!(!err.contains("panicked"), "{err}");
     assert!(!out.exists(), "{args:?} left an output file");
 }
+
+/// `compare FOLDER --arm left --person prefix --per person --holdout 2 --seed SEED --json`
+/// (plus `extra`) into `out`, on the shared Bandai takes: its JSON report.
+pub fn held_out_per_person(
+    folder: &Path,
+    seed: &str,
+    extra: &[&str],
+    out: &Path,
+) -> serde_json::Value {
+    let mut args = vec![
+        "compare",
+        s(folder),
+        "--arm",
+        "left",
+        "--person",
+        "prefix",
+        "--per",
+        "person",
+        "--holdout",
+        "2",
+        "--seed",
+        seed,
+        "--json",
+        "-o",
+        s(out),
+    ];
+    args.extend(extra);
+    let o = kinergy(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    json(&o)
+}
