@@ -218,6 +218,72 @@ impl kinergy_train::anneal::Observer for StopAfter<'_> {
     }
 }
 
+// S_E runs two annealings in its stage (its own parameters, then all): interrupted in either,
+// the fit resumes to the uninterrupted one bit for bit (interrupted in the first, nothing of
+// the stage is checkpointed and it starts afresh; in the second, the first runs again for its
+// count and the second resumes), and a finished S_E stage in a checkpoint is accepted.
+#[test]
+fn an_s_e_fit_interrupted_in_either_of_its_phases_resumes_bit_for_bit() {
+    use kinergy_train::anneal::Control;
+    use kinergy_train::fit::NestedRun;
+    let (_, _, _, reach) = synthetic_capture(&TRUTH, 120);
+    let settings = FitSettings {
+        anneal: AnnealSettings {
+            max_evaluations: 240,
+            population: 4,
+            seed: 23,
+            ..AnnealSettings::default()
+        },
+        ..FitSettings::default()
+    };
+    let reaches = [reach];
+    let run = NestedRun {
+        reaches: &reaches,
+        models: &[Model::Sd, Model::Se],
+        optimizer: OptimizerKind::Svd.default_optimizer(),
+        settings: &settings,
+    };
+    let whole = run.run(&mut (), &Control::default(), false).expect("whole");
+    assert!(!whole.interrupted);
+    let (sd, se) = (&whole.fits.fits[0], &whole.fits.fits[1]);
+    // S_E's iterations count both phases, each initialized once.
+    assert_eq!(se.evaluations, 4 * (se.iterations + 2));
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (case, at) in [
+        ("first phase", sd.iterations + 3),
+        ("second phase", se.iterations - 2 + sd.iterations),
+    ] {
+        let path = dir.path().join(format!("{case}.json"));
+        let flag = std::sync::atomic::AtomicBool::new(false);
+        let control = Control {
+            checkpoint: Some(&path),
+            checkpoint_every: 2,
+            interrupt: Some(&flag),
+        };
+        let first = run
+            .run(
+                &mut StopAfter {
+                    at,
+                    seen: 0,
+                    flag: &flag,
+                },
+                &control,
+                false,
+            )
+            .expect("first part");
+        assert!(first.interrupted, "{case}");
+        flag.store(false, std::sync::atomic::Ordering::SeqCst);
+        let resumed = run.run(&mut (), &control, true).expect("resume");
+        assert!(!resumed.interrupted, "{case}");
+        assert_eq!(resumed.fits, whole.fits, "{case}: the resumed fit differs");
+        // Resuming the finished fit's checkpoint (S_E completed in it) gives it again.
+        let again = run
+            .run(&mut (), &control, true)
+            .expect("resume the finished");
+        assert_eq!(again.fits, whole.fits, "{case}: the finished fit differs");
+    }
+}
+
 #[test]
 fn an_interrupted_nested_fit_resumes_bit_for_bit() {
     use kinergy_train::anneal::Control;

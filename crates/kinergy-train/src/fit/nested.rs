@@ -251,16 +251,20 @@ impl NestedCheckpoint {
                     return Err((at(name), format!("is {score}: expected ≥ 0")));
                 }
             }
+            // S_E runs two annealings (its own parameters, then all), each initialized once
+            // and within the budget; its iterations are both runs'.
+            let runs = if stage.model == Model::Se { 2 } else { 1 };
             let expected = stage
                 .iterations
-                .checked_add(1)
+                .checked_add(runs)
                 .and_then(|k| k.checked_mul(anneal.population));
-            if expected != Some(stage.evaluations) || stage.evaluations > anneal.max_evaluations {
+            let budget = anneal.max_evaluations.saturating_mul(runs);
+            if expected != Some(stage.evaluations) || stage.evaluations > budget {
                 return Err((
                     at("evaluations"),
                     format!(
-                        "is {} after {} iterations: expected population × (iterations + 1) within the budget of {}",
-                        stage.evaluations, stage.iterations, anneal.max_evaluations
+                        "is {} after {} iterations: expected population × (iterations + {runs}) within the budget of {budget}",
+                        stage.evaluations, stage.iterations
                     ),
                 ));
             }

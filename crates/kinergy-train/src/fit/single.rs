@@ -236,9 +236,30 @@ pub(super) fn run_stage(
     // S_E first searches its own parameters with S_D's held (see `own_first`), then all;
     // a resumed S_E stage runs that first phase again (deterministic) for its count.
     let own = own_first(objective, start, settings, observer, control)?;
-    let own_evaluations = own.as_ref().map_or(0, |(_, e)| *e);
+    let (own_evaluations, own_iterations) = own
+        .as_ref()
+        .map_or((0, 0), |o| (o.evaluations, o.iterations));
+    if own.as_ref().is_some_and(|o| o.interrupted) {
+        // Interrupted in the first phase: nothing of this stage is checkpointed, so a
+        // resumed fit starts it afresh, exactly as an uninterrupted one.
+        return Ok(Fit {
+            objective: objective.kind(),
+            distances: objective.distances(start)?,
+            space: objective.space().clone(),
+            optimizer: objective.optimizer(),
+            values: start.to_vec(),
+            score: start_score,
+            start_score,
+            evaluations: own_evaluations,
+            iterations: own_iterations,
+            status: Status::Interrupted,
+            seed: anneal.seed,
+            frames_synthesized: own_evaluations * objective.frames_per_evaluation(),
+            refinement: None,
+        });
+    }
     let start = match &own {
-        Some((x, _)) => x.as_slice(),
+        Some(o) => o.values.as_slice(),
         None => start,
     };
     // The stage's name in the annealer's state; the problem itself is checked by value by
@@ -265,7 +286,7 @@ pub(super) fn run_stage(
         score: state.best_cost,
         start_score,
         evaluations: own_evaluations + state.evaluations,
-        iterations: state.iteration,
+        iterations: own_iterations + state.iteration,
         status: state.status,
         seed: anneal.seed,
         frames_synthesized: (own_evaluations + state.evaluations)
@@ -275,8 +296,8 @@ pub(super) fn run_stage(
 }
 
 /// S_E's first phase: its own parameters (the growth rates and the tempo factors, from
-/// neutral) annealed with S_D's part held at `start`'s, on the same budget; `None` for the
-/// other models. Started at S_D's solution, an annealer moving every parameter at once found
+/// neutral) annealed with S_D's part held at `start`'s, on the same budget: the vector, its
+/// evaluations and iterations; `None` for the other models. Started at S_D's solution, an annealer moving every parameter at once found
 /// nothing better (every proposal of 30 parameters moved S_D's sharp optimum too): on the
 /// shared people's takes 1–4 the whole-vector stage ended where it began for two persons of
 /// three.
@@ -286,7 +307,7 @@ fn own_first(
     settings: &FitSettings,
     observer: &mut dyn Observer,
     control: &Control<'_>,
-) -> Result<Option<(Vec<f64>, usize)>> {
+) -> Result<Option<OwnPhase>> {
     let space = objective.space();
     if space.model() != Model::Se {
         return Ok(None);
@@ -309,7 +330,21 @@ fn own_first(
         interrupt: control.interrupt,
     };
     let state = annealer.run(&part, state, observer, &quiet)?;
-    Ok(Some((part.full(&state.best_x), state.evaluations)))
+    Ok(Some(OwnPhase {
+        values: part.full(&state.best_x),
+        evaluations: state.evaluations,
+        iterations: state.iteration,
+        interrupted: state.status == Status::Interrupted,
+    }))
+}
+
+/// What S_E's first phase ended with.
+struct OwnPhase {
+    /// The whole S_E vector (S_D's part as it started, S_E's own part the best found).
+    values: Vec<f64>,
+    evaluations: usize,
+    iterations: usize,
+    interrupted: bool,
 }
 
 /// A cost function over the entries `free` of `inner`'s vectors, the others held at `base`'s.
