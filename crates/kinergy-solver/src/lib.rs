@@ -1,11 +1,11 @@
-//! Synergy IK: iterative IK optimizers, the joint-synergy transform S_A–S_D (and S_E, beyond the paper) and the
-//! controller that synthesizes a reach frame by frame (Aubry, Julliard & Gibet 2009,
-//! DESIGN §1.1).
+//! Synergy IK: iterative IK optimizers, the joint-synergy transform S_A–S_D (and S_E, beyond
+//! the paper) and the controller that synthesizes a reach frame by frame (Aubry, Julliard &
+//! Gibet 2009, DESIGN §1.1).
 //!
 //! - [`Optimizer`]: `jt`, `njt`, `svd`, `dls` turn the task error ΔX into a joint step Δθ
 //!   ([`optimizer`] documents each formula and why the SVD goes through 3 × 3 algebra).
-//! - [`Synergy`] in a [`ParamSpace`]: Δθ'_i = φ_i(t)·g_i·Δθ_i, the models [`Model`] S_A–S_D and S_E
-//!   with named, bounded parameters; [`ParamsFile`] is their JSON file, with the
+//! - [`Synergy`] in a [`ParamSpace`]: Δθ'_i = φ_i(t)·g_i·Δθ_i, the models [`Model`] S_A–S_D
+//!   and S_E with named, bounded parameters; [`ParamsFile`] is their JSON file, with the
 //!   [`FitRecord`] of how they were fitted.
 //! - [`Controller`]: Θ ← clamp(Θ + S(t)·O(ΔX)) each frame, with a typed [`StopReason`].
 //! - [`ReachSphere`]: near full extension the elbow takes the distance by the law of cosines
@@ -66,5 +66,8 @@ pub use params::{FORMAT_VERSION, ParamsFile};
 pub use reachability::ReachSphere;
 pub use smoothing::{Finish, Smoothing};
 pub use style::{FieldUse, PersonStyle, StyleAt, StyleError};
-pub use synergy::{Bounds, Interval, Model, ParamKind, ParamSpace, Synergy, TempoFactors, sig};
+pub use synergy::{
+    ACCELERATION, Bounds, GROWTH, Interval, Model, ONSET, ParamKind, ParamSpace, Synergy,
+    TempoFactors, growth_factor, sig,
+};
 pub use task::{Task, TaskError};

@@ -50,7 +50,7 @@ impl Model {
     /// Every model, poorest first.
     pub const ALL: [Model; 5] = [Model::Sa, Model::Sb, Model::Sc, Model::Sd, Model::Se];
 
-    /// `sa`, `sb`, `sc` or `sd`.
+    /// `sa`, `sb`, `sc`, `sd` or `se`.
     pub fn name(self) -> &'static str {
         match self {
             Model::Sa => "sa",
@@ -61,7 +61,7 @@ impl Model {
         }
     }
 
-    /// The paper's name: `S_A` … `S_D`.
+    /// The paper's name: `S_A` … `S_D` (and `S_E`, ours).
     pub fn paper_name(self) -> &'static str {
         match self {
             Model::Sa => "S_A",

@@ -297,10 +297,10 @@ pub(super) fn run_stage(
 
 /// S_E's first phase: its own parameters (the growth rates and the tempo factors, from
 /// neutral) annealed with S_D's part held at `start`'s, on the same budget: the vector, its
-/// evaluations and iterations; `None` for the other models. Started at S_D's solution, an annealer moving every parameter at once found
-/// nothing better (every proposal of 30 parameters moved S_D's sharp optimum too): on the
-/// shared people's takes 1–4 the whole-vector stage ended where it began for two persons of
-/// three.
+/// evaluations and iterations; `None` for the other models. Started at S_D's solution, an
+/// annealer moving every parameter at once found nothing better (every proposal of 30
+/// parameters moved S_D's sharp optimum too): on the shared people's takes 1–4 the
+/// whole-vector stage ended where it began for two persons of three.
 fn own_first(
     objective: &Objective,
     start: &[f64],
