@@ -218,6 +218,20 @@ impl kinergy_train::anneal::Observer for StopAfter<'_> {
     }
 }
 
+/// Fit settings of a population of 4 within `max_evaluations`, drawn from `seed`: the
+/// interruption tests' small fits.
+fn small_fit(max_evaluations: usize, seed: u64) -> FitSettings {
+    FitSettings {
+        anneal: AnnealSettings {
+            max_evaluations,
+            population: 4,
+            seed,
+            ..AnnealSettings::default()
+        },
+        ..FitSettings::default()
+    }
+}
+
 // S_E runs two annealings in its stage (its own parameters, then all): interrupted in either,
 // the fit resumes to the uninterrupted one bit for bit (interrupted in the first, nothing of
 // the stage is checkpointed and it starts afresh; in the second, the first runs again for its
@@ -227,15 +241,7 @@ fn an_s_e_fit_interrupted_in_either_of_its_phases_resumes_bit_for_bit() {
     use kinergy_train::anneal::Control;
     use kinergy_train::fit::NestedRun;
     let (_, _, _, reach) = synthetic_capture(&TRUTH, 120);
-    let settings = FitSettings {
-        anneal: AnnealSettings {
-            max_evaluations: 240,
-            population: 4,
-            seed: 23,
-            ..AnnealSettings::default()
-        },
-        ..FitSettings::default()
-    };
+    let settings = small_fit(240, 23);
     let reaches = [reach];
     let run = NestedRun {
         reaches: &reaches,
@@ -290,15 +296,7 @@ fn an_interrupted_nested_fit_resumes_bit_for_bit() {
     use kinergy_train::fit::NestedRun;
     let frames = 120;
     let (_, _, _, reach) = synthetic_capture(&TRUTH, frames);
-    let settings = FitSettings {
-        anneal: AnnealSettings {
-            max_evaluations: 400,
-            population: 4,
-            seed: 21,
-            ..AnnealSettings::default()
-        },
-        ..FitSettings::default()
-    };
+    let settings = small_fit(400, 21);
     let reaches = [reach];
     let run = NestedRun {
         reaches: &reaches,
