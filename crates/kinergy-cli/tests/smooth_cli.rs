@@ -185,8 +185,72 @@ fn pearson(a: &[f64], b: &[f64]) -> f64 {
     cov / (va * vb).sqrt()
 }
 
-/// Fits `model` per person on `takes` of the shared `person` (left arm, seed 1) into `params`.
+/// [`fit_person_with`] the default optimizer, SVD.
 fn fit_person(folder: &Path, person: &str, takes: &[usize], model: &str, params: &Path) {
+    fit_person_with(folder, person, takes, model, "svd", params);
+}
+
+/// Issue 26 §4 on the shared data: *active*'s raises end with the arm 95–96 % extended (the
+/// nearest the shared captures come to pointing at full extension; the issue's pointing takes
+/// are not here). With S_D fitted per person on takes 1–4 with each optimizer — JT, NJT, SVD,
+/// DLS — every held-out take 5–8 ends within 1.5 % of the arm's length of its captured end
+/// point, reached in the default time budget (measured: at most 1.0 %, JT in 14–19 frames).
+#[test]
+fn every_optimizer_reaches_the_near_straight_held_out_raises() {
+    let Some(folder) = shared("bandai-raise-left", "") else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    for optimizer in ["jt", "njt", "svd", "dls"] {
+        let params = dir.path().join(format!("{optimizer}.json"));
+        fit_person_with(&folder, "active", &[1, 2, 3, 4], "sd", optimizer, &params);
+        for t in 5..=8 {
+            let clip = folder.join(format!("active_00{t}.bvh"));
+            let out = dir.path().join("s.bvh");
+            let o = kinergy(&[
+                "synthesize",
+                s(&clip),
+                "--params",
+                s(&params),
+                "--frames",
+                "auto",
+                "-o",
+                s(&out),
+                "--json",
+            ]);
+            assert_eq!(
+                o.status.code(),
+                Some(0),
+                "{optimizer} take {t}: {}",
+                stderr(&o)
+            );
+            let report = json(&o);
+            let number = |k: &str| report[k].as_f64().expect("number");
+            let (error, arm) = (number("final_error_m"), number("arm_length_m"));
+            let extension = number("shoulder_to_target_m") / arm;
+            assert!(
+                extension >= 0.94,
+                "take {t}: the arm ends {extension} extended"
+            );
+            assert_eq!(report["stop"], "reached", "{optimizer} take {t}");
+            assert!(
+                error <= 0.015 * arm,
+                "{optimizer} take {t}: {error} m from the captured end, arm {arm} m"
+            );
+        }
+    }
+}
+
+/// Fits `model` per person on `takes` of the shared `person` (left arm, seed 1) into `params`,
+/// with the optimizer `optimizer`.
+fn fit_person_with(
+    folder: &Path,
+    person: &str,
+    takes: &[usize],
+    model: &str,
+    optimizer: &str,
+    params: &Path,
+) {
     let takes: Vec<String> = takes
         .iter()
         .map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string())
@@ -198,6 +262,8 @@ fn fit_person(folder: &Path, person: &str, takes: &[usize], model: &str, params:
         "left",
         "--model",
         model,
+        "--optimizer",
+        optimizer,
         "--per",
         "person",
         "-o",
