@@ -457,7 +457,13 @@ impl ParamSpace {
 /// a slow person's longer ones.
 #[inline]
 pub fn growth_factor(k: f64, t: f64) -> f64 {
-    (k * -(-t).exp_m1()).exp()
+    (k * growth_rise(t)).exp()
+}
+
+/// 1 − e^{−t}, the share of its growth a gain has made at `t` (the same for every DoF).
+#[inline]
+fn growth_rise(t: f64) -> f64 {
+    -(-t).exp_m1()
 }
 
 /// sig(x) = 1 / (1 + eˣ), the paper's sigmoid.
@@ -608,10 +614,10 @@ impl Synergy {
                 offsets,
                 growth,
             } => {
+                let rise = growth_rise(t);
                 for (i, d) in dtheta.iter_mut().enumerate() {
-                    *d *= self.gains[i]
-                        * growth_factor(growth[i], t)
-                        * sig(-slopes[i] * t + offsets[i]);
+                    *d *=
+                        self.gains[i] * (growth[i] * rise).exp() * sig(-slopes[i] * t + offsets[i]);
                 }
             }
         }

@@ -74,14 +74,7 @@ fn the_true_parameters_score_zero_on_their_own_motion() {
 fn annealed_sc_fit(evaluations: usize, seed: u64) -> (CapturedReach, ParamSpace, FitSettings, Fit) {
     let frames = 150;
     let (_, _, space, reach) = synthetic_capture(&TRUTH, frames);
-    let settings = FitSettings {
-        anneal: AnnealSettings {
-            max_evaluations: evaluations,
-            seed,
-            ..AnnealSettings::default()
-        },
-        ..FitSettings::default()
-    };
+    let settings = annealing(evaluations, seed);
     let fit = fit_model(
         std::slice::from_ref(&reach),
         Model::Sc,
@@ -125,14 +118,7 @@ fn known_sc_parameters_are_recovered() {
 fn richer_models_never_end_worse_and_bounds_hold() {
     let frames = 120;
     let (_, _, _, reach) = synthetic_capture(&TRUTH, frames);
-    let settings = FitSettings {
-        anneal: AnnealSettings {
-            max_evaluations: 1200,
-            seed: 11,
-            ..AnnealSettings::default()
-        },
-        ..FitSettings::default()
-    };
+    let settings = annealing(1200, 11);
     let nested = fit_nested(
         &[reach],
         &[Model::Sd, Model::Sa, Model::Sc, Model::Sb],
@@ -218,18 +204,23 @@ impl kinergy_train::anneal::Observer for StopAfter<'_> {
     }
 }
 
-/// Fit settings of a population of 4 within `max_evaluations`, drawn from `seed`: the
-/// interruption tests' small fits.
-fn small_fit(max_evaluations: usize, seed: u64) -> FitSettings {
+/// Fit settings annealing within `max_evaluations`, drawn from `seed` (default population).
+fn annealing(max_evaluations: usize, seed: u64) -> FitSettings {
     FitSettings {
         anneal: AnnealSettings {
             max_evaluations,
-            population: 4,
             seed,
             ..AnnealSettings::default()
         },
         ..FitSettings::default()
     }
+}
+
+/// [`annealing`] with a population of 4: the interruption tests' small fits.
+fn small_fit(max_evaluations: usize, seed: u64) -> FitSettings {
+    let mut settings = annealing(max_evaluations, seed);
+    settings.anneal.population = 4;
+    settings
 }
 
 // S_E runs two annealings in its stage (its own parameters, then all): interrupted in either,
@@ -745,14 +736,7 @@ fn known_se_parameters_are_recovered_where_s_d_cannot_follow() {
         "the truth scores {own} m on its own motion ({} frames)",
         made.clip.frame_count()
     );
-    let settings = FitSettings {
-        anneal: AnnealSettings {
-            max_evaluations: 20000,
-            seed: 7,
-            ..AnnealSettings::default()
-        },
-        ..FitSettings::default()
-    };
+    let settings = annealing(20000, 7);
     let refine = RefineSettings {
         max_evaluations: 4000,
         ..RefineSettings::default()

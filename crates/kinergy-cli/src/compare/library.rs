@@ -15,9 +15,6 @@ use crate::common::{Failure, emit, print_json};
 use crate::draw::{Bar, BarChart, save};
 use crate::fit::library::LIBRARY;
 
-/// The models a library row may hold a distance for, poorest first.
-const MODELS: [Model; 5] = Model::ALL;
-
 /// The columns of `library.csv` this report reads.
 #[derive(Debug, Deserialize)]
 struct Row {
@@ -91,7 +88,7 @@ pub fn run(args: &Args, library: &Path) -> Result<(), Failure> {
         .map(|(person, rows)| line(person, rows))
         .collect();
     lines.push(line("all", &rows.iter().collect::<Vec<_>>()));
-    let models: Vec<Model> = MODELS
+    let models: Vec<Model> = Model::ALL
         .into_iter()
         .filter(|&m| rows.iter().any(|r| r.distance(m).is_some()))
         .collect();
@@ -144,7 +141,7 @@ fn line(person: &str, rows: &[&Row]) -> Line {
         person: person.to_string(),
         reaches: rows.len(),
         takes: takes.len(),
-        models: MODELS
+        models: Model::ALL
             .into_iter()
             .filter_map(|m| {
                 let stats = Stats::of(rows.iter().filter_map(|r| r.distance(m)).map(|d| d * 1e3))?;

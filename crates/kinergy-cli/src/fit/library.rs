@@ -33,9 +33,6 @@ pub const LIBRARY: &str = "library.csv";
 /// One row per take skipped, with the reason.
 pub const SKIPPED: &str = "skipped.csv";
 
-/// The models a library row gives a distance for, when the nested fit reached them.
-const MODELS: [Model; 5] = Model::ALL;
-
 /// A library's takes, found once: each capture once (the first spelling kept), in the
 /// library's order, their common folder (results are named from it) and, with a segments
 /// file, its rows by clip.
@@ -642,7 +639,7 @@ fn library_row(dir: &Path, row: &RecordRow) -> Result<LibraryRow, String> {
             None => (file.model == model).then_some(record.score_m),
         }
     };
-    let [sa, sb, sc, sd, se] = MODELS.map(distance);
+    let [sa, sb, sc, sd, se] = Model::ALL.map(distance);
     let number = |s: &str| s.parse::<usize>().map_err(|_| format!("frame `{s}`"));
     let (onset, end) = (number(&row.onset)?, number(&row.end)?);
     Ok(LibraryRow {
