@@ -35,4 +35,4 @@ for seed in $(seq 1 "${SEEDS:-6}"); do
     done
   done
 done
-python3 "$(dirname "$0")/style_seeds.py" "$OUT"
+python3 "$(dirname "$0")/style_seeds.py" "$OUT" "$KINERGY"

@@ -93,6 +93,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let (dest, true) = destination(args, false)?
         && args.per == Per::Clip
     {
+        // A library stops coarser by default (`AnnealSettings::for_library`).
+        let settings = args.search.library_settings();
+        settings.anneal.validate().map_err(Failure::from)?;
         return library_run(args, &clips, &models, &settings, dest);
     }
     if args.shard.is_some() {

@@ -373,6 +373,53 @@ fn resume_fits_only_the_reaches_without_a_complete_result() {
     );
 }
 
+/// A library stops coarser by default (issue 24 §3: 0.1 % over 15 iterations, halving the
+/// evaluations): each reach's result is what a single fit of its take gives with that rule
+/// asked for, and the single fit's rule asked for in a library gives the single fit's result.
+#[test]
+fn a_library_stops_by_the_library_rule_and_either_rule_is_one_flag_away() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let take = repo().join("data-synthetic/p01/r02.bvh");
+    let values = |path: &Path| -> (serde_json::Value, u64) {
+        let v: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(path).expect("result")).expect("json");
+        let evaluations = v["fit"]["evaluations"].as_u64().expect("evaluations");
+        (v["values"].clone(), evaluations)
+    };
+    let fit = |extra: &[&str], out: &Path, library: bool| {
+        let mut args = vec!["fit", s(&take), "--per", "clip", "--model", "sb", "-q"];
+        args.extend([if library { "--out-dir" } else { "-o" }, s(out)]);
+        args.extend(extra);
+        let o = kinergy(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    };
+    let coarse = ["--stable-change", "0.001", "--stable-window", "15"];
+    let fine = ["--stable-change", "0.0001", "--stable-window", "25"];
+    let library = dir.path().join("library");
+    fit(&[], &library, true);
+    let single_coarse = dir.path().join("coarse.json");
+    fit(&coarse, &single_coarse, false);
+    let (lib, lib_evaluations) = values(&library.join("r02.json"));
+    let (one, one_evaluations) = values(&single_coarse);
+    assert_eq!((&lib, lib_evaluations), (&one, one_evaluations));
+
+    let library_fine = dir.path().join("library-fine");
+    fit(&fine, &library_fine, true);
+    let single = dir.path().join("single.json");
+    fit(&[], &single, false);
+    let (lib_fine, fine_evaluations) = values(&library_fine.join("r02.json"));
+    let (one_fine, single_evaluations) = values(&single);
+    assert_eq!(
+        (&lib_fine, fine_evaluations),
+        (&one_fine, single_evaluations)
+    );
+    assert!(
+        lib_evaluations < single_evaluations,
+        "the library rule stopped after {lib_evaluations} evaluations, the single fit's after \
+         {single_evaluations}"
+    );
+}
+
 /// The sweep's findings (issue 27): a segments file naming one capture under two spellings,
 /// once per arm, is one take with two reaches (it was refused as two results of one name),
 /// and `compare`'s results.csv tells the two reaches apart by arm and frames.

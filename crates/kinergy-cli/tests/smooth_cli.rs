@@ -470,3 +470,71 @@ fn resample(v: &[f64], n: usize) -> Vec<f64> {
         })
         .collect()
 }
+
+/// The shared captures have no hand bone: a fit records the forearm's twist and the wrist as
+/// unobserved (`fit.unobserved`), and indeed their gains change nothing of the captured arm's
+/// motion — the synthesis with them set elsewhere moves the hand at the same speeds, frame for
+/// frame — while every observed gain does.
+#[test]
+fn the_dofs_a_fit_records_as_unobserved_do_not_move_the_captured_hand() {
+    let Some(folder) = shared("bandai-raise-left", "") else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    let params = dir.path().join("normal.json");
+    fit_person(&folder, "normal", &[1, 2], "sb", &params);
+    let file: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&params).expect("params")).expect("json");
+    let unobserved: Vec<&str> = file["fit"]["unobserved"]
+        .as_array()
+        .expect("unobserved DoFs recorded")
+        .iter()
+        .map(|v| v.as_str().expect("name"))
+        .collect();
+    assert_eq!(
+        unobserved,
+        ["elbow_twist", "wrist_swing_x", "wrist_swing_y"]
+    );
+    let clip = folder.join("normal_005.bvh");
+    let speeds_with = |change: &[&str], value: f64, name: &str| {
+        let mut edited = file.clone();
+        for dof in change {
+            edited["values"][format!("g_{dof}")] = serde_json::json!(value);
+        }
+        let path = dir.path().join(format!("{name}.json"));
+        std::fs::write(&path, serde_json::to_vec(&edited).expect("json")).expect("write");
+        let out = dir.path().join(format!("{name}.bvh"));
+        let o = kinergy(&[
+            "synthesize",
+            s(&clip),
+            "--params",
+            s(&path),
+            "--arm",
+            "left",
+            "--frames",
+            "auto",
+            "-o",
+            s(&out),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        speeds(&[&out], "left", dir.path()).remove(0)
+    };
+    let fitted = speeds_with(&[], 0.0, "fitted");
+    for value in [-3.0, 4.0] {
+        let moved = speeds_with(&unobserved, value, &format!("unobserved{value}"));
+        assert_eq!(moved.len(), fitted.len());
+        for (a, b) in moved.iter().zip(&fitted) {
+            assert!((a - b).abs() < 1e-9, "gains {value}: {a} against {b}");
+        }
+    }
+    let observed = speeds_with(&["elbow_flexion"], 3.0, "observed");
+    let largest = observed
+        .iter()
+        .zip(&fitted)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        largest > 0.05,
+        "an observed gain moved the hand by {largest} m/s at most"
+    );
+}

@@ -65,6 +65,13 @@ pub struct FitRecord {
     /// record is that objective's value, meters.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub objective: Option<FitObjective>,
+    /// The DoFs no fitted reach could see ([`FitRecord::unobserved_dofs`]): on every reach's
+    /// arm they cannot move the hand (captures without a hand bone: the forearm's twist and
+    /// the wrist). Nothing in the captures decides their parameters — they are where the
+    /// search wandered — yet on an arm with a hand (the full-body character's) they move it.
+    /// Absent: every DoF was seen.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unobserved: Option<Vec<String>>,
 }
 
 /// What a fit minimizes (`kinergy fit --objective`).
@@ -287,6 +294,25 @@ impl PersonTempo {
 }
 
 impl FitRecord {
+    /// The DoFs (indices into [`kinergy_motion::Chain::arm`]'s, the order of a fitted arm's
+    /// `dof_names`) that no reach of this record could see: on every reach's arm
+    /// ([`FittedArm::unobserved_dofs`]) they cannot move the hand. Empty when a reach does
+    /// not record its arm (it may have seen them).
+    pub fn unobserved_dofs(&self) -> Vec<usize> {
+        let mut hidden: Option<Vec<usize>> = None;
+        for reach in &self.reaches {
+            let Some(arm) = &reach.arm else {
+                return Vec::new();
+            };
+            let here = arm.unobserved_dofs();
+            hidden = Some(match hidden {
+                None => here,
+                Some(h) => h.into_iter().filter(|d| here.contains(d)).collect(),
+            });
+        }
+        hidden.unwrap_or_default()
+    }
+
     /// The person's tempo over the reaches that record theirs (finite, positive duration and
     /// travel of at least 5 cm); `None` when none does.
     pub fn tempo(&self) -> Option<PersonTempo> {
@@ -334,6 +360,37 @@ pub struct FittedArm {
 }
 
 impl FittedArm {
+    /// The DoFs of this arm's chain ([`kinergy_motion::Chain::arm`] of its bones) that cannot
+    /// move its hand point in any posture: their Jacobian column is zero (below 1e-9 m/rad)
+    /// at each of a few generic postures. On an arm without a hand bone (`hand_m` 0, the
+    /// hand point at the wrist) these are the forearm's twist and the wrist's two swings: a
+    /// fit of such captures cannot tell their parameters. Empty when the bones are not valid.
+    pub fn unobserved_dofs(&self) -> Vec<usize> {
+        const ZERO: f64 = 1e-9;
+        let Ok(chain) = kinergy_motion::Chain::arm(self.upper_arm_m, self.forearm_m, self.hand_m)
+        else {
+            return Vec::new();
+        };
+        let n = chain.dof_count();
+        let base = kinergy_motion::nalgebra::IsometryMatrix3::identity();
+        let mut lin = kinergy_motion::Linearization::default();
+        let mut seen = vec![false; n];
+        // Postures of a few tenths of a radian on every DoF, different for each: no two
+        // axes line up by chance (a straight elbow would hide the shoulder's twist).
+        for k in 0..3 {
+            let q: Vec<f64> = (0..n)
+                .map(|i| 0.3 + 0.2 * (1.3 * i as f64 + 2.1 * k as f64).sin())
+                .collect();
+            if chain.linearize_into(&base, &q, &mut lin).is_err() {
+                return Vec::new();
+            }
+            for (i, s) in seen.iter_mut().enumerate() {
+                *s |= lin.linear.column(i).norm() > ZERO;
+            }
+        }
+        (0..n).filter(|&i| !seen[i]).collect()
+    }
+
     /// Checks the bones: upper arm and forearm finite and > 0, the hand finite and ≥ 0.
     /// Returns the first that is wrong (`upper_arm_m`) and why.
     pub fn check(&self) -> Result<(), (String, String)> {
@@ -468,6 +525,7 @@ mod tests {
             per: None,
             nested: None,
             objective: None,
+            unobserved: None,
             ..record
         };
         let text = serde_json::to_string(&bare).expect("json");
@@ -536,5 +594,61 @@ mod tests {
             ..arm.clone()
         };
         approx::assert_relative_eq!(arm.length_difference(&longer), 0.06 / 0.36);
+    }
+
+    /// An arm without a hand bone cannot move its hand point with the forearm's twist or the
+    /// wrist (their columns vanish: the point lies on the twist's axis and at the wrist);
+    /// with a hand every DoF moves it. A record's unobserved DoFs are those of every reach.
+    #[test]
+    fn an_arm_without_a_hand_cannot_see_its_forearm_twist_and_wrist() {
+        let arm = |hand_m: f64| FittedArm {
+            side: Some(Side::Left),
+            joints: vec!["LeftArm".into(), "LeftForeArm".into(), "LeftHand".into()],
+            upper_arm_m: 0.30,
+            forearm_m: 0.25,
+            hand_m,
+        };
+        assert_eq!(arm(0.0).unobserved_dofs(), vec![4, 5, 6]);
+        assert_eq!(arm(0.08).unobserved_dofs(), Vec::<usize>::new());
+        let chain = kinergy_motion::Chain::arm(0.3, 0.25, 0.0).expect("arm");
+        let names: Vec<&str> = chain.dof_names().collect();
+        assert_eq!(
+            [names[4], names[5], names[6]],
+            ["elbow_twist", "wrist_swing_x", "wrist_swing_y"]
+        );
+        // The columns the test reads as zero are zero to rounding, the others far from it.
+        let mut lin = kinergy_motion::Linearization::default();
+        let q = [0.4, -0.3, 0.7, 1.1, 0.5, 0.2, -0.1];
+        chain
+            .linearize_into(
+                &kinergy_motion::nalgebra::IsometryMatrix3::identity(),
+                &q,
+                &mut lin,
+            )
+            .expect("linearize");
+        for i in 0..7 {
+            let norm = lin.linear.column(i).norm();
+            assert!(
+                if i >= 4 { norm < 1e-12 } else { norm > 0.05 },
+                "DoF {i}: {norm}"
+            );
+        }
+
+        let mut record: FitRecord = serde_json::from_str(WRITTEN).expect("record");
+        assert_eq!(
+            record.unobserved_dofs(),
+            Vec::<usize>::new(),
+            "no arm recorded"
+        );
+        for reach in &mut record.reaches {
+            reach.arm = Some(arm(0.0));
+        }
+        assert_eq!(record.unobserved_dofs(), vec![4, 5, 6]);
+        record.reaches[0].arm = Some(arm(0.08));
+        assert_eq!(
+            record.unobserved_dofs(),
+            Vec::<usize>::new(),
+            "one reach saw them"
+        );
     }
 }

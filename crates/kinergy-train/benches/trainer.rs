@@ -223,6 +223,29 @@ fn library_reach(c: &mut Criterion) {
             })
         })
     });
+    // The same reach as a library fits it (`fit --per clip --out-dir`): the library's
+    // stopping rule (`AnnealSettings::for_library`).
+    let library = FitSettings {
+        anneal: settings(AnnealSettings::default().max_evaluations)
+            .anneal
+            .for_library(),
+        ..FitSettings::default()
+    };
+    group.bench_function("nested_sd_svd_library_rule", |b| {
+        pool.install(|| {
+            b.iter(|| {
+                black_box(
+                    fit_nested(
+                        std::slice::from_ref(&reach),
+                        &[Model::Sa, Model::Sb, Model::Sc, Model::Sd],
+                        OptimizerKind::Svd.default_optimizer(),
+                        &library,
+                    )
+                    .expect("fit"),
+                )
+            })
+        })
+    });
     group.bench_function("nested_se_svd", |b| {
         pool.install(|| {
             b.iter(|| {

@@ -212,14 +212,16 @@ pub struct SearchArgs {
     #[arg(long, default_value_t = AnnealSettings::default().temperature, value_name = "T")]
     pub temperature: f64,
     /// The stopping rule: a fit ends when the population's mean score changed by at most this
-    /// share over the last `--stable-window` iterations, 0 to 1. A coarser rule is faster and
-    /// scores about as well, but ends in other parameters: the README's "Fitting a library
-    /// of captures" measures what 0.001 over 15 iterations does.
-    #[arg(long, default_value_t = AnnealSettings::default().stable_tolerance, value_name = "REL")]
-    pub stable_change: f64,
-    /// Iterations over which `--stable-change` is measured, 1 to 100000.
-    #[arg(long, default_value_t = AnnealSettings::default().stable_window, value_name = "N")]
-    pub stable_window: usize,
+    /// share over the last `--stable-window` iterations, 0 to 1 (default: 0.0001; 0.001 for a
+    /// library, `fit --per clip --out-dir`). A coarser rule is faster and scores about as
+    /// well, but ends in other parameters: the README's "Fitting a library of captures"
+    /// measures what 0.001 over 15 iterations does.
+    #[arg(long, value_name = "REL")]
+    pub stable_change: Option<f64>,
+    /// Iterations over which `--stable-change` is measured, 1 to 100000 (default: 25; 15 for a
+    /// library).
+    #[arg(long, value_name = "N")]
+    pub stable_window: Option<usize>,
     /// What the fit minimizes: `positions` (the paper's mean joint-position distance) or
     /// `positions+speed` (plus `--speed-weight` × the RMS error of the hand's speed over the
     /// captured frames; the README's "Fitting a person's synergy parameters" measures it).
@@ -248,8 +250,8 @@ impl SearchArgs {
         check_range("--budget", self.budget, limits::BUDGET)?;
         check_range("--population", self.population, limits::POPULATION)?;
         check_range("--temperature", self.temperature, limits::TEMPERATURE)?;
-        check_range("--stable-change", self.stable_change, limits::STABLE_CHANGE)?;
-        check_range("--stable-window", self.stable_window, limits::STABLE_WINDOW)?;
+        check_optional("--stable-change", self.stable_change, limits::STABLE_CHANGE)?;
+        check_optional("--stable-window", self.stable_window, limits::STABLE_WINDOW)?;
         check_range("--speed-weight", self.speed_weight, limits::SPEED_WEIGHT)?;
         if self.budget < self.population {
             return Err(Failure::Input(format!(
@@ -261,17 +263,27 @@ impl SearchArgs {
         Ok(())
     }
 
-    /// Fit settings from the flags.
+    /// Fit settings from the flags, with the default stopping rule where the flags give none.
     pub fn settings(&self) -> FitSettings {
+        self.settings_from(AnnealSettings::default())
+    }
+
+    /// Fit settings from the flags for a library of captures: its stopping rule
+    /// ([`AnnealSettings::for_library`]) where the flags give none.
+    pub fn library_settings(&self) -> FitSettings {
+        self.settings_from(AnnealSettings::default().for_library())
+    }
+
+    fn settings_from(&self, defaults: AnnealSettings) -> FitSettings {
         FitSettings {
             anneal: AnnealSettings {
                 seed: self.seed,
                 max_evaluations: self.budget,
                 population: self.population,
                 temperature: self.temperature,
-                stable_tolerance: self.stable_change,
-                stable_window: self.stable_window,
-                ..AnnealSettings::default()
+                stable_tolerance: self.stable_change.unwrap_or(defaults.stable_tolerance),
+                stable_window: self.stable_window.unwrap_or(defaults.stable_window),
+                ..defaults
             },
             objective: match self.objective {
                 ObjectiveArg::Positions => FitObjective::Positions,

@@ -40,7 +40,7 @@ mod state;
 
 pub use annealer::Annealer;
 pub use observe::{Checkpoint, Control, CsvLog, Observer, Progress};
-pub use settings::AnnealSettings;
+pub use settings::{AnnealSettings, LIBRARY_STABLE_TOLERANCE, LIBRARY_STABLE_WINDOW};
 pub use state::{AnnealState, CHECKPOINT_VERSION, Member, Status};
 
 pub(crate) use state::read_checkpoint;

@@ -323,6 +323,7 @@ impl FieldFile {
             per: Some(FitGrouping::Person),
             nested: None,
             objective: None,
+            unobserved: None,
         }
     }
 
@@ -331,8 +332,10 @@ impl FieldFile {
     /// optimizer and DoF names, and [`FieldFile::record`] as its fit record (the arms).
     pub fn params_for(&self, target: &Point3<f64>) -> Result<ParamsFile> {
         let values = self.field.try_evaluate(target)?;
+        let mut record = self.record();
+        record.unobserved = crate::fit::unobserved_names(self.field.space(), &record);
         let mut file = ParamsFile::new(self.field.space(), self.optimizer, &values)?;
-        file.fit = Some(self.record());
+        file.fit = Some(record);
         Ok(file)
     }
 

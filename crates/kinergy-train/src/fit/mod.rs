@@ -29,4 +29,5 @@ pub use nested::{
     fit_nested,
 };
 pub use refine::{RefineSettings, Refinement, refine, refine_until};
+pub(crate) use single::unobserved_names;
 pub use single::{Fit, FitSettings, fit_model, model_seed};

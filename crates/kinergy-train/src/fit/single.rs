@@ -181,15 +181,32 @@ impl Fit {
             per: None,
             nested: None,
             objective: self.objective.recorded(),
+            unobserved: None,
         }
     }
 
-    /// The parameters file of this fit, recording the reaches it was fitted on.
+    /// The parameters file of this fit, recording the reaches it was fitted on (and the DoFs
+    /// none of them could see, [`FitRecord::unobserved`]).
     pub fn params_file(&self, reaches: &[CapturedReach]) -> Result<ParamsFile> {
+        let mut record = self.record(reaches);
+        record.unobserved = unobserved_names(&self.space, &record);
         let mut file = ParamsFile::new(&self.space, self.optimizer, &self.values)?;
-        file.fit = Some(self.record(reaches));
+        file.fit = Some(record);
         Ok(file)
     }
+}
+
+/// The names of the DoFs of `space` that `record`'s reaches could not see
+/// ([`FitRecord::unobserved_dofs`], which numbers the standard arm's DoFs); `None` when every
+/// DoF was seen or `space` is not on the standard arm's DoFs.
+pub(crate) fn unobserved_names(space: &ParamSpace, record: &FitRecord) -> Option<Vec<String>> {
+    let names = space.dof_names();
+    let arm = kinergy_motion::Chain::arm(1.0, 1.0, 0.0).ok()?;
+    if !arm.dof_names().eq(names.iter().map(String::as_str)) {
+        return None;
+    }
+    let hidden = record.unobserved_dofs();
+    (!hidden.is_empty()).then(|| hidden.iter().map(|&d| names[d].clone()).collect())
 }
 
 /// Fits `model` to `reaches` with `optimizer`, starting from `start` (the model's neutral
