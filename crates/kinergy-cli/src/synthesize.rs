@@ -9,14 +9,11 @@
 
 use std::path::PathBuf;
 
-use kinergy_motion::{ExportOptions, LengthUnit, Side, motion_distance};
-use kinergy_solver::{
-    BaseMode, Controller, FieldUse, Model, OptimizerKind, ParamSpace, PersonStyle, StopReason,
-    Synergy,
-};
+use kinergy_motion::{ExportOptions, LengthUnit, Side};
+use kinergy_solver::{BaseMode, FieldUse, Model, OptimizerKind, StopReason};
 use kinergy_train::segment::Selection;
 use kinergy_train::source::{FrameChoice, names_clip};
-use kinergy_train::{CapturedReach, PersonParams, TrainError};
+use kinergy_train::{CapturedReach, PersonParams, ReachDrive, Replay, TrainError};
 use serde::Serialize;
 
 use crate::common::{
@@ -225,34 +222,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         None => (reach, "the capture's final hand position"),
     };
     let target = reach.target();
-    // A field predicts for the target where the person sees it: in the arm's base frame.
-    let local = reach.local_target();
-    let mut field = None;
-    let (optimizer, synergy) = match (&params, &args.params) {
+    // A field predicts for the target where the person sees it (in the arm's base frame), asked
+    // mirrored when fitted on the other arm.
+    let drive = match (&params, &args.params) {
         (Some(person), Some(path)) => {
-            // The arm that reaches here: a field fitted on the other arm is asked mirrored.
-            let side = reach.fitted_arm().side.unwrap_or(side);
-            let at = person
-                .params_for_arm(&local, side)
-                .map_err(|e| Failure::input(path, e))?;
-            let synergy = at
-                .params
-                .synergy_for(&dof_names)
-                .map_err(|e| Failure::input(path, e))?;
-            field = at.field;
-            (at.params.optimizer, synergy)
+            ReachDrive::person(&reach, person, side).map_err(|e| Failure::input(path, e))?
         }
-        _ => {
-            let space = ParamSpace::new(args.model, &dof_names, Default::default())
-                .map_err(Failure::from)?;
-            let synergy = Synergy::new(&space, &space.neutral()).map_err(Failure::from)?;
-            (args.optimizer.default_optimizer(), synergy)
-        }
+        _ => ReachDrive::neutral(&reach, args.model, args.optimizer.default_optimizer())
+            .map_err(Failure::from)?,
     };
-    let settings = reach.open_settings(args.tolerance, args.max_seconds, args.stop_at_reach);
-    let controller = Controller::new(optimizer, synergy, settings).map_err(Failure::from)?;
-    let synthesis = controller
-        .synthesize(&reach.task())
+    let Replay {
+        synthesis,
+        distance_to_capture_m: distance,
+    } = reach
+        .replay(&drive, args.tolerance, args.max_seconds, args.stop_at_reach)
         .map_err(Failure::from)?;
     let out_clip = reach
         .to_clip(&whole, &synthesis)
@@ -267,13 +250,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     )?;
 
     let arm = reach.arm();
-    // Also with --target: the capture's own target may be unknown to its last hand position
-    // (a reach handed over before it arrived, a segments file's target), and the distance
-    // then says how far the motion toward the given target is from the captured one.
-    let distance = arm
-        .synthesized_trajectory(&synthesis)
-        .ok()
-        .and_then(|synthesized| motion_distance(reach.captured(), &synthesized).ok());
     let last = synthesis.frame_count() - 1;
     let report = Report {
         input: name,
@@ -283,17 +259,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             .into_iter()
             .map(String::from)
             .collect(),
-        model: controller.synergy.model().name().to_string(),
-        optimizer: optimizer.to_string(),
+        model: drive.synergy.model().name().to_string(),
+        optimizer: drive.optimizer.to_string(),
         base: if args.fixed_base { "fixed" } else { "replayed" },
         target_m: [target.x, target.y, target.z],
         target_from,
-        params_from: match (&params, &field) {
+        params_from: match (&params, &drive.field) {
             (None, _) => "neutral",
             (Some(_), None) => "vector",
             (Some(_), Some(_)) => "field",
         },
-        field,
+        field: drive.field,
         capture_frames: [frames.start, frames.end],
         stop: synthesis.stop.name(),
         frames: synthesis.frame_count(),

@@ -11,8 +11,7 @@ use kinergy_reach::controller::{ArmDrive, Ending, ReachSettings, reach_full_body
 use kinergy_reach::drive::PersonArm;
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
 use kinergy_solver::{
-    BaseMode, Controller, FitGrouping, FitObjective, Model, Optimizer, OptimizerKind, ParamSpace,
-    PersonStyle, StopReason, Synergy,
+    BaseMode, FitGrouping, FitObjective, Model, Optimizer, OptimizerKind, StopReason,
 };
 use kinergy_train::anneal::{AnnealSettings, Control};
 use kinergy_train::field::{FieldFile, FieldSettings};
@@ -22,7 +21,7 @@ use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, Capture, FrameChoice, ReachFrames, capture_files, names_clip, segment_reaches,
 };
-use kinergy_train::{CapturedReach, PersonParams, limits};
+use kinergy_train::{CapturedReach, PersonParams, ReachDrive, Replay, limits};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -798,42 +797,24 @@ pub fn synthesize<'py>(
             .map_err(|e| errors::input(format!("target: {e}")))?,
         None => reach,
     };
-    let dof_names = reach.dof_names();
-    let (optimizer, synergy) = match &person {
-        Some(person) => {
-            let side = reach.fitted_arm().side.unwrap_or(side);
-            let at = person
-                .params_for_arm(&reach.local_target(), side)
-                .map_err(|e| errors::ParamsError::new_err(e.to_string()))?;
-            let synergy = at
-                .params
-                .synergy_for(&dof_names)
-                .map_err(|e| errors::ParamsError::new_err(e.to_string()))?;
-            (at.params.optimizer, synergy)
-        }
-        None => {
-            let model = parse::<Model>("model", model)?;
-            let space =
-                ParamSpace::new(model, &dof_names, Default::default()).map_err(errors::solver)?;
-            let synergy = Synergy::new(&space, &space.neutral()).map_err(errors::solver)?;
-            (
-                parse::<OptimizerKind>("optimizer", optimizer)?.default_optimizer(),
-                synergy,
-            )
-        }
+    let drive = match &person {
+        Some(person) => ReachDrive::person(&reach, person, side)
+            .map_err(|e| errors::ParamsError::new_err(e.to_string()))?,
+        None => ReachDrive::neutral(
+            &reach,
+            parse::<Model>("model", model)?,
+            parse::<OptimizerKind>("optimizer", optimizer)?.default_optimizer(),
+        )
+        .map_err(errors::solver)?,
     };
-    let settings = reach.open_settings(tolerance, max_seconds, stop_at_reach);
-    let controller = Controller::new(optimizer, synergy, settings).map_err(errors::solver)?;
-    let synthesis = py
-        .detach(|| controller.synthesize(&reach.task()))
+    let Replay {
+        synthesis,
+        distance_to_capture_m: distance,
+    } = py
+        .detach(|| reach.replay(&drive, tolerance, max_seconds, stop_at_reach))
         .map_err(errors::solver)?;
     let motion = reach.to_clip(&whole, &synthesis).map_err(errors::train)?;
     let last = synthesis.frame_count().saturating_sub(1);
-    let distance = reach
-        .arm()
-        .synthesized_trajectory(&synthesis)
-        .ok()
-        .and_then(|s| kinergy_motion::motion_distance(reach.captured(), &s).ok());
     let target_at = reach.target();
     let report = SynthesisReport {
         stop: synthesis.stop.name(),
@@ -843,8 +824,8 @@ pub fn synthesize<'py>(
         target_m: [target_at.x, target_at.y, target_at.z],
         capture_frames: [window_start, window_end],
         distance_to_capture_m: distance,
-        model: controller.synergy.model().name(),
-        optimizer: optimizer.to_string(),
+        model: drive.synergy.model().name(),
+        optimizer: drive.optimizer.to_string(),
         arm: reach.fitted_arm().side.map(|s| s.to_string()),
     };
     let out = Clip::made(motion).with_report(&report);

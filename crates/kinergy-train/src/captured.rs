@@ -10,11 +10,13 @@
 
 use std::ops::Range;
 
+use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, Trajectory, frame_distance, motion_distance, speed_series};
 use kinergy_solver::{
-    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FitObjective, FittedArm,
-    Optimizer, ReachTempo, Smoothing, StopReason, Synergy, Synthesis, Task,
+    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FieldUse, FitObjective,
+    FittedArm, Model, Optimizer, ParamSpace, PersonStyle, ReachTempo, Smoothing, StopReason,
+    StyleError, Synergy, Synthesis, Task,
 };
 
 use crate::error::{Result, TrainError};
@@ -42,6 +44,64 @@ pub fn measured_arm(clip: &Clip, joints: &ArmJoints) -> Result<FittedArm> {
         forearm_m: lengths.forearm,
         hand_m: lengths.hand,
     })
+}
+
+/// What drives a replay of a captured reach ([`CapturedReach::replay`]): an optimizer and a
+/// synergy on the reach's DoFs — a person's, or a model's neutral one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReachDrive {
+    /// Turns the task error into a joint step.
+    pub optimizer: Optimizer,
+    /// The synergy on the reach's DoFs.
+    pub synergy: Synergy,
+    /// How a person's field gave them (`None`: one vector, or no person).
+    pub field: Option<FieldUse>,
+}
+
+impl ReachDrive {
+    /// `person`'s drive of `reach`: their parameters for its target in its arm's base frame
+    /// (one vector, or a field's prediction there; a field fitted on the other arm is asked
+    /// mirrored), on its DoFs. `side` is the arm asked for when the reach does not know its
+    /// own. Errors are the parameters': a field's prediction out of bounds, other DoF names.
+    pub fn person(
+        reach: &CapturedReach,
+        person: &dyn PersonStyle,
+        side: Side,
+    ) -> std::result::Result<ReachDrive, StyleError> {
+        let side = reach.fitted_arm().side.unwrap_or(side);
+        let at = person.params_for_arm(&reach.local_target(), side)?;
+        let synergy = at.params.synergy_for(&reach.dof_names())?;
+        Ok(ReachDrive {
+            optimizer: at.params.optimizer,
+            synergy,
+            field: at.field,
+        })
+    }
+
+    /// `model`'s neutral synergy on `reach`'s DoFs ([`ParamSpace::neutral`]: gains 1, the
+    /// sigmoids on from the start) with `optimizer`.
+    pub fn neutral(
+        reach: &CapturedReach,
+        model: Model,
+        optimizer: Optimizer,
+    ) -> kinergy_solver::Result<ReachDrive> {
+        let space = ParamSpace::new(model, &reach.dof_names(), Default::default())?;
+        Ok(ReachDrive {
+            optimizer,
+            synergy: Synergy::new(&space, &space.neutral())?,
+            field: None,
+        })
+    }
+}
+
+/// A replayed reach ([`CapturedReach::replay`]).
+#[derive(Debug, Clone)]
+pub struct Replay {
+    /// The synthesized motion.
+    pub synthesis: Synthesis,
+    /// Its motion distance to the captured reach, meters (`None` when they cannot be
+    /// compared).
+    pub distance_to_capture_m: Option<f64>,
 }
 
 /// One captured reach, ready to be synthesized and scored.
@@ -305,6 +365,35 @@ impl CapturedReach {
     ) -> Result<Synthesis> {
         let controller = Controller::new(optimizer, synergy, self.settings(tolerance))?;
         Ok(controller.synthesize(&self.task())?)
+    }
+
+    /// Replays this reach driven by `drive` (`kinergy synthesize`, Python's `synthesize`): the
+    /// synthesis under [`CapturedReach::open_settings`] and its motion distance to the
+    /// captured one (`None` when the two cannot be compared). Errors are the controller's: its
+    /// settings, a non-finite base or target.
+    pub fn replay(
+        &self,
+        drive: &ReachDrive,
+        tolerance: f64,
+        max_seconds: f64,
+        stop_at_reach: bool,
+    ) -> kinergy_solver::Result<Replay> {
+        let settings = self.open_settings(tolerance, max_seconds, stop_at_reach);
+        let controller = Controller::new(drive.optimizer, drive.synergy.clone(), settings)?;
+        let synthesis = controller.synthesize(&self.task())?;
+        // Also toward another target: the capture's own target may be unknown to its last
+        // hand position (a reach handed over before it arrived, a segments file's target),
+        // and the distance then says how far the motion toward the given target is from the
+        // captured one.
+        let distance_to_capture_m = self
+            .arm
+            .synthesized_trajectory(&synthesis)
+            .ok()
+            .and_then(|synthesized| motion_distance(&self.captured, &synthesized).ok());
+        Ok(Replay {
+            synthesis,
+            distance_to_capture_m,
+        })
     }
 
     /// A synthesis of this reach as a clip on the capture's skeleton: `clip` is the clip the

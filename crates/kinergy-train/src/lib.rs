@@ -42,7 +42,7 @@ pub use kinergy_motion::segment;
 pub mod source;
 pub mod synthetic;
 
-pub use captured::{CapturedReach, MAX_TARGET_DISTANCE, measured_arm};
+pub use captured::{CapturedReach, MAX_TARGET_DISTANCE, ReachDrive, Replay, measured_arm};
 pub use error::{Result, TrainError};
 pub use objective::{CostFunction, Objective};
 pub use person::PersonParams;
