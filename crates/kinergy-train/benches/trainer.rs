@@ -208,59 +208,35 @@ fn library_reach(c: &mut Criterion) {
     let pool = one_core();
     let mut group = c.benchmark_group("library_reach");
     group.sample_size(10);
-    group.bench_function("nested_sd_svd", |b| {
-        pool.install(|| {
-            b.iter(|| {
-                black_box(
-                    fit_nested(
-                        std::slice::from_ref(&reach),
-                        &[Model::Sa, Model::Sb, Model::Sc, Model::Sd],
-                        OptimizerKind::Svd.default_optimizer(),
-                        &settings(AnnealSettings::default().max_evaluations),
-                    )
-                    .expect("fit"),
-                )
-            })
-        })
-    });
+    let default = settings(AnnealSettings::default().max_evaluations);
     // The same reach as a library fits it (`fit --per clip --out-dir`): the library's
     // stopping rule (`AnnealSettings::for_library`).
     let library = FitSettings {
-        anneal: settings(AnnealSettings::default().max_evaluations)
-            .anneal
-            .for_library(),
+        anneal: default.anneal.for_library(),
         ..FitSettings::default()
     };
-    group.bench_function("nested_sd_svd_library_rule", |b| {
-        pool.install(|| {
-            b.iter(|| {
-                black_box(
-                    fit_nested(
-                        std::slice::from_ref(&reach),
-                        &[Model::Sa, Model::Sb, Model::Sc, Model::Sd],
-                        OptimizerKind::Svd.default_optimizer(),
-                        &library,
+    let sd = [Model::Sa, Model::Sb, Model::Sc, Model::Sd];
+    for (name, models, fit) in [
+        ("nested_sd_svd", &sd[..], &default),
+        ("nested_sd_svd_library_rule", &sd[..], &library),
+        ("nested_se_svd", &Model::ALL[..], &default),
+    ] {
+        group.bench_function(name, |b| {
+            pool.install(|| {
+                b.iter(|| {
+                    black_box(
+                        fit_nested(
+                            std::slice::from_ref(&reach),
+                            models,
+                            OptimizerKind::Svd.default_optimizer(),
+                            fit,
+                        )
+                        .expect("fit"),
                     )
-                    .expect("fit"),
-                )
+                })
             })
-        })
-    });
-    group.bench_function("nested_se_svd", |b| {
-        pool.install(|| {
-            b.iter(|| {
-                black_box(
-                    fit_nested(
-                        std::slice::from_ref(&reach),
-                        &Model::ALL,
-                        OptimizerKind::Svd.default_optimizer(),
-                        &settings(AnnealSettings::default().max_evaluations),
-                    )
-                    .expect("fit"),
-                )
-            })
-        })
-    });
+        });
+    }
     group.finish();
 }
 
