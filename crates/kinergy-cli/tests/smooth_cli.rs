@@ -389,9 +389,11 @@ fn on_held_out_takes_s_e_is_a_fifth_closer_than_s_d_for_every_person() {
 /// peak error at most 0.1 (measured 0.03, 0.095, 0.06) and the mean arm path closer than the
 /// default's; and no full-body reach has more hand-speed jumps than its capture.
 ///
-/// Pinned to seed 1, and seed-sensitive: the same bar holds on seeds 1 and 5 of 1–6 (README
-/// "How much of this is the seed", `tools/style-seeds.sh`). A change to the fitting arithmetic
-/// draws another vector; judge it on the seeds, not on this test alone.
+/// Pinned to seed 1, and seed-sensitive: the same bar holds on seeds 1 and 5 of 1–6, and with
+/// the speed-jump check on seed 1 only (README "How much of this is the seed",
+/// `tools/style-seeds.sh`). A change to the fitting arithmetic draws another vector; judge it on
+/// the seeds (`the_full_body_style_holds_over_seeds_…` below guards what holds on all of
+/// them), not on this test alone.
 #[test]
 fn held_out_full_body_reaches_keep_each_persons_style() {
     let Some(folder) = shared("bandai-raise-left", "") else {
@@ -442,6 +444,76 @@ fn held_out_full_body_reaches_keep_each_persons_style() {
                 "{person} take {t}: {js} speed jumps, its capture {jc}: {ours:?}"
             );
         }
+    }
+}
+
+/// What of the full-body delivery holds whatever the fit's seed (the test above is pinned to
+/// seed 1): with each shared person's S_C vector fitted on takes 1–4 with seeds 1–6, `style`
+/// toward the targets of takes 5–8. On every seed and take the person's parameters beat the
+/// default profile for the hand-speed correlation and the peak time; *active* and *normal*
+/// reach every target without a hand-over and closer to the captured arm path than the
+/// default; and the correlation, averaged over the seeds, stays near what it is (measured
+/// 0.80 / 0.74 / 0.89 for *active* / *elderly* / *normal*; *elderly* hands over on 3 of the
+/// 6 seeds: README "Why the seed moves it"). A guard of the method, where the test above
+/// guards one vector.
+#[test]
+fn the_full_body_style_holds_over_seeds_where_it_does_not_hang_on_the_draw() {
+    let Some(folder) = shared("bandai-raise-left", "") else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (person, least_mean_r) in [("active", 0.75), ("elderly", 0.68), ("normal", 0.85)] {
+        let take = |t: usize| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string();
+        let mut correlations = Vec::new();
+        for seed in 1..=6 {
+            let params = dir.path().join(format!("{person}-{seed}.json"));
+            let mut fit = vec!["fit".to_string()];
+            fit.extend((1..=4).map(take));
+            fit.extend(
+                ["--arm", "left", "--model", "sc", "--per", "person", "-q"].map(String::from),
+            );
+            fit.extend([
+                "--seed".to_string(),
+                seed.to_string(),
+                "-o".into(),
+                s(&params).into(),
+            ]);
+            let o = kinergy(&fit.iter().map(String::as_str).collect::<Vec<_>>());
+            assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+            let mut style = vec!["style".to_string()];
+            style.extend((5..=8).map(take));
+            let out = dir.path().join(format!("style-{person}-{seed}"));
+            style.extend(["--arm", "left", "--params"].map(String::from));
+            style.extend([s(&params), "-o", s(&out), "--json"].map(String::from));
+            let o = kinergy(&style.iter().map(String::as_str).collect::<Vec<_>>());
+            assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+            let summary = json(&o)["summary"].clone();
+            let count = |k: &str| summary[k].as_u64().expect("count");
+            assert_eq!(
+                count("params_better_correlation"),
+                4,
+                "{person} seed {seed}: {summary}"
+            );
+            assert_eq!(
+                count("params_better_peak"),
+                4,
+                "{person} seed {seed}: {summary}"
+            );
+            if person != "elderly" {
+                assert_eq!(count("hand_overs"), 0, "{person} seed {seed}: {summary}");
+                assert_eq!(
+                    count("params_better_arm_path"),
+                    4,
+                    "{person} seed {seed}: {summary}"
+                );
+            }
+            correlations.push(summary["params_correlation"].as_f64().expect("r"));
+        }
+        let mean = correlations.iter().sum::<f64>() / correlations.len() as f64;
+        assert!(
+            mean >= least_mean_r,
+            "{person}: mean correlation {mean:.3} over seeds 1–6 ({correlations:?})"
+        );
     }
 }
 
