@@ -37,8 +37,11 @@ def jumps(v):
 
 
 def main_reach(path):
+    """The main reach's frames [onset, end) of the left arm, None when it has none."""
     o = json.loads(subprocess.run([kinergy, "segment", path, "--arm", "left", "--json"],
                                   capture_output=True, text=True, check=True).stdout)
+    if o.get("main") is None:
+        return None
     s = o["segments"][o["main"]]
     return s["onset"], s["end"]
 
@@ -72,8 +75,12 @@ def extra_jumps(style_dir, person):
         name = os.path.basename(reach).split(".")[0]
         capture = os.path.join(bandai, name + ".bvh")
         v = speeds(capture, reach)
+        ours_reach = main_reach(reach)
+        if ours_reach is None:
+            bad.append(name + " (no main reach)")
+            continue
         a, b = main_reach(capture)
-        c, e = main_reach(reach)
+        c, e = ours_reach
         captured = v[0][a:min(b, len(v[0]))]
         ours = resample(v[1][c:min(e, len(v[1]))], len(captured))
         allowed = jumps(captured) + (3 if person == "active" else 0)
