@@ -251,6 +251,20 @@ fn fit_person_with(
     optimizer: &str,
     params: &Path,
 ) {
+    fit_person_seeded(folder, person, takes, model, optimizer, 1, params);
+}
+
+/// [`fit_person_with`] with the annealer's seed `seed`.
+fn fit_person_seeded(
+    folder: &Path,
+    person: &str,
+    takes: &[usize],
+    model: &str,
+    optimizer: &str,
+    seed: u64,
+    params: &Path,
+) {
+    let seed = seed.to_string();
     let takes: Vec<String> = takes
         .iter()
         .map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string())
@@ -266,12 +280,36 @@ fn fit_person_with(
         optimizer,
         "--per",
         "person",
+        "--seed",
+        &seed,
         "-o",
         s(params),
         "-q",
     ]);
     let o = kinergy(&args);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// `style`'s JSON summary of `params` driving the full body toward the targets of `takes` of
+/// the shared `person` (left arm), its files in `out`.
+fn style_summary(
+    folder: &Path,
+    person: &str,
+    takes: &[usize],
+    params: &Path,
+    out: &Path,
+) -> serde_json::Value {
+    let mut args: Vec<String> = vec!["style".into()];
+    args.extend(
+        takes
+            .iter()
+            .map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string()),
+    );
+    args.extend(["--arm", "left", "--params"].map(String::from));
+    args.extend([s(params), "-o", s(out), "--json"].map(String::from));
+    let o = kinergy(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    json(&o)["summary"].clone()
 }
 
 /// Issue 26 §2, replayed: S_E and S_D fitted per person on takes 1–4, every held-out take 5–8
@@ -402,16 +440,9 @@ fn held_out_full_body_reaches_keep_each_persons_style() {
     let dir = tempfile::tempdir().expect("tempdir");
     for person in ["active", "elderly", "normal"] {
         let params = dir.path().join(format!("{person}.json"));
-        let take = |t: usize| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string();
         fit_person(&folder, person, &[1, 2, 3, 4], "sc", &params);
         let out = dir.path().join(format!("style-{person}"));
-        let mut args = vec!["style".to_string()];
-        args.extend((5..=8).map(take));
-        args.extend(["--arm", "left", "--params"].map(String::from));
-        args.extend([s(&params), "-o", s(&out), "--json"].map(String::from));
-        let o = kinergy(&args.iter().map(String::as_str).collect::<Vec<_>>());
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-        let summary = json(&o)["summary"].clone();
+        let summary = style_summary(&folder, person, &[5, 6, 7, 8], &params, &out);
         let get = |k: &str| summary[k].as_f64().expect("number");
         let count = |k: &str| summary[k].as_u64().expect("count");
         assert_eq!(count("hand_overs"), 0, "{person}: {summary}");
@@ -463,31 +494,12 @@ fn the_full_body_style_holds_over_seeds_where_it_does_not_hang_on_the_draw() {
     };
     let dir = tempfile::tempdir().expect("tempdir");
     for (person, least_mean_r) in [("active", 0.75), ("elderly", 0.68), ("normal", 0.85)] {
-        let take = |t: usize| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string();
         let mut correlations = Vec::new();
         for seed in 1..=6 {
             let params = dir.path().join(format!("{person}-{seed}.json"));
-            let mut fit = vec!["fit".to_string()];
-            fit.extend((1..=4).map(take));
-            fit.extend(
-                ["--arm", "left", "--model", "sc", "--per", "person", "-q"].map(String::from),
-            );
-            fit.extend([
-                "--seed".to_string(),
-                seed.to_string(),
-                "-o".into(),
-                s(&params).into(),
-            ]);
-            let o = kinergy(&fit.iter().map(String::as_str).collect::<Vec<_>>());
-            assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-            let mut style = vec!["style".to_string()];
-            style.extend((5..=8).map(take));
+            fit_person_seeded(&folder, person, &[1, 2, 3, 4], "sc", "svd", seed, &params);
             let out = dir.path().join(format!("style-{person}-{seed}"));
-            style.extend(["--arm", "left", "--params"].map(String::from));
-            style.extend([s(&params), "-o", s(&out), "--json"].map(String::from));
-            let o = kinergy(&style.iter().map(String::as_str).collect::<Vec<_>>());
-            assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-            let summary = json(&o)["summary"].clone();
+            let summary = style_summary(&folder, person, &[5, 6, 7, 8], &params, &out);
             let count = |k: &str| summary[k].as_u64().expect("count");
             assert_eq!(
                 count("params_better_correlation"),
