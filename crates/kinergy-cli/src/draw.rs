@@ -337,6 +337,44 @@ impl Figure for LineChart {
     }
 }
 
+/// Line charts side by side in a grid of `columns`, under one title (e.g. one panel per
+/// capture).
+#[derive(Debug, Clone)]
+pub struct Panels {
+    /// The title over all panels.
+    pub title: String,
+    /// Panels per row.
+    pub columns: usize,
+    /// The panels, row by row.
+    pub charts: Vec<LineChart>,
+}
+
+impl Figure for Panels {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&WHITE)?;
+        let k = font_scale(root);
+        let (top, rest) = root.split_vertically(scaled(40.0, k));
+        let (w, _) = top.dim_in_pixel();
+        top.draw(&Text::new(
+            self.title.clone(),
+            (w as i32 / 2, scaled(10.0, k) as i32),
+            (FONT, scaled(22.0, k))
+                .into_font()
+                .color(&BLACK)
+                .pos(Pos::new(HPos::Center, VPos::Top)),
+        ))?;
+        let columns = self.columns.max(1);
+        let rows = self.charts.len().div_ceil(columns).max(1);
+        for (area, chart) in rest.split_evenly((rows, columns)).iter().zip(&self.charts) {
+            chart.draw(area)?;
+        }
+        Ok(())
+    }
+}
+
 /// One bar: a mean with its minimum and maximum.
 #[derive(Debug, Clone)]
 pub struct Bar {

@@ -21,6 +21,9 @@ use kinergy_motion::Clip;
 use kinergy_reach::ReachError;
 use kinergy_reach::style::{StyleCapture, StyleRow as Row, StyleRun, StyleSummary as Summary};
 use kinergy_train::PersonParams;
+use kinergy_train::TrainError;
+use kinergy_train::fidelity::{PersonFidelity, Predictor, TakeFidelity};
+use kinergy_train::style::StyleTake;
 use serde::Serialize;
 
 use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
@@ -75,11 +78,61 @@ struct CsvRow<'a> {
     profile_peak: f64,
     profile_peak_error: f64,
     profile_arm_path: f64,
+    capture_duration_s: f64,
+    capture_peak_m_s: f64,
+    capture_sparc: f64,
+    capture_largest_change_m_s: f64,
+    e_ceiling: Option<f64>,
+    e_minimum_jerk: Option<f64>,
+    e_arm: Option<f64>,
+    e_body: Option<f64>,
+    e_profile: Option<f64>,
+    duration_ratio_arm: Option<f64>,
+    duration_ratio_body: Option<f64>,
+    duration_ratio_profile: Option<f64>,
+    peak_ratio_arm: Option<f64>,
+    peak_ratio_body: Option<f64>,
+    peak_ratio_profile: Option<f64>,
+    time_to_peak_arm_s: Option<f64>,
+    time_to_peak_body_s: Option<f64>,
+    sparc_arm: Option<f64>,
+    sparc_body: Option<f64>,
+    largest_change_arm_m_s: Option<f64>,
+    largest_change_body_m_s: Option<f64>,
+    jump_arm: Option<bool>,
+    jump_body: Option<bool>,
 }
 
-impl<'a> From<&'a Row> for CsvRow<'a> {
-    fn from(r: &'a Row) -> CsvRow<'a> {
+impl<'a> CsvRow<'a> {
+    /// The row of `r` with `t`'s real-time figures, a column per predictor and measure
+    /// (`e_body`, `duration_ratio_arm`, …; empty where the predictor was not made).
+    fn new(r: &'a Row, t: &TakeFidelity) -> CsvRow<'a> {
+        let f = |p: Predictor| t.get(p).map(|x| x.fidelity);
+        let any = t.predicted.first().map(|p| p.fidelity);
         CsvRow {
+            capture_duration_s: t.capture_duration_s,
+            capture_peak_m_s: t.capture_peak_m_s,
+            capture_sparc: any.map_or(f64::NAN, |f| f.capture_sparc),
+            capture_largest_change_m_s: any.map_or(f64::NAN, |f| f.capture_largest_change),
+            e_ceiling: f(Predictor::Ceiling).map(|x| x.error),
+            e_minimum_jerk: f(Predictor::MinimumJerk).map(|x| x.error),
+            e_arm: f(Predictor::Arm).map(|x| x.error),
+            e_body: f(Predictor::Body).map(|x| x.error),
+            e_profile: f(Predictor::Profile).map(|x| x.error),
+            duration_ratio_arm: f(Predictor::Arm).map(|x| x.duration_ratio),
+            duration_ratio_body: f(Predictor::Body).map(|x| x.duration_ratio),
+            duration_ratio_profile: f(Predictor::Profile).map(|x| x.duration_ratio),
+            peak_ratio_arm: f(Predictor::Arm).map(|x| x.peak_ratio),
+            peak_ratio_body: f(Predictor::Body).map(|x| x.peak_ratio),
+            peak_ratio_profile: f(Predictor::Profile).map(|x| x.peak_ratio),
+            time_to_peak_arm_s: f(Predictor::Arm).map(|x| x.time_to_peak_s),
+            time_to_peak_body_s: f(Predictor::Body).map(|x| x.time_to_peak_s),
+            sparc_arm: f(Predictor::Arm).map(|x| x.sparc),
+            sparc_body: f(Predictor::Body).map(|x| x.sparc),
+            largest_change_arm_m_s: f(Predictor::Arm).map(|x| x.largest_change),
+            largest_change_body_m_s: f(Predictor::Body).map(|x| x.largest_change),
+            jump_arm: f(Predictor::Arm).map(|x| x.jumps),
+            jump_body: f(Predictor::Body).map(|x| x.jumps),
             clip: &r.clip,
             onset: r.frames[0],
             end: r.frames[1],
@@ -106,6 +159,9 @@ impl<'a> From<&'a Row> for CsvRow<'a> {
 #[derive(Serialize)]
 struct Report<'a> {
     params: String,
+    /// The real-time figures ([`PersonFidelity`]): what judges the person's delivery.
+    fidelity: &'a PersonFidelity,
+    /// The time-normalized scores (secondary).
     summary: &'a Summary,
     rows: &'a [Row],
 }
@@ -146,43 +202,50 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     };
     let mut rows = Vec::with_capacity(clips.len());
     let mut runs = Vec::with_capacity(clips.len());
+    let mut motions = Vec::with_capacity(clips.len());
     let mut first = None;
     for (k, path) in clips.iter().enumerate() {
-        let (clip, capture, run) = compare_one(args, &person, path)?;
+        let (clip, take) = compare_one(args, &person, path)?;
         if let Some(files) = reach_files.get(k) {
             make_folder()?;
-            write_reaches(files, &capture, &run)?;
+            write_reaches(files, &take.capture, &take.run)?;
         }
-        rows.push(run.row.clone());
-        runs.push(run);
+        rows.push(take.run.row.clone());
+        motions.push(take.motions);
+        runs.push(take.run);
         if first.is_none() {
-            first = Some((clip, capture));
+            first = Some((clip, take.capture));
         }
     }
     let summary = Summary::of(&rows);
+    let fidelity = PersonFidelity::of(&motions);
+    let text = markdown(&args.params, &fidelity, &summary, &rows);
     if let Some(dir) = &args.output {
-        let flat: Vec<CsvRow<'_>> = rows.iter().map(CsvRow::from).collect();
+        let flat: Vec<CsvRow<'_>> = rows
+            .iter()
+            .zip(&fidelity.takes)
+            .map(|(r, t)| CsvRow::new(r, t))
+            .collect();
         make_folder()?;
         crate::common::write_csv(&dir.join("style.csv"), &flat)?;
-        kinergy_io::write_atomic(
-            &dir.join("summary.md"),
-            markdown(&args.params, &summary, &rows).as_bytes(),
-        )
-        .map_err(|e| Failure::task(&dir.join("summary.md"), e))?;
+        kinergy_io::write_atomic(&dir.join("summary.md"), text.as_bytes())
+            .map_err(|e| Failure::task(&dir.join("summary.md"), e))?;
         if let Some((clip, capture)) = &first {
             let who = pictures::person_name(&args.params);
             pictures::speed_chart(dir, &who, &summary, &runs)?;
+            pictures::realtime_chart(dir, &who, &fidelity)?;
             pictures::film_strip(dir, &who, clip, capture, &runs[0], args.arm.side()?)?;
         }
     }
     if args.json {
         return print_json(&Report {
             params: args.params.display().to_string(),
+            fidelity: &fidelity,
             summary: &summary,
             rows: &rows,
         });
     }
-    emit(&markdown(&args.params, &summary, &rows))
+    emit(&text)
 }
 
 /// One capture: its main reach's profile and arm path against the two reaches toward its
@@ -191,7 +254,7 @@ fn compare_one(
     args: &Args,
     person: &PersonParams,
     path: &Path,
-) -> Result<(Clip, StyleCapture, StyleRun), Failure> {
+) -> Result<(Clip, StyleTake), Failure> {
     let (clip, _) = args.read.read(path)?;
     let joints = args.arm.find(&clip, path)?;
     let name = path.display().to_string();
@@ -208,14 +271,16 @@ fn compare_one(
             eprintln!("warning: {name}: {warning}");
         }
     }
-    let capture = StyleCapture::new(&clip, &joints, &name).map_err(|e| Failure::input(path, e))?;
-    let run = capture
-        .compare(args.arm.side()?, person)
-        .map_err(|e| match e {
-            e @ ReachError::Params { .. } => crate::common::person_failure(&args.params, e),
+    let take =
+        StyleTake::run(&clip, &joints, &name, person, args.arm.side()?).map_err(|e| match e {
+            TrainError::Body(e @ ReachError::Params { .. }) => {
+                crate::common::person_failure(&args.params, e)
+            }
+            TrainError::Body(e) if e.is_input() => Failure::input(path, e),
+            e @ TrainError::Reach { .. } => Failure::input(path, e),
             e => Failure::from(e).naming(&name),
         })?;
-    Ok((clip, capture, run))
+    Ok((clip, take))
 }
 
 /// Writes the capture's two full-body reaches (with the person's parameters, with the
@@ -256,11 +321,11 @@ fn reach_names(clips: &[PathBuf]) -> Vec<String> {
         .collect()
 }
 
-/// The summary and the rows as markdown tables.
-fn markdown(params: &Path, s: &Summary, rows: &[Row]) -> String {
+/// The real-time figures, then the time-normalized summary and rows, as markdown tables.
+fn markdown(params: &Path, f: &PersonFidelity, s: &Summary, rows: &[Row]) -> String {
     let n = s.captures;
     let mut out = format!(
-        "# Style: {} against {n} captures\n\nHand speed relative to the shoulder, from the \
+        "# Style: {} against {n} captures\n\n{}## Time-normalized (secondary)\n\nHand speed relative to the shoulder, from the \
          reach's onset to where, past its peak, it falls to the share of the peak at which \
          the captured segment ends, time-normalized: r is Pearson's correlation with the \
          captured profile, peak error |the fraction of the movement at which the speed peaks \
@@ -275,6 +340,7 @@ fn markdown(params: &Path, s: &Summary, rows: &[Row]) -> String {
          The person's parameters beat the default profile on {} of {n} captures for r, {} of \
          {n} for the peak error, {} of {n} for the arm path.\n\n",
         params.display(),
+        realtime_markdown(f),
         s.params_correlation,
         s.params_peak_error,
         s.params_arm_path,
@@ -309,5 +375,66 @@ fn markdown(params: &Path, s: &Summary, rows: &[Row]) -> String {
             if r.params_hand_over { "yes" } else { "no" }
         ));
     }
+    out
+}
+
+/// The real-time tables: per predictor over the captures, then per capture.
+fn realtime_markdown(f: &PersonFidelity) -> String {
+    let mut out = format!(
+        "## In real time\n\nHand speed relative to the shoulder from each motion's onset, in \
+         seconds, against the capture's main reach: e = RMS over time of (v − v_capture) ÷ the \
+         capture's peak speed, the shorter series padded with zeros. The ceiling predicts each \
+         capture by the person's other captures' mean profile (leave-one-out), minimum jerk by \
+         a bell over the capture's path lasting the others' mean duration. Captures: mean \
+         duration {:.2} s, peak {:.2} m/s, SPARC {:.2}.\n\n\
+         | predictor | mean e | × ceiling | beats minimum jerk | duration ÷ capture | peak ÷ \
+         capture | time to peak (s) | SPARC | speed jumps |\n|---|---|---|---|---|---|---|---|---|\n",
+        f.capture_duration_s, f.capture_peak_m_s, f.capture_sparc
+    );
+    for s in &f.summaries {
+        out.push_str(&format!(
+            "| {} | {:.3} | {:.2} | {} of {} | {:.2} | {:.2} | {:.2} | {:.2} | {} |\n",
+            s.predictor.label(),
+            s.error,
+            s.error_over_ceiling,
+            s.beats_minimum_jerk,
+            s.takes,
+            s.duration_ratio,
+            s.peak_ratio,
+            s.time_to_peak_s,
+            s.sparc,
+            s.jumps
+        ));
+    }
+    out.push_str(
+        "\n| capture | duration (s) | peak (m/s) | e ceiling | e minimum jerk | e arm | e body | \
+         e profile | body duration ÷ capture | body peak ÷ capture | body jump |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let e = |t: &TakeFidelity, p: Predictor| {
+        t.get(p)
+            .map_or_else(|| "–".to_string(), |x| format!("{:.3}", x.fidelity.error))
+    };
+    for t in &f.takes {
+        let body = t.get(Predictor::Body).map(|x| x.fidelity);
+        out.push_str(&format!(
+            "| {} | {:.2} | {:.2} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            t.name,
+            t.capture_duration_s,
+            t.capture_peak_m_s,
+            e(t, Predictor::Ceiling),
+            e(t, Predictor::MinimumJerk),
+            e(t, Predictor::Arm),
+            e(t, Predictor::Body),
+            e(t, Predictor::Profile),
+            body.map_or_else(|| "–".into(), |b| format!("{:.2}", b.duration_ratio)),
+            body.map_or_else(|| "–".into(), |b| format!("{:.2}", b.peak_ratio)),
+            body.map_or_else(
+                || "–".into(),
+                |b| if b.jumps { "yes" } else { "no" }.to_string()
+            ),
+        ));
+    }
+    out.push('\n');
     out
 }

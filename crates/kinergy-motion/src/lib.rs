@@ -43,6 +43,7 @@ pub mod chain;
 pub mod clip;
 pub mod convert;
 pub mod error;
+pub mod fidelity;
 pub mod glitch;
 pub mod jumps;
 pub mod limbs;

@@ -130,6 +130,7 @@ impl PersonArm<'_> {
             self.synergy,
             dt,
             Some(smoothing),
+            None,
         )
         .map_err(reach_error)?;
         let stall_window = ((STALL_WINDOW / dt).ceil() as usize).max(1);

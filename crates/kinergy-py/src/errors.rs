@@ -95,6 +95,7 @@ pub fn train(e: kinergy_train::TrainError) -> PyErr {
             _ => KinergyError::new_err(source.to_string()),
         },
         E::Motion(m) => motion(m),
+        E::Body(b) => reach(b),
         e @ (E::File { .. } | E::Checkpoint { .. }) => ParamsError::new_err(e.to_string()),
         e if e.is_nothing_to_fit() => InputError::new_err(e.to_string()),
         e @ (E::Setting { .. } | E::Arm { .. } | E::Frames { .. } | E::Row { .. }) => {

@@ -17,7 +17,9 @@ use kinergy_solver::{BaseMode, CaptureArm, PersonStyle};
 use serde::Serialize;
 
 use crate::character::{Character, Proportions};
-use crate::controller::{ArmDrive, ReachMotion, ReachSettings, reach_full_body_driven};
+use crate::controller::{
+    ArmDrive, ReachMotion, ReachSettings, SynergyStart, reach_full_body_driven,
+};
 use crate::drive::PersonArm;
 use crate::error::Result;
 
@@ -152,6 +154,10 @@ pub struct StyleCapture {
     local: Point3<f64>,
     frame: IsometryMatrix3<f64>,
     character: Character,
+    /// The hand point (the hand, or the wrist without one) from the shoulder, per frame of the
+    /// main reach, world meters.
+    relative: Vec<Point3<f64>>,
+    frame_time: f64,
 }
 
 impl StyleCapture {
@@ -200,7 +206,13 @@ impl StyleCapture {
             .last()
             .and_then(|a| a[3].or(a[2]))
             .unwrap_or_else(Point3::origin);
+        let relative = arm
+            .iter()
+            .filter_map(|a| Some(Point3::from(a[3].or(a[2])? - a[0]?)))
+            .collect();
         Ok(StyleCapture {
+            relative,
+            frame_time: clip.frame_time(),
             name: name.to_string(),
             frames: [segment.onset, segment.end],
             speeds: speed[segment.onset..segment.end].to_vec(),
@@ -214,6 +226,22 @@ impl StyleCapture {
     /// The character of the capture's proportions (the one that reaches).
     pub fn character(&self) -> &Character {
         &self.character
+    }
+
+    /// The hand point (the capture's hand, or its wrist without one) relative to the shoulder
+    /// on each frame of the main reach, world meters: what real-time fidelity compares.
+    pub fn relative_hand(&self) -> &[Point3<f64>] {
+        &self.relative
+    }
+
+    /// The capture's seconds per frame.
+    pub fn frame_time(&self) -> f64 {
+        self.frame_time
+    }
+
+    /// Whether the capture tracks a hand point beyond the wrist.
+    pub fn has_hand(&self) -> bool {
+        self.path.has_hand()
     }
 
     /// The main reach's frames `[onset, end)`.
@@ -267,6 +295,19 @@ impl StyleCapture {
     /// Errors: [`crate::ReachError::Params`] when the person's parameters do not fit, and
     /// the full-body reach's.
     pub fn compare(&self, side: Side, person: &dyn PersonStyle) -> Result<StyleRun> {
+        self.compare_from(side, person, None)
+    }
+
+    /// [`StyleCapture::compare`] with the person's synergy arm started at `start` (the
+    /// capture's own start posture and velocity, as a fit's replay starts: see
+    /// [`ReachSettings::synergy_start`]) instead of from the character's hanging arm at rest,
+    /// and the character at the capture's frame rate (the frames a fit compares).
+    pub fn compare_from(
+        &self,
+        side: Side,
+        person: &dyn PersonStyle,
+        start: Option<SynergyStart>,
+    ) -> Result<StyleRun> {
         let character = &self.character;
         let target = PersonArm::world_target(character, &self.local, side)?;
         let synergy = PersonArm::in_base(character, person, &self.local, side)?.drive;
@@ -274,9 +315,20 @@ impl StyleCapture {
             arm: Some(side),
             ..ReachSettings::default()
         };
-        let run = |drive: &ArmDrive| reach_full_body_driven(character, target, &settings, drive);
-        let with = run(&synergy)?;
-        let without = run(&ArmDrive::Profile)?;
+        let run = |drive: &ArmDrive, start: Option<SynergyStart>| {
+            let settings = ReachSettings {
+                synergy_start: start,
+                frame_rate: if start.is_some() {
+                    1.0 / self.frame_time
+                } else {
+                    settings.frame_rate
+                },
+                ..settings
+            };
+            reach_full_body_driven(character, target, &settings, drive)
+        };
+        let with = run(&synergy, start)?;
+        let without = run(&ArmDrive::Profile, None)?;
         let captured = normalized(&self.speeds);
         let share = end_share(&self.speeds);
         let ours = normalized(ended_like(&with.arm_speeds(character, false), share));

@@ -281,6 +281,12 @@ impl CapturedReach {
         Ok(CapturedReach { target, ..self })
     }
 
+    /// The joint velocity the synthesis starts with (rad/s; the captured hand's, by least
+    /// squares), `None` at rest.
+    pub fn start_velocity(&self) -> Option<&[f64]> {
+        self.start_velocity.as_deref()
+    }
+
     /// The base the synthesized arm rides on.
     pub fn base(&self) -> &Base {
         &self.base

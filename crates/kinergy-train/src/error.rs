@@ -16,6 +16,10 @@ pub enum TrainError {
     /// The synergy solver refused a setting, a parameter or a reach.
     #[error(transparent)]
     Solver(#[from] SolverError),
+    /// The full-body character could not reach (its settings, the person's parameters on
+    /// it, a target it cannot take).
+    #[error(transparent)]
+    Body(#[from] kinergy_reach::ReachError),
     /// A setting is outside what it may be (named by its field).
     #[error("invalid `{field}`: {why}")]
     Setting {

@@ -29,6 +29,7 @@ pub mod baseline;
 pub mod captured;
 pub mod error;
 pub mod experiment;
+pub mod fidelity;
 pub mod field;
 pub mod fit;
 pub mod library;
@@ -40,6 +41,7 @@ pub mod segments_file;
 /// working.
 pub use kinergy_motion::segment;
 pub mod source;
+pub mod style;
 pub mod synthetic;
 
 pub use captured::{CapturedReach, MAX_TARGET_DISTANCE, ReachDrive, Replay, measured_arm};

@@ -114,6 +114,7 @@ impl From<kinergy_train::TrainError> for Failure {
     fn from(e: kinergy_train::TrainError) -> Failure {
         use kinergy_train::TrainError as E;
         match e {
+            E::Body(e) => e.into(),
             E::Checkpoint { .. }
             | E::Setting { .. }
             | E::Reach { .. }

@@ -5,6 +5,8 @@
 //!   the reach, one colour per kind (Okabe–Ito: black, blue, vermillion), the person's means
 //!   (correlation, peak error, arm path) in the legend; lines faster than 1.5× the fastest
 //!   capture are cut there, the title giving the cut and the highest speed;
+//! - `realtime`: each capture's hand speed in real time beside every predictor's
+//!   ([`realtime_chart`]);
 //! - `strip`: the first capture's reach at 0, 25, 50, 75 and 100 % of it, seen from the side,
 //!   the character's full body driven by the person's parameters over the captured pose (the
 //!   capture carried onto the character by their reach frames at the reach's start, as the
@@ -20,7 +22,8 @@ use nalgebra::Point3;
 use crate::common::Failure;
 use crate::draw::bones::StickFigure;
 use crate::draw::strip::{FilmStrip, Pose2};
-use crate::draw::{LineChart, Series, save};
+use crate::draw::{LineChart, Panels, Series, save};
+use kinergy_train::fidelity::PersonFidelity;
 
 /// Palette indices ([`crate::draw::colour`]) of the captured, the person's and the default's.
 pub(crate) const CAPTURED: usize = 6;
@@ -44,7 +47,101 @@ pub(super) fn person_name(params: &Path) -> String {
 }
 
 /// The files the pictures are written to in `-o DIR` (for the output check).
-pub(super) const FILES: [&str; 4] = ["speed.svg", "speed.png", "strip.svg", "strip.png"];
+pub(super) const FILES: [&str; 6] = [
+    "speed.svg",
+    "speed.png",
+    "realtime.svg",
+    "realtime.png",
+    "strip.svg",
+    "strip.png",
+];
+
+/// `realtime.svg|png`: one panel per capture, every motion's hand speed relative to the
+/// shoulder over seconds from its onset — the capture (black), the person's own repeats (the
+/// leave-one-out ceiling, sky blue), minimum jerk (yellow-orange), the arm on the captured
+/// torso (green), the full body with the person's parameters (blue) and with the default
+/// profile (vermillion) — each predictor's e in its panel's legend.
+pub(super) fn realtime_chart(dir: &Path, who: &str, f: &PersonFidelity) -> Result<(), Failure> {
+    use kinergy_train::fidelity::Predictor;
+    let colour = |p: Predictor| match p {
+        Predictor::Ceiling => 5,
+        Predictor::MinimumJerk => 4,
+        Predictor::Arm => 2,
+        Predictor::Body => PARAMS,
+        Predictor::Profile => PROFILE,
+    };
+    let line = |values: &[f64], dt: f64, until: f64| -> Vec<(f64, f64)> {
+        values
+            .iter()
+            .enumerate()
+            .map(|(k, &v)| (k as f64 * dt, v))
+            .take_while(|(t, _)| *t <= until)
+            .collect()
+    };
+    let charts = f
+        .takes
+        .iter()
+        .map(|t| {
+            // Every motion is drawn to twice the capture's duration at most: a synthesis that
+            // creeps on for seconds would squeeze the bells.
+            let until = 2.0 * t.capture_duration_s.max(0.1);
+            let mut series = vec![Series {
+                name: format!(
+                    "capture: {:.2} s, peak {:.2} m/s",
+                    t.capture_duration_s, t.capture_peak_m_s
+                ),
+                points: line(&t.capture.values, t.capture.frame_time, until),
+                colour: Some(CAPTURED),
+            }];
+            for p in &t.predicted {
+                series.push(Series {
+                    name: format!(
+                        "{}: e {:.3}, {:.2}× duration",
+                        p.predictor.name(),
+                        p.fidelity.error,
+                        p.fidelity.duration_ratio
+                    ),
+                    points: line(&p.series.values, p.series.frame_time, until),
+                    colour: Some(colour(p.predictor)),
+                });
+            }
+            let name = Path::new(&t.name)
+                .file_stem()
+                .map_or_else(|| t.name.clone(), |s| s.to_string_lossy().into_owned());
+            LineChart {
+                title: name,
+                x_label: "seconds from the onset".into(),
+                y_label: "hand speed (m/s)".into(),
+                series,
+            }
+        })
+        .collect::<Vec<_>>();
+    let columns = if charts.len() <= 4 { 2 } else { 3 };
+    let rows = charts.len().div_ceil(columns).max(1) as u32;
+    let body = f.summary(Predictor::Body);
+    let ceiling = f.summary(Predictor::Ceiling);
+    let title = format!(
+        "{who}: hand speed in real time{}",
+        match (body, ceiling) {
+            (Some(b), Some(c)) => format!(
+                ": full body e {:.3}, {:.1}× their own repeats' {:.3}",
+                b.error, b.error_over_ceiling, c.error
+            ),
+            _ => String::new(),
+        }
+    );
+    let figure = Panels {
+        title,
+        columns,
+        charts,
+    };
+    save_both(
+        &figure,
+        dir,
+        "realtime",
+        (700 * columns as u32, 60 + 420 * rows),
+    )
+}
 
 /// Saves `figure` as `DIR/name.svg` and `DIR/name.png`.
 fn save_both(

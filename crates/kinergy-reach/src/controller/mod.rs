@@ -90,7 +90,7 @@ pub use plan::reaching_side;
 pub use report::{
     ArmDriveKind, HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop,
 };
-pub use settings::ReachSettings;
+pub use settings::{ReachSettings, SynergyStart};
 pub use synergy::{
     ArmDrive, PLAIN_IK_TIME, RELAXED_ELBOW, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, SynergyArm,
     TWIST_BRAKE_BELOW, arm_dof_names, fitted_base_at_rest, reach_smoothing,

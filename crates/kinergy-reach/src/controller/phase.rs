@@ -20,6 +20,7 @@
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
 use kinergy_solver::Optimizer;
 
+use super::SynergyStart;
 use super::arm::ArmFollower;
 use super::plan::Plan;
 use super::report::{HandOver, HandOverWhy};
@@ -58,6 +59,8 @@ pub(super) struct ArmRules<'a> {
     min_progress: f64,
     /// [`STALL_WINDOW`] in frames.
     stall_window: usize,
+    /// Where and how fast the synergy arm starts ([`ReachSettings::synergy_start`]).
+    start: Option<SynergyStart>,
 }
 
 impl<'a> ArmRules<'a> {
@@ -92,6 +95,7 @@ impl<'a> ArmRules<'a> {
             // arrival distance.
             min_progress: STALL_PROGRESS.min(0.1 * arrived),
             stall_window: ((STALL_WINDOW / dt).ceil() as usize).max(1),
+            start: s.synergy_start,
         })
     }
 
@@ -313,7 +317,10 @@ impl Synergy {
             Some((peak, duration)) if peak > least && duration > 0.0 => (peak, duration),
             _ => (least, 1.875 * distance / least),
         };
-        let smoothing = reach_smoothing(rules.character, plan.arm, peak, duration);
+        let smoothing = rules
+            .start
+            .and_then(|s| s.smoothing)
+            .unwrap_or_else(|| reach_smoothing(rules.character, plan.arm, peak, duration));
         let arm = SynergyArm::new(
             rules.character,
             plan.arm,
@@ -324,6 +331,7 @@ impl Synergy {
             person,
             rules.dt,
             rules.smooth.then_some(smoothing),
+            rules.start.as_ref(),
         )?;
         Ok(Synergy { arm })
     }

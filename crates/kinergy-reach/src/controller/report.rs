@@ -3,6 +3,7 @@
 
 use std::fmt;
 
+use kinergy_motion::nalgebra::Point3;
 use serde::Serialize;
 
 use crate::character::{Character, Limb, Pose};
@@ -178,6 +179,22 @@ pub struct ReachMotion {
 }
 
 impl ReachMotion {
+    /// The reaching arm's hand point relative to its shoulder (world meters, one per frame)
+    /// from the arm controller's start to the end of the motion: the hand's tip, or with
+    /// `wrist` the wrist (the point a capture without a hand bone tracks).
+    pub fn arm_relative(&self, character: &Character, wrist: bool) -> Vec<Point3<f64>> {
+        let [shoulder, _, w, hand] = self.report.arm.joints();
+        let point = if wrist { w } else { hand };
+        let start = self.report.arm_onset_frame.min(self.poses.len());
+        self.poses[start..]
+            .iter()
+            .map(|p| {
+                let x = character.world_positions(p);
+                Point3::from(x[point] - x[shoulder])
+            })
+            .collect()
+    }
+
     /// The reaching hand's speed relative to its shoulder (m/s, between consecutive frames)
     /// from the arm controller's start to the end of the motion — or, with `to_hand_over`, to
     /// the hand-over if there was one (a person's synergy's own part).

@@ -52,6 +52,28 @@ pub struct ReachSettings {
     /// The synergy arm (a person's parameters) runs the smooth controller
     /// (`kinergy_solver::smoothing`; the default) or, `false`, the paper's.
     pub smooth_synergy: bool,
+    /// Where and how fast a person's synergy arm starts, in the fitted (capture) convention;
+    /// `None` (the default): from the character's hanging arm, at rest. `style` starts it as
+    /// the capture it compares with starts, as the fit did.
+    pub synergy_start: Option<SynergyStart>,
+}
+
+/// The start of a person's synergy arm ([`ReachSettings::synergy_start`]): what a fit's replay
+/// of a captured reach starts from ([`kinergy_solver::CaptureArm`]'s convention: the shoulder's
+/// swing x, y and twist, the elbow's flexion and twist, the wrist's two swings).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SynergyStart {
+    /// The arm's configuration, radians (7 DoFs).
+    pub configuration: [f64; 7],
+    /// Its joint velocity, rad/s.
+    pub velocity: [f64; 7],
+    /// The smooth controller's bounds, as the fit's replay of the same reach has them;
+    /// `None`: the person's tempo over the hand's distance (the default).
+    #[serde(skip)]
+    pub smoothing: Option<kinergy_solver::Smoothing>,
+    /// The point the synergy steers, meters beyond the wrist along the hand (0: the wrist, as
+    /// a fit of captures without a hand bone steered it); `None`: the character's hand tip.
+    pub hand_m: Option<f64>,
 }
 
 impl Default for ReachSettings {
@@ -77,6 +99,7 @@ impl Default for ReachSettings {
             arm: None,
             seed: 0,
             smooth_synergy: true,
+            synergy_start: None,
         }
     }
 }

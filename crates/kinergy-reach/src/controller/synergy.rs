@@ -231,6 +231,7 @@ impl SynergyArm {
         synergy: &Synergy,
         frame_time: f64,
         smoothing: Option<Smoothing>,
+        start: Option<&super::SynergyStart>,
     ) -> Result<SynergyArm> {
         let setting = |e: kinergy_solver::SolverError| ReachError::Setting {
             field: "params".into(),
@@ -252,12 +253,20 @@ impl SynergyArm {
         // The arm as it is (a fit of this motion would read a straight arm's twist as 0,
         // which is not in its positions, and start from there: see the README), with the
         // limits widened to include it, as a captured arm's are.
-        let start = conventions.to_capture(&q);
-        let chain = synergy_chain(character, limb, &start).map_err(setting)?;
-        let stepper = controller
+        let given = start;
+        let start = match given {
+            Some(s) => s.configuration.to_vec(),
+            None => conventions.to_capture(&q),
+        };
+        let chain = synergy_chain(character, limb, &start, given.and_then(|s| s.hand_m))
+            .map_err(setting)?;
+        let mut stepper = controller
             .stepper(&chain, &start)
             .map_err(setting)?
             .into_owned();
+        if let Some(s) = given {
+            stepper.set_start_velocity(&s.velocity).map_err(setting)?;
+        }
         // The bounds the person's controller moves under (S_E scales them by the person's
         // tempo): the brake before the character's limits and plain IK after a hand-over
         // keep to them too.
@@ -593,10 +602,15 @@ fn synergy_chain(
     character: &Character,
     limb: Limb,
     start: &[f64],
+    hand_m: Option<f64>,
 ) -> std::result::Result<Chain, kinergy_solver::SolverError> {
     use kinergy_motion::{ChainJoint, Motion};
     let segments = character.proportions().arm(limb.side());
-    let default = Chain::arm(segments.upper_arm, segments.forearm, segments.hand)?;
+    let default = Chain::arm(
+        segments.upper_arm,
+        segments.forearm,
+        hand_m.unwrap_or(segments.hand),
+    )?;
     let mut joints: Vec<ChainJoint> = default.joints().to_vec();
     for m in &mut joints[0].motions {
         match m {

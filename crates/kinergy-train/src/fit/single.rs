@@ -141,7 +141,12 @@ impl Fit {
         interrupt: Option<&std::sync::atomic::AtomicBool>,
     ) -> Result<Fit> {
         let objective = settings.objective(reaches, self.model(), self.optimizer)?;
-        let refinement = refine_until(&objective, &self.values, refine_settings, interrupt)?;
+        let mut refinement = refine_until(&objective, &self.values, refine_settings, interrupt)?;
+        // The refinement moves every parameter; those no reach can see stay neutral.
+        let neutral = objective.space().neutral();
+        for i in pinned_params(&objective) {
+            refinement.values[i] = neutral[i];
+        }
         let evaluations = self.evaluations + refinement.evaluations;
         Ok(Fit {
             distances: objective.distances(&refinement.values)?,
@@ -246,6 +251,15 @@ pub(super) fn run_stage(
     control: &Control<'_>,
 ) -> Result<Fit> {
     let model = objective.space().model();
+    // The parameters of DoFs no reach can see are held at their neutral values (issue 40:
+    // annealed, they were random walks that moved the full body's hand).
+    let neutral = objective.space().neutral();
+    let pinned = pinned_params(objective);
+    let mut held = start.to_vec();
+    for &i in &pinned {
+        held[i] = neutral[i];
+    }
+    let start = held.as_slice();
     // Fail on a broken setup here, with its message, rather than as a silent f64::MAX.
     let start_score = objective.score(start)?;
     let anneal = settings.anneal_for(model);
@@ -279,6 +293,13 @@ pub(super) fn run_stage(
         Some(o) => o.values.as_slice(),
         None => start,
     };
+    let part = Subspace {
+        inner: objective,
+        base: start.to_vec(),
+        free: (0..objective.space().len())
+            .filter(|i| !pinned.contains(i))
+            .collect(),
+    };
     // The stage's name in the annealer's state; the problem itself is checked by value by
     // the caller's checkpoint (see `FitProblem`).
     let tag = model.name();
@@ -288,18 +309,19 @@ pub(super) fn run_stage(
                 .checkpoint
                 .map(|c| c.path().to_path_buf())
                 .unwrap_or_default();
-            annealer.check_resume(objective, &state, tag, &path)?;
+            annealer.check_resume(&part, &state, tag, &path)?;
             state
         }
-        None => annealer.init(objective, start, tag)?,
+        None => annealer.init(&part, &part.part(start), tag)?,
     };
-    let state = annealer.run(objective, state, observer, control)?;
+    let state = annealer.run(&part, state, observer, control)?;
+    let values = part.full(&state.best_x);
     Ok(Fit {
         objective: objective.kind(),
-        distances: objective.distances(&state.best_x)?,
+        distances: objective.distances(&values)?,
         space: objective.space().clone(),
         optimizer: objective.optimizer(),
-        values: state.best_x,
+        values,
         score: state.best_cost,
         start_score,
         evaluations: own_evaluations + state.evaluations,
@@ -329,18 +351,21 @@ fn own_first(
     if space.model() != Model::Se {
         return Ok(None);
     }
-    let own = 3 * space.dof_names().len()..space.len();
+    let pinned = pinned_params(objective);
+    let own: Vec<usize> = (3 * space.dof_names().len()..space.len())
+        .filter(|i| !pinned.contains(i))
+        .collect();
     let part = Subspace {
         inner: objective,
         base: start.to_vec(),
-        free: own.clone(),
+        free: own,
     };
     let anneal = AnnealSettings {
         seed: kinergy_motion::seed::combine(settings.anneal_for(Model::Se).seed, 1, 0),
         ..settings.anneal
     };
     let annealer = Annealer::new(anneal)?;
-    let state = annealer.init(&part, &start[own.clone()], "se-own")?;
+    let state = annealer.init(&part, &part.part(start), "se-own")?;
     let quiet = Control {
         checkpoint: None,
         checkpoint_every: 0,
@@ -355,6 +380,40 @@ fn own_first(
     }))
 }
 
+/// The parameters of `objective` held at their neutral values ([`ParamSpace::neutral`]: gain 1,
+/// the sigmoid on from the start, growth 0) instead of annealed: those of the DoFs that no
+/// reach can see ([`kinergy_solver::FittedArm::unobserved_dofs`] on every reach; the forearm's
+/// twist and the wrist of a capture without a hand bone), whose values cannot change the
+/// fitted motion and so were random walks of the annealer. Shared parameters (S_A's gain,
+/// S_C's sigmoid, S_E's tempo factors) are never held.
+pub(crate) fn pinned_params(objective: &Objective) -> Vec<usize> {
+    let mut hidden: Option<Vec<usize>> = None;
+    for reach in objective.reaches() {
+        let here = reach.fitted_arm().unobserved_dofs();
+        hidden = Some(match hidden {
+            None => here,
+            Some(h) => h.into_iter().filter(|d| here.contains(d)).collect(),
+        });
+    }
+    let space = objective.space();
+    let names = space.dof_names();
+    let hidden: Vec<&str> = hidden
+        .unwrap_or_default()
+        .into_iter()
+        .filter_map(|d| names.get(d).map(String::as_str))
+        .collect();
+    space
+        .names()
+        .iter()
+        .enumerate()
+        .filter(|(_, name)| {
+            name.split_once('_')
+                .is_some_and(|(_, dof)| hidden.contains(&dof))
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
 /// What S_E's first phase ended with.
 struct OwnPhase {
     /// The whole S_E vector (S_D's part as it started, S_E's own part the best found).
@@ -364,32 +423,36 @@ struct OwnPhase {
     interrupted: bool,
 }
 
-/// A cost function over the entries `free` of `inner`'s vectors, the others held at `base`'s.
-struct Subspace<'a> {
-    inner: &'a Objective,
+/// A cost function over the entries `free` (in order) of `inner`'s vectors, the others held
+/// at `base`'s.
+struct Subspace<'a, C: CostFunction + ?Sized> {
+    inner: &'a C,
     base: Vec<f64>,
-    free: std::ops::Range<usize>,
+    free: Vec<usize>,
 }
 
-impl Subspace<'_> {
+impl<C: CostFunction + ?Sized> Subspace<'_, C> {
     fn full(&self, x: &[f64]) -> Vec<f64> {
         let mut v = self.base.clone();
-        v[self.free.clone()].copy_from_slice(x);
+        for (&i, &xi) in self.free.iter().zip(x) {
+            v[i] = xi;
+        }
         v
+    }
+
+    fn part(&self, full: &[f64]) -> Vec<f64> {
+        self.free.iter().map(|&i| full[i]).collect()
     }
 }
 
-impl CostFunction for Subspace<'_> {
+impl<C: CostFunction + ?Sized> CostFunction for Subspace<'_, C> {
     fn dimension(&self) -> usize {
         self.free.len()
     }
 
     fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
         let (lower, upper) = self.inner.bounds();
-        (
-            lower[self.free.clone()].to_vec(),
-            upper[self.free.clone()].to_vec(),
-        )
+        (self.part(&lower), self.part(&upper))
     }
 
     fn cost(&self, x: &[f64]) -> f64 {
