@@ -72,6 +72,11 @@ pub struct FitRecord {
     /// Absent: every DoF was seen.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unobserved: Option<Vec<String>>,
+    /// The person's tempo law the fit ran its reaches under ([`PersonTempo`]), what every
+    /// synthesis in their style runs under. Absent in files written before it ([`FitRecord::tempo`]
+    /// says what they mean).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tempo_law: Option<PersonTempo>,
 }
 
 /// What a fit minimizes (`kinergy fit --objective`).
@@ -273,23 +278,96 @@ pub struct ReachTempo {
     pub travel_m: f64,
 }
 
-/// A person's tempo over their fitted reaches ([`FitRecord::tempo`]): the medians of each
-/// reach's mean speed (travel ÷ duration) and shape (peak speed × duration ÷ travel, 1.875 for
-/// a minimum-jerk reach).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A person's tempo: how long their reach over a distance lasts and how fast it peaks — the
+/// bounds of the smooth controller that every synthesis in their style runs under (the fit,
+/// `synthesize`, the full body), so the person is delivered under the controller they were
+/// fitted under. A reach over d meters lasts T(d) = `duration_s` · (d / `reference_m`)^`exponent`
+/// and peaks at V(d) = `shape` · d / T(d) (1.875 for a minimum-jerk reach).
+///
+/// Made by a fit from its reaches ([`PersonTempo::of`]) and written in the parameters file
+/// (`fit.tempo_law`). Files written before it hold only each reach's tempo: their law is the
+/// medians' with `exponent` 1 (a reach's duration proportional to its distance, the person's
+/// median mean speed), as those files were always delivered.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PersonTempo {
-    /// Median travel ÷ duration, m/s.
-    pub mean_speed_m_s: f64,
-    /// Median peak speed × duration ÷ travel.
+    /// The distance the law is anchored at (the median travel of the fitted reaches), meters.
+    pub reference_m: f64,
+    /// The duration of a reach over `reference_m`, seconds.
+    pub duration_s: f64,
+    /// How the duration grows with the distance (T ∝ d^exponent), in [0, 1].
+    pub exponent: f64,
+    /// Peak speed × duration ÷ travel (median over the reaches).
     pub shape: f64,
 }
 
+/// The exponent of [`PersonTempo`] when the reaches' distances are too alike to tell it
+/// (a spread of ln d below [`TEMPO_SPREAD`]): 1, the duration proportional to the distance
+/// (the law files without one have always been delivered with).
+pub const TEMPO_EXPONENT: f64 = 1.0;
+
+/// The least standard deviation of the reaches' ln distance from which [`PersonTempo::of`]
+/// fits the exponent (log-log least squares, at least three reaches): 0.15, distances that
+/// differ by about a sixth.
+pub const TEMPO_SPREAD: f64 = 0.15;
+
 impl PersonTempo {
-    /// The peak speed (m/s) and duration (s) of the person's reach over `distance` meters:
-    /// T = distance ÷ mean speed, V = shape × distance ÷ T.
+    /// The peak speed (m/s) and duration (s) of the person's reach over `distance` meters.
     pub fn for_distance(&self, distance: f64) -> (f64, f64) {
-        let duration = distance / self.mean_speed_m_s;
+        let duration = self.duration_s * (distance / self.reference_m).powf(self.exponent);
         (self.shape * distance / duration, duration)
+    }
+
+    /// The law of `reaches`' tempos (each: the peak speed the smooth controller is bounded by,
+    /// the duration and the travel), over those with finite, positive values and a travel of
+    /// at least 5 cm; `None` when none has. The reference is the median travel, the duration
+    /// at it the median duration scaled to it by the exponent, the shape the median shape.
+    pub fn of(reaches: &[ReachTempo]) -> Option<PersonTempo> {
+        let usable: Vec<ReachTempo> = reaches
+            .iter()
+            .copied()
+            .filter(|t| {
+                [t.peak_speed_m_s, t.duration_s, t.travel_m]
+                    .iter()
+                    .all(|v| v.is_finite() && *v > 0.0)
+                    && t.travel_m >= 0.05
+            })
+            .collect();
+        if usable.is_empty() {
+            return None;
+        }
+        let median = |v: Vec<f64>| kinergy_motion::jumps::median(&v);
+        let reference = median(usable.iter().map(|t| t.travel_m).collect());
+        let logs: Vec<(f64, f64)> = usable
+            .iter()
+            .map(|t| (t.travel_m.ln(), t.duration_s.ln()))
+            .collect();
+        let n = logs.len() as f64;
+        let mx = logs.iter().map(|l| l.0).sum::<f64>() / n;
+        let my = logs.iter().map(|l| l.1).sum::<f64>() / n;
+        let sxx = logs.iter().map(|l| (l.0 - mx).powi(2)).sum::<f64>();
+        let sxy = logs.iter().map(|l| (l.0 - mx) * (l.1 - my)).sum::<f64>();
+        let exponent = if logs.len() >= 3 && (sxx / n).sqrt() >= TEMPO_SPREAD {
+            (sxy / sxx).clamp(0.0, 1.0)
+        } else {
+            TEMPO_EXPONENT
+        };
+        let duration = median(
+            usable
+                .iter()
+                .map(|t| t.duration_s * (reference / t.travel_m).powf(exponent))
+                .collect(),
+        );
+        Some(PersonTempo {
+            reference_m: reference,
+            duration_s: duration,
+            exponent,
+            shape: median(
+                usable
+                    .iter()
+                    .map(|t| t.peak_speed_m_s * t.duration_s / t.travel_m)
+                    .collect(),
+            ),
+        })
     }
 }
 
@@ -313,13 +391,18 @@ impl FitRecord {
         hidden.unwrap_or_default()
     }
 
-    /// The person's tempo over the reaches that record theirs (finite, positive duration and
-    /// travel of at least 5 cm); `None` when none does.
+    /// The person's tempo: the law the fit recorded (`tempo_law`), else (files written before
+    /// it) the medians of the reaches that record their tempo with the duration proportional
+    /// to the distance ([`PersonTempo`]); `None` when neither is there.
     pub fn tempo(&self) -> Option<PersonTempo> {
-        let usable: Vec<ReachTempo> = self
-            .reaches
+        if let Some(law) = self.tempo_law {
+            return Some(law);
+        }
+        let reaches: Vec<ReachTempo> = self.reaches.iter().filter_map(|r| r.tempo).collect();
+        let law = PersonTempo::of(&reaches)?;
+        // The old rule: T = d ÷ (median travel ÷ duration), V = median shape × d ÷ T.
+        let usable: Vec<&ReachTempo> = reaches
             .iter()
-            .filter_map(|r| r.tempo)
             .filter(|t| {
                 [t.peak_speed_m_s, t.duration_s, t.travel_m]
                     .iter()
@@ -327,18 +410,13 @@ impl FitRecord {
                     && t.travel_m >= 0.05
             })
             .collect();
-        if usable.is_empty() {
-            return None;
-        }
-        let median = |v: Vec<f64>| kinergy_motion::jumps::median(&v);
+        let mean_speed =
+            kinergy_motion::jumps::median(&usable.iter().map(|t| t.travel_m / t.duration_s).collect::<Vec<_>>());
         Some(PersonTempo {
-            mean_speed_m_s: median(usable.iter().map(|t| t.travel_m / t.duration_s).collect()),
-            shape: median(
-                usable
-                    .iter()
-                    .map(|t| t.peak_speed_m_s * t.duration_s / t.travel_m)
-                    .collect(),
-            ),
+            reference_m: 1.0,
+            duration_s: 1.0 / mean_speed,
+            exponent: 1.0,
+            shape: law.shape,
         })
     }
 }

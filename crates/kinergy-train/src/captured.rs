@@ -15,7 +15,8 @@ use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, Trajectory, frame_distance, motion_distance, speed_series};
 use kinergy_solver::{
     ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FieldUse, FitObjective,
-    FittedArm, Model, Optimizer, ParamSpace, PersonStyle, ReachTempo, Smoothing, StopReason,
+    FittedArm, Model, Optimizer, ParamSpace, PersonStyle, PersonTempo, ReachTempo, Smoothing,
+    StopReason,
     StyleError, Synergy, Synthesis, Task,
 };
 
@@ -56,6 +57,9 @@ pub struct ReachDrive {
     pub synergy: Synergy,
     /// How a person's field gave them (`None`: one vector, or no person).
     pub field: Option<FieldUse>,
+    /// The person's tempo law the replay runs under (`None`: the capture's own speed, as for
+    /// a neutral model or a parameters file written before the law was recorded).
+    pub tempo: Option<PersonTempo>,
 }
 
 impl ReachDrive {
@@ -75,6 +79,7 @@ impl ReachDrive {
             optimizer: at.params.optimizer,
             synergy,
             field: at.field,
+            tempo: at.params.fit.as_ref().and_then(|f| f.tempo_law),
         })
     }
 
@@ -90,6 +95,7 @@ impl ReachDrive {
             optimizer,
             synergy: Synergy::new(&space, &space.neutral())?,
             field: None,
+            tempo: None,
         })
     }
 }
@@ -227,6 +233,31 @@ impl CapturedReach {
     /// How fast the captured hand moved over the reach, relative to the shoulder.
     pub fn tempo(&self) -> ReachTempo {
         reach_tempo(&self.captured, self.frame_time)
+    }
+
+    /// [`CapturedReach::tempo`] with the peak speed the smooth controller's bounds take (the
+    /// base-frame rule of [`reach_smoothing`]): what a [`PersonTempo`] is made of.
+    pub fn bound_tempo(&self) -> ReachTempo {
+        ReachTempo {
+            peak_speed_m_s: bound_peak_speed(&self.arm, &self.captured, self.frame_time),
+            ..self.tempo()
+        }
+    }
+
+    /// The reach under the person's tempo `law` (the smooth controller bounded as their reach
+    /// over this one's travel, [`PersonTempo::for_distance`]) instead of its own capture's
+    /// speed; unchanged under the paper's controller.
+    pub fn under_tempo(mut self, law: &PersonTempo) -> CapturedReach {
+        if self.smoothing.is_some() {
+            let (peak, duration) = law.for_distance(self.tempo().travel_m);
+            let f = &self.fitted_arm;
+            self.smoothing = Some(Smoothing::for_reach(
+                peak,
+                duration,
+                f.upper_arm_m + f.forearm_m + f.hand_m,
+            ));
+        }
+        self
     }
 
     /// The synthesis arm made from the capture.
@@ -384,7 +415,10 @@ impl CapturedReach {
         max_seconds: f64,
         stop_at_reach: bool,
     ) -> kinergy_solver::Result<Replay> {
-        let settings = self.open_settings(tolerance, max_seconds, stop_at_reach);
+        let mut settings = self.open_settings(tolerance, max_seconds, stop_at_reach);
+        if let Some(law) = &drive.tempo {
+            settings.smoothing = self.clone().under_tempo(law).smoothing;
+        }
         let controller = Controller::new(drive.optimizer, drive.synergy.clone(), settings)?;
         let synthesis = controller.synthesize(&self.task())?;
         // Also toward another target: the capture's own target may be unknown to its last
@@ -570,13 +604,40 @@ fn reach_smoothing(
     fitted: &FittedArm,
 ) -> Smoothing {
     let t = reach_tempo(captured, frame_time);
-    let relative = t.peak_speed_m_s;
-    let base = base_peak_speed(arm, captured, frame_time);
     Smoothing::for_reach(
-        relative.max(base - BASE_TURN_SLACK * relative),
+        bound_peak_speed(arm, captured, frame_time),
         t.duration_s,
         fitted.upper_arm_m + fitted.forearm_m + fitted.hand_m,
     )
+}
+
+/// The peak speed [`reach_smoothing`] bounds a reach by: max(v_rel, v_base − 0.25 v_rel).
+fn bound_peak_speed(arm: &CaptureArm, captured: &Trajectory, frame_time: f64) -> f64 {
+    let relative = reach_tempo(captured, frame_time).peak_speed_m_s;
+    let base = base_peak_speed(arm, captured, frame_time);
+    relative.max(base - BASE_TURN_SLACK * relative)
+}
+
+/// The tempo law of a fit of `reaches` ([`PersonTempo::of`] of their [bound
+/// tempos](CapturedReach::bound_tempo)); `None` under the paper's controller or without a
+/// usable reach.
+pub fn person_tempo(reaches: &[CapturedReach]) -> Option<PersonTempo> {
+    if reaches.iter().any(|r| r.smoothing.is_none()) {
+        return None;
+    }
+    PersonTempo::of(&reaches.iter().map(CapturedReach::bound_tempo).collect::<Vec<_>>())
+}
+
+/// `reaches` as a fit of them runs them: two or more under their person's tempo law
+/// ([`person_tempo`], the bounds every synthesis in the person's style will run under), one
+/// under its own capture's (which is the law of one reach).
+pub fn under_person_tempo(reaches: &[CapturedReach]) -> Vec<CapturedReach> {
+    match person_tempo(reaches) {
+        Some(law) if reaches.len() >= 2 => {
+            reaches.iter().cloned().map(|r| r.under_tempo(&law)).collect()
+        }
+        _ => reaches.to_vec(),
+    }
 }
 
 /// How much faster than relative to the shoulder the hand may move in the base frame before

@@ -45,20 +45,25 @@ impl StyleTake {
         let capture = StyleCapture::new(clip, joints, name)?;
         let [onset, end] = capture.frames();
         let reach = CapturedReach::new(name, clip, joints, onset..end, BaseMode::Replay)?;
+        let drive = ReachDrive::person(&reach, person, side)
+            .map_err(|e| kinergy_reach::ReachError::Params { source: e })?;
         // The body's arm starts as the fit's replay does: the capture's start posture and
         // velocity (a take cut mid-motion starts moving).
         let start = match (reach.arm().start(), reach.start_velocity()) {
             (q, Some(v)) if q.len() == 7 && v.len() == 7 => Some(SynergyStart {
                 configuration: std::array::from_fn(|i| q[i]),
                 velocity: std::array::from_fn(|i| v[i]),
-                smoothing: reach.smoothing(),
+                // The bounds the replay runs under: the person's law, or the capture's own.
+                smoothing: match &drive.tempo {
+                    Some(law) => reach.clone().under_tempo(law).smoothing(),
+                    None => reach.smoothing(),
+                },
                 hand_m: Some(reach.fitted_arm().hand_m),
             }),
             _ => None,
         };
         let run = capture.compare_from(side, person, start)?;
-        let drive = ReachDrive::person(&reach, person, side)
-            .map_err(|e| kinergy_reach::ReachError::Params { source: e })?;
+
         let replay = reach.replay(&drive, DEFAULT_TOLERANCE, REPLAY_SECONDS, false)?;
         let arm = reach.arm().synthesized_trajectory(&replay.synthesis)?;
         let last = arm.joint_count() - 1;

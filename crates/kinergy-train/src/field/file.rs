@@ -324,6 +324,7 @@ impl FieldFile {
             nested: None,
             objective: None,
             unobserved: None,
+            tempo_law: None,
         }
     }
 

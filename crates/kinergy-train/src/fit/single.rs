@@ -59,7 +59,7 @@ impl FitSettings {
     ) -> Result<Objective> {
         require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
         let space = ParamSpace::new(model, &reaches[0].dof_names(), self.bounds)?;
-        Objective::new(reaches.to_vec(), space, optimizer)?
+        Objective::new(crate::captured::under_person_tempo(reaches), space, optimizer)?
             .with_tolerance(self.tolerance)?
             .with_kind(self.objective)
     }
@@ -187,6 +187,7 @@ impl Fit {
             nested: None,
             objective: self.objective.recorded(),
             unobserved: None,
+            tempo_law: None,
         }
     }
 
@@ -195,6 +196,7 @@ impl Fit {
     pub fn params_file(&self, reaches: &[CapturedReach]) -> Result<ParamsFile> {
         let mut record = self.record(reaches);
         record.unobserved = unobserved_names(&self.space, &record);
+        record.tempo_law = crate::captured::person_tempo(reaches);
         let mut file = ParamsFile::new(&self.space, self.optimizer, &self.values)?;
         file.fit = Some(record);
         Ok(file)
