@@ -622,3 +622,65 @@ fn the_dofs_a_fit_records_as_unobserved_do_not_move_the_captured_hand() {
         "an observed gain moved the hand by {largest} m/s at most"
     );
 }
+
+/// Issue 40, on the shared people (S_C per person on takes 1–4, seed 1, `style` on 5–8, in real
+/// time): the full body delivers the arm as fitted — its mean real-time error is within 15 % of
+/// the arm's on the captured torso (measured 0.66× / 1.52× / 1.71× the ceiling against the
+/// arm's 0.76× / 1.58× / 1.76×; before, the body was at 4.2× / 3.6× / 8.5×), both beat minimum
+/// jerk for every person, and the body's duration and peak speed are within 15 % of the
+/// captures' (measured 1.11 / 0.98 / 1.00 and 1.07 / 1.09 / 0.96). What is not yet met is
+/// written down, not asserted: the issue's 1.25× and 1.5× of the ceiling for *elderly* and
+/// *normal*, and its real-time jump check (README "A person delivered as fitted").
+#[test]
+fn the_full_body_delivers_the_arm_as_fitted_in_real_time() {
+    let Some(folder) = shared("bandai-raise-left", "") else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    for person in ["active", "elderly", "normal"] {
+        let params = dir.path().join(format!("{person}.json"));
+        fit_person(&folder, person, &[1, 2, 3, 4], "sc", &params);
+        let out = dir.path().join(format!("style-{person}"));
+        let mut args: Vec<String> = vec!["style".into()];
+        args.extend((5..=8).map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string()));
+        args.extend(
+            [
+                "--arm",
+                "left",
+                "--params",
+                s(&params),
+                "-o",
+                s(&out),
+                "--json",
+            ]
+            .map(String::from),
+        );
+        let o = kinergy(&args.iter().map(String::as_str).collect::<Vec<_>>());
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let fidelity = json(&o)["fidelity"].clone();
+        let summary = |name: &str| {
+            fidelity["summaries"]
+                .as_array()
+                .expect("summaries")
+                .iter()
+                .find(|s| s["predictor"] == name)
+                .cloned()
+                .unwrap_or_else(|| panic!("{person}: no {name} in {fidelity}"))
+        };
+        let (arm, body, mj) = (summary("arm"), summary("body"), summary("minimum_jerk"));
+        let e = |s: &serde_json::Value| s["error"].as_f64().expect("e");
+        assert!(
+            e(&body) <= 1.15 * e(&arm),
+            "{person}: body {body}, arm {arm}"
+        );
+        assert!(
+            e(&arm) < e(&mj) && e(&body) < e(&mj),
+            "{person}: {fidelity}"
+        );
+        for k in ["duration_ratio", "peak_ratio"] {
+            let r = body[k].as_f64().expect("ratio");
+            assert!((0.85..=1.15).contains(&r), "{person}: body {k} {r}");
+        }
+        assert!(out.join("realtime.png").is_file() && out.join("realtime.svg").is_file());
+    }
+}

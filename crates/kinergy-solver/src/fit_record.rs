@@ -410,8 +410,12 @@ impl FitRecord {
                     && t.travel_m >= 0.05
             })
             .collect();
-        let mean_speed =
-            kinergy_motion::jumps::median(&usable.iter().map(|t| t.travel_m / t.duration_s).collect::<Vec<_>>());
+        let mean_speed = kinergy_motion::jumps::median(
+            &usable
+                .iter()
+                .map(|t| t.travel_m / t.duration_s)
+                .collect::<Vec<_>>(),
+        );
         Some(PersonTempo {
             reference_m: 1.0,
             duration_s: 1.0 / mean_speed,

@@ -16,8 +16,7 @@ use kinergy_motion::{ArmJoints, Clip, Trajectory, frame_distance, motion_distanc
 use kinergy_solver::{
     ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FieldUse, FitObjective,
     FittedArm, Model, Optimizer, ParamSpace, PersonStyle, PersonTempo, ReachTempo, Smoothing,
-    StopReason,
-    StyleError, Synergy, Synthesis, Task,
+    StopReason, StyleError, Synergy, Synthesis, Task,
 };
 
 use crate::error::{Result, TrainError};
@@ -625,7 +624,12 @@ pub fn person_tempo(reaches: &[CapturedReach]) -> Option<PersonTempo> {
     if reaches.iter().any(|r| r.smoothing.is_none()) {
         return None;
     }
-    PersonTempo::of(&reaches.iter().map(CapturedReach::bound_tempo).collect::<Vec<_>>())
+    PersonTempo::of(
+        &reaches
+            .iter()
+            .map(CapturedReach::bound_tempo)
+            .collect::<Vec<_>>(),
+    )
 }
 
 /// `reaches` as a fit of them runs them: two or more under their person's tempo law
@@ -633,9 +637,11 @@ pub fn person_tempo(reaches: &[CapturedReach]) -> Option<PersonTempo> {
 /// under its own capture's (which is the law of one reach).
 pub fn under_person_tempo(reaches: &[CapturedReach]) -> Vec<CapturedReach> {
     match person_tempo(reaches) {
-        Some(law) if reaches.len() >= 2 => {
-            reaches.iter().cloned().map(|r| r.under_tempo(&law)).collect()
-        }
+        Some(law) if reaches.len() >= 2 => reaches
+            .iter()
+            .cloned()
+            .map(|r| r.under_tempo(&law))
+            .collect(),
         _ => reaches.to_vec(),
     }
 }

@@ -59,9 +59,13 @@ impl FitSettings {
     ) -> Result<Objective> {
         require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
         let space = ParamSpace::new(model, &reaches[0].dof_names(), self.bounds)?;
-        Objective::new(crate::captured::under_person_tempo(reaches), space, optimizer)?
-            .with_tolerance(self.tolerance)?
-            .with_kind(self.objective)
+        Objective::new(
+            crate::captured::under_person_tempo(reaches),
+            space,
+            optimizer,
+        )?
+        .with_tolerance(self.tolerance)?
+        .with_kind(self.objective)
     }
 }
 
