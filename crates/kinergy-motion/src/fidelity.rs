@@ -34,6 +34,11 @@
 
 use serde::Serialize;
 
+/// Whether `x` is a number above 0 (NaN is not).
+fn positive(x: f64) -> bool {
+    x > 0.0
+}
+
 /// Samples of a time-normalized profile in [`mean_profile`] (0, 1/100, …, 1 of the motion).
 pub const NORMALIZED: usize = 101;
 
@@ -53,7 +58,7 @@ pub fn resample(values: &[f64], from_dt: f64, to_dt: f64) -> Vec<f64> {
     if from_dt == to_dt {
         return values.to_vec();
     }
-    if values.is_empty() || !(from_dt > 0.0 && to_dt > 0.0) {
+    if values.is_empty() || !(positive(from_dt) && positive(to_dt)) {
         return Vec::new();
     }
     let span = (values.len() - 1) as f64 * from_dt;
@@ -79,7 +84,7 @@ fn at_time(values: &[f64], dt: f64, t: f64) -> f64 {
 /// empty or its peak is not positive.
 pub fn realtime_error(model: Speeds<'_>, capture: Speeds<'_>) -> f64 {
     let peak = peak_speed(capture);
-    if capture.values.is_empty() || !(peak > 0.0) {
+    if capture.values.is_empty() || !positive(peak) {
         return f64::NAN;
     }
     let model = resample(model.values, model.frame_time, capture.frame_time);
@@ -185,7 +190,7 @@ impl Default for SparcSettings {
 /// 2 samples, a frame time that is not positive, or a profile of zero mean.
 pub fn sparc(s: Speeds<'_>, settings: &SparcSettings) -> f64 {
     let n = s.values.len();
-    if n < 2 || !(s.frame_time > 0.0) || s.values.iter().any(|v| !v.is_finite()) {
+    if n < 2 || !positive(s.frame_time) || s.values.iter().any(|v| !v.is_finite()) {
         return f64::NAN;
     }
     let padded = (n as f64 * 2f64.powi(settings.pad_level as i32))
@@ -205,7 +210,7 @@ pub fn sparc(s: Speeds<'_>, settings: &SparcSettings) -> f64 {
         re.hypot(im)
     };
     let zero = magnitude(0);
-    if !(zero > 0.0) {
+    if !positive(zero) {
         return f64::NAN;
     }
     let spectrum: Vec<f64> = (0..=bins).map(|k| magnitude(k) / zero).collect();
@@ -231,7 +236,7 @@ pub fn log_dimensionless_jerk(s: Speeds<'_>) -> f64 {
     let v = s.values;
     let dt = s.frame_time;
     let peak = peak_speed(s);
-    if v.len() < 5 || !(peak > 0.0) || !(dt > 0.0) {
+    if v.len() < 5 || !positive(peak) || !positive(dt) {
         return f64::NAN;
     }
     let integral: f64 = v
@@ -249,7 +254,7 @@ pub fn log_dimensionless_jerk(s: Speeds<'_>) -> f64 {
 /// every `frame_time` from 0 to the frame nearest `duration`: v(t) = (L/T)·30τ²(1−τ)², τ = t/T
 /// (0 past T). Empty for a duration or frame time that is not positive.
 pub fn minimum_jerk(length: f64, duration: f64, frame_time: f64) -> Vec<f64> {
-    if !(duration > 0.0 && frame_time > 0.0) || !length.is_finite() {
+    if !(positive(duration) && positive(frame_time) && length.is_finite()) {
         return Vec::new();
     }
     let n = (duration / frame_time).round() as usize + 1;
@@ -281,7 +286,7 @@ pub fn mean_profile(takes: &[Speeds<'_>], frame_time: f64) -> Vec<f64> {
         .iter()
         .filter(|s| peak_speed(**s) > 0.0 && duration(**s) > 0.0)
         .collect();
-    if usable.is_empty() || !(frame_time > 0.0) {
+    if usable.is_empty() || !positive(frame_time) {
         return Vec::new();
     }
     let k = usable.len() as f64;
