@@ -299,6 +299,18 @@ fn style_summary(
     params: &Path,
     out: &Path,
 ) -> serde_json::Value {
+    style_report(folder, person, takes, params, out)["summary"].clone()
+}
+
+/// `style`'s whole JSON report (the real-time `fidelity`, the time-normalized `summary` and
+/// `rows`) of `params` toward the targets of `takes` of the shared `person` (left arm).
+fn style_report(
+    folder: &Path,
+    person: &str,
+    takes: &[usize],
+    params: &Path,
+    out: &Path,
+) -> serde_json::Value {
     let mut args: Vec<String> = vec!["style".into()];
     args.extend(
         takes
@@ -309,7 +321,7 @@ fn style_summary(
     args.extend([s(params), "-o", s(out), "--json"].map(String::from));
     let o = kinergy(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    json(&o)["summary"].clone()
+    json(&o)
 }
 
 /// Issue 26 §2, replayed: S_E and S_D fitted per person on takes 1–4, every held-out take 5–8
@@ -641,23 +653,8 @@ fn the_full_body_delivers_the_arm_as_fitted_in_real_time() {
         let params = dir.path().join(format!("{person}.json"));
         fit_person(&folder, person, &[1, 2, 3, 4], "sc", &params);
         let out = dir.path().join(format!("style-{person}"));
-        let mut args: Vec<String> = vec!["style".into()];
-        args.extend((5..=8).map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string()));
-        args.extend(
-            [
-                "--arm",
-                "left",
-                "--params",
-                s(&params),
-                "-o",
-                s(&out),
-                "--json",
-            ]
-            .map(String::from),
-        );
-        let o = kinergy(&args.iter().map(String::as_str).collect::<Vec<_>>());
-        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-        let fidelity = json(&o)["fidelity"].clone();
+        let fidelity =
+            style_report(&folder, person, &[5, 6, 7, 8], &params, &out)["fidelity"].clone();
         let summary = |name: &str| {
             fidelity["summaries"]
                 .as_array()

@@ -310,6 +310,17 @@ pub const TEMPO_EXPONENT: f64 = 1.0;
 /// differ by about a sixth.
 pub const TEMPO_SPREAD: f64 = 0.15;
 
+impl ReachTempo {
+    /// Whether a person's tempo can be made of it: finite, positive values and a travel of at
+    /// least 5 cm.
+    pub fn is_usable(&self) -> bool {
+        [self.peak_speed_m_s, self.duration_s, self.travel_m]
+            .iter()
+            .all(|v| v.is_finite() && *v > 0.0)
+            && self.travel_m >= 0.05
+    }
+}
+
 impl PersonTempo {
     /// The peak speed (m/s) and duration (s) of the person's reach over `distance` meters.
     pub fn for_distance(&self, distance: f64) -> (f64, f64) {
@@ -322,16 +333,7 @@ impl PersonTempo {
     /// at least 5 cm; `None` when none has. The reference is the median travel, the duration
     /// at it the median duration scaled to it by the exponent, the shape the median shape.
     pub fn of(reaches: &[ReachTempo]) -> Option<PersonTempo> {
-        let usable: Vec<ReachTempo> = reaches
-            .iter()
-            .copied()
-            .filter(|t| {
-                [t.peak_speed_m_s, t.duration_s, t.travel_m]
-                    .iter()
-                    .all(|v| v.is_finite() && *v > 0.0)
-                    && t.travel_m >= 0.05
-            })
-            .collect();
+        let usable: Vec<ReachTempo> = reaches.iter().copied().filter(|t| t.is_usable()).collect();
         if usable.is_empty() {
             return None;
         }
@@ -401,15 +403,7 @@ impl FitRecord {
         let reaches: Vec<ReachTempo> = self.reaches.iter().filter_map(|r| r.tempo).collect();
         let law = PersonTempo::of(&reaches)?;
         // The old rule: T = d ÷ (median travel ÷ duration), V = median shape × d ÷ T.
-        let usable: Vec<&ReachTempo> = reaches
-            .iter()
-            .filter(|t| {
-                [t.peak_speed_m_s, t.duration_s, t.travel_m]
-                    .iter()
-                    .all(|v| v.is_finite() && *v > 0.0)
-                    && t.travel_m >= 0.05
-            })
-            .collect();
+        let usable: Vec<&ReachTempo> = reaches.iter().filter(|t| t.is_usable()).collect();
         let mean_speed = kinergy_motion::jumps::median(
             &usable
                 .iter()

@@ -247,16 +247,25 @@ impl CapturedReach {
     /// over this one's travel, [`PersonTempo::for_distance`]) instead of its own capture's
     /// speed; unchanged under the paper's controller.
     pub fn under_tempo(mut self, law: &PersonTempo) -> CapturedReach {
-        if self.smoothing.is_some() {
-            let (peak, duration) = law.for_distance(self.tempo().travel_m);
-            let f = &self.fitted_arm;
-            self.smoothing = Some(Smoothing::for_reach(
-                peak,
-                duration,
-                f.upper_arm_m + f.forearm_m + f.hand_m,
-            ));
-        }
+        self.smoothing = self.smoothing_under(Some(law));
         self
+    }
+
+    /// The smooth controller's bounds of this reach under `law` (the person's reach over this
+    /// one's travel), or its own capture's without one; `None` under the paper's controller.
+    pub fn smoothing_under(&self, law: Option<&PersonTempo>) -> Option<Smoothing> {
+        match (self.smoothing, law) {
+            (Some(_), Some(law)) => {
+                let (peak, duration) = law.for_distance(self.tempo().travel_m);
+                let f = &self.fitted_arm;
+                Some(Smoothing::for_reach(
+                    peak,
+                    duration,
+                    f.upper_arm_m + f.forearm_m + f.hand_m,
+                ))
+            }
+            (own, _) => own,
+        }
     }
 
     /// The synthesis arm made from the capture.
@@ -414,10 +423,10 @@ impl CapturedReach {
         max_seconds: f64,
         stop_at_reach: bool,
     ) -> kinergy_solver::Result<Replay> {
-        let mut settings = self.open_settings(tolerance, max_seconds, stop_at_reach);
-        if let Some(law) = &drive.tempo {
-            settings.smoothing = self.clone().under_tempo(law).smoothing;
-        }
+        let settings = ControllerSettings {
+            smoothing: self.smoothing_under(drive.tempo.as_ref()),
+            ..self.open_settings(tolerance, max_seconds, stop_at_reach)
+        };
         let controller = Controller::new(drive.optimizer, drive.synergy.clone(), settings)?;
         let synthesis = controller.synthesize(&self.task())?;
         // Also toward another target: the capture's own target may be unknown to its last

@@ -54,10 +54,7 @@ impl StyleTake {
                 configuration: std::array::from_fn(|i| q[i]),
                 velocity: std::array::from_fn(|i| v[i]),
                 // The bounds the replay runs under: the person's law, or the capture's own.
-                smoothing: match &drive.tempo {
-                    Some(law) => reach.clone().under_tempo(law).smoothing(),
-                    None => reach.smoothing(),
-                },
+                smoothing: reach.smoothing_under(drive.tempo.as_ref()),
                 hand_m: Some(reach.fitted_arm().hand_m),
             }),
             _ => None,

@@ -306,6 +306,8 @@ pub(super) fn run_stage(
             .filter(|i| !pinned.contains(i))
             .collect(),
     };
+    // Nothing held: the objective itself, with no copy of the vector per evaluation.
+    let cost: &dyn CostFunction = if pinned.is_empty() { objective } else { &part };
     // The stage's name in the annealer's state; the problem itself is checked by value by
     // the caller's checkpoint (see `FitProblem`).
     let tag = model.name();
@@ -315,12 +317,12 @@ pub(super) fn run_stage(
                 .checkpoint
                 .map(|c| c.path().to_path_buf())
                 .unwrap_or_default();
-            annealer.check_resume(&part, &state, tag, &path)?;
+            annealer.check_resume(cost, &state, tag, &path)?;
             state
         }
-        None => annealer.init(&part, &part.part(start), tag)?,
+        None => annealer.init(cost, &part.part(start), tag)?,
     };
-    let state = annealer.run(&part, state, observer, control)?;
+    let state = annealer.run(cost, state, observer, control)?;
     let values = part.full(&state.best_x);
     Ok(Fit {
         objective: objective.kind(),
