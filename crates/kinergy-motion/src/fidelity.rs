@@ -150,7 +150,7 @@ pub fn path_length(s: Speeds<'_>) -> f64 {
         .sum()
 }
 
-/// The largest frame-to-frame change |v[k+1] − v[k]| over finite pairs (0 for fewer than 2).
+/// The largest frame-to-frame change `|v[k+1] − v[k]|` over finite pairs (0 for fewer than 2).
 pub fn largest_change(values: &[f64]) -> f64 {
     values
         .windows(2)

@@ -235,7 +235,7 @@ impl CapturedReach {
     }
 
     /// [`CapturedReach::tempo`] with the peak speed the smooth controller's bounds take (the
-    /// base-frame rule of [`reach_smoothing`]): what a [`PersonTempo`] is made of.
+    /// base-frame rule of `reach_smoothing`): what a [`PersonTempo`] is made of.
     pub fn bound_tempo(&self) -> ReachTempo {
         ReachTempo {
             peak_speed_m_s: bound_peak_speed(&self.arm, &self.captured, self.frame_time),
