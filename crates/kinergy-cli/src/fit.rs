@@ -114,6 +114,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let groups: Vec<Vec<CapturedReach>> = match (args.per, args.field) {
         (Per::Person, false) => vec![reaches],
+        // A field's reaches are each fitted under the person's tempo law, as the field runs.
+        (_, true) => kinergy_train::under_person_tempo(&reaches)
+            .into_iter()
+            .map(|r| vec![r])
+            .collect(),
         _ => reaches.into_iter().map(|r| vec![r]).collect(),
     };
     let several = groups.len() > 1 && !args.field;

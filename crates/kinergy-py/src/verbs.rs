@@ -580,7 +580,8 @@ fn fit_field<'py>(
         )));
     }
     let mut last = Vec::with_capacity(reaches.len());
-    for reach in &reaches {
+    // Each reach fitted under the person's tempo law, as the field runs.
+    for reach in &kinergy_train::under_person_tempo(&reaches) {
         let fits = runner.nested(py, std::slice::from_ref(reach))?;
         last.extend(fits.fits.last().cloned());
     }

@@ -160,6 +160,10 @@ impl FitRecord {
         for (i, stage) in self.nested.iter().flatten().enumerate() {
             distance(format!("fit.nested[{i}].score_m"), stage.score_m)?;
         }
+        if let Some(law) = &self.tempo_law {
+            law.check()
+                .map_err(|(name, why)| (format!("fit.tempo_law.{name}"), why))?;
+        }
         Ok(())
     }
 
@@ -322,6 +326,28 @@ impl ReachTempo {
 }
 
 impl PersonTempo {
+    /// Checks what a damaged or hand-edited law could get wrong: `reference_m`, `duration_s`
+    /// and `shape` finite and > 0, `exponent` in [0, 1]. Returns the first field that is wrong
+    /// and why.
+    pub fn check(&self) -> Result<(), (String, String)> {
+        for (name, v) in [
+            ("reference_m", self.reference_m),
+            ("duration_s", self.duration_s),
+            ("shape", self.shape),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err((name.into(), format!("is {v}: expected a finite number > 0")));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.exponent) {
+            return Err((
+                "exponent".into(),
+                format!("is {}: expected a number in [0, 1]", self.exponent),
+            ));
+        }
+        Ok(())
+    }
+
     /// The peak speed (m/s) and duration (s) of the person's reach over `distance` meters.
     pub fn for_distance(&self, distance: f64) -> (f64, f64) {
         let duration = self.duration_s * (distance / self.reference_m).powf(self.exponent);
@@ -726,5 +752,61 @@ mod tests {
             Vec::<usize>::new(),
             "one reach saw them"
         );
+    }
+
+    /// A law's check names the field a damaged file got wrong, and a good law passes: the
+    /// law of reaches whose duration is proportional to the distance has that exponent.
+    #[test]
+    fn a_damaged_tempo_law_is_named_and_a_made_one_passes() {
+        let reach = |d: f64| ReachTempo {
+            peak_speed_m_s: 1.875 * d / (2.0 * d),
+            duration_s: 2.0 * d,
+            travel_m: d,
+        };
+        let law = PersonTempo::of(&[reach(0.2), reach(0.4), reach(0.6)]).expect("law");
+        assert_eq!(law.check(), Ok(()));
+        approx::assert_relative_eq!(law.exponent, 1.0, epsilon = 1e-12);
+        let (peak, duration) = law.for_distance(0.5);
+        approx::assert_relative_eq!(duration, 1.0, epsilon = 1e-12);
+        approx::assert_relative_eq!(peak, 1.875 * 0.5, epsilon = 1e-12);
+        for (bad, field) in [
+            (
+                PersonTempo {
+                    reference_m: 0.0,
+                    ..law
+                },
+                "reference_m",
+            ),
+            (
+                PersonTempo {
+                    duration_s: f64::NAN,
+                    ..law
+                },
+                "duration_s",
+            ),
+            (PersonTempo { shape: -1.0, ..law }, "shape"),
+            (
+                PersonTempo {
+                    exponent: 1.5,
+                    ..law
+                },
+                "exponent",
+            ),
+        ] {
+            assert_eq!(bad.check().map_err(|(f, _)| f), Err(field.to_string()));
+            let record = FitRecord {
+                tempo_law: Some(bad),
+                ..serde_json::from_str::<FitRecord>(
+                    r#"{"method": "simulated_annealing",
+                    "score_m": 0.01, "start_score_m": 0.02, "evaluations": 1, "iterations": 1,
+                    "status": "converged", "seed": 1, "reaches": []}"#,
+                )
+                .expect("record")
+            };
+            assert_eq!(
+                record.check().map_err(|(f, _)| f),
+                Err(format!("fit.tempo_law.{field}"))
+            );
+        }
     }
 }

@@ -27,8 +27,8 @@ mod holdout;
 mod stats;
 
 pub use holdout::{
-    FieldLine, HoldoutLine, HoldoutResults, HoldoutRow, HoldoutSettings, HoldoutSummary, Params,
-    PersonFit, Take, check_split, group_by_person, run_holdout,
+    FieldLine, HeldOutTempo, HoldoutLine, HoldoutResults, HoldoutRow, HoldoutSettings,
+    HoldoutSummary, Params, PersonFit, Take, check_split, group_by_person, run_holdout,
 };
 pub use stats::Stats;
 

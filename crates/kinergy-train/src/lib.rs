@@ -44,7 +44,10 @@ pub mod source;
 pub mod style;
 pub mod synthetic;
 
-pub use captured::{CapturedReach, MAX_TARGET_DISTANCE, ReachDrive, Replay, measured_arm};
+pub use captured::{
+    CapturedReach, MAX_TARGET_DISTANCE, ReachDrive, Replay, measured_arm, person_tempo,
+    under_person_tempo,
+};
 pub use error::{Result, TrainError};
 pub use objective::{CostFunction, Objective};
 pub use person::PersonParams;

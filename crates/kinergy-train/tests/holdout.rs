@@ -15,7 +15,8 @@ use kinergy_motion::{ArmJoints, Clip, ImportOptions, Side, read_clip};
 use kinergy_solver::{BaseMode, Model, OptimizerKind};
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::experiment::{
-    HoldoutResults, HoldoutSettings, HoldoutSummary, Params, Take, check_split, run_holdout,
+    HeldOutTempo, HoldoutResults, HoldoutSettings, HoldoutSummary, Params, Take, check_split,
+    run_holdout,
 };
 use kinergy_train::field::FieldSettings;
 use kinergy_train::fit::FitSettings;
@@ -86,6 +87,7 @@ fn settings(models: Vec<Model>, budget: usize) -> HoldoutSettings {
             ..FitSettings::default()
         },
         field: None,
+        tempo: HeldOutTempo::default(),
     }
 }
 
@@ -169,15 +171,21 @@ fn the_field_of_the_training_takes_predicts_each_held_out_take_at_its_own_target
             fit.train.iter().map(String::as_str).collect::<Vec<_>>()
         );
         // Its row is the held-out take synthesized with the field's vector at the take's
-        // target in the arm's base frame, scored again here independently.
+        // target in the arm's base frame, under the person's tempo law (the field's, the
+        // training takes' law), scored again here independently.
         let take = &takes
             .iter()
             .find(|t| t.reach.name() == fit.held_out[0])
             .expect("held-out take")
             .reach;
+        let law = file
+            .tempo_law()
+            .copied()
+            .expect("a law of the training takes");
+        assert_eq!(Some(law), fit.tempo_law);
         let predicted = file.field().evaluate(&take.local_target());
         let again = Objective::new(
-            vec![take.clone()],
+            vec![take.clone().under_tempo(&law)],
             file.field().space().clone(),
             file.optimizer(),
         )
@@ -314,5 +322,45 @@ fn bandai_fitted_sc_beats_neutral_on_held_out_takes() {
     );
     for r in &results.rows {
         assert!(r.distance_m.is_finite() && r.distance_m > 0.0, "{r:?}");
+    }
+}
+
+/// Issue 40: a held-out take is synthesized under the fitted person's tempo law for its
+/// distance (the default), or told its own capture's speed (`HeldOutTempo::Capture`, the
+/// protocol before the law): the same fitted vector scored again here independently both ways.
+#[test]
+fn held_out_takes_run_under_the_persons_law_or_their_own_capture_speed() {
+    let takes = made_persons();
+    for tempo in [HeldOutTempo::Person, HeldOutTempo::Capture] {
+        let s = HoldoutSettings {
+            tempo,
+            cross_model: Model::Sa,
+            ..settings(vec![Model::Sa], 200)
+        };
+        let results = run_holdout(&takes, &s, &|| {}).expect("holdout");
+        for fit in &results.fits {
+            let law = fit.tempo_law.expect("a law of the training takes");
+            let take = &takes
+                .iter()
+                .find(|t| t.reach.name() == fit.held_out[0])
+                .expect("held-out take")
+                .reach;
+            let (model, values, _) = &fit.models[0];
+            let space = kinergy_solver::ParamSpace::new(*model, &take.dof_names(), s.fit.bounds)
+                .expect("space");
+            let run = match tempo {
+                HeldOutTempo::Person => take.clone().under_tempo(&law),
+                HeldOutTempo::Capture => take.clone(),
+            };
+            let again = Objective::new(vec![run], space, s.optimizer.default_optimizer())
+                .expect("objective")
+                .score(values)
+                .expect("score");
+            assert_eq!(
+                distance(&results, &fit.person, &fitted(&fit.person, *model)),
+                again,
+                "{tempo:?}"
+            );
+        }
     }
 }

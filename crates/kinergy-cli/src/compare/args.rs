@@ -36,6 +36,17 @@ pub struct Args {
     /// the rest and report the held-out takes' distances.
     #[arg(long, value_name = "K")]
     pub holdout: Option<usize>,
+    /// With `--holdout`: how fast each held-out take is synthesized — under the fitted
+    /// person's tempo law for its distance (a prediction, as `synthesize --params` and the
+    /// full body deliver the person), or under the held-out capture's own speed (the protocol
+    /// before the law was recorded, which tells the synthesis how fast the take moved).
+    #[arg(
+        long,
+        default_value = "person",
+        value_name = "person|capture",
+        requires = "holdout"
+    )]
+    pub held_out_tempo: HeldOutTempoArg,
     /// With `--per person`: who a take belongs to — its folder, its file name up to the
     /// last `_` (`active_003.bvh` → `active`), or the `person` column of `--segments`.
     /// Default: `segments` when a segments file is given, else `folder`.
@@ -67,6 +78,24 @@ pub enum Per {
     Clip,
     /// Each person's training takes.
     Person,
+}
+
+/// How fast a held-out take is synthesized ([`kinergy_train::experiment::HeldOutTempo`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum HeldOutTempoArg {
+    /// The fitted person's tempo law for the take's distance.
+    Person,
+    /// The held-out capture's own speed.
+    Capture,
+}
+
+impl From<HeldOutTempoArg> for kinergy_train::experiment::HeldOutTempo {
+    fn from(a: HeldOutTempoArg) -> Self {
+        match a {
+            HeldOutTempoArg::Person => Self::Person,
+            HeldOutTempoArg::Capture => Self::Capture,
+        }
+    }
 }
 
 /// Who a take belongs to.

@@ -11,7 +11,7 @@ use std::time::Instant;
 use kinergy_solver::Model;
 use kinergy_train::CapturedReach;
 use kinergy_train::experiment::{
-    self, HoldoutResults, HoldoutSettings, HoldoutSummary, Stats, Take,
+    self, HeldOutTempo, HoldoutResults, HoldoutSettings, HoldoutSummary, Stats, Take,
 };
 use kinergy_train::field::FieldSettings;
 use serde::Serialize;
@@ -68,6 +68,7 @@ pub fn run(
         cross_model,
         fit: args.search.settings(),
         field: Some(FieldSettings::default()),
+        tempo: args.held_out_tempo.into(),
     };
     settings.fit.anneal.validate().map_err(Failure::from)?;
     experiment::check_split(&takes, holdout)
@@ -268,14 +269,18 @@ fn markdown(
     let mut md = String::new();
     md.push_str("# Per person, on held-out takes\n\n");
     md.push_str(&format!(
-        "{} takes of {persons} person{}; per person the last {} take{} in name order held out, the models fitted (nested) on the rest; {}; {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand) of the held-out takes, each synthesized from its own start posture to its own target, in millimeters.\n\n",
+        "{} takes of {persons} person{}; per person the last {} take{} in name order held out, the models fitted (nested) on the rest; {}; {}; {:.1} s wall.\nDistances are the mean joint-position motion distance (shoulder, elbow, wrist, hand) of the held-out takes, each synthesized from its own start posture to its own target {}, in millimeters.\n\n",
         report.takes,
         if persons == 1 { "" } else { "s" },
         settings.holdout,
         if settings.holdout == 1 { "" } else { "s" },
         settings.optimizer.name().to_uppercase(),
         super::search_line(&settings.fit),
-        report.seconds
+        report.seconds,
+        match settings.tempo {
+            HeldOutTempo::Person => "under the fitted person's tempo law (the smooth controller bounded as their reach over that distance, not as the held-out capture moved: `--held-out-tempo person`)",
+            HeldOutTempo::Capture => "under the held-out capture's own speed (`--held-out-tempo capture`: the synthesis is told how fast the take moved)",
+        }
     ));
     let models: Vec<Model> = summary
         .own

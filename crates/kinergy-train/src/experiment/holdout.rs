@@ -26,7 +26,7 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use kinergy_solver::{Model, OptimizerKind, ParamSpace};
+use kinergy_solver::{Model, OptimizerKind, ParamSpace, PersonTempo};
 use rayon::prelude::*;
 
 use super::stats::Stats;
@@ -64,6 +64,32 @@ pub struct HoldoutSettings {
     /// scored on the held-out takes; `None` leaves it out (it fits every training take once
     /// more, on its own).
     pub field: Option<FieldSettings>,
+    /// How fast a held-out take is synthesized ([`HeldOutTempo`]).
+    pub tempo: HeldOutTempo,
+}
+
+/// One scoring job of the held-out takes: the person whose takes, the parameters, their
+/// space, the vectors (one for all the takes, or one per take) and the tempo law they run
+/// under.
+type Job = (
+    usize,
+    Params,
+    ParamSpace,
+    Vec<Vec<f64>>,
+    Option<PersonTempo>,
+);
+
+/// The smooth controller's bounds a held-out take is synthesized under.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub enum HeldOutTempo {
+    /// The fitted person's tempo law for the take's distance ([`PersonFit::tempo_law`]):
+    /// a prediction that knows nothing of the held-out take but its start and target, as
+    /// `synthesize --params` and the full body deliver the person.
+    #[default]
+    Person,
+    /// The held-out capture's own speed: the protocol before the law was recorded, which
+    /// tells the synthesis how fast the held-out take moved.
+    Capture,
 }
 
 impl HoldoutSettings {
@@ -162,6 +188,11 @@ pub struct PersonFit {
     /// The parameter field of the training takes (with [`HoldoutSettings::field`]): each
     /// take's own fit, its target in the arm's base frame, the bandwidth chosen.
     pub field: Option<FieldFile>,
+    /// The person's tempo law of the training takes ([`crate::person_tempo`]): the smooth
+    /// controller's bounds the fits ran under and every held-out take is synthesized under
+    /// with this person's vectors (a held-out target gets the person's tempo for its distance,
+    /// not its own capture's). `None` under the paper's controller.
+    pub tempo_law: Option<PersonTempo>,
     /// Evaluations spent over all models (the field's per-take fits included).
     pub evaluations: usize,
     /// Wall time of the person's fits, seconds.
@@ -462,6 +493,7 @@ pub fn run_holdout(
                     .map(|f| (f.model(), f.values.clone(), f.score))
                     .collect(),
                 field: field.map(|(file, _)| file),
+                tempo_law: crate::person_tempo(&train),
                 evaluations: nested.fits.iter().map(|f| f.evaluations).sum::<usize>()
                     + field_evaluations,
                 seconds: clock.elapsed().as_secs_f64(),
@@ -472,12 +504,24 @@ pub fn run_holdout(
         .collect::<Result<_>>()?;
     // Every held-out take with: neutral, its own models, its own field, the others' cross
     // model. A job's vectors: one for all of the person's held-out takes, or (the field) one
-    // per take.
-    let mut jobs: Vec<(usize, Params, ParamSpace, Vec<Vec<f64>>)> = Vec::new();
+    // per take. The neutral vector runs under the take's own person's law, each fitted vector
+    // under its person's (the law travels with the vector).
+    let mut jobs: Vec<Job> = Vec::new();
     for j in 0..groups.len() {
         let dofs = fits[j].1[0].dof_names();
         let neutral = ParamSpace::new(Model::Sa, dofs, settings.fit.bounds)?;
-        jobs.push((j, Params::Neutral, neutral.clone(), vec![neutral.neutral()]));
+        let law_of = |fit: &PersonFit| match settings.tempo {
+            HeldOutTempo::Person => fit.tempo_law,
+            HeldOutTempo::Capture => None,
+        };
+        let own_law = law_of(&fits[j].0);
+        jobs.push((
+            j,
+            Params::Neutral,
+            neutral.clone(),
+            vec![neutral.neutral()],
+            own_law,
+        ));
         for (i, (fit, spaces)) in fits.iter().enumerate() {
             for ((model, values, _), space) in fit.models.iter().zip(spaces) {
                 if i == j || *model == settings.cross_model {
@@ -485,7 +529,7 @@ pub fn run_holdout(
                         person: fit.person.clone(),
                         model: *model,
                     };
-                    jobs.push((j, params, space.clone(), vec![values.clone()]));
+                    jobs.push((j, params, space.clone(), vec![values.clone()], law_of(fit)));
                 }
             }
             if let (true, Some(field)) = (i == j, &fit.field) {
@@ -498,15 +542,26 @@ pub fn run_holdout(
                     .iter()
                     .map(|r| field.field().evaluate(&r.local_target()))
                     .collect();
-                jobs.push((j, params, field.field().space().clone(), predicted));
+                let law = field
+                    .tempo_law()
+                    .copied()
+                    .filter(|_| settings.tempo == HeldOutTempo::Person);
+                jobs.push((j, params, field.field().space().clone(), predicted, law));
             }
         }
     }
     let tolerance = settings.fit.tolerance;
     let scored: Vec<Vec<HoldoutRow>> = jobs
         .into_par_iter()
-        .map(|(j, params, space, values)| {
+        .map(|(j, params, space, values, law)| {
             let (_, test) = split(&groups[j].1);
+            let test: Vec<CapturedReach> = test
+                .iter()
+                .map(|r| match &law {
+                    Some(law) => r.clone().under_tempo(law),
+                    None => r.clone(),
+                })
+                .collect();
             let distances = match values.as_slice() {
                 [one] => Objective::new(test.clone(), space, optimizer)?
                     .with_tolerance(tolerance)?

@@ -5,14 +5,14 @@ use std::path::Path;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::{
     Bounds, FitGrouping, FitMethod, FitRecord, FitStatus, FittedArm, FittedReach, Model, Optimizer,
-    ParamSpace, ParamsFile, ReachTempo,
+    ParamSpace, ParamsFile, PersonTempo, ReachTempo,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::param_field::{LooRow, ParamField};
 use super::settings::{BandwidthScore, FieldSettings, infinite_as_null};
-use crate::captured::CapturedReach;
+use crate::captured::{CapturedReach, person_tempo, under_person_tempo};
 use crate::error::{Result, TrainError, in_file, require};
 use crate::fit::{Fit, FitSettings, NestedFit, fit_nested};
 use crate::objective::Objective;
@@ -66,6 +66,10 @@ pub struct FieldFile {
     field: ParamField,
     optimizer: Optimizer,
     reaches: Vec<FittedReach>,
+    /// The person's tempo law every sample was fitted under and every synthesis with the
+    /// field runs under (`None`: one sample, the paper's controller, or a file written before
+    /// the law was recorded — each synthesis then under its capture's own speed).
+    tempo_law: Option<PersonTempo>,
 }
 
 impl FieldFile {
@@ -93,7 +97,32 @@ impl FieldFile {
             field,
             optimizer,
             reaches,
+            tempo_law: None,
         })
+    }
+
+    /// The same file with the person's tempo `law` ([`FieldFile::tempo_law`]).
+    pub fn with_tempo_law(self, law: Option<PersonTempo>) -> FieldFile {
+        FieldFile {
+            tempo_law: law,
+            ..self
+        }
+    }
+
+    /// The person's tempo law the samples were fitted under and a synthesis with the field
+    /// runs under: [`person_tempo`] of two or more reaches ([`under_person_tempo`]); `None`
+    /// for one sample, the paper's controller, or a file written before it was recorded (each
+    /// synthesis then runs under its capture's own speed).
+    pub fn tempo_law(&self) -> Option<&PersonTempo> {
+        self.tempo_law.as_ref()
+    }
+
+    /// `reach` as the field's samples were fitted: under the person's tempo law, if any.
+    fn as_fitted(&self, reach: &CapturedReach) -> CapturedReach {
+        match &self.tempo_law {
+            Some(law) => reach.clone().under_tempo(law),
+            None => reach.clone(),
+        }
     }
 
     /// The field of per-reach fits: `fits[k]` fitted on `reaches[k]` alone (one model, one
@@ -138,11 +167,15 @@ impl FieldFile {
             })
             .collect();
         let field = ParamField::fit(&first.space, &samples, settings)?;
-        FieldFile::new(field, first.optimizer, records)
+        let law = (reaches.len() >= 2)
+            .then(|| person_tempo(reaches))
+            .flatten();
+        Ok(FieldFile::new(field, first.optimizer, records)?.with_tempo_law(law))
     }
 
     /// Fits each reach on its own — `models` nested, poorest first, as `kinergy fit --per clip`
-    /// does — then the field of the richest model's vectors with `field`, anchored to the
+    /// does, but under the person's tempo law of all the reaches ([`under_person_tempo`]: the
+    /// bounds the field's every synthesis runs under) — then the field of the richest model's vectors with `field`, anchored to the
     /// person's single vector (the same models nested on all the reaches at once, as
     /// `kinergy fit --per person` does), its bandwidth chosen by the motion
     /// ([`FieldFile::anchored`]). Reaches are fitted in parallel; the result does not
@@ -177,7 +210,7 @@ impl FieldFile {
         field: &FieldSettings,
     ) -> Result<(FieldFile, Vec<NestedFit>)> {
         require(!reaches.is_empty(), "reaches", "at least one reach")?;
-        let nested: Vec<NestedFit> = reaches
+        let nested: Vec<NestedFit> = under_person_tempo(reaches)
             .par_iter()
             .map(|r| fit_nested(std::slice::from_ref(r), models, optimizer, fit))
             .collect::<Result<_>>()?;
@@ -241,9 +274,13 @@ impl FieldFile {
                 let params = field
                     .without_at(k, candidates[c].bandwidth)
                     .evaluate(&field.targets()[k]);
-                Objective::new(vec![reaches[k].clone()], space.clone(), self.optimizer)?
-                    .with_tolerance(tolerance)?
-                    .score(&params)
+                Objective::new(
+                    vec![self.as_fitted(&reaches[k])],
+                    space.clone(),
+                    self.optimizer,
+                )?
+                .with_tolerance(tolerance)?
+                .score(&params)
             })
             .collect::<Result<_>>()?;
         let selection: Vec<BandwidthScore> = candidates
@@ -324,7 +361,7 @@ impl FieldFile {
             nested: None,
             objective: None,
             unobserved: None,
-            tempo_law: None,
+            tempo_law: self.tempo_law,
         }
     }
 
@@ -357,10 +394,13 @@ impl FieldFile {
                 let others = self.field.without(k)?;
                 let target = self.field.targets()[k];
                 let field_params = others.evaluate(&target);
-                let field_distance =
-                    Objective::new(vec![reaches[k].clone()], space.clone(), self.optimizer)?
-                        .with_tolerance(tolerance)?
-                        .score(&field_params)?;
+                let field_distance = Objective::new(
+                    vec![self.as_fitted(&reaches[k])],
+                    space.clone(),
+                    self.optimizer,
+                )?
+                .with_tolerance(tolerance)?
+                .score(&field_params)?;
                 Ok(LooRow {
                     index: k,
                     target: [target.x, target.y, target.z],
@@ -496,6 +536,10 @@ struct Doc {
     /// The person's single vector the field is anchored to.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     anchor: Option<Vec<f64>>,
+    /// The person's tempo law ([`FieldFile::tempo_law`]; absent in files written before it
+    /// was recorded: each synthesis under its capture's own speed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tempo_law: Option<PersonTempo>,
     samples: Vec<SampleDoc>,
 }
 
@@ -529,6 +573,7 @@ impl Doc {
             bandwidth: field.bandwidth(),
             selection: field.selection().to_vec(),
             anchor: field.anchor().map(<[f64]>::to_vec),
+            tempo_law: file.tempo_law,
             samples: file
                 .reaches
                 .iter()
@@ -607,6 +652,10 @@ impl Doc {
                 .validate(anchor)
                 .map_err(|e| err("anchor", format!(": {e}")))?;
         }
+        if let Some(law) = &self.tempo_law {
+            law.check()
+                .map_err(|(name, why)| err(&format!("tempo_law.{name}"), why))?;
+        }
         if self.samples.is_empty() {
             return Err(err("samples", "is empty: expected at least one".into()));
         }
@@ -646,6 +695,7 @@ impl Doc {
             ),
             optimizer: self.optimizer,
             reaches,
+            tempo_law: self.tempo_law,
         })
     }
 }
