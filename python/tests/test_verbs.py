@@ -224,6 +224,11 @@ def test_style_rows_are_the_cli_s(cli, at_root):
     ours = kinergy.style(clips, params, motions=True)
     theirs = json.loads(run(cli, "style", *clips, "--params", params, "--json", quiet=False).stdout)
     assert ours["rows"] == theirs["rows"] and ours["summary"] == theirs["summary"]
+    # The real-time figures (issue 40): the same as the CLI's, the body judged against the
+    # person's own repeats and minimum jerk.
+    assert ours["fidelity"] == theirs["fidelity"]
+    names = [s["predictor"] for s in ours["fidelity"]["summaries"]]
+    assert {"ceiling", "minimum_jerk", "arm", "body"} <= set(names)
     assert [m["clip"] for m in ours["motions"]] == clips
     assert all(isinstance(m["params"], kinergy.Clip) for m in ours["motions"])
 

@@ -14,9 +14,11 @@ use kinergy_plan::space::HandTarget;
 use kinergy_plan::task::{Planner, TaskSettings};
 use kinergy_reach::character::{Character, Limb};
 use kinergy_reach::drive::PersonArm;
-use kinergy_reach::style::{StyleCapture, StyleSummary};
+use kinergy_reach::style::{StyleCapture, StyleRun, StyleSummary};
+use kinergy_train::fidelity::PersonFidelity;
 use kinergy_train::limits;
 use kinergy_train::source::capture_files;
+use kinergy_train::style::StyleTake;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -36,8 +38,12 @@ fn to_python<'py, T: serde::Serialize>(py: Python<'py>, value: &T) -> PyResult<B
 /// the capture's target with the person's drive and with the default profile, and each hand
 /// speed profile is compared with the captured one.
 ///
-/// Returns a dict: `summary` (means over the captures), `rows` (one dict per capture:
-/// correlations, peak times, arm paths, as `style.csv`), and with `motions=True` also
+/// Returns a dict: `fidelity` (the real-time figures of `kinergy style --json`: per capture
+/// and per person the error e of the arm on the captured torso, the full body and the
+/// default profile against the person's own repeats and minimum jerk, duration and peak
+/// ratios, SPARC, real-time jumps), `summary` (the time-normalized means over the
+/// captures), `rows` (one dict per capture: correlations, peak times, arm paths, as
+/// `style.csv`), and with `motions=True` also
 /// `motions`, one dict per capture with the two full-body Clips (`params`, `profile`).
 /// Ctrl-C stops it between captures (KeyboardInterrupt).
 #[pyfunction]
@@ -70,16 +76,27 @@ pub fn style<'py>(
             .find(&clip, path)
             .map_err(errors::train)?;
             let name = path.display().to_string();
-            let capture = StyleCapture::new(&clip, &joints, &name)
-                .map_err(|e| errors::input(format!("{name}: {e}")))?;
-            let run = capture.compare(side, &person).map_err(errors::reach)?;
-            Ok((capture, run))
+            // The same take as `kinergy style` runs: the body's arm starts as the fit's
+            // replay, and every motion is kept in real time.
+            let take =
+                StyleTake::run(&clip, &joints, &name, &person, side).map_err(|e| match e {
+                    e @ kinergy_train::TrainError::Reach { .. } => {
+                        errors::input(format!("{name}: {e}"))
+                    }
+                    e => errors::train(e),
+                })?;
+            Ok(take)
         })?;
         runs.push(run);
         py.check_signals()?;
     }
+    let motions_of: Vec<_> = runs.iter().map(|t| t.motions.clone()).collect();
+    let fidelity = PersonFidelity::of(&motions_of);
+    let runs: Vec<(StyleCapture, StyleRun)> =
+        runs.into_iter().map(|t| (t.capture, t.run)).collect();
     let rows: Vec<_> = runs.iter().map(|(_, run)| run.row.clone()).collect();
     let out = PyDict::new(py);
+    out.set_item("fidelity", to_python(py, &fidelity)?)?;
     out.set_item("summary", to_python(py, &StyleSummary::of(&rows))?)?;
     out.set_item("rows", to_python(py, &rows)?)?;
     if motions {

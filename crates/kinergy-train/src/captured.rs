@@ -56,8 +56,10 @@ pub struct ReachDrive {
     pub synergy: Synergy,
     /// How a person's field gave them (`None`: one vector, or no person).
     pub field: Option<FieldUse>,
-    /// The person's tempo law the replay runs under (`None`: the capture's own speed, as for
-    /// a neutral model or a parameters file written before the law was recorded).
+    /// The person's tempo law the replay runs under ([`kinergy_solver::FitRecord::tempo`]:
+    /// the law the fit recorded, or for a file written before it the medians of its reaches'
+    /// tempos, as the full body runs it); `None`: the capture's own speed, for a neutral model
+    /// or a file without a fit record.
     pub tempo: Option<PersonTempo>,
 }
 
@@ -78,7 +80,7 @@ impl ReachDrive {
             optimizer: at.params.optimizer,
             synergy,
             field: at.field,
-            tempo: at.params.fit.as_ref().and_then(|f| f.tempo_law),
+            tempo: at.params.fit.as_ref().and_then(|f| f.tempo()),
         })
     }
 
