@@ -3,12 +3,10 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use kinergy_motion::Side;
 use kinergy_reach::ReachError;
 use kinergy_reach::drive::Driver;
 use kinergy_reach::synth::{MANIFEST, SynthSettings, set_files, write_set};
-use kinergy_train::segment::Label;
-use kinergy_train::segments_file::{SegmentRow, SegmentsFile};
+use kinergy_train::synthetic::{SET_SEGMENTS, set_segments};
 
 use crate::common::{ControllerKind, Failure, Output, check_outputs, check_range, emit, limits};
 
@@ -33,8 +31,9 @@ pub struct Args {
     /// A person's parameters (`kinergy fit -o person.json`) or field (`fit --field`, asked
     /// for each reach's target): every reaching arm is driven by their synergy controller
     /// (`reach --params`), a set in their style; DIR/segments.csv
-    /// then lists the frames each clip's arm was driven by the synergy and the synergy's
-    /// target, for `kinergy fit --segments` (a fit should recover the motion).
+    /// then lists the frames each clip's arm was driven by the synergy, the synergy's target
+    /// and the tempo its smooth controller was bounded by, for `kinergy fit --segments` (which
+    /// then runs the controller that made each clip: the person's vector retraces it).
     #[arg(long, value_name = "person.json")]
     pub params: Option<PathBuf>,
     /// With --params, the synergy controller of the person's arm: `smooth` (the default) or
@@ -52,7 +51,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let inputs: Vec<&Path> = args.params.iter().map(PathBuf::as_path).collect();
     let mut names = set_files(&settings(args));
     if args.params.is_some() {
-        names.push(SEGMENTS.into());
+        names.push(SET_SEGMENTS.into());
     }
     let files: Vec<PathBuf> = names.iter().map(|name| args.output.join(name)).collect();
     check_outputs(&inputs, &[Output::Folder("-o", &args.output, &files)])?;
@@ -85,9 +84,6 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     ))
 }
 
-/// The segments file a set made with --params has beside its manifest.
-const SEGMENTS: &str = "segments.csv";
-
 /// The set's settings from the command line.
 fn settings(args: &Args) -> SynthSettings {
     SynthSettings {
@@ -109,26 +105,8 @@ fn write(args: &Args, drive: Driver<'_>) -> Result<usize, Failure> {
             (e, _) => Failure::Input(e.to_string()),
         })?;
     if drive.is_person() {
-        let path = args.output.join(SEGMENTS);
-        let segments = made
-            .iter()
-            .map(|(row, frames)| {
-                // The synergy's target: where a fit must aim, also for a clip the synergy
-                // handed over before it arrived (its last hand position is not there).
-                SegmentRow {
-                    person: row.person.clone(),
-                    ..SegmentRow::new(
-                        args.output.join(&row.clip),
-                        frames.clone(),
-                        Side::Right,
-                        Label::Reach,
-                    )
-                }
-                .with_target([row.target_x, row.target_y, row.target_z])
-            })
-            .collect();
         // Written, not read: a segments file that cannot be written is a failed task.
-        SegmentsFile::new(&path, segments)
+        set_segments(&args.output, &made)
             .write()
             .map_err(|e| Failure::Task(e.to_string()))?;
     }

@@ -632,6 +632,83 @@ fn synth_with_params_makes_a_set_in_the_persons_style() {
     );
 }
 
+/// The round trip with the default (smooth) controller: `synth --params` records the tempo
+/// the body bounded each clip's synergy by, and `fit --segments` runs that controller again
+/// (those bounds, from rest, the shoulder open): a fit from the neutral vector recovers each
+/// clip's motion to within 2 mm and two of the four to micrometers (measured 0.0003 / 1.10 /
+/// 0.0004 / 0.35 mm, r01–r04; before the tempo was recorded the person's own vector replayed
+/// 29–84 mm off). The person's vector itself retraces every clip to 0.0003–0.2 mm
+/// (`kinergy-train/tests/known_tempo.rs`); what is left is the annealer's valley.
+#[test]
+fn synth_with_params_round_trips_under_the_default_controller() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let params = repo().join("tests/data/params/synthetic-p01-r09-sc.json");
+    let set = dir.path().join("set");
+    let o = kinergy(&[
+        "synth",
+        "--params",
+        s(&params),
+        "--persons",
+        "1",
+        "--reaches",
+        "4",
+        "-o",
+        s(&set),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let segments = set.join("segments.csv");
+    let text = std::fs::read_to_string(&segments).expect("segments.csv");
+    let rows: Vec<&str> = text.lines().filter(|l| l.contains(",reach,")).collect();
+    assert_eq!(rows.len(), 4);
+    for row in &rows {
+        let cells: Vec<&str> = row.split(',').collect();
+        assert_eq!(cells.len(), 11, "{row}: target and tempo");
+        for cell in &cells[9..11] {
+            assert!(cell.parse::<f64>().expect("tempo") > 0.0, "{row}");
+        }
+    }
+    let fits = dir.path().join("fits");
+    let o = kinergy(&[
+        "fit",
+        "--segments",
+        s(&segments),
+        "--model",
+        "sc",
+        "--per",
+        "clip",
+        "--population",
+        "16",
+        "--budget",
+        "16000",
+        "--refine",
+        "8000",
+        "--out-dir",
+        s(&fits),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let report = json(&o);
+    let reports = report.as_array().expect("one report per clip");
+    assert_eq!(reports.len(), 4);
+    let mut micrometers = 0;
+    for r in reports {
+        let fitted = r["reaches"][0]["distance_m"].as_f64().expect("distance");
+        let neutral = r["models"][0]["start_score_m"].as_f64().expect("start");
+        assert!(neutral > 5e-3, "{r}: the neutral vector is {neutral} m off");
+        assert!(
+            fitted <= 2e-3,
+            "{r}: the fit recovers the motion to {fitted} m"
+        );
+        if fitted <= 1e-5 {
+            micrometers += 1;
+        }
+    }
+    assert!(
+        micrometers >= 2,
+        "{micrometers} of 4 fits recover their clip to 0.01 mm"
+    );
+}
+
 /// The motion distance of `synthesize CLIP --params P --frames RANGE --target TARGET
 /// --controller paper`: the controller the full body's synergy arm ran in `synth`.
 fn replay(clip: &Path, range: &str, params: &Path, target: &str) -> f64 {

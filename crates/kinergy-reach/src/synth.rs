@@ -29,7 +29,7 @@ use rand::{RngExt, SeedableRng};
 use serde::Serialize;
 
 use crate::character::{Character, Proportions};
-use crate::controller::{ReachSettings, ReachStop, reach_full_body_driven};
+use crate::controller::{ReachSettings, ReachStop, SynergyTempo, reach_full_body_driven};
 use crate::drive::Driver;
 use crate::error::{ReachError, Result, require};
 use crate::profile::{BellTiming, SpeedProfile};
@@ -167,6 +167,20 @@ pub struct SynthClip {
     /// to the end, or to the hand-over (the arm controller's frames with
     /// [`Driver::Profile`]).
     pub driven: Range<usize>,
+    /// The tempo the person's synergy's smooth controller was bounded by
+    /// ([`crate::controller::ReachReport::synergy_tempo`]).
+    pub tempo: Option<SynergyTempo>,
+}
+
+/// What [`write_set`] wrote of one clip: its manifest row and what a fit of it needs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WrittenClip {
+    /// Its row of `manifest.csv`.
+    pub row: ManifestRow,
+    /// The frames its arm was driven ([`SynthClip::driven`]).
+    pub driven: Range<usize>,
+    /// The tempo its synergy was bounded by ([`SynthClip::tempo`]).
+    pub tempo: Option<SynergyTempo>,
 }
 
 /// A synthetic set made in memory: its clips in the manifest's order (person by person).
@@ -225,23 +239,26 @@ pub fn set_files(settings: &SynthSettings) -> Vec<PathBuf> {
 
 /// Makes the set ([`SynthSet::make`]) and writes it into `dir` ([`SynthSet::write`]) one
 /// person at a time, so that only one person's clips are in memory at once (a large set at a
-/// high frame rate need not fit). Returns each clip's manifest row and the frames its arm
-/// was driven ([`SynthClip::driven`]).
+/// high frame rate need not fit). Returns what it wrote of each clip.
 pub fn write_set(
     dir: &Path,
     settings: &SynthSettings,
     drive: Driver<'_>,
-) -> Result<Vec<(ManifestRow, Range<usize>)>> {
+) -> Result<Vec<WrittenClip>> {
     check(settings)?;
     create_dir(dir)?;
     let mut made = Vec::new();
     for p in 0..settings.persons {
         for clip in make_person(settings, drive, p)? {
             write_clip(dir, &clip)?;
-            made.push((clip.row, clip.driven));
+            made.push(WrittenClip {
+                row: clip.row,
+                driven: clip.driven,
+                tempo: clip.tempo,
+            });
         }
     }
-    write_manifest(dir, made.iter().map(|(row, _)| row))?;
+    write_manifest(dir, made.iter().map(|c| &c.row))?;
     Ok(made)
 }
 
@@ -371,6 +388,7 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
             },
             clip,
             driven,
+            tempo: rep.synergy_tempo,
         });
     }
     Ok(clips)

@@ -41,7 +41,7 @@ fn the_set_in_memory_writes_what_write_set_writes() {
     );
     set.write(a.path()).expect("write");
     let made = write_set(b.path(), &settings, Driver::Profile).expect("write_set");
-    let rows: Vec<_> = made.iter().map(|(row, _)| row).collect();
+    let rows: Vec<_> = made.iter().map(|c| &c.row).collect();
     assert_eq!(rows, set.rows().collect::<Vec<_>>());
     let (ours, theirs) = (files(a.path()), files(b.path()));
     assert_eq!(ours.len(), 5, "four clips and the manifest");

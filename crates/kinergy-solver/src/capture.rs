@@ -167,6 +167,15 @@ impl CaptureArm {
         &self.captured
     }
 
+    /// The same arm with the shoulder open as the full body's synergy arm has it
+    /// ([`open_shoulder`]): for a motion that arm made, which its own chain did not stop at
+    /// the captured extremes (a chain limited there brakes before them: the smooth
+    /// controller's limit brake), so that a fit of it runs the controller that made it.
+    pub fn with_open_shoulder(mut self) -> Result<CaptureArm> {
+        self.chain = widen_to_include(&open_shoulder(&self.chain)?, &self.captured)?.0;
+        Ok(self)
+    }
+
     /// DoF names whose default limits were widened to include the captured motion.
     pub fn widened_limits(&self) -> &[String] {
         &self.widened
@@ -424,6 +433,31 @@ fn start_posture(
         }
     }
     vec![sx, sy, twist, flex, pronation, wx, wy]
+}
+
+/// The largest shoulder swing of an [open shoulder](open_shoulder), radians: this capture
+/// convention measures the swing from the arm raised sideways, so a swing of π (the upper arm
+/// across the chest) is singular; 160° keeps 20° from it, beyond anything a body's limits let
+/// a reach use.
+pub const OPEN_SHOULDER_SWING: f64 = 160.0 * std::f64::consts::PI / 180.0;
+
+/// `chain` (an arm: shoulder swing and twist first) with the shoulder's swing bounded only by
+/// [`OPEN_SHOULDER_SWING`] and its twist open to ±π: the chain of a synergy arm whose
+/// anatomical shoulder limits are applied by someone else (the full body's character clamps
+/// its arm every frame, `kinergy_reach`'s synergy arm).
+pub fn open_shoulder(chain: &Chain) -> Result<Chain> {
+    let mut joints = chain.joints().to_vec();
+    if let Some(shoulder) = joints.first_mut() {
+        for m in &mut shoulder.motions {
+            match m {
+                Motion::Swing { rx, ry } => (*rx, *ry) = (OPEN_SHOULDER_SWING, OPEN_SHOULDER_SWING),
+                Motion::Revolute { min, max, .. } => {
+                    (*min, *max) = (-std::f64::consts::PI, std::f64::consts::PI);
+                }
+            }
+        }
+    }
+    Ok(Chain::new(joints, chain.end_effector())?)
 }
 
 /// `chain` with every limit widened to include the configurations `qs` (one after the

@@ -128,6 +128,9 @@ pub struct CapturedReach {
     start_velocity: Option<Vec<f64>>,
     /// The smooth controller's bounds; `None`: the paper's controller.
     smoothing: Option<Smoothing>,
+    /// The known tempo (peak speed, duration) of the controller that made the motion
+    /// ([`CapturedReach::with_known_tempo`]), whose bounds no person's law replaces.
+    known_tempo: Option<(f64, f64)>,
 }
 
 impl CapturedReach {
@@ -173,6 +176,7 @@ impl CapturedReach {
         ));
         Ok(CapturedReach {
             smoothing,
+            known_tempo: None,
             start_velocity: Some(start_velocity),
             name: name.to_string(),
             base: arm.base(mode),
@@ -237,11 +241,19 @@ impl CapturedReach {
     }
 
     /// [`CapturedReach::tempo`] with the peak speed the smooth controller's bounds take (the
-    /// base-frame rule of `reach_smoothing`): what a [`PersonTempo`] is made of.
+    /// base-frame rule of `reach_smoothing`), or the [known tempo](Self::with_known_tempo)
+    /// over the reach's travel: what a [`PersonTempo`] is made of.
     pub fn bound_tempo(&self) -> ReachTempo {
-        ReachTempo {
-            peak_speed_m_s: bound_peak_speed(&self.arm, &self.captured, self.frame_time),
-            ..self.tempo()
+        match self.known_tempo {
+            Some((peak_speed_m_s, duration_s)) => ReachTempo {
+                peak_speed_m_s,
+                duration_s,
+                ..self.tempo()
+            },
+            None => ReachTempo {
+                peak_speed_m_s: bound_peak_speed(&self.arm, &self.captured, self.frame_time),
+                ..self.tempo()
+            },
         }
     }
 
@@ -255,19 +267,44 @@ impl CapturedReach {
 
     /// The smooth controller's bounds of this reach under `law` (the person's reach over this
     /// one's travel), or its own capture's without one; `None` under the paper's controller.
+    /// A reach whose bounds are a [known tempo](CapturedReach::with_known_tempo) keeps them.
     pub fn smoothing_under(&self, law: Option<&PersonTempo>) -> Option<Smoothing> {
         match (self.smoothing, law) {
-            (Some(_), Some(law)) => {
+            (Some(_), Some(law)) if self.known_tempo.is_none() => {
                 let (peak, duration) = law.for_distance(self.tempo().travel_m);
-                let f = &self.fitted_arm;
-                Some(Smoothing::for_reach(
-                    peak,
-                    duration,
-                    f.upper_arm_m + f.forearm_m + f.hand_m,
-                ))
+                Some(self.smoothing_for(peak, duration))
             }
             (own, _) => own,
         }
+    }
+
+    /// The smooth controller's bounds of a reach on this arm peaking at `peak` m/s over
+    /// `duration` seconds ([`Smoothing::for_reach`]).
+    fn smoothing_for(&self, peak: f64, duration: f64) -> Smoothing {
+        let f = &self.fitted_arm;
+        Smoothing::for_reach(peak, duration, f.upper_arm_m + f.forearm_m + f.hand_m)
+    }
+
+    /// The reach bounded by the smooth controller as a reach peaking at `peak_speed_m_s` over
+    /// `duration_s` (the tempo the controller that made the motion was bounded by: a segments
+    /// file's `peak_speed_m_s` and `duration_s`), started from rest as that controller was,
+    /// whatever tempo law a fit or a replay brings, on the arm's chain with the shoulder open
+    /// as that controller's chain has it ([`CaptureArm::with_open_shoulder`]: limits at the
+    /// captured extremes would brake the arm before them); unchanged under the paper's
+    /// controller. A fit of a motion made by Kinergy's full-body synergy arm (`kinergy synth
+    /// --params`) then runs that controller again.
+    pub fn with_known_tempo(
+        mut self,
+        peak_speed_m_s: f64,
+        duration_s: f64,
+    ) -> Result<CapturedReach> {
+        if self.smoothing.is_some() {
+            self.smoothing = Some(self.smoothing_for(peak_speed_m_s, duration_s));
+            self.known_tempo = Some((peak_speed_m_s, duration_s));
+            self.start_velocity = None;
+            self.arm = self.arm.with_open_shoulder()?;
+        }
+        Ok(self)
     }
 
     /// The synthesis arm made from the capture.

@@ -12,6 +12,7 @@
 //! | `label` | no (`reach`) | `reach`, `return` or `other` |
 //! | `person` | no (the clip's folder name) | who moves |
 //! | `target_x`, `target_y`, `target_z` | no (all three or none) | the reach's target, world meters in the clip's frame (as imported, Y up): where the hand was aimed, when it is known and is not where the segment's last frame has it (a reach handed over before it arrived, a target a lab recorded); empty cells for a row without one. A fit aims there instead of at the hand's last position |
+//! | `peak_speed_m_s`, `duration_s` | no (both or none) | the tempo the motion's smooth controller was bounded by (the peak hand speed relative to the shoulder, m/s, and the duration, s, of [`kinergy_solver::Smoothing::for_reach`]), when the segment was made by a known controller (`kinergy synth --params` writes them); empty cells for a row without one. A fit then bounds the synthesis by exactly this tempo instead of the capture's own or the person's law |
 //!
 //! One row per line (a field may be quoted, `"a, b"`, but not span lines); lines starting
 //! with `#` are comments; blank lines and spaces around fields are ignored.
@@ -58,6 +59,8 @@ pub struct SegmentRow {
     pub person: String,
     /// The reach's target, world meters in the clip's frame, when the file gives it.
     pub target: Option<[f64; 3]>,
+    /// The tempo the segment's smooth controller was bounded by, when the file gives it.
+    pub tempo: Option<RowTempo>,
     /// The line of the segments file the row was read from (1-based), if it was read.
     pub line: Option<usize>,
 }
@@ -73,7 +76,16 @@ impl SegmentRow {
             arm,
             label,
             target: None,
+            tempo: None,
             line: None,
+        }
+    }
+
+    /// The same row with the tempo its smooth controller was bounded by.
+    pub fn with_tempo(self, tempo: RowTempo) -> Self {
+        SegmentRow {
+            tempo: Some(tempo),
+            ..self
         }
     }
 
@@ -84,6 +96,17 @@ impl SegmentRow {
             ..self
         }
     }
+}
+
+/// The tempo a segment's smooth controller was bounded by (the `peak_speed_m_s` and
+/// `duration_s` columns): the reach [`kinergy_solver::Smoothing::for_reach`] made its bounds
+/// for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RowTempo {
+    /// The hand's peak speed relative to the shoulder, m/s (positive).
+    pub peak_speed_m_s: f64,
+    /// The reach's duration, seconds (positive).
+    pub duration_s: f64,
 }
 
 /// What went wrong with a segments file: the file, the line when a row is at fault, and what.
@@ -125,12 +148,25 @@ pub struct SegmentsFile {
     rows: Vec<SegmentRow>,
 }
 
-const COLUMNS: [&str; 9] = [
-    "clip", "onset", "end", "arm", "label", "person", "target_x", "target_y", "target_z",
+const COLUMNS: [&str; 11] = [
+    "clip",
+    "onset",
+    "end",
+    "arm",
+    "label",
+    "person",
+    "target_x",
+    "target_y",
+    "target_z",
+    "peak_speed_m_s",
+    "duration_s",
 ];
 
 /// The target's columns.
 const TARGET: [&str; 3] = ["target_x", "target_y", "target_z"];
+
+/// The tempo's columns.
+const TEMPO: [&str; 2] = ["peak_speed_m_s", "duration_s"];
 
 impl SegmentsFile {
     /// A segments file to be written at `path`.
@@ -268,6 +304,13 @@ impl SegmentsFile {
                 "the target's columns come together: target_x, target_y and target_z".into(),
             ));
         }
+        let tempos = TEMPO.iter().filter(|c| column.contains_key(*c)).count();
+        if tempos == 1 {
+            return Err(fail(
+                header_line,
+                "the tempo's columns come together: peak_speed_m_s and duration_s".into(),
+            ));
+        }
 
         let mut rows = Vec::new();
         let mut seen: HashMap<(PathBuf, Side, usize, usize), usize> = HashMap::new();
@@ -358,6 +401,29 @@ impl SegmentsFile {
                 }
                 Some(t)
             };
+            let cells = TEMPO.map(cell);
+            let tempo = if cells.iter().all(|c| c.is_empty()) {
+                None
+            } else {
+                let mut t = [0.0; 2];
+                for ((v, name), text) in t.iter_mut().zip(TEMPO).zip(cells) {
+                    *v = text
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite() && *v > 0.0)
+                        .ok_or_else(|| {
+                            bad(format!(
+                                "{name} `{}` is not a positive number (both tempo cells, or \
+                                 none)",
+                                quote(text)
+                            ))
+                        })?;
+                }
+                Some(RowTempo {
+                    peak_speed_m_s: t[0],
+                    duration_s: t[1],
+                })
+            };
             if let Some(first) = seen.insert((file_key(&clip), arm, onset, end), at) {
                 return Err(bad(format!(
                     "repeats line {first}: the same clip, arm and frames {onset}..{end}"
@@ -370,6 +436,7 @@ impl SegmentsFile {
                 label,
                 person,
                 target,
+                tempo,
                 line,
             });
         }
@@ -416,9 +483,16 @@ impl SegmentsFile {
         );
         // The target's columns only when a row has one (shortest round-trip numbers).
         let targets = self.rows.iter().any(|r| r.target.is_some());
-        let columns = if targets { &COLUMNS[..] } else { &COLUMNS[..6] };
+        let tempos = self.rows.iter().any(|r| r.tempo.is_some());
+        let mut columns = COLUMNS[..6].to_vec();
+        if targets {
+            columns.extend(TARGET);
+        }
+        if tempos {
+            columns.extend(TEMPO);
+        }
         let mut write = || -> csv::Result<()> {
-            writer.write_record(columns)?;
+            writer.write_record(&columns)?;
             for r in &self.rows {
                 let mut clip = relative_to(folder, &r.clip).to_string_lossy().into_owned();
                 // A name the reader would take for a comment (`#` first) or trim (spaces
@@ -439,6 +513,11 @@ impl SegmentsFile {
                         r.target
                             .map_or([const { String::new() }; 3], |t| t.map(|v| v.to_string())),
                     );
+                }
+                if tempos {
+                    record.extend(r.tempo.map_or([const { String::new() }; 2], |t| {
+                        [t.peak_speed_m_s, t.duration_s].map(|v| v.to_string())
+                    }));
                 }
                 writer.write_record(&record)?;
             }

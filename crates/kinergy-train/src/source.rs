@@ -244,7 +244,7 @@ impl Capture {
 
     /// The reach a row of the segments `file` gives of this capture: the row's frames
     /// (checked against the clip: [`TrainError::Segments`]), arm and, where it has one,
-    /// target. Other errors come as [`TrainError::Row`], naming the file and the row's line.
+    /// target and tempo ([`CapturedReach::with_known_tempo`]). Other errors come as [`TrainError::Row`], naming the file and the row's line.
     pub fn row_reach(
         &self,
         file: &SegmentsFile,
@@ -258,6 +258,12 @@ impl Capture {
             .map_err(in_row)?;
         let reach =
             CapturedReach::new(&self.name(), &self.clip, &joints, frames, mode).map_err(in_row)?;
+        let reach = match row.tempo {
+            Some(t) => reach
+                .with_known_tempo(t.peak_speed_m_s, t.duration_s)
+                .map_err(in_row)?,
+            None => reach,
+        };
         Ok(match row.target {
             Some(t) => reach.with_target(Point3::from(t)).map_err(in_row)?,
             None => reach,

@@ -139,3 +139,44 @@ pub fn made_set(
     }
     Ok(out)
 }
+
+/// The segments file of a set the full body made with a person's synergy
+/// ([`kinergy_reach::synth::write_set`] with [`kinergy_reach::drive::Driver::Person`], what
+/// `kinergy synth --params` writes beside the set in `dir`): one reach row per clip, the
+/// frames the synergy drove alone, its target (where a fit must aim, also for a clip the
+/// synergy handed over before it arrived) and the tempo its smooth controller was bounded
+/// by, so that a fit of the set runs the controller that made it
+/// ([`CapturedReach::with_known_tempo`]). The file is named `segments.csv` in `dir`.
+pub fn set_segments(
+    dir: &std::path::Path,
+    made: &[kinergy_reach::synth::WrittenClip],
+) -> crate::segments_file::SegmentsFile {
+    use crate::segments_file::{RowTempo, SegmentRow, SegmentsFile};
+    let rows = made
+        .iter()
+        .map(|clip| {
+            let row = &clip.row;
+            let segment = SegmentRow {
+                person: row.person.clone(),
+                ..SegmentRow::new(
+                    dir.join(&row.clip),
+                    clip.driven.clone(),
+                    kinergy_motion::Side::Right,
+                    crate::segment::Label::Reach,
+                )
+            }
+            .with_target([row.target_x, row.target_y, row.target_z]);
+            match clip.tempo {
+                Some(t) => segment.with_tempo(RowTempo {
+                    peak_speed_m_s: t.peak_speed_m_s,
+                    duration_s: t.duration_s,
+                }),
+                None => segment,
+            }
+        })
+        .collect();
+    SegmentsFile::new(dir.join(SET_SEGMENTS), rows)
+}
+
+/// The name of a set's segments file in its folder ([`set_segments`]).
+pub const SET_SEGMENTS: &str = "segments.csv";

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use kinergy_motion::{ImportOptions, Side, read_clip};
 use kinergy_train::segment::Label;
-use kinergy_train::segments_file::{SegmentRow, SegmentsFile, SegmentsFileError};
+use kinergy_train::segments_file::{RowTempo, SegmentRow, SegmentsFile, SegmentsFileError};
 
 /// A folder with two persons' clips (empty files: reading a segments file does not read clips).
 fn folder() -> (tempfile::TempDir, PathBuf, PathBuf) {
@@ -210,6 +210,71 @@ fn targets_round_trip_and_bad_ones_name_the_line() {
         "clip,onset,end,arm,target_x,target_y\nann/r1.bvh,0,10,left,0.1,0.2\n",
         Some(1),
         "target_x, target_y and target_z",
+    );
+}
+
+/// The tempo's columns (what `synth --params` records of the controller that made a motion):
+/// written only when a row has one, read back to the same numbers, both or none, positive and
+/// finite; bad cells name the line.
+#[test]
+fn tempos_round_trip_and_bad_ones_name_the_line() {
+    let (dir, ann, bob) = folder();
+    let path = dir.path().join("segments.csv");
+    let tempo = RowTempo {
+        peak_speed_m_s: 1.187_5,
+        duration_s: 0.987_187_478_487_449_9,
+    };
+    let rows = vec![
+        SegmentRow::new(ann.join("r1.bvh"), 0..12, Side::Left, Label::Reach).with_tempo(tempo),
+        SegmentRow::new(bob.join("r1.bvh"), 5..80, Side::Right, Label::Reach),
+    ];
+    SegmentsFile::new(&path, rows).write().expect("write");
+    let text = std::fs::read_to_string(&path).expect("read");
+    assert!(
+        text.contains("clip,onset,end,arm,label,person,peak_speed_m_s,duration_s\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("bob/r1.bvh,5,80,right,reach,bob,,\n"),
+        "{text}"
+    );
+    let read = SegmentsFile::read(&path).expect("read back");
+    assert_eq!(read.rows()[0].tempo, Some(tempo));
+    assert_eq!(read.rows()[1].tempo, None);
+    assert_eq!(
+        SegmentsFile::new(&path, read.rows().to_vec()).to_csv(),
+        text
+    );
+
+    let header = "clip,onset,end,arm,peak_speed_m_s,duration_s\n";
+    for (row, needle) in [
+        (
+            "ann/r1.bvh,0,10,left,1.2,x",
+            "duration_s `x` is not a positive number",
+        ),
+        (
+            "ann/r1.bvh,0,10,left,,0.8",
+            "peak_speed_m_s `` is not a positive number",
+        ),
+        (
+            "ann/r1.bvh,0,10,left,-1,0.8",
+            "peak_speed_m_s `-1` is not a positive number",
+        ),
+        (
+            "ann/r1.bvh,0,10,left,1.2,0",
+            "duration_s `0` is not a positive number",
+        ),
+        (
+            "ann/r1.bvh,0,10,left,NaN,0.8",
+            "peak_speed_m_s `NaN` is not a positive",
+        ),
+    ] {
+        assert_error(&format!("{header}{row}\n"), Some(2), needle);
+    }
+    assert_error(
+        "clip,onset,end,arm,duration_s\nann/r1.bvh,0,10,left,0.8\n",
+        Some(1),
+        "peak_speed_m_s and duration_s",
     );
 }
 

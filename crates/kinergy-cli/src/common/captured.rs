@@ -28,10 +28,13 @@ pub struct CaptureArgs {
     /// Default: the segments `--select` picks.
     #[arg(long, value_name = "A..B")]
     pub frames: Option<String>,
-    /// A segments file (`clip,onset,end,arm[,label,person,target_x,target_y,target_z]`, as
-    /// `kinergy segment --manifest` or `kinergy synth --params` writes it): every row is a
-    /// reach, with its own frames and arm (`--arm` is not used), aimed at the row's target
-    /// (world meters) where it has one, else at the hand's position on its last frame.
+    /// A segments file (`clip,onset,end,arm[,label,person,target_x,target_y,target_z,
+    /// peak_speed_m_s,duration_s]`, as `kinergy segment --manifest` or `kinergy synth
+    /// --params` writes it): every row is a reach, with its own frames and arm (`--arm` is not
+    /// used), aimed at the row's target (world meters) where it has one, else at the hand's
+    /// position on its last frame. A row with a tempo (a motion the full body's synergy arm
+    /// made) is synthesized by that controller: its smooth bounds made for that tempo, from
+    /// rest, the shoulder open as that arm's.
     /// Without CLIPS the file's clips are used; CLIPS given keep only the rows of those clips.
     #[arg(long, value_name = "segments.csv", conflicts_with_all = ["frames", "select", "chain"])]
     pub segments: Option<PathBuf>,

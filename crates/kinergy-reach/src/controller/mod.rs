@@ -88,7 +88,7 @@ use kinergy_motion::nalgebra::Point3;
 pub use ending::Ending;
 pub use plan::reaching_side;
 pub use report::{
-    ArmDriveKind, HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop,
+    ArmDriveKind, HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop, SynergyTempo,
 };
 pub use settings::{ReachSettings, SynergyStart};
 pub use synergy::{

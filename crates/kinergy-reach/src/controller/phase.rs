@@ -23,7 +23,7 @@ use kinergy_solver::Optimizer;
 use super::SynergyStart;
 use super::arm::ArmFollower;
 use super::plan::Plan;
-use super::report::{HandOver, HandOverWhy};
+use super::report::{HandOver, HandOverWhy, SynergyTempo};
 use super::settings::ReachSettings;
 use super::synergy::{
     ArmDrive, PLAIN_IK_TIME, STALL_PROGRESS, STALL_WINDOW, SynergyArm, reach_smoothing,
@@ -146,7 +146,7 @@ impl ArmPhase {
             phase => phase,
         };
         match &mut phase {
-            ArmPhase::Synergy(Synergy { arm }) | ArmPhase::PlainIk(PlainIk { arm, .. }) => {
+            ArmPhase::Synergy(Synergy { arm, .. }) | ArmPhase::PlainIk(PlainIk { arm, .. }) => {
                 arm.pose_arm(rules.character, rules.plan.arm, pose);
             }
             ArmPhase::Waiting | ArmPhase::Analytic(_) => {}
@@ -207,6 +207,14 @@ impl ArmPhase {
             ArmPhase::Analytic(a) => Ok(a.step(rules, arm, t, error)),
             ArmPhase::Synergy(s) => s.step(rules, pose, t, error),
             ArmPhase::PlainIk(p) => p.step(rules, arm, pose, t, error),
+        }
+    }
+
+    /// The tempo the synergy's smooth controller is bounded by, while the synergy drives.
+    pub(super) fn synergy_tempo(&self) -> Option<SynergyTempo> {
+        match self {
+            ArmPhase::Synergy(s) => s.tempo,
+            _ => None,
         }
     }
 
@@ -284,6 +292,9 @@ impl Analytic {
 /// A person's synergy controller drives the arm.
 pub(super) struct Synergy {
     arm: SynergyArm,
+    /// The tempo the smooth controller's bounds were made for (`None`: the paper's
+    /// controller, or bounds given by the reach's start).
+    tempo: Option<SynergyTempo>,
 }
 
 /// The least peak hand speed the synergy arm's bounds assume, m/s: a typical person's
@@ -317,10 +328,13 @@ impl Synergy {
             Some((peak, duration)) if peak > least && duration > 0.0 => (peak, duration),
             _ => (least, 1.875 * distance / least),
         };
-        let smoothing = rules
-            .start
-            .and_then(|s| s.smoothing)
-            .unwrap_or_else(|| reach_smoothing(rules.character, plan.arm, peak, duration));
+        let given = rules.start.and_then(|s| s.smoothing);
+        let smoothing =
+            given.unwrap_or_else(|| reach_smoothing(rules.character, plan.arm, peak, duration));
+        let tempo = (rules.smooth && given.is_none()).then_some(SynergyTempo {
+            peak_speed_m_s: peak,
+            duration_s: duration,
+        });
         let arm = SynergyArm::new(
             rules.character,
             plan.arm,
@@ -333,7 +347,7 @@ impl Synergy {
             rules.smooth.then_some(smoothing),
             rules.start.as_ref(),
         )?;
-        Ok(Synergy { arm })
+        Ok(Synergy { arm, tempo })
     }
 
     /// The controller sees the frame's final body and arm and steps; it hands over to plain

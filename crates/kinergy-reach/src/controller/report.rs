@@ -127,6 +127,21 @@ pub struct ReachReport {
     /// limit) held the person's synergy arm off its own step, if any: from there on the arm
     /// is not the person's synergy alone (a fit of those frames could not retrace it).
     pub synergy_limited_at_s: Option<f64>,
+    /// The tempo the person's synergy arm was bounded by, when the smooth controller's
+    /// bounds were made from one ([`crate::controller::reach_smoothing`]): a fit of the
+    /// driven frames under these bounds retraces the arm (`kinergy synth --params` writes
+    /// them into its segments file).
+    pub synergy_tempo: Option<SynergyTempo>,
+}
+
+/// The reach a smooth controller's bounds were made for ([`kinergy_solver::Smoothing::for_reach`]):
+/// the hand's peak speed relative to the shoulder and the reach's duration.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SynergyTempo {
+    /// Peak hand speed, m/s.
+    pub peak_speed_m_s: f64,
+    /// Duration, seconds.
+    pub duration_s: f64,
 }
 
 /// Plain inverse kinematics taking the hand over from a person's synergy controller for the

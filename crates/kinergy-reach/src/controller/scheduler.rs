@@ -125,6 +125,7 @@ pub(super) fn animate(
     let mut head = Head::default();
     let mut phase = ArmPhase::Waiting;
     let mut synergy_limited_at_s = None;
+    let mut synergy_tempo = None;
     let mut balance = BalanceCorrection::default();
     let mut poses = Vec::new();
     let mut min_margin = f64::INFINITY;
@@ -147,6 +148,7 @@ pub(super) fn animate(
         // The reaching arm as it ended the last frame: where any driver starts from.
         pose[character.limb_dofs(plan.arm)].copy_from_slice(arm.last_posture());
         phase = phase.begin(&rules, t, &mut pose)?;
+        synergy_tempo = synergy_tempo.or(phase.synergy_tempo());
         let waiting = matches!(phase, ArmPhase::Waiting);
 
         // Limbs, then balance.
@@ -225,6 +227,7 @@ pub(super) fn animate(
         arm_drive: drive.kind(),
         hand_over: phase.hand_over(),
         synergy_limited_at_s,
+        synergy_tempo,
     };
     Ok(ReachMotion {
         poses,

@@ -576,16 +576,10 @@ pub fn reach_smoothing(
     Smoothing::for_reach(peak_speed, duration, a.upper_arm + a.forearm + a.hand)
 }
 
-/// The largest shoulder swing of the synergy arm's own chain, radians: its capture
-/// convention measures the swing from the arm raised sideways, so a swing of π (the upper arm
-/// across the chest) is singular; 160° keeps 20° from it, beyond anything the character's
-/// limits let a reach use.
-pub const SYNERGY_SWING_MAX: f64 = 160.0 * std::f64::consts::PI / 180.0;
-
 /// The chain the synergy arm of `limb` steps, in the capture convention, from `start`
 /// (module docs, "Limits"): the character's bones, elbow and wrist limits (the same DoFs in
-/// both conventions); the shoulder's swing bounded only by [`SYNERGY_SWING_MAX`], its twist
-/// open to ±π, widened to include `start`. The shoulder's anatomical limits are the
+/// both conventions); the shoulder [open](kinergy_solver::capture::open_shoulder) (its swing
+/// bounded only by [`kinergy_solver::capture::OPEN_SHOULDER_SWING`], its twist open to ±π), widened to include `start`. The shoulder's anatomical limits are the
 /// character's (humerothoracic, [`crate::character::girdle`]), which clamp the arm every frame.
 /// The generic table's ±90° twist and 130° × 100° ellipse, read in the capture convention, put
 /// the hanging arm on the twist limit (left arm −90°, right arm +90°) and held every raise
@@ -597,30 +591,21 @@ pub const SYNERGY_SWING_MAX: f64 = 160.0 * std::f64::consts::PI / 180.0;
 ///
 /// A fit reads a capture on the table's chain widened to include the captured motion
 /// ([`CaptureArm`]), the person's own range: a clip this arm turned past the table's twist is
-/// fitted with that DoF's limit at its captured peak.
+/// fitted with that DoF's limit at its captured peak, unless the segments file says the
+/// motion was made by this arm (its tempo given: [`CaptureArm::with_open_shoulder`]).
 fn synergy_chain(
     character: &Character,
     limb: Limb,
     start: &[f64],
     hand_m: Option<f64>,
 ) -> std::result::Result<Chain, kinergy_solver::SolverError> {
-    use kinergy_motion::{ChainJoint, Motion};
     let segments = character.proportions().arm(limb.side());
     let default = Chain::arm(
         segments.upper_arm,
         segments.forearm,
         hand_m.unwrap_or(segments.hand),
     )?;
-    let mut joints: Vec<ChainJoint> = default.joints().to_vec();
-    for m in &mut joints[0].motions {
-        match m {
-            Motion::Swing { rx, ry } => (*rx, *ry) = (SYNERGY_SWING_MAX, SYNERGY_SWING_MAX),
-            Motion::Revolute { min, max, .. } => {
-                (*min, *max) = (-std::f64::consts::PI, std::f64::consts::PI);
-            }
-        }
-    }
-    let chain = Chain::new(joints, default.end_effector())?;
+    let chain = kinergy_solver::capture::open_shoulder(&default)?;
     Ok(widen_to_include(&chain, start)?.0)
 }
 
