@@ -6,7 +6,7 @@
 
 use std::path::PathBuf;
 
-use kinergy_train::segment::{SegmentSettings, hand_speed};
+use kinergy_motion::segment::{SegmentSettings, hand_speed};
 use serde::Serialize;
 
 use crate::common::{

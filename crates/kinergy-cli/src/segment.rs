@@ -1,13 +1,13 @@
 //! `kinergy segment`: the labelled segments of captures — reach, return, other — from the
 //! hand's speed and direction, listed, and optionally written as a segments file.
 //!
-//! Frames are `onset..end`, numbered from 0, end excluded (see `kinergy_train::segment`):
+//! Frames are `onset..end`, numbered from 0, end excluded (see `kinergy_motion::segment`):
 //! what this prints pastes into `--frames A..B`.
 
 use std::path::{Path, PathBuf};
 
 use kinergy_motion::Side;
-use kinergy_train::segment::{Segment, SegmentSettings, Selection, find_segments, main_index};
+use kinergy_motion::segment::{Segment, SegmentSettings, Selection, find_segments, main_index};
 use kinergy_train::segments_file::{SegmentRow, SegmentsFile, default_person};
 use serde::Serialize;
 
@@ -153,7 +153,7 @@ fn segment_arm(
         (None, None) => found.iter().copied().enumerate().collect(),
         (None, Some(selection)) => {
             let chosen =
-                kinergy_train::segment::select(&found, selection, &name).map_err(Failure::from)?;
+                kinergy_motion::segment::select(&found, selection, &name).map_err(Failure::from)?;
             found
                 .iter()
                 .copied()

@@ -9,9 +9,9 @@
 
 use std::path::PathBuf;
 
+use kinergy_motion::segment::Selection;
 use kinergy_motion::{ExportOptions, LengthUnit, Side};
 use kinergy_solver::{BaseMode, FieldUse, Model, OptimizerKind, StopReason};
-use kinergy_train::segment::Selection;
 use kinergy_train::source::{FrameChoice, names_clip};
 use kinergy_train::{CapturedReach, PersonParams, ReachDrive, Replay, TrainError};
 use serde::Serialize;

@@ -6,7 +6,7 @@ use common::{assert_bad_input, fixture, json, kinergy, repo, stderr, stdout};
 
 use std::path::{Path, PathBuf};
 
-use kinergy_train::segment::Label;
+use kinergy_motion::segment::Label;
 use kinergy_train::segments_file::SegmentsFile;
 
 fn utf8(p: &Path) -> &str {

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use std::sync::atomic::AtomicBool;
 
+use kinergy_motion::segment::{SegmentSettings, Selection, find_segments, main_index};
 use kinergy_motion::{ImportOptions, Side};
 use kinergy_reach::character::{Character, Proportions};
 use kinergy_reach::controller::{ArmDrive, Ending, ReachSettings, reach_full_body_driven};
@@ -16,7 +17,6 @@ use kinergy_solver::{
 use kinergy_train::anneal::{AnnealSettings, Control};
 use kinergy_train::field::{FieldFile, FieldSettings};
 use kinergy_train::fit::{FitSettings, NestedFit, NestedRun, RefineSettings};
-use kinergy_train::segment::{SegmentSettings, Selection, find_segments, main_index};
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, Capture, FrameChoice, ReachFrames, capture_files, names_clip, segment_reaches,
@@ -107,7 +107,7 @@ pub fn segment<'py>(
         .map_err(|e| errors::input(format!("min_peak_speed: {e}")))?;
     let arms: Vec<(
         kinergy_motion::ArmJoints,
-        Option<Vec<kinergy_train::segment::Segment>>,
+        Option<Vec<kinergy_motion::segment::Segment>>,
     )> = if arm == "auto" {
         let capture = Capture::from_clip(&path, clip.clone());
         capture
@@ -129,7 +129,7 @@ pub fn segment<'py>(
         let chosen = match (&kept, selection) {
             (Some(kept), _) => kept.clone(),
             (None, None) => found.clone(),
-            (None, Some(selection)) => kinergy_train::segment::select(&found, selection, &name)
+            (None, Some(selection)) => kinergy_motion::segment::select(&found, selection, &name)
                 .map_err(|e| errors::input(e.to_string()))?,
         };
         let side = joints
@@ -1012,6 +1012,6 @@ pub fn hand_speed<'py>(
         ..SegmentSettings::default()
     };
     let speed =
-        kinergy_train::segment::hand_speed(&clip, &joints, &settings).map_err(errors::motion)?;
+        kinergy_motion::segment::hand_speed(&clip, &joints, &settings).map_err(errors::motion)?;
     Ok(speed.into_pyarray(py))
 }

@@ -9,8 +9,8 @@ use std::hint::black_box;
 use std::path::{Path, PathBuf};
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use kinergy_motion::segment::{SegmentSettings, find_segments};
 use kinergy_motion::{ArmJoints, ImportOptions, Side, read_clip};
-use kinergy_train::segment::{SegmentSettings, find_segments};
 
 fn clips() -> Vec<(String, PathBuf, Side)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");

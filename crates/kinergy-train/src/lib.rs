@@ -37,7 +37,7 @@ pub mod limits;
 pub mod objective;
 pub mod person;
 pub mod segments_file;
-/// Reach segmentation, now in `kinergy-motion`: re-exported so `kinergy_train::segment` keeps
+/// Reach segmentation, now in `kinergy-motion`: re-exported so `kinergy_motion::segment` keeps
 /// working.
 pub use kinergy_motion::segment;
 pub mod source;

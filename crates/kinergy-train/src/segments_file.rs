@@ -7,7 +7,7 @@
 //! | column | required | content |
 //! |---|---|---|
 //! | `clip` | yes | the capture: a path relative to the segments file's folder, or absolute (written relative when the two share a folder) |
-//! | `onset`, `end` | yes | the frames `onset..end`: numbered from 0, end excluded — the convention of "Frames" in [`crate::segment`], the `A..B` of `--frames` |
+//! | `onset`, `end` | yes | the frames `onset..end`: numbered from 0, end excluded — the convention of "Frames" in [`kinergy_motion::segment`], the `A..B` of `--frames` |
 //! | `arm` | yes | `right` or `left` |
 //! | `label` | no (`reach`) | `reach`, `return` or `other` |
 //! | `person` | no (the clip's folder name) | who moves |

@@ -1,6 +1,6 @@
 //! Where captured reaches come from: a capture file, read with the import options, its arm
 //! found by side or by joint names, and its frames chosen — a window, the labelled segments of
-//! the hand-speed series ([`crate::segment`]) or the rows of a segments file
+//! the hand-speed series ([`kinergy_motion::segment`]) or the rows of a segments file
 //! ([`crate::segments_file`]) — become [`CapturedReach`]es along one path, the one `fit`, `compare`
 //! and `synthesize` take.
 //!
@@ -12,12 +12,12 @@
 //! Errors say at which step a clip failed: [`TrainError::Clip`] (reading),
 //! [`TrainError::Arm`] (the arm), [`TrainError::Row`] (a segments-file row, with its line),
 //! [`TrainError::Frames`] (a window outside the clip); the segments and the reach themselves
-//! fail as [`crate::segment`] and [`CapturedReach::new`] do.
+//! fail as [`kinergy_motion::segment`] and [`CapturedReach::new`] do.
 //!
 //! ```no_run
 //! use kinergy_motion::{ImportOptions, Side};
 //! use kinergy_solver::BaseMode;
-//! use kinergy_train::segment::Selection;
+//! use kinergy_motion::segment::Selection;
 //! use kinergy_train::source::{ArmChoice, Capture, ReachFrames};
 //!
 //! let capture = Capture::read("p01/r01.bvh".as_ref(), &ImportOptions::default())?;
@@ -39,8 +39,8 @@ use kinergy_solver::{BaseMode, FitRecord};
 
 use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError};
-use crate::segment::{Segment, SegmentSettings, Selection, find_segments, select};
 use crate::segments_file::{SegmentRow, SegmentsFile};
+use kinergy_motion::segment::{Segment, SegmentSettings, Selection, find_segments, select};
 
 /// How a capture's arm is found.
 #[derive(Debug, Clone, PartialEq, Eq)]

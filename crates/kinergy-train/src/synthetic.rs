@@ -162,7 +162,7 @@ pub fn set_segments(
                     dir.join(&row.clip),
                     clip.driven.clone(),
                     kinergy_motion::Side::Right,
-                    crate::segment::Label::Reach,
+                    kinergy_motion::segment::Label::Reach,
                 )
             }
             .with_target([row.target_x, row.target_y, row.target_z]);

@@ -11,6 +11,7 @@ mod require_shared;
 
 use std::path::{Path, PathBuf};
 
+use kinergy_motion::segment::{SegmentSettings, main_segment};
 use kinergy_motion::{ArmJoints, Clip, ImportOptions, Side, read_clip};
 use kinergy_solver::{BaseMode, Model, OptimizerKind};
 use kinergy_train::anneal::AnnealSettings;
@@ -20,7 +21,6 @@ use kinergy_train::experiment::{
 };
 use kinergy_train::field::FieldSettings;
 use kinergy_train::fit::FitSettings;
-use kinergy_train::segment::{SegmentSettings, main_segment};
 use kinergy_train::synthetic::made_reach;
 use kinergy_train::{CapturedReach, Objective, TrainError};
 

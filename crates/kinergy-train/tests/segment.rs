@@ -14,12 +14,12 @@ use std::sync::Arc;
 
 use kinergy_motion::nalgebra::Vector3;
 use kinergy_motion::rotation::Axis;
+use kinergy_motion::segment::{
+    Label, Segment, SegmentSettings, Selection, find_segments, hand_speed, main_index, main_segment,
+};
 use kinergy_motion::{
     ArmJoints, Clip, Dof, ImportOptions, Joint, MotionError, PositionReading, Side, Skeleton,
     read_clip,
-};
-use kinergy_train::segment::{
-    Label, Segment, SegmentSettings, Selection, find_segments, hand_speed, main_index, main_segment,
 };
 use kinergy_train::source::Capture;
 

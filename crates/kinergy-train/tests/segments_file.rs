@@ -3,8 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
+use kinergy_motion::segment::Label;
 use kinergy_motion::{ImportOptions, Side, read_clip};
-use kinergy_train::segment::Label;
 use kinergy_train::segments_file::{RowTempo, SegmentRow, SegmentsFile, SegmentsFileError};
 
 /// A folder with two persons' clips (empty files: reading a segments file does not read clips).

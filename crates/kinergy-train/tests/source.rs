@@ -4,10 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
+use kinergy_motion::segment::{SegmentSettings, Selection, find_segments, main_index};
 use kinergy_motion::{ArmJoints, ImportOptions, MotionError, Side};
 use kinergy_solver::BaseMode;
 use kinergy_train::TrainError;
-use kinergy_train::segment::{SegmentSettings, Selection, find_segments, main_index};
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, Capture, FrameChoice, ReachFrames, names_clip, segment_clips, segment_reaches,

@@ -3,13 +3,13 @@
 //! capture is read, the arm and the base.
 //!
 //! Frames are numbered from 0 and `A..B` excludes B everywhere (see "Frames" in
-//! [`kinergy_train::segment`]): what `kinergy segment` prints pastes into `--frames` and into
+//! [`kinergy_motion::segment`]): what `kinergy segment` prints pastes into `--frames` and into
 //! a segments file as it is.
 
 use std::path::{Path, PathBuf};
 
+use kinergy_motion::segment::Selection;
 use kinergy_solver::BaseMode;
-use kinergy_train::segment::Selection;
 use kinergy_train::segments_file::{SegmentRow, SegmentsFile};
 use kinergy_train::source::{
     ArmChoice, Capture, ReachFrames, rows_reaches, segment_clips, segment_reaches,
