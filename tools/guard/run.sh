@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Behaviour guard for refactors (issue 22): runs a fixed list of 60 CLI commands from a
+# Behaviour guard for refactors (issue 22): runs a fixed list of 67 CLI commands from a
 # checkout's root and records each one's exit code, stdout, stderr, and a hash of every file
 # written (timings masked, tools/guard/hash.py). Compare two runs with tools/guard/compare.sh.
 # Usage: tools/guard/run.sh REPO OUTDIR   (REPO's target/release/kinergy must be built;
@@ -82,4 +82,13 @@ run synthesize $B/normal_006.bvh --arm left --params $W/lfield.json -o $W/s6.bvh
 run plan --scene examples/bookshelf/scene.json --task grasp --object blue_book --params $W/lfield.json --seed 2 -o $W/grl.bvh --json
 run style $B/normal_006.bvh $B/normal_007.bvh --params $W/lfield.json --arm left --json
 run compare -o $W/main
+# The library protocol: shards, a resume, collect, the library summary, and a mixed collect.
+run fit data-synthetic/p02 --model sa,sc --per clip --budget 200 --out-dir $W/lib --shard 1/2
+run collect $W/lib
+run fit data-synthetic/p02 --model sa,sc --per clip --budget 200 --out-dir $W/lib --shard 2/2
+run fit data-synthetic/p02 --model sa,sc --per clip --budget 200 --out-dir $W/lib --shard 2/2 --resume
+run collect $W/lib
+run compare --library $W/lib -o $W/libcmp
+run fit data-synthetic/p03 --model sa --per clip --budget 200 --out-dir $W/lib2 --json
+run fit $C --model sa --per person --out-dir $W/lib3
 python3 "$HERE/hash.py" guard-w > "$OUT/files.sha256"
