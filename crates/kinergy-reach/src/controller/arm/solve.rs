@@ -1,0 +1,263 @@
+//! The arm's analytic solve, shared by the reaching and the idle arm: where the orbit search
+//! starts, a goal out of reach moved onto the reach sphere, and the base riding the girdle as
+//! a fixed-point iteration (module docs of [`super`]); and the shoulder, hand and reach error
+//! the scheduler's planning asks of a pose.
+
+use kinergy_motion::Side;
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
+use kinergy_solver::analytic::{LimbIk, OrbitSearch, OrbitSense};
+
+use crate::character::{Character, Limb, Pose};
+use crate::error::{ReachError, Result};
+
+/// The most solves of the arm's fixed-point iteration with the girdle (module docs).
+pub(super) const GIRDLE_PASSES: usize = 5;
+
+/// The girdle iteration stops when the arm's base moved less than this, meters.
+const GIRDLE_TOLERANCE: f64 = 1e-6;
+
+/// Solves `limb`'s arm with its base riding the girdle. `base` is the arm's base frame while
+/// the arm's DoFs are `at`; the first solve uses the base for the arm `first` (the previous
+/// frame's), each later one the base for the solution before it. `solve` gives an orbit
+/// angle and an arm for a base frame. The last solution found, if any.
+pub(super) fn on_girdle(
+    character: &Character,
+    limb: Limb,
+    base: &IsometryMatrix3<f64>,
+    at: &[f64; 7],
+    first: &[f64; 7],
+    mut solve: impl FnMut(&IsometryMatrix3<f64>) -> Option<(f64, [f64; 7])>,
+) -> Option<(f64, [f64; 7])> {
+    // Only the base's origin moves (the base frame does not turn with the girdle): the
+    // iteration is on that point, x ↦ g(x) = where the girdle puts the base for the arm
+    // solved at x, with Anderson mixing of depth one (below).
+    let mut b = character.arm_base_moved(limb, base, at, first);
+    let mut found = None;
+    let mut last: Option<(Vector3<f64>, Vector3<f64>)> = None;
+    for _ in 0..GIRDLE_PASSES {
+        let Some((a, q)) = solve(&b) else { break };
+        found = Some((a, q));
+        let x = b.translation.vector;
+        let residual = character
+            .arm_base_moved(limb, base, at, &q)
+            .translation
+            .vector
+            - x;
+        if residual.norm() < GIRDLE_TOLERANCE {
+            break;
+        }
+        // Near a straight arm the solution's elevation turns fast with the base and the
+        // plain iteration x + r can swing from side to side of the fixed point without
+        // settling (the map's slope near −1); the secant along the last step, γ, takes the
+        // point where the residual, linear between the two passes, is least.
+        let mut step = residual;
+        if let Some((x0, r0)) = last {
+            let dr = residual - r0;
+            let dd = dr.norm_squared();
+            if dd > 0.0 {
+                let gamma = dr.dot(&residual) / dd;
+                step = residual - gamma * ((x - x0) + dr);
+            }
+        }
+        last = Some((x, residual));
+        b.translation.vector = x + step;
+    }
+    found
+}
+
+/// The arm's analytic IK: α = 0 the lowest elbow (world down) and growing α raising the
+/// elbow outward — a left-handed turn about the shoulder→wrist axis for the right arm.
+pub(crate) fn arm_ik(character: &Character, arm: Limb) -> Result<LimbIk> {
+    let sense = match arm.side() {
+        Side::Right => OrbitSense::LeftHanded,
+        Side::Left => OrbitSense::RightHanded,
+    };
+    LimbIk::new(character.limb_chain(arm))
+        .map(|ik| ik.with_sense(sense))
+        .map_err(|e| ReachError::Setting {
+            field: "character.arm".into(),
+            why: e.to_string(),
+        })
+}
+
+/// Where an arm's orbit search starts.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Near {
+    /// The default start ([`OrbitSearch::start`]).
+    Default,
+    /// At this orbit angle (the previous frame's), with small increments.
+    Alpha(f64),
+    /// At the angle whose posture is closest to this one (in the shoulder and elbow DoFs).
+    Posture([f64; 7]),
+    /// As [`Near::Posture`], among the angles within 30° of this one.
+    PostureAround([f64; 7], f64),
+}
+
+/// The `arm` (its analytic IK `ik`) for the hand at `goal` (world), the body as in `pose`,
+/// position mode with the orbit search and the base riding the girdle; a goal out of reach
+/// is moved to the nearest reachable point on the shoulder→goal line.
+pub(crate) fn solve_arm(
+    character: &Character,
+    arm: Limb,
+    ik: &LimbIk,
+    pose: &Pose,
+    goal: &Point3<f64>,
+    search: &OrbitSearch,
+) -> Option<[f64; 7]> {
+    let base = character.limb_base_frame(arm, pose);
+    let at: [f64; 7] = std::array::from_fn(|i| pose[arm.dofs().start + i]);
+    on_girdle(character, arm, &base, &at, &at, |b| {
+        solve_arm_near(ik, b, goal, search, Near::Default)
+    })
+    .map(|(_, q)| q)
+}
+
+/// [`solve_arm`] with the search starting [`Near`] a previous solution; returns the orbit
+/// angle too.
+pub(super) fn solve_arm_near(
+    ik: &LimbIk,
+    base: &IsometryMatrix3<f64>,
+    goal: &Point3<f64>,
+    search: &OrbitSearch,
+    near: Near,
+) -> Option<(f64, [f64; 7])> {
+    let down = base.rotation.inverse() * -Vector3::y();
+    let ik = ik.clone().with_down(down).ok()?;
+    let local = base.inverse() * goal;
+    let r = local.coords.norm();
+    let solve = |p: &Point3<f64>| {
+        let start = match near {
+            Near::Default => None,
+            Near::Alpha(a) => Some(a),
+            Near::Posture(q0) => closest_alpha(&ik, p, &q0),
+            Near::PostureAround(q0, a) => closest_alpha_around(&ik, p, &q0, a),
+        };
+        match start {
+            None => ik.solve_position(p, search).ok(),
+            Some(a) => {
+                // The range widens to include the start: continuity comes first.
+                let s = OrbitSearch {
+                    start: a,
+                    min: search.min.min(a),
+                    max: search.max.max(a),
+                    step: search.step.min(2f64.to_radians()),
+                    ..*search
+                };
+                ik.solve_position(p, &s)
+                    .or_else(|_| ik.solve_position(p, search))
+                    .ok()
+            }
+        }
+    };
+    const SCALES: [f64; 8] = [1.0, 0.999, 0.995, 0.99, 0.98, 0.96, 0.93, 0.9];
+    // Out of reach, the point at the reach radius on the goal's line; else the goal itself.
+    // Then, where the limits refuse it (or rounding at full extension does), a point a little
+    // closer on the same line. The order matters near full extension, where the elbow turns
+    // like the square root of the distance: 0.1 % of the distance is 0.09 rad of elbow, and a
+    // goal just beyond reach solved 0.1 % short threw the elbow from straight to bent within a
+    // frame while one just within reach kept it straight.
+    let (_, outer) = ik.position_reach().unwrap_or_else(|| ik.wrist_reach());
+    let aim = if r > outer && r > 1e-9 {
+        outer / r
+    } else {
+        1.0
+    };
+    for scale in SCALES {
+        let p = if r > 1e-9 {
+            Point3::from(local.coords * (aim * scale))
+        } else {
+            local
+        };
+        if let Some(found) = solve(&p) {
+            return Some(found);
+        }
+    }
+    None
+}
+
+/// The orbit angle, on a 5° grid over the whole circle, whose posture within the limits is
+/// closest to `q0` in the shoulder and elbow DoFs.
+fn closest_alpha(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7]) -> Option<f64> {
+    use std::f64::consts::PI;
+    (0..72)
+        .map(|k| -PI + (k as f64) * 5f64.to_radians())
+        .filter_map(|a| posture_distance(ik, p, q0, a).map(|d| (a, d)))
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .map(|(a, _)| a)
+}
+
+/// The squared distance, in the shoulder and elbow DoFs, from `q0` of the posture reaching
+/// `p` at orbit angle `a`; `None` when there is none within the limits.
+fn posture_distance(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], a: f64) -> Option<f64> {
+    let q = ik.solve_position_at(p, a).ok()?;
+    ik.within_limits(&q)
+        .then(|| (0..5).map(|i| (q[i] - q0[i]).powi(2)).sum())
+}
+
+/// The orbit angle within 30° of `center`, on a 5° grid, whose posture within the limits is
+/// closest to `q0` in the shoulder and elbow DoFs, found by walking downhill from `center`
+/// ([`closest_alpha`] searches all 72 angles; from one frame to the next the closest angle
+/// moves little, and a flip is caught by [`ARM_JUMP`](super::follower::ARM_JUMP)'s test).
+/// Three to five solves a frame where a scan of the 13 angles took 13.
+fn closest_alpha_around(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], center: f64) -> Option<f64> {
+    const STEP: f64 = 5.0 * std::f64::consts::PI / 180.0;
+    const STEPS: i32 = 6;
+    let distance = |k: i32| posture_distance(ik, p, q0, center + f64::from(k) * STEP);
+    let Some(mut best) = distance(0) else {
+        // The last angle is no longer within the limits: the whole window, scanned.
+        return (-STEPS..=STEPS)
+            .filter_map(|k| distance(k).map(|d| (k, d)))
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .map(|(k, _)| center + f64::from(k) * STEP);
+    };
+    let mut at: i32 = 0;
+    for direction in [1, -1] {
+        let mut k = at + direction;
+        let mut moved = false;
+        while k.abs() <= STEPS {
+            match distance(k) {
+                Some(d) if d < best => {
+                    best = d;
+                    at = k;
+                    moved = true;
+                    k += direction;
+                }
+                _ => break,
+            }
+        }
+        if moved {
+            break;
+        }
+    }
+    Some(center + f64::from(at) * STEP)
+}
+
+/// The shoulder: the arm chain's base, in world.
+pub(crate) fn shoulder_position(character: &Character, pose: &Pose, arm: Limb) -> Point3<f64> {
+    let f = character.limb_base_frame(arm, pose);
+    Point3::from(f.translation.vector)
+}
+
+/// The hand: the arm's fingertip joint, in world.
+pub(crate) fn hand_position(character: &Character, pose: &Pose, arm: Limb) -> Point3<f64> {
+    let frames = character.world_frames(pose);
+    Point3::from(frames[arm.joints()[3]].translation.vector)
+}
+
+/// The hand's distance from `target` with the arm solved by [`solve_arm`] at `pose`.
+pub(crate) fn arm_error(
+    character: &Character,
+    pose: &Pose,
+    arm: Limb,
+    ik: &LimbIk,
+    target: &Point3<f64>,
+) -> f64 {
+    match solve_arm(character, arm, ik, pose, target, &OrbitSearch::default()) {
+        Some(q) => {
+            let mut p = *pose;
+            p[character.limb_dofs(arm)].copy_from_slice(&q);
+            (hand_position(character, &p, arm) - target).norm()
+        }
+        None => f64::INFINITY,
+    }
+}

@@ -1,0 +1,102 @@
+//! The tracking law of the arm shown: the analytic solution's joint velocity fed forward, the
+//! lag closed no faster than the arm can brake, and every bound scaling the whole joint
+//! velocity (module docs of [`super`]).
+
+/// The fastest an arm DoF turns, rad/s (peak elbow and shoulder speeds of fast human
+/// reaches are around 10 rad/s; ours stay below).
+pub(super) const ARM_MAX_SPEED: f64 = 8.0;
+
+/// The most a reaching arm DoF's speed changes, rad/s² (the whole change of the arm's joint
+/// velocity scaled alike): about the hand's 6 m/s² of a brisk 0.4 m reach in 0.6 s
+/// (minimum jerk: 5.77 D/T²) on the half-arm lever, 0.4 m.
+pub(super) const ARM_ACCELERATION: f64 = 16.0;
+
+/// How long the reaching arm takes to close on the posture it lags behind, seconds (the
+/// gain of [`track`] is its inverse).
+pub(super) const ARM_TRACKING_TIME: f64 = 0.05;
+
+/// The most the reaching hand's velocity relative to the shoulder changes, m/s² (a brisk
+/// reach peaks near 6 m/s²; [`ARM_ACCELERATION`] alone lets all seven DoFs add up to more):
+/// 0.13 m/s a frame at 60 Hz, under a quarter of what a speed jump is at 30 Hz.
+pub(super) const HAND_ACCELERATION: f64 = 8.0;
+
+/// The joint velocity with which an arm at `at` follows a `goal` posture moving at
+/// `goal_velocity`: the goal's velocity (at most [`ARM_MAX_SPEED`]) plus the gap closed in
+/// [`ARM_TRACKING_TIME`], the closing speed no more than the arm can brake from within the gap
+/// at [`ARM_ACCELERATION`] (√(A·gap), half the distance a full brake needs: the goal moves
+/// meanwhile), and the whole at most [`ARM_MAX_SPEED`] in every DoF (scaled alike). The hand
+/// closes on where the goal puts it, `hand_gap` meters away, no faster than it can brake at
+/// [`HAND_ACCELERATION`] either (√(H·gap); the closing motion moves the hand by about the
+/// gap): the hand's bound is what brakes a long arm, and closing at the joints' rate alone ran
+/// a lagging arm past its goal and back (a 3 cm return after a low reach with a bend).
+pub(super) fn track(
+    goal: &[f64; 7],
+    goal_velocity: &[f64; 7],
+    at: &[f64; 7],
+    hand_gap: Option<f64>,
+) -> [f64; 7] {
+    let mut feed = *goal_velocity;
+    scale_to(&mut feed, ARM_MAX_SPEED);
+    let gap: [f64; 7] = std::array::from_fn(|i| goal[i] - at[i]);
+    let largest = gap.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+    let closing = if largest > 0.0 {
+        let joints =
+            (largest / ARM_TRACKING_TIME).min((ARM_ACCELERATION * largest).sqrt()) / largest;
+        match hand_gap {
+            Some(h) if h > 0.0 => joints.min((HAND_ACCELERATION / h).sqrt()),
+            _ => joints,
+        }
+    } else {
+        0.0
+    };
+    let mut wanted: [f64; 7] = std::array::from_fn(|i| feed[i] + gap[i] * closing);
+    scale_to(&mut wanted, ARM_MAX_SPEED);
+    wanted
+}
+
+/// The joint velocity after a frame whose change from `velocity` toward `wanted` is at most
+/// `largest` in every DoF, the whole change scaled alike (the arm keeps the direction of its
+/// change in joint space).
+pub(super) fn accelerate(velocity: &[f64; 7], wanted: &[f64; 7], largest: f64) -> [f64; 7] {
+    let mut change: [f64; 7] = std::array::from_fn(|i| wanted[i] - velocity[i]);
+    scale_to(&mut change, largest);
+    std::array::from_fn(|i| velocity[i] + change[i])
+}
+
+/// Scales `values` so that none is larger than `largest` in magnitude (unchanged when none
+/// is; non-finite values become 0).
+fn scale_to(values: &mut [f64; 7], largest: f64) {
+    if values.iter().any(|v| !v.is_finite()) {
+        *values = [0.0; 7];
+        return;
+    }
+    let top = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if top > largest {
+        let scale = largest / top;
+        values.iter_mut().for_each(|v| *v *= scale);
+    }
+}
+
+/// Holds the arm DoFs `values` to at most `max_step` radians from `previous`; true when they
+/// were held back.
+pub(super) fn limit_speed(values: &mut [f64], previous: &[f64; 7], max_step: f64) -> bool {
+    // A human joint turns at most so fast: near full extension a millimetre of shoulder
+    // motion (a balance correction) swings the elbow by tens of degrees, which the arm then
+    // catches up with over a few frames instead of in one.
+    let largest = values
+        .iter()
+        .zip(previous)
+        .map(|(v, b)| (v - b).abs())
+        .fold(0.0, f64::max);
+    if largest <= max_step {
+        return false;
+    }
+    // The whole step is scaled, not each DoF clamped: the arm keeps the direction of its
+    // motion in joint space (clamping the elbow alone while the shoulder swings on would throw
+    // the hand sideways).
+    let scale = max_step / largest;
+    for (value, before) in values.iter_mut().zip(previous) {
+        *value = before + (*value - before) * scale;
+    }
+    true
+}
