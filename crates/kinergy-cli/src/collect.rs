@@ -3,7 +3,6 @@
 use std::path::PathBuf;
 
 use crate::common::{Failure, emit};
-use crate::fit::library;
 
 /// Arguments of `kinergy collect`.
 #[derive(Debug, clap::Args)]
@@ -15,6 +14,6 @@ pub struct Args {
 
 /// Runs `kinergy collect`.
 pub fn run(args: &Args) -> Result<(), Failure> {
-    let collected = library::collect(&args.dir)?;
+    let collected = kinergy_train::library::collect(&args.dir)?;
     emit(&collected.text)
 }

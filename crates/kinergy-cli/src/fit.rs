@@ -417,7 +417,13 @@ fn library_run(
             }
         }
     }
-    files.extend([library::LIBRARY, library::SKIPPED].map(|f| dest.join(f)));
+    files.extend(
+        [
+            kinergy_train::library::LIBRARY,
+            kinergy_train::library::SKIPPED,
+        ]
+        .map(|f| dest.join(f)),
+    );
     let option = if args.out_dir.is_some() {
         "--out-dir"
     } else {

@@ -42,9 +42,9 @@ pub mod error;
 pub mod fit_record;
 pub mod optimizer;
 pub mod params;
+pub mod person;
 pub mod reachability;
 pub mod smoothing;
-pub mod style;
 pub mod synergy;
 pub mod task;
 
@@ -63,9 +63,9 @@ pub use optimizer::{
     Transpose,
 };
 pub use params::{FORMAT_VERSION, ParamsFile};
+pub use person::{FieldUse, PersonStyle, StyleAt, StyleError};
 pub use reachability::ReachSphere;
 pub use smoothing::{Finish, Smoothing};
-pub use style::{FieldUse, PersonStyle, StyleAt, StyleError};
 pub use synergy::{
     ACCELERATION, Bounds, GROWTH, Interval, Model, ONSET, ParamKind, ParamSpace, Synergy,
     TempoFactors, growth_factor, sig,

@@ -2,7 +2,16 @@
 //!
 //! A library's takes are dealt to shards by weight (their frame counts), the same way on
 //! every machine, so that shards run anywhere — a Slurm array's tasks, or `--shard I/N` by
-//! hand — fit disjoint shares that together are the library.
+//! hand — fit disjoint shares that together are the library. [`collect`] checks the shards'
+//! records against the result files and writes the library's tables ([`LibraryRow`]:
+//! `library.csv`, written and read by one type).
+
+mod table;
+
+pub use table::{
+    Collected, LIBRARY, LibraryError, LibraryRow, LibraryTable, PersonLine, RecordRow, SHARDS,
+    SKIPPED, SkippedRow, collect, is_complete, read_record, record_path, write_csv,
+};
 
 /// Which share of a library's takes this run fits: shard `index` (1-based) of `count`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,6 +73,26 @@ impl Shard {
             })?;
         Ok(Some(Shard { index, count }))
     }
+}
+
+/// The takes of `paths` (the library's, in its order) dealt to `shard`, each weighed by the
+/// frame count its header declares (1 where it cannot be read: its fit reports why).
+pub fn dealt_to(shard: Shard, paths: &[std::path::PathBuf]) -> Vec<&std::path::PathBuf> {
+    let weights: Vec<u64> = paths
+        .iter()
+        .map(|t| {
+            kinergy_motion::kinergy_bvh::header_frame_count(t)
+                .ok()
+                .flatten()
+                .unwrap_or(1) as u64
+        })
+        .collect();
+    paths
+        .iter()
+        .zip(deal(&weights, shard.count))
+        .filter(|(_, s)| *s == shard.index)
+        .map(|(t, _)| t)
+        .collect()
 }
 
 /// The most shards a library is dealt to.

@@ -84,6 +84,18 @@ pub fn person_failure(path: &Path, e: kinergy_reach::ReachError) -> Failure {
     }
 }
 
+impl From<kinergy_train::library::LibraryError> for Failure {
+    /// Missing or damaged files given are the input's fault; an incomplete library or a
+    /// table not written a failed task.
+    fn from(e: kinergy_train::library::LibraryError) -> Failure {
+        if e.is_input() {
+            Failure::Input(e.to_string())
+        } else {
+            Failure::Task(e.to_string())
+        }
+    }
+}
+
 impl From<kinergy_reach::ReachError> for Failure {
     /// Settings, targets and parameters are the input's fault; the rest failed tasks.
     fn from(e: kinergy_reach::ReachError) -> Failure {

@@ -2,52 +2,40 @@
 //! (`fit --per clip --out-dir DIR`, or `collect`), without refitting: per person and per
 //! model, the reaches' motion distances, and the Fig. 3 chart.
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use kinergy_solver::Model;
 use kinergy_train::experiment::Stats;
-use serde::{Deserialize, Serialize};
+use kinergy_train::library::{LIBRARY, LibraryTable, PersonLine};
+use serde::Serialize;
 
 use super::Args;
 use super::args::model_label;
 use crate::common::{Failure, emit, print_json};
 use crate::draw::{Bar, BarChart, save};
-use crate::fit::library::LIBRARY;
 
-/// The columns of `library.csv` this report reads.
-#[derive(Debug, Deserialize)]
-struct Row {
-    clip: String,
-    person: String,
-    distance_sa_m: Option<f64>,
-    distance_sb_m: Option<f64>,
-    distance_sc_m: Option<f64>,
-    distance_sd_m: Option<f64>,
-    /// Absent from libraries written before S_E.
-    #[serde(default)]
-    distance_se_m: Option<f64>,
-}
-
-impl Row {
-    fn distance(&self, model: Model) -> Option<f64> {
-        match model {
-            Model::Sa => self.distance_sa_m,
-            Model::Sb => self.distance_sb_m,
-            Model::Sc => self.distance_sc_m,
-            Model::Sd => self.distance_sd_m,
-            Model::Se => self.distance_se_m,
-        }
-    }
-}
-
-/// One person's (or everyone's) line: reaches, and each model's distances in mm.
+/// One person's (or everyone's) line as `--json` prints it: each model's distances in mm.
 #[derive(Debug, Serialize)]
 struct Line {
     person: String,
     reaches: usize,
     takes: usize,
     models: Vec<(String, Stats)>,
+}
+
+impl From<PersonLine> for Line {
+    fn from(l: PersonLine) -> Line {
+        Line {
+            person: l.person,
+            reaches: l.reaches,
+            takes: l.takes,
+            models: l
+                .models
+                .into_iter()
+                .map(|(m, s)| (model_label(m), s))
+                .collect(),
+        }
+    }
 }
 
 /// The files `compare --library -o DIR` writes.
@@ -65,33 +53,15 @@ pub fn run(args: &Args, library: &Path) -> Result<(), Failure> {
         &[&table],
         &[crate::common::Output::Folder("-o", &args.output, &files)],
     )?;
-    let text = kinergy_io::read_to_string_limited(&table, 1 << 30)
-        .map_err(|e| Failure::input(&table, e))?;
-    let mut reader = csv::Reader::from_reader(text.as_bytes());
-    let rows = reader
-        .deserialize()
-        .enumerate()
-        .map(|(i, r)| r.map_err(|e| Failure::input(&table, format!("row {}: {e}", i + 2))))
-        .collect::<Result<Vec<Row>, Failure>>()?;
-    if rows.is_empty() {
+    let library = LibraryTable::read(&table)?;
+    if library.rows.is_empty() {
         return Err(Failure::Input(format!(
             "{}: no reach: nothing to compare",
             table.display()
         )));
     }
-    let mut persons: BTreeMap<&str, Vec<&Row>> = BTreeMap::new();
-    for row in &rows {
-        persons.entry(&row.person).or_default().push(row);
-    }
-    let mut lines: Vec<Line> = persons
-        .iter()
-        .map(|(person, rows)| line(person, rows))
-        .collect();
-    lines.push(line("all", &rows.iter().collect::<Vec<_>>()));
-    let models: Vec<Model> = Model::ALL
-        .into_iter()
-        .filter(|&m| rows.iter().any(|r| r.distance(m).is_some()))
-        .collect();
+    let lines: Vec<Line> = library.by_person().into_iter().map(Line::from).collect();
+    let models = library.models();
     let markdown = markdown(&table, &lines, &models);
     crate::common::make_folder(&args.output)?;
     let md = args.output.join("summary.md");
@@ -132,23 +102,6 @@ pub fn run(args: &Args, library: &Path) -> Result<(), Failure> {
         args.output.join("fig3.svg").display(),
         args.output.join("fig3.png").display()
     ))
-}
-
-/// The line of `person`'s reaches `rows`: each model's distances, mm.
-fn line(person: &str, rows: &[&Row]) -> Line {
-    let takes: std::collections::BTreeSet<&str> = rows.iter().map(|r| r.clip.as_str()).collect();
-    Line {
-        person: person.to_string(),
-        reaches: rows.len(),
-        takes: takes.len(),
-        models: Model::ALL
-            .into_iter()
-            .filter_map(|m| {
-                let stats = Stats::of(rows.iter().filter_map(|r| r.distance(m)).map(|d| d * 1e3))?;
-                Some((model_label(m), stats))
-            })
-            .collect(),
-    }
 }
 
 /// The summary: per person, each model's mean (min–max) distance, and the richest model's
