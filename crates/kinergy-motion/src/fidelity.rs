@@ -1,6 +1,6 @@
-//! Real-time fidelity of a synthesized hand-speed series against a captured one (issue 40):
-//! every measure here works in seconds, never on time-normalized shapes, because a reach that
-//! lasts 1.5× as long with a slow tail can have the captured *shape*.
+//! Real-time fidelity of a synthesized hand-speed series against a captured one: every measure
+//! here works in seconds, never on time-normalized shapes, because a reach that lasts 1.5× as
+//! long with a slow tail can have the captured *shape*.
 //!
 //! A series is one speed per frame (m/s; in Kinergy the hand relative to the shoulder), frame
 //! 0 at the motion's onset, `frame_time` seconds apart ([`Speeds`]).

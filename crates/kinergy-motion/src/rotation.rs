@@ -75,8 +75,8 @@ pub fn euler_rotation(axes: &[Axis], angles: &[f64]) -> Rotation3<f64> {
 /// θ2 = atan2(−ε R_ij, R_ii). At gimbal lock (|cos θ1| below [`GIMBAL_LOCK`]) θ2 is set to 0
 /// and θ0 takes the whole remaining rotation. (|cos θ1| is read from the two entries that
 /// carry it, not as √(1 − sin² θ1): a matrix one rounding off the lock has sin θ1 one ulp
-/// below 1, where the square root says 3·10⁻⁸, and θ0, θ2 from entries of rounding noise were
-/// arbitrary — a forearm written at its twist limit flipped 180° on single frames.) Returns
+/// below 1, where the square root says 3·10⁻⁸, and θ0, θ2 from entries of rounding noise are
+/// arbitrary — a forearm written at its twist limit would flip 180° on single frames.) Returns
 /// `None` when the axes are not three distinct ones.
 pub fn euler_angles(axes: [Axis; 3], r: &Rotation3<f64>) -> Option<[f64; 3]> {
     let [i, j, k] = axes.map(Axis::index);
@@ -314,7 +314,8 @@ mod tests {
 
     /// A rotation at (or within 10⁻⁶ rad of) gimbal lock carrying rounding noise, as one
     /// composed from other rotations is: the angles give back the rotation within 10⁻⁷
-    /// (before: sin θ1 one ulp below 1 read as |cos θ1| = 3·10⁻⁸, and θ0, θ2 came from noise).
+    /// (the trap: sin θ1 one ulp below 1 gives |cos θ1| = 3·10⁻⁸, and θ0, θ2 taken from it are
+    /// noise).
     #[test]
     fn near_gimbal_lock_with_rounding_noise_still_round_trips() {
         let turn = Rotation3::from_euler_angles(0.7, -1.1, 2.3);

@@ -121,7 +121,7 @@ fn a_zero_offset_root_is_a_tie_and_adds() {
 #[test]
 fn bandai_hips_far_from_the_origin_replace_their_offset() {
     // Bandai Namco's rig: a zero root, and `Hips` below it with an OFFSET baked 4.5 m
-    // away while its channels hold where the hips are (issue: "Real captures as they come").
+    // away while its channels hold where the hips are, as its captures come.
     let text = "HIERARCHY
 ROOT joint_Root
 {

@@ -416,9 +416,9 @@ fn a_22_cm_glitch_in_a_bandai_hand_channel_is_found() {
 
 #[test]
 fn a_glitch_does_not_make_the_next_frame_look_like_one() {
-    // Found on Character Creator's shot: with the body 22 cm off in frame 100, the thumb's
-    // own wobble in frame 101, measured against the displaced frame 100, passed for a glitch.
-    // Frames are now tested against their repaired predecessor.
+    // Character Creator's shot: with the body 22 cm off in frame 100, the thumb's own wobble
+    // in frame 101, measured against the displaced frame 100, would pass for a glitch. Frames
+    // are tested against their repaired predecessor.
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/006_14.bvh");
     let (clip, _) = read(&path);
     let bad = edited(&clip, 100, |pose| pose[0] += 0.22);
@@ -448,11 +448,11 @@ fn a_missing_shared_folder_fails_only_when_required() {
     );
 }
 
-/// Issue 24 #0: a take whose reference root stays at the origin while the performer starts
-/// 5.4 m away (the Bandai library's walks and runs: `joint_Root` at 0, `Hips` at z = −543 cm)
-/// is read in centimeters as a 1.2–2.0 m body: the unit guess measures the body, not the
-/// distance to the reference joint (it read as a 0.14 m body, in millimeters). Built from
-/// every shared Bandai take, the hips' position channel moved 5.43 m away in every frame.
+/// A take whose reference root stays at the origin while the performer starts 5.4 m away (the
+/// Bandai library's walks and runs: `joint_Root` at 0, `Hips` at z = −543 cm) is read in
+/// centimeters as a 1.2–2.0 m body: the unit guess measures the body, not the distance to the
+/// reference joint (which reads as a 0.14 m body, in millimeters). Built from every shared
+/// Bandai take, the hips' position channel moved 5.43 m away in every frame.
 #[test]
 fn a_reference_root_far_from_the_body_does_not_change_the_unit() {
     let dir = shared_dir().join("bandai-raise-left");

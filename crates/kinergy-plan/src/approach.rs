@@ -1,4 +1,4 @@
-//! A planned reach finished by a person's synergy controller (issue 16 §4).
+//! A planned reach finished by a person's synergy controller.
 //!
 //! RRT-Connect finds a collision-free path; the person's synergy controller
 //! ([`kinergy_reach::controller::SynergyArm`]) knows how they move. A reach's planned phase is

@@ -556,9 +556,9 @@ fn the_hand_follows_a_drawer() {
     assert!(planner.pull("drawer", 0.5).is_err(), "beyond the travel");
 }
 
-/// Played with a person's bell (issue 16 §4) instead of the cubic, the relocation follows the
-/// same collision-free paths (re-checked at 1 mm, 10× finer than planned, by the separate
-/// checker), and each planned phase's hand speed peaks where the bell says, not half-way.
+/// Played with a person's bell instead of the cubic, the relocation follows the same
+/// collision-free paths (re-checked at 1 mm, 10× finer than planned, by the separate checker),
+/// and each planned phase's hand speed peaks where the bell says, not half-way.
 #[test]
 fn a_persons_bell_times_the_same_collision_free_paths() {
     let warp = Warp::Beta {
@@ -646,10 +646,10 @@ fn frames_of(m: &Manipulation, space: &ArmSpace, phase: &Phase) -> ArmPath {
     }
 }
 
-/// Issue 16 §4: the person's synergy finishes a planned reach from the first point along the
-/// path whose approach is free, every frame of it re-checked here at 1 mm (10× finer than
-/// planned) by the separate checker; the pre-grasp is reached; the rest of the relocation
-/// still puts the book where asked.
+/// The person's synergy finishes a planned reach from the first point along the path whose
+/// approach is free, every frame of it re-checked here at 1 mm (10× finer than planned) by the
+/// separate checker; the pre-grasp is reached; the rest of the relocation still puts the book
+/// where asked.
 #[test]
 fn a_persons_synergy_finishes_the_reach_where_its_approach_is_free() {
     for params in ["synthetic-p01-r09-sc", "006_14-sc"] {

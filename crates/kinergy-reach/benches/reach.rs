@@ -47,8 +47,8 @@ fn per_frame(c: &mut Criterion) {
         synergy: synergy.clone(),
         tempo: None,
     };
-    // As `reach --params` drives it: under the person's tempo law for the distance (issue 40;
-    // the fixture predates the law, so a person's: 0.5 m in 0.8 s, T ∝ d, a minimum-jerk peak).
+    // As `reach --params` drives it: under the person's tempo law for the distance (the
+    // fixture carries no tempo, so a person's: 0.5 m in 0.8 s, T ∝ d, a minimum-jerk peak).
     let law = ArmDrive::Synergy {
         optimizer: file.optimizer,
         synergy,

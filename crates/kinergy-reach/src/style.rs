@@ -1,14 +1,15 @@
-//! Whether a person's style survives the transfer to the full body (`kinergy style`, issue 16
-//! §2). For a capture of the person, the full-body character (the capture's proportions)
-//! reaches the capture's own target — the hand's last position of its main reach, carried
-//! over in the arm's fitted base frame — once driven by the person's parameters and once with
-//! the default profile; each motion's hand-speed profile (relative to the shoulder, from the
-//! reach's onset to its end, time-normalized) is compared with the captured one: Pearson
-//! correlation, and the fraction of the movement at which the speed peaks (its error: the
-//! distance of that fraction from the captured one). Where the synergy handed the hand over,
-//! its own part (onset to hand-over) is scored too. Beyond the hand's speed, each motion's
-//! arm path — the elbow, wrist and hand from the shoulder over the reach, in arm lengths — is
-//! compared with the captured one ([`arm_path`] defines the measure).
+//! Whether a person's style survives the transfer to the full body (`kinergy style`).
+//!
+//! For a capture of the person, the full-body character (the capture's proportions) reaches the
+//! capture's own target — the hand's last position of its main reach, carried over in the arm's
+//! fitted base frame — once driven by the person's parameters and once with the default
+//! profile; each motion's hand-speed profile (relative to the shoulder, from the reach's onset
+//! to its end, time-normalized) is compared with the captured one: Pearson correlation, and the
+//! fraction of the movement at which the speed peaks (its error: the distance of that fraction
+//! from the captured one). Where the synergy handed the hand over, its own part (onset to
+//! hand-over) is scored too. Beyond the hand's speed, each motion's arm path — the elbow, wrist
+//! and hand from the shoulder over the reach, in arm lengths — is compared with the captured
+//! one ([`arm_path`] defines the measure).
 
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
 use kinergy_motion::segment::{SegmentSettings, hand_speed, main_segment};
@@ -430,8 +431,8 @@ pub fn end_share(speeds: &[f64]) -> f64 {
 /// frame past its peak where the speed has fallen to `share` of the peak (the whole of it when
 /// it never does). The capture's segment ends where its speed falls to a share of its peak
 /// (the segmenter's rule), while a synthesized reach runs on until the hand is at rest on the
-/// target: compared whole, its bell was squeezed into the first part of the normalized time
-/// and its peak came early.
+/// target: compared whole, its bell would be squeezed into the first part of the normalized
+/// time and its peak come early.
 pub fn ended_like(values: &[f64], share: f64) -> &[f64] {
     let Some((top, peak)) = values
         .iter()

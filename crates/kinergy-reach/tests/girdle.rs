@@ -1,8 +1,8 @@
-//! The shoulder girdle on the full body (issue 23 §3): an overhead reach, ~0.3 m above the
-//! head and in front, is reached by the arm — with the default profile (the analytic IK on a
-//! shoulder that rides the clavicle) and with a person's synergy arm, without a hand-over —
-//! and along the motion the clavicle's measured angles follow the scapulohumeral rhythm at the
-//! arm's measured elevation.
+//! The shoulder girdle on the full body: an overhead reach, ~0.3 m above the head and in front,
+//! is reached by the arm — with the default profile (the analytic IK on a shoulder that rides
+//! the clavicle) and with a person's synergy arm, without a hand-over — and along the motion
+//! the clavicle's measured angles follow the scapulohumeral rhythm at the arm's measured
+//! elevation.
 
 use kinergy_motion::nalgebra::{Point3, Vector3};
 use kinergy_reach::character::{Character, Girdle, Limb, joint};
@@ -12,10 +12,10 @@ use kinergy_reach::controller::{
 use kinergy_solver::{OptimizerKind, Synergy};
 
 /// The synergy arm with S_A at gain 1 and damped least squares: the synergy controller's
-/// stepping on the shoulder frame that rides the clavicle, without a person's quirks. (It
-/// stalled 0.42 m short on the shoulder twist limit of the generic table read in the capture
-/// convention, −90° at the hanging arm, while the character's own twist was at 55° of its
-/// ±90°: the synergy chain's shoulder now has only the character's limits.)
+/// stepping on the shoulder frame that rides the clavicle, without a person's quirks. (On the
+/// shoulder twist limit of the generic table read in the capture convention, −90° at the
+/// hanging arm, it stalls 0.42 m short while the character's own twist is at 55° of its ±90°:
+/// the synergy chain's shoulder has only the character's limits.)
 fn synergy(c: &Character) -> ArmDrive {
     ArmDrive::Synergy {
         optimizer: OptimizerKind::Dls.default_optimizer(),

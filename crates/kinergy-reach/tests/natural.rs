@@ -76,9 +76,9 @@ fn reach(c: &Character, target: [f64; 3]) -> (Seen, f64) {
 }
 
 // From the hanging, straight arm the analytic solution flexes the elbow like the square root
-// of the hand's travel; the arm's speed limit used to clamp each DoF alone, the shoulder
-// swung on while the elbow was held back, and the hand jumped sideways at 2.5 m/s on the
-// first frames before settling to the ease-out's 0.2 m/s (measured: 2.62, 1.06, 1.69 m/s).
+// of the hand's travel; a speed limit clamping each DoF alone lets the shoulder swing on
+// while the elbow is held back, and the hand jumps sideways at 2.5 m/s on the first frames
+// before settling to the ease-out's 0.2 m/s (measured: 2.62, 1.06, 1.69 m/s).
 // Scaling the whole step keeps the hand near its path: the first quarter second stays
 // below 1 m/s.
 #[test]
@@ -102,11 +102,11 @@ fn the_hand_leaves_its_rest_smoothly() {
     }
 }
 
-// Before: the balance correction jumped the root 9 cm in one frame when both heels rose in a
-// squat (the support polygon fell to the line of the toe tips: 10–30 m/s), the root crossed
-// between stance feet in the 0.24-s weight shift of a full step (3.3–3.8 m/s), the arm
-// chased goals beyond reach at its joints' top speed (4–6 m/s), and the idle arm kept its
-// rest angles, rising 0.26 m above the hip behind a bending trunk.
+// What this guards against: a balance correction that jumps the root 9 cm in one frame when
+// both heels rise in a squat (the support polygon falls to the line of the toe tips:
+// 10–30 m/s), a root crossing between stance feet in the 0.24-s weight shift of a full step
+// (3.3–3.8 m/s), an arm chasing goals beyond reach at its joints' top speed (4–6 m/s), and an
+// idle arm keeping its rest angles, rising 0.26 m above the hip behind a bending trunk.
 #[test]
 fn no_hand_flies_and_the_idle_hand_stays_below_the_hip_on_a_grid_of_reaches() {
     let c = Character::from_height(1.75).expect("character");

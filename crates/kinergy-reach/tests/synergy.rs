@@ -1,8 +1,8 @@
-//! The full-body reach with the arm driven by a person's synergy controller (issue 16 §1):
-//! the hand ends within 1 cm of every reachable target of a grid around the body (near, far
-//! enough to step, low enough to squat), joint limits, planted feet and balance hold on every
-//! frame as for the profile-driven reach, and where the synergy arm cannot finish the
-//! analytic IK's hand-over is reported.
+//! The full-body reach with the arm driven by a person's synergy controller: the hand ends
+//! within 1 cm of every reachable target of a grid around the body (near, far enough to step,
+//! low enough to squat), joint limits, planted feet and balance hold on every frame as for the
+//! profile-driven reach, and where the synergy arm cannot finish the analytic IK's hand-over is
+//! reported.
 //!
 //! Parameters: `tests/data/params/` (see its README): one fitted on a real capture (CMU subject
 //! 6 on the Character Creator rig, whose fitted vector does not even reach its own target:
@@ -206,30 +206,29 @@ fn params_for_another_chain_are_refused() {
     assert!(file.synergy_for(&names).is_err());
 }
 
-/// Issue 23 §1 on a grid of targets: the hand's speed relative to the shoulder has no jump
+/// On a grid of targets, the hand's speed relative to the shoulder has no jump
 /// (`kinergy_motion::jumps::speed_jumps`: a frame-to-frame change above 0.25 m/s and 4× the
-/// reach's median change) from the arm's onset to the reach's end, with a person's synergy
-/// (a real capture's, which hands over on half the grid, and the synthetic character's own)
-/// and with the default profile, and every reach ends reached.
+/// reach's median change) from the arm's onset to the reach's end, with a person's synergy (a
+/// real capture's, which hands over on half the grid, and the synthetic character's own) and
+/// with the default profile, and every reach ends reached.
 ///
-/// Before the analytic arm tracked its goal (`controller::arm`), measured on the same 30
-/// reaches: the default profile jumped on 9 of 10 (0.7 → 0.2 m/s at 0.28 s, the catch-up of
-/// a ramped speed limit), and the hand-overs to plain IK on 5 (0.25 → 2.5 m/s).
+/// Without the analytic arm tracking its goal (`controller::arm`), measured on the same 30
+/// reaches, the default profile jumps on 9 of 10 (0.7 → 0.2 m/s at 0.28 s, the catch-up of a
+/// ramped speed limit), and the hand-overs to plain IK on 5 (0.25 → 2.5 m/s).
 ///
-/// Until the synergy arm braked before the character's limits
-/// (`kinergy_reach::controller::SynergyArm::pose_arm`), the person synergies jumped on 4 of 20:
+/// Without the synergy arm's brake before the character's limits
+/// (`kinergy_reach::controller::SynergyArm::pose_arm`), the person synergies jump on 4 of 20:
 /// the real capture's toward [-0.3, 1.3, 0.3] and [0.5, 1.4, 0.1] once each (the character's
-/// twist limit, ±90° below 90° of elevation, stopped the twist within a frame), toward
-/// [0.2, 0.3, 0.8] twice near 3.6 s (the character's swing ellipse clamped the circling arm),
+/// twist limit, ±90° below 90° of elevation, stops the twist within a frame), toward
+/// [0.2, 0.3, 0.8] twice near 3.6 s (the character's swing ellipse clamps the circling arm),
 /// and the synthetic person's toward [-0.6, 0.6, 0.5] once (its twist held at once by the
-/// capture convention's and the character's limits). Tried and left out before that: braking
-/// the swing radially alone (moved the jumps to the hand-over) and easing the character's
-/// elbow into the controller's relaxed start (`RELAXED_ELBOW`) after the onset (at 0.25–0.5 s
-/// it made a 30 Hz held-out raise jump or moved its peak 0.13 late; that first-frame snap of
-/// the elbow is gone another way: the reaching arm hangs relaxed before its reach, as the idle
-/// arm does). Braking the twist was tried once before too, when the twist range did not yet
-/// widen overhead, and cost the held-out *active* raises r 0.73 → 0.53; with the widening it
-/// raises them 0.81 → 0.85.
+/// capture convention's and the character's limits). Two alternatives do not serve: braking
+/// the swing radially alone moves the jumps to the hand-over, and easing the character's elbow
+/// into the controller's relaxed start (`RELAXED_ELBOW`) after the onset (at 0.25–0.5 s) makes
+/// a 30 Hz held-out raise jump or moves its peak 0.13 late; the reaching arm instead hangs
+/// relaxed before its reach, as the idle arm does, so its elbow does not snap on the first
+/// frame. Braking the twist while its range does not widen overhead costs the held-out
+/// *active* raises r 0.73 → 0.53; with the widening it raises them 0.81 → 0.85.
 #[test]
 fn reaches_on_the_grid_have_no_speed_jumps() {
     use kinergy_motion::jumps::speed_jumps;

@@ -55,8 +55,9 @@ fn the_set_in_memory_writes_what_write_set_writes() {
 #[test]
 fn a_person_who_reaches_no_draw_of_a_kind_gets_the_nearest_target_they_reach() {
     // Person 43 of the default seed (1.83 m tall, the least flexible legs, 0.62) reaches none
-    // of 20 `floor_far` targets drawn around 0.15 m above the floor: the set used to fail
-    // there. Each further draw is pulled toward `front_near`, and one is reached.
+    // of 20 `floor_far` targets drawn around 0.15 m above the floor: a set that kept to the
+    // kind would fail there. Each further draw is pulled toward `front_near`, and one is
+    // reached.
     let settings = SynthSettings {
         persons: 43,
         reaches: 4,

@@ -1,4 +1,4 @@
-//! Smooth synergy motion that finishes its reach (issue 23; a departure from the paper, whose
+//! Smooth synergy motion that finishes its reach (a departure from the paper, whose
 //! controller is Θ ← clamp(Θ + S(t)·O(ΔX)) and nothing else).
 //!
 //! **Why.** The paper's step can change without bound from one frame to the next, and a

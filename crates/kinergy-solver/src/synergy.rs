@@ -14,12 +14,12 @@
 //! at t = o/s (when the DoF "switches on") toward 1. Default bounds are the paper's:
 //! g ∈ [−5, 5], s ∈ [1, 10], o ∈ [0, 20].
 //!
-//! S_E is ours, beyond the paper (issue 26): a DoF's gain moves from g_i at the start toward
-//! g_i·e^{k_i} (time constant 1 s; k ∈ [−3, 3]: the shoulder can lead and fade, the elbow come
-//! in later), and two factors on the smooth controller's bounds ([`crate::smoothing`]) make
-//! its tempo the person's: `acceleration` on the hand's and joints' acceleration bounds
-//! ([0.25, 4]) and `onset` on the time they take to rise from zero ([0, 2.5]). With k = 0 and
-//! both factors 1 it is S_D exactly.
+//! S_E is ours, beyond the paper: a DoF's gain moves from g_i at the start toward g_i·e^{k_i}
+//! (time constant 1 s; k ∈ [−3, 3]: the shoulder can lead and fade, the elbow come in later),
+//! and two factors on the smooth controller's bounds ([`crate::smoothing`]) make its tempo the
+//! person's: `acceleration` on the hand's and joints' acceleration bounds ([0.25, 4]) and
+//! `onset` on the time they take to rise from zero ([0, 2.5]). With k = 0 and both factors 1 it
+//! is S_D exactly.
 
 use std::fmt;
 use std::str::FromStr;
@@ -41,8 +41,8 @@ pub enum Model {
     /// A gain and a sigmoid per DoF.
     Sd,
     /// Beyond the paper: S_D with a gain that grows or fades over the reach per DoF and the
-    /// person's own acceleration and onset for the smooth controller (issue 26; see the
-    /// module documentation).
+    /// person's own acceleration and onset for the smooth controller (see the module
+    /// documentation).
     Se,
 }
 

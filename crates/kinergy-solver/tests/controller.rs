@@ -111,8 +111,8 @@ fn every_optimizer_reaches_reachable_targets_from_random_starts() {
 // motion stays inside the limits on every frame, always; fewer reaches succeed than in the
 // middle of the range (measured on these 400 with the default limit handling, swings
 // sliding along their ellipse: JT 278, NJT 373, SVD 373, DLS 375; with
-// `LimitHandling::Clamp` instead: 273, 363, 358, 355; when swings on their ellipse were
-// blocked outright: 247, 298, 321, 316). The floors sit a little under today's rates so a
+// `LimitHandling::Clamp` instead: 273, 363, 358, 355; with swings on their ellipse blocked
+// outright: 247, 298, 321, 316). The floors sit a little under the default's rates so a
 // change that loses reaches is caught.
 #[test]
 fn reaches_across_the_whole_joint_range_stay_within_limits() {

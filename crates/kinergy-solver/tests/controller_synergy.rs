@@ -122,9 +122,9 @@ fn a_zero_gain_freezes_its_dof() {
     }
 }
 
-// Regression: the clamp after a step scaled a swing pushed out of its ellipse toward zero,
-// which moved the swing's other DoF even when its gain was 0. Here shoulder_swing_y is
-// frozen at 1.5 rad and the target pulls shoulder_swing_x onto the ellipse.
+// A clamp after a step that scales a swing pushed out of its ellipse toward zero would move the
+// swing's other DoF even when its gain is 0. Here shoulder_swing_y is frozen at 1.5 rad and the
+// target pulls shoulder_swing_x onto the ellipse.
 #[test]
 fn a_frozen_swing_dof_stays_put_when_its_partner_hits_the_ellipse() {
     let chain = arm();
@@ -292,7 +292,7 @@ fn a_late_sigmoid_scales_the_first_step_by_phi() {
 // reach poses made by FK of a random configuration from random starts: position within
 // ε = 1 mm and, at 0.2 m/rad, orientation within 5 mrad. With the paper's clamp they reach
 // all 200; with the default `LimitHandling::Deactivate` both miss case 181 (measured: stalled
-// 0.27 m away; when swings on their ellipse were blocked instead of sliding, they missed 9).
+// 0.27 m away; with swings on their ellipse blocked instead of sliding, they miss 9).
 // Floor: 99%.
 #[test]
 fn svd_and_dls_reach_reachable_poses() {

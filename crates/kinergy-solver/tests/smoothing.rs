@@ -1,8 +1,8 @@
-//! The smooth controller (`ControllerSettings::smoothing`, issue 23): the arm starts from rest
-//! (or from the velocity it is given), the hand's acceleration and every DoF's stay within
-//! their bounds, DoFs brake before their limits, a straight arm's start does not wander, and
-//! a synergy that would not converge on its own (negative gains) still finishes its reach.
-//! The paper's controller, for contrast, jumps and stalls on the same reaches.
+//! The smooth controller (`ControllerSettings::smoothing`): the arm starts from rest (or from
+//! the velocity it is given), the hand's acceleration and every DoF's stay within their bounds,
+//! DoFs brake before their limits, a straight arm's start does not wander, and a synergy that
+//! would not converge on its own (negative gains) still finishes its reach. The paper's
+//! controller, for contrast, jumps and stalls on the same reaches.
 
 use kinergy_motion::Chain;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};

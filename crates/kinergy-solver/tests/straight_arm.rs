@@ -377,13 +377,13 @@ fn captured_reaches() -> Vec<Captured> {
 // takes 33 s on the guide reach at ε = 0.5% of the arm, crawling along a valley of its
 // bent-arm Jacobian (an ordinary reach, left as the paper has it).
 //
-// Measured before `reachability`: on the 8 "active" raises (the hand ends at 95–97% of the
+// Measured without `reachability`: on the 8 "active" raises (the hand ends at 95–97% of the
 // arm's length from the shoulder, above the head; the start hanging) JT missed 7 (57–67% of
 // the arm away, stalled with the elbow folded and the shoulder on its limits; the eighth ran
 // out of its 60 s 0.8% short), NJT 7 (58–67%), DLS 1 (58%), SVD none; with the shoulder held,
 // JT and NJT missed the nearest point on all 8 (71–83%), DLS on 7 (71–78%), SVD on 4
 // (10–85%). The 16 "normal" and "elderly" raises (ending at 58–64%, the elbow bent 100–110°)
-// and the guide reach were reached by all, and still are frame for frame.
+// and the guide reach are reached by all, with it as without, frame for frame.
 #[test]
 fn captured_reaches_end_where_the_person_reached() {
     let reaches = captured_reaches();

@@ -120,7 +120,7 @@ pub(super) fn animate(
     let mut idle = IdleArm::new(character, idle_limb, rest)?;
     // Before its reach the reaching arm hangs relaxed like the other: its elbow already bent
     // a little where a reach starts (a synergy starts from `RELAXED_ELBOW` at least, and
-    // from the straight rest arm that was a one-frame snap of the elbow).
+    // from the straight rest arm that would be a one-frame snap of the elbow).
     let mut hanging = IdleArm::new(character, plan.arm, rest)?;
     let mut head = Head::default();
     let mut phase = ArmPhase::Waiting;

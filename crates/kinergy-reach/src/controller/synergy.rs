@@ -1,8 +1,7 @@
-//! The reaching arm driven by a person's synergy controller (Aubry et al.; issue 16) instead
-//! of the speed profile and the analytic IK: the scheduler moves the body as always, and each
-//! frame the person's controller takes one step toward the target from where the trunk has
-//! carried the shoulder ([`kinergy_solver::ArmStepper`]) — the same step a fit replays on a
-//! captured torso.
+//! The reaching arm driven by a person's synergy controller (Aubry et al.) instead of the speed
+//! profile and the analytic IK: the scheduler moves the body as always, and each frame the
+//! person's controller takes one step toward the target from where the trunk has carried the
+//! shoulder ([`kinergy_solver::ArmStepper`]) — the same step a fit replays on a captured torso.
 //!
 //! # Conventions
 //! The person's parameters were fitted on [`kinergy_solver::CaptureArm`]'s chain, whose base

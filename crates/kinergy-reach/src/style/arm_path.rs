@@ -1,5 +1,5 @@
 //! The arm-path measure: how far an arm's posture over a reach is from another's, whatever the
-//! bodies' sizes and where they stood (issue 23 §4).
+//! bodies' sizes and where they stood.
 //!
 //! For one body reaching, with shoulder `s`, elbow `e`, wrist `w` and hand `h` (the point
 //! beyond the wrist, where the skeleton has one) at world positions `p_j(t)` over the reach's

@@ -6,7 +6,8 @@ use kinergy_motion::Motion;
 use super::{Character, CharacterJoint, GirdleRole};
 use crate::character::layout::{Limb, Pose};
 
-// The joint limits' values are `character/limits.rs`'s; the check and the clamp walk the joints here.
+// The joint limits' values are `character/limits.rs`'s; the check and the clamp walk the joints
+// here.
 impl Character {
     /// The radii `(rx, ry)` of the swing ellipse whose first DoF is `k` (the swing `(k, k + 1)`
     /// lies within it when `(q_k / rx)² + (q_(k+1) / ry)² ≤ 1`); `None` when DoF `k` does not
