@@ -8,7 +8,7 @@
 # Usage: docs/make-tables.sh [--check] [--from DIR]
 #   --check     regenerate into a temporary copy; exit 1 with a diff if README.md differs
 #   --from DIR  use the summary.md of a compare run already made with those models
-#               (e.g. compare-out/) instead of running compare (about a minute on 2 cores)
+#               (e.g. compare-out/) instead of running compare (1–5 minutes on 2 cores)
 # The binary is ${KINERGY:-target/release/kinergy} (build it with
 # `cargo build --release -p kinergy-cli`). Exit codes: 0 done (or up to date), 1 the README
 # differs (--check), 2 bad usage or a missing binary, summary or marker.
@@ -28,7 +28,7 @@ while [ $# -gt 0 ]; do
             shift
             ;;
         -h | --help)
-            sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'
+            awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"
             exit 0
             ;;
         *)
