@@ -11,6 +11,7 @@ from ._kinergy import (
     ClipLike,
     InputError as InputError,
     KinergyError as KinergyError,
+    NothingToFitError as NothingToFitError,
     Params as Params,
     ParamsError as ParamsError,
     UnreachableError as UnreachableError,

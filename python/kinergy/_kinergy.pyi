@@ -35,7 +35,10 @@ class UnreachableError(KinergyError):
     clip: Clip
 
 class InputError(KinergyError):
-    """An argument Kinergy refuses (out of range, unknown name, nothing to fit)."""
+    """An argument Kinergy refuses (out of range, unknown name)."""
+
+class NothingToFitError(KinergyError):
+    """The captures hold nothing to fit: no take has a reach on the arm asked for."""
 
 class Clip:
     """A motion: a skeleton and one pose per frame. World positions are meters, Y up."""

@@ -15,7 +15,8 @@ R09 = ROOT / "data-synthetic/p01/r09.bvh"
 
 
 def test_the_hierarchy_of_exceptions():
-    for e in (kinergy.BvhError, kinergy.ParamsError, kinergy.UnreachableError, kinergy.InputError):
+    for e in (kinergy.BvhError, kinergy.ParamsError, kinergy.UnreachableError, kinergy.InputError,
+              kinergy.NothingToFitError):
         assert issubclass(e, kinergy.KinergyError) and issubclass(e, Exception)
 
 
@@ -167,3 +168,16 @@ def test_mangled_files_raise_kinergy_errors_never_a_panic(tmp_path):
             kinergy.synthesize(clip, p, check=False)
         except kinergy.KinergyError:
             pass
+
+
+def test_nothing_to_fit_is_its_own_class_as_the_cli_s_exit_1(cli, at_root, tmp_path):
+    """A take with no reach on the arm asked for: the CLI exits 1 (the input is fine) and
+    Python raises NothingToFitError, not InputError; both from the error's kind."""
+    from conftest import run
+
+    out = run(cli, "fit", "data-synthetic/p01/r09.bvh", "--arm", "left", "--model", "sa",
+              "-o", str(tmp_path / "x.json"), ok=(1,))
+    assert "nothing to fit" in out.stderr
+    with pytest.raises(kinergy.NothingToFitError, match="nothing to fit|no main reach") as caught:
+        kinergy.fit("data-synthetic/p01/r09.bvh", arm="left", model="sa")
+    assert not isinstance(caught.value, kinergy.InputError)

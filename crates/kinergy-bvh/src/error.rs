@@ -352,6 +352,9 @@ pub enum Error {
         path: PathBuf,
         /// The operating system's error.
         source: std::io::Error,
+        /// Whether the file was being read (an input that cannot be read) rather than
+        /// written (a task that failed).
+        reading: bool,
     },
     /// The file's text is not valid BVH.
     #[error("{}: {source}", path.display())]
@@ -381,4 +384,34 @@ pub enum Error {
         /// The writer's error.
         source: std::io::Error,
     },
+}
+
+impl kinergy_io::Classify for Error {
+    /// A file that cannot be read, is not BVH or holds a document that cannot be written is
+    /// a capture's fault; a write the system refused is a failed task.
+    fn kind(&self) -> kinergy_io::ErrorKind {
+        match self {
+            Error::Io { reading: false, .. } | Error::Stream { .. } => kinergy_io::ErrorKind::Io,
+            _ => kinergy_io::ErrorKind::Capture,
+        }
+    }
+
+    fn location(&self) -> Option<kinergy_io::Location> {
+        let (path, line, column) = match self {
+            Error::Parse { path, source } => (path, Some(source.line), Some(source.column)),
+            Error::Io { path, .. } | Error::Write { path, .. } => (path, None, None),
+            Error::Invalid { .. } | Error::Stream { .. } => return None,
+        };
+        Some(kinergy_io::Location {
+            path: path.clone(),
+            line,
+            column,
+        })
+    }
+}
+
+impl kinergy_io::Classify for ParseError {
+    fn kind(&self) -> kinergy_io::ErrorKind {
+        kinergy_io::ErrorKind::Capture
+    }
 }

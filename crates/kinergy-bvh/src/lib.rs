@@ -54,6 +54,7 @@ pub fn read_file(path: &Path, options: &ReadOptions) -> Result<Bvh, Error> {
         kinergy_io::read_limited(path, options.max_file_bytes).map_err(|source| Error::Io {
             path: path.to_owned(),
             source,
+            reading: true,
         })?;
     parse_bytes(&bytes, options).map_err(|source| Error::Parse {
         path: path.to_owned(),

@@ -124,6 +124,7 @@ pub(crate) fn write_file(path: &Path, bvh: &Bvh) -> Result<(), Error> {
     kinergy_io::write_atomic(path, text.as_bytes()).map_err(|source| Error::Io {
         path: path.to_owned(),
         source,
+        reading: false,
     })
 }
 

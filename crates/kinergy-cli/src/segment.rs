@@ -116,13 +116,15 @@ fn segment_clip(
             .map(|(arm, kept)| segment_arm(args, path, &clip, arm, settings, Some(kept)))
             .collect::<Result<Vec<_>, _>>()
             .map(Ok),
-        Err(e) if e.is_nothing_to_fit() => Ok(Err(Skipped {
-            clip: path.to_path_buf(),
-            why: match e {
-                kinergy_train::TrainError::NothingToFit { why, .. } => why,
-                e => e.to_string(),
-            },
-        })),
+        Err(e) if kinergy_io::Classify::kind(&e) == kinergy_io::ErrorKind::NothingToFit => {
+            Ok(Err(Skipped {
+                clip: path.to_path_buf(),
+                why: match e {
+                    kinergy_train::TrainError::NothingToFit { why, .. } => why,
+                    e => e.to_string(),
+                },
+            }))
+        }
         Err(kinergy_train::TrainError::Setting { field, why }) => {
             Err(Failure::Input(format!("--{field}: {why}")))
         }

@@ -276,7 +276,9 @@ fn compare_one(
             TrainError::Body(e @ ReachError::Params { .. }) => {
                 crate::common::person_failure(&args.params, e)
             }
-            TrainError::Body(e) if e.is_input() => Failure::input(path, e),
+            TrainError::Body(e) if kinergy_io::Classify::kind(&e).is_input() => {
+                Failure::input(path, e)
+            }
             e @ TrainError::Reach { .. } => Failure::input(path, e),
             e => Failure::from(e).naming(&name),
         })?;

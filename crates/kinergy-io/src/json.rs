@@ -294,3 +294,11 @@ mod tests {
         assert_eq!(parse(&text).unwrap(), doc);
     }
 }
+
+impl crate::Classify for JsonError {
+    /// A JSON document that does not read is the input's fault; the error that wraps it
+    /// (a parameters file's, a scene's) may say more precisely whose.
+    fn kind(&self) -> crate::ErrorKind {
+        crate::ErrorKind::Input
+    }
+}

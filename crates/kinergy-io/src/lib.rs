@@ -7,6 +7,8 @@
 //! - [`json`] (feature `json`, on by default): versioned JSON documents — the parameters
 //!   file, checkpoints, scenes, fields — read with one rule for `format_version` and one
 //!   error shape naming the line and column or the field, written pretty and atomically;
+//! - [`ErrorKind`] and [`Classify`]: what kind of failure an error is, the one rule from which
+//!   the CLI's exit codes and Python's exception classes come;
 //! - [`clip_text`]: how much of an input a message may quote;
 //! - [`read_limited`] / [`read_to_string_limited`]: bounded input, regular files only, so
 //!   no file (or `/dev/zero`, or a FIFO) makes a command read without end.
@@ -17,6 +19,7 @@
 pub mod atomic;
 #[cfg(feature = "json")]
 pub mod json;
+pub mod kind;
 pub mod read;
 mod text;
 
@@ -28,6 +31,7 @@ pub use atomic::{
 pub use json::{
     JsonError, check_version, parse_versioned, to_pretty_json, write_json, write_json_text,
 };
+pub use kind::{Classify, ErrorKind, InvalidSetting, Location};
 pub use read::{
     MAX_CAPTURE_BYTES, MAX_JSON_BYTES, MIB, describe_file_type, format_limit, not_regular,
     read_limited, read_to_string_limited,

@@ -108,3 +108,21 @@ pub enum MotionError {
 
 /// Shorthand for results of this crate.
 pub type Result<T, E = MotionError> = std::result::Result<T, E>;
+
+impl kinergy_io::Classify for MotionError {
+    /// A BVH file's errors by their own kind; everything else here is about a skeleton, a
+    /// clip or an argument that does not have what is needed: the input's fault.
+    fn kind(&self) -> kinergy_io::ErrorKind {
+        match self {
+            MotionError::Bvh(e) => e.kind(),
+            _ => kinergy_io::ErrorKind::Input,
+        }
+    }
+
+    fn location(&self) -> Option<kinergy_io::Location> {
+        match self {
+            MotionError::Bvh(e) => e.location(),
+            _ => None,
+        }
+    }
+}

@@ -165,21 +165,22 @@ pub enum PlanError {
     },
 }
 
-impl PlanError {
-    /// True for failures of the task (no path, unreachable or colliding goal or start),
-    /// false for bad input. The CLI maps the first to exit code 1, the second to 2.
-    pub fn is_task_failure(&self) -> bool {
-        if let PlanError::Reach(e) = self {
-            return !e.is_input();
-        }
-        matches!(
-            self,
+impl kinergy_io::Classify for PlanError {
+    /// A goal or start the arm cannot take, no path, or an object that would not stand where
+    /// it is put is the task's failure
+    /// ([`ErrorKind::Unreachable`](kinergy_io::ErrorKind::Unreachable)); scenes, meshes, settings and reports that are
+    /// not what they should be are the input's.
+    fn kind(&self) -> kinergy_io::ErrorKind {
+        use kinergy_io::ErrorKind;
+        match self {
+            PlanError::Reach(e) => e.kind(),
             PlanError::StartInCollision { .. }
-                | PlanError::Placement { .. }
-                | PlanError::GoalUnreachable { .. }
-                | PlanError::GoalInCollision { .. }
-                | PlanError::NoPath { .. }
-        )
+            | PlanError::GoalUnreachable { .. }
+            | PlanError::GoalInCollision { .. }
+            | PlanError::NoPath { .. }
+            | PlanError::Placement { .. } => ErrorKind::Unreachable,
+            _ => ErrorKind::Input,
+        }
     }
 }
 

@@ -398,7 +398,10 @@ fn goal_unreachable() {
         .reach(&target, kinergy_plan::hand::HandShape::open())
         .unwrap_err();
     assert!(matches!(e, PlanError::GoalUnreachable { .. }), "{e}");
-    assert!(e.is_task_failure());
+    assert_eq!(
+        kinergy_io::Classify::kind(&e),
+        kinergy_io::ErrorKind::Unreachable
+    );
 }
 
 #[test]

@@ -6,7 +6,6 @@ use std::time::Duration;
 
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
-use kinergy_plan::PlanError;
 use kinergy_plan::hand::HandShape;
 use kinergy_plan::rrt::Warp;
 use kinergy_plan::scene::Scene;
@@ -63,18 +62,18 @@ pub fn style<'py>(
     let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
     let side = parse::<Side>("arm", arm)?;
     let person = params_arg(params)?;
-    let paths = capture_files(&clips).map_err(errors::train)?;
+    let paths = capture_files(&clips).map_err(errors::raise)?;
     // One capture at a time with the GIL released, Ctrl-C checked between them.
     let mut runs = Vec::with_capacity(paths.len());
     for path in &paths {
         let run = py.detach(|| -> PyResult<_> {
-            let (clip, _) = kinergy_motion::read_clip(path, &options).map_err(errors::motion)?;
+            let (clip, _) = kinergy_motion::read_clip(path, &options).map_err(errors::raise)?;
             let joints = kinergy_train::source::ArmChoice {
                 side,
                 joints: chain.clone(),
             }
             .find(&clip, path)
-            .map_err(errors::train)?;
+            .map_err(errors::raise)?;
             let name = path.display().to_string();
             // The same take as `kinergy style` runs: the body's arm starts as the fit's
             // replay, and every motion is kept in real time.
@@ -83,7 +82,7 @@ pub fn style<'py>(
                     e @ kinergy_train::TrainError::Reach { .. } => {
                         errors::input(format!("{name}: {e}"))
                     }
-                    e => errors::train(e),
+                    e => errors::raise(e),
                 })?;
             Ok(take)
         })?;
@@ -111,7 +110,7 @@ pub fn style<'py>(
                 let clip = capture
                     .character()
                     .to_clip(&motion.poses, motion.frame_time)
-                    .map_err(errors::reach)?;
+                    .map_err(errors::raise)?;
                 let clip = Clip::made(clip).with_report(&motion.report);
                 item.set_item(key, Bound::new(py, clip)?)?;
             }
@@ -120,16 +119,6 @@ pub fn style<'py>(
         out.set_item("motions", list)?;
     }
     Ok(out)
-}
-
-/// A planning error: the task's failures (no path, an unreachable or colliding goal) as
-/// UnreachableError, bad scenes and settings as InputError.
-fn plan_error(e: PlanError) -> PyErr {
-    if e.is_task_failure() {
-        errors::UnreachableError::new_err(e.to_string())
-    } else {
-        errors::input(e.to_string())
-    }
 }
 
 /// Collision-free reaching and manipulation in a scene (Kallmann 2005), as `kinergy plan`
@@ -164,7 +153,7 @@ pub fn plan<'py>(
         errors::check_range("budget_ms", ms, limits::PLAN_BUDGET_MS)?;
     }
     let side = parse::<Side>("arm", arm)?;
-    let scene_file = Scene::read(&scene).map_err(plan_error)?;
+    let scene_file = Scene::read(&scene).map_err(errors::raise)?;
     let target = target.map(|t| hand_target(&t)).transpose()?;
     let mut settings = TaskSettings {
         limb: Limb::arm(side),
@@ -205,10 +194,11 @@ pub fn plan<'py>(
             }
         };
         let character =
-            Character::from_height(scene_file.character_height).map_err(errors::reach)?;
+            Character::from_height(scene_file.character_height).map_err(errors::raise)?;
         let arm =
-            PersonArm::toward(&character, &person, &aim, Some(side)).map_err(errors::reach)?;
-        let warp: Warp = kinergy_plan::person::person_warp(&character, &arm).map_err(plan_error)?;
+            PersonArm::toward(&character, &person, &aim, Some(side)).map_err(errors::raise)?;
+        let warp: Warp =
+            kinergy_plan::person::person_warp(&character, &arm).map_err(errors::raise)?;
         settings.warp = warp;
         settings.arm = arm.drive;
     }
@@ -216,7 +206,7 @@ pub fn plan<'py>(
         (None, Some(_)) => Some(object_named(&scene_file)?),
         _ => None,
     };
-    let planner = Planner::new(scene_file, settings).map_err(plan_error)?;
+    let planner = Planner::new(scene_file, settings).map_err(errors::raise)?;
     let motion = py.detach(|| -> PyResult<_> {
         Ok(match (&target, task) {
             (Some(t), _) => planner.reach(t, HandShape::relaxed()),
@@ -248,8 +238,8 @@ pub fn plan<'py>(
             (None, None) => return Err(errors::input("give target=[x, y, z] or task=")),
         })
     })?;
-    let motion = motion.map_err(plan_error)?;
-    let clip = motion.to_clip(planner.character()).map_err(plan_error)?;
+    let motion = motion.map_err(errors::raise)?;
+    let clip = motion.to_clip(planner.character()).map_err(errors::raise)?;
     Ok(Clip::made(clip))
 }
 

@@ -80,7 +80,7 @@ pub fn read_bvh(
 ) -> PyResult<Clip> {
     let options = import_options(unit, up, positions, max_input_mb)?;
     let read = py.detach(|| kinergy_motion::read_clip(&path, &options));
-    let (inner, _) = read.map_err(errors::motion)?;
+    let (inner, _) = read.map_err(errors::raise)?;
     Ok(Clip {
         inner,
         path: Some(path),
@@ -110,7 +110,7 @@ impl Clip {
         let mut out = Vec::with_capacity(self.inner.frame_count() * skeleton.joint_count() * 3);
         let mut world = Vec::with_capacity(skeleton.joint_count());
         for pose in self.inner.frames() {
-            skeleton.fk_into(pose, &mut world).map_err(errors::motion)?;
+            skeleton.fk_into(pose, &mut world).map_err(errors::raise)?;
             for t in &world {
                 out.extend(t.translation.vector.iter());
             }
@@ -311,7 +311,7 @@ impl Clip {
             frame_time.unwrap_or(self.inner.frame_time()),
             flat,
         )
-        .map_err(errors::motion)?;
+        .map_err(errors::raise)?;
         Ok(Clip {
             inner,
             path: self.path.clone(),
@@ -371,7 +371,7 @@ impl Clip {
                 self.inner.frame_count()
             )));
         }
-        let inner = self.inner.slice(start..end).map_err(errors::motion)?;
+        let inner = self.inner.slice(start..end).map_err(errors::raise)?;
         Ok(Clip {
             inner,
             path: self.path.clone(),
@@ -388,7 +388,7 @@ impl Clip {
     fn write_bvh(&self, py: Python<'_>, path: PathBuf, unit: &str, up: &str) -> PyResult<()> {
         let options = export_options(unit, up)?;
         py.detach(|| kinergy_motion::write_clip(&path, &self.inner, &options))
-            .map_err(errors::motion)
+            .map_err(errors::raise)
     }
 
     /// The BVH text `write_bvh` writes.
@@ -486,7 +486,7 @@ impl Clip {
                 position_reading: PositionReading::AddToOffset,
             });
         }
-        let skeleton = Arc::new(Skeleton::new(joints).map_err(errors::motion)?);
+        let skeleton = Arc::new(Skeleton::new(joints).map_err(errors::raise)?);
         let mut values = Vec::with_capacity(frames * skeleton.dof_count());
         let mut previous: Vec<[f64; 3]> = vec![[0.0; 3]; n];
         for f in 0..frames {
@@ -524,7 +524,7 @@ impl Clip {
             }
         }
         let inner =
-            kinergy_motion::Clip::new(skeleton, frame_time, values).map_err(errors::motion)?;
+            kinergy_motion::Clip::new(skeleton, frame_time, values).map_err(errors::raise)?;
         Ok(Clip::made(inner))
     }
 }
@@ -582,14 +582,14 @@ pub fn _clip_from_state(state: ClipState) -> PyResult<Clip> {
         kinergy_motion::nalgebra::Matrix3::from_column_slice(&world),
     );
     let skeleton = Skeleton::new(out)
-        .map_err(errors::motion)?
+        .map_err(errors::raise)?
         .with_world_from_file(rotation);
     let values: Vec<f64> = bytes
         .chunks_exact(8)
         .map(|b| f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
         .collect();
-    let inner = kinergy_motion::Clip::new(Arc::new(skeleton), frame_time, values)
-        .map_err(errors::motion)?;
+    let inner =
+        kinergy_motion::Clip::new(Arc::new(skeleton), frame_time, values).map_err(errors::raise)?;
     Ok(Clip {
         inner,
         path,

@@ -147,7 +147,7 @@ pub fn compare<'py>(
     }
     let results = outcome
         .map_err(|_| errors::KinergyError::new_err("the experiment's worker thread failed"))?
-        .map_err(errors::train)?
+        .map_err(errors::raise)?
         .ok_or_else(|| errors::KinergyError::new_err("the experiment was stopped"))?;
     rows(py, &results)
 }

@@ -1,7 +1,9 @@
 //! The exceptions Python sees: `KinergyError` and below it `BvhError` (with `path`, `line`
-//! and `column` where the reader knows them), `ParamsError`, `UnreachableError` and
-//! `InputError` (bad arguments). Library errors are mapped here, once.
+//! and `column` where the reader knows them), `ParamsError`, `UnreachableError`,
+//! `NothingToFitError` and `InputError` (bad arguments). Library errors are mapped here,
+//! once, by their [`ErrorKind`] ([`raise`]).
 
+use kinergy_io::{Classify, ErrorKind, Location};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
@@ -32,6 +34,12 @@ create_exception!(
 );
 create_exception!(
     kinergy,
+    NothingToFitError,
+    KinergyError,
+    "The captures hold nothing to fit: no take has a reach on the arm asked for (the CLI exits 1)."
+);
+create_exception!(
+    kinergy,
     InputError,
     KinergyError,
     "An argument Kinergy refuses (a value out of range, an unknown name, a take with nothing to fit)."
@@ -45,23 +53,34 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ParamsError", py.get_type::<ParamsError>())?;
     m.add("UnreachableError", py.get_type::<UnreachableError>())?;
     m.add("InputError", py.get_type::<InputError>())?;
+    m.add("NothingToFitError", py.get_type::<NothingToFitError>())?;
     Ok(())
 }
 
-/// A `BvhError` for `e` (reading or writing), with its path, line and column.
-pub fn bvh(e: &kinergy_bvh::Error) -> PyErr {
-    let (path, line, column) = match e {
-        kinergy_bvh::Error::Parse { path, source } => (
-            Some(path.display().to_string()),
-            Some(source.line),
-            Some(source.column),
-        ),
-        kinergy_bvh::Error::Io { path, .. } | kinergy_bvh::Error::Write { path, .. } => {
-            (Some(path.display().to_string()), None, None)
-        }
-        _ => (None, None, None),
+/// The exception for a library error, by its kind ([`ErrorKind`], the rule the CLI's exit
+/// codes follow too): `InputError`, `BvhError` (with `path`, `line` and `column`),
+/// `ParamsError`, `NothingToFitError`, `UnreachableError`, or `KinergyError` for a file not
+/// written, an interruption or another failed task.
+pub fn raise<E: Classify>(e: E) -> PyErr {
+    let message = e.to_string();
+    match e.kind() {
+        ErrorKind::Input => InputError::new_err(message),
+        ErrorKind::Capture => bvh_error(message, e.location()),
+        ErrorKind::Params => ParamsError::new_err(message),
+        ErrorKind::NothingToFit => NothingToFitError::new_err(message),
+        ErrorKind::Unreachable => UnreachableError::new_err(message),
+        _ => KinergyError::new_err(message),
+    }
+}
+
+/// A `BvhError` saying `message`, with the file's `path`, `line` and `column` (None where
+/// unknown).
+fn bvh_error(message: String, at: Option<Location>) -> PyErr {
+    let (path, line, column) = match at {
+        Some(at) => (Some(at.path.display().to_string()), at.line, at.column),
+        None => (None, None, None),
     };
-    let err = BvhError::new_err(e.to_string());
+    let err = BvhError::new_err(message);
     Python::attach(|py| {
         let value = err.value(py);
         // Setting attributes on a fresh exception instance cannot fail but for memory.
@@ -70,59 +89,6 @@ pub fn bvh(e: &kinergy_bvh::Error) -> PyErr {
         let _ = value.setattr("column", column);
     });
     err
-}
-
-/// A motion error: a BVH error as [`bvh`], the rest `KinergyError` (`InputError` for
-/// invalid values given).
-pub fn motion(e: kinergy_motion::MotionError) -> PyErr {
-    use kinergy_motion::MotionError as E;
-    match &e {
-        E::Bvh(b) => bvh(b),
-        E::Invalid { .. } | E::NonFinite { .. } | E::PoseLength { .. } => {
-            InputError::new_err(e.to_string())
-        }
-        _ => KinergyError::new_err(e.to_string()),
-    }
-}
-
-/// A training error: files and settings as `ParamsError` / `InputError`, a clip's BVH error
-/// as `BvhError`, the rest `KinergyError`.
-pub fn train(e: kinergy_train::TrainError) -> PyErr {
-    use kinergy_train::TrainError as E;
-    match e {
-        E::Clip { source, .. } => match &source {
-            kinergy_motion::MotionError::Bvh(b) => bvh(b),
-            _ => KinergyError::new_err(source.to_string()),
-        },
-        E::Motion(m) => motion(m),
-        E::Body(b) => reach(b),
-        e @ (E::File { .. } | E::Checkpoint { .. }) => ParamsError::new_err(e.to_string()),
-        e if e.is_nothing_to_fit() => InputError::new_err(e.to_string()),
-        e @ (E::Setting { .. } | E::Arm { .. } | E::Frames { .. } | E::Row { .. }) => {
-            InputError::new_err(e.to_string())
-        }
-        e => KinergyError::new_err(e.to_string()),
-    }
-}
-
-/// A solver error: a parameters file's as `ParamsError`, a setting's as `InputError`.
-pub fn solver(e: kinergy_solver::SolverError) -> PyErr {
-    use kinergy_solver::SolverError as E;
-    match e {
-        e @ E::ParamsFile(_) => ParamsError::new_err(e.to_string()),
-        e => KinergyError::new_err(e.to_string()),
-    }
-}
-
-/// A full-body reaching error: parameters as `ParamsError`, settings as `InputError`.
-pub fn reach(e: kinergy_reach::ReachError) -> PyErr {
-    use kinergy_reach::ReachError as E;
-    match e {
-        e @ E::Params { .. } => ParamsError::new_err(e.to_string()),
-        e @ E::Setting { .. } => InputError::new_err(e.to_string()),
-        E::Motion(m) => motion(m),
-        e => KinergyError::new_err(e.to_string()),
-    }
 }
 
 /// `InputError(message)`.

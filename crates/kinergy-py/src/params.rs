@@ -41,7 +41,7 @@ impl Params {
     fn load(path: PathBuf) -> PyResult<Params> {
         PersonParams::read(&path)
             .map(|inner| Params { inner })
-            .map_err(errors::train)
+            .map_err(errors::raise)
     }
 
     /// Parses the text of a parameters or field file.
@@ -49,14 +49,14 @@ impl Params {
     fn from_json(text: &str) -> PyResult<Params> {
         PersonParams::from_json(text)
             .map(|inner| Params { inner })
-            .map_err(errors::train)
+            .map_err(errors::raise)
     }
 
     /// Writes the file atomically: the same bytes the CLI writes.
     fn save(&self, path: PathBuf) -> PyResult<()> {
         match &self.inner {
-            PersonParams::Vector(file) => file.write(&path).map_err(errors::solver),
-            PersonParams::Field(field) => field.write(&path).map_err(errors::train),
+            PersonParams::Vector(file) => file.write(&path).map_err(errors::raise),
+            PersonParams::Field(field) => field.write(&path).map_err(errors::raise),
         }
     }
 

@@ -51,7 +51,7 @@ fn clip_arg(
         ))
     })?;
     let read = py.detach(|| kinergy_motion::read_clip(&path, options));
-    let (clip, _) = read.map_err(errors::motion)?;
+    let (clip, _) = read.map_err(errors::raise)?;
     Ok((clip, path))
 }
 
@@ -67,7 +67,7 @@ fn arm_joints(
         joints: chain,
     }
     .find(clip, path)
-    .map_err(errors::train)
+    .map_err(errors::raise)
 }
 
 /// The labelled segments of a clip's hand speed: a list of dicts with `index`, `onset`,
@@ -112,7 +112,7 @@ pub fn segment<'py>(
         let capture = Capture::from_clip(&path, clip.clone());
         capture
             .reaching_segments(selection.unwrap_or_default(), &settings)
-            .map_err(errors::train)?
+            .map_err(errors::raise)?
             .into_iter()
             .map(|(joints, kept)| (joints, Some(kept)))
             .collect()
@@ -124,7 +124,7 @@ pub fn segment<'py>(
     let dt = clip.frame_time();
     let name = path.display().to_string();
     for (joints, kept) in arms {
-        let found = find_segments(&clip, &joints, &settings).map_err(errors::motion)?;
+        let found = find_segments(&clip, &joints, &settings).map_err(errors::raise)?;
         let main = main_index(&found);
         let chosen = match (&kept, selection) {
             (Some(kept), _) => kept.clone(),
@@ -211,7 +211,7 @@ pub fn fit_settings(
             anneal.max_evaluations, anneal.population
         )));
     }
-    anneal.validate().map_err(errors::train)?;
+    anneal.validate().map_err(errors::raise)?;
     Ok(FitSettings {
         anneal,
         objective,
@@ -302,11 +302,11 @@ fn load_reaches(
         let wanted = if given.is_empty() {
             kinergy_train::source::segment_clips(&file)
         } else {
-            capture_files(&given).map_err(errors::train)?
+            capture_files(&given).map_err(errors::raise)?
         };
         let found = py.detach(|| segment_reaches(&file, &wanted, options, mode));
         return Ok(found
-            .map_err(errors::train)?
+            .map_err(errors::raise)?
             .into_iter()
             .map(|(r, _)| r)
             .collect());
@@ -337,14 +337,14 @@ fn load_reaches(
         let captures: Vec<Capture> = match given {
             None => made.next().into_iter().collect(),
             Some(path) => {
-                let files = capture_files(&[path]).map_err(errors::train)?;
+                let files = capture_files(&[path]).map_err(errors::raise)?;
                 let read = py.detach(|| {
                     files
                         .iter()
                         .map(|f| Capture::read(f, options))
                         .collect::<Result<Vec<_>, _>>()
                 });
-                read.map_err(errors::train)?
+                read.map_err(errors::raise)?
             }
         };
         for capture in captures {
@@ -365,24 +365,26 @@ fn load_reaches(
             match found {
                 Ok(found) => reaches.extend(found),
                 Err(e)
-                    if e.is_nothing_to_fit()
+                    if kinergy_io::Classify::kind(&e) == kinergy_io::ErrorKind::NothingToFit
                         && !matches!(reach_frames, ReachFrames::Segments(Selection::Nth(_))) =>
                 {
                     skipped.push(e.to_string());
                 }
-                Err(e) => return Err(errors::train(e)),
+                Err(e) => return Err(errors::raise(e)),
             }
         }
     }
     if reaches.is_empty() {
-        return Err(errors::input(match skipped.as_slice() {
-            [one] => one.clone(),
-            _ => format!(
-                "nothing to fit: all {} takes were skipped: {}",
-                skipped.len(),
-                skipped.join("; ")
-            ),
-        }));
+        return Err(errors::NothingToFitError::new_err(
+            match skipped.as_slice() {
+                [one] => one.clone(),
+                _ => format!(
+                    "nothing to fit: all {} takes were skipped: {}",
+                    skipped.len(),
+                    skipped.join("; ")
+                ),
+            },
+        ));
     }
     Ok(reaches)
 }
@@ -542,7 +544,7 @@ pub fn fit<'py>(
     let mut files = Vec::with_capacity(groups.len());
     for group in &groups {
         let fits = runner.nested(py, group)?;
-        let file = fits.params_file(group, grouping).map_err(errors::train)?;
+        let file = fits.params_file(group, grouping).map_err(errors::raise)?;
         files.push(Params {
             inner: PersonParams::Vector(file),
         });
@@ -601,7 +603,7 @@ fn fit_field<'py>(
             Some(pool) => pool.install(build),
             None => build(),
         })
-        .map_err(errors::train)?;
+        .map_err(errors::raise)?;
     Ok(Bound::new(
         py,
         Params {
@@ -670,7 +672,7 @@ impl Runner<'_> {
         };
         let outcome = py.detach(work);
         self.watch.finish()?;
-        let (fits, interrupted) = outcome.map_err(errors::train)?;
+        let (fits, interrupted) = outcome.map_err(errors::raise)?;
         if interrupted {
             return Err(errors::KinergyError::new_err("the fit was interrupted"));
         }
@@ -774,7 +776,7 @@ pub fn synthesize<'py>(
     };
     let window = choice
         .resolve(&whole, &from, &joints, record.as_ref())
-        .map_err(errors::train)?;
+        .map_err(errors::raise)?;
     let (window_start, window_end) = (window.start, window.end);
     let mode = if fixed_base {
         BaseMode::Fixed
@@ -782,7 +784,7 @@ pub fn synthesize<'py>(
         BaseMode::Replay
     };
     let name = from.display().to_string();
-    let reach = CapturedReach::new(&name, &whole, &joints, window, mode).map_err(errors::train)?;
+    let reach = CapturedReach::new(&name, &whole, &joints, window, mode).map_err(errors::raise)?;
     let reach = match controller {
         "smooth" => reach,
         "paper" => reach.with_paper_controller(),
@@ -806,15 +808,15 @@ pub fn synthesize<'py>(
             parse::<Model>("model", model)?,
             parse::<OptimizerKind>("optimizer", optimizer)?.default_optimizer(),
         )
-        .map_err(errors::solver)?,
+        .map_err(errors::raise)?,
     };
     let Replay {
         synthesis,
         distance_to_capture_m: distance,
     } = py
         .detach(|| reach.replay(&drive, tolerance, max_seconds, stop_at_reach))
-        .map_err(errors::solver)?;
-    let motion = reach.to_clip(&whole, &synthesis).map_err(errors::train)?;
+        .map_err(errors::raise)?;
+    let motion = reach.to_clip(&whole, &synthesis).map_err(errors::raise)?;
     let last = synthesis.frame_count().saturating_sub(1);
     let target_at = reach.target();
     let report = SynthesisReport {
@@ -876,7 +878,7 @@ pub fn params_arg(arg: &Bound<'_, PyAny>) -> PyResult<PersonParams> {
     let path: PathBuf = arg
         .extract()
         .map_err(|_| errors::input("params: expected a kinergy.Params or a path to its file"))?;
-    PersonParams::read(&path).map_err(errors::train)
+    PersonParams::read(&path).map_err(errors::raise)
 }
 
 /// One full-body reach of the 43-DoF character toward `target` (world meters, the
@@ -927,7 +929,7 @@ pub fn reach<'py>(
         None => Proportions::from_height(height)
             .map_err(|e| errors::input(format!("height={height}: {e}")))?,
     };
-    let character = Character::new(&proportions).map_err(errors::reach)?;
+    let character = Character::new(&proportions).map_err(errors::raise)?;
     let settings = ReachSettings {
         flexibility,
         seed,
@@ -950,17 +952,17 @@ pub fn reach<'py>(
         Some(p) => {
             let person = params_arg(p)?;
             PersonArm::toward(&character, &person, &point, settings.arm)
-                .map_err(errors::reach)?
+                .map_err(errors::raise)?
                 .drive
         }
         None => ArmDrive::Profile,
     };
     let motion = py
         .detach(|| reach_full_body_driven(&character, point, &settings, &drive))
-        .map_err(errors::reach)?;
+        .map_err(errors::raise)?;
     let clip = character
         .to_clip(&motion.poses, motion.frame_time)
-        .map_err(errors::reach)?;
+        .map_err(errors::raise)?;
     let out = Clip::made(clip).with_report(&motion.report);
     match Ending::of(&character, &motion) {
         Ending::Reached => Ok(out),
@@ -1012,6 +1014,6 @@ pub fn hand_speed<'py>(
         ..SegmentSettings::default()
     };
     let speed =
-        kinergy_motion::segment::hand_speed(&clip, &joints, &settings).map_err(errors::motion)?;
+        kinergy_motion::segment::hand_speed(&clip, &joints, &settings).map_err(errors::raise)?;
     Ok(speed.into_pyarray(py))
 }

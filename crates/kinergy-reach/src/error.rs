@@ -37,14 +37,6 @@ pub enum ReachError {
     },
 }
 
-impl ReachError {
-    /// Whether the error is the input's fault (a setting, a target, a person's parameters)
-    /// rather than a task that could not be done (a file not written, a failed computation).
-    pub fn is_input(&self) -> bool {
-        matches!(self, ReachError::Setting { .. } | ReachError::Params { .. })
-    }
-}
-
 /// Shorthand for results of this crate.
 pub type Result<T, E = ReachError> = std::result::Result<T, E>;
 
@@ -57,5 +49,27 @@ pub(crate) fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<(
             field: field.to_string(),
             why: why.into(),
         })
+    }
+}
+
+impl kinergy_io::Classify for ReachError {
+    /// Settings and targets are the input's fault, a person's parameters that do not fit
+    /// the body the parameters file's; the rest (a file not written, a failed computation)
+    /// failed tasks.
+    fn kind(&self) -> kinergy_io::ErrorKind {
+        match self {
+            ReachError::Setting { .. } => kinergy_io::ErrorKind::Input,
+            ReachError::Params { .. } => kinergy_io::ErrorKind::Params,
+            ReachError::Io { .. } => kinergy_io::ErrorKind::Io,
+            ReachError::Motion(e) if e.location().is_some() => e.kind(),
+            ReachError::Motion(_) | ReachError::Solver(_) => kinergy_io::ErrorKind::Task,
+        }
+    }
+
+    fn location(&self) -> Option<kinergy_io::Location> {
+        match self {
+            ReachError::Motion(e) => e.location(),
+            _ => None,
+        }
     }
 }

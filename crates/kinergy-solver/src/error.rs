@@ -66,3 +66,15 @@ pub(crate) fn require(ok: bool, field: &str, why: &str) -> Result<()> {
         })
     }
 }
+
+impl kinergy_io::Classify for SolverError {
+    /// Settings, parameters and non-finite values are the input's; an arm that cannot be
+    /// written back into its capture, or a kinematics failure, is a failed task.
+    fn kind(&self) -> kinergy_io::ErrorKind {
+        match self {
+            SolverError::Motion(_) | SolverError::Capture(_) => kinergy_io::ErrorKind::Task,
+            SolverError::ParamsFile(_) => kinergy_io::ErrorKind::Params,
+            _ => kinergy_io::ErrorKind::Input,
+        }
+    }
+}

@@ -3,6 +3,7 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use kinergy_io::ErrorKind;
 use kinergy_motion::{MotionError, Side};
 use kinergy_solver::SolverError;
 
@@ -139,15 +140,39 @@ pub enum TrainError {
     },
 }
 
-impl TrainError {
-    /// Whether the error says a take has nothing to fit (no reach on the arm asked for, or
-    /// on any arm with `--arm auto`), rather than that an input is wrong: a library run
-    /// skips such a take and lists it.
-    pub fn is_nothing_to_fit(&self) -> bool {
-        matches!(
-            self,
-            TrainError::NothingToFit { .. } | TrainError::Motion(MotionError::Reach { .. })
-        )
+impl kinergy_io::Classify for TrainError {
+    /// A take with no reach on the arm asked for (or on any arm with `--arm auto`) has
+    /// nothing to fit, which a library run skips and lists; captures, parameters, checkpoints,
+    /// segments files and settings that are not what they should be are the input's fault;
+    /// the rest (a file not written, a fit that fails) failed tasks.
+    fn kind(&self) -> ErrorKind {
+        match self {
+            TrainError::NothingToFit { .. } | TrainError::Motion(MotionError::Reach { .. }) => {
+                ErrorKind::NothingToFit
+            }
+            TrainError::Body(e) => e.kind(),
+            TrainError::Solver(e) => e.kind(),
+            TrainError::Clip { .. } => ErrorKind::Capture,
+            TrainError::File { .. } | TrainError::Checkpoint { .. } => ErrorKind::Params,
+            TrainError::Setting { .. }
+            | TrainError::Reach { .. }
+            | TrainError::Arm { .. }
+            | TrainError::Segments { .. }
+            | TrainError::Row { .. }
+            | TrainError::NoRows { .. }
+            | TrainError::Frames { .. } => ErrorKind::Input,
+            TrainError::Io { .. } => ErrorKind::Io,
+            TrainError::Motion(_) => ErrorKind::Task,
+        }
+    }
+
+    fn location(&self) -> Option<kinergy_io::Location> {
+        match self {
+            TrainError::Clip { source, .. } | TrainError::Motion(source) => source.location(),
+            TrainError::Body(e) => e.location(),
+            TrainError::Row { source, .. } => source.location(),
+            _ => None,
+        }
     }
 }
 

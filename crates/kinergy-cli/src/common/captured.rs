@@ -273,7 +273,7 @@ impl CaptureArgs {
                 .collect())),
             // A numbered segment the take lacks is a wrong --select, not an empty take.
             Err(e)
-                if e.is_nothing_to_fit()
+                if kinergy_io::Classify::kind(&e) == kinergy_io::ErrorKind::NothingToFit
                     && !matches!(frames, ReachFrames::Segments(Selection::Nth(_))) =>
             {
                 Ok(Err(Skipped {

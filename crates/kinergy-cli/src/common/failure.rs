@@ -6,8 +6,9 @@
 //! | 2 | the input or the command line is wrong ([`Failure::Input`]) | a file that cannot be read or is malformed, an option out of range, parameters that do not fit the arm or the target, a capture without the reach the command needs, an output that would overwrite an input |
 //! | 1 | the input was right but the task could not be done ([`Failure::Task`]) | an unreachable or colliding goal, no path, a motion that did not reach, a file that could not be written (a full disk, permissions) |
 //!
-//! Library errors become failures by their type ([`From`] below): each crate's error says
-//! which of its variants are the input's fault. A call site adds only the file the error is
+//! Library errors become failures by their kind ([`kinergy_io::ErrorKind`], the rule
+//! Python's exception classes follow too): each crate's error says which of its variants are
+//! the input's fault. A call site adds only the file the error is
 //! about ([`Failure::naming`], [`Failure::input`] for a file read as input, [`Failure::task`]
 //! for one written).
 
@@ -84,85 +85,14 @@ pub fn person_failure(path: &Path, e: kinergy_reach::ReachError) -> Failure {
     }
 }
 
-impl From<kinergy_train::library::LibraryError> for Failure {
-    /// Missing or damaged files given are the input's fault; an incomplete library or a
-    /// table not written a failed task.
-    fn from(e: kinergy_train::library::LibraryError) -> Failure {
-        if e.is_input() {
+impl<E: kinergy_io::Classify> From<E> for Failure {
+    /// Every library error by its kind ([`kinergy_io::ErrorKind::exit_code`]): the input's
+    /// fault exits 2, a task that could not be done 1.
+    fn from(e: E) -> Failure {
+        if e.kind().is_input() {
             Failure::Input(e.to_string())
         } else {
             Failure::Task(e.to_string())
-        }
-    }
-}
-
-impl From<kinergy_reach::ReachError> for Failure {
-    /// Settings, targets and parameters are the input's fault; the rest failed tasks.
-    fn from(e: kinergy_reach::ReachError) -> Failure {
-        if e.is_input() {
-            Failure::Input(e.to_string())
-        } else {
-            Failure::Task(e.to_string())
-        }
-    }
-}
-
-impl From<kinergy_plan::PlanError> for Failure {
-    /// A task's failures (no path, an unreachable or colliding goal or start) exit 1; bad
-    /// scenes, settings and reports 2 ([`kinergy_plan::PlanError::is_task_failure`]).
-    fn from(e: kinergy_plan::PlanError) -> Failure {
-        if e.is_task_failure() {
-            Failure::Task(e.to_string())
-        } else {
-            Failure::Input(e.to_string())
-        }
-    }
-}
-
-impl From<kinergy_train::TrainError> for Failure {
-    /// Bad checkpoints, settings, captures, segments files and parameter files are the
-    /// input's fault; the rest (a log or output that cannot be written, a fit that fails)
-    /// failed tasks.
-    fn from(e: kinergy_train::TrainError) -> Failure {
-        use kinergy_train::TrainError as E;
-        match e {
-            E::Body(e) => e.into(),
-            E::Checkpoint { .. }
-            | E::Setting { .. }
-            | E::Reach { .. }
-            | E::File { .. }
-            | E::Clip { .. }
-            | E::Arm { .. }
-            | E::Segments { .. }
-            | E::Row { .. }
-            | E::NoRows { .. }
-            | E::Frames { .. } => Failure::Input(e.to_string()),
-            _ => Failure::Task(e.to_string()),
-        }
-    }
-}
-
-impl From<kinergy_solver::SolverError> for Failure {
-    /// Settings, parameters and non-finite values are the input's; an arm that cannot be
-    /// written back into its capture or a kinematics failure is a failed task.
-    fn from(e: kinergy_solver::SolverError) -> Failure {
-        use kinergy_solver::SolverError as E;
-        match e {
-            E::Motion(_) | E::Capture(_) => Failure::Task(e.to_string()),
-            _ => Failure::Input(e.to_string()),
-        }
-    }
-}
-
-impl From<kinergy_motion::MotionError> for Failure {
-    /// Skeletons, clips and BVH files that do not have what is needed are the input's fault;
-    /// a BVH file that cannot be written is a failed task.
-    fn from(e: kinergy_motion::MotionError) -> Failure {
-        match e {
-            kinergy_motion::MotionError::Bvh(kinergy_bvh::Error::Io { .. }) => {
-                Failure::Task(e.to_string())
-            }
-            _ => Failure::Input(e.to_string()),
         }
     }
 }

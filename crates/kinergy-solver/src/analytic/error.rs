@@ -64,3 +64,16 @@ pub enum AnalyticError {
         why: String,
     },
 }
+
+impl kinergy_io::Classify for AnalyticError {
+    /// No posture for the goal is the task's failure; a chain, setting or value that is not
+    /// what the solver takes is the input's.
+    fn kind(&self) -> kinergy_io::ErrorKind {
+        match self {
+            AnalyticError::Unreachable { .. }
+            | AnalyticError::LimitsViolated { .. }
+            | AnalyticError::Rejected { .. } => kinergy_io::ErrorKind::Unreachable,
+            _ => kinergy_io::ErrorKind::Input,
+        }
+    }
+}

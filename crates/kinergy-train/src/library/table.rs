@@ -57,10 +57,15 @@ pub enum LibraryError {
     },
 }
 
-impl LibraryError {
-    /// Whether the input is at fault (a missing or damaged file given), not the task.
-    pub fn is_input(&self) -> bool {
-        matches!(self, LibraryError::Input { .. })
+impl kinergy_io::Classify for LibraryError {
+    /// A missing or damaged file given is the input's fault; an incomplete library a task
+    /// not done; a table not written a failed write.
+    fn kind(&self) -> kinergy_io::ErrorKind {
+        match self {
+            LibraryError::Input { .. } => kinergy_io::ErrorKind::Input,
+            LibraryError::Incomplete { .. } => kinergy_io::ErrorKind::Task,
+            LibraryError::Write { .. } => kinergy_io::ErrorKind::Io,
+        }
     }
 }
 
@@ -610,7 +615,10 @@ mod tests {
         let bad = dir.join("bad.csv");
         std::fs::write(&bad, "clip,person,distance_sa_m\na,p1,x\n").unwrap();
         let e = LibraryTable::read(&bad).unwrap_err();
-        assert!(e.is_input() && e.to_string().contains("row 2"), "{e}");
+        assert!(
+            kinergy_io::Classify::kind(&e).is_input() && e.to_string().contains("row 2"),
+            "{e}"
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
@@ -638,7 +646,7 @@ mod tests {
     #[test]
     fn collect_names_a_folder_that_is_not_a_library() {
         let e = collect(Path::new("/nonexistent/kinergy-library")).unwrap_err();
-        assert!(e.is_input(), "{e}");
+        assert!(kinergy_io::Classify::kind(&e).is_input(), "{e}");
         assert!(
             e.to_string().contains("is this a `fit --out-dir` folder?"),
             "{e}"
