@@ -8,7 +8,7 @@ use kinergy_reach::drive::Driver;
 use kinergy_reach::synth::{MANIFEST, SynthSettings, set_files, write_set};
 use kinergy_train::synthetic::{SET_SEGMENTS, set_segments};
 
-use crate::common::{ControllerKind, Failure, Output, check_outputs, check_range, emit, limits};
+use crate::common::{Controller, Failure, Output, check_outputs, check_range, emit, limits};
 
 /// Arguments of `kinergy synth`.
 #[derive(Debug, clap::Args)]
@@ -39,8 +39,8 @@ pub struct Args {
     /// With --params, the synergy controller of the person's arm: `smooth` (the default) or
     /// `paper` (the one `fit --controller paper` and `synthesize --controller paper` run, for
     /// sets whose truth a fit must recover exactly).
-    #[arg(long, value_enum, default_value_t = ControllerKind::Smooth, requires = "params")]
-    pub controller: ControllerKind,
+    #[arg(long, default_value_t = Controller::Smooth, value_name = "smooth|paper", requires = "params")]
+    pub controller: Controller,
 }
 
 /// Runs `kinergy synth`.
@@ -91,7 +91,7 @@ fn settings(args: &Args) -> SynthSettings {
         reaches: args.reaches,
         seed: args.seed,
         frame_rate: args.frame_rate,
-        smooth_synergy: args.controller == ControllerKind::Smooth,
+        smooth_synergy: args.controller == Controller::Smooth,
     }
 }
 

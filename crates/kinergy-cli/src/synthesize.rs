@@ -17,7 +17,7 @@ use kinergy_train::{CapturedReach, PersonParams, ReachDrive, Replay, TrainError}
 use serde::Serialize;
 
 use crate::common::{
-    ArmArgs, ControllerKind, Failure, ReadArgs, check_range, emit, limits, parse_point, print_json,
+    ArmArgs, Controller, Failure, ReadArgs, check_range, emit, limits, parse_point, print_json,
 };
 
 /// Arguments of `kinergy synthesize`.
@@ -55,8 +55,8 @@ pub struct Args {
     /// the plain optimizer after the reach's frames, the capture's start velocity) or `paper`
     /// (Aubry et al.'s controller alone, from rest). Use the one the parameters were fitted
     /// with (`fit --controller`).
-    #[arg(long, value_enum, default_value_t = ControllerKind::Smooth)]
-    controller: ControllerKind,
+    #[arg(long, default_value_t = Controller::Smooth, value_name = "smooth|paper")]
+    controller: Controller,
     /// Stop as soon as the target is reached (default: keep tracking it at least until the
     /// capture's last frame, and on until it is reached, up to --max-seconds).
     #[arg(long)]

@@ -124,6 +124,14 @@ pub enum TrainError {
         /// What there is instead, arm by arm.
         why: String,
     },
+    /// A set of takes that gave no reach: every one of them has nothing to fit.
+    #[error("nothing to fit: all {takes} takes were skipped: {listed}")]
+    NothingFound {
+        /// How many takes.
+        takes: usize,
+        /// The first of them, each with why.
+        listed: String,
+    },
     /// The frames chosen for a reach are outside the clip or fewer than 2.
     #[error(
         "frames {}..{}: {clip} has {available} frames and a reach needs at least 2",
@@ -147,9 +155,9 @@ impl kinergy_io::Classify for TrainError {
     /// the rest (a file not written, a fit that fails) failed tasks.
     fn kind(&self) -> ErrorKind {
         match self {
-            TrainError::NothingToFit { .. } | TrainError::Motion(MotionError::Reach { .. }) => {
-                ErrorKind::NothingToFit
-            }
+            TrainError::NothingToFit { .. }
+            | TrainError::NothingFound { .. }
+            | TrainError::Motion(MotionError::Reach { .. }) => ErrorKind::NothingToFit,
             TrainError::Body(e) => e.kind(),
             TrainError::Solver(e) => e.kind(),
             TrainError::Clip { .. } => ErrorKind::Capture,
@@ -191,6 +199,15 @@ fn at(file: &Path, line: Option<usize>) -> String {
     match line {
         Some(line) => format!("{} line {line}", file.display()),
         None => file.display().to_string(),
+    }
+}
+
+impl From<kinergy_io::InvalidSetting> for TrainError {
+    fn from(e: kinergy_io::InvalidSetting) -> TrainError {
+        TrainError::Setting {
+            field: e.field,
+            why: e.why,
+        }
     }
 }
 

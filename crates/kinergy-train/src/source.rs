@@ -30,6 +30,12 @@
 //! # Ok::<(), kinergy_train::TrainError>(())
 //! ```
 
+mod query;
+
+pub use query::{
+    ArmRequest, Controller, Found, FoundReach, ReachQuery, Skipped, Take, nothing_found,
+};
+
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 

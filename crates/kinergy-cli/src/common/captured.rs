@@ -12,8 +12,9 @@ use kinergy_motion::segment::Selection;
 use kinergy_solver::BaseMode;
 use kinergy_train::segments_file::{SegmentRow, SegmentsFile};
 use kinergy_train::source::{
-    ArmChoice, Capture, ReachFrames, rows_reaches, segment_clips, segment_reaches,
+    ArmChoice, ArmRequest, Found, FoundReach, ReachFrames, ReachQuery, nothing_found, segment_clips,
 };
+pub use kinergy_train::source::{Controller, Skipped};
 use kinergy_train::{CapturedReach, TrainError};
 
 use super::args::arm_failure_with;
@@ -51,31 +52,12 @@ pub struct CaptureArgs {
     /// the plain optimizer after the reach's frames, the capture's start velocity; see the
     /// README's "Synergy IK") or `paper` (Aubry et al.'s Θ ← clamp(Θ + S(t)·O(ΔX)) alone, from
     /// rest).
-    #[arg(long, value_enum, default_value_t = ControllerKind::Smooth)]
-    pub controller: ControllerKind,
+    #[arg(long, default_value_t = Controller::Smooth, value_name = "smooth|paper")]
+    pub controller: Controller,
     #[command(flatten)]
     pub read: ReadArgs,
     #[command(flatten)]
     pub arm: ArmArgs,
-}
-
-/// Which synergy controller a command runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum ControllerKind {
-    /// The smooth controller (the default).
-    Smooth,
-    /// The paper's controller.
-    Paper,
-}
-
-impl ControllerKind {
-    /// `reach` set up for this controller.
-    pub fn apply(self, reach: CapturedReach) -> CapturedReach {
-        match self {
-            ControllerKind::Smooth => reach,
-            ControllerKind::Paper => reach.with_paper_controller(),
-        }
-    }
 }
 
 /// The clips a command works on, with the segments file when it named them (so that it is
@@ -115,27 +97,39 @@ impl CaptureArgs {
         }
     }
 
-    /// Checks, before any work, that `--arm auto` comes with what it can work with: it
-    /// finds each take's reaches itself, so not with one `--frames` window for all, nor with
-    /// one numbered segment (`--select N`: of which arm?).
+    /// The library's request for the reaches these arguments describe (checked: `--arm
+    /// auto` finds each take's reaches itself, so not with one `--frames` window for all,
+    /// nor with one numbered segment).
+    pub fn query(&self) -> Result<ReachQuery, Failure> {
+        let frames = match &self.frames {
+            Some(text) => ReachFrames::Window(parse_frames(text)?),
+            None => ReachFrames::Segments(self.select.unwrap_or_default()),
+        };
+        let arm = match self.arm.arm {
+            ArmSide::Auto => ArmRequest::Auto,
+            ArmSide::Side(side) => ArmRequest::Arm(ArmChoice {
+                side,
+                joints: self.arm.chain.clone(),
+            }),
+        };
+        let query = ReachQuery {
+            frames,
+            arm,
+            base: self.mode(),
+            controller: self.controller,
+            read: self.read.options(),
+        };
+        if self.segments.is_none() {
+            query
+                .validate()
+                .map_err(|e| Failure::Input(flag_message(&e)))?;
+        }
+        Ok(query)
+    }
+
+    /// Checks the arguments before any work ([`query`](Self::query)).
     pub fn check_arm(&self) -> Result<(), Failure> {
-        if self.arm.arm != ArmSide::Auto || self.segments.is_some() {
-            return Ok(());
-        }
-        if self.frames.is_some() {
-            return Err(Failure::Input(
-                "--arm auto finds each take's reaches: drop --frames (one window for every \
-                 take and arm)"
-                    .into(),
-            ));
-        }
-        if let Some(Selection::Nth(n)) = self.select {
-            return Err(Failure::Input(format!(
-                "--select {n}: one numbered segment names no arm: with --arm auto select main \
-                 or all"
-            )));
-        }
-        Ok(())
+        self.query().map(|_| ())
     }
 
     /// The clip files: `given` (files or folders, see [`collect_clips`]); with `--segments`
@@ -185,39 +179,41 @@ impl CaptureArgs {
         &self,
         clips: &CaptureClips,
     ) -> Result<Vec<(CapturedReach, Option<String>)>, Failure> {
-        let mut reaches = Vec::new();
-        let mut skipped = Vec::new();
-        match &self.segments {
+        let query = self.query()?;
+        let found = match &self.segments {
             Some(path) => {
                 let segments = match &clips.segments {
                     Some(segments) => segments,
                     None => &read_segments(path)?,
                 };
-                let options = self.read.options();
-                let found = segment_reaches(segments, &clips.paths, &options, self.mode())
-                    .map_err(|e| self.failure(path, e))?;
-                reaches.extend(
-                    found
-                        .into_iter()
-                        .map(|(reach, row)| (reach, Some(row.person.clone()))),
-                );
+                query
+                    .find_rows(segments, &clips.paths)
+                    .map_err(|e| self.failure(path, e))?
             }
             None => {
+                let mut found = Found::default();
                 for path in &clips.paths {
                     match self.take(path)? {
-                        Ok(found) => reaches.extend(found.into_iter().map(|r| (r, None))),
-                        Err(skip) => skipped.push(skip),
+                        Ok(reaches) => {
+                            found
+                                .reaches
+                                .extend(reaches.into_iter().map(|reach| FoundReach {
+                                    reach,
+                                    person: None,
+                                }))
+                        }
+                        Err(skip) => found.skipped.push(skip),
                     }
                 }
+                found
             }
-        }
-        report_skipped(&skipped);
-        if reaches.is_empty() {
-            return Err(nothing_to_fit(&skipped));
-        }
-        Ok(reaches
+        };
+        report_skipped(&found.skipped);
+        Ok(found
+            .require_some()?
+            .reaches
             .into_iter()
-            .map(|(reach, person)| (self.controller.apply(reach), person))
+            .map(|f| (f.reach, f.person))
             .collect())
     }
 
@@ -229,58 +225,19 @@ impl CaptureArgs {
         rows: &[&SegmentRow],
         path: &Path,
     ) -> Result<Vec<(CapturedReach, Option<String>)>, Failure> {
-        let found = rows_reaches(segments, rows, path, &self.read.options(), self.mode())
+        let found = self
+            .query()?
+            .rows(segments, rows, path)
             .map_err(|e| self.failure(segments.path(), e))?;
-        Ok(found
-            .into_iter()
-            .map(|(reach, row)| (self.controller.apply(reach), Some(row.person.clone())))
-            .collect())
+        Ok(found.into_iter().map(|f| (f.reach, f.person)).collect())
     }
 
     /// The reaches of the take at `path` (without `--segments`), with the controller
     /// applied: `Ok(Err(skipped))` when it has nothing to fit (no reach on the arm asked
     /// for, or on any arm with `--arm auto`); an input error otherwise.
     pub fn take(&self, path: &Path) -> Result<Result<Vec<CapturedReach>, Skipped>, Failure> {
-        let frames = match &self.frames {
-            Some(text) => ReachFrames::Window(parse_frames(text)?),
-            None => ReachFrames::Segments(self.select.unwrap_or_default()),
-        };
-        let capture =
-            Capture::read(path, &self.read.options()).map_err(|e| self.failure(path, e))?;
-        let found = match (self.arm.arm, &frames) {
-            (ArmSide::Auto, ReachFrames::Segments(selection)) => {
-                capture.reaches_of_reaching_arms(*selection, self.mode())
-            }
-            (ArmSide::Auto, ReachFrames::Window(_)) => {
-                return Err(Failure::Input(
-                    "--arm auto finds each take's reaches: drop --frames (one window for \
-                     every take and arm)"
-                        .into(),
-                ));
-            }
-            (ArmSide::Side(side), frames) => {
-                let arm = ArmChoice {
-                    side,
-                    joints: self.arm.chain.clone(),
-                };
-                capture.reaches(&arm, frames, self.mode())
-            }
-        };
-        match found {
-            Ok(reaches) => Ok(Ok(reaches
-                .into_iter()
-                .map(|r| self.controller.apply(r))
-                .collect())),
-            // A numbered segment the take lacks is a wrong --select, not an empty take.
-            Err(e)
-                if kinergy_io::Classify::kind(&e) == kinergy_io::ErrorKind::NothingToFit
-                    && !matches!(frames, ReachFrames::Segments(Selection::Nth(_))) =>
-            {
-                Ok(Err(Skipped {
-                    clip: path.to_path_buf(),
-                    why: skip_reason(&e),
-                }))
-            }
+        match self.query()?.take_at(path) {
+            Ok(found) => Ok(found),
             Err(TrainError::Setting { field, why }) => {
                 Err(Failure::Input(format!("--{field}: {why}")))
             }
@@ -323,24 +280,6 @@ impl CaptureArgs {
     }
 }
 
-/// A take skipped: it has nothing to fit.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Skipped {
-    /// The capture.
-    pub clip: PathBuf,
-    /// Why, arm by arm.
-    pub why: String,
-}
-
-/// The reason of a nothing-to-fit error, without the clip's name it starts with.
-fn skip_reason(e: &TrainError) -> String {
-    match e {
-        TrainError::NothingToFit { why, .. } => why.clone(),
-        TrainError::Motion(kinergy_motion::MotionError::Reach { why, .. }) => why.clone(),
-        e => e.to_string(),
-    }
-}
-
 /// Says on stderr which takes were skipped and why (the first few; the count of the rest).
 pub fn report_skipped(skipped: &[Skipped]) {
     if skipped.is_empty() {
@@ -369,17 +308,12 @@ const SKIPPED_SHOWN: usize = 10;
 /// The failure of a run where every take was skipped (exit 1: the input was fine, there is
 /// nothing in it to fit).
 pub fn nothing_to_fit(skipped: &[Skipped]) -> Failure {
-    match skipped {
-        [one] => Failure::Task(format!(
-            "{}: nothing to fit: {}",
-            one.clip.display(),
-            kinergy_io::clip_text(&one.why, 600)
-        )),
-        _ => Failure::Task(format!(
-            "nothing to fit: all {} takes were skipped (listed above)",
-            skipped.len()
-        )),
-    }
+    nothing_found(skipped).into()
+}
+
+/// A query's setting refused, said with its command-line flag.
+fn flag_message(e: &kinergy_io::InvalidSetting) -> String {
+    format!("--{}: {}", e.field, e.why)
 }
 
 /// The segments file at `path`, read as input: its errors (naming the file and the line) are
