@@ -96,7 +96,7 @@ pub fn compare<'py>(
         fixed_base,
         reading: (unit, up, positions),
     }
-    .load(py)?;
+    .load(py, kinergy_train::source::Controller::default())?;
     let total = reaches.len();
     let done = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);

@@ -19,7 +19,8 @@ use kinergy_train::field::{FieldFile, FieldSettings};
 use kinergy_train::fit::{FitSettings, NestedFit, NestedRun, RefineSettings};
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
-    ArmChoice, Capture, FrameChoice, ReachFrames, capture_files, names_clip, segment_reaches,
+    ArmChoice, ArmRequest, Capture, Controller, Found, FrameChoice, ReachFrames, ReachQuery, Take,
+    capture_files, names_clip,
 };
 use kinergy_train::{CapturedReach, PersonParams, ReachDrive, Replay, limits};
 use pyo3::prelude::*;
@@ -241,152 +242,91 @@ pub struct ReachSource<'a, 'py> {
 }
 
 impl ReachSource<'_, '_> {
-    /// The reaches, read and cut as the CLI reads and cuts them.
-    pub fn load(self, py: Python<'_>) -> PyResult<Vec<CapturedReach>> {
+    /// The library's request for these arguments (checked as the CLI checks its flags).
+    fn query(&self, controller: Controller) -> PyResult<ReachQuery> {
         let (unit, up, positions) = self.reading;
-        let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
-        let clips = clip_list(self.clips, self.segments.is_some())?;
-        let mode = if self.fixed_base {
-            BaseMode::Fixed
-        } else {
-            BaseMode::Replay
-        };
-        load_reaches(
-            py,
-            &clips,
-            self.segments,
-            self.arm,
-            self.chain,
-            selection_arg(self.select)?,
-            self.frames,
-            mode,
-            &options,
-        )
-    }
-}
-
-/// The reaches of `clips` (paths, folders or Clips), or of a segments file's rows.
-#[allow(clippy::too_many_arguments)]
-fn load_reaches(
-    py: Python<'_>,
-    clips: &[Bound<'_, PyAny>],
-    segments: Option<PathBuf>,
-    arm: &str,
-    chain: Option<Vec<String>>,
-    select: Option<Selection>,
-    frames: Option<(usize, usize)>,
-    mode: BaseMode,
-    options: &ImportOptions,
-) -> PyResult<Vec<CapturedReach>> {
-    // Paths as given (folders expanded as the CLI expands them), Clips as they are.
-    let mut paths = Vec::new();
-    let mut made = Vec::new();
-    for c in clips {
-        if let Ok(clip) = c.cast::<Clip>() {
-            let clip = clip.get();
-            made.push(Capture::from_clip(
-                clip.path.as_deref().unwrap_or(Path::new("<clip>")),
-                clip.inner.clone(),
-            ));
-            paths.push(None);
-        } else {
-            let path: PathBuf = c.extract().map_err(|_| {
-                errors::input("clips: expected paths (files or folders) or kinergy.Clip objects")
-            })?;
-            paths.push(Some(path));
-        }
-    }
-    if let Some(file) = segments {
-        let file = SegmentsFile::read(&file).map_err(|e| errors::input(e.to_string()))?;
-        let given: Vec<PathBuf> = paths.iter().flatten().cloned().collect();
-        let wanted = if given.is_empty() {
-            kinergy_train::source::segment_clips(&file)
-        } else {
-            capture_files(&given).map_err(errors::raise)?
-        };
-        let found = py.detach(|| segment_reaches(&file, &wanted, options, mode));
-        return Ok(found
-            .map_err(errors::raise)?
-            .into_iter()
-            .map(|(r, _)| r)
-            .collect());
-    }
-    let reach_frames = match frames {
-        Some((a, b)) if a < b => ReachFrames::Window(a..b),
-        Some((a, b)) => {
-            return Err(errors::input(format!(
-                "frames=({a}, {b}): expected (start, end) with start < end"
-            )));
-        }
-        None => ReachFrames::Segments(select.unwrap_or_default()),
-    };
-    let side = if arm == "auto" {
-        if frames.is_some() {
-            return Err(errors::input(
-                "arm=\"auto\" finds each take's reaches: drop frames (one window for every take and arm)",
-            ));
-        }
-        None
-    } else {
-        Some(parse::<Side>("arm", arm)?)
-    };
-    let mut made = made.into_iter();
-    let mut reaches = Vec::new();
-    let mut skipped = Vec::new();
-    for given in paths {
-        let captures: Vec<Capture> = match given {
-            None => made.next().into_iter().collect(),
-            Some(path) => {
-                let files = capture_files(&[path]).map_err(errors::raise)?;
-                let read = py.detach(|| {
-                    files
-                        .iter()
-                        .map(|f| Capture::read(f, options))
-                        .collect::<Result<Vec<_>, _>>()
-                });
-                read.map_err(errors::raise)?
+        let frames = match self.frames {
+            Some((a, b)) if a < b => ReachFrames::Window(a..b),
+            Some((a, b)) => {
+                return Err(errors::input(format!(
+                    "frames=({a}, {b}): expected (start, end) with start < end"
+                )));
             }
+            None => ReachFrames::Segments(selection_arg(self.select)?.unwrap_or_default()),
         };
-        for capture in captures {
-            let found = match side {
-                None => match &reach_frames {
-                    ReachFrames::Segments(s) => capture.reaches_of_reaching_arms(*s, mode),
-                    ReachFrames::Window(_) => unreachable_window(),
-                },
-                Some(side) => capture.reaches(
-                    &ArmChoice {
-                        side,
-                        joints: chain.clone(),
-                    },
-                    &reach_frames,
-                    mode,
-                ),
-            };
-            match found {
-                Ok(found) => reaches.extend(found),
-                Err(e)
-                    if kinergy_io::Classify::kind(&e) == kinergy_io::ErrorKind::NothingToFit
-                        && !matches!(reach_frames, ReachFrames::Segments(Selection::Nth(_))) =>
-                {
-                    skipped.push(e.to_string());
-                }
-                Err(e) => return Err(errors::raise(e)),
-            }
-        }
-    }
-    if reaches.is_empty() {
-        return Err(errors::NothingToFitError::new_err(
-            match skipped.as_slice() {
-                [one] => one.clone(),
-                _ => format!(
-                    "nothing to fit: all {} takes were skipped: {}",
-                    skipped.len(),
-                    skipped.join("; ")
-                ),
+        let arm = match self.arm {
+            "auto" => ArmRequest::Auto,
+            arm => ArmRequest::Arm(ArmChoice {
+                side: parse::<Side>("arm", arm)?,
+                joints: self.chain.clone(),
+            }),
+        };
+        let query = ReachQuery {
+            frames,
+            arm,
+            base: if self.fixed_base {
+                BaseMode::Fixed
+            } else {
+                BaseMode::Replay
             },
-        ));
+            controller,
+            read: import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?,
+        };
+        if self.segments.is_none() {
+            query.validate().map_err(errors::raise)?;
+        }
+        Ok(query)
     }
-    Ok(reaches)
+
+    /// The reaches, read and cut as the CLI reads and cuts them, under `controller`:
+    /// [`ReachQuery::find`] of the captures given (paths, folders or Clips), or
+    /// [`ReachQuery::find_rows`] of a segments file's rows; `NothingToFitError` when every
+    /// take was skipped.
+    pub fn load(self, py: Python<'_>, controller: Controller) -> PyResult<Vec<CapturedReach>> {
+        let query = self.query(controller)?;
+        let clips = clip_list(self.clips, self.segments.is_some())?;
+        let mut takes = Vec::new();
+        let mut given = Vec::new();
+        for c in &clips {
+            if let Ok(clip) = c.cast::<Clip>() {
+                let clip = clip.get();
+                takes.push(Take::Read(Capture::from_clip(
+                    clip.path.as_deref().unwrap_or(Path::new("<clip>")),
+                    clip.inner.clone(),
+                )));
+            } else {
+                let path: PathBuf = c.extract().map_err(|_| {
+                    errors::input(
+                        "clips: expected paths (files or folders) or kinergy.Clip objects",
+                    )
+                })?;
+                given.push(path.clone());
+                // Folders expanded as the CLI expands them, in place.
+                takes.extend(
+                    capture_files(&[path])
+                        .map_err(errors::raise)?
+                        .into_iter()
+                        .map(Take::File),
+                );
+            }
+        }
+        let found = match self.segments {
+            Some(file) => {
+                let file = SegmentsFile::read(&file).map_err(|e| errors::input(e.to_string()))?;
+                let wanted = if given.is_empty() {
+                    kinergy_train::source::segment_clips(&file)
+                } else {
+                    capture_files(&given).map_err(errors::raise)?
+                };
+                py.detach(|| query.find_rows(&file, &wanted))
+            }
+            None => py.detach(|| query.find(takes)),
+        };
+        Ok(found
+            .and_then(Found::require_some)
+            .map_err(errors::raise)?
+            .into_reaches())
+    }
 }
 
 /// `clips=`: one path or Clip, or a list or tuple of them; none only with a segments file.
@@ -407,14 +347,6 @@ pub fn clip_list<'py>(
         ));
     }
     Ok(clips)
-}
-
-/// A window with `arm="auto"` was refused before: never reached.
-fn unreachable_window() -> kinergy_train::Result<Vec<CapturedReach>> {
-    Err(kinergy_train::TrainError::Setting {
-        field: "frames".into(),
-        why: "arm=\"auto\" takes no window".into(),
-    })
 }
 
 /// Fits synergy parameters to captured reaches by simulated annealing, as `kinergy fit`
@@ -481,15 +413,7 @@ pub fn fit<'py>(
             )));
         }
     };
-    let paper = match controller {
-        "smooth" => false,
-        "paper" => true,
-        _ => {
-            return Err(errors::input(format!(
-                "controller={controller:?}: expected \"smooth\" or \"paper\""
-            )));
-        }
-    };
+    let controller = controller.parse::<Controller>().map_err(errors::raise)?;
     let settings = fit_settings(
         seed,
         budget,
@@ -513,11 +437,7 @@ pub fn fit<'py>(
         fixed_base,
         reading: (unit, up, positions),
     }
-    .load(py)?;
-    let reaches: Vec<CapturedReach> = reaches
-        .into_iter()
-        .map(|r| if paper { r.with_paper_controller() } else { r })
-        .collect();
+    .load(py, controller)?;
     let models: Vec<Model> = if nested {
         Model::ALL.into_iter().filter(|m| *m <= model).collect()
     } else {
@@ -785,15 +705,10 @@ pub fn synthesize<'py>(
     };
     let name = from.display().to_string();
     let reach = CapturedReach::new(&name, &whole, &joints, window, mode).map_err(errors::raise)?;
-    let reach = match controller {
-        "smooth" => reach,
-        "paper" => reach.with_paper_controller(),
-        _ => {
-            return Err(errors::input(format!(
-                "controller={controller:?}: expected \"smooth\" or \"paper\""
-            )));
-        }
-    };
+    let reach = controller
+        .parse::<Controller>()
+        .map_err(errors::raise)?
+        .apply(reach);
     let reach = match target {
         Some([x, y, z]) => reach
             .with_target(kinergy_motion::nalgebra::Point3::new(x, y, z))

@@ -124,6 +124,15 @@ pub enum TrainError {
         /// What there is instead, arm by arm.
         why: String,
     },
+    /// The user stopped a fit (its interrupt flag was raised).
+    #[error("interrupted during the {}", match during {
+        crate::fit::Interrupted::Annealing => "annealing",
+        crate::fit::Interrupted::Refinement => "refinement",
+    })]
+    Interrupted {
+        /// Where the fit was.
+        during: crate::fit::Interrupted,
+    },
     /// A set of takes that gave no reach: every one of them has nothing to fit.
     #[error("nothing to fit: all {takes} takes were skipped: {listed}")]
     NothingFound {
@@ -170,6 +179,7 @@ impl kinergy_io::Classify for TrainError {
             | TrainError::NoRows { .. }
             | TrainError::Frames { .. } => ErrorKind::Input,
             TrainError::Io { .. } => ErrorKind::Io,
+            TrainError::Interrupted { .. } => ErrorKind::Interrupted,
             TrainError::Motion(_) => ErrorKind::Task,
         }
     }

@@ -20,10 +20,12 @@
 //!
 //! [`ParamSpace::extend_to`]: kinergy_solver::ParamSpace::extend_to
 
+mod job;
 mod nested;
 mod refine;
 mod single;
 
+pub use job::{FitJob, Interrupted};
 pub use nested::{
     ClipFrames, FitProblem, NestedCheckpoint, NestedFit, NestedOutcome, NestedRun, Stage,
     fit_nested,
