@@ -13,8 +13,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use kinergy_solver::{FittedReach, Model};
 use kinergy_train::CapturedReach;
+use kinergy_train::TrainError;
 use kinergy_train::anneal::{Checkpoint, Control, CsvLog, Observer, Progress};
-use kinergy_train::fit::{Fit, FitSettings, NestedFit, NestedRun, RefineSettings};
+use kinergy_train::fit::{Fit, FitJob, FitSettings, Interrupted, NestedFit};
 use serde::Serialize;
 
 use crate::common::{Bar, Failure, check_range, emit, limits, print_json};
@@ -75,14 +76,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let clips = args.reach.clips(&args.clips)?;
     let settings = args.search.settings();
     settings.anneal.validate().map_err(Failure::from)?;
-    let models: Vec<Model> = if args.no_nested {
-        vec![args.model]
-    } else {
-        Model::ALL
-            .into_iter()
-            .filter(|m| *m <= args.model)
-            .collect()
-    };
+    let models = FitJob::models_up_to(args.model, !args.no_nested);
     if args.field && args.per == Per::Clip {
         return Err(Failure::Input(
             "--field fits one field per person (each reach on its own inside it): drop \
@@ -292,8 +286,8 @@ fn report_text(r: &FitReport) -> String {
     text
 }
 
-/// One nested fit of `group` with the progress bar, the CSV log, checkpoints and Ctrl-C; an
-/// interrupted fit is a failed task that says where it was saved.
+/// One nested fit of `group` with the progress bar, the CSV log, checkpoints and Ctrl-C
+/// ([`FitJob::run`]); an interrupted fit is a failed task that says where it was saved.
 fn run_group(
     args: &Args,
     group: &[CapturedReach],
@@ -302,11 +296,11 @@ fn run_group(
     log: Option<&mut CsvLog>,
     show_bar: bool,
 ) -> Result<NestedFit, Failure> {
-    let run = NestedRun {
-        reaches: group,
-        models,
+    let job = FitJob {
+        models: models.to_vec(),
         optimizer: args.optimizer.default_optimizer(),
-        settings,
+        settings: settings.clone(),
+        refine: args.refine,
     };
     let mut bar = if show_bar {
         Bar::new((settings.anneal.max_evaluations * models.len()) as u64)
@@ -324,52 +318,33 @@ fn run_group(
     // A library's --resume skips finished reaches; a fit's continues its checkpoint.
     let resume = args.resume && args.checkpoint.is_some();
     let outcome = match log {
-        Some(log) => run.run(&mut ((&mut bar, &mut hook), log), &control, resume),
-        None => run.run(&mut (&mut bar, &mut hook), &control, resume),
+        Some(log) => job.run(group, &mut ((&mut bar, &mut hook), log), &control, resume),
+        None => job.run(group, &mut (&mut bar, &mut hook), &control, resume),
     };
     bar.finish();
-    let outcome = outcome.map_err(Failure::from)?;
-    if outcome.interrupted {
-        return Err(Failure::Task(match &args.checkpoint {
+    match outcome {
+        Ok(fits) if fits.fits.is_empty() => Err(Failure::Task("nothing was fitted".into())),
+        Ok(fits) => Ok(fits),
+        Err(TrainError::Interrupted {
+            during: Interrupted::Annealing,
+        }) => Err(Failure::Task(match &args.checkpoint {
             Some(p) => format!(
                 "interrupted; the fit so far is in {}: continue it with --resume",
                 p.display()
             ),
             None => "interrupted (no --checkpoint: nothing saved)".into(),
-        }));
+        })),
+        // The refinement has no checkpoint: its vector is not the refined one, and nothing
+        // of this fit is written.
+        Err(TrainError::Interrupted {
+            during: Interrupted::Refinement,
+        }) => Err(Failure::Task(
+            "interrupted during --refine: this fit is not written (the refinement has no \
+             checkpoint; run it again)"
+                .into(),
+        )),
+        Err(e) => Err(e.into()),
     }
-    let mut fits = outcome.fits;
-    let Some(last) = fits.fits.pop() else {
-        return Err(Failure::Task("nothing was fitted".into()));
-    };
-    let last = match args.refine {
-        Some(max_evaluations) => {
-            let refined = last
-                .refined_until(
-                    group,
-                    settings,
-                    &RefineSettings {
-                        max_evaluations,
-                        ..RefineSettings::default()
-                    },
-                    Some(&INTERRUPTED),
-                )
-                .map_err(Failure::from)?;
-            // Ctrl-C during the refinement: its vector is not the refined one; nothing of
-            // this fit is written (issue 27 #5: it ran on and wrote it as finished).
-            if refined.refinement.as_ref().is_some_and(|r| r.interrupted) {
-                return Err(Failure::Task(
-                    "interrupted during --refine: this fit is not written (the refinement \
-                     has no checkpoint; run it again)"
-                        .into(),
-                ));
-            }
-            refined
-        }
-        None => last,
-    };
-    fits.fits.push(last);
-    Ok(fits)
 }
 
 /// `fit --per clip` into a folder: checks the outputs, then runs the library

@@ -11,12 +11,10 @@ use kinergy_reach::character::{Character, Proportions};
 use kinergy_reach::controller::{ArmDrive, Ending, ReachSettings, reach_full_body_driven};
 use kinergy_reach::drive::PersonArm;
 use kinergy_reach::profile::{BellTiming, SpeedProfile};
-use kinergy_solver::{
-    BaseMode, FitGrouping, FitObjective, Model, Optimizer, OptimizerKind, StopReason,
-};
-use kinergy_train::anneal::{AnnealSettings, Control};
+use kinergy_solver::{BaseMode, FitGrouping, FitObjective, Model, OptimizerKind, StopReason};
+use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::field::{FieldFile, FieldSettings};
-use kinergy_train::fit::{FitSettings, NestedFit, NestedRun, RefineSettings};
+use kinergy_train::fit::{FitJob, FitSettings, NestedFit};
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, ArmRequest, Capture, Controller, Found, FrameChoice, ReachFrames, ReachQuery, Take,
@@ -438,18 +436,16 @@ pub fn fit<'py>(
         reading: (unit, up, positions),
     }
     .load(py, controller)?;
-    let models: Vec<Model> = if nested {
-        Model::ALL.into_iter().filter(|m| *m <= model).collect()
-    } else {
-        vec![model]
+    let job = FitJob {
+        models: FitJob::models_up_to(model, nested),
+        optimizer,
+        settings,
+        refine,
     };
     let interrupt = AtomicBool::new(false);
-    let names: Vec<&'static str> = models.iter().map(|m| m.name()).collect();
+    let names: Vec<&'static str> = job.models.iter().map(|m| m.name()).collect();
     let mut runner = Runner {
-        models: &models,
-        optimizer,
-        settings: &settings,
-        refine,
+        job,
         pool: thread_pool(threads)?,
         interrupt: &interrupt,
         watch: Watch::new(progress.as_ref(), &interrupt, names),
@@ -512,7 +508,7 @@ fn fit_field<'py>(
         .fits
         .last()
         .ok_or_else(|| errors::KinergyError::new_err("no model was fitted"))?;
-    let tolerance = runner.settings.tolerance;
+    let tolerance = runner.job.settings.tolerance;
     let build = || {
         FieldFile::from_fits(&reaches, &last, &FieldSettings::default())
             .and_then(|f| f.anchored(anchor.values.clone(), &reaches, tolerance))
@@ -533,70 +529,31 @@ fn fit_field<'py>(
     .into_any())
 }
 
-/// What every nested fit of one `fit` call shares: the models, settings, threads and the
-/// watch of Ctrl-C and the progress callback.
+/// What every nested fit of one `fit` call shares: the job (models, optimizer, settings,
+/// refinement), threads and the watch of Ctrl-C and the progress callback.
 struct Runner<'a> {
-    models: &'a [Model],
-    optimizer: Optimizer,
-    settings: &'a FitSettings,
-    refine: Option<usize>,
+    job: FitJob,
     pool: Option<rayon::ThreadPool>,
     interrupt: &'a AtomicBool,
     watch: Watch<'a>,
 }
 
 impl Runner<'_> {
-    /// The nested fit of `group` (then its refinement, with `refine`), with the GIL released.
+    /// The nested fit of `group` (then its refinement), with the GIL released
+    /// ([`FitJob::run_stoppable`]).
     fn nested(&mut self, py: Python<'_>, group: &[CapturedReach]) -> PyResult<NestedFit> {
         self.watch.next_group();
-        let run = NestedRun {
-            reaches: group,
-            models: self.models,
-            optimizer: self.optimizer,
-            settings: self.settings,
-        };
-        let (watch, pool, interrupt) = (&mut self.watch, &self.pool, self.interrupt);
-        let (settings, refine) = (self.settings, self.refine);
-        let work = move || {
-            let mut go = move || -> kinergy_train::Result<(NestedFit, bool)> {
-                let control = Control {
-                    checkpoint: None,
-                    checkpoint_every: 0,
-                    interrupt: Some(interrupt),
-                };
-                let outcome = run.run(watch, &control, false)?;
-                let mut fits = outcome.fits;
-                if outcome.interrupted {
-                    return Ok((fits, true));
-                }
-                if let Some(max_evaluations) = refine
-                    && let Some(last) = fits.fits.pop()
-                {
-                    let refine = RefineSettings {
-                        max_evaluations,
-                        ..RefineSettings::default()
-                    };
-                    fits.fits.push(last.refined_until(
-                        group,
-                        settings,
-                        &refine,
-                        Some(interrupt),
-                    )?);
-                }
-                Ok((fits, false))
-            };
+        let (job, watch, pool, interrupt) =
+            (&self.job, &mut self.watch, &self.pool, self.interrupt);
+        let outcome = py.detach(move || {
+            let mut go = move || job.run_stoppable(group, watch, Some(interrupt));
             match pool {
                 Some(pool) => pool.install(go),
                 None => go(),
             }
-        };
-        let outcome = py.detach(work);
+        });
         self.watch.finish()?;
-        let (fits, interrupted) = outcome.map_err(errors::raise)?;
-        if interrupted {
-            return Err(errors::KinergyError::new_err("the fit was interrupted"));
-        }
-        Ok(fits)
+        outcome.map_err(errors::raise)
     }
 }
 
