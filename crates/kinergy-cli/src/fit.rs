@@ -4,7 +4,7 @@
 
 mod args;
 mod field;
-pub mod library;
+mod library;
 
 pub use args::{Args, Per};
 
@@ -16,6 +16,7 @@ use kinergy_train::CapturedReach;
 use kinergy_train::TrainError;
 use kinergy_train::anneal::{Checkpoint, Control, CsvLog, Observer, Progress};
 use kinergy_train::fit::{Fit, FitJob, FitSettings, Interrupted, NestedFit};
+use kinergy_train::library::{LIBRARY, SKIPPED, Takes, take_names};
 use serde::Serialize;
 
 use crate::common::{Bar, Failure, check_range, emit, limits, print_json};
@@ -368,57 +369,22 @@ fn library_run(
     inputs.extend(clips.inputs());
     inputs.extend(args.reach.segments.as_deref());
     // Every take's first result name (a take with several reaches adds their frames) and the
-    // library's tables. With a segments file every result's name is known now (its rows give
-    // the reaches); otherwise each take's first name, and the rest are checked as they are
-    // written.
-    let takes = library::Takes::of(clips);
-    let mut files: Vec<PathBuf> = Vec::new();
-    for take in &takes.paths {
-        match takes.rows_of(take) {
-            Some(rows) => {
-                let keys: Vec<_> = rows
-                    .iter()
-                    .map(|r| (r.frames.clone(), r.arm.to_string()))
-                    .collect();
-                files.extend(
-                    names_of(&takes.common, take, &keys)
-                        .iter()
-                        .map(|n| dest.join(n)),
-                );
-            }
-            None => {
-                let name = relative_name(&takes.common, take).with_extension("json");
-                files.push(dest.join(name));
-            }
-        }
-    }
-    files.extend(
-        [
-            kinergy_train::library::LIBRARY,
-            kinergy_train::library::SKIPPED,
-        ]
-        .map(|f| dest.join(f)),
-    );
+    // library's tables; the rest are checked as they are written.
+    let takes = Takes::of(&clips.paths, clips.segments());
+    let mut files: Vec<PathBuf> = takes.first_names().iter().map(|n| dest.join(n)).collect();
+    files.extend([LIBRARY, SKIPPED].map(|f| dest.join(f)));
     let option = if args.out_dir.is_some() {
         "--out-dir"
     } else {
         "-o"
     };
     check_outputs(&inputs, &[Output::Folder(option, dest, &files)])?;
+    if dest.is_dir() {
+        crate::common::clean_folder(dest);
+    }
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .map_err(|e| Failure::Task(format!("cannot watch for Ctrl-C: {e}")))?;
     library::run(args, clips, takes, models, settings, dest)
-}
-
-/// The takes `paths` name, each file once (the first spelling kept): a segments file may
-/// name one capture as `a/r01.bvh` and `a/../a/r01.bvh`.
-fn unique_takes(paths: &[PathBuf]) -> Vec<PathBuf> {
-    let mut seen = std::collections::HashSet::new();
-    paths
-        .iter()
-        .filter(|p| seen.insert(std::fs::canonicalize(p).unwrap_or_else(|_| (*p).clone())))
-        .cloned()
-        .collect()
 }
 
 /// Where the results go and whether it is a folder: `--out-dir`, or `-o` ending in a path
@@ -448,87 +414,6 @@ fn destination(args: &Args, several: bool) -> Result<(&Path, bool), Failure> {
         )));
     }
     Ok((output, folder))
-}
-
-/// The capture `take`'s path from the folder `common` (canonical paths; plain names only,
-/// never `..`): where its results go in the output folder.
-fn relative_name(common: &Path, take: &Path) -> PathBuf {
-    let path = std::fs::canonicalize(take).unwrap_or_else(|_| take.to_path_buf());
-    let relative = path.strip_prefix(common).unwrap_or(&path);
-    relative
-        .components()
-        .filter(|c| matches!(c, std::path::Component::Normal(_)))
-        .collect()
-}
-
-/// The result names of the reaches of the capture `take` (in order), relative to the
-/// output folder: the take's path from `common` (the library's common folder), with
-/// `.json` — `p01/r01.json`; `p01/r01_<onset>-<end>.json` when the take gives several
-/// reaches, and `_<arm>` after the frames when two of them share their frames (they differ
-/// by arm: both were once written to one name, and the first fit was lost).
-fn take_names(common: &Path, take: &Path, reaches: &[CapturedReach]) -> Vec<PathBuf> {
-    let keys: Vec<(std::ops::Range<usize>, String)> = reaches
-        .iter()
-        .map(|r| (r.frames().clone(), arm_label(r)))
-        .collect();
-    names_of(common, take, &keys)
-}
-
-/// [`take_names`] for reaches given by their frames and arm labels.
-fn names_of(
-    common: &Path,
-    take: &Path,
-    reaches: &[(std::ops::Range<usize>, String)],
-) -> Vec<PathBuf> {
-    let relative = relative_name(common, take);
-    let stem = relative
-        .file_stem()
-        .map_or_else(|| "clip".into(), |s| s.to_string_lossy().into_owned());
-    reaches
-        .iter()
-        .map(|(frames, arm)| {
-            let same_frames = reaches.iter().filter(|(f, _)| f == frames).count() > 1;
-            let (start, end) = (frames.start, frames.end);
-            let name = match (reaches.len() > 1, same_frames) {
-                (false, _) => format!("{stem}.json"),
-                (true, false) => format!("{stem}_{start}-{end}.json"),
-                (true, true) => format!("{stem}_{start}-{end}_{arm}.json"),
-            };
-            relative.with_file_name(name)
-        })
-        .collect()
-}
-
-/// The arm of a reach as an output name says it: its side, or its first joint's name where
-/// the side is unclear (joints named by hand), made safe for a file name.
-fn arm_label(reach: &CapturedReach) -> String {
-    let arm = reach.fitted_arm();
-    match (arm.side, arm.joints.first()) {
-        (Some(side), _) => side.to_string(),
-        (None, Some(joint)) => joint
-            .chars()
-            .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
-            .collect(),
-        (None, None) => "arm".into(),
-    }
-}
-
-/// The deepest folder that holds every one of `paths`.
-fn common_folder(paths: &[PathBuf]) -> PathBuf {
-    let mut common: Option<PathBuf> = None;
-    for path in paths {
-        let folder = path.parent().unwrap_or(Path::new(""));
-        common = Some(match common {
-            None => folder.to_path_buf(),
-            Some(c) => c
-                .components()
-                .zip(folder.components())
-                .take_while(|(a, b)| a == b)
-                .map(|(a, _)| a)
-                .collect(),
-        });
-    }
-    common.unwrap_or_default()
 }
 
 fn report(

@@ -6,8 +6,12 @@
 //! records against the result files and writes the library's tables ([`LibraryRow`]:
 //! `library.csv`, written and read by one type).
 
+mod names;
+mod shard;
 mod table;
 
+pub use names::{Takes, common_folder, names_of, relative_name, take_names, unique_takes};
+pub use shard::{ShardEvent, ShardOutcome, ShardRun};
 pub use table::{
     Collected, LIBRARY, LibraryError, LibraryRow, LibraryTable, PersonLine, RecordRow, SHARDS,
     SKIPPED, SkippedRow, collect, is_complete, read_record, record_path, write_csv,

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use kinergy_motion::segment::Selection;
 use kinergy_solver::BaseMode;
-use kinergy_train::segments_file::{SegmentRow, SegmentsFile};
+use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, ArmRequest, Found, FoundReach, ReachFrames, ReachQuery, nothing_found, segment_clips,
 };
@@ -188,7 +188,7 @@ impl CaptureArgs {
                 };
                 query
                     .find_rows(segments, &clips.paths)
-                    .map_err(|e| self.failure(path, e))?
+                    .map_err(|e| self.render(path, e))?
             }
             None => {
                 let mut found = Found::default();
@@ -217,21 +217,6 @@ impl CaptureArgs {
             .collect())
     }
 
-    /// The reaches the segments file's `rows` (all of the take at `path`) give, with the
-    /// persons they name and the controller applied; errors name the file and the line.
-    pub fn take_rows(
-        &self,
-        segments: &SegmentsFile,
-        rows: &[&SegmentRow],
-        path: &Path,
-    ) -> Result<Vec<(CapturedReach, Option<String>)>, Failure> {
-        let found = self
-            .query()?
-            .rows(segments, rows, path)
-            .map_err(|e| self.failure(segments.path(), e))?;
-        Ok(found.into_iter().map(|f| (f.reach, f.person)).collect())
-    }
-
     /// The reaches of the take at `path` (without `--segments`), with the controller
     /// applied: `Ok(Err(skipped))` when it has nothing to fit (no reach on the arm asked
     /// for, or on any arm with `--arm auto`); an input error otherwise.
@@ -241,12 +226,12 @@ impl CaptureArgs {
             Err(TrainError::Setting { field, why }) => {
                 Err(Failure::Input(format!("--{field}: {why}")))
             }
-            Err(e) => Err(self.failure(path, e)),
+            Err(e) => Err(self.render(path, e)),
         }
     }
 
     /// A capture at `path` that gave no reaches, said for the command line (bad input).
-    fn failure(&self, path: &Path, e: TrainError) -> Failure {
+    pub fn render(&self, path: &Path, e: TrainError) -> Failure {
         match e {
             TrainError::Clip { path, source } => self.read.failure(&path, source),
             TrainError::Arm {
@@ -266,7 +251,7 @@ impl CaptureArgs {
                 };
                 let why = match *source {
                     e @ (TrainError::Clip { .. } | TrainError::Arm { .. }) => {
-                        self.failure(&clip, e).to_string()
+                        self.render(&clip, e).to_string()
                     }
                     e => format!("{}: {e}", clip.display()),
                 };
