@@ -15,6 +15,7 @@ from ._kinergy import (
     Params as Params,
     ParamsError as ParamsError,
     UnreachableError as UnreachableError,
+    collect as collect,
     fit as fit,
     hand_speed as hand_speed,
     plan as plan,

@@ -193,6 +193,9 @@ def fit(
     refine: int | None = None,
     threads: int | None = None,
     progress: Callable[[dict[str, Any]], object] | None = None,
+    out_dir: None = None,
+    shard: None = None,
+    resume: Literal[False] = False,
     unit: str = "auto",
     up: str = "auto",
     positions: str = "auto",
@@ -224,10 +227,53 @@ def fit(
     refine: int | None = None,
     threads: int | None = None,
     progress: Callable[[dict[str, Any]], object] | None = None,
+    out_dir: None = None,
+    shard: None = None,
+    resume: Literal[False] = False,
     unit: str = "auto",
     up: str = "auto",
     positions: str = "auto",
 ) -> list[Params]: ...
+@overload
+def fit(
+    clips: PathLike | Sequence[PathLike] | None = None,
+    *,
+    model: Model = "sc",
+    optimizer: Optimizer = "svd",
+    per: Literal["clip"],
+    nested: bool = True,
+    field: Literal[False] = False,
+    arm: Literal["right", "left", "auto"] = "right",
+    chain: Sequence[str] | None = None,
+    select: str | int | None = None,
+    frames: tuple[int, int] | None = None,
+    segments: PathLike | None = None,
+    fixed_base: bool = False,
+    controller: Literal["smooth", "paper"] = "smooth",
+    seed: int = 1,
+    budget: int | None = None,
+    population: int | None = None,
+    temperature: float | None = None,
+    stable_change: float | None = None,
+    stable_window: int | None = None,
+    objective: Literal["positions", "positions+speed"] = "positions",
+    speed_weight: float | None = None,
+    refine: int | None = None,
+    threads: int | None = None,
+    progress: None = None,
+    out_dir: PathLike,
+    shard: str | tuple[int, int] | None = None,
+    resume: bool = False,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: str = "auto",
+) -> dict[str, Any]:
+    """A library into `out_dir` (`kinergy fit --per clip --out-dir`): this shard of the takes,
+    one result file per reach, the shard's record; with one shard, collected (`rows`)."""
+    ...
+def collect(dir: PathLike) -> list[dict[str, Any]]:
+    """Tables a library folder as `kinergy collect` does; returns library.csv's rows."""
+    ...
 def synthesize(
     clip: ClipLike,
     params: Params | PathLike | None = None,

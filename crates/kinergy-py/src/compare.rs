@@ -75,6 +75,7 @@ pub fn compare<'py>(
         optimizer: parse::<OptimizerKind>("optimizer", optimizer)?,
         baselines,
         fit: fit_settings(
+            false,
             seed,
             budget,
             population,

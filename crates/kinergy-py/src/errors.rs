@@ -73,6 +73,22 @@ pub fn raise<E: Classify>(e: E) -> PyErr {
     }
 }
 
+/// [`raise`], the message naming `path` (the take the error is about) unless it does.
+pub fn raise_naming<E: Classify>(path: &std::path::Path, e: E) -> PyErr {
+    let named = e.to_string().contains(&*path.to_string_lossy());
+    let err = raise(e);
+    if named {
+        return err;
+    }
+    Python::attach(|py| {
+        let value = err.value(py);
+        let message = format!("{}: {value}", path.display());
+        // A fresh exception's args can always be replaced.
+        let _ = value.setattr("args", (message,));
+    });
+    err
+}
+
 /// A `BvhError` saying `message`, with the file's `path`, `line` and `column` (None where
 /// unknown).
 fn bvh_error(message: String, at: Option<Location>) -> PyErr {

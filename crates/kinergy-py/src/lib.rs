@@ -17,6 +17,7 @@ pub mod body;
 pub mod clip;
 pub mod compare;
 pub mod errors;
+pub mod library;
 pub mod params;
 pub mod progress;
 pub mod verbs;
@@ -37,6 +38,7 @@ fn _kinergy(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(body::style, m)?)?;
     m.add_function(wrap_pyfunction!(body::plan, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(library::collect, m)?)?;
     errors::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -172,6 +172,7 @@ pub fn selection_arg(select: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Selec
 /// The search settings of `fit`'s keyword arguments, checked as the CLI checks its flags.
 #[allow(clippy::too_many_arguments)]
 pub fn fit_settings(
+    library: bool,
     seed: u64,
     budget: Option<usize>,
     population: Option<usize>,
@@ -194,7 +195,11 @@ pub fn fit_settings(
             )));
         }
     };
-    let defaults = AnnealSettings::default();
+    let defaults = if library {
+        AnnealSettings::default().for_library()
+    } else {
+        AnnealSettings::default()
+    };
     let anneal = AnnealSettings {
         seed,
         max_evaluations: budget.unwrap_or(defaults.max_evaluations),
@@ -241,7 +246,7 @@ pub struct ReachSource<'a, 'py> {
 
 impl ReachSource<'_, '_> {
     /// The library's request for these arguments (checked as the CLI checks its flags).
-    fn query(&self, controller: Controller) -> PyResult<ReachQuery> {
+    pub fn query(&self, controller: Controller) -> PyResult<ReachQuery> {
         let (unit, up, positions) = self.reading;
         let frames = match self.frames {
             Some((a, b)) if a < b => ReachFrames::Window(a..b),
@@ -327,6 +332,22 @@ impl ReachSource<'_, '_> {
     }
 }
 
+/// `clips=` as paths (files or folders): a library's results are named by their captures'
+/// paths, so not Clips.
+fn clip_paths(clips: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<PathBuf>> {
+    let Some(clips) = clips else {
+        return Ok(Vec::new());
+    };
+    clip_list(Some(clips), true)?
+        .iter()
+        .map(|c| {
+            c.extract::<PathBuf>().map_err(|_| {
+                errors::input("clips: a library takes paths (files or folders), not Clips")
+            })
+        })
+        .collect()
+}
+
 /// `clips=`: one path or Clip, or a list or tuple of them; none only with a segments file.
 pub fn clip_list<'py>(
     clips: Option<&Bound<'py, PyAny>>,
@@ -368,7 +389,7 @@ pub fn clip_list<'py>(
 /// raises stops the fit and is raised here. The GIL is released while fitting; Ctrl-C raises
 /// KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, field = false, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, objective = "positions", speed_weight = None, refine = None, threads = None, progress = None, unit = "auto", up = "auto", positions = "auto"))]
+#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, field = false, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, objective = "positions", speed_weight = None, refine = None, threads = None, progress = None, out_dir = None, shard = None, resume = false, unit = "auto", up = "auto", positions = "auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,
@@ -396,6 +417,9 @@ pub fn fit<'py>(
     refine: Option<usize>,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
+    out_dir: Option<PathBuf>,
+    shard: Option<&Bound<'py, PyAny>>,
+    resume: bool,
     unit: &str,
     up: &str,
     positions: &str,
@@ -413,6 +437,7 @@ pub fn fit<'py>(
     };
     let controller = controller.parse::<Controller>().map_err(errors::raise)?;
     let settings = fit_settings(
+        out_dir.is_some(),
         seed,
         budget,
         population,
@@ -425,7 +450,7 @@ pub fn fit<'py>(
     if let Some(n) = refine {
         errors::check_range("refine", n, limits::BUDGET)?;
     }
-    let reaches = ReachSource {
+    let source = ReachSource {
         clips,
         segments,
         arm,
@@ -434,14 +459,39 @@ pub fn fit<'py>(
         frames,
         fixed_base,
         reading: (unit, up, positions),
-    }
-    .load(py, controller)?;
+    };
     let job = FitJob {
         models: FitJob::models_up_to(model, nested),
         optimizer,
         settings,
         refine,
     };
+    if let Some(dir) = out_dir {
+        if grouping != FitGrouping::Clip || field {
+            return Err(errors::input(
+                "out_dir= fits a library, one result per reach: per=\"clip\" without field",
+            ));
+        }
+        let library = crate::library::LibraryFit {
+            shard: crate::library::shard_arg(shard)?,
+            query: source.query(controller)?,
+            source: crate::library::LibrarySource {
+                clips: clip_paths(source.clips)?,
+                segments: source.segments,
+            },
+            job,
+            dir,
+            resume,
+            pool: thread_pool(threads)?,
+        };
+        return crate::library::fit_library(py, library).map(Bound::into_any);
+    }
+    if shard.is_some() || resume {
+        return Err(errors::input(
+            "shard= and resume= belong to a library: fit(..., per=\"clip\", out_dir=DIR)",
+        ));
+    }
+    let reaches = source.load(py, controller)?;
     let interrupt = AtomicBool::new(false);
     let names: Vec<&'static str> = job.models.iter().map(|m| m.name()).collect();
     let mut runner = Runner {

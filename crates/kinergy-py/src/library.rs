@@ -1,0 +1,191 @@
+//! A library of captures from Python: `fit(..., per="clip", out_dir=DIR, shard=, resume=)`
+//! runs a shard of it and `collect(DIR)` tables it, with the library's own run, files and
+//! checks ([`kinergy_train::library`]) — the bytes `kinergy fit --out-dir` and `kinergy
+//! collect` write.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Duration;
+
+use kinergy_train::anneal::Observer;
+use kinergy_train::fit::FitJob;
+use kinergy_train::library::{Shard, ShardEvent, ShardRun, Takes};
+use kinergy_train::segments_file::SegmentsFile;
+use kinergy_train::source::{ReachQuery, capture_files, nothing_found, segment_clips};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::errors;
+
+/// `shard=`: "I/N", a tuple (I, N), or None for the whole library.
+pub fn shard_arg(shard: Option<&Bound<'_, PyAny>>) -> PyResult<Shard> {
+    let Some(shard) = shard else {
+        return Ok(Shard::ALL);
+    };
+    let text = match shard.extract::<(usize, usize)>() {
+        Ok((i, n)) => format!("{i}/{n}"),
+        Err(_) => shard
+            .extract::<String>()
+            .map_err(|_| errors::input("shard: expected \"I/N\" or a tuple (I, N)"))?,
+    };
+    Shard::parse(&text).map_err(|e| errors::input(format!("shard {e}")))
+}
+
+/// Where a library's takes come from: capture paths (files or folders; not Clips, whose
+/// results would have no name), or a segments file's clips.
+pub struct LibrarySource {
+    /// The captures given (none with a segments file alone).
+    pub clips: Vec<PathBuf>,
+    /// The segments file.
+    pub segments: Option<PathBuf>,
+}
+
+/// A library fit as `fit(..., out_dir=)` asks for it.
+pub struct LibraryFit {
+    /// The takes.
+    pub source: LibrarySource,
+    /// How each take's reaches are found.
+    pub query: ReachQuery,
+    /// How each reach is fitted.
+    pub job: FitJob,
+    /// The library folder.
+    pub dir: PathBuf,
+    /// This run's share of the takes.
+    pub shard: Shard,
+    /// Keep the results already complete.
+    pub resume: bool,
+    /// The worker threads (None: rayon's global pool).
+    pub pool: Option<rayon::ThreadPool>,
+}
+
+/// Runs a shard of the library of `source` into `dir` and, with one shard, collects it.
+/// Returns a dict: `dir`, `shard` (I, N), `takes` (dealt to the shard), `fitted`, `skipped`
+/// (a list of (clip, why)), `record`, and with one shard `rows` (library.csv's rows).
+pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py, PyDict>> {
+    let LibraryFit {
+        source,
+        query,
+        job,
+        dir,
+        shard,
+        resume,
+        pool,
+    } = fit;
+    let dir = dir.as_path();
+    job.validate().map_err(errors::raise)?;
+    if dir.exists() && !dir.is_dir() {
+        return Err(errors::input(format!(
+            "out_dir={}: not a folder",
+            dir.display()
+        )));
+    }
+    let segments = source
+        .segments
+        .as_deref()
+        .map(SegmentsFile::read)
+        .transpose()
+        .map_err(|e| errors::input(e.to_string()))?;
+    let paths = match (&segments, source.clips.is_empty()) {
+        (Some(file), true) => segment_clips(file),
+        _ => capture_files(&source.clips).map_err(errors::raise)?,
+    };
+    let mut inputs = paths.clone();
+    inputs.extend(source.segments.iter().cloned());
+    if let Some(file) = &segments {
+        inputs.extend(file.rows().iter().map(|row| row.clip.clone()));
+    }
+    let takes = Takes::of(&paths, segments.as_ref());
+    let interrupt = AtomicBool::new(false);
+    let done = AtomicUsize::new(0);
+    let observer = || -> Box<dyn Observer> { Box::new(()) };
+    let run = ShardRun {
+        dir,
+        takes: &takes,
+        query: &query,
+        job: &job,
+        shard,
+        resume,
+        inputs: &inputs,
+        interrupt: &interrupt,
+        observer: &observer,
+    };
+    let on_event = |event: ShardEvent<'_>| {
+        if let ShardEvent::TakeDone = event {
+            done.fetch_add(1, Ordering::SeqCst);
+        }
+    };
+    let mut raised = None;
+    let outcome = py.detach(|| {
+        std::thread::scope(|scope| {
+            let worker = scope.spawn(|| match &pool {
+                Some(pool) => pool.install(|| run.run(&on_event)),
+                None => run.run(&on_event),
+            });
+            // This (the calling) thread watches for Ctrl-C.
+            while !worker.is_finished() {
+                std::thread::sleep(Duration::from_millis(25));
+                if let Err(e) = Python::attach(|py| py.check_signals()) {
+                    interrupt.store(true, Ordering::SeqCst);
+                    raised.get_or_insert(e);
+                }
+            }
+            worker.join()
+        })
+    });
+    if let Some(e) = raised {
+        return Err(e);
+    }
+    let outcome = outcome
+        .map_err(|_| errors::KinergyError::new_err("the library's worker thread failed"))?
+        .map_err(errors::raise)?;
+    if let Some((take, e)) = outcome.failed {
+        return Err(errors::raise_naming(&take, e));
+    }
+    let out = PyDict::new(py);
+    out.set_item("dir", dir.display().to_string())?;
+    out.set_item("shard", (shard.index, shard.count))?;
+    out.set_item("takes", outcome.dealt)?;
+    out.set_item("fitted", outcome.fitted)?;
+    let skipped: Vec<(String, String)> = outcome
+        .skipped
+        .iter()
+        .map(|s| (s.clip.display().to_string(), s.why.clone()))
+        .collect();
+    out.set_item("skipped", skipped)?;
+    out.set_item("record", outcome.record.display().to_string())?;
+    // One shard is collected at its end, as the CLI does, before saying nothing was fitted.
+    if shard.count == 1 {
+        out.set_item("rows", collect_rows(py, dir)?)?;
+    }
+    if outcome.fitted == 0 && outcome.dealt > 0 {
+        return Err(errors::raise(nothing_found(&outcome.skipped)));
+    }
+    Ok(out)
+}
+
+/// Tables a library fitted into `dir` (by `fit(..., out_dir=)` or `kinergy fit --out-dir`,
+/// in one or several shards), as `kinergy collect` does: checks that every take dealt was
+/// fitted or skipped and every result is there and complete, writes `library.csv` and
+/// `skipped.csv`, and returns library.csv's rows as dicts (clip, person, arm, onset, end,
+/// frames, model, optimizer, distance_sa_m … distance_se_m, evaluations, seconds, result).
+/// An incomplete library raises KinergyError naming what is missing (the tables are written
+/// all the same); a folder that is no library raises InputError.
+#[pyfunction]
+pub fn collect<'py>(py: Python<'py>, dir: PathBuf) -> PyResult<Bound<'py, PyList>> {
+    collect_rows(py, &dir)
+}
+
+/// library.csv's rows after [`kinergy_train::library::collect`], as dicts.
+fn collect_rows<'py>(py: Python<'py>, dir: &Path) -> PyResult<Bound<'py, PyList>> {
+    let collected = py
+        .detach(|| kinergy_train::library::collect(dir))
+        .map_err(errors::raise)?;
+    let json = py.import("json")?;
+    let out = PyList::empty(py);
+    for row in &collected.table.rows {
+        let text = serde_json::to_string(row)
+            .map_err(|e| errors::KinergyError::new_err(format!("library row: {e}")))?;
+        out.append(json.call_method1("loads", (text,))?)?;
+    }
+    Ok(out)
+}
