@@ -199,7 +199,7 @@ fn experiments(_: &mut Criterion) {
     }
 }
 
-/// A library's unit of work (issue 24): one reach fitted S_A → S_D nested at the default
+/// A library's unit of work: one reach fitted S_A → S_D nested at the default
 /// budget, on one core — the smooth controller's synthesis and the annealer's evaluations
 /// together.
 fn library_reach(c: &mut Criterion) {

@@ -40,7 +40,7 @@
 //! sees points inside the box, and the returned best is a mirrored point. Mirroring rather than
 //! clamping: clamping makes the cost flat outside the box, and a simplex that overshoots a
 //! corner then finds the same cost at every vertex, which argmin's standard-deviation test takes
-//! for convergence (a sphere centred outside `[−1, 2]³` stopped so after 20 evaluations at the
+//! for convergence (a sphere centred outside `[−1, 2]³` stops so after 20 evaluations at the
 //! corner `(2, −1, 2)`, cost 1.5 against the 1.25 at the face). Mirroring keeps distances, so
 //! the cost rises again beyond a bound, and a minimum on a face becomes a fold the simplex
 //! closes on. A vertex with a non-finite coordinate costs `f64::MAX` and is not evaluated.
@@ -50,12 +50,12 @@
 //!
 //! **Why the annealer is not argmin's.** argmin's simulated annealing runs one proposal per
 //! executor iteration, about 0.9 µs of executor overhead each against about 26 ns for the
-//! hand-written loop (figures from the issue that asked for these baselines), and draws from a
-//! single sequential generator held in the solver, which can only be checkpointed with argmin's
-//! `serde1` feature (off here) and which ties the draws to the evaluation order. Ours derives each member's generator from (seed, iteration, member),
-//! so nothing random needs checkpointing, members evaluate in parallel, and a resumed run ends
-//! bit for bit where an uninterrupted one does. The baselines run single-threaded (argmin's
-//! `rayon` feature is off), which costs them nothing in evaluations.
+//! hand-written loop, and draws from a single sequential generator held in the solver, which can
+//! only be checkpointed with argmin's `serde1` feature (off here) and which ties the draws to the
+//! evaluation order. Ours derives each member's generator from (seed, iteration, member), so
+//! nothing random needs checkpointing, members evaluate in parallel, and a resumed run ends bit for
+//! bit where an uninterrupted one does. The baselines run single-threaded (argmin's `rayon` feature
+//! is off), which costs them nothing in evaluations.
 
 use std::fmt;
 use std::str::FromStr;

@@ -330,8 +330,8 @@ impl CapturedReach {
     /// The same reach toward another target, world meters (the capture it is scored
     /// against stays the same). The target must be finite and within [`MAX_TARGET_DISTANCE`]
     /// of the arm's base (the clavicle) on the reach's last frame: farther, no body reaches
-    /// it, and a fit's distances overflowed (a target of 1e308 m was fitted to "inf mm" and
-    /// stored as 1.797e308; issue 27 #7). Else [`TrainError::Setting`] naming `target`.
+    /// it, and a fit's distances would overflow (a target of 1e308 m would be fitted to "inf mm"
+    /// and stored as 1.797e308). Else [`TrainError::Setting`] naming `target`.
     pub fn with_target(self, target: Point3<f64>) -> Result<CapturedReach> {
         let field = || "target".to_string();
         if !target.iter().all(|v| v.is_finite()) {

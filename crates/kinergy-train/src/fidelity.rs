@@ -1,4 +1,4 @@
-//! A person's motions judged **in real time** against their own repeats (issue 40): for each
+//! A person's motions judged **in real time** against their own repeats: for each
 //! of a person's captures, the hand speed relative to the shoulder over the capture's main
 //! reach is compared, second by second, with what each predictor makes of it:
 //!

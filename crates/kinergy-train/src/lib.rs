@@ -37,8 +37,7 @@ pub mod limits;
 pub mod objective;
 pub mod person;
 pub mod segments_file;
-/// Reach segmentation, now in `kinergy-motion`: re-exported so `kinergy_motion::segment` keeps
-/// working.
+/// Reach segmentation from `kinergy-motion`, re-exported as `kinergy_train::segment`.
 pub use kinergy_motion::segment;
 pub mod source;
 pub mod style;

@@ -1,5 +1,5 @@
 //! The field file: its JSON round trip is exact and loading checks it; an anchored field is
-//! its anchor plus how the samples vary with the target. Moved out of `tests/field.rs`.
+//! its anchor plus how the samples vary with the target.
 
 mod field_support;
 

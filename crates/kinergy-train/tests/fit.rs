@@ -558,8 +558,8 @@ fn abandoning_motions_the_annealer_would_reject_changes_no_bit_of_the_fit() {
 /// relative to its turning base much faster than the hand moves relative to the shoulder
 /// (1.06 against 0.37 m/s). The smooth controller's bounds follow the base-frame speed, so
 /// even the neutral synergy gets the hand near the object within the captured frames (0.10 and
-/// 0.09 m from it); bounded by the shoulder-relative speed it lagged, 0.52 m away (right hand)
-/// when the capture had arrived.
+/// 0.09 m from it); bounded by the shoulder-relative speed it would lag, 0.52 m away (right
+/// hand) when the capture has arrived.
 #[test]
 fn a_pick_up_s_synthesis_keeps_up_with_the_bending_trunk() {
     use kinergy_motion::segment::{SegmentSettings, main_segment};

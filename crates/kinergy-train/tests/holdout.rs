@@ -325,9 +325,9 @@ fn bandai_fitted_sc_beats_neutral_on_held_out_takes() {
     }
 }
 
-/// Issue 40: a held-out take is synthesized under the fitted person's tempo law for its
-/// distance (the default), or told its own capture's speed (`HeldOutTempo::Capture`, the
-/// protocol before the law): the same fitted vector scored again here independently both ways.
+/// A held-out take is synthesized under the fitted person's tempo law for its distance (the
+/// default), or told its own capture's speed (`HeldOutTempo::Capture`): the same fitted vector
+/// scored again here independently both ways.
 #[test]
 fn held_out_takes_run_under_the_persons_law_or_their_own_capture_speed() {
     let takes = made_persons();

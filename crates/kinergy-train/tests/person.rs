@@ -317,7 +317,7 @@ fn older_versions_damaged_fields_and_other_files_are_named() {
         e.contains("`format_version` is 1") && e.contains("kinergy fit --field"),
         "{e}"
     );
-    // Format 2 had no anchor.
+    // Format 2 has no anchor.
     let e = read_error(
         dir.path(),
         "v2.json",

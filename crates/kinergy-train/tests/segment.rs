@@ -376,7 +376,8 @@ fn reach_and_return() -> (Clip, Move) {
 }
 
 // Labels 1: a reach, a hold, the return: reach then return, and the main reach is the
-// reach although the return moves the hand farther (what the old rule picked).
+// reach although the return moves the hand farther (a rule taking the largest move would pick
+// the return).
 #[test]
 fn a_reach_then_its_return() {
     let (c, back) = reach_and_return();

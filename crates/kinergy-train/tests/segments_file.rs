@@ -357,7 +357,7 @@ fn a_window_outside_the_clip_is_an_error_when_resolved() {
     );
 }
 
-/// Issue 27 #9, #11: what the writer writes the reader reads — clips named with a line break,
+/// What the writer writes the reader reads — clips named with a line break,
 /// a leading `#` or a leading space, persons with quotes and line breaks — and a file whose
 /// lines end in CR alone (classic Mac) or CR LF reads the same rows with the right lines.
 #[test]

@@ -87,8 +87,8 @@ pub enum HeldOutTempo {
     /// `synthesize --params` and the full body deliver the person.
     #[default]
     Person,
-    /// The held-out capture's own speed: the protocol before the law was recorded, which
-    /// tells the synthesis how fast the held-out take moved.
+    /// The held-out capture's own speed, which tells the synthesis how fast the held-out
+    /// take moved.
     Capture,
 }
 

@@ -257,8 +257,8 @@ pub(super) fn run_stage(
     control: &Control<'_>,
 ) -> Result<Fit> {
     let model = objective.space().model();
-    // The parameters of DoFs no reach can see are held at their neutral values (issue 40:
-    // annealed, they were random walks that moved the full body's hand).
+    // The parameters of DoFs no reach can see are held at their neutral values (annealed,
+    // they would be random walks that move the full body's hand).
     let neutral = objective.space().neutral();
     let pinned = pinned_params(objective);
     let mut held = start.to_vec();
@@ -345,9 +345,9 @@ pub(super) fn run_stage(
 /// S_E's first phase: its own parameters (the growth rates and the tempo factors, from
 /// neutral) annealed with S_D's part held at `start`'s, on the same budget: the vector, its
 /// evaluations and iterations; `None` for the other models. Started at S_D's solution, an
-/// annealer moving every parameter at once found nothing better (every proposal of 30
-/// parameters moved S_D's sharp optimum too): on the shared people's takes 1–4 the
-/// whole-vector stage ended where it began for two persons of three.
+/// annealer moving every parameter at once finds nothing better (every proposal of 30
+/// parameters moves S_D's sharp optimum too): on the shared people's takes 1–4 the
+/// whole-vector stage ends where it begins for two persons of three.
 fn own_first(
     objective: &Objective,
     start: &[f64],
@@ -392,7 +392,7 @@ fn own_first(
 /// the sigmoid on from the start, growth 0) instead of annealed: those of the DoFs that no
 /// reach can see ([`kinergy_solver::FittedArm::unobserved_dofs`] on every reach; the forearm's
 /// twist and the wrist of a capture without a hand bone), whose values cannot change the
-/// fitted motion and so were random walks of the annealer. Shared parameters (S_A's gain,
+/// fitted motion and so would be random walks of the annealer. Shared parameters (S_A's gain,
 /// S_C's sigmoid, S_E's tempo factors) are never held.
 pub(crate) fn pinned_params(objective: &Objective) -> Vec<usize> {
     let mut hidden: Option<Vec<usize>> = None;
