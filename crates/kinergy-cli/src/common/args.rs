@@ -214,8 +214,8 @@ pub struct SearchArgs {
     /// The stopping rule: a fit ends when the population's mean score changed by at most this
     /// share over the last `--stable-window` iterations, 0 to 1 (default: 0.0001; 0.001 for a
     /// library, `fit --per clip --out-dir`). A coarser rule is faster and scores about as
-    /// well, but ends in other parameters: the README's "Fitting a library of captures"
-    /// measures what 0.001 over 15 iterations does.
+    /// well, but ends in other parameters: `docs/guide/libraries-and-clusters.md` "A library's
+    /// stopping rule" measures what 0.001 over 15 iterations does.
     #[arg(long, value_name = "REL")]
     pub stable_change: Option<f64>,
     /// Iterations over which `--stable-change` is measured, 1 to 100000 (default: 25; 15 for a
@@ -224,7 +224,7 @@ pub struct SearchArgs {
     pub stable_window: Option<usize>,
     /// What the fit minimizes: `positions` (the paper's mean joint-position distance) or
     /// `positions+speed` (plus `--speed-weight` × the RMS error of the hand's speed over the
-    /// captured frames; the README's "Fitting a person's synergy parameters" measures it).
+    /// captured frames; `docs/guide/fitting.md` "`fit`" measures it).
     #[arg(long, value_enum, default_value_t = ObjectiveArg::Positions, value_name = "KIND")]
     pub objective: ObjectiveArg,
     /// With `--objective positions+speed`: meters of distance per m/s of RMS hand-speed error

@@ -49,9 +49,9 @@ pub struct CaptureArgs {
     #[arg(long)]
     pub fixed_base: bool,
     /// The synergy controller: `smooth` (bounded accelerations, progress floor, the finish to
-    /// the plain optimizer after the reach's frames, the capture's start velocity; see the
-    /// README's "Synergy IK") or `paper` (Aubry et al.'s Θ ← clamp(Θ + S(t)·O(ΔX)) alone, from
-    /// rest).
+    /// the plain optimizer after the reach's frames, the capture's start velocity; see
+    /// `docs/guide/fitting.md` "The controller: smooth (the default) or the paper's") or
+    /// `paper` (Aubry et al.'s Θ ← clamp(Θ + S(t)·O(ΔX)) alone, from rest).
     #[arg(long, default_value_t = Controller::Smooth, value_name = "smooth|paper")]
     pub controller: Controller,
     #[command(flatten)]

@@ -14,7 +14,8 @@ pub struct Args {
     #[arg(value_name = "CLIPS", required_unless_present = "segments")]
     pub clips: Vec<PathBuf>,
     /// The synergy model to fit: the paper's S_A … S_D, or `se`, S_E (beyond the paper: S_D
-    /// with per-DoF gain growth and the person's acceleration and onset; README "S_E").
+    /// with per-DoF gain growth and the person's acceleration and onset;
+    /// `docs/guide/fitting.md` "S_E, beyond the paper").
     #[arg(long, value_name = "sa|sb|sc|sd|se")]
     pub model: Model,
     /// The IK optimizer the motions are synthesized with.
