@@ -80,6 +80,5 @@ def compare(clips=None, *, as_records: bool = False, **options):
         return rows
     import numpy as np
 
-    names = ["clip", "arm", "onset", "end", "model", "optimizer", "method", "distance_m",
-             "frames", "evaluations", "seconds"]
+    names = list(_kinergy.RESULTS_COLUMNS)
     return np.rec.fromrecords([tuple(r[n] for n in names) for r in rows], names=names)

@@ -9,6 +9,8 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+RESULTS_COLUMNS: list[str]
+"""The columns of `kinergy compare`'s results.csv, in order: what `compare` rows hold."""
 
 PathLike = Union[str, "os.PathLike[str]"]
 ClipLike = Union["Clip", PathLike]
@@ -279,6 +281,7 @@ def synthesize(
     params: Params | PathLike | None = None,
     *,
     frames: str | tuple[int, int] | None = None,
+    select: str | int | None = None,
     target: Sequence[float] | None = None,
     model: Model = "sa",
     optimizer: Optimizer = "svd",

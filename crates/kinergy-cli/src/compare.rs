@@ -47,22 +47,6 @@ use crate::common::{Bar, Failure, check_optional, emit, limits, print_json};
 /// The folder `compare` uses when no clips are given.
 pub const DEFAULT_DATA: &str = "data-synthetic";
 
-/// One fit's row of results.csv.
-#[derive(Debug, Serialize)]
-struct CsvRow<'a> {
-    clip: &'a str,
-    arm: String,
-    onset: usize,
-    end: usize,
-    model: &'static str,
-    optimizer: &'static str,
-    method: &'static str,
-    distance_m: f64,
-    frames: usize,
-    evaluations: usize,
-    seconds: f64,
-}
-
 /// Runs `kinergy compare`.
 pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(dir) = &args.library {
@@ -158,22 +142,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let seconds = clock.elapsed().as_secs_f64();
 
     let csv_path = args.output.join("results.csv");
-    crate::common::write_csv(
-        &csv_path,
-        results.rows.iter().map(|r| CsvRow {
-            clip: &r.clip,
-            arm: r.arm.map_or_else(String::new, |s| s.to_string()),
-            onset: r.onset,
-            end: r.end,
-            model: r.model.name(),
-            optimizer: r.optimizer.name(),
-            method: r.method.name(),
-            distance_m: r.distance_m,
-            frames: r.frames,
-            evaluations: r.evaluations,
-            seconds: r.seconds,
-        }),
-    )?;
+    crate::common::write_csv(&csv_path, &results.rows)?;
 
     let summary = Summary::of(&results, &settings);
     let report = SummaryReport::new(&summary, &results, &settings, reaches.len(), seconds);

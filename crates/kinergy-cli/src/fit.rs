@@ -231,8 +231,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 }
 
 /// A failure `e` of the fit after `written` of `total` results were written into `dest`:
-/// with several, the message says which are safe (an interrupted run used to say "nothing
-/// saved" with 44 of 56 results written).
+/// with several, the message says which results are safe and which must be fitted again.
 fn written_before(e: Failure, written: &[FitReport], total: usize, dest: &Path) -> Failure {
     if total < 2 {
         return e;

@@ -1,5 +1,5 @@
 //! `kinergy style`: runs and renders [`kinergy_reach::style`]: whether `reach --params` reaches
-//! in the person's style (issue 16 §2). For
+//! in the person's style. For
 //! each of the person's captures, the full-body character (the capture's proportions) reaches
 //! the capture's own target — the hand's last position of its main reach, carried over in the
 //! arm's fitted base frame — once with the person's parameters and once with the default
@@ -267,7 +267,7 @@ fn compare_one(
     if let Some(fitted) = fitted {
         let here =
             kinergy_train::measured_arm(&clip, &joints).map_err(|e| Failure::input(path, e))?;
-        if let Some(warning) = crate::common::arm_mismatch(fitted, &here) {
+        if let Some(warning) = kinergy_train::synthesize::arm_mismatch(fitted, &here) {
             eprintln!("warning: {name}: {warning}");
         }
     }

@@ -7,18 +7,16 @@
 //! on the segment's first frame. Exit code 1 when the target is not reached; the motion is
 //! written all the same.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use kinergy_motion::segment::Selection;
 use kinergy_motion::{ExportOptions, LengthUnit, Side};
-use kinergy_solver::{BaseMode, FieldUse, Model, OptimizerKind, StopReason};
-use kinergy_train::source::{FrameChoice, names_clip};
-use kinergy_train::{CapturedReach, PersonParams, ReachDrive, Replay, TrainError};
-use serde::Serialize;
+use kinergy_solver::{BaseMode, Model, OptimizerKind};
+use kinergy_train::TrainError;
+use kinergy_train::source::FrameChoice;
+use kinergy_train::synthesize::{Drive, Step, SynthesisReport, SynthesizeError, SynthesizeRequest};
 
-use crate::common::{
-    ArmArgs, Controller, Failure, ReadArgs, check_range, emit, limits, parse_point, print_json,
-};
+use crate::common::{Controller, Failure, ReadArgs, emit, parse_point, print_json};
 
 /// Arguments of `kinergy synthesize`.
 #[derive(Debug, clap::Args)]
@@ -96,36 +94,8 @@ pub struct Args {
     chain: Option<Vec<String>>,
 }
 
-#[derive(Debug, Serialize)]
-struct Report {
-    input: String,
-    output: String,
-    arm: Vec<String>,
-    model: String,
-    optimizer: String,
-    base: &'static str,
-    target_m: [f64; 3],
-    target_from: &'static str,
-    /// `vector` (a parameters file), `field` (predicted by a field file) or `neutral`.
-    params_from: &'static str,
-    /// With a field file: what it predicted from.
-    field: Option<FieldUse>,
-    capture_frames: [usize; 2],
-    stop: &'static str,
-    frames: usize,
-    duration_s: f64,
-    final_error_m: f64,
-    shoulder_to_target_m: f64,
-    arm_length_m: f64,
-    /// The mean joint-position distance of the synthesized arm to the captured one on the
-    /// same frames, meters (toward `--target` too: then it measures how the motion toward
-    /// that target differs from the captured one).
-    distance_to_capture_m: Option<f64>,
-    widened_limits: Vec<String>,
-    at_limits_at_end: Vec<String>,
-}
-
-/// Runs `kinergy synthesize`.
+/// Runs `kinergy synthesize`: the request ([`SynthesizeRequest`]) from the flags, run, the
+/// motion written and the report said.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.read.check()?;
     let Some(from) = args.clip.as_deref().or(args.from.as_deref()) else {
@@ -133,34 +103,95 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "name the capture: kinergy synthesize CLIP.bvh …".into(),
         ));
     };
-    check_range("--tolerance", args.tolerance, limits::TOLERANCE_M)?;
-    check_range(
-        "--max-seconds",
-        args.max_seconds,
-        limits::SYNTHESIZE_SECONDS,
-    )?;
+    let mut request = SynthesizeRequest {
+        frames: frame_choice(args)?,
+        arm: args.arm,
+        chain: args.chain.clone(),
+        base: if args.fixed_base {
+            BaseMode::Fixed
+        } else {
+            BaseMode::Replay
+        },
+        controller: args.controller,
+        target: None,
+        drive: Drive::Neutral {
+            model: args.model,
+            optimizer: args.optimizer.default_optimizer(),
+        },
+        tolerance: args.tolerance,
+        max_seconds: args.max_seconds,
+        stop_at_reach: args.stop_at_reach,
+    };
+    request
+        .validate()
+        .map_err(|e| Failure::Input(format!("--{} {}", e.field.replace('_', "-"), e.why)))?;
     let mut inputs = vec![from];
     inputs.extend(args.params.as_deref());
     crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
-    let params = match &args.params {
-        Some(path) => Some(crate::common::read_person(path)?),
-        None => None,
-    };
-    let same_clip = |clip: &str| names_clip(clip, from);
-    let record = params.as_ref().and_then(PersonParams::record);
-    let record = record.as_ref();
-    let fitted_arm = record.and_then(|r| r.arm(same_clip));
+    if let Some(path) = &args.params {
+        request.drive = Drive::Person {
+            params: crate::common::read_person(path)?,
+            path: Some(path.clone()),
+        };
+    }
     let (whole, _) = args.read.read(from)?;
-    let side = args
-        .arm
-        .or(fitted_arm.and_then(|a| a.side))
-        .unwrap_or(Side::Right);
-    let arm_args = ArmArgs {
-        arm: crate::common::ArmSide::Side(side),
-        chain: args.chain.clone(),
+    if let Some(t) = &args.target {
+        request.target = Some(parse_point(t, "--target")?);
+    }
+    let done = request
+        .run(&whole, from)
+        .map_err(|e| failure(args, &request, from, e))?;
+    if let Some(warning) = &done.warning {
+        eprintln!("warning: {warning}");
+    }
+    crate::common::write_clip(
+        &args.output,
+        &done.clip,
+        &ExportOptions {
+            unit: args.unit,
+            ..Default::default()
+        },
+    )?;
+    let report = SynthesisReport {
+        output: Some(args.output.display().to_string()),
+        ..done.report
     };
-    let joints = arm_args.find(&whole, from)?;
-    let choice = match (args.select, args.frames.as_str()) {
+    if args.json {
+        print_json(&report)?;
+    } else {
+        emit(&text(&report))?;
+    }
+    report.ending().map_err(|e| match e {
+        TrainError::NotReached {
+            final_error_m,
+            shoulder_to_target_m,
+            arm_length_m,
+            ..
+        } if shoulder_to_target_m > arm_length_m => Failure::Task(format!(
+            "the target is beyond reach by {}: it is {} from the shoulder on the last frame and \
+             the arm is {} long; the motion written to {} ends with the hand {} from it",
+            crate::common::length(shoulder_to_target_m - arm_length_m),
+            crate::common::length(shoulder_to_target_m),
+            crate::common::length(arm_length_m),
+            crate::common::shown(&args.output),
+            crate::common::length(final_error_m)
+        )),
+        TrainError::NotReached {
+            stop,
+            final_error_m,
+            ..
+        } => Failure::Task(format!(
+            "the target was not reached ({stop}): the motion written to {} ends {:.1} mm from it",
+            crate::common::shown(&args.output),
+            final_error_m * 1000.0
+        )),
+        e => e.into(),
+    })
+}
+
+/// `--frames` or `--select`, as the reach's frames.
+fn frame_choice(args: &Args) -> Result<FrameChoice, Failure> {
+    Ok(match (args.select, args.frames.as_str()) {
         (Some(Selection::All), _) => {
             return Err(Failure::Input(
                 "--select all: synthesize makes one reach; pick main or a segment number".into(),
@@ -171,164 +202,57 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         (None, "fit") => FrameChoice::Fitted,
         (None, "all") => FrameChoice::All,
         (None, text) => FrameChoice::Window(crate::common::parse_frames(text)?),
-    };
-    let frames = choice
-        .resolve(&whole, from, &joints, record)
-        .map_err(|e| match e {
+    })
+}
+
+/// A synthesis that failed, said with the flags and files behind it.
+fn failure(args: &Args, request: &SynthesizeRequest, from: &Path, e: SynthesizeError) -> Failure {
+    match (e.step, e.source) {
+        (
+            Step::Reach,
+            TrainError::Arm {
+                path,
+                source,
+                other_side,
+            },
+        ) => crate::common::args::arm_failure_with(source, &path, other_side),
+        (
+            Step::Frames,
             TrainError::Frames {
                 frames, available, ..
-            } => {
-                // Name where the window came from: the option, or the parameters file's record.
-                let source = match (&args.params, &choice) {
-                    (Some(path), FrameChoice::Fitted) => {
-                        format!("{}: `fit.reaches` frames", path.display())
-                    }
-                    _ => "--frames".to_string(),
-                };
-                Failure::Input(format!(
-                    "{source} {}..{}: {} has {available} frames and a reach needs at least 2",
-                    frames.start,
-                    frames.end,
-                    from.display(),
-                ))
-            }
-            e => Failure::input(from, e),
-        })?;
-    let name = from.display().to_string();
-    let mode = if args.fixed_base {
-        BaseMode::Fixed
-    } else {
-        BaseMode::Replay
-    };
-    let reach = CapturedReach::new(&name, &whole, &joints, frames.clone(), mode)
-        .map(|r| args.controller.apply(r))
-        .map_err(|e| Failure::input(from, e))?;
-    let dof_names = reach.dof_names();
-    if let Some(warning) =
-        fitted_arm.and_then(|f| crate::common::arm_mismatch(f, reach.fitted_arm()))
-    {
-        eprintln!("warning: {warning}");
-    }
-
-    let (reach, target_from) = match &args.target {
-        Some(t) => (
-            reach
-                .with_target(parse_point(t, "--target")?)
-                .map_err(|e| {
-                    Failure::Input(format!("--target `{}`: {e}", kinergy_io::clip_text(t, 60)))
-                })?,
-            "--target",
-        ),
-        None => (reach, "the capture's final hand position"),
-    };
-    let target = reach.target();
-    // A field predicts for the target where the person sees it (in the arm's base frame), asked
-    // mirrored when fitted on the other arm.
-    let drive = match (&params, &args.params) {
-        (Some(person), Some(path)) => {
-            ReachDrive::person(&reach, person, side).map_err(|e| Failure::input(path, e))?
+            },
+        ) => {
+            // Name where the window came from: the option, or the parameters file's record.
+            let source = match (&args.params, &request.frames) {
+                (Some(path), FrameChoice::Fitted) => {
+                    format!("{}: `fit.reaches` frames", path.display())
+                }
+                _ => "--frames".to_string(),
+            };
+            Failure::Input(format!(
+                "{source} {}..{}: {} has {available} frames and a reach needs at least 2",
+                frames.start,
+                frames.end,
+                from.display(),
+            ))
         }
-        _ => ReachDrive::neutral(&reach, args.model, args.optimizer.default_optimizer())
-            .map_err(Failure::from)?,
-    };
-    let Replay {
-        synthesis,
-        distance_to_capture_m: distance,
-    } = reach
-        .replay(&drive, args.tolerance, args.max_seconds, args.stop_at_reach)
-        .map_err(Failure::from)?;
-    let out_clip = reach
-        .to_clip(&whole, &synthesis)
-        .map_err(|e| Failure::input(from, e))?;
-    crate::common::write_clip(
-        &args.output,
-        &out_clip,
-        &ExportOptions {
-            unit: args.unit,
-            ..Default::default()
-        },
-    )?;
-
-    let arm = reach.arm();
-    let last = synthesis.frame_count() - 1;
-    let report = Report {
-        input: name,
-        output: args.output.display().to_string(),
-        arm: joints
-            .names(whole.skeleton())
-            .into_iter()
-            .map(String::from)
-            .collect(),
-        model: drive.synergy.model().name().to_string(),
-        optimizer: drive.optimizer.to_string(),
-        base: if args.fixed_base { "fixed" } else { "replayed" },
-        target_m: [target.x, target.y, target.z],
-        target_from,
-        params_from: match (&params, &drive.field) {
-            (None, _) => "neutral",
-            (Some(_), None) => "vector",
-            (Some(_), Some(_)) => "field",
-        },
-        field: drive.field,
-        capture_frames: [frames.start, frames.end],
-        stop: synthesis.stop.name(),
-        frames: synthesis.frame_count(),
-        duration_s: synthesis.frame_count().saturating_sub(1) as f64 * reach.frame_time(),
-        final_error_m: synthesis.final_error,
-        shoulder_to_target_m: (target - reach.base().at(last).translation.vector)
-            .coords
-            .norm(),
-        arm_length_m: arm_length(arm.chain()),
-        distance_to_capture_m: distance,
-        widened_limits: arm.widened_limits().to_vec(),
-        at_limits_at_end: arm
-            .chain()
-            .dofs_at_limits(synthesis.configuration(last), 1e-6)
-            .into_iter()
-            .map(|k| dof_names[k].clone())
-            .collect(),
-    };
-    if args.json {
-        print_json(&report)?;
-    } else {
-        emit(&text(&report))?;
-    }
-    let beyond = report.shoulder_to_target_m - report.arm_length_m;
-    match synthesis.stop {
-        StopReason::Reached => Ok(()),
-        _ if beyond > 0.0 => Err(Failure::Task(format!(
-            "the target is beyond reach by {}: it is {} from the shoulder on the last frame and \
-             the arm is {} long; the motion written to {} ends with the hand {} from it",
-            crate::common::length(beyond),
-            crate::common::length(report.shoulder_to_target_m),
-            crate::common::length(report.arm_length_m),
-            crate::common::shown(&args.output),
-            crate::common::length(synthesis.final_error)
-        ))),
-        stop => Err(Failure::Task(format!(
-            "the target was not reached ({stop}): the motion written to {} ends {:.1} mm from it",
-            crate::common::shown(&args.output),
-            synthesis.final_error * 1000.0
-        ))),
+        (Step::Target, e) => Failure::Input(format!(
+            "--target `{}`: {e}",
+            kinergy_io::clip_text(args.target.as_deref().unwrap_or(""), 60)
+        )),
+        (Step::Frames | Step::Reach | Step::Clip, e) => Failure::input(from, e),
+        (Step::Params, e) => Failure::Input(e.to_string()),
+        (Step::Synthesis, e) => e.into(),
     }
 }
 
-/// Shoulder to end effector, fully stretched.
-fn arm_length(chain: &kinergy_motion::Chain) -> f64 {
-    chain.joints()[1..]
-        .iter()
-        .map(|j| j.offset.norm())
-        .sum::<f64>()
-        + chain.end_effector().norm()
-}
-
-fn text(r: &Report) -> String {
+fn text(r: &SynthesisReport) -> String {
     let mut s = format!(
         "{} → {}\narm: {}\nmodel {}, optimizer {}, base {}\ntarget ({:.4}, {:.4}, {:.4}) m from {}\n\
          stop: {} after {} frames ({:.3} s), final error {:.2} mm\n\
          the target is {:.3} m from the shoulder on the last frame; the arm is {:.3} m long\n",
         r.input,
-        r.output,
+        r.output.as_deref().unwrap_or("-"),
         r.arm.join(" → "),
         r.model,
         r.optimizer,

@@ -16,8 +16,7 @@ use std::process::Command;
 
 use common::{kinergy, repo, stderr};
 
-/// Bone heads further from Kinergy's joints than this (file units) fail the test, as issue 14
-/// asks — unless Blender's own two readings of the file (native Euler and quaternion
+/// Bone heads further from Kinergy's joints than this (file units) fail the test — unless Blender's own two readings of the file (native Euler and quaternion
 /// rotations) already differ by more than a quarter of it: Blender evaluates poses in single
 /// precision, and on Character Creator's 100-joint rig (centimeters) its two readings differ
 /// by 1.7e-4 cm and its toes land up to 4.9e-4 cm from the exact (f64) joints. Such a file is

@@ -326,7 +326,7 @@ fn a_fit_killed_at_random_moments_resumes_bit_for_bit() {
 
 // ---------------------------------------------------------------------------------------
 // kill -9 of a folder fit at 50 random moments: no result partial, none reported lost, no
-// temporary outlives the next run (issue 27 #10).
+// temporary outlives the next run.
 
 /// The files of the library folder `dir` (recursively), relative, with their bytes: the
 /// results and any temporary, not the tables and records (their `seconds` are the timing's).

@@ -281,7 +281,7 @@ fn old_damaged_and_misused_field_files_are_bad_input_naming_the_field() {
     );
 }
 
-/// Issue 16: on held-out takes the person's field is at least as good as their single vector.
+/// On held-out takes the person's field is at least as good as their single vector.
 /// Bandai raise-left, each style a person, fitted on takes 1–6 and scored on 7–8 (`compare
 /// --per person --holdout 2 --seed 1`): the field, anchored to the single vector, at least as
 /// good for every person and over all (measured: active equal — its field is flat, the vector

@@ -1,4 +1,4 @@
-//! A library of captures (issue 24): `fit --per clip --out-dir DIR` over a mixed folder —
+//! A library of captures: `fit --per clip --out-dir DIR` over a mixed folder —
 //! takes with no reach, one arm, both arms — with `--arm auto`; `library.csv` and
 //! `skipped.csv`; `--resume`; shards that give what one machine gives; `collect`.
 
@@ -373,7 +373,7 @@ fn resume_fits_only_the_reaches_without_a_complete_result() {
     );
 }
 
-/// A library stops coarser by default (issue 24 §3: 0.1 % over 15 iterations, halving the
+/// A library stops coarser by default (0.1 % over 15 iterations, halving the
 /// evaluations): each reach's result is what a single fit of its take gives with that rule
 /// asked for, and the single fit's rule asked for in a library gives the single fit's result.
 #[test]
@@ -420,7 +420,7 @@ fn a_library_stops_by_the_library_rule_and_either_rule_is_one_flag_away() {
     );
 }
 
-/// The sweep's findings (issue 27): a segments file naming one capture under two spellings,
+/// The sweep's findings: a segments file naming one capture under two spellings,
 /// once per arm, is one take with two reaches (it was refused as two results of one name),
 /// and `compare`'s results.csv tells the two reaches apart by arm and frames.
 #[test]

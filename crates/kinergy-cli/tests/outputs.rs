@@ -466,7 +466,7 @@ fn a_full_disk_during_synth_says_disk_full_and_leaves_no_folder() {
     );
 }
 
-/// A file inside an output folder is an output like `-o FILE` (issue 27 #1, #3, #4): every
+/// A file inside an output folder is an output like `-o FILE`: every
 /// command that writes into a folder refuses, before any work, a run whose files would
 /// replace one of its inputs — a segments file, a params file, a clip, a scene's mesh — and
 /// the input is left as it was.

@@ -784,7 +784,7 @@ fn style_compares_hand_speed_profiles_with_the_captures() {
     assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
 }
 
-/// Issue 27 #9: `style` with parameters fitted on another skeleton's arm warns as
+/// `style` with parameters fitted on another skeleton's arm warns as
 /// `synthesize` does (which arm, which bones, how much they differ), and still compares.
 #[test]
 fn style_warns_when_the_params_come_from_another_arm() {
@@ -799,8 +799,8 @@ fn style_warns_when_the_params_come_from_another_arm() {
     );
 }
 
-/// `style -o DIR` makes a missing folder (it used to fail with an OS error about style.csv
-/// after all the work), and says why when it cannot.
+/// `style -o DIR` makes a missing folder before any work (not an OS error about style.csv
+/// after it), and says why when it cannot.
 #[test]
 fn style_makes_its_output_folder_or_says_why_it_cannot() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -833,7 +833,7 @@ fn style_makes_its_output_folder_or_says_why_it_cannot() {
     assert!(stderr(&o).contains("a-file"), "{}", stderr(&o));
 }
 
-/// Issue 16 §2 on the shared Bandai takes (a style plays a person): each style's parameters,
+/// On the shared Bandai takes (a style plays a person): each style's parameters,
 /// fitted on its first six takes, make `reach` correlate with that style's captured
 /// hand-speed profiles better than the default profile does, and peak nearer the captured
 /// peak time. Skipped, saying so, where the captures are absent.

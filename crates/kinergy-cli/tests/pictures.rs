@@ -438,7 +438,7 @@ fn polylines(svg: &str, colour: &str) -> Vec<String> {
         .collect()
 }
 
-/// Issue 23 §5: `style -o DIR` draws the hand-speed chart (one line per capture and kind —
+/// `style -o DIR` draws the hand-speed chart (one line per capture and kind —
 /// captured black, `reach --params` blue, default vermillion — plus a legend entry each, the
 /// means in the legend) and the film strip (five panels, the captured figure and the
 /// character's in two colours), as well-formed SVG and PNG.

@@ -1,4 +1,4 @@
-//! A library fitted on a real Slurm cluster (issue 24 #5): the example array script over the
+//! A library fitted on a real Slurm cluster: the example array script over the
 //! synthetic set's first person in 3 tasks, then `collect`, gives what one machine gives.
 //!
 //! Needs a running cluster (`sinfo` answering with an idle node): CI installs Debian's

@@ -1,4 +1,4 @@
-//! Issue 23's delivery tests, end to end: what `synthesize` makes from fitted parameters has no
+//! Delivery, end to end: what `synthesize` makes from fitted parameters has no
 //! hand-speed jump its capture does not have, reaches the target the fit aimed at (within
 //! 1 cm), and starts from rest where the capture does (first-frame hand speed within 0.3 m/s).
 //! Hand speed relative to the shoulder, as `plot speed --relative` computes it; a jump is
@@ -51,7 +51,7 @@ enum Jumps {
     /// At most this many more `speed_jumps` (a change > 0.25 m/s and > 4× the clip's median
     /// change) than the capture: a spike or a stall.
     More(usize),
-    /// In real time (issue 40): its largest frame-to-frame change at most this many times the
+    /// In real time: its largest frame-to-frame change at most this many times the
     /// capture's (`kinergy_motion::fidelity::largest_change`), or 0.1 m/s where the capture's
     /// is smaller.
     Steeper(f64),
@@ -243,9 +243,8 @@ fn fit_person(folder: &Path, person: &str, takes: &[usize], model: &str, params:
     fit_person_with(folder, person, takes, model, "svd", params);
 }
 
-/// Issue 26 §4 on the shared data: *active*'s raises end with the arm 95–96 % extended (the
-/// nearest the shared captures come to pointing at full extension; the issue's pointing takes
-/// are not here). With S_D fitted per person on takes 1–4 with each optimizer — JT, NJT, SVD,
+/// On the shared data, *active*'s raises end with the arm 95–96 % extended (the
+/// nearest the shared captures come to pointing at full extension). With S_D fitted per person on takes 1–4 with each optimizer — JT, NJT, SVD,
 /// DLS — every held-out take 5–8 ends within 1.5 % of the arm's length of its captured end
 /// point, reached in the default time budget (measured: at most 1.0 %, JT in 14–19 frames).
 #[test]
@@ -365,7 +364,7 @@ fn style_report(
     json(&o)
 }
 
-/// Issue 26 §2, replayed: S_E and S_D fitted per person on takes 1–4, every held-out take 5–8
+/// S_E and S_D fitted per person on takes 1–4, every held-out take 5–8
 /// synthesized on its captured torso under the person's tempo law. S_E arrives and follows
 /// the capture's hand speed at least as well as S_D for every person — correlation ≥ 0.95 for
 /// *active* and *normal* (measured 0.992 and 0.991; S_D 0.979, 0.985), and higher than S_D's
@@ -418,10 +417,10 @@ fn held_out_takes_replayed_with_s_e_follow_the_captured_speed_closer_than_s_d() 
     }
 }
 
-/// Issue 26 §2, held out: on the shared people's takes 7–8, each person's S_E (fitted on
+/// On the shared people's takes 7–8, each person's S_E (fitted on
 /// takes 1–6, nested after S_D; `compare --per person --holdout 2 --models sd,se`) is at least
 /// as close as their S_D on both seeds 1 and 2, and over the two seeds at least 15 % closer.
-/// Measured with each held-out take synthesized under the person's tempo law (issue 40; the
+/// Measured with each held-out take synthesized under the person's tempo law (the
 /// fits run under it too): *active* 59.9 → 49.8 mm summed over the seeds, −17 %; *elderly*
 /// 96.8 → 63.9 mm, −34 %; *normal* 77.5 → 55.5 mm, −28 % (seed 1 a tie, 37.8 and 37.7 mm).
 /// Before the law, with each held-out take told its own capture's speed, S_E gained 38 / 33 /
@@ -492,7 +491,7 @@ fn body_ceiling_jerk(report: &serde_json::Value) -> (f64, f64, f64) {
     (e("body"), e("ceiling"), e("minimum_jerk"))
 }
 
-/// Issue 40 §3, over seeds: each shared person's S_C vector fitted on takes 1–4 with seeds
+/// Each shared person's S_C vector fitted on takes 1–4 with seeds
 /// 1–6, the full body toward the targets of takes 5–8 (`style`), judged in real time. The DoFs
 /// no capture sees are held neutral, so the seed no longer steers the character: on every
 /// seed the body beats minimum jerk and stays within a bound of the person's own repeats
@@ -622,7 +621,7 @@ fn the_dofs_a_fit_records_as_unobserved_do_not_move_the_captured_hand() {
     );
 }
 
-/// Issue 40, on the shared people (S_C per person on takes 1–4, seed 1, `style` on 5–8, in real
+/// On the shared people (S_C per person on takes 1–4, seed 1, `style` on 5–8, in real
 /// time): the full body delivers the arm as fitted — its mean real-time error is within 15 % of
 /// the arm's on the captured torso (measured 0.66× / 1.52× / 1.71× the ceiling against the
 /// arm's 0.76× / 1.58× / 1.76×; before, the body was at 4.2× / 3.6× / 8.5×), both beat minimum

@@ -686,7 +686,7 @@ fn compare_holdout_takes_clips_and_persons_from_a_segments_file() {
     );
 }
 
-/// Issue 27 #5: Ctrl-C during `fit --refine` stops the refinement at once (no evaluation starts
+/// Ctrl-C during `fit --refine` stops the refinement at once (no evaluation starts
 /// after it), exits 1 saying the fit was interrupted and writes nothing for it. Before, the
 /// refinement ran on for its whole budget and the file was written as if finished.
 #[test]
@@ -744,7 +744,7 @@ fn interrupted(args: &[String], wait: impl FnOnce()) -> Output {
     child.wait_with_output().expect("wait")
 }
 
-/// Issue 27 #11: Ctrl-C in `fit --per clip --out-dir` after some results were written says
+/// Ctrl-C in `fit --per clip --out-dir` after some results were written says
 /// how many (it said "nothing saved" with 44 of 56 written); every result the run reported
 /// is on disk and whole, and no temporary file is left.
 #[test]
@@ -908,7 +908,7 @@ fn the_speed_objective_is_recorded_and_kept_apart() {
 }
 
 /// Ctrl-C stops `compare` after the reaches in progress: a failed task (exit 1) that says so,
-/// and no output folder (it used to die by the signal, saying nothing).
+/// and no output folder (not a death by the signal, saying nothing).
 #[cfg(unix)]
 #[test]
 fn an_interrupted_compare_says_so_and_writes_nothing() {

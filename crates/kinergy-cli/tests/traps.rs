@@ -1,4 +1,4 @@
-//! Traps a new user fell into (issue 14, §3), each as it was met: the exit code, the
+//! Traps a new user can fall into, each as it is met: the exit code, the
 //! message, the inputs untouched and nothing left behind.
 
 mod common;
@@ -48,7 +48,7 @@ fn fit_per_clip_keeps_every_result_of_clips_with_one_name() {
     assert_eq!(before, after);
 }
 
-/// Issue 27 #2: two reaches of one clip that differ only by their arm keep a result each
+/// Two reaches of one clip that differ only by their arm keep a result each
 /// (both were written to `r01_6-72.json`, the right arm's fit lost).
 #[test]
 fn fit_per_clip_keeps_both_arms_of_one_clips_frames() {
@@ -93,7 +93,7 @@ fn fit_per_clip_keeps_both_arms_of_one_clips_frames() {
     assert_eq!(results, 2);
 }
 
-/// Issue 27 #7: a target no body reaches is bad input (exit 2) naming where it came from,
+/// A target no body reaches is bad input (exit 2) naming where it came from,
 /// never fitted into an infinite distance: `synthesize --target`, and a segments file's target
 /// columns for `fit` and `compare`, with the file and line.
 #[test]
@@ -158,7 +158,7 @@ fn a_target_farther_than_any_body_reaches_is_bad_input() {
     }
 }
 
-/// Issue 27 #7, the full body: `reach --target`, `plan --target` (with or without a hand
+/// `reach --target`, `plan --target` (with or without a hand
 /// orientation) and `plan --to` beyond any body's reach are bad input (exit 2), the distance
 /// said in a readable number, nothing written; a far target a body cannot reach but could
 /// is still the task's failure (exit 1) with the nearest motion.
@@ -688,7 +688,7 @@ fn a_failed_write_names_the_path_once() {
     assert!(!err.contains("Os {"), "{err}");
 }
 
-/// Issue 27 #11: `compare --per person` with one person's takes on both arms runs (it failed
+/// `compare --per person` with one person's takes on both arms runs (it failed
 /// with "invalid `samples[1].arm.side`" and left an empty folder): the single vector is fitted
 /// on both arms, the field (one arm's) is left out and the summary says why.
 #[test]
@@ -733,7 +733,7 @@ fn a_holdout_of_a_person_reaching_with_both_arms_says_why_there_is_no_field() {
     assert!(out.join("holdout.csv").is_file());
 }
 
-/// The adversarial sweep's findings (issue 27): `style` with bad parameters leaves no empty
+/// The adversarial sweep's findings: `style` with bad parameters leaves no empty
 /// output folder; `fit --resume` of a missing checkpoint is bad input (exit 2) naming it,
 /// not an OS error with exit 1; a library never writes a result over an input kept in its
 /// folder under a result's name (a segments file `out/r01_7-71.json`).

@@ -153,23 +153,15 @@ pub fn compare<'py>(
     rows(py, &results)
 }
 
-/// The results as dicts with results.csv's columns.
+/// The results as dicts with results.csv's columns ([`kinergy_train::experiment::Row`]'s
+/// one schema).
 fn rows<'py>(py: Python<'py>, results: &Results) -> PyResult<Bound<'py, PyList>> {
+    let json = py.import("json")?;
     let out = PyList::empty(py);
     for r in &results.rows {
-        let row = PyDict::new(py);
-        row.set_item("clip", &r.clip)?;
-        row.set_item("arm", r.arm.map_or_else(String::new, |s| s.to_string()))?;
-        row.set_item("onset", r.onset)?;
-        row.set_item("end", r.end)?;
-        row.set_item("model", r.model.name())?;
-        row.set_item("optimizer", r.optimizer.name())?;
-        row.set_item("method", r.method.name())?;
-        row.set_item("distance_m", r.distance_m)?;
-        row.set_item("frames", r.frames)?;
-        row.set_item("evaluations", r.evaluations)?;
-        row.set_item("seconds", r.seconds)?;
-        out.append(row)?;
+        let text = serde_json::to_string(r)
+            .map_err(|e| errors::KinergyError::new_err(format!("results row: {e}")))?;
+        out.append(json.call_method1("loads", (text,))?)?;
     }
     Ok(out)
 }

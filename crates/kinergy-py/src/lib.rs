@@ -41,5 +41,9 @@ fn _kinergy(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(library::collect, m)?)?;
     errors::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add(
+        "RESULTS_COLUMNS",
+        kinergy_train::experiment::Row::COLUMNS.to_vec(),
+    )?;
     Ok(())
 }

@@ -641,16 +641,19 @@ pub fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>
 /// clip: a Clip or a path. params: Params (or a path to a parameters or field file);
 /// None drives the neutral `model` with `optimizer`. frames: "fit" (the frames the params
 /// were fitted on for this capture; the default), "auto" (the main reach), "all", or
-/// (start, end). arm: "right" or "left" (default: the fitted arm, else right). check: raise
-/// UnreachableError (its `clip` holds the motion) when the target is not reached.
+/// (start, end); or select: "main" or a segment number (as `kinergy segment` lists them).
+/// arm: "right" or "left" (default: the fitted arm, else right; an arm other than the fitted
+/// one is warned of). check: raise UnreachableError (its `clip` holds the motion) when the
+/// target is not reached.
 #[pyfunction]
-#[pyo3(signature = (clip, params = None, *, frames = None, target = None, model = "sa", optimizer = "svd", arm = None, chain = None, fixed_base = false, controller = "smooth", stop_at_reach = false, tolerance = 0.005, max_seconds = 10.0, check = true, unit = "auto", up = "auto", positions = "auto"))]
+#[pyo3(signature = (clip, params = None, *, frames = None, select = None, target = None, model = "sa", optimizer = "svd", arm = None, chain = None, fixed_base = false, controller = "smooth", stop_at_reach = false, tolerance = 0.005, max_seconds = 10.0, check = true, unit = "auto", up = "auto", positions = "auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn synthesize<'py>(
     py: Python<'py>,
     clip: &Bound<'py, PyAny>,
     params: Option<&Bound<'py, PyAny>>,
     frames: Option<&Bound<'py, PyAny>>,
+    select: Option<&Bound<'py, PyAny>>,
     target: Option<[f64; 3]>,
     model: &str,
     optimizer: &str,
@@ -666,21 +669,8 @@ pub fn synthesize<'py>(
     up: &str,
     positions: &str,
 ) -> PyResult<Clip> {
-    errors::check_range("tolerance", tolerance, limits::TOLERANCE_M)?;
-    errors::check_range("max_seconds", max_seconds, limits::SYNTHESIZE_SECONDS)?;
     let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
-    let (whole, from) = clip_arg(py, clip, &options)?;
-    let person = params.map(params_arg).transpose()?;
-    let record = person.as_ref().and_then(PersonParams::record);
-    let fitted_arm = record
-        .as_ref()
-        .and_then(|r| r.arm(|name| names_clip(name, &from)));
-    let side = match arm {
-        Some(a) => parse::<Side>("arm", a)?,
-        None => fitted_arm.and_then(|a| a.side).unwrap_or(Side::Right),
-    };
-    let joints = arm_joints(&whole, &from, side, chain)?;
-    let choice = match frames {
+    let frames = match frames {
         None => FrameChoice::Fitted,
         Some(f) => match f.extract::<(usize, usize)>() {
             Ok((a, b)) if a < b => FrameChoice::Window(a..b),
@@ -701,86 +691,58 @@ pub fn synthesize<'py>(
             },
         },
     };
-    let window = choice
-        .resolve(&whole, &from, &joints, record.as_ref())
+    let frames = match select {
+        None => frames,
+        Some(_) if !matches!(frames, FrameChoice::Fitted) => {
+            return Err(errors::input("select= or frames=: not both"));
+        }
+        Some(s) => match selection_arg(Some(s))? {
+            Some(Selection::Nth(n)) => FrameChoice::Nth(n),
+            Some(Selection::Main) | None => FrameChoice::Main,
+            Some(Selection::All) => {
+                return Err(errors::input(
+                    "select=\"all\": synthesize makes one reach; pick \"main\" or a segment number",
+                ));
+            }
+        },
+    };
+    let drive = match params.map(params_arg).transpose()? {
+        Some(params) => Drive::Person { params, path: None },
+        None => Drive::Neutral {
+            model: parse::<Model>("model", model)?,
+            optimizer: parse::<OptimizerKind>("optimizer", optimizer)?.default_optimizer(),
+        },
+    };
+    let request = SynthesizeRequest {
+        frames,
+        arm: arm.map(|a| parse::<Side>("arm", a)).transpose()?,
+        chain,
+        base: if fixed_base {
+            BaseMode::Fixed
+        } else {
+            BaseMode::Replay
+        },
+        controller: controller.parse::<Controller>().map_err(errors::raise)?,
+        target: target.map(|[x, y, z]| kinergy_motion::nalgebra::Point3::new(x, y, z)),
+        drive,
+        tolerance,
+        max_seconds,
+        stop_at_reach,
+    };
+    request.validate().map_err(errors::raise)?;
+    let (whole, from) = clip_arg(py, clip, &options)?;
+    let done = py
+        .detach(|| request.run(&whole, &from))
         .map_err(errors::raise)?;
-    let (window_start, window_end) = (window.start, window.end);
-    let mode = if fixed_base {
-        BaseMode::Fixed
-    } else {
-        BaseMode::Replay
-    };
-    let name = from.display().to_string();
-    let reach = CapturedReach::new(&name, &whole, &joints, window, mode).map_err(errors::raise)?;
-    let reach = controller
-        .parse::<Controller>()
-        .map_err(errors::raise)?
-        .apply(reach);
-    let reach = match target {
-        Some([x, y, z]) => reach
-            .with_target(kinergy_motion::nalgebra::Point3::new(x, y, z))
-            .map_err(|e| errors::input(format!("target: {e}")))?,
-        None => reach,
-    };
-    let drive = match &person {
-        Some(person) => ReachDrive::person(&reach, person, side)
-            .map_err(|e| errors::ParamsError::new_err(e.to_string()))?,
-        None => ReachDrive::neutral(
-            &reach,
-            parse::<Model>("model", model)?,
-            parse::<OptimizerKind>("optimizer", optimizer)?.default_optimizer(),
-        )
-        .map_err(errors::raise)?,
-    };
-    let Replay {
-        synthesis,
-        distance_to_capture_m: distance,
-    } = py
-        .detach(|| reach.replay(&drive, tolerance, max_seconds, stop_at_reach))
-        .map_err(errors::raise)?;
-    let motion = reach.to_clip(&whole, &synthesis).map_err(errors::raise)?;
-    let last = synthesis.frame_count().saturating_sub(1);
-    let target_at = reach.target();
-    let report = SynthesisReport {
-        stop: synthesis.stop.name(),
-        frames: synthesis.frame_count(),
-        duration_s: last as f64 * reach.frame_time(),
-        final_error_m: synthesis.final_error,
-        target_m: [target_at.x, target_at.y, target_at.z],
-        capture_frames: [window_start, window_end],
-        distance_to_capture_m: distance,
-        model: drive.synergy.model().name(),
-        optimizer: drive.optimizer.to_string(),
-        arm: reach.fitted_arm().side.map(|s| s.to_string()),
-    };
-    let out = Clip::made(motion).with_report(&report);
-    if check && synthesis.stop != StopReason::Reached {
-        return Err(unreachable(
-            py,
-            format!(
-                "the target was not reached ({}): the motion ends {:.1} mm from it",
-                synthesis.stop,
-                synthesis.final_error * 1000.0
-            ),
-            out,
-        ));
+    if let Some(warning) = &done.warning {
+        let warnings = py.import("warnings")?;
+        warnings.call_method1("warn", (warning.as_str(),))?;
     }
-    Ok(out)
-}
-
-/// What `Clip.report` says of a synthesized reach (the CLI's `synthesize --json`, in part).
-#[derive(serde::Serialize)]
-struct SynthesisReport {
-    stop: &'static str,
-    frames: usize,
-    duration_s: f64,
-    final_error_m: f64,
-    target_m: [f64; 3],
-    capture_frames: [usize; 2],
-    distance_to_capture_m: Option<f64>,
-    model: &'static str,
-    optimizer: String,
-    arm: Option<String>,
+    let out = Clip::made(done.clip).with_report(&done.report);
+    match done.report.ending() {
+        Err(e) if check => Err(unreachable(py, e.to_string(), out)),
+        _ => Ok(out),
+    }
 }
 
 /// `UnreachableError(message)` carrying the motion made as `clip`.

@@ -124,6 +124,18 @@ pub enum TrainError {
         /// What there is instead, arm by arm.
         why: String,
     },
+    /// A synthesized motion did not reach its target.
+    #[error("{}", not_reached(stop, *final_error_m, *shoulder_to_target_m, *arm_length_m))]
+    NotReached {
+        /// Why the synthesis stopped.
+        stop: String,
+        /// The hand's distance to the target at the end, meters.
+        final_error_m: f64,
+        /// The shoulder's distance to the target on the last frame, meters.
+        shoulder_to_target_m: f64,
+        /// The arm's length, meters.
+        arm_length_m: f64,
+    },
     /// The user stopped a fit (its interrupt flag was raised).
     #[error("interrupted during the {}", match during {
         crate::fit::Interrupted::Annealing => "annealing",
@@ -180,6 +192,7 @@ impl kinergy_io::Classify for TrainError {
             | TrainError::Frames { .. } => ErrorKind::Input,
             TrainError::Io { .. } => ErrorKind::Io,
             TrainError::Interrupted { .. } => ErrorKind::Interrupted,
+            TrainError::NotReached { .. } => ErrorKind::Unreachable,
             TrainError::Motion(_) => ErrorKind::Task,
         }
     }
@@ -201,6 +214,25 @@ fn naming(path: &Path, e: &impl std::fmt::Display) -> String {
         text
     } else {
         format!("{}: {text}", path.display())
+    }
+}
+
+/// Why a motion did not reach: a target beyond the arm, or one not reached in time.
+fn not_reached(stop: &str, error: f64, shoulder: f64, arm: f64) -> String {
+    if shoulder > arm {
+        format!(
+            "the target is beyond reach by {:.1} mm: it is {:.3} m from the shoulder on the last \
+             frame and the arm is {:.3} m long; the motion ends with the hand {:.1} mm from it",
+            (shoulder - arm) * 1e3,
+            shoulder,
+            arm,
+            error * 1e3
+        )
+    } else {
+        format!(
+            "the target was not reached ({stop}): the motion ends {:.1} mm from it",
+            error * 1e3
+        )
     }
 }
 

@@ -23,6 +23,7 @@
 //! poorer model; [`Summary::of`] condenses the rows into the tables of the figures. Clips are
 //! fitted in parallel; every number but the seconds is the same on any thread count.
 
+mod csv_row;
 mod holdout;
 mod stats;
 

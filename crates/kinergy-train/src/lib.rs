@@ -37,6 +37,7 @@ pub mod limits;
 pub mod objective;
 pub mod person;
 pub mod segments_file;
+pub mod synthesize;
 /// Reach segmentation from `kinergy-motion`, re-exported as `kinergy_train::segment`.
 pub use kinergy_motion::segment;
 pub mod source;

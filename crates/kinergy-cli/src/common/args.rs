@@ -308,42 +308,6 @@ impl SearchArgs {
     }
 }
 
-/// Bones of the capture's arm and the fitted one differing by more than this fraction get a
-/// warning.
-const ARM_LENGTH_TOLERANCE: f64 = 0.10;
-
-/// What to warn of when parameters fitted on the arm `fitted` drive the arm `here`: the
-/// other side, or bones more than [`ARM_LENGTH_TOLERANCE`] longer or shorter (another
-/// skeleton); `None` when they match.
-pub fn arm_mismatch(
-    fitted: &kinergy_solver::FittedArm,
-    here: &kinergy_solver::FittedArm,
-) -> Option<String> {
-    let other_side = matches!((fitted.side, here.side), (Some(a), Some(b)) if a != b);
-    let difference = fitted.length_difference(here);
-    if !other_side && difference <= ARM_LENGTH_TOLERANCE {
-        return None;
-    }
-    let side = |s: Option<Side>| s.map_or_else(|| "named".to_string(), |s| s.to_string());
-    Some(format!(
-        "the parameters were fitted on a {} arm ({}; upper arm {:.3} m, forearm {:.3} m) and \
-         drive a {} arm ({}; {:.3} m, {:.3} m){}",
-        side(fitted.side),
-        fitted.joints.join(" → "),
-        fitted.upper_arm_m,
-        fitted.forearm_m,
-        side(here.side),
-        here.joints.join(" → "),
-        here.upper_arm_m,
-        here.forearm_m,
-        if difference > ARM_LENGTH_TOLERANCE {
-            format!(": bones differ by up to {:.0} %", difference * 100.0)
-        } else {
-            String::new()
-        }
-    ))
-}
-
 /// Parses `x,y,z` (meters) into a finite point.
 pub fn parse_point(text: &str, flag: &str) -> Result<Point3<f64>, Failure> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();

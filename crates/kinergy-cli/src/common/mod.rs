@@ -15,8 +15,8 @@ pub mod outputs;
 pub mod progress;
 
 pub use args::{
-    ArmArgs, ArmSide, ReadArgs, SearchArgs, arm_mismatch, check_world_target, parse_frames,
-    parse_point, parse_size, parse_world_target,
+    ArmArgs, ArmSide, ReadArgs, SearchArgs, check_world_target, parse_frames, parse_point,
+    parse_size, parse_world_target,
 };
 pub use captured::{
     CaptureArgs, CaptureClips, Controller, Skipped, nothing_to_fit, report_skipped,

@@ -475,7 +475,7 @@ fn field_table(summary: &HoldoutSummary, results: &HoldoutResults) -> String {
 /// `text` as an inline code span in a Markdown table cell: a fence of one backtick more than
 /// the longest run inside (padded where the text starts or ends with one), `|` escaped (GFM
 /// splits cells on it even inside code) and line breaks as spaces. A person named `a|b` or
-/// with a backtick broke the tables' columns (issue 27 #9).
+/// with a backtick broke the tables' columns.
 pub(super) fn md_code(text: &str) -> String {
     let mut longest = 0;
     let mut run = 0;

@@ -1,4 +1,4 @@
-//! The pictures of `style -o DIR` (issue 23 §5), each as .svg and .png like `compare`'s:
+//! The pictures of `style -o DIR`, each as .svg and .png like `compare`'s:
 //!
 //! - `speed`: every capture's hand-speed profile and the character's reaches toward its
 //!   target — with the person's parameters and with the default profile — over the fraction of
