@@ -299,7 +299,7 @@ fn run_group(
     let job = FitJob {
         models: models.to_vec(),
         optimizer: args.optimizer.default_optimizer(),
-        settings: settings.clone(),
+        settings: *settings,
         refine: args.refine,
     };
     let mut bar = if show_bar {

@@ -53,6 +53,14 @@ pub enum JsonError {
     },
 }
 
+impl crate::Classify for JsonError {
+    /// A JSON document that does not read is the input's fault; the error that wraps it
+    /// (a parameters file's, a scene's) may say more precisely whose.
+    fn kind(&self) -> crate::ErrorKind {
+        crate::ErrorKind::Input
+    }
+}
+
 fn field_prefix(field: &str) -> String {
     if field == "." {
         String::new()
@@ -292,13 +300,5 @@ mod tests {
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(text.ends_with("}\n"));
         assert_eq!(parse(&text).unwrap(), doc);
-    }
-}
-
-impl crate::Classify for JsonError {
-    /// A JSON document that does not read is the input's fault; the error that wraps it
-    /// (a parameters file's, a scene's) may say more precisely whose.
-    fn kind(&self) -> crate::ErrorKind {
-        crate::ErrorKind::Input
     }
 }

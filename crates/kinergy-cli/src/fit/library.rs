@@ -36,7 +36,7 @@ pub fn run(
     let job = FitJob {
         models: models.to_vec(),
         optimizer: args.optimizer.default_optimizer(),
-        settings: settings.clone(),
+        settings: *settings,
         refine: args.refine,
     };
     let query = args.reach.query()?;

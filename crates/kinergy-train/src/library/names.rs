@@ -95,7 +95,7 @@ pub fn relative_name(common: &Path, take: &Path) -> PathBuf {
 }
 
 /// The result names of the reaches of the capture `take` (in order), relative to the
-/// output folder ([module docs](self)).
+/// output folder (see [`Takes`] and the library folder layout).
 pub fn take_names(common: &Path, take: &Path, reaches: &[CapturedReach]) -> Vec<PathBuf> {
     let keys: Vec<(Range<usize>, String)> = reaches
         .iter()
