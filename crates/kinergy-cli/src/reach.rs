@@ -3,25 +3,11 @@
 use std::path::PathBuf;
 
 use kinergy_motion::Side;
-use kinergy_reach::character::{Character, Proportions};
-use kinergy_reach::controller::{
-    ArmDrive, ArmDriveKind, Ending, ReachSettings, reach_full_body_driven,
-};
-use kinergy_reach::drive::PersonArm;
-use kinergy_reach::profile::{BellTiming, SpeedProfile};
-use kinergy_solver::FieldUse;
-use serde::Serialize;
+use kinergy_reach::character::Proportions;
+use kinergy_reach::controller::{ArmDriveKind, Ending, ReachSettings};
+use kinergy_reach::drive::{HEIGHT_M, PersonReach, PersonReachReport, Profile, check_settings};
 
-use crate::common::{Failure, ReadArgs, check_range, emit, length, limits, print_json};
-
-/// The hand's speed profile.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Profile {
-    /// The paper's: constant speed, then constant deceleration (v_s = 20 cm/s, r_s = 0.8).
-    EaseOut,
-    /// A minimum-jerk bell, like human hand speed.
-    MinimumJerk,
-}
+use crate::common::{Failure, ReadArgs, check_range, emit, length, print_json};
 
 /// Arguments of `kinergy reach`.
 #[derive(Debug, clap::Args)]
@@ -42,8 +28,10 @@ pub struct Args {
     /// The reaching arm (default: the one on the target's side).
     #[arg(long, value_name = "SIDE")]
     pub arm: Option<Side>,
-    /// The hand's speed profile.
-    #[arg(long, value_enum, default_value = "ease-out")]
+    /// The hand's speed profile: `ease-out` (Huang's: constant speed, then constant
+    /// deceleration, v_s = 20 cm/s, r_s = 0.8) or `minimum-jerk` (a bell, like human hand
+    /// speed).
+    #[arg(long, default_value_t = Profile::EaseOut, value_name = "ease-out|minimum-jerk")]
     pub profile: Profile,
     /// Seed of the stepping decisions.
     #[arg(long, default_value_t = 0)]
@@ -68,24 +56,20 @@ pub struct Args {
     pub read: ReadArgs,
 }
 
-#[derive(Serialize)]
-struct Report<'a> {
-    output: String,
-    height_m: f64,
-    target_m: [f64; 3],
-    /// With `--params field.json`: how the field was used.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    field: Option<FieldUse>,
-    #[serde(flatten)]
-    reach: &'a kinergy_reach::controller::ReachReport,
-}
-
-/// Runs `kinergy reach`.
+/// Runs `kinergy reach`: the request ([`PersonReach`]) from the flags, run, the motion
+/// written and the report said.
 pub fn run(args: &Args) -> Result<(), Failure> {
     args.read.check()?;
-    check_range("--height", args.height, limits::REACH_HEIGHT)?;
-    check_range("--flexibility", args.flexibility, limits::REACH_FLEXIBILITY)?;
-    check_range("--timeout", args.timeout, limits::REACH_TIMEOUT)?;
+    check_range("--height", args.height, HEIGHT_M)?;
+    let settings = ReachSettings {
+        flexibility: args.flexibility,
+        seed: args.seed,
+        timeout: args.timeout,
+        arm: args.arm,
+        profile: args.profile.speed_profile(),
+        ..ReachSettings::default()
+    };
+    check_settings(&settings).map_err(|e| Failure::Input(format!("--{} {}", e.field, e.why)))?;
     crate::common::check_outputs(
         &args
             .person
@@ -104,52 +88,36 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         None => Proportions::from_height(args.height)
             .map_err(|e| Failure::Input(format!("--height {}: {e}", args.height)))?,
     };
-    let character = Character::new(&proportions).map_err(Failure::from)?;
-    let settings = ReachSettings {
-        flexibility: args.flexibility,
-        seed: args.seed,
-        timeout: args.timeout,
-        arm: args.arm,
-        profile: match args.profile {
-            Profile::EaseOut => SpeedProfile::default(),
-            Profile::MinimumJerk => SpeedProfile::MinimumJerk {
-                timing: BellTiming::default(),
-            },
-        },
-        ..ReachSettings::default()
+    let person = args
+        .params
+        .as_deref()
+        .map(crate::common::read_person)
+        .transpose()?;
+    let request = PersonReach {
+        target,
+        proportions,
+        settings,
+        person: person
+            .as_ref()
+            .map(|p| p as &dyn kinergy_solver::PersonStyle),
     };
-    let mut field = None;
-    let drive = match &args.params {
-        Some(path) => {
-            let person = crate::common::read_person(path)?;
-            let arm = PersonArm::toward(&character, &person, &target, args.arm)
-                .map_err(|e| crate::common::person_failure(path, e))?;
-            field = arm.field;
-            arm.drive
-        }
-        None => ArmDrive::Profile,
+    let done = request.run().map_err(|e| match &args.params {
+        Some(path) => crate::common::person_failure(path, e),
+        None => e.into(),
+    })?;
+    crate::common::write_clip(&args.output, &done.clip, &Default::default())?;
+    let report = PersonReachReport {
+        output: Some(args.output.display().to_string()),
+        ..done.report
     };
-    let motion = reach_full_body_driven(&character, target, &settings, &drive)?;
-    let clip = character
-        .to_clip(&motion.poses, motion.frame_time)
-        .map_err(Failure::from)?;
-    crate::common::write_clip(&args.output, &clip, &Default::default())?;
-    let r = &motion.report;
-    let report = Report {
-        output: args.output.display().to_string(),
-        height_m: proportions.height(),
-        target_m: [target.x, target.y, target.z],
-        field,
-        reach: r,
-    };
-    let ending = Ending::of(&character, &motion);
+    let r = &report.reach;
     if args.json {
         print_json(&report)?;
     } else {
         emit(&format!(
             "{}: {} ({} frames, {:.2} s), arm {}, step {} ({:.2} m), twist {:.0}°, swing {:.0}°, {} (squat {:.2} m), hand {} from the target\n",
-            report.output,
-            short(ending),
+            args.output.display(),
+            short(done.ending),
             r.frames,
             r.duration,
             r.arm,
@@ -179,7 +147,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             emit("the person's synergy arm drove the hand all the way\n")?;
         }
     }
-    match ending {
+    match done.ending {
         Ending::Reached => Ok(()),
         Ending::Beyond(by) => Err(Failure::Task(format!(
             "the target is beyond reach by {}: the motion written to {} ends with the hand at \

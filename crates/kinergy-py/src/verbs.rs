@@ -7,20 +7,20 @@ use std::sync::atomic::AtomicBool;
 
 use kinergy_motion::segment::{SegmentSettings, Selection, find_segments, main_index};
 use kinergy_motion::{ImportOptions, Side};
-use kinergy_reach::character::{Character, Proportions};
-use kinergy_reach::controller::{ArmDrive, Ending, ReachSettings, reach_full_body_driven};
-use kinergy_reach::drive::PersonArm;
-use kinergy_reach::profile::{BellTiming, SpeedProfile};
-use kinergy_solver::{BaseMode, FitGrouping, FitObjective, Model, OptimizerKind, StopReason};
+use kinergy_reach::character::Proportions;
+use kinergy_reach::controller::ReachSettings;
+use kinergy_reach::drive::{PersonReach, Profile, check_settings, check_target};
+use kinergy_solver::{BaseMode, FitGrouping, FitObjective, Model, OptimizerKind};
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::field::{FieldFile, FieldSettings};
 use kinergy_train::fit::{FitJob, FitSettings, NestedFit};
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, ArmRequest, Capture, Controller, Found, FrameChoice, ReachFrames, ReachQuery, Take,
-    capture_files, names_clip,
+    capture_files,
 };
-use kinergy_train::{CapturedReach, PersonParams, ReachDrive, Replay, limits};
+use kinergy_train::synthesize::{Drive, SynthesizeRequest};
+use kinergy_train::{CapturedReach, PersonParams, limits};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -790,20 +790,22 @@ pub fn reach<'py>(
     timeout: Option<f64>,
     check: bool,
 ) -> PyResult<Clip> {
-    let point = kinergy_motion::nalgebra::Point3::new(target[0], target[1], target[2]);
-    let distance = point.coords.norm();
-    if !distance.is_finite() || distance > kinergy_train::MAX_TARGET_DISTANCE {
-        return Err(errors::input(format!(
-            "target {target:?}: {distance} m from the character (standing at the origin), \
-             beyond what any body reaches (at most {} m): a target in another unit, or a typo?",
-            kinergy_train::MAX_TARGET_DISTANCE
-        )));
-    }
-    errors::check_range("height", height, limits::REACH_HEIGHT)?;
-    errors::check_range("flexibility", flexibility, limits::REACH_FLEXIBILITY)?;
     let defaults = ReachSettings::default();
-    let timeout = timeout.unwrap_or(defaults.timeout);
-    errors::check_range("timeout", timeout, limits::REACH_TIMEOUT)?;
+    let settings = ReachSettings {
+        flexibility,
+        seed,
+        timeout: timeout.unwrap_or(defaults.timeout),
+        arm: arm.map(|a| parse::<Side>("arm", a)).transpose()?,
+        profile: profile
+            .parse::<Profile>()
+            .map_err(errors::raise)?
+            .speed_profile(),
+        ..defaults
+    };
+    let target = kinergy_motion::nalgebra::Point3::new(target[0], target[1], target[2]);
+    check_target(&target).map_err(errors::raise)?;
+    check_settings(&settings).map_err(errors::raise)?;
+    errors::check_range("height", height, limits::REACH_HEIGHT)?;
     let proportions = match person {
         Some(p) => {
             let (clip, path) = clip_arg(py, p, &ImportOptions::default())?;
@@ -813,59 +815,21 @@ pub fn reach<'py>(
         None => Proportions::from_height(height)
             .map_err(|e| errors::input(format!("height={height}: {e}")))?,
     };
-    let character = Character::new(&proportions).map_err(errors::raise)?;
-    let settings = ReachSettings {
-        flexibility,
-        seed,
-        timeout,
-        arm: arm.map(|a| parse::<Side>("arm", a)).transpose()?,
-        profile: match profile {
-            "ease-out" => SpeedProfile::default(),
-            "minimum-jerk" => SpeedProfile::MinimumJerk {
-                timing: BellTiming::default(),
-            },
-            _ => {
-                return Err(errors::input(format!(
-                    "profile={profile:?}: expected \"ease-out\" or \"minimum-jerk\""
-                )));
-            }
-        },
-        ..defaults
+    let person = params.map(params_arg).transpose()?;
+    let request = PersonReach {
+        target,
+        proportions,
+        settings,
+        person: person
+            .as_ref()
+            .map(|p| p as &dyn kinergy_solver::PersonStyle),
     };
-    let drive = match params {
-        Some(p) => {
-            let person = params_arg(p)?;
-            PersonArm::toward(&character, &person, &point, settings.arm)
-                .map_err(errors::raise)?
-                .drive
-        }
-        None => ArmDrive::Profile,
-    };
-    let motion = py
-        .detach(|| reach_full_body_driven(&character, point, &settings, &drive))
-        .map_err(errors::raise)?;
-    let clip = character
-        .to_clip(&motion.poses, motion.frame_time)
-        .map_err(errors::raise)?;
-    let out = Clip::made(clip).with_report(&motion.report);
-    match Ending::of(&character, &motion) {
-        Ending::Reached => Ok(out),
-        _ if !check => Ok(out),
-        Ending::Beyond(by) => Err(unreachable(
-            py,
-            format!(
-                "the target is beyond reach by {by:.3} m: the motion ends with the hand at the nearest point it reaches"
-            ),
-            out,
-        )),
-        Ending::StillMoving => Err(unreachable(
-            py,
-            format!(
-                "the hand was still moving when the timeout of {timeout} s ran out, {:.3} m from the target: raise timeout",
-                motion.report.final_error
-            ),
-            out,
-        )),
+    let done = py.detach(|| request.run()).map_err(errors::raise)?;
+    let arrived = done.arrived();
+    let out = Clip::made(done.clip).with_report(&done.report);
+    match arrived {
+        Err(e) if check => Err(unreachable(py, e.to_string(), out)),
+        _ => Ok(out),
     }
 }
 

@@ -30,6 +30,13 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod person_reach;
+
+pub use person_reach::{
+    FLEXIBILITY, HEIGHT_M, MAX_TARGET_M, NotReached, PersonReach, PersonReachOutcome,
+    PersonReachReport, Profile, TIMEOUT_S, check_settings, check_target,
+};
+
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::{FieldUse, ParamsFile, PersonStyle};

@@ -21,12 +21,11 @@ pub const SYNTHESIZE_SECONDS: (f64, f64) = (0.01, 60.0);
 /// `synthesize --tolerance`, meters.
 pub const TOLERANCE_M: (f64, f64) = (1e-5, 1.0);
 
-/// `reach --timeout`, seconds.
-pub const REACH_TIMEOUT: (f64, f64) = (0.1, 60.0);
-/// `reach --height`, meters.
-pub const REACH_HEIGHT: (f64, f64) = (0.5, 2.5);
-/// `reach --flexibility`.
-pub const REACH_FLEXIBILITY: (f64, f64) = (0.1, 10.0);
+/// `reach --timeout` (seconds), `--height` (meters) and `--flexibility`: the full-body
+/// reach's own ranges ([`kinergy_reach::drive`]).
+pub use kinergy_reach::drive::{
+    FLEXIBILITY as REACH_FLEXIBILITY, HEIGHT_M as REACH_HEIGHT, TIMEOUT_S as REACH_TIMEOUT,
+};
 
 /// `plan --budget-ms`.
 pub const PLAN_BUDGET_MS: (u64, u64) = (1, 600_000);
