@@ -20,6 +20,7 @@ pub mod atomic;
 #[cfg(feature = "json")]
 pub mod json;
 pub mod kind;
+pub mod names;
 pub mod read;
 mod text;
 

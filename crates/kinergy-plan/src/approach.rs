@@ -22,6 +22,7 @@
 //! over to plain inverse kinematics (damped least squares from its posture) for at most
 //! [`PLAIN_IK_TIME`] seconds; an approach that does not arrive then is not used.
 
+use kinergy_io::InvalidSetting;
 use kinergy_reach::character::{Character, Pose};
 use kinergy_reach::controller::{
     PLAIN_IK_TIME, STALL_WINDOW, SYNERGY_TIME, SynergyArm, reach_smoothing,
@@ -100,10 +101,7 @@ impl PersonArm<'_> {
         let end = |q: &ArmConfig| {
             chain
                 .end_position(&self.space.base_for(q), q)
-                .map_err(|e| PlanError::Setting {
-                    field: "character".into(),
-                    why: e.to_string(),
-                })
+                .map_err(|e| PlanError::Setting(InvalidSetting::new("character", e.to_string())))
         };
         let target = end(goal)?;
         // The smooth controller, bounded as a planned phase over the hand's distance is
@@ -116,9 +114,8 @@ impl PersonArm<'_> {
             CUBIC_PEAK_RATIO * distance / duration,
             duration,
         );
-        let reach_error = |e: kinergy_reach::ReachError| PlanError::Setting {
-            field: "params".into(),
-            why: e.to_string(),
+        let reach_error = |e: kinergy_reach::ReachError| {
+            PlanError::Setting(InvalidSetting::new("params", e.to_string()))
         };
         let mut arm = SynergyArm::new(
             self.character,

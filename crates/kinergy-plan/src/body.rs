@@ -14,10 +14,11 @@
 //! clavicle — are disabled for every later query. Parts that are not adjacent never touch in
 //! the reference posture (a test checks it), so no real contact is ever switched off.
 
+use kinergy_io::InvalidSetting;
 use kinergy_reach::character::{Character, Limb, Pose, joint};
 use nalgebra::{IsometryMatrix3, Point3, Vector3};
 
-use crate::error::{Result, require};
+use crate::error::Result;
 
 /// A capsule: the points within `radius` of the segment `a`–`b`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -171,12 +172,12 @@ impl BodyGeometry {
         let joints = character.joints();
         for (i, p) in parts.iter().enumerate() {
             let c = &p.capsule;
-            require(
+            InvalidSetting::require(
                 p.joint < joints.len(),
                 &format!("parts[{i}].joint"),
                 format!("joint {} does not exist", p.joint),
             )?;
-            require(
+            InvalidSetting::require(
                 c.radius.is_finite()
                     && c.radius >= 0.0
                     && c.a.iter().chain(c.b.iter()).all(|v| v.is_finite()),
@@ -197,7 +198,7 @@ impl BodyGeometry {
                 if world[i].gap(&world[j]) > 0.0 {
                     continue;
                 }
-                require(
+                InvalidSetting::require(
                     tree_distance(character, parts[i].joint, parts[j].joint) <= 2,
                     "reference",
                     format!(

@@ -2,6 +2,7 @@
 //! their world bounds, nalgebra ↔ parry poses, the intersection test, and whether an object
 //! placed somewhere would stand there ([`check_placement`]). [`crate::space`] builds on it.
 
+use kinergy_io::InvalidSetting;
 use nalgebra::{Isometry3, IsometryMatrix3, Point3, Translation3, UnitQuaternion};
 use parry3d::math::{Pose as PPose, Rot3, Vector as PVec};
 use parry3d::query::intersection_test;
@@ -104,9 +105,11 @@ pub const PLACE_TOLERANCE: f64 = 0.002;
 /// [`SUPPORT_GAP`] below it (the object lowered that far touches it). A mesh object is
 /// tested unshrunk.
 pub fn check_placement(scene: &Scene, name: &str, pose: &Isometry3<f64>) -> Result<()> {
-    let index = scene.object_index(name).ok_or_else(|| PlanError::Setting {
-        field: "object".into(),
-        why: format!("the scene has no object `{name}`"),
+    let index = scene.object_index(name).ok_or_else(|| {
+        PlanError::Setting(InvalidSetting::new(
+            "object",
+            format!("the scene has no object `{name}`"),
+        ))
     })?;
     let inner = parry_shape(&scene.objects[index].shape, -PLACE_TOLERANCE)?;
     let at = to_parry(pose);

@@ -40,14 +40,9 @@ pub enum PlanError {
         /// What was expected.
         why: String,
     },
-    /// A setting or argument is outside what it may be (named by its field).
-    #[error("invalid `{field}`: {why}")]
-    Setting {
-        /// The setting's name, e.g. `rrt.step`.
-        field: String,
-        /// What was expected.
-        why: String,
-    },
+    /// A setting or argument is outside what it may be (named by its field, e.g. `rrt.step`).
+    #[error(transparent)]
+    Setting(#[from] kinergy_io::InvalidSetting),
     /// The character could not be built or exported.
     #[error(transparent)]
     Reach(#[from] ReachError),
@@ -188,10 +183,9 @@ impl From<AnalyticError> for PlanError {
     fn from(e: AnalyticError) -> PlanError {
         match e {
             AnalyticError::NonFinite(what) => PlanError::NonFinite(what),
-            AnalyticError::Setting { .. } => PlanError::Setting {
-                field: "ik".into(),
-                why: e.to_string(),
-            },
+            AnalyticError::Setting(_) => {
+                PlanError::Setting(kinergy_io::InvalidSetting::new("ik", e.to_string()))
+            }
             other => PlanError::GoalUnreachable {
                 why: other.to_string(),
             },
@@ -201,15 +195,3 @@ impl From<AnalyticError> for PlanError {
 
 /// Shorthand for results of this crate.
 pub type Result<T, E = PlanError> = std::result::Result<T, E>;
-
-/// A `Setting` error unless `ok`.
-pub(crate) fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<()> {
-    if ok {
-        Ok(())
-    } else {
-        Err(PlanError::Setting {
-            field: field.to_string(),
-            why: why.into(),
-        })
-    }
-}

@@ -21,6 +21,7 @@ pub mod hand;
 pub mod obj;
 pub mod person;
 pub mod report;
+pub mod request;
 pub mod rrt;
 pub mod scene;
 pub mod shelf;

@@ -25,10 +25,11 @@
 
 use std::time::{Duration, Instant};
 
+use kinergy_io::InvalidSetting;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 
-use crate::error::{PlanError, Result, require};
+use crate::error::{PlanError, Result};
 use crate::space::{ArmConfig, ArmSpace, Points, lerp};
 
 /// When a search or a smoothing stops.
@@ -81,22 +82,22 @@ impl Default for RrtSettings {
 impl RrtSettings {
     /// Checks every field.
     pub fn validate(&self) -> Result<()> {
-        require(
+        InvalidSetting::require(
             self.step.is_finite() && self.step > 0.0,
             "rrt.step",
             "a finite number > 0",
         )?;
-        require(
+        InvalidSetting::require(
             (0.0..=1.0).contains(&self.elbow_start),
             "rrt.elbow_start",
             "a fraction in [0, 1]",
         )?;
-        require(
+        InvalidSetting::require(
             (0.0..=1.0).contains(&self.wrist_range),
             "rrt.wrist_range",
             "a fraction in [0, 1]",
         )?;
-        require(self.sample_tries > 0, "rrt.sample_tries", "at least 1")?;
+        InvalidSetting::require(self.sample_tries > 0, "rrt.sample_tries", "at least 1")?;
         Ok(())
     }
 }

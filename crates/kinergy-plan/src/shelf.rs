@@ -3,9 +3,10 @@
 
 use std::collections::HashMap;
 
+use kinergy_io::InvalidSetting;
 use nalgebra::Point3;
 
-use crate::error::{Result, require};
+use crate::error::Result;
 use crate::obj::Mesh;
 
 /// The most grid squares along one edge of a box that [`ShelfUnit::mesh`] makes, whatever
@@ -117,7 +118,7 @@ impl ShelfUnit {
             ("board", self.board),
             ("cell", self.cell),
         ] {
-            require(
+            InvalidSetting::require(
                 value.is_finite() && value > 0.0,
                 field,
                 format!("expected a positive finite length in meters, found {value}"),
@@ -126,7 +127,7 @@ impl ShelfUnit {
         self.validate_board()?;
         self.validate_shelf_tops()?;
         let triangles = self.triangle_count();
-        require(
+        InvalidSetting::require(
             triangles <= MAX_TRIANGLES,
             "cell",
             format!(
@@ -134,7 +135,8 @@ impl ShelfUnit {
                  expected a larger cell",
                 self.cell
             ),
-        )
+        )?;
+        Ok(())
     }
 
     /// The inner surface heights one can stand objects on: each board's top y (in the unit
@@ -157,7 +159,7 @@ impl ShelfUnit {
     /// The panels leave room between them, in front of the back panel and below the top.
     fn validate_board(&self) -> Result<()> {
         let b = self.board;
-        require(
+        InvalidSetting::require(
             2.0 * b < self.width && b < self.depth && b < self.height,
             "board",
             format!(
@@ -167,7 +169,8 @@ impl ShelfUnit {
                 self.depth,
                 self.height
             ),
-        )
+        )?;
+        Ok(())
     }
 
     /// Every shelf top is finite, inside the unit and a board above the previous one.
@@ -175,7 +178,7 @@ impl ShelfUnit {
         let (lowest, highest) = (self.board, self.height - self.board);
         let mut previous: Option<f64> = None;
         for (i, &top) in self.shelf_tops.iter().enumerate() {
-            require(
+            InvalidSetting::require(
                 top.is_finite() && (lowest..=highest).contains(&top),
                 "shelf_tops",
                 format!(
@@ -184,7 +187,7 @@ impl ShelfUnit {
                 ),
             )?;
             if let Some(below) = previous {
-                require(
+                InvalidSetting::require(
                     top - below >= self.board,
                     "shelf_tops",
                     format!(
@@ -349,7 +352,7 @@ mod tests {
     /// The setting error's field.
     fn failed_field(unit: &ShelfUnit) -> String {
         match unit.validate() {
-            Err(PlanError::Setting { field, .. }) => field,
+            Err(PlanError::Setting(e)) => e.field,
             other => panic!("expected a Setting error, got {other:?}"),
         }
     }

@@ -25,6 +25,7 @@
 //! 1 cm clearance no unchecked point of the motion comes closer than the clearance can
 //! cover. Samples are tested midpoint first (bisection order) so colliding edges fail fast.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::{Chain, ChainPose, Side};
 use kinergy_reach::character::{ArmGirdle, Character, Limb, Pose};
 use kinergy_solver::analytic::{AnalyticError, LimbIk, OrbitSearch, OrbitSense};
@@ -39,7 +40,7 @@ use crate::colliders::{
     Collider, bounds_of, collider, hit, isometry, overlaps, parry_shape, pvec, to_parry,
 };
 pub use crate::colliders::{PLACE_TOLERANCE, SUPPORT_GAP, check_placement};
-use crate::error::{PlanError, Result, require};
+use crate::error::{PlanError, Result};
 use crate::hand::GRIP_FRACTION;
 use crate::scene::{Scene, Shape};
 
@@ -193,7 +194,7 @@ impl ArmSpace {
         limb: Limb,
         scene: &Scene,
     ) -> Result<ArmSpace> {
-        require(limb.is_arm(), "limb", "the planner moves an arm")?;
+        InvalidSetting::require(limb.is_arm(), "limb", "the planner moves an arm")?;
         if !body_pose.iter().all(|v| v.is_finite()) {
             return Err(PlanError::NonFinite("the body pose".into()));
         }
@@ -227,7 +228,7 @@ impl ArmSpace {
                 (p.name.clone(), k, p.capsule)
             })
             .collect();
-        require(
+        InvalidSetting::require(
             moving.len() == 3,
             "body",
             "an arm needs three parts (upper arm, forearm, hand)",
@@ -274,7 +275,7 @@ impl ArmSpace {
 
     /// The same space with the arm capsules inflated by `clearance` meters (≥ 0).
     pub fn with_clearance(mut self, clearance: f64) -> Result<ArmSpace> {
-        require(
+        InvalidSetting::require(
             clearance.is_finite() && clearance >= 0.0,
             "clearance",
             "a finite number ≥ 0",
@@ -286,7 +287,7 @@ impl ArmSpace {
     /// The same space with interpolations checked every `resolution` meters (> 0) of the
     /// planner's distance.
     pub fn with_resolution(mut self, resolution: f64) -> Result<ArmSpace> {
-        require(
+        InvalidSetting::require(
             resolution.is_finite() && resolution > 0.0,
             "resolution",
             "a finite number > 0",
@@ -329,9 +330,11 @@ impl ArmSpace {
             .colliders
             .iter_mut()
             .find(|c| c.name == name)
-            .ok_or_else(|| PlanError::Setting {
-                field: "object".into(),
-                why: format!("the scene has no object `{name}`"),
+            .ok_or_else(|| {
+                PlanError::Setting(InvalidSetting::new(
+                    "object",
+                    format!("the scene has no object `{name}`"),
+                ))
             })?;
         c.ignored = ignored;
         Ok(())
@@ -341,9 +344,11 @@ impl ArmSpace {
     /// the arm is at `q`: from now on it moves with the wrist, is ignored as an obstacle and
     /// is tested against the body and the scene.
     pub fn attach(&mut self, scene: &Scene, name: &str, q: &ArmConfig) -> Result<()> {
-        let index = scene.object_index(name).ok_or_else(|| PlanError::Setting {
-            field: "object".into(),
-            why: format!("the scene has no object `{name}`"),
+        let index = scene.object_index(name).ok_or_else(|| {
+            PlanError::Setting(InvalidSetting::new(
+                "object",
+                format!("the scene has no object `{name}`"),
+            ))
         })?;
         let o = &scene.objects[index];
         let (half_extents, corners) = match &o.shape {
@@ -359,12 +364,10 @@ impl ArmSpace {
             }
             Shape::Sphere { .. } | Shape::Capsule { .. } => (None, Vec::new()),
             Shape::Mesh { .. } => {
-                return Err(PlanError::Setting {
-                    field: "object".into(),
-                    why: format!(
-                        "`{name}` is a mesh; only boxes, spheres and capsules can be held"
-                    ),
-                });
+                return Err(PlanError::Setting(InvalidSetting::new(
+                    "object",
+                    format!("`{name}` is a mesh; only boxes, spheres and capsules can be held"),
+                )));
             }
         };
         let wrist = self.wrist_frame(q);

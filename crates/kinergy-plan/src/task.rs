@@ -25,6 +25,7 @@
 
 use std::ops::Range;
 
+use kinergy_io::InvalidSetting;
 use kinergy_reach::character::{Character, Limb, Pose};
 use kinergy_reach::controller::ArmDrive;
 use kinergy_solver::analytic::OrbitSearch;
@@ -32,7 +33,7 @@ use nalgebra::{Isometry3, Point3, Translation3, UnitQuaternion};
 
 use crate::approach::{CANDIDATE_STEP, PersonArm, Run, SynergyApproach};
 use crate::body::{BodyGeometry, reference_pose};
-use crate::error::{PlanError, Result, require};
+use crate::error::{PlanError, Result};
 use crate::hand::{FingeredSkeleton, HandShape, Hands};
 use crate::rrt::{
     ArmPath, Budget, PlanStats, RrtSettings, SmoothStats, Warp, plan, smooth, timed_with,
@@ -96,7 +97,7 @@ impl Default for TaskSettings {
 impl TaskSettings {
     /// Checks every field.
     pub fn validate(&self) -> Result<()> {
-        require(self.limb.is_arm(), "limb", "an arm")?;
+        InvalidSetting::require(self.limb.is_arm(), "limb", "an arm")?;
         for (name, v) in [
             ("frame_rate", self.frame_rate),
             ("reach_speed", self.reach_speed),
@@ -105,29 +106,29 @@ impl TaskSettings {
             ("min_duration", self.min_duration),
             ("resolution", self.resolution),
         ] {
-            require(v.is_finite() && v > 0.0, name, "a finite number > 0")?;
+            InvalidSetting::require(v.is_finite() && v > 0.0, name, "a finite number > 0")?;
         }
-        require(
+        InvalidSetting::require(
             self.frame_rate <= 1000.0,
             "frame_rate",
             "at most 1000 frames per second",
         )?;
-        require(self.min_duration <= 60.0, "min_duration", "at most 60 s")?;
+        InvalidSetting::require(self.min_duration <= 60.0, "min_duration", "at most 60 s")?;
         if let Warp::Beta { alpha, beta } = self.warp {
-            require(
+            InvalidSetting::require(
                 alpha.is_finite() && beta.is_finite() && alpha > 1.0 && beta > 1.0,
                 "warp",
                 "a bell with α > 1 and β > 1 (zero speed at both ends)",
             )?;
         }
-        require(self.finger_time <= 60.0, "finger_time", "at most 60 s")?;
+        InvalidSetting::require(self.finger_time <= 60.0, "finger_time", "at most 60 s")?;
         for (name, v) in [
             ("reach_speed", self.reach_speed),
             ("approach_speed", self.approach_speed),
         ] {
-            require(v >= 1e-3, name, "at least 1 mm/s")?;
+            InvalidSetting::require(v >= 1e-3, name, "at least 1 mm/s")?;
         }
-        require(
+        InvalidSetting::require(
             self.clearance.is_finite() && self.clearance >= 0.0,
             "clearance",
             "a finite number ≥ 0",
@@ -362,9 +363,11 @@ impl Planner {
             .object_index(name)
             .ok_or_else(|| unknown_object(name))?;
         let object = &self.scene.objects[index];
-        let grasp = object.grasp.clone().ok_or_else(|| PlanError::Setting {
-            field: "object".into(),
-            why: format!("`{name}` has no `grasp`: it cannot be grasped"),
+        let grasp = object.grasp.clone().ok_or_else(|| {
+            PlanError::Setting(InvalidSetting::new(
+                "object",
+                format!("`{name}` has no `grasp`: it cannot be grasped"),
+            ))
         })?;
         let mut space = self.space()?;
         space.set_ignored(name, true)?;
@@ -383,11 +386,13 @@ impl Planner {
             .scene
             .object(name)
             .ok_or_else(|| unknown_object(name))?;
-        let slide = o.slide.clone().ok_or_else(|| PlanError::Setting {
-            field: "object".into(),
-            why: format!("`{name}` has no `slide`: it is not a drawer"),
+        let slide = o.slide.clone().ok_or_else(|| {
+            PlanError::Setting(InvalidSetting::new(
+                "object",
+                format!("`{name}` has no `slide`: it is not a drawer"),
+            ))
         })?;
-        require(
+        InvalidSetting::require(
             distance.is_finite() && distance.abs() <= slide.travel + 1e-12,
             "distance",
             format!("within ±{} m (the drawer's travel)", slide.travel),
@@ -425,10 +430,10 @@ impl Planner {
 }
 
 fn unknown_object(name: &str) -> PlanError {
-    PlanError::Setting {
-        field: "object".into(),
-        why: format!("the scene has no object `{name}`"),
-    }
+    PlanError::Setting(InvalidSetting::new(
+        "object",
+        format!("the scene has no object `{name}`"),
+    ))
 }
 
 /// The largest change of a joint value between two configurations, radians.
@@ -739,9 +744,11 @@ impl Builder<'_> {
             .object_index(name)
             .ok_or_else(|| unknown_object(name))?;
         let object = &scene.objects[index];
-        let grasp = object.grasp.clone().ok_or_else(|| PlanError::Setting {
-            field: "object".into(),
-            why: format!("`{name}` has no `grasp`: it cannot be grasped"),
+        let grasp = object.grasp.clone().ok_or_else(|| {
+            PlanError::Setting(InvalidSetting::new(
+                "object",
+                format!("`{name}` has no `grasp`: it cannot be grasped"),
+            ))
         })?;
         let pre = grasp_target(&object.pose, &grasp, grasp.distance);
         let (alpha, goal) = self

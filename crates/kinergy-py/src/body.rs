@@ -6,13 +6,9 @@ use std::time::Duration;
 
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
-use kinergy_plan::hand::HandShape;
-use kinergy_plan::rrt::Warp;
+use kinergy_plan::request::{BUDGET_MS, DISTANCE_M, Goal, TaskKind, TaskRequest};
 use kinergy_plan::scene::Scene;
 use kinergy_plan::space::HandTarget;
-use kinergy_plan::task::{Planner, TaskSettings};
-use kinergy_reach::character::{Character, Limb};
-use kinergy_reach::drive::PersonArm;
 use kinergy_reach::style::{StyleCapture, StyleRun, StyleSummary};
 use kinergy_train::fidelity::PersonFidelity;
 use kinergy_train::limits;
@@ -148,99 +144,40 @@ pub fn plan<'py>(
     params: Option<&Bound<'py, PyAny>>,
     budget_ms: Option<u64>,
 ) -> PyResult<Clip> {
-    errors::check_range("distance", distance, limits::PLAN_DISTANCE)?;
+    errors::check_range("distance", distance, DISTANCE_M)?;
     if let Some(ms) = budget_ms {
-        errors::check_range("budget_ms", ms, limits::PLAN_BUDGET_MS)?;
+        errors::check_range("budget_ms", ms, BUDGET_MS)?;
     }
     let side = parse::<Side>("arm", arm)?;
     let scene_file = Scene::read(&scene).map_err(errors::raise)?;
-    let target = target.map(|t| hand_target(&t)).transpose()?;
-    let mut settings = TaskSettings {
-        limb: Limb::arm(side),
-        ..TaskSettings::default()
-    };
-    settings.rrt.seed = seed;
-    if let Some(ms) = budget_ms {
-        settings.rrt.budget.time = Some(Duration::from_millis(ms));
-    }
-    let scene_name = scene.display().to_string();
-    let object_named = |scene: &Scene| -> PyResult<String> {
-        let name = object
-            .clone()
-            .ok_or_else(|| errors::input("task needs object=NAME"))?;
-        if scene.object(&name).is_none() {
-            let known: Vec<&str> = scene.objects.iter().map(|o| o.name.as_str()).collect();
-            return Err(errors::input(format!(
-                "object={name:?}: no such object in {}; the objects: {}",
-                scene_name,
-                known.join(", ")
-            )));
+    let goal = match (target, task) {
+        (Some(t), _) => Goal::Reach(hand_target(&t)?),
+        (None, Some(kind)) => {
+            let kind = kind.parse::<TaskKind>().map_err(errors::raise)?;
+            let object = object.ok_or_else(|| errors::input("task needs object=NAME"))?;
+            let to = to.map(|[x, y, z]| Point3::new(x, y, z));
+            if let Some(to) = &to {
+                kinergy_reach::drive::check_target(to).map_err(errors::raise)?;
+            }
+            Goal::task(kind, object, to, distance).map_err(errors::raise)?
         }
-        Ok(name)
+        (None, None) => return Err(errors::input("give target=[x, y, z] or task=")),
     };
-    if let Some(p) = params {
-        let person = params_arg(p)?;
-        let aim = match &target {
-            Some(t) => t.position,
-            None => {
-                let name = object_named(&scene_file)?;
-                let o = scene_file
-                    .object(&name)
-                    .ok_or_else(|| errors::input("task needs object=NAME"))?;
-                match &o.grasp {
-                    Some(g) => o.pose * g.position,
-                    None => Point3::from(o.pose.translation.vector),
-                }
-            }
-        };
-        let character =
-            Character::from_height(scene_file.character_height).map_err(errors::raise)?;
-        let arm =
-            PersonArm::toward(&character, &person, &aim, Some(side)).map_err(errors::raise)?;
-        let warp: Warp =
-            kinergy_plan::person::person_warp(&character, &arm).map_err(errors::raise)?;
-        settings.warp = warp;
-        settings.arm = arm.drive;
-    }
-    let task_object = match (&target, task) {
-        (None, Some(_)) => Some(object_named(&scene_file)?),
-        _ => None,
+    let person = params.map(params_arg).transpose()?;
+    let request = TaskRequest {
+        scene: scene_file,
+        scene_name: scene.display().to_string(),
+        goal,
+        side,
+        seed,
+        budget: budget_ms.map(Duration::from_millis),
+        person: person
+            .as_ref()
+            .map(|p| p as &dyn kinergy_solver::PersonStyle),
     };
-    let planner = Planner::new(scene_file, settings).map_err(errors::raise)?;
-    let motion = py.detach(|| -> PyResult<_> {
-        Ok(match (&target, task) {
-            (Some(t), _) => planner.reach(t, HandShape::relaxed()),
-            (None, Some(kind)) => {
-                let object = task_object.clone().unwrap_or_default();
-                match kind {
-                    "grasp" => planner.grasp(&object),
-                    "relocate" => {
-                        let [x, y, z] = to
-                            .ok_or_else(|| errors::input("task=\"relocate\" needs to=[x, y, z]"))?;
-                        planner.relocate(&object, &Point3::new(x, y, z))
-                    }
-                    "pull" | "push" => {
-                        if !(distance.is_finite() && distance > 0.0) {
-                            return Err(errors::input(format!(
-                                "distance={distance}: expected a number > 0"
-                            )));
-                        }
-                        let signed = if kind == "pull" { distance } else { -distance };
-                        planner.pull(&object, signed)
-                    }
-                    other => {
-                        return Err(errors::input(format!(
-                            "task={other:?}: expected \"grasp\", \"relocate\", \"pull\" or \"push\""
-                        )));
-                    }
-                }
-            }
-            (None, None) => return Err(errors::input("give target=[x, y, z] or task=")),
-        })
-    })?;
-    let motion = motion.map_err(errors::raise)?;
-    let clip = motion.to_clip(planner.character()).map_err(errors::raise)?;
-    Ok(Clip::made(clip))
+    request.validate().map_err(errors::raise)?;
+    let planned = py.detach(|| request.run()).map_err(errors::raise)?;
+    Ok(Clip::made(planned.clip).with_report(&planned.report))
 }
 
 /// `target=`: [x, y, z] or [x, y, z, qx, qy, qz, qw], finite, within reach of any body.

@@ -27,10 +27,7 @@ pub use kinergy_reach::drive::{
     FLEXIBILITY as REACH_FLEXIBILITY, HEIGHT_M as REACH_HEIGHT, TIMEOUT_S as REACH_TIMEOUT,
 };
 
-/// `plan --budget-ms`.
-pub const PLAN_BUDGET_MS: (u64, u64) = (1, 600_000);
-/// `plan --distance`, meters (a drawer's travel, either way).
-pub const PLAN_DISTANCE: (f64, f64) = (-2.0, 2.0);
+// `plan`'s ranges are the planner's own: `kinergy_plan::request::{DISTANCE_M, BUDGET_MS}`.
 
 /// `animate --fps`.
 pub const ANIMATE_FPS: (u32, u32) = (1, 100);

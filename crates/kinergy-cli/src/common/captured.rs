@@ -223,7 +223,7 @@ impl CaptureArgs {
     pub fn take(&self, path: &Path) -> Result<Result<Vec<CapturedReach>, Skipped>, Failure> {
         match self.query()?.take_at(path) {
             Ok(found) => Ok(found),
-            Err(TrainError::Setting { field, why }) => {
+            Err(TrainError::Setting(kinergy_io::InvalidSetting { field, why })) => {
                 Err(Failure::Input(format!("--{field}: {why}")))
             }
             Err(e) => Err(self.render(path, e)),

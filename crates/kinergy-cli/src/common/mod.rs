@@ -10,7 +10,7 @@ pub mod captured;
 pub mod clips;
 pub mod failure;
 pub mod limits;
-pub mod names;
+pub use kinergy_io::names;
 pub mod outputs;
 pub mod progress;
 

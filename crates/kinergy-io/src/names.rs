@@ -1,4 +1,5 @@
-//! Unknown names (joints, scene objects): "did you mean …" by edit distance, and the list.
+//! Unknown names (joints, scene objects, DoFs): "did you mean …" by edit distance, and the
+//! list — one message for every front end.
 
 /// Levenshtein distance between `a` and `b`, ignoring case.
 fn distance(a: &str, b: &str) -> usize {
