@@ -125,7 +125,7 @@ fn segment_clip(
                 },
             }))
         }
-        Err(kinergy_train::TrainError::Setting { field, why }) => {
+        Err(kinergy_train::TrainError::Setting(kinergy_io::InvalidSetting { field, why })) => {
             Err(Failure::Input(format!("--{field}: {why}")))
         }
         Err(e) => Err(Failure::input(path, e)),

@@ -78,13 +78,8 @@ pub enum MotionError {
         why: String,
     },
     /// A setting is outside what it may be (named by its field, e.g. `segment.hold`).
-    #[error("invalid `{field}`: {why}")]
-    Setting {
-        /// The setting's name.
-        field: String,
-        /// What was expected.
-        why: String,
-    },
+    #[error(transparent)]
+    Setting(#[from] kinergy_io::InvalidSetting),
     /// A clip has no reach segment, or not the one asked for ([`crate::segment`]).
     #[error("{clip}: {why}")]
     Reach {

@@ -560,8 +560,8 @@ mod tests {
         ];
         for (s, f) in bad.iter().zip(fields) {
             match s.validate() {
-                Err(MotionError::Setting { field, .. }) => {
-                    assert_eq!(field, format!("segment.{f}"))
+                Err(MotionError::Setting(e)) => {
+                    assert_eq!(e.field, format!("segment.{f}"))
                 }
                 other => panic!("{f}: {other:?}"),
             }

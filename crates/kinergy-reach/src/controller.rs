@@ -83,6 +83,7 @@ mod spine;
 mod synergy;
 mod timeline;
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::Point3;
 
 pub use ending::Ending;
@@ -97,7 +98,7 @@ pub use synergy::{
 };
 
 use crate::character::Character;
-use crate::error::{Result, require};
+use crate::error::Result;
 
 /// Synthesizes a full-body reach of `character` toward `target` (world meters) from the
 /// rest posture, the arm on the speed profile ([`ArmDrive::Profile`]).
@@ -119,7 +120,7 @@ pub fn reach_full_body_driven(
     drive: &ArmDrive,
 ) -> Result<ReachMotion> {
     settings.validate()?;
-    require(
+    InvalidSetting::require(
         target.coords.iter().all(|v| v.is_finite()),
         "target",
         "finite coordinates",

@@ -12,14 +12,9 @@ pub enum ReachError {
     /// An arm taken from a capture, or a synergy, could not be made.
     #[error(transparent)]
     Solver(#[from] kinergy_solver::SolverError),
-    /// A setting or input is outside what it may be (named by its field).
-    #[error("invalid `{field}`: {why}")]
-    Setting {
-        /// The setting's name, e.g. `person.height`.
-        field: String,
-        /// What was expected.
-        why: String,
-    },
+    /// A setting or input is outside what it may be (named by its field, e.g. `person.height`).
+    #[error(transparent)]
+    Setting(#[from] kinergy_io::InvalidSetting),
     /// A file or folder could not be written (a full disk says "disk full").
     #[error("{}: {source}", path.display())]
     Io {
@@ -40,25 +35,13 @@ pub enum ReachError {
 /// Shorthand for results of this crate.
 pub type Result<T, E = ReachError> = std::result::Result<T, E>;
 
-/// A `Setting` error unless `ok`.
-pub(crate) fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<()> {
-    if ok {
-        Ok(())
-    } else {
-        Err(ReachError::Setting {
-            field: field.to_string(),
-            why: why.into(),
-        })
-    }
-}
-
 impl kinergy_io::Classify for ReachError {
     /// Settings and targets are the input's fault, a person's parameters that do not fit
     /// the body the parameters file's; the rest (a file not written, a failed computation)
     /// failed tasks.
     fn kind(&self) -> kinergy_io::ErrorKind {
         match self {
-            ReachError::Setting { .. } => kinergy_io::ErrorKind::Input,
+            ReachError::Setting(_) => kinergy_io::ErrorKind::Input,
             ReachError::Params { .. } => kinergy_io::ErrorKind::Params,
             ReachError::Io { .. } => kinergy_io::ErrorKind::Io,
             ReachError::Motion(e) if e.location().is_some() => e.kind(),

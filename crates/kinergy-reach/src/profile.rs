@@ -50,10 +50,11 @@
 //! assert_eq!(ease.speed(0.36, 1.0), 0.20); // still in the constant-speed phase
 //! ```
 
+use kinergy_io::InvalidSetting;
 use nalgebra::Point3;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, require};
+use crate::error::Result;
 
 /// The paper's start hand speed v_s, m/s (§3.3: 20 cm/s).
 pub const PAPER_START_SPEED: f64 = 0.20;
@@ -127,34 +128,37 @@ impl BellTiming {
     fn validate(&self, field: &str) -> Result<()> {
         let positive = |v: f64| v.is_finite() && v > 0.0;
         match *self {
-            BellTiming::MeanSpeed { speed } | BellTiming::PeakSpeed { speed } => require(
-                positive(speed),
-                &format!("{field}.speed"),
-                "a positive speed (m/s)",
-            ),
-            BellTiming::Duration { seconds } => require(
+            BellTiming::MeanSpeed { speed } | BellTiming::PeakSpeed { speed } => {
+                InvalidSetting::require(
+                    positive(speed),
+                    &format!("{field}.speed"),
+                    "a positive speed (m/s)",
+                )?
+            }
+            BellTiming::Duration { seconds } => InvalidSetting::require(
                 positive(seconds),
                 &format!("{field}.seconds"),
                 "a positive duration (s)",
-            ),
+            )?,
             BellTiming::Fitts { a, b, width } => {
-                require(
+                InvalidSetting::require(
                     a.is_finite() && a >= 0.0,
                     &format!("{field}.a"),
                     "a finite intercept ≥ 0 (s)",
                 )?;
-                require(
+                InvalidSetting::require(
                     positive(b),
                     &format!("{field}.b"),
                     "a positive slope (s/bit)",
                 )?;
-                require(
+                InvalidSetting::require(
                     positive(width),
                     &format!("{field}.width"),
                     "a positive target width (m)",
-                )
+                )?
             }
         }
+        Ok(())
     }
 }
 
@@ -240,16 +244,17 @@ impl SpeedProfile {
     pub fn validate(&self) -> Result<()> {
         match *self {
             SpeedProfile::EaseOut { v_s, r_s } => {
-                require(
+                InvalidSetting::require(
                     v_s.is_finite() && v_s > 0.0,
                     "profile.v_s",
                     "a positive start speed (m/s)",
                 )?;
-                require(
+                InvalidSetting::require(
                     r_s > 0.0 && r_s <= 1.0,
                     "profile.r_s",
                     "a start-phase ratio in (0, 1]",
-                )
+                )?;
+                Ok(())
             }
             SpeedProfile::MinimumJerk { timing } | SpeedProfile::Cubic { timing } => {
                 timing.validate("profile.timing")

@@ -44,13 +44,14 @@
 
 use std::fmt;
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
 use nalgebra::{Point3, Unit, Vector3};
 use rand::{Rng, RngExt};
 use rand_distr::{Distribution, StandardNormal};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, require};
+use crate::error::Result;
 
 /// The paper's default step length, m (§3.5: "an empirically selected default value of
 /// 0.433 m"). Our default l_min and l_max are centred on it, so eq. 9 gives exactly this
@@ -188,7 +189,7 @@ impl StepSettings {
     /// (shoulder to hand, m): d_c = [`CRR_PER_ARM_LENGTH`] × arm, d_max =
     /// [`MRR_PER_ARM_LENGTH`] × arm.
     pub fn for_arm_length(arm_length: f64) -> Result<StepSettings> {
-        require(
+        InvalidSetting::require(
             arm_length.is_finite() && arm_length > 0.0,
             "arm_length",
             "a positive length (m)",
@@ -206,52 +207,53 @@ impl StepSettings {
     pub fn validate(&self) -> Result<()> {
         let finite_non_negative = |v: f64| v.is_finite() && v >= 0.0;
         let probability = |v: f64| (0.0..=1.0).contains(&v);
-        require(
+        InvalidSetting::require(
             self.d_c.is_finite() && self.d_c > 0.0,
             "steps.d_c",
             "a positive CRR radius (m)",
         )?;
-        require(
+        InvalidSetting::require(
             self.d_max.is_finite() && self.d_max > self.d_c,
             "steps.d_max",
             format!("an MRR radius (m) greater than d_c = {}", self.d_c),
         )?;
-        require(
+        InvalidSetting::require(
             probability(self.p_max),
             "steps.p_max",
             "a probability in [0, 1]",
         )?;
-        require(
+        InvalidSetting::require(
             probability(self.p_min) && self.p_min <= self.p_max,
             "steps.p_min",
             format!("a probability in [0, p_max = {}]", self.p_max),
         )?;
-        require(
+        InvalidSetting::require(
             self.l_min.is_finite() && self.l_min > 0.0,
             "steps.l_min",
             "a positive step length (m)",
         )?;
-        require(
+        InvalidSetting::require(
             self.l_max.is_finite() && self.l_max >= self.l_min,
             "steps.l_max",
             format!("a step length (m) ≥ l_min = {}", self.l_min),
         )?;
-        require(probability(self.p_mean), "steps.p_mean", "a mean in [0, 1]")?;
-        require(
+        InvalidSetting::require(probability(self.p_mean), "steps.p_mean", "a mean in [0, 1]")?;
+        InvalidSetting::require(
             finite_non_negative(self.p_std),
             "steps.p_std",
             "a finite standard deviation ≥ 0",
         )?;
-        require(
+        InvalidSetting::require(
             finite_non_negative(self.foot_lift),
             "steps.foot_lift",
             "a finite height ≥ 0 (m)",
         )?;
-        require(
+        InvalidSetting::require(
             finite_non_negative(self.root_dip),
             "steps.root_dip",
             "a finite depth ≥ 0 (m)",
-        )
+        )?;
+        Ok(())
     }
 
     /// x = (d − d_c) / (d_max − d_c), clamped to [0, 1]: where d lies in the CRR–MRR band.

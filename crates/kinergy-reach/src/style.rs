@@ -11,6 +11,7 @@
 //! and hand from the shoulder over the reach, in arm lengths — is compared with the captured
 //! one ([`arm_path`] defines the measure).
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
 use kinergy_motion::segment::{SegmentSettings, hand_speed, main_segment};
 use kinergy_motion::{ArmJoints, Clip, Side};
@@ -198,11 +199,12 @@ impl StyleCapture {
                 reach_frame(w[joints.shoulder], w[other.shoulder])
             })
             .unwrap_or(base);
-        let path =
-            ArmPath::new(&arm, &frame.rotation).ok_or_else(|| crate::ReachError::Setting {
-                field: name.to_string(),
-                why: "the arm has no length on the reach's first frame".into(),
-            })?;
+        let path = ArmPath::new(&arm, &frame.rotation).ok_or_else(|| {
+            crate::ReachError::Setting(InvalidSetting::new(
+                name.to_string(),
+                "the arm has no length on the reach's first frame",
+            ))
+        })?;
         let last = arm
             .last()
             .and_then(|a| a[3].or(a[2]))
@@ -283,9 +285,11 @@ impl StyleCapture {
                 [Some(x[s]), Some(x[e]), Some(x[w]), hand.then_some(x[h])]
             })
             .collect();
-        ArmPath::new(&arm, &base.rotation).ok_or_else(|| crate::ReachError::Setting {
-            field: "character".into(),
-            why: "its reach has no frames or its arm no length".into(),
+        ArmPath::new(&arm, &base.rotation).ok_or_else(|| {
+            crate::ReachError::Setting(InvalidSetting::new(
+                "character",
+                "its reach has no frames or its arm no length",
+            ))
         })
     }
 
@@ -394,9 +398,11 @@ fn character_frame(character: &Character, side: Side) -> Result<IsometryMatrix3<
     use crate::character::Limb;
     let rest = character.world_positions(&character.rest_pose());
     let at = |side: Side| rest[Limb::arm(side).joints()[0]];
-    reach_frame(at(side), at(side.opposite())).ok_or_else(|| crate::ReachError::Setting {
-        field: "character".into(),
-        why: "its shoulders are one above the other".into(),
+    reach_frame(at(side), at(side.opposite())).ok_or_else(|| {
+        crate::ReachError::Setting(InvalidSetting::new(
+            "character",
+            "its shoulders are one above the other",
+        ))
     })
 }
 

@@ -22,6 +22,7 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{Clip, Side};
 use rand::rngs::ChaCha8Rng;
@@ -31,7 +32,7 @@ use serde::Serialize;
 use crate::character::{Character, Proportions};
 use crate::controller::{ReachSettings, ReachStop, SynergyTempo, reach_full_body_driven};
 use crate::drive::Driver;
-use crate::error::{ReachError, Result, require};
+use crate::error::{ReachError, Result};
 use crate::profile::{BellTiming, SpeedProfile};
 use crate::steps::{self, StepDecision, StepSettings};
 use kinergy_motion::seed::mix;
@@ -264,13 +265,14 @@ pub fn write_set(
 
 /// The settings a set can be made with.
 fn check(settings: &SynthSettings) -> Result<()> {
-    require(settings.persons >= 1, "persons", "at least 1")?;
-    require(settings.reaches >= 1, "reaches", "at least 1")?;
-    require(
+    InvalidSetting::require(settings.persons >= 1, "persons", "at least 1")?;
+    InvalidSetting::require(settings.reaches >= 1, "reaches", "at least 1")?;
+    InvalidSetting::require(
         settings.frame_rate > 0.0 && settings.frame_rate.is_finite(),
         "frame_rate",
         "a positive number of frames per second",
-    )
+    )?;
+    Ok(())
 }
 
 /// Person `p`'s clips (`pNN/rNN.bvh`), in memory.
@@ -343,13 +345,15 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
                 break;
             }
         }
-        let (motion, target, seed) = made.ok_or_else(|| ReachError::Setting {
-            field: "synth".into(),
-            why: format!(
-                "{id}: no `{kind}` target drawn in {} tries was reached, even pulled to `{}`",
-                2 * DRAWS,
-                KINDS[0].0
-            ),
+        let (motion, target, seed) = made.ok_or_else(|| {
+            ReachError::Setting(InvalidSetting::new(
+                "synth",
+                format!(
+                    "{id}: no `{kind}` target drawn in {} tries was reached, even pulled to `{}`",
+                    2 * DRAWS,
+                    KINDS[0].0
+                ),
+            ))
         })?;
         let clip = character.to_clip(&motion.poses, motion.frame_time)?;
         let rep = &motion.report;
@@ -422,10 +426,8 @@ fn write_clip(dir: &Path, clip: &SynthClip) -> Result<()> {
         }
     }
     let mut bytes = Vec::new();
-    kinergy_motion::kinergy_bvh::write(&bvh, &mut bytes).map_err(|e| ReachError::Setting {
-        field: "output".into(),
-        why: e.to_string(),
-    })?;
+    kinergy_motion::kinergy_bvh::write(&bvh, &mut bytes)
+        .map_err(|e| ReachError::Setting(InvalidSetting::new("output", e.to_string())))?;
     kinergy_io::write_atomic(&path, &bytes).map_err(|e| io_error(&path, e))
 }
 

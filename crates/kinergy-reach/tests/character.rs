@@ -50,7 +50,7 @@ fn random_pose(body: &Character, rng: &mut Xoshiro256PlusPlus) -> Pose {
 
 fn setting_field(e: ReachError) -> String {
     match e {
-        ReachError::Setting { field, .. } => field,
+        ReachError::Setting(s) => s.field,
         other => panic!("expected a Setting error, got {other}"),
     }
 }

@@ -64,7 +64,7 @@ fn kinks(profile: &SpeedProfile, distance: f64) -> Vec<f64> {
 
 fn setting_field(err: ReachError) -> String {
     match err {
-        ReachError::Setting { field, .. } => field,
+        ReachError::Setting(e) => e.field,
         other => panic!("expected a Setting error, got {other:?}"),
     }
 }

@@ -34,7 +34,7 @@ fn eq9(s: &StepSettings, d: f64, p: f64) -> f64 {
 
 fn setting_field(err: ReachError) -> String {
     match err {
-        ReachError::Setting { field, .. } => field,
+        ReachError::Setting(e) => e.field,
         other => panic!("expected a Setting error, got {other:?}"),
     }
 }

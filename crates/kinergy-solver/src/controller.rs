@@ -8,10 +8,11 @@
 
 use std::borrow::Cow;
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
 use kinergy_motion::{Chain, Linearization, Trajectory};
 
-use crate::error::{Result, SolverError, require};
+use crate::error::{Result, SolverError};
 use crate::optimizer::{Optimizer, StepScratch};
 use crate::reachability::{Guidance, ReachSphere, StraightArm};
 use crate::smoothing::{Frame, Smoother, Smoothing};
@@ -53,7 +54,7 @@ impl Base {
             Base::Fixed(b) => std::slice::from_ref(b),
             Base::Replay(f) => f,
         };
-        require(!frames.is_empty(), "base", "at least one frame")?;
+        InvalidSetting::require(!frames.is_empty(), "base", "at least one frame")?;
         for (i, f) in frames.iter().enumerate() {
             let finite = f.translation.vector.iter().all(|v| v.is_finite())
                 && f.rotation.matrix().iter().all(|v| v.is_finite());
@@ -136,27 +137,27 @@ impl ControllerSettings {
 
     /// Checks every setting, naming the field otherwise.
     pub fn validate(&self) -> Result<()> {
-        require(
+        InvalidSetting::require(
             self.frame_time.is_finite() && self.frame_time > 0.0,
             "frame_time",
             "a positive number of seconds",
         )?;
-        require(
+        InvalidSetting::require(
             (1..=MAX_FRAMES).contains(&self.max_frames),
             "max_frames",
             "1 to 600000",
         )?;
-        require(
+        InvalidSetting::require(
             self.tolerance.is_finite() && self.tolerance > 0.0,
             "tolerance",
             "a positive number of meters",
         )?;
-        require(
+        InvalidSetting::require(
             self.stall.window.is_finite() && self.stall.window > 0.0,
             "stall.window",
             "a positive number of seconds",
         )?;
-        require(
+        InvalidSetting::require(
             self.stall.min_progress.is_finite() && self.stall.min_progress >= 0.0,
             "stall.min_progress",
             "a non-negative number of meters",
@@ -449,13 +450,13 @@ impl Controller {
             .into());
         }
         if self.synergy.dof_count() != n {
-            return Err(SolverError::Setting {
-                field: "synergy".into(),
-                why: format!(
+            return Err(SolverError::Setting(InvalidSetting::new(
+                "synergy",
+                format!(
                     "made for {} DoFs, the chain has {n}",
                     self.synergy.dof_count()
                 ),
-            });
+            )));
         }
         if !start.iter().all(|v| v.is_finite()) {
             return Err(SolverError::NonFinite("the start posture".into()));

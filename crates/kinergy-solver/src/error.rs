@@ -9,14 +9,9 @@ pub enum SolverError {
     /// A skeleton, chain or clip operation failed.
     #[error(transparent)]
     Motion(#[from] MotionError),
-    /// A setting is outside what it may be (named by its field).
-    #[error("invalid `{field}`: {why}")]
-    Setting {
-        /// The setting's name, e.g. `optimizer.rate`.
-        field: String,
-        /// What was expected.
-        why: String,
-    },
+    /// A setting is outside what it may be (named by its field, e.g. `optimizer.rate`).
+    #[error(transparent)]
+    Setting(#[from] kinergy_io::InvalidSetting),
     /// A synergy parameter lies outside its bounds.
     #[error("synergy parameter `{name}` = {value} is outside its bounds [{lower}, {upper}]")]
     OutOfBounds {
@@ -54,18 +49,6 @@ pub enum SolverError {
 
 /// Shorthand for results of this crate.
 pub type Result<T, E = SolverError> = std::result::Result<T, E>;
-
-/// A `Setting` error unless `ok`.
-pub(crate) fn require(ok: bool, field: &str, why: &str) -> Result<()> {
-    if ok {
-        Ok(())
-    } else {
-        Err(SolverError::Setting {
-            field: field.to_string(),
-            why: why.to_string(),
-        })
-    }
-}
 
 impl kinergy_io::Classify for SolverError {
     /// Settings, parameters and non-finite values are the input's; an arm that cannot be

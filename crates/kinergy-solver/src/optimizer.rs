@@ -28,11 +28,12 @@
 use std::fmt;
 use std::str::FromStr;
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Linearization;
 use kinergy_motion::nalgebra::{DMatrix, DVector, Matrix3, SymmetricEigen, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, SolverError, require};
+use crate::error::{Result, SolverError};
 use crate::task::TaskError;
 
 /// `jt`: the Jacobian transpose, Δθ = rate·dt · Jᵀ ΔX.
@@ -164,9 +165,11 @@ impl FromStr for OptimizerKind {
         OptimizerKind::ALL
             .into_iter()
             .find(|k| k.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| SolverError::Setting {
-                field: "optimizer".into(),
-                why: format!("`{s}` is not one of jt, njt, svd, dls"),
+            .ok_or_else(|| {
+                SolverError::Setting(InvalidSetting::new(
+                    "optimizer",
+                    format!("`{s}` is not one of jt, njt, svd, dls"),
+                ))
             })
     }
 }
@@ -216,25 +219,30 @@ impl Optimizer {
     pub fn validate(&self) -> Result<()> {
         let positive = |v: f64| v.is_finite() && v > 0.0;
         match *self {
-            Optimizer::Jt(o) => require(positive(o.rate), "optimizer.rate", "a positive number"),
-            Optimizer::Njt(o) => require(positive(o.speed), "optimizer.speed", "a positive number"),
+            Optimizer::Jt(o) => {
+                InvalidSetting::require(positive(o.rate), "optimizer.rate", "a positive number")?
+            }
+            Optimizer::Njt(o) => {
+                InvalidSetting::require(positive(o.speed), "optimizer.speed", "a positive number")?
+            }
             Optimizer::Svd(o) => {
-                require(positive(o.rate), "optimizer.rate", "a positive number")?;
-                require(
+                InvalidSetting::require(positive(o.rate), "optimizer.rate", "a positive number")?;
+                InvalidSetting::require(
                     positive(o.threshold),
                     "optimizer.threshold",
                     "a positive number (m/rad)",
-                )
+                )?
             }
             Optimizer::Dls(o) => {
-                require(positive(o.rate), "optimizer.rate", "a positive number")?;
-                require(
+                InvalidSetting::require(positive(o.rate), "optimizer.rate", "a positive number")?;
+                InvalidSetting::require(
                     positive(o.damping),
                     "optimizer.damping",
                     "a positive number (m/rad)",
-                )
+                )?
             }
         }
+        Ok(())
     }
 
     /// The joint step for one frame of duration `dt` into `out` (one value per DoF), from

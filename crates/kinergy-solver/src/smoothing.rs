@@ -61,10 +61,11 @@
 //! (its hand speed relative to the shoulder, or in the arm's base frame where the base turns
 //! under the hand: `kinergy_train::captured`) or from the planned profile.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
 use kinergy_motion::{Chain, ChainPose, Motion};
 
-use crate::error::{Result, require};
+use crate::error::Result;
 
 /// The plain optimizer's share of a step in the finish blend, and its length.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -153,33 +154,33 @@ impl Smoothing {
     /// Checks every setting, naming the field otherwise.
     pub fn validate(&self) -> Result<()> {
         let positive = |v: f64| v.is_finite() && v > 0.0;
-        require(
+        InvalidSetting::require(
             positive(self.hand_acceleration),
             "smoothing.hand_acceleration",
             "a positive number of m/s²",
         )?;
-        require(
+        InvalidSetting::require(
             positive(self.joint_acceleration),
             "smoothing.joint_acceleration",
             "a positive number of rad/s²",
         )?;
-        require(
+        InvalidSetting::require(
             (0.0..1.0).contains(&self.progress_floor),
             "smoothing.progress_floor",
             "a number in [0, 1)",
         )?;
-        require(
+        InvalidSetting::require(
             self.onset.is_finite() && self.onset >= 0.0,
             "smoothing.onset",
             "a non-negative number of seconds",
         )?;
         if let Some(f) = self.finish {
-            require(
+            InvalidSetting::require(
                 f.after.is_finite() && f.after >= 0.0,
                 "smoothing.finish.after",
                 "a non-negative number of seconds",
             )?;
-            require(
+            InvalidSetting::require(
                 positive(f.over),
                 "smoothing.finish.over",
                 "a positive number of seconds",

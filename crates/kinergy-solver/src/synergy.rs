@@ -24,9 +24,10 @@
 use std::fmt;
 use std::str::FromStr;
 
+use kinergy_io::InvalidSetting;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, SolverError, require};
+use crate::error::{Result, SolverError};
 
 /// A synergy model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -109,9 +110,11 @@ impl FromStr for Model {
         Model::ALL
             .into_iter()
             .find(|m| m.name() == key)
-            .ok_or_else(|| SolverError::Setting {
-                field: "model".into(),
-                why: format!("`{s}` is not one of sa, sb, sc, sd, se"),
+            .ok_or_else(|| {
+                SolverError::Setting(InvalidSetting::new(
+                    "model",
+                    format!("`{s}` is not one of sa, sb, sc, sd, se"),
+                ))
             })
     }
 }
@@ -172,7 +175,7 @@ impl Bounds {
             ("bounds.slope", self.slope),
             ("bounds.offset", self.offset),
         ] {
-            require(
+            InvalidSetting::require(
                 i.lower.is_finite() && i.upper.is_finite() && i.lower <= i.upper,
                 name,
                 "finite [lower, upper] with lower ≤ upper",
@@ -220,7 +223,7 @@ impl ParamSpace {
     /// The space of `model` on a chain with these DoF names.
     pub fn new(model: Model, dof_names: &[String], bounds: Bounds) -> Result<ParamSpace> {
         bounds.validate()?;
-        require(!dof_names.is_empty(), "dof_names", "at least one DoF")?;
+        InvalidSetting::require(!dof_names.is_empty(), "dof_names", "at least one DoF")?;
         let n = dof_names.len();
         let mut names = Vec::with_capacity(model.parameter_count(n));
         let mut kinds = Vec::with_capacity(names.capacity());
@@ -386,12 +389,12 @@ impl ParamSpace {
     /// step alone is not exact. Going to the same model returns the vector unchanged.
     pub fn extend_to(&self, values: &[f64], richer: &ParamSpace) -> Result<Vec<f64>> {
         self.validate(values)?;
-        require(
+        InvalidSetting::require(
             richer.dof_names == self.dof_names,
             "dof_names",
             "the same chain in both parameter spaces",
         )?;
-        require(
+        InvalidSetting::require(
             richer.model >= self.model,
             "model",
             "a model at least as rich as the one extended",

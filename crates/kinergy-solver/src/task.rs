@@ -1,9 +1,10 @@
 //! What the end effector must reach: a position, or a position and an orientation.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Linearization;
 use kinergy_motion::nalgebra::{Point3, UnitQuaternion, Vector3};
 
-use crate::error::{Result, SolverError, require};
+use crate::error::{Result, SolverError};
 
 /// The IK task.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -79,7 +80,7 @@ impl Task {
             if !orientation.coords.iter().all(|v| v.is_finite()) {
                 return Err(SolverError::NonFinite("the target orientation".into()));
             }
-            require(
+            InvalidSetting::require(
                 weight.is_finite() && *weight > 0.0,
                 "task.weight",
                 "a positive number of meters per radian",

@@ -271,9 +271,9 @@ fn bad_inputs_are_typed_errors() {
     };
     let three = controller(OptimizerKind::Svd, Synergy::identity(3));
     match run(&three, &start, target) {
-        Err(SolverError::Setting { field, why }) => {
-            assert_eq!(field, "synergy");
-            assert!(why.contains('3') && why.contains('7'), "{why}");
+        Err(SolverError::Setting(e)) => {
+            assert_eq!(e.field, "synergy");
+            assert!(e.why.contains('3') && e.why.contains('7'), "{}", e.why);
         }
         other => panic!("expected a Setting error, got {other:?}"),
     }

@@ -69,10 +69,11 @@ use argmin::core::{
 use argmin::solver::neldermead::NelderMead;
 use argmin::solver::particleswarm::{Particle, ParticleSwarm};
 use argmin_math::ArgminRandom;
+use kinergy_io::InvalidSetting;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rand_xoshiro::rand_core::SeedableRng;
 
-use crate::error::{Result, TrainError, require};
+use crate::error::{Result, TrainError};
 use crate::objective::CostFunction;
 
 /// A baseline optimizer.
@@ -113,9 +114,11 @@ impl FromStr for BaselineMethod {
         BaselineMethod::ALL
             .into_iter()
             .find(|m| m.name() == s)
-            .ok_or_else(|| TrainError::Setting {
-                field: "baseline.method".into(),
-                why: format!("`{s}` is not one of nelder_mead, particle_swarm"),
+            .ok_or_else(|| {
+                TrainError::Setting(InvalidSetting::new(
+                    "baseline.method",
+                    format!("`{s}` is not one of nelder_mead, particle_swarm"),
+                ))
             })
     }
 }
@@ -152,22 +155,23 @@ impl Default for BaselineSettings {
 impl BaselineSettings {
     /// Checks every setting, naming the field otherwise.
     pub fn validate(&self) -> Result<()> {
-        require(
+        InvalidSetting::require(
             self.max_evaluations >= 1,
             "baseline.max_evaluations",
             "at least 1",
         )?;
-        require(self.particles >= 1, "baseline.particles", "at least 1")?;
-        require(
+        InvalidSetting::require(self.particles >= 1, "baseline.particles", "at least 1")?;
+        InvalidSetting::require(
             self.simplex_step > 0.0 && self.simplex_step <= 0.5,
             "baseline.simplex_step",
             "within (0, 0.5]",
         )?;
-        require(
+        InvalidSetting::require(
             self.sd_tolerance >= 0.0 && self.sd_tolerance.is_finite(),
             "baseline.sd_tolerance",
             "a finite number ≥ 0",
-        )
+        )?;
+        Ok(())
     }
 }
 
@@ -238,7 +242,7 @@ pub fn minimize_until(
         BaselineMethod::NelderMead => n + 1,
         BaselineMethod::ParticleSwarm => settings.particles,
     };
-    require(
+    InvalidSetting::require(
         settings.max_evaluations >= needed,
         "baseline.max_evaluations",
         format!("at least {needed} for {method} (its first iteration)"),
@@ -340,10 +344,10 @@ where
 }
 
 fn argmin_failed(method: BaselineMethod, e: &ArgminError) -> TrainError {
-    TrainError::Setting {
-        field: "baseline.method".into(),
-        why: format!("argmin's {method} failed: {e}"),
-    }
+    TrainError::Setting(InvalidSetting::new(
+        "baseline.method",
+        format!("argmin's {method} failed: {e}"),
+    ))
 }
 
 /// The start and one vertex along each axis, `simplex_step` of the width away, inward.

@@ -10,6 +10,7 @@
 
 use std::ops::Range;
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, Trajectory, frame_distance, motion_distance, speed_series};
@@ -335,10 +336,10 @@ impl CapturedReach {
     pub fn with_target(self, target: Point3<f64>) -> Result<CapturedReach> {
         let field = || "target".to_string();
         if !target.iter().all(|v| v.is_finite()) {
-            return Err(TrainError::Setting {
-                field: field(),
-                why: "the target's coordinates must be finite numbers".into(),
-            });
+            return Err(TrainError::Setting(InvalidSetting::new(
+                field(),
+                "the target's coordinates must be finite numbers",
+            )));
         }
         let last = self.base.at(self.frame_count().saturating_sub(1));
         let shoulder = Point3::from(last.translation.vector);
@@ -346,15 +347,15 @@ impl CapturedReach {
         let d = target - shoulder;
         let distance = d.x.hypot(d.y).hypot(d.z);
         if distance > MAX_TARGET_DISTANCE {
-            return Err(TrainError::Setting {
-                field: field(),
-                why: format!(
+            return Err(TrainError::Setting(InvalidSetting::new(
+                field(),
+                format!(
                     "the target is {} from the arm's shoulder on the reach's last frame, \
                      beyond what any body reaches (at most {MAX_TARGET_DISTANCE} m): a target \
                      in another unit, or a typo?",
                     kinergy_io::meters(distance)
                 ),
-            });
+            )));
         }
         Ok(CapturedReach { target, ..self })
     }

@@ -21,14 +21,9 @@ pub enum TrainError {
     /// it, a target it cannot take).
     #[error(transparent)]
     Body(#[from] kinergy_reach::ReachError),
-    /// A setting is outside what it may be (named by its field).
-    #[error("invalid `{field}`: {why}")]
-    Setting {
-        /// The setting's name, e.g. `anneal.population`.
-        field: String,
-        /// What was expected.
-        why: String,
-    },
+    /// A setting is outside what it may be (named by its field, e.g. `anneal.population`).
+    #[error(transparent)]
+    Setting(#[from] kinergy_io::InvalidSetting),
     /// No reach could be found or prepared in a clip.
     #[error("{clip}: {why}")]
     Reach {
@@ -183,7 +178,7 @@ impl kinergy_io::Classify for TrainError {
             TrainError::Solver(e) => e.kind(),
             TrainError::Clip { .. } => ErrorKind::Capture,
             TrainError::File { .. } | TrainError::Checkpoint { .. } => ErrorKind::Params,
-            TrainError::Setting { .. }
+            TrainError::Setting(_)
             | TrainError::Reach { .. }
             | TrainError::Arm { .. }
             | TrainError::Segments { .. }
@@ -244,15 +239,6 @@ fn at(file: &Path, line: Option<usize>) -> String {
     }
 }
 
-impl From<kinergy_io::InvalidSetting> for TrainError {
-    fn from(e: kinergy_io::InvalidSetting) -> TrainError {
-        TrainError::Setting {
-            field: e.field,
-            why: e.why,
-        }
-    }
-}
-
 /// `path: ` for a file error read from a file, nothing otherwise.
 fn file_prefix(path: Option<&std::path::Path>) -> String {
     path.map_or_else(String::new, |p| format!("{}: ", p.display()))
@@ -269,17 +255,5 @@ pub(crate) fn in_file(e: TrainError, path: &std::path::Path) -> TrainError {
             why,
         },
         other => other,
-    }
-}
-
-/// A `Setting` error unless `ok`.
-pub(crate) fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<()> {
-    if ok {
-        Ok(())
-    } else {
-        Err(TrainError::Setting {
-            field: field.to_string(),
-            why: why.into(),
-        })
     }
 }

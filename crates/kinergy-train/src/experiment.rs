@@ -38,12 +38,13 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use kinergy_io::InvalidSetting;
 use kinergy_solver::{Model, OptimizerKind, ParamSpace};
 use rayon::prelude::*;
 
 use crate::baseline::{BaselineMethod, BaselineSettings};
 use crate::captured::CapturedReach;
-use crate::error::{Result, TrainError, require};
+use crate::error::{Result, TrainError};
 use crate::field::{FieldSettings, leave_one_out};
 use crate::fit::{FitSettings, fit_model, fit_nested};
 use crate::objective::{CostFunction, Objective};
@@ -215,10 +216,10 @@ pub fn run(
     match run_until(reaches, settings, clip_done, &never)? {
         Some(results) => Ok(results),
         // Nothing raises `never`: a run without a stop flag always ends with its results.
-        None => Err(TrainError::Setting {
-            field: "stop".into(),
-            why: "the experiment stopped though nothing asked it to".into(),
-        }),
+        None => Err(TrainError::Setting(InvalidSetting::new(
+            "stop",
+            "the experiment stopped though nothing asked it to",
+        ))),
     }
 }
 
@@ -231,8 +232,8 @@ pub fn run_until(
     clip_done: &(dyn Fn() + Sync),
     stop: &AtomicBool,
 ) -> Result<Option<Results>> {
-    require(!reaches.is_empty(), "reaches", "at least one reach")?;
-    require(
+    InvalidSetting::require(!reaches.is_empty(), "reaches", "at least one reach")?;
+    InvalidSetting::require(
         !settings.models.is_empty() && !settings.optimizers.is_empty(),
         "models/optimizers",
         "at least one each",

@@ -1,12 +1,13 @@
 //! What the trainer minimizes: the mean motion distance, over a set of captured reaches, of
 //! the motions the synergy controller synthesizes with a parameter vector.
 
+use kinergy_io::InvalidSetting;
 use rayon::prelude::*;
 
 use kinergy_solver::{FitObjective, Optimizer, ParamSpace, Synergy};
 
 use crate::captured::{CapturedReach, DEFAULT_TOLERANCE};
-use crate::error::{Result, TrainError, require};
+use crate::error::{Result, TrainError};
 
 /// The relative margin by which a reach's partial distance must pass its share of the limit
 /// before [`Objective::score_within`] abandons it: far beyond the rounding of the mean.
@@ -41,18 +42,18 @@ pub trait CostFunction: Sync {
 pub fn checked_bounds(cost: &dyn CostFunction, start: &[f64]) -> Result<(Vec<f64>, Vec<f64>)> {
     let (lower, upper) = cost.bounds();
     let n = cost.dimension();
-    require(
+    InvalidSetting::require(
         lower.len() == n && upper.len() == n,
         "bounds",
         "one lower and one upper bound per parameter",
     )?;
-    require(
+    InvalidSetting::require(
         lower.iter().zip(&upper).all(|(l, u)| l < u),
         "bounds",
         "lower < upper for every parameter",
     )?;
-    require(start.len() == n, "start", format!("{n} parameters"))?;
-    require(
+    InvalidSetting::require(start.len() == n, "start", format!("{n} parameters"))?;
+    InvalidSetting::require(
         start
             .iter()
             .zip(lower.iter().zip(&upper))
@@ -83,7 +84,7 @@ impl Objective {
         space: ParamSpace,
         optimizer: Optimizer,
     ) -> Result<Objective> {
-        require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
+        InvalidSetting::require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
         optimizer.validate()?;
         for r in &reaches {
             if r.dof_names() != space.dof_names() {
@@ -110,7 +111,7 @@ impl Objective {
     /// `speed_weight` error).
     pub fn with_kind(mut self, kind: FitObjective) -> Result<Objective> {
         let w = kind.speed_weight();
-        require(
+        InvalidSetting::require(
             w.is_finite() && w >= 0.0,
             "speed_weight",
             "a number of seconds ≥ 0",
@@ -126,7 +127,7 @@ impl Objective {
 
     /// The same objective with ε = `tolerance` (meters, positive).
     pub fn with_tolerance(mut self, tolerance: f64) -> Result<Objective> {
-        require(
+        InvalidSetting::require(
             tolerance > 0.0 && tolerance.is_finite(),
             "tolerance",
             "a positive number of meters",

@@ -24,11 +24,12 @@
 
 use std::path::Path;
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::{FitRecord, Model, Optimizer, ParamsFile, PersonStyle, StyleError};
 
-use crate::error::{Result, TrainError, in_file, require};
+use crate::error::{Result, TrainError, in_file};
 use crate::field::FieldFile;
 
 /// A person's parameters: one vector, or a field over targets.
@@ -82,7 +83,7 @@ impl PersonParams {
     pub fn params_for(&self, target: &Point3<f64>) -> Result<ParamsFile> {
         match self {
             PersonParams::Vector(file) => {
-                require(
+                InvalidSetting::require(
                     target.iter().all(|c| c.is_finite()),
                     "target",
                     "finite coordinates",

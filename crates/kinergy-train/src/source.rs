@@ -39,6 +39,7 @@ pub use query::{
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, ImportOptions, MotionError, Side};
 use kinergy_solver::{BaseMode, FitRecord};
@@ -206,12 +207,11 @@ impl Capture {
         settings: &SegmentSettings,
     ) -> Result<Vec<(ArmJoints, Vec<Segment>)>> {
         if let Selection::Nth(_) = selection {
-            return Err(TrainError::Setting {
-                field: "select".into(),
-                why: "one numbered segment names no arm: with the arm chosen per take, select \
-                      main or all"
-                    .into(),
-            });
+            return Err(TrainError::Setting(InvalidSetting::new(
+                "select",
+                "one numbered segment names no arm: with the arm chosen per take, select \
+                      main or all",
+            )));
         }
         let name = self.name();
         let mut found: Vec<(ArmJoints, Vec<Segment>)> = Vec::new();

@@ -8,6 +8,7 @@
 //! posture (the start moved by a given offset, within the limits), so it is reachable and the
 //! made motion ends on its own target — which is what a fit of the made capture aims at.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::{ArmJoints, Clip};
 use kinergy_solver::{
     ArmTask, BaseMode, Controller, Model, Optimizer, ParamSpace, Synergy, Synthesis, Task,
@@ -53,10 +54,10 @@ pub fn made_reach(
     let chain = source.arm().chain();
     let start = source.arm().start();
     if offset.len() != start.len() {
-        return Err(TrainError::Setting {
-            field: "offset".into(),
-            why: format!("one value per DoF ({})", start.len()),
-        });
+        return Err(TrainError::Setting(InvalidSetting::new(
+            "offset",
+            format!("one value per DoF ({})", start.len()),
+        )));
     }
     let mut goal: Vec<f64> = start.iter().zip(offset).map(|(q, d)| q + d).collect();
     chain.clamp(&mut goal);

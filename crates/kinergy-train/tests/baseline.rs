@@ -333,7 +333,7 @@ fn non_finite_costs_count_as_the_worst() {
 
 fn setting_field(e: TrainError) -> String {
     match e {
-        TrainError::Setting { field, .. } => field,
+        TrainError::Setting(s) => s.field,
         other => panic!("not a setting error: {other}"),
     }
 }

@@ -48,7 +48,7 @@ fn normalized_rms(space: &ParamSpace, pairs: &[(Vec<f64>, Vec<f64>)]) -> f64 {
 
 fn setting_field(err: TrainError) -> String {
     match err {
-        TrainError::Setting { field, .. } => field,
+        TrainError::Setting(s) => s.field,
         other => panic!("expected a Setting error, got {other:?}"),
     }
 }

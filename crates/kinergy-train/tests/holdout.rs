@@ -241,7 +241,7 @@ fn holding_out_all_of_a_persons_takes_names_the_person() {
     takes.retain(|t| t.person == "quick" || t.reach.name() == "slow/r0");
     for (holdout, person) in [(1, "slow"), (3, "quick")] {
         match check_split(&takes, holdout) {
-            Err(TrainError::Setting { field, why }) => {
+            Err(TrainError::Setting(kinergy_io::InvalidSetting { field, why })) => {
                 assert_eq!(field, "holdout");
                 assert!(why.contains(&format!("`{person}`")), "{why}");
             }

@@ -120,7 +120,7 @@ pub fn run(
 /// A setting error's reason without the field name (the flag is named instead).
 fn why(e: &kinergy_train::TrainError) -> String {
     match e {
-        kinergy_train::TrainError::Setting { why, .. } => why.clone(),
+        kinergy_train::TrainError::Setting(s) => s.why.clone(),
         other => other.to_string(),
     }
 }

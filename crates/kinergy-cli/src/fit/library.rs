@@ -150,7 +150,9 @@ pub fn run(
 fn take_failure(args: &Args, take: &Path, e: TrainError) -> Failure {
     use kinergy_io::{Classify, ErrorKind};
     match e {
-        TrainError::Setting { field, why } => Failure::Input(format!("--{field}: {why}")),
+        TrainError::Setting(kinergy_io::InvalidSetting { field, why }) => {
+            Failure::Input(format!("--{field}: {why}"))
+        }
         e if e.kind().is_input() || e.kind() == ErrorKind::NothingToFit => {
             args.reach.render(take, e)
         }

@@ -6,9 +6,10 @@ use std::fmt;
 use std::ops::Range;
 use std::str::FromStr;
 
+use kinergy_io::InvalidSetting;
 use serde::Serialize;
 
-use crate::error::{MotionError, Result};
+use crate::error::Result;
 
 /// How [`find_segments`](super::find_segments) reads the hand's motion (see the [module docs](super)).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -69,22 +70,22 @@ impl SegmentSettings {
     pub fn validate(&self) -> Result<()> {
         let nonneg = |v: f64| v.is_finite() && v >= 0.0;
         let seconds = |v: f64| format!("{v} is not a finite number of seconds ≥ 0");
-        require(
+        InvalidSetting::require(
             nonneg(self.smoothing),
             "segment.smoothing",
             seconds(self.smoothing),
         )?;
-        require(
+        InvalidSetting::require(
             self.rest_fraction.is_finite() && (0.0..1.0).contains(&self.rest_fraction),
             "segment.rest_fraction",
             format!("{} is not in [0, 1)", self.rest_fraction),
         )?;
-        require(
+        InvalidSetting::require(
             nonneg(self.rest_speed),
             "segment.rest_speed",
             format!("{} is not a finite speed ≥ 0 m/s", self.rest_speed),
         )?;
-        require(
+        InvalidSetting::require(
             self.min_peak_speed.is_finite() && self.min_peak_speed > self.rest_speed,
             "segment.min_peak_speed",
             format!(
@@ -92,18 +93,18 @@ impl SegmentSettings {
                 self.min_peak_speed, self.rest_speed
             ),
         )?;
-        require(
+        InvalidSetting::require(
             nonneg(self.min_duration),
             "segment.min_duration",
             seconds(self.min_duration),
         )?;
-        require(
+        InvalidSetting::require(
             self.split_ratio > 0.0 && self.split_ratio <= 1.0,
             "segment.split_ratio",
             format!("{} is not in (0, 1]", self.split_ratio),
         )?;
-        require(nonneg(self.hold), "segment.hold", seconds(self.hold))?;
-        require(
+        InvalidSetting::require(nonneg(self.hold), "segment.hold", seconds(self.hold))?;
+        InvalidSetting::require(
             nonneg(self.small_move),
             "segment.small_move",
             format!(
@@ -111,26 +112,15 @@ impl SegmentSettings {
                 self.small_move
             ),
         )?;
-        require(
+        InvalidSetting::require(
             self.min_reach.is_finite() && self.min_reach >= self.small_move,
             "segment.min_reach",
             format!(
                 "{} is not a finite fraction of the arm's length ≥ small_move ({})",
                 self.min_reach, self.small_move
             ),
-        )
-    }
-}
-
-/// A [`MotionError::Setting`] unless `ok`.
-fn require(ok: bool, field: &str, why: impl Into<String>) -> Result<()> {
-    if ok {
+        )?;
         Ok(())
-    } else {
-        Err(MotionError::Setting {
-            field: field.to_string(),
-            why: why.into(),
-        })
     }
 }
 

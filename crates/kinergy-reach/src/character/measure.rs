@@ -3,6 +3,7 @@
 //! ([`ArmJoints::find`], [`LegJoints::find`]), the head by name, the rest from
 //! [`Ratios::DRILLIS_CONTINI`].
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::limbs::{name_tokens, side_of};
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, ArmLengths, Clip, LegJoints, MotionError, Side, Skeleton};
@@ -10,13 +11,10 @@ use kinergy_motion::{ArmJoints, ArmLengths, Clip, LegJoints, MotionError, Side, 
 use super::proportions::{
     ArmSegments, LegSegments, Proportions, Ratios, SpineSegments, check_height,
 };
-use crate::error::{ReachError, Result, require};
+use crate::error::{ReachError, Result};
 
 fn setting(field: &str, why: impl Into<String>) -> ReachError {
-    ReachError::Setting {
-        field: field.to_string(),
-        why: why.into(),
-    }
+    ReachError::Setting(InvalidSetting::new(field, why))
 }
 
 /// The `side` leg of a capture ([`LegJoints::find`]); a skeleton without one is a bad
@@ -57,9 +55,8 @@ impl Proportions {
     /// [`ArmJoints::find`]: kinergy_motion::ArmJoints::find
     /// [`LegJoints::find`]: kinergy_motion::LegJoints::find
     pub fn from_clip(clip: &Clip) -> Result<Proportions> {
-        let pose = clip.frame(0).ok_or_else(|| ReachError::Setting {
-            field: "clip".into(),
-            why: "it has no frames to measure".into(),
+        let pose = clip.frame(0).ok_or_else(|| {
+            ReachError::Setting(InvalidSetting::new("clip", "it has no frames to measure"))
         })?;
         measure(clip.skeleton(), pose)
     }
@@ -125,7 +122,7 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
         .fold(f64::NEG_INFINITY, f64::max);
     let hips_y = 0.5 * (zero[legs[0].hip].y + zero[legs[1].hip].y);
     let upper = top - hips_y;
-    require(
+    InvalidSetting::require(
         upper.is_finite() && upper > 0.0,
         "skeleton",
         format!(
@@ -144,7 +141,7 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
     let mut leg_segments = Vec::with_capacity(2);
     for (l, side) in legs.iter().zip(["right", "left"]) {
         let foot = d(l.ankle, l.toe);
-        require(
+        InvalidSetting::require(
             foot > ankle_height,
             "skeleton",
             format!(

@@ -15,10 +15,11 @@
 //! C7–T1 0.845 H, skull base (ear canal) 0.930 H — and the clavicle joints at the shoulder
 //! height 0.818 H, 0.027 H below the cervical joint.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, require};
+use crate::error::Result;
 
 /// Segment lengths and joint placements as fractions of the standing height (see the
 /// [module docs](self) for the sources). The vertical ones — `ankle_height`,
@@ -119,25 +120,26 @@ impl Ratios {
     /// on the thoracic bone. Errors name the field, e.g. `ratios.thigh`.
     pub fn validate(&self) -> Result<()> {
         for (name, v) in self.fields() {
-            require(
+            InvalidSetting::require(
                 v.is_finite() && v > 0.0 && v < 1.0,
                 &format!("ratios.{name}"),
                 format!("{v} is not a fraction of the height in (0, 1)"),
             )?;
         }
         let sum = self.vertical_sum();
-        require(
+        InvalidSetting::require(
             (sum - 1.0).abs() <= 1e-3,
             "ratios",
             format!(
                 "the vertical ratios (ankle_height + shank + thigh + pelvis_rise + sacrum + lumbar + thoracic + neck + head) sum to {sum}, not 1"
             ),
         )?;
-        require(
+        InvalidSetting::require(
             self.shoulder_drop < self.thoracic,
             "ratios.shoulder_drop",
             "the shoulders must lie on the thoracic bone (shoulder_drop < thoracic)",
-        )
+        )?;
+        Ok(())
     }
 }
 
@@ -333,7 +335,7 @@ impl Proportions {
             check_length(leg.heel, &format!("{side}.heel"))?;
         }
         let s = &self.spine;
-        require(
+        InvalidSetting::require(
             s.pelvis_rise.is_finite() && s.pelvis_rise >= 0.0,
             "spine.pelvis_rise",
             format!("{} m is not a length ≥ 0", s.pelvis_rise),
@@ -343,7 +345,7 @@ impl Proportions {
         check_length(s.thoracic, "spine.thoracic")?;
         check_length(s.neck, "spine.neck")?;
         check_length(s.head, "spine.head")?;
-        require(
+        InvalidSetting::require(
             s.shoulder_drop.is_finite() && s.shoulder_drop >= 0.0 && s.shoulder_drop < s.thoracic,
             "spine.shoulder_drop",
             format!(
@@ -357,7 +359,7 @@ impl Proportions {
         check_height_within(self.height(), 1e-12)?;
         let root = self.root_height();
         for (side, leg) in [("right_leg", &self.right_leg), ("left_leg", &self.left_leg)] {
-            require(
+            InvalidSetting::require(
                 leg.hip_height() < root + s.sacrum,
                 side,
                 format!(
@@ -378,7 +380,7 @@ pub(super) fn check_height(h: f64) -> Result<()> {
 /// The height check with a relative `slack` (for heights summed from segments).
 fn check_height_within(h: f64, slack: f64) -> Result<()> {
     let range = Proportions::MIN_HEIGHT * (1.0 - slack)..=Proportions::MAX_HEIGHT * (1.0 + slack);
-    require(
+    InvalidSetting::require(
         h.is_finite() && range.contains(&h),
         "height",
         format!(
@@ -386,13 +388,15 @@ fn check_height_within(h: f64, slack: f64) -> Result<()> {
             Proportions::MIN_HEIGHT,
             Proportions::MAX_HEIGHT
         ),
-    )
+    )?;
+    Ok(())
 }
 
 fn check_length(v: f64, field: &str) -> Result<()> {
-    require(
+    InvalidSetting::require(
         v.is_finite() && v > 0.0,
         field,
         format!("{v} m is not a positive length"),
-    )
+    )?;
+    Ok(())
 }

@@ -11,6 +11,7 @@
 //! a foot is in the air, and to its end (half the step for a half step) — with the knees bent
 //! by [`STEP_KNEE_BEND`] for static balance.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3, Vector3};
 use kinergy_solver::analytic::{LimbIk, OrbitSearch};
@@ -334,9 +335,11 @@ pub(super) fn leg_iks(character: &Character) -> Result<[LimbIk; 2]> {
 fn leg_ik(character: &Character, leg: Limb) -> Result<LimbIk> {
     let ik = LimbIk::new(character.limb_chain(leg))
         .and_then(|ik| ik.with_down(Vector3::y()))
-        .map_err(|e| ReachError::Setting {
-            field: format!("character.{}", leg.name()),
-            why: e.to_string(),
+        .map_err(|e| {
+            ReachError::Setting(InvalidSetting::new(
+                format!("character.{}", leg.name()),
+                e.to_string(),
+            ))
         })?;
     Ok(ik)
 }

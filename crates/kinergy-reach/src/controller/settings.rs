@@ -1,10 +1,11 @@
 //! The full-body reach's settings: every value it can be tuned with, the paper's where it
 //! gives one.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
 use serde::Serialize;
 
-use crate::error::{Result, require};
+use crate::error::Result;
 use crate::profile::SpeedProfile;
 use crate::steps::StepSettings;
 
@@ -109,7 +110,7 @@ impl ReachSettings {
     pub fn validate(&self) -> Result<()> {
         let positive = |v: f64| v > 0.0 && v.is_finite();
         let fraction = |v: f64| (0.0..=1.0).contains(&v);
-        require(
+        InvalidSetting::require(
             positive(self.frame_rate),
             "frame_rate",
             "a positive number of frames per second",
@@ -118,25 +119,25 @@ impl ReachSettings {
         if let Some(s) = &self.steps {
             s.validate()?;
         }
-        require(
+        InvalidSetting::require(
             positive(self.flexibility),
             "flexibility",
             "a positive number",
         )?;
-        require(fraction(self.r_st), "r_st", "within [0, 1]")?;
-        require(fraction(self.r_tw), "r_tw", "within [0, 1]")?;
-        require(
+        InvalidSetting::require(fraction(self.r_st), "r_st", "within [0, 1]")?;
+        InvalidSetting::require(fraction(self.r_tw), "r_tw", "within [0, 1]")?;
+        InvalidSetting::require(
             self.comfortable_angle > 0.0 && self.comfortable_angle < std::f64::consts::PI,
             "comfortable_angle",
             "within (0, π) radians",
         )?;
-        require(
+        InvalidSetting::require(
             self.start_swing_distance >= 0.0 && self.start_swing_distance.is_finite(),
             "start_swing_distance",
             "≥ 0 meters",
         )?;
-        require(positive(self.phi_max), "phi_max", "a positive angle")?;
-        require(
+        InvalidSetting::require(positive(self.phi_max), "phi_max", "a positive angle")?;
+        InvalidSetting::require(
             self.r_max >= 0.0 && self.r_max.is_finite(),
             "r_max",
             "≥ 0 meters",
@@ -149,12 +150,13 @@ impl ReachSettings {
             (self.tolerance, "tolerance"),
             (self.timeout, "timeout"),
         ] {
-            require(positive(v), f, "a positive number")?;
+            InvalidSetting::require(positive(v), f, "a positive number")?;
         }
-        require(
+        InvalidSetting::require(
             self.balance_margin >= 0.0 && self.balance_margin.is_finite(),
             "balance_margin",
             "≥ 0 meters",
-        )
+        )?;
+        Ok(())
     }
 }

@@ -55,14 +55,9 @@ pub enum AnalyticError {
     /// A goal, target or angle has NaN or infinite values.
     #[error("{0} is not finite")]
     NonFinite(String),
-    /// A setting is outside what it may be.
-    #[error("invalid `{field}`: {why}")]
-    Setting {
-        /// The setting, e.g. `OrbitSearch::step`.
-        field: &'static str,
-        /// What was expected.
-        why: String,
-    },
+    /// A setting is outside what it may be (named by its field, e.g. `OrbitSearch::step`).
+    #[error(transparent)]
+    Setting(#[from] kinergy_io::InvalidSetting),
 }
 
 impl kinergy_io::Classify for AnalyticError {

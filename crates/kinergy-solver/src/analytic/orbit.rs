@@ -7,6 +7,8 @@
 //! [`LimbIk::search`]: super::LimbIk::search
 //! [`LimbIk::solve_position`]: super::LimbIk::solve_position
 
+use kinergy_io::InvalidSetting;
+
 use super::error::AnalyticError;
 
 /// Which way α turns the elbow about the shoulder→wrist axis `n`.
@@ -58,12 +60,8 @@ impl Default for OrbitSearch {
 impl OrbitSearch {
     /// Checks the settings: finite, `min ≤ start ≤ max`, `step > 0`, `growth ≥ 1`.
     pub fn validate(&self) -> Result<(), AnalyticError> {
-        let fail = |field, why: &str| {
-            Err(AnalyticError::Setting {
-                field,
-                why: why.into(),
-            })
-        };
+        let fail =
+            |field: &str, why: &str| Err(AnalyticError::Setting(InvalidSetting::new(field, why)));
         if ![self.start, self.min, self.max, self.step, self.growth]
             .iter()
             .all(|v| v.is_finite())
@@ -186,10 +184,7 @@ mod tests {
         };
         assert!(matches!(
             bad.alphas(),
-            Err(AnalyticError::Setting {
-                field: "OrbitSearch::step",
-                ..
-            })
+            Err(AnalyticError::Setting(e)) if e.field == "OrbitSearch::step"
         ));
     }
 }

@@ -2,6 +2,7 @@
 //! (steps 4–5 of the module docs on top of steps 1–3, whose data is in `placement.rs`) or the
 //! position only — the orbit angle of a configuration, the limit test and Kallmann's search.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3, Point3, Rotation3, Unit, Vector3};
 use kinergy_motion::rotation::{Axis, axis_rotation, swing_rotation};
 use kinergy_motion::{Chain, Motion};
@@ -179,10 +180,10 @@ impl LimbIk {
             return Err(AnalyticError::NonFinite("the down direction".into()));
         }
         let Some(down) = Unit::try_new(down, 1e-12) else {
-            return Err(AnalyticError::Setting {
-                field: "LimbIk::down",
-                why: "a non-zero vector".into(),
-            });
+            return Err(AnalyticError::Setting(InvalidSetting::new(
+                "LimbIk::down",
+                "a non-zero vector",
+            )));
         };
         self.down = down;
         self.fallback = fallback_for(&down);

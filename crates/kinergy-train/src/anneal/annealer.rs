@@ -4,6 +4,7 @@
 use std::path::Path;
 use std::sync::atomic::Ordering;
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::seed::splitmix64;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
@@ -13,7 +14,7 @@ use rayon::prelude::*;
 use super::observe::{Control, Observer, Progress};
 use super::settings::AnnealSettings;
 use super::state::{AnnealState, CHECKPOINT_VERSION, Member, Status, mean_cost};
-use crate::error::{Result, TrainError, require};
+use crate::error::{Result, TrainError};
 use crate::objective::CostFunction;
 
 /// The simulated-annealing executor.
@@ -221,7 +222,7 @@ impl Annealer {
         observer: &mut dyn Observer,
         control: &Control<'_>,
     ) -> Result<AnnealState> {
-        require(
+        InvalidSetting::require(
             state.settings == self.settings,
             "state.settings",
             "the annealer's own settings",

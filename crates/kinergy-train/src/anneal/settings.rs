@@ -1,8 +1,9 @@
 //! The annealer's settings: how it searches and when it stops.
 
+use kinergy_io::InvalidSetting;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, require};
+use crate::error::Result;
 
 /// How the annealer searches and when it stops.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -106,48 +107,49 @@ impl AnnealSettings {
 
     /// Checks every setting, naming the field otherwise.
     pub fn validate(&self) -> Result<()> {
-        require(self.population >= 1, "anneal.population", "at least 1")?;
-        require(
+        InvalidSetting::require(self.population >= 1, "anneal.population", "at least 1")?;
+        InvalidSetting::require(
             self.max_evaluations >= self.population,
             "anneal.max_evaluations",
             format!("at least the population ({})", self.population),
         )?;
         let fraction = |v: f64| v > 0.0 && v <= 1.0;
-        require(
+        InvalidSetting::require(
             fraction(self.min_step) && fraction(self.max_step) && self.min_step <= self.max_step,
             "anneal.min_step/max_step",
             "0 < min_step ≤ max_step ≤ 1",
         )?;
-        require(
+        InvalidSetting::require(
             self.initial_step >= self.min_step && self.initial_step <= self.max_step,
             "anneal.initial_step",
             "within [min_step, max_step]",
         )?;
-        require(
+        InvalidSetting::require(
             self.target_acceptance > 0.0 && self.target_acceptance < 1.0,
             "anneal.target_acceptance",
             "within (0, 1)",
         )?;
-        require(self.adapt_every >= 1, "anneal.adapt_every", "at least 1")?;
-        require(
+        InvalidSetting::require(self.adapt_every >= 1, "anneal.adapt_every", "at least 1")?;
+        InvalidSetting::require(
             self.temperature >= 0.0 && self.temperature.is_finite(),
             "anneal.temperature",
             "a finite number ≥ 0",
         )?;
-        require(
+        InvalidSetting::require(
             self.cooling > 0.0 && self.cooling <= 1.0,
             "anneal.cooling",
             "within (0, 1]",
         )?;
-        require(
+        InvalidSetting::require(
             self.stable_window >= 1,
             "anneal.stable_window",
             "at least 1",
         )?;
-        require(
+        InvalidSetting::require(
             self.stable_tolerance >= 0.0 && self.stable_tolerance.is_finite(),
             "anneal.stable_tolerance",
             "a finite number ≥ 0",
-        )
+        )?;
+        Ok(())
     }
 }

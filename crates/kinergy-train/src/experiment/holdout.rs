@@ -26,12 +26,13 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
+use kinergy_io::InvalidSetting;
 use kinergy_solver::{Model, OptimizerKind, ParamSpace, PersonTempo};
 use rayon::prelude::*;
 
 use super::stats::Stats;
 use crate::captured::CapturedReach;
-use crate::error::{Result, TrainError, require};
+use crate::error::{Result, TrainError};
 use crate::field::{FieldFile, FieldSettings};
 use crate::fit::{FitSettings, fit_nested};
 use crate::objective::Objective;
@@ -392,23 +393,23 @@ pub fn group_by_person(takes: &[Take]) -> Vec<(String, Vec<usize>)> {
 /// Checks that every person has more than `holdout` takes (and `holdout` ≥ 1), naming the
 /// first person that has too few: a bad input, found before any fit.
 pub fn check_split(takes: &[Take], holdout: usize) -> Result<()> {
-    require(!takes.is_empty(), "takes", "at least one take")?;
-    require(
+    InvalidSetting::require(!takes.is_empty(), "takes", "at least one take")?;
+    InvalidSetting::require(
         holdout >= 1,
         "holdout",
         "at least 1 take held out per person",
     )?;
     for (person, members) in group_by_person(takes) {
         if members.len() <= holdout {
-            return Err(TrainError::Setting {
-                field: "holdout".into(),
-                why: format!(
+            return Err(TrainError::Setting(InvalidSetting::new(
+                "holdout",
+                format!(
                     "person `{person}` has {} take{}; holding out {holdout} leaves none to fit on (hold out fewer than {})",
                     members.len(),
                     if members.len() == 1 { "" } else { "s" },
                     members.len()
                 ),
-            });
+            )));
         }
     }
     Ok(())
@@ -422,8 +423,8 @@ pub fn run_holdout(
     person_done: &(dyn Fn() + Sync),
 ) -> Result<HoldoutResults> {
     check_split(takes, settings.holdout)?;
-    require(!settings.models.is_empty(), "models", "at least one model")?;
-    require(
+    InvalidSetting::require(!settings.models.is_empty(), "models", "at least one model")?;
+    InvalidSetting::require(
         settings.models.contains(&settings.cross_model),
         "cross_model",
         format!(
@@ -468,9 +469,11 @@ pub fn run_holdout(
                         .iter()
                         .find(|f| f.model() == file.model())
                         .map(|f| f.values.clone())
-                        .ok_or_else(|| TrainError::Setting {
-                            field: "cross_model".into(),
-                            why: "one of the models fitted".into(),
+                        .ok_or_else(|| {
+                            TrainError::Setting(InvalidSetting::new(
+                                "cross_model",
+                                "one of the models fitted",
+                            ))
                         })?;
                     let file = file.anchored(single, &train, settings.fit.tolerance)?;
                     Some((file, fits))

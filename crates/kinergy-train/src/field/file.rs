@@ -2,6 +2,7 @@
 
 use std::path::Path;
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::{
     Bounds, FitGrouping, FitMethod, FitRecord, FitStatus, FittedArm, FittedReach, Model, Optimizer,
@@ -13,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use super::param_field::{LooRow, ParamField};
 use super::settings::{BandwidthScore, FieldSettings, infinite_as_null};
 use crate::captured::{CapturedReach, person_tempo, under_person_tempo};
-use crate::error::{Result, TrainError, in_file, require};
+use crate::error::{Result, TrainError, in_file};
 use crate::fit::{Fit, FitSettings, NestedFit, fit_nested};
 use crate::objective::Objective;
 
@@ -83,7 +84,7 @@ impl FieldFile {
         reaches: Vec<FittedReach>,
     ) -> Result<FieldFile> {
         optimizer.validate()?;
-        require(
+        InvalidSetting::require(
             reaches.len() == field.len(),
             "samples",
             format!(
@@ -92,7 +93,8 @@ impl FieldFile {
                 reaches.len()
             ),
         )?;
-        check_reaches(&reaches).map_err(|(field, why)| TrainError::Setting { field, why })?;
+        check_reaches(&reaches)
+            .map_err(|(field, why)| TrainError::Setting(InvalidSetting::new(field, why)))?;
         Ok(FieldFile {
             field,
             optimizer,
@@ -133,7 +135,7 @@ impl FieldFile {
         fits: &[Fit],
         settings: &FieldSettings,
     ) -> Result<FieldFile> {
-        require(
+        InvalidSetting::require(
             !fits.is_empty() && fits.len() == reaches.len(),
             "fits",
             format!(
@@ -144,7 +146,7 @@ impl FieldFile {
         )?;
         let first = &fits[0];
         for (k, f) in fits.iter().enumerate() {
-            require(
+            InvalidSetting::require(
                 f.space == first.space && f.optimizer == first.optimizer,
                 &format!("fits[{k}]"),
                 "the model, DoFs, bounds and optimizer of fits[0]",
@@ -209,7 +211,7 @@ impl FieldFile {
         fit: &FitSettings,
         field: &FieldSettings,
     ) -> Result<(FieldFile, Vec<NestedFit>)> {
-        require(!reaches.is_empty(), "reaches", "at least one reach")?;
+        InvalidSetting::require(!reaches.is_empty(), "reaches", "at least one reach")?;
         let nested: Vec<NestedFit> = under_person_tempo(reaches)
             .par_iter()
             .map(|r| fit_nested(std::slice::from_ref(r), models, optimizer, fit))
@@ -217,9 +219,8 @@ impl FieldFile {
         let last: Vec<Fit> = nested
             .iter()
             .map(|n| {
-                n.fits.last().cloned().ok_or_else(|| TrainError::Setting {
-                    field: "models".into(),
-                    why: "at least one model to fit".into(),
+                n.fits.last().cloned().ok_or_else(|| {
+                    TrainError::Setting(InvalidSetting::new("models", "at least one model to fit"))
                 })
             })
             .collect::<Result<_>>()?;
@@ -255,7 +256,7 @@ impl FieldFile {
 
     /// [`FieldFile::anchored`]'s choice of the bandwidth by the motion.
     fn chosen_by_motion(self, reaches: &[CapturedReach], tolerance: f64) -> Result<FieldFile> {
-        require(
+        InvalidSetting::require(
             reaches.len() == self.field.len(),
             "reaches",
             format!("the field's {} reaches, in order", self.field.len()),
@@ -382,7 +383,7 @@ impl FieldFile {
     /// `reaches[k]` is synthesized with it (ε = `tolerance`) and scored. `reaches` are the
     /// field's own, in sample order; needs ≥ 2. Rows run in parallel, in sample order.
     pub fn leave_one_out(&self, reaches: &[CapturedReach], tolerance: f64) -> Result<Vec<LooRow>> {
-        require(
+        InvalidSetting::require(
             reaches.len() == self.field.len(),
             "reaches",
             format!("the field's {} reaches, in order", self.field.len()),

@@ -2,6 +2,7 @@
 //! evaluating it, and its leave-one-out evaluation ([`leave_one_out`]). The
 //! [parent module](super) describes the method and re-exports these.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::ParamSpace;
 use rayon::prelude::*;
@@ -9,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::regression::Data;
 use super::settings::{Bandwidth, BandwidthScore, FieldSettings, Regression};
-use crate::error::{Result, TrainError, require};
+use crate::error::{Result, TrainError};
 
 /// Parameters as a smooth function of the target, learned from per-clip fits (see the
 /// [module docs](super) for the method and its properties).
@@ -54,10 +55,7 @@ impl ParamField {
     pub fn anchored(&self, vector: Vec<f64>) -> Result<ParamField> {
         self.space
             .validate(&vector)
-            .map_err(|e| TrainError::Setting {
-                field: "anchor".into(),
-                why: e.to_string(),
-            })?;
+            .map_err(|e| TrainError::Setting(InvalidSetting::new("anchor", e.to_string())))?;
         Ok(ParamField::build(
             self.space.clone(),
             self.targets.clone(),
@@ -122,12 +120,12 @@ impl ParamField {
     /// bandwidth is chosen again, from the remaining samples only) and the same anchor. Needs
     /// ≥ 2 samples.
     pub fn without(&self, k: usize) -> Result<ParamField> {
-        require(
+        InvalidSetting::require(
             self.targets.len() >= 2,
             "samples",
             "at least two samples to leave one out",
         )?;
-        require(
+        InvalidSetting::require(
             k < self.targets.len(),
             "k",
             format!("a sample index below {}", self.targets.len()),
@@ -203,7 +201,7 @@ impl ParamField {
 
     /// [`ParamField::evaluate`], refusing a target that is not finite (`target`).
     pub fn try_evaluate(&self, target: &Point3<f64>) -> Result<Vec<f64>> {
-        require(
+        InvalidSetting::require(
             target.iter().all(|c| c.is_finite()),
             "target",
             "finite coordinates",
@@ -294,7 +292,7 @@ where
     F: Fn(usize, &[f64]) -> Result<f64> + Sync,
 {
     check_inputs(space, samples, settings)?;
-    require(
+    InvalidSetting::require(
         samples.len() >= 2,
         "samples",
         "at least two samples to leave one out",
@@ -330,7 +328,7 @@ fn check_inputs(
     settings: &FieldSettings,
 ) -> Result<()> {
     settings.validate()?;
-    require(
+    InvalidSetting::require(
         !samples.is_empty(),
         "samples",
         "at least one (target, parameters) sample",
@@ -342,7 +340,7 @@ fn check_inputs(
 }
 
 fn check_sample(space: &ParamSpace, k: usize, target: &Point3<f64>, params: &[f64]) -> Result<()> {
-    require(
+    InvalidSetting::require(
         target.iter().all(|c| c.is_finite()),
         &format!("samples[{k}].target"),
         format!(
@@ -350,8 +348,10 @@ fn check_sample(space: &ParamSpace, k: usize, target: &Point3<f64>, params: &[f6
             target.x, target.y, target.z
         ),
     )?;
-    space.validate(params).map_err(|e| TrainError::Setting {
-        field: format!("samples[{k}].params"),
-        why: e.to_string(),
+    space.validate(params).map_err(|e| {
+        TrainError::Setting(InvalidSetting::new(
+            format!("samples[{k}].params"),
+            e.to_string(),
+        ))
     })
 }

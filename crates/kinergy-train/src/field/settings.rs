@@ -1,9 +1,10 @@
 //! How a field is fitted: the bandwidth, the regression, their defaults, and the score of
 //! each candidate bandwidth.
 
+use kinergy_io::InvalidSetting;
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Result, require};
+use crate::error::Result;
 
 /// The factors of the median nearest-neighbour distance that [`Bandwidth::Auto`] tries:
 /// 2^(i/2) for i = −2…6, i.e. ½ … 8 in steps of √2. The floor is ½ because below about half
@@ -89,14 +90,14 @@ impl FieldSettings {
     /// Checks every setting, naming the field otherwise.
     pub fn validate(&self) -> Result<()> {
         if let Bandwidth::Fixed(h) = self.bandwidth {
-            require(
+            InvalidSetting::require(
                 h > 0.0 && h.is_finite(),
                 "field.bandwidth",
                 format!("a finite number of meters > 0, not {h}"),
             )?;
         }
         if let Regression::LocalLinear { ridge } = self.regression {
-            require(
+            InvalidSetting::require(
                 ridge >= 0.0 && ridge.is_finite(),
                 "field.ridge",
                 format!("a finite number ≥ 0, not {ridge}"),

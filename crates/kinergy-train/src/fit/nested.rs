@@ -4,13 +4,14 @@
 
 use std::path::Path;
 
+use kinergy_io::InvalidSetting;
 use kinergy_solver::{Bounds, FitGrouping, FitObjective, Model, Optimizer, ParamsFile, StageScore};
 use serde::{Deserialize, Serialize};
 
 use super::single::{Fit, FitSettings, run_stage};
 use crate::anneal::{AnnealSettings, AnnealState, Checkpoint, Control, Observer, Status};
 use crate::captured::CapturedReach;
-use crate::error::{Result, TrainError, require};
+use crate::error::{Result, TrainError};
 use crate::objective::{CostFunction, Objective};
 
 /// The fits of a nested sequence of models, poorest first.
@@ -33,9 +34,8 @@ impl NestedFit {
         reaches: &[CapturedReach],
         grouping: FitGrouping,
     ) -> Result<ParamsFile> {
-        let last = self.fits.last().ok_or_else(|| TrainError::Setting {
-            field: "models".into(),
-            why: "at least one fitted model".into(),
+        let last = self.fits.last().ok_or_else(|| {
+            TrainError::Setting(InvalidSetting::new("models", "at least one fitted model"))
         })?;
         let mut file = last.params_file(reaches)?;
         if let Some(record) = file.fit.as_mut() {
@@ -378,12 +378,12 @@ impl NestedRun<'_> {
         control: &Control<'_>,
         resume: bool,
     ) -> Result<NestedOutcome> {
-        require(
+        InvalidSetting::require(
             !self.reaches.is_empty(),
             "reaches",
             "at least one reach to fit",
         )?;
-        require(!self.models.is_empty(), "models", "at least one model")?;
+        InvalidSetting::require(!self.models.is_empty(), "models", "at least one model")?;
         let models = self.sorted_models();
         let problem = self.problem();
         let path = control.checkpoint.map(Checkpoint::path);
@@ -402,10 +402,10 @@ impl NestedRun<'_> {
                 (c.completed, c.current)
             }
             (true, None) => {
-                return Err(TrainError::Setting {
-                    field: "resume".into(),
-                    why: "needs a checkpoint file".into(),
-                });
+                return Err(TrainError::Setting(InvalidSetting::new(
+                    "resume",
+                    "needs a checkpoint file",
+                )));
             }
             _ => (Vec::new(), None),
         };
@@ -415,7 +415,7 @@ impl NestedRun<'_> {
                 .settings
                 .objective(self.reaches, model, self.optimizer)?;
             if let Some(stage) = completed.get(i) {
-                require(
+                InvalidSetting::require(
                     stage.model == model,
                     "checkpoint.completed",
                     "the same models in the same order",

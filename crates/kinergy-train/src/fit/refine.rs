@@ -29,6 +29,7 @@
 //! Jacobian's columns are synthesized in parallel and assembled in parameter order, and every
 //! sum runs in a fixed order, so the result is the same on any number of threads.
 
+use kinergy_io::InvalidSetting;
 use kinergy_solver::Synergy;
 use nalgebra::{DMatrix, DVector};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -38,7 +39,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::baseline::{BaselineMethod, BaselineSettings};
 use crate::captured::CapturedReach;
-use crate::error::{Result, require};
+use crate::error::Result;
 use crate::objective::Objective;
 
 /// How a refinement runs.
@@ -70,26 +71,27 @@ impl Default for RefineSettings {
 impl RefineSettings {
     /// Checks every setting, naming the field otherwise.
     pub fn validate(&self) -> Result<()> {
-        require(
+        InvalidSetting::require(
             self.max_evaluations >= 1,
             "refine.max_evaluations",
             "at least 1",
         )?;
-        require(
+        InvalidSetting::require(
             self.step > 0.0 && self.step <= 0.01,
             "refine.step",
             "within (0, 0.01]",
         )?;
-        require(
+        InvalidSetting::require(
             self.damping > 0.0 && self.damping.is_finite(),
             "refine.damping",
             "a positive number",
         )?;
-        require(
+        InvalidSetting::require(
             self.simplex_step > 0.0 && self.simplex_step <= 0.5,
             "refine.simplex_step",
             "within (0, 0.5]",
-        )
+        )?;
+        Ok(())
     }
 }
 

@@ -1,6 +1,7 @@
 //! One model's fit (a *stage*): how it searches ([`FitSettings`]), its seed ([`model_seed`]),
 //! running it ([`fit_model`]) and what it gives ([`Fit`]). See the [parent module](super).
 
+use kinergy_io::InvalidSetting;
 use kinergy_solver::{
     Bounds, FitMethod, FitObjective, FitRecord, FittedReach, Model, Optimizer, ParamSpace,
     ParamsFile,
@@ -9,7 +10,7 @@ use kinergy_solver::{
 use super::refine::{RefineSettings, Refinement, refine_until};
 use crate::anneal::{AnnealSettings, AnnealState, Annealer, Control, Observer, Status};
 use crate::captured::{CapturedReach, DEFAULT_TOLERANCE};
-use crate::error::{Result, require};
+use crate::error::Result;
 use crate::objective::{CostFunction, Objective};
 
 /// How a fit searches.
@@ -57,7 +58,7 @@ impl FitSettings {
         model: Model,
         optimizer: Optimizer,
     ) -> Result<Objective> {
-        require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
+        InvalidSetting::require(!reaches.is_empty(), "reaches", "at least one reach to fit")?;
         let space = ParamSpace::new(model, &reaches[0].dof_names(), self.bounds)?;
         Objective::new(
             crate::captured::under_person_tempo(reaches),

@@ -3,6 +3,7 @@
 //! a fixed-point iteration (module docs of [`super`]); and the shoulder, hand and reach error
 //! the scheduler's planning asks of a pose.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
 use kinergy_solver::analytic::{LimbIk, OrbitSearch, OrbitSense};
@@ -74,10 +75,7 @@ pub(crate) fn arm_ik(character: &Character, arm: Limb) -> Result<LimbIk> {
     };
     LimbIk::new(character.limb_chain(arm))
         .map(|ik| ik.with_sense(sense))
-        .map_err(|e| ReachError::Setting {
-            field: "character.arm".into(),
-            why: e.to_string(),
-        })
+        .map_err(|e| ReachError::Setting(InvalidSetting::new("character.arm", e.to_string())))
 }
 
 /// Where an arm's orbit search starts.

@@ -3,6 +3,7 @@
 
 use std::ops::Range;
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::Chain;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Rotation3};
 use kinergy_solver::{
@@ -85,9 +86,8 @@ impl SynergyArm {
         smoothing: Option<Smoothing>,
         start: Option<&SynergyStart>,
     ) -> Result<SynergyArm> {
-        let setting = |e: kinergy_solver::SolverError| ReachError::Setting {
-            field: "params".into(),
-            why: e.to_string(),
+        let setting = |e: kinergy_solver::SolverError| {
+            ReachError::Setting(InvalidSetting::new("params", e.to_string()))
         };
         let settings = ControllerSettings {
             stall: StallRule::default(),
@@ -149,9 +149,8 @@ impl SynergyArm {
     /// step already) and starts at the speed the arm moved on the last frame: started at the
     /// plain step's own speed, the hand jumped from 0.25 to 2.5 m/s at the seam.
     pub fn hand_over(&mut self, frame_time: f64) -> Result<()> {
-        let setting = |e: kinergy_solver::SolverError| ReachError::Setting {
-            field: "hand-over".into(),
-            why: e.to_string(),
+        let setting = |e: kinergy_solver::SolverError| {
+            ReachError::Setting(InvalidSetting::new("hand-over", e.to_string()))
         };
         let chain = self.stepper.chain();
         let n = chain.dof_count();
@@ -275,10 +274,7 @@ impl SynergyArm {
         let seen = self
             .stepper
             .observe(&capture_base, &self.task)
-            .map_err(|e| ReachError::Setting {
-                field: "params".into(),
-                why: e.to_string(),
-            })?;
+            .map_err(|e| ReachError::Setting(InvalidSetting::new("params", e.to_string())))?;
         self.progress.push(seen.progress);
         if !seen.error.is_finite() || !self.stepper.advance() {
             return Ok(None);
@@ -286,14 +282,9 @@ impl SynergyArm {
         self.history.extend_from_slice(self.stepper.configuration());
         // The distance of the arm shown (the controller's own chain clamps into its own
         // limits, which can leave its arm a little off the character's).
-        let shown =
-            self.stepper
-                .chain()
-                .end_position(base, &q)
-                .map_err(|e| ReachError::Setting {
-                    field: "character.arm".into(),
-                    why: e.to_string(),
-                })?;
+        let shown = self.stepper.chain().end_position(base, &q).map_err(|e| {
+            ReachError::Setting(InvalidSetting::new("character.arm", e.to_string()))
+        })?;
         Ok(Some((shown - self.target).norm()))
     }
 

@@ -2,6 +2,7 @@
 //! "Conventions"): the constant rotation `K` between their bases at rest, made as a fit makes
 //! it, and the conversion of an arm between them through the girdle's turn.
 
+use kinergy_io::InvalidSetting;
 use kinergy_motion::limbs::ArmJoints;
 use kinergy_motion::nalgebra::{Rotation3, Vector3};
 use kinergy_motion::rotation::{swing_rotation, swing_twist, unwrap_near};
@@ -29,10 +30,7 @@ pub(super) fn capture_rotation(
 
 /// The [`CaptureArm`] a fit makes of `limb` in a one-frame export of `pose`.
 fn captured_arm(character: &Character, limb: Limb, pose: &Pose) -> Result<CaptureArm> {
-    let setting = |why: String| ReachError::Setting {
-        field: "character".into(),
-        why,
-    };
+    let setting = |why: String| ReachError::Setting(InvalidSetting::new("character", why));
     let clip = character.to_clip(std::slice::from_ref(pose), 1.0 / 60.0)?;
     let joints =
         ArmJoints::find(clip.skeleton(), limb.side()).map_err(|e| setting(e.to_string()))?;
