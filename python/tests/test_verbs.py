@@ -261,6 +261,24 @@ def test_a_planned_grasp_is_the_cli_s(cli, at_root, tmp_path):
         "-o", str(tmp_path / "g.bvh"))
     back = kinergy.read_bvh(tmp_path / "g.bvh", unit="cm")
     assert np.abs(ours.positions - back.positions).max() <= 1e-9
+    said = json.loads(run(cli, "plan", "--scene", scene, "--task", "grasp", "--object",
+                          "blue_book", "--seed", "2", "-o", str(tmp_path / "g2.bvh"), "--json",
+                          quiet=False).stdout)
+
+    def timeless(report):
+        """The report without the planner's wall times."""
+        report = json.loads(json.dumps(report))
+        for phase in report["phases"]:
+            for key in ("plan_ms", "smooth_ms"):
+                (phase.get("planned") or {}).pop(key, None)
+        return report
+
+    # One library report, serialized by both: equal but for the file and the wall times.
+    report = timeless(ours.report)
+    assert report.pop("output") is None and said.pop("output").endswith("g2.bvh")
+    assert report == timeless(said)
+    with pytest.raises(kinergy.InputError, match="did you mean `blue_book`"):
+        kinergy.plan(scene, task="grasp", object="blue_bok")
     with pytest.raises(kinergy.InputError, match="atlass"):
         kinergy.plan(scene, task="grasp", object="atlass")
     with pytest.raises(kinergy.InputError):

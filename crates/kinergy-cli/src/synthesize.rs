@@ -130,7 +130,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
     if let Some(path) = &args.params {
         request.drive = Drive::Person {
-            params: crate::common::read_person(path)?,
+            params: Box::new(crate::common::read_person(path)?),
             path: Some(path.clone()),
         };
     }

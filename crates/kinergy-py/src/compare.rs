@@ -9,7 +9,7 @@ use std::time::Duration;
 use kinergy_solver::{Model, OptimizerKind};
 use kinergy_train::experiment::{ExperimentSettings, Results, run_until};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyList;
 
 use crate::clip::parse;
 use crate::errors;

@@ -707,7 +707,10 @@ pub fn synthesize<'py>(
         },
     };
     let drive = match params.map(params_arg).transpose()? {
-        Some(params) => Drive::Person { params, path: None },
+        Some(params) => Drive::Person {
+            params: Box::new(params),
+            path: None,
+        },
         None => Drive::Neutral {
             model: parse::<Model>("model", model)?,
             optimizer: parse::<OptimizerKind>("optimizer", optimizer)?.default_optimizer(),

@@ -24,8 +24,8 @@ use crate::source::{ArmChoice, Controller, FrameChoice};
 pub enum Drive {
     /// A person's parameters or field, read from `path` (errors name it).
     Person {
-        /// The parameters.
-        params: PersonParams,
+        /// The parameters (boxed: a field is large).
+        params: Box<PersonParams>,
         /// Their file, for messages (`None` when they came from memory).
         path: Option<PathBuf>,
     },
@@ -273,15 +273,15 @@ impl SynthesizeRequest {
         };
         let drive = match &self.drive {
             Drive::Person { params, path } => {
-                ReachDrive::person(&reach, params as &dyn PersonStyle, side).map_err(|e| {
-                    SynthesizeError {
+                ReachDrive::person(&reach, params.as_ref() as &dyn PersonStyle, side).map_err(
+                    |e| SynthesizeError {
                         step: Step::Params,
                         source: TrainError::File {
                             path: path.clone(),
                             why: e.to_string(),
                         },
-                    }
-                })?
+                    },
+                )?
             }
             Drive::Neutral { model, optimizer } => {
                 ReachDrive::neutral(&reach, *model, *optimizer).map_err(at(Step::Synthesis))?
