@@ -82,7 +82,7 @@ impl FromStr for Profile {
     }
 }
 
-/// A full-body reach request ([module docs](self)).
+/// A full-body reach request: a character, a target, the settings and who drives the arm.
 pub struct PersonReach<'a> {
     /// The target hand position, world meters.
     pub target: Point3<f64>,
