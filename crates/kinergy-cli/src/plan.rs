@@ -32,7 +32,7 @@ pub struct Args {
     /// origin ends at `--to`, let go and come back), `grasp` (reach, approach and close the
     /// hand on it), `pull` or `push` (grasp the drawer `--object` and pull it open or push it
     /// in by `--distance` meters).
-    #[arg(long, requires = "object", value_name = "relocate|grasp|pull|push")]
+    #[arg(long, requires = "object", value_parser = crate::common::named::<TaskKind>(TaskKind::ALL.map(TaskKind::name)))]
     pub task: Option<TaskKind>,
     /// The object the task acts on.
     #[arg(long, value_name = "NAME")]

@@ -31,7 +31,7 @@ pub struct Args {
     /// The hand's speed profile: `ease-out` (Huang's: constant speed, then constant
     /// deceleration, v_s = 20 cm/s, r_s = 0.8) or `minimum-jerk` (a bell, like human hand
     /// speed).
-    #[arg(long, default_value_t = Profile::EaseOut, value_name = "ease-out|minimum-jerk")]
+    #[arg(long, default_value_t = Profile::EaseOut, value_parser = crate::common::named::<Profile>(Profile::ALL.map(Profile::name)))]
     pub profile: Profile,
     /// Seed of the stepping decisions.
     #[arg(long, default_value_t = 0)]

@@ -39,7 +39,7 @@ pub struct Args {
     /// With --params, the synergy controller of the person's arm: `smooth` (the default) or
     /// `paper` (the one `fit --controller paper` and `synthesize --controller paper` run, for
     /// sets whose truth a fit must recover exactly).
-    #[arg(long, default_value_t = Controller::Smooth, value_name = "smooth|paper", requires = "params")]
+    #[arg(long, default_value_t = Controller::Smooth, value_parser = crate::common::named::<Controller>(Controller::ALL.map(Controller::name)), requires = "params")]
     pub controller: Controller,
 }
 

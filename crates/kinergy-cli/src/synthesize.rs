@@ -53,7 +53,7 @@ pub struct Args {
     /// the plain optimizer after the reach's frames, the capture's start velocity) or `paper`
     /// (Aubry et al.'s controller alone, from rest). Use the one the parameters were fitted
     /// with (`fit --controller`).
-    #[arg(long, default_value_t = Controller::Smooth, value_name = "smooth|paper")]
+    #[arg(long, default_value_t = Controller::Smooth, value_parser = crate::common::named::<Controller>(Controller::ALL.map(Controller::name)))]
     controller: Controller,
     /// Stop as soon as the target is reached (default: keep tracking it at least until the
     /// capture's last frame, and on until it is reached, up to --max-seconds).

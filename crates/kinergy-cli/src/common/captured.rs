@@ -52,7 +52,7 @@ pub struct CaptureArgs {
     /// the plain optimizer after the reach's frames, the capture's start velocity; see
     /// `docs/guide/fitting.md` "The controller: smooth (the default) or the paper's") or
     /// `paper` (Aubry et al.'s Θ ← clamp(Θ + S(t)·O(ΔX)) alone, from rest).
-    #[arg(long, default_value_t = Controller::Smooth, value_name = "smooth|paper")]
+    #[arg(long, default_value_t = Controller::Smooth, value_parser = crate::common::named::<Controller>(Controller::ALL.map(Controller::name)))]
     pub controller: Controller,
     #[command(flatten)]
     pub read: ReadArgs,

@@ -124,3 +124,16 @@ pub fn length(meters: f64) -> String {
     };
     format!("{value:.digits$} {unit}")
 }
+
+/// A flag's parser for a library enum read by its names (`FromStr`): clap lists `names` in
+/// `--help` and the shell completions, and the library's own parse makes the value.
+pub fn named<T>(
+    names: impl IntoIterator<Item = &'static str>,
+) -> impl clap::builder::TypedValueParser<Value = T>
+where
+    T: std::str::FromStr + Clone + Send + Sync + 'static,
+    T::Err: Into<Box<dyn std::error::Error + Send + Sync + 'static>>,
+{
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(names).try_map(|s| s.parse::<T>())
+}
