@@ -140,7 +140,7 @@ fn check_delivery(
 #[test]
 fn reaches_the_paper_controller_spoiled_are_smooth_and_arrive() {
     let dir = tempfile::tempdir().expect("tempdir");
-    // p01/r09 is the README's Fig. 5 (S_C spiked 0.30 → 0.95 → 0.36 m/s); p04/r03 spiked to
+    // p01/r09 is the guide's Fig. 5 (docs/guide/fitting.md) (S_C spiked 0.30 → 0.95 → 0.36 m/s); p04/r03 spiked to
     // 5.4 m/s from a straight arm; p02/r05 and p04/r06 stalled 7 and 206 mm short. p01/r03
     // (its S_D vector bends the elbow with a negative gain) stalled 18.7 mm short after the
     // finish, its elbow straight and its wrist bent on both swing limits: the near-straight
@@ -184,8 +184,7 @@ fn reaches_the_paper_controller_spoiled_are_smooth_and_arrive() {
 /// 1.4× the steepest change of *active*'s and *normal*'s takes (a·T/V ≈ 3.5): measured
 /// 1.17–1.53× on their held-out takes with S_C, up to 1.72× of *elderly*'s 0.045 m/s changes.
 /// Bounding it at the person's own 3.5 V/T made the reaches longer and slower (*normal*'s
-/// real-time e 1.7 → 3.5× the ceiling: README "A person delivered as fitted"), so the issue's
-/// strict real-time check (no change above the capture's) is reported, not asserted: the
+/// real-time e 1.7 → 3.5× the ceiling), so the strict real-time check (no change above the capture's) is reported, not asserted: the
 /// person's own takes fail it against each other on 6 of 12 pairs.
 const STEEPER: f64 = 1.6;
 
@@ -496,9 +495,9 @@ fn body_ceiling_jerk(report: &serde_json::Value) -> (f64, f64, f64) {
 /// no capture sees are held neutral, so the seed no longer steers the character: on every
 /// seed the body beats minimum jerk and stays within a bound of the person's own repeats
 /// (measured over seeds 1–6, × the ceiling: *active* 0.65–0.68, *elderly* 1.47–1.74,
-/// *normal* 1.63–1.76, against minimum jerk's 4.51 / 1.85 / 7.29; the issue's 1.5× is met by
-/// *active* on every seed and by *elderly* on seed 4 only, README "A person delivered as
-/// fitted"); and seeds 2–6 deliver the same motion as seed 1 to within the person's own
+/// *normal* 1.63–1.76, against minimum jerk's 4.51 / 1.85 / 7.29; 1.5× is met by *active* on
+/// every seed and by *elderly* on seed 4 only; docs/guide/fitting.md, "Judging a person's
+/// motion in real time"); and seeds 2–6 deliver the same motion as seed 1 to within the person's own
 /// variation — the real-time e between a seed's body and seed 1's, mean over the takes, is
 /// below the person's noise ceiling (measured at most 0.20 / 0.77 / 0.16 of it).
 #[test]
@@ -628,7 +627,7 @@ fn the_dofs_a_fit_records_as_unobserved_do_not_move_the_captured_hand() {
 /// jerk for every person, and the body's duration and peak speed are within 15 % of the
 /// captures' (measured 1.11 / 0.98 / 1.00 and 1.07 / 1.09 / 0.96). What is not yet met is
 /// written down, not asserted: the issue's 1.25× and 1.5× of the ceiling for *elderly* and
-/// *normal*, and its real-time jump check (README "A person delivered as fitted").
+/// *normal*, and its real-time jump check (docs/guide/fitting.md, "Judging a person's motion in real time").
 #[test]
 fn the_full_body_delivers_the_arm_as_fitted_in_real_time() {
     let Some(folder) = shared("bandai-raise-left", "") else {

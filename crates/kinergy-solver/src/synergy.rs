@@ -456,7 +456,7 @@ impl ParamSpace {
 
 /// S_E's growth of a gain: e^{k(1 − e^{−t})}, 1 at t = 0 and e^k after a few seconds (time
 /// constant 1 s). Tried against e^{kt} and e^{k·min(t, 1)} on held-out takes of the shared
-/// people (README "S_E"): unbounded in time, the growth fitted on short reaches blew up over
+/// people (docs/guide/fitting.md, "S_E, beyond the paper"): unbounded in time, the growth fitted on short reaches blew up over
 /// a slow person's longer ones.
 #[inline]
 pub fn growth_factor(k: f64, t: f64) -> f64 {
