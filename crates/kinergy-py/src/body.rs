@@ -19,7 +19,7 @@ use pyo3::types::{PyDict, PyList};
 
 use crate::clip::{Clip, import_options, parse};
 use crate::errors;
-use crate::verbs::params_arg;
+use crate::params::params_arg;
 
 /// `json.loads(serde_json of value)`.
 fn to_python<'py, T: serde::Serialize>(py: Python<'py>, value: &T) -> PyResult<Bound<'py, PyAny>> {

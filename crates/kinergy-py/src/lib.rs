@@ -20,6 +20,8 @@ pub mod errors;
 pub mod library;
 pub mod params;
 pub mod progress;
+pub mod reach;
+pub mod synthesize;
 pub mod verbs;
 
 /// The module: classes, functions and exceptions.
@@ -32,8 +34,8 @@ fn _kinergy(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(clip::_clip_from_state, m)?)?;
     m.add_function(wrap_pyfunction!(verbs::segment, m)?)?;
     m.add_function(wrap_pyfunction!(verbs::fit, m)?)?;
-    m.add_function(wrap_pyfunction!(verbs::synthesize, m)?)?;
-    m.add_function(wrap_pyfunction!(verbs::reach, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesize::synthesize, m)?)?;
+    m.add_function(wrap_pyfunction!(reach::reach, m)?)?;
     m.add_function(wrap_pyfunction!(verbs::hand_speed, m)?)?;
     m.add_function(wrap_pyfunction!(body::style, m)?)?;
     m.add_function(wrap_pyfunction!(body::plan, m)?)?;

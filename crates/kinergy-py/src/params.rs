@@ -149,3 +149,14 @@ impl Params {
         )
     }
 }
+
+/// `params=`: a Params, or a path to a parameters or field file.
+pub fn params_arg(arg: &Bound<'_, PyAny>) -> PyResult<PersonParams> {
+    if let Ok(p) = arg.cast::<Params>() {
+        return Ok(p.get().inner.clone());
+    }
+    let path: PathBuf = arg
+        .extract()
+        .map_err(|_| errors::input("params: expected a kinergy.Params or a path to its file"))?;
+    PersonParams::read(&path).map_err(errors::raise)
+}

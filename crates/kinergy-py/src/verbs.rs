@@ -7,19 +7,14 @@ use std::sync::atomic::AtomicBool;
 
 use kinergy_motion::segment::{SegmentSettings, Selection, find_segments, main_index};
 use kinergy_motion::{ImportOptions, Side};
-use kinergy_reach::character::Proportions;
-use kinergy_reach::controller::ReachSettings;
-use kinergy_reach::drive::{PersonReach, Profile, check_settings, check_target};
 use kinergy_solver::{BaseMode, FitGrouping, FitObjective, Model, OptimizerKind};
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::field::{FieldFile, FieldSettings};
 use kinergy_train::fit::{FitJob, FitSettings, NestedFit};
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
-    ArmChoice, ArmRequest, Capture, Controller, Found, FrameChoice, ReachFrames, ReachQuery, Take,
-    capture_files,
+    ArmChoice, ArmRequest, Capture, Controller, Found, ReachFrames, ReachQuery, Take, capture_files,
 };
-use kinergy_train::synthesize::{Drive, SynthesizeRequest};
 use kinergy_train::{CapturedReach, PersonParams, limits};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -31,7 +26,7 @@ use crate::progress::Watch;
 
 /// A clip argument: a `Clip`, or a path read with `options`. Returns the clip and the path
 /// it is named by (a made clip: `<clip>`).
-fn clip_arg(
+pub fn clip_arg(
     py: Python<'_>,
     arg: &Bound<'_, PyAny>,
     options: &ImportOptions,
@@ -631,209 +626,6 @@ pub fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>
         .build()
         .map(Some)
         .map_err(|e| errors::KinergyError::new_err(format!("threads={n}: {e}")))
-}
-
-/// A synergy reach on a capture's skeleton, as `kinergy synthesize` makes it: from the
-/// capture's frame where the reach starts toward its final hand position (or `target`,
-/// world meters), with the capture's torso replayed. Returns the motion as a Clip (the
-/// capture's skeleton; `Clip.report` says how it ended).
-///
-/// clip: a Clip or a path. params: Params (or a path to a parameters or field file);
-/// None drives the neutral `model` with `optimizer`. frames: "fit" (the frames the params
-/// were fitted on for this capture; the default), "auto" (the main reach), "all", or
-/// (start, end); or select: "main" or a segment number (as `kinergy segment` lists them).
-/// arm: "right" or "left" (default: the fitted arm, else right; an arm other than the fitted
-/// one is warned of). check: raise UnreachableError (its `clip` holds the motion) when the
-/// target is not reached.
-#[pyfunction]
-#[pyo3(signature = (clip, params = None, *, frames = None, select = None, target = None, model = "sa", optimizer = "svd", arm = None, chain = None, fixed_base = false, controller = "smooth", stop_at_reach = false, tolerance = 0.005, max_seconds = 10.0, check = true, unit = "auto", up = "auto", positions = "auto"))]
-#[allow(clippy::too_many_arguments)]
-pub fn synthesize<'py>(
-    py: Python<'py>,
-    clip: &Bound<'py, PyAny>,
-    params: Option<&Bound<'py, PyAny>>,
-    frames: Option<&Bound<'py, PyAny>>,
-    select: Option<&Bound<'py, PyAny>>,
-    target: Option<[f64; 3]>,
-    model: &str,
-    optimizer: &str,
-    arm: Option<&str>,
-    chain: Option<Vec<String>>,
-    fixed_base: bool,
-    controller: &str,
-    stop_at_reach: bool,
-    tolerance: f64,
-    max_seconds: f64,
-    check: bool,
-    unit: &str,
-    up: &str,
-    positions: &str,
-) -> PyResult<Clip> {
-    let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
-    let frames = match frames {
-        None => FrameChoice::Fitted,
-        Some(f) => match f.extract::<(usize, usize)>() {
-            Ok((a, b)) if a < b => FrameChoice::Window(a..b),
-            Ok((a, b)) => {
-                return Err(errors::input(format!(
-                    "frames=({a}, {b}): expected (start, end) with start < end"
-                )));
-            }
-            Err(_) => match f.extract::<String>()?.as_str() {
-                "fit" => FrameChoice::Fitted,
-                "auto" => FrameChoice::Main,
-                "all" => FrameChoice::All,
-                other => {
-                    return Err(errors::input(format!(
-                        "frames={other:?}: expected \"fit\", \"auto\", \"all\" or (start, end)"
-                    )));
-                }
-            },
-        },
-    };
-    let frames = match select {
-        None => frames,
-        Some(_) if !matches!(frames, FrameChoice::Fitted) => {
-            return Err(errors::input("select= or frames=: not both"));
-        }
-        Some(s) => match selection_arg(Some(s))? {
-            Some(Selection::Nth(n)) => FrameChoice::Nth(n),
-            Some(Selection::Main) | None => FrameChoice::Main,
-            Some(Selection::All) => {
-                return Err(errors::input(
-                    "select=\"all\": synthesize makes one reach; pick \"main\" or a segment number",
-                ));
-            }
-        },
-    };
-    let drive = match params.map(params_arg).transpose()? {
-        Some(params) => Drive::Person {
-            params: Box::new(params),
-            path: None,
-        },
-        None => Drive::Neutral {
-            model: parse::<Model>("model", model)?,
-            optimizer: parse::<OptimizerKind>("optimizer", optimizer)?.default_optimizer(),
-        },
-    };
-    let request = SynthesizeRequest {
-        frames,
-        arm: arm.map(|a| parse::<Side>("arm", a)).transpose()?,
-        chain,
-        base: if fixed_base {
-            BaseMode::Fixed
-        } else {
-            BaseMode::Replay
-        },
-        controller: controller.parse::<Controller>().map_err(errors::raise)?,
-        target: target.map(|[x, y, z]| kinergy_motion::nalgebra::Point3::new(x, y, z)),
-        drive,
-        tolerance,
-        max_seconds,
-        stop_at_reach,
-    };
-    request.validate().map_err(errors::raise)?;
-    let (whole, from) = clip_arg(py, clip, &options)?;
-    let done = py
-        .detach(|| request.run(&whole, &from))
-        .map_err(errors::raise)?;
-    if let Some(warning) = &done.warning {
-        let warnings = py.import("warnings")?;
-        warnings.call_method1("warn", (warning.as_str(),))?;
-    }
-    let out = Clip::made(done.clip).with_report(&done.report);
-    match done.report.ending() {
-        Err(e) if check => Err(unreachable(py, e.to_string(), out)),
-        _ => Ok(out),
-    }
-}
-
-/// `UnreachableError(message)` carrying the motion made as `clip`.
-fn unreachable(py: Python<'_>, message: String, clip: Clip) -> PyErr {
-    let err = errors::UnreachableError::new_err(message);
-    if let Ok(clip) = Bound::new(py, clip) {
-        let _ = err.value(py).setattr("clip", clip);
-    }
-    err
-}
-
-/// `params=`: a Params, or a path to a parameters or field file.
-pub fn params_arg(arg: &Bound<'_, PyAny>) -> PyResult<PersonParams> {
-    if let Ok(p) = arg.cast::<Params>() {
-        return Ok(p.get().inner.clone());
-    }
-    let path: PathBuf = arg
-        .extract()
-        .map_err(|_| errors::input("params: expected a kinergy.Params or a path to its file"))?;
-    PersonParams::read(&path).map_err(errors::raise)
-}
-
-/// One full-body reach of the 43-DoF character toward `target` (world meters, the
-/// character standing at the origin facing +z), as `kinergy reach` makes it: stepping,
-/// twisting, bending and squatting as needed. With `params` (a person's Params or its
-/// file), the person's synergy drives the arm (their style); without, the speed profile.
-///
-/// height: the character's height in meters (or `person`: a BVH whose skeleton gives the
-/// proportions). flexibility, arm ("right"/"left", default: the nearer), profile
-/// ("ease-out" or "minimum-jerk"), seed, timeout (seconds): as the CLI's options. check:
-/// raise UnreachableError (its `clip` holds the motion) when the hand does not arrive.
-#[pyfunction]
-#[pyo3(signature = (target, *, params = None, height = 1.75, person = None, flexibility = 1.0, arm = None, profile = "ease-out", seed = 0, timeout = None, check = true))]
-#[allow(clippy::too_many_arguments)]
-pub fn reach<'py>(
-    py: Python<'py>,
-    target: [f64; 3],
-    params: Option<&Bound<'py, PyAny>>,
-    height: f64,
-    person: Option<&Bound<'py, PyAny>>,
-    flexibility: f64,
-    arm: Option<&str>,
-    profile: &str,
-    seed: u64,
-    timeout: Option<f64>,
-    check: bool,
-) -> PyResult<Clip> {
-    let defaults = ReachSettings::default();
-    let settings = ReachSettings {
-        flexibility,
-        seed,
-        timeout: timeout.unwrap_or(defaults.timeout),
-        arm: arm.map(|a| parse::<Side>("arm", a)).transpose()?,
-        profile: profile
-            .parse::<Profile>()
-            .map_err(errors::raise)?
-            .speed_profile(),
-        ..defaults
-    };
-    let target = kinergy_motion::nalgebra::Point3::new(target[0], target[1], target[2]);
-    check_target(&target).map_err(errors::raise)?;
-    check_settings(&settings).map_err(errors::raise)?;
-    errors::check_range("height", height, limits::REACH_HEIGHT)?;
-    let proportions = match person {
-        Some(p) => {
-            let (clip, path) = clip_arg(py, p, &ImportOptions::default())?;
-            Proportions::from_clip(&clip)
-                .map_err(|e| errors::input(format!("{}: {e}", path.display())))?
-        }
-        None => Proportions::from_height(height)
-            .map_err(|e| errors::input(format!("height={height}: {e}")))?,
-    };
-    let person = params.map(params_arg).transpose()?;
-    let request = PersonReach {
-        target,
-        proportions,
-        settings,
-        person: person
-            .as_ref()
-            .map(|p| p as &dyn kinergy_solver::PersonStyle),
-    };
-    let done = py.detach(|| request.run()).map_err(errors::raise)?;
-    let arrived = done.arrived();
-    let out = Clip::made(done.clip).with_report(&done.report);
-    match arrived {
-        Err(e) if check => Err(unreachable(py, e.to_string(), out)),
-        _ => Ok(out),
-    }
 }
 
 /// The hand's speed, m/s, one value per frame (float64 array), as `kinergy plot speed

@@ -1,0 +1,82 @@
+//! `kinergy.reach`: one full-body reach, the library's [`PersonReach`] from Python's
+//! arguments.
+
+use kinergy_motion::{ImportOptions, Side};
+use kinergy_reach::character::Proportions;
+use kinergy_reach::controller::ReachSettings;
+use kinergy_reach::drive::{PersonReach, Profile, check_settings, check_target};
+use kinergy_train::limits;
+use pyo3::prelude::*;
+
+use crate::clip::{Clip, parse};
+use crate::errors;
+use crate::params::params_arg;
+use crate::verbs::clip_arg;
+
+/// One full-body reach of the 43-DoF character toward `target` (world meters, the
+/// character standing at the origin facing +z), as `kinergy reach` makes it: stepping,
+/// twisting, bending and squatting as needed. With `params` (a person's Params or its
+/// file), the person's synergy drives the arm (their style); without, the speed profile.
+///
+/// height: the character's height in meters (or `person`: a BVH whose skeleton gives the
+/// proportions). flexibility, arm ("right"/"left", default: the nearer), profile
+/// ("ease-out" or "minimum-jerk"), seed, timeout (seconds): as the CLI's options. check:
+/// raise UnreachableError (its `clip` holds the motion) when the hand does not arrive.
+#[pyfunction]
+#[pyo3(signature = (target, *, params = None, height = 1.75, person = None, flexibility = 1.0, arm = None, profile = "ease-out", seed = 0, timeout = None, check = true))]
+#[allow(clippy::too_many_arguments)]
+pub fn reach<'py>(
+    py: Python<'py>,
+    target: [f64; 3],
+    params: Option<&Bound<'py, PyAny>>,
+    height: f64,
+    person: Option<&Bound<'py, PyAny>>,
+    flexibility: f64,
+    arm: Option<&str>,
+    profile: &str,
+    seed: u64,
+    timeout: Option<f64>,
+    check: bool,
+) -> PyResult<Clip> {
+    let defaults = ReachSettings::default();
+    let settings = ReachSettings {
+        flexibility,
+        seed,
+        timeout: timeout.unwrap_or(defaults.timeout),
+        arm: arm.map(|a| parse::<Side>("arm", a)).transpose()?,
+        profile: profile
+            .parse::<Profile>()
+            .map_err(errors::raise)?
+            .speed_profile(),
+        ..defaults
+    };
+    let target = kinergy_motion::nalgebra::Point3::new(target[0], target[1], target[2]);
+    check_target(&target).map_err(errors::raise)?;
+    check_settings(&settings).map_err(errors::raise)?;
+    errors::check_range("height", height, limits::REACH_HEIGHT)?;
+    let proportions = match person {
+        Some(p) => {
+            let (clip, path) = clip_arg(py, p, &ImportOptions::default())?;
+            Proportions::from_clip(&clip)
+                .map_err(|e| errors::input(format!("{}: {e}", path.display())))?
+        }
+        None => Proportions::from_height(height)
+            .map_err(|e| errors::input(format!("height={height}: {e}")))?,
+    };
+    let person = params.map(params_arg).transpose()?;
+    let request = PersonReach {
+        target,
+        proportions,
+        settings,
+        person: person
+            .as_ref()
+            .map(|p| p as &dyn kinergy_solver::PersonStyle),
+    };
+    let done = py.detach(|| request.run()).map_err(errors::raise)?;
+    let arrived = done.arrived();
+    let out = Clip::made(done.clip).with_report(&done.report);
+    match arrived {
+        Err(e) if check => Err(errors::unreachable(py, e.to_string(), out)),
+        _ => Ok(out),
+    }
+}
