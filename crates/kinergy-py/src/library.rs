@@ -109,6 +109,7 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
         interrupt: &interrupt,
         observer: &observer,
     };
+    let mine = run.dealt();
     let on_event = |event: ShardEvent<'_>| {
         if let ShardEvent::TakeDone = event {
             done.fetch_add(1, Ordering::SeqCst);
@@ -118,8 +119,8 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
     let outcome = py.detach(|| {
         std::thread::scope(|scope| {
             let worker = scope.spawn(|| match &pool {
-                Some(pool) => pool.install(|| run.run(&on_event)),
-                None => run.run(&on_event),
+                Some(pool) => pool.install(|| run.run(&mine, &on_event)),
+                None => run.run(&mine, &on_event),
             });
             // This (the calling) thread watches for Ctrl-C.
             while !worker.is_finished() {

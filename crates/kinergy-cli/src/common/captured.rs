@@ -193,7 +193,7 @@ impl CaptureArgs {
             None => {
                 let mut found = Found::default();
                 for path in &clips.paths {
-                    match self.take(path)? {
+                    match self.take_with(&query, path)? {
                         Ok(reaches) => {
                             found
                                 .reaches
@@ -220,8 +220,13 @@ impl CaptureArgs {
     /// The reaches of the take at `path` (without `--segments`), with the controller
     /// applied: `Ok(Err(skipped))` when it has nothing to fit (no reach on the arm asked
     /// for, or on any arm with `--arm auto`); an input error otherwise.
-    pub fn take(&self, path: &Path) -> Result<Result<Vec<CapturedReach>, Skipped>, Failure> {
-        match self.query()?.take_at(path) {
+    /// (`query` is the request these arguments make, built once per command.)
+    fn take_with(
+        &self,
+        query: &ReachQuery,
+        path: &Path,
+    ) -> Result<Result<Vec<CapturedReach>, Skipped>, Failure> {
+        match query.take_at(path) {
             Ok(found) => Ok(found),
             Err(TrainError::Setting(kinergy_io::InvalidSetting { field, why })) => {
                 Err(Failure::Input(format!("--{field}: {why}")))

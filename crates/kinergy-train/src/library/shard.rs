@@ -149,7 +149,13 @@ impl From<TrainError> for TakeError {
 }
 
 impl ShardRun<'_> {
-    /// Runs the shard: makes the folder and its `shards` folder, writes the record of the
+    /// The takes dealt to this shard, in the library's order (each take's header read once
+    /// for its weight): what [`run`](Self::run) fits.
+    pub fn dealt(&self) -> Vec<&std::path::PathBuf> {
+        dealt_to(self.shard, &self.takes.paths)
+    }
+
+    /// Runs the shard on the takes `mine` dealt to it ([`dealt`](Self::dealt)): makes the folder and its `shards` folder, writes the record of the
     /// takes dealt, fits them (each reach's result written as soon as it is fitted, each
     /// event told to `on_event`), and writes the record again at the end. A take that fails
     /// stops the others (its error is in the outcome); a failed or interrupted run that
@@ -157,9 +163,9 @@ impl ShardRun<'_> {
     /// own files (its folder or record could not be made or written).
     pub fn run(
         &self,
+        mine: &[&std::path::PathBuf],
         on_event: &(dyn Fn(ShardEvent<'_>) + Sync),
     ) -> Result<ShardOutcome, LibraryError> {
-        let mine = dealt_to(self.shard, &self.takes.paths);
         let made_dir = !self.dir.exists();
         let shards = self.dir.join(SHARDS);
         let made_shards = !shards.exists();
