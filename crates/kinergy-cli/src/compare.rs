@@ -114,7 +114,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         optimizers: args.optimizers.clone(),
         optimizer: args.optimizer,
         baselines: !args.no_baselines,
-        fit: args.search.settings(),
+        fit: args.search.settings()?,
     };
     settings.fit.anneal.validate().map_err(Failure::from)?;
     if args.models.is_empty() || args.optimizers.is_empty() {

@@ -75,7 +75,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     args.search.apply_threads()?;
     let clips = args.reach.clips(&args.clips)?;
-    let settings = args.search.settings();
+    let settings = args.search.settings()?;
     settings.anneal.validate().map_err(Failure::from)?;
     let models = FitJob::models_up_to(args.model, !args.no_nested);
     if args.field && args.per == Per::Clip {
@@ -89,7 +89,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         && args.per == Per::Clip
     {
         // A library stops coarser by default (`AnnealSettings::for_library`).
-        let settings = args.search.library_settings();
+        let settings = args.search.library_settings()?;
         settings.anneal.validate().map_err(Failure::from)?;
         return library_run(args, &clips, &models, &settings, dest);
     }
@@ -109,11 +109,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let groups: Vec<Vec<CapturedReach>> = match (args.per, args.field) {
         (Per::Person, false) => vec![reaches],
-        // A field's reaches are each fitted under the person's tempo law, as the field runs.
-        (_, true) => kinergy_train::under_person_tempo(&reaches)
-            .into_iter()
-            .map(|r| vec![r])
-            .collect(),
+        (_, true) => kinergy_train::field::field_groups(&reaches),
         _ => reaches.into_iter().map(|r| vec![r]).collect(),
     };
     let several = groups.len() > 1 && !args.field;
@@ -138,64 +134,35 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "--checkpoint works on one fit at a time: use --per person or one clip".into(),
         ));
     }
-    {
-        use crate::common::{Output, check_outputs};
-        let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
-        inputs.extend(clips.inputs());
-        inputs.extend(args.reach.segments.as_deref());
-        let option = if args.out_dir.is_some() {
-            "--out-dir"
-        } else {
-            "-o"
-        };
-        let files: Vec<PathBuf> = names.iter().map(|name| dest.join(name)).collect();
-        let mut outputs = vec![if folder {
-            Output::Folder(option, dest, &files)
-        } else {
-            Output::File(option, dest)
-        }];
-        // Resumed, the checkpoint is read, then rewritten: it is an output like any other.
-        outputs.extend(
-            args.checkpoint
-                .as_deref()
-                .map(|p| Output::File("--checkpoint", p)),
-        );
-        outputs.extend(args.log.as_deref().map(|p| Output::File("--log", p)));
-        check_outputs(&inputs, &outputs)?;
-    }
+    check_fit_outputs(args, &clips, dest, folder, &names)?;
     if folder {
         crate::common::make_folder(dest)?;
     }
     ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst))
         .map_err(|e| Failure::Task(format!("cannot watch for Ctrl-C: {e}")))?;
-
     let mut log = match &args.log {
         Some(p) => Some(CsvLog::create(p, args.resume).map_err(Failure::from)?),
         None => None,
     };
+    let fit = |group: &[CapturedReach], log: Option<&mut CsvLog>| {
+        run_group(args, group, &models, &settings, log, true)
+    };
     if args.field {
         let mut fits = Vec::with_capacity(groups.len());
         for group in &groups {
-            fits.push(run_group(
-                args,
-                group,
-                &models,
-                &settings,
-                log.as_mut(),
-                true,
-            )?);
+            fits.push(fit(group, log.as_mut())?);
         }
         // The person's single vector, the field's anchor: all the reaches at once.
         let reaches: Vec<CapturedReach> = groups.into_iter().flatten().collect();
-        let person = run_group(args, &reaches, &models, &settings, log.as_mut(), true)?;
+        let person = fit(&reaches, log.as_mut())?;
         if let Some(log) = log {
             log.finish().map_err(Failure::from)?;
         }
-        return field::finish(args, dest, &reaches, &fits, &person, &settings);
+        return field::finish(args.json, dest, &reaches, &fits, &person, &settings);
     }
     let mut reports = Vec::new();
     for (g, group) in groups.iter().enumerate() {
-        let fits = run_group(args, group, &models, &settings, log.as_mut(), true)
+        let fits = fit(group, log.as_mut())
             .map_err(|e| written_before(e, &reports, groups.len(), dest))?;
         let output = if folder {
             let path = dest.join(&names[g]);
@@ -220,14 +187,45 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if let Some(log) = log {
         log.finish().map_err(Failure::from)?;
     }
-    if !args.json {
-        return Ok(());
+    match (args.json, reports.len()) {
+        (false, _) => Ok(()),
+        (true, 1) => print_json(&reports[0]),
+        (true, _) => print_json(&reports),
     }
-    if reports.len() == 1 {
-        print_json(&reports[0])
+}
+
+/// Refuses outputs over the inputs (the captures, the segments file) or over each other:
+/// the results (a file, or the named files in a folder), the checkpoint and the log.
+fn check_fit_outputs(
+    args: &Args,
+    clips: &crate::common::CaptureClips,
+    dest: &Path,
+    folder: bool,
+    names: &[PathBuf],
+) -> Result<(), Failure> {
+    use crate::common::{Output, check_outputs};
+    let mut inputs: Vec<&Path> = args.clips.iter().map(PathBuf::as_path).collect();
+    inputs.extend(clips.inputs());
+    inputs.extend(args.reach.segments.as_deref());
+    let option = if args.out_dir.is_some() {
+        "--out-dir"
     } else {
-        print_json(&reports)
-    }
+        "-o"
+    };
+    let files: Vec<PathBuf> = names.iter().map(|name| dest.join(name)).collect();
+    let mut outputs = vec![if folder {
+        Output::Folder(option, dest, &files)
+    } else {
+        Output::File(option, dest)
+    }];
+    // Resumed, the checkpoint is read, then rewritten: it is an output like any other.
+    outputs.extend(
+        args.checkpoint
+            .as_deref()
+            .map(|p| Output::File("--checkpoint", p)),
+    );
+    outputs.extend(args.log.as_deref().map(|p| Output::File("--log", p)));
+    check_outputs(&inputs, &outputs)
 }
 
 /// A failure `e` of the fit after `written` of `total` results were written into `dest`:

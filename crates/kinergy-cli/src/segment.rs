@@ -6,19 +6,13 @@
 
 use std::path::{Path, PathBuf};
 
-use kinergy_motion::Side;
-use kinergy_motion::segment::{Segment, SegmentSettings, Selection, find_segments, main_index};
-use kinergy_train::segments_file::{SegmentRow, SegmentsFile, default_person};
-use serde::Serialize;
+use kinergy_motion::segment::{SegmentSettings, Selection};
+use kinergy_train::listing::{ArmListing, FRAMES, SegmentListing};
+use kinergy_train::segments_file::SegmentsFile;
 
 use crate::common::{
     ArmArgs, ArmSide, Failure, ReadArgs, Skipped, check_range, emit, limits, print_json,
 };
-use kinergy_train::source::Capture;
-
-/// The frame convention, said once in every listing.
-const FRAMES: &str =
-    "frames onset..end: numbered from 0, end excluded, as --frames A..B takes them";
 
 /// Arguments of `kinergy segment`.
 #[derive(Debug, clap::Args)]
@@ -53,171 +47,33 @@ pub struct Args {
     pub arm: ArmArgs,
 }
 
-#[derive(Serialize)]
-struct Row {
-    index: usize,
-    frames: String,
-    onset: usize,
-    peak: usize,
-    end: usize,
-    label: &'static str,
-    truncated: bool,
-    truncated_start: bool,
-    truncated_end: bool,
-    onset_s: f64,
-    peak_s: f64,
-    duration_s: f64,
-    peak_speed_m_s: f64,
-    displacement_m: f64,
-    /// The segment was read in the world although the listing is relative to the shoulder (a
-    /// reach the trunk carries, `kinergy_motion::segment` step 7): its speed and `moves` are
-    /// the world hand's.
-    in_world: bool,
-    main: bool,
-}
-
-#[derive(Serialize)]
-struct Report {
-    clip: String,
-    person: String,
-    side: Side,
-    arm: Vec<String>,
-    frames: usize,
-    frame_time_s: f64,
-    speed: &'static str,
-    frame_convention: &'static str,
-    main: Option<usize>,
-    segments: Vec<Row>,
-}
-
-/// One arm's listing and its segments-file rows.
-type ArmSegments = (Report, Vec<SegmentRow>);
-
 /// Segments one clip: for the arm named, the selected segments; with `--arm auto`, the
 /// reaches of each arm that reaches (as `fit --arm auto` finds them), or the reason it has
 /// none (`Ok(Err(skipped))`).
 fn segment_clip(
     args: &Args,
     path: &Path,
-    settings: &SegmentSettings,
-) -> Result<Result<Vec<ArmSegments>, Skipped>, Failure> {
+    listing: &SegmentListing,
+) -> Result<Result<Vec<ArmListing>, Skipped>, Failure> {
     let (clip, _) = args.read.read(path)?;
-    if args.arm.arm != ArmSide::Auto {
-        let arm = args.arm.find(&clip, path)?;
-        return Ok(Ok(vec![segment_arm(
-            args, path, &clip, &arm, settings, None,
-        )?]));
-    }
-    let capture = Capture::from_clip(path, clip.clone());
-    let selection = args.select.unwrap_or_default();
-    match capture.reaching_segments(selection, settings) {
-        Ok(arms) => arms
-            .iter()
-            .map(|(arm, kept)| segment_arm(args, path, &clip, arm, settings, Some(kept)))
-            .collect::<Result<Vec<_>, _>>()
-            .map(Ok),
-        Err(e) if kinergy_io::Classify::kind(&e) == kinergy_io::ErrorKind::NothingToFit => {
-            Ok(Err(Skipped {
-                clip: path.to_path_buf(),
-                why: match e {
-                    kinergy_train::TrainError::NothingToFit { why, .. } => why,
-                    e => e.to_string(),
-                },
-            }))
+    // Errors name the capture.
+    let failure = |e: kinergy_train::TrainError| match e {
+        kinergy_train::TrainError::Setting(kinergy_io::InvalidSetting { field, why }) => {
+            Failure::Input(format!("--{field}: {why}"))
         }
-        Err(kinergy_train::TrainError::Setting(kinergy_io::InvalidSetting { field, why })) => {
-            Err(Failure::Input(format!("--{field}: {why}")))
+        e => Failure::input(path, e),
+    };
+    match args.arm.arm {
+        ArmSide::Auto => listing.reaching_arms(path, &clip).map_err(failure),
+        ArmSide::Side(side) => {
+            let arm = args.arm.find(&clip, path)?;
+            let listed = listing.arm(path, &clip, &arm, side).map_err(failure)?;
+            Ok(Ok(vec![listed]))
         }
-        Err(e) => Err(Failure::input(path, e)),
     }
 }
 
-/// Segments the arm `arm` of `clip` and keeps the selected segments (numbered as in the
-/// full list): those `kept` when given, else those `--select` takes.
-fn segment_arm(
-    args: &Args,
-    path: &Path,
-    clip: &kinergy_motion::Clip,
-    arm: &kinergy_motion::ArmJoints,
-    settings: &SegmentSettings,
-    kept: Option<&[Segment]>,
-) -> Result<(Report, Vec<SegmentRow>), Failure> {
-    let name = path.display().to_string();
-    let found = find_segments(clip, arm, settings).map_err(|e| Failure::input(path, e))?;
-    let main = main_index(&found);
-    let picked: Vec<(usize, Segment)> = match (kept, args.select) {
-        (Some(kept), _) => found
-            .iter()
-            .copied()
-            .enumerate()
-            .filter(|(_, s)| kept.contains(s))
-            .collect(),
-        (None, None) => found.iter().copied().enumerate().collect(),
-        (None, Some(selection)) => {
-            let chosen =
-                kinergy_motion::segment::select(&found, selection, &name).map_err(Failure::from)?;
-            found
-                .iter()
-                .copied()
-                .enumerate()
-                .filter(|(_, s)| chosen.contains(s))
-                .collect()
-        }
-    };
-    let side = match (arm.side, args.arm.arm) {
-        (Some(side), _) | (None, ArmSide::Side(side)) => side,
-        (None, ArmSide::Auto) => Side::Right,
-    };
-    let dt = clip.frame_time();
-    let rows = picked
-        .iter()
-        .map(|&(i, s)| Row {
-            index: i,
-            frames: format!("{}..{}", s.onset, s.end),
-            onset: s.onset,
-            peak: s.peak,
-            end: s.end,
-            label: s.label.as_str(),
-            truncated: s.truncated(),
-            truncated_start: s.truncated_start,
-            truncated_end: s.truncated_end,
-            onset_s: s.onset as f64 * dt,
-            peak_s: s.peak as f64 * dt,
-            duration_s: s.duration(dt),
-            peak_speed_m_s: s.peak_speed,
-            displacement_m: s.displacement,
-            in_world: s.from_world,
-            main: main == Some(i),
-        })
-        .collect();
-    let manifest_rows: Vec<SegmentRow> = picked
-        .iter()
-        .map(|(_, s)| SegmentRow::new(path, s.frames(), side, s.label))
-        .collect();
-    let report = Report {
-        clip: name,
-        person: default_person(path),
-        side,
-        arm: arm
-            .names(clip.skeleton())
-            .into_iter()
-            .map(String::from)
-            .collect(),
-        frames: clip.frame_count(),
-        frame_time_s: dt,
-        speed: if args.world {
-            "world"
-        } else {
-            "relative to the shoulder"
-        },
-        frame_convention: FRAMES,
-        main,
-        segments: rows,
-    };
-    Ok((report, manifest_rows))
-}
-
-fn text(report: &Report, settings: &SegmentSettings, selected: bool) -> String {
+fn text(report: &ArmListing, settings: &SegmentSettings, selected: bool) -> String {
     let mut out = format!(
         "{}: {} frames at {:.1} Hz, {} arm {}, hand speed {}\n",
         report.clip,
@@ -300,15 +156,19 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     settings
         .validate()
         .map_err(|e| Failure::Input(format!("--min-peak-speed {}: {e}", args.min_peak_speed)))?;
+    let listing = SegmentListing {
+        selection: args.select,
+        settings,
+    };
     let mut reports = Vec::with_capacity(clips.len());
     let mut rows = Vec::new();
     let mut skipped = Vec::new();
     for path in &clips {
-        match segment_clip(args, path, &settings)? {
+        match segment_clip(args, path, &listing)? {
             Ok(arms) => {
-                for (report, clip_rows) in arms {
+                for report in arms {
+                    rows.extend(report.rows.iter().cloned());
                     reports.push(report);
-                    rows.extend(clip_rows);
                 }
             }
             Err(skip) => skipped.push(skip),

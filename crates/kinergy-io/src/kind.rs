@@ -122,6 +122,22 @@ impl InvalidSetting {
     }
 }
 
+impl InvalidSetting {
+    /// `Ok` when `value` is within `range` (both ends included; NaN never is), else `field`
+    /// refused, saying the range.
+    pub fn in_range<T: PartialOrd + std::fmt::Display + Copy>(
+        field: &str,
+        value: T,
+        (lo, hi): (T, T),
+    ) -> Result<(), InvalidSetting> {
+        InvalidSetting::require(
+            lo <= value && value <= hi,
+            field,
+            format!("{value}: expected {lo} to {hi}"),
+        )
+    }
+}
+
 impl Classify for InvalidSetting {
     fn kind(&self) -> ErrorKind {
         ErrorKind::Input

@@ -2,6 +2,9 @@
 
 use std::sync::Arc;
 
+mod arrays;
+pub use arrays::{ClipArrays, RotationArrays};
+
 use nalgebra::Point3;
 
 use crate::error::{MotionError, Result};
@@ -103,6 +106,18 @@ impl Clip {
     pub fn frame(&self, i: usize) -> Option<&[f64]> {
         let n = self.skeleton.dof_count();
         self.values.get(i * n..(i + 1) * n)
+    }
+
+    /// Every joint's world position on every frame, frame after frame, meters, Y up.
+    pub fn world_positions(&self) -> Result<Vec<Point3<f64>>> {
+        let skeleton = self.skeleton();
+        let mut out = Vec::with_capacity(self.frame_count() * skeleton.joint_count());
+        let mut world = Vec::with_capacity(skeleton.joint_count());
+        for pose in self.frames() {
+            skeleton.fk_into(pose, &mut world)?;
+            out.extend(world.iter().map(|t| Point3::from(t.translation.vector)));
+        }
+        Ok(out)
     }
 
     /// Every frame's pose, in order.

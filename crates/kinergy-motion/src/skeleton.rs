@@ -27,6 +27,14 @@ impl Dof {
             Dof::Rotation(Axis::Z) => "Zrotation",
         }
     }
+
+    /// The DoF of a BVH channel name ([`channel_name`](Self::channel_name)'s inverse).
+    pub fn from_channel_name(name: &str) -> Option<Dof> {
+        [Axis::X, Axis::Y, Axis::Z]
+            .into_iter()
+            .flat_map(|a| [Dof::Translation(a), Dof::Rotation(a)])
+            .find(|d| d.channel_name() == name)
+    }
 }
 
 /// How a joint's BVH position channels relate to its `OFFSET`.

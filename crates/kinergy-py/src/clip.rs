@@ -8,22 +8,20 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use kinergy_motion::nalgebra::{Rotation3, UnitQuaternion, Vector3};
-use kinergy_motion::rotation::{euler_angles, nearest_euler};
-use kinergy_motion::{
-    Axis, Dof, ExportOptions, ExportUp, ImportOptions, Joint, LengthUnit, PositionReading,
-    PositionReadingChoice, Skeleton, UnitChoice, UpChoice,
-};
+use kinergy_motion::clip::RotationArrays;
+use kinergy_motion::nalgebra::{Rotation3, Vector3};
+use kinergy_motion::{Dof, Joint, PositionReading, Skeleton};
 use kinergy_train::limits;
 use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
+use crate::args::{Reading, export_options};
 use crate::errors;
 
 /// A motion: a skeleton and one pose per frame (`kinergy.read_bvh`, `Clip.from_arrays`,
 /// `kinergy.synthesize`, `kinergy.reach`).
-#[pyclass(module = "kinergy", frozen)]
+#[pyclass(module = "kinergy", frozen, from_py_object)]
 #[derive(Clone)]
 pub struct Clip {
     /// The motion.
@@ -32,33 +30,6 @@ pub struct Clip {
     pub path: Option<PathBuf>,
     /// How a made motion ended, as the CLI's `--json` report says it (JSON text), if any.
     pub report: Option<String>,
-}
-
-/// Parses `value` of the keyword argument `name` with `FromStr`; errors name both.
-pub fn parse<T: std::str::FromStr>(name: &str, value: &str) -> PyResult<T>
-where
-    T::Err: std::fmt::Display,
-{
-    value
-        .parse()
-        .map_err(|e| errors::input(format!("{name}={value:?}: {e}")))
-}
-
-/// The import options of the keyword arguments (the CLI's `--from-unit`, `--up`,
-/// `--positions`, `--max-input-mb`).
-pub fn import_options(
-    unit: &str,
-    up: &str,
-    positions: &str,
-    max_input_mb: u64,
-) -> PyResult<ImportOptions> {
-    errors::check_range("max_input_mb", max_input_mb, limits::MAX_INPUT_MB)?;
-    Ok(ImportOptions {
-        unit: parse::<UnitChoice>("unit", unit)?,
-        position_reading: parse::<PositionReadingChoice>("positions", positions)?,
-        up: parse::<UpChoice>("up", up)?,
-        max_file_bytes: Some(max_input_mb.saturating_mul(kinergy_io::MIB)),
-    })
 }
 
 /// Reads a BVH file into a Clip, as every `kinergy` command reads it.
@@ -78,7 +49,12 @@ pub fn read_bvh(
     positions: &str,
     max_input_mb: u64,
 ) -> PyResult<Clip> {
-    let options = import_options(unit, up, positions, max_input_mb)?;
+    let options = Reading {
+        unit,
+        up,
+        positions,
+    }
+    .options_up_to(max_input_mb)?;
     let read = py.detach(|| kinergy_motion::read_clip(&path, &options));
     let (inner, _) = read.map_err(errors::raise)?;
     Ok(Clip {
@@ -102,20 +78,6 @@ impl Clip {
     pub fn with_report<T: serde::Serialize>(mut self, report: &T) -> Clip {
         self.report = kinergy_io::to_pretty_json(report).ok();
         self
-    }
-
-    /// The world positions, frame after frame, joint after joint, x y z (meters).
-    pub fn world_positions(&self) -> PyResult<Vec<f64>> {
-        let skeleton = self.inner.skeleton();
-        let mut out = Vec::with_capacity(self.inner.frame_count() * skeleton.joint_count() * 3);
-        let mut world = Vec::with_capacity(skeleton.joint_count());
-        for pose in self.inner.frames() {
-            skeleton.fk_into(pose, &mut world).map_err(errors::raise)?;
-            for t in &world {
-                out.extend(t.translation.vector.iter());
-            }
-        }
-        Ok(out)
     }
 }
 
@@ -221,37 +183,27 @@ impl Clip {
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
         let joints = self.inner.skeleton().joint_count();
-        let values = py.detach(|| self.world_positions())?;
-        array3(py, (self.inner.frame_count(), joints, 3), values)
+        let world = py
+            .detach(|| self.inner.world_positions())
+            .map_err(errors::raise)?;
+        let flat = world.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+        array3(py, (self.inner.frame_count(), joints, 3), flat)
     }
 
     /// Local joint rotations as unit quaternions (w, x, y, z), float64 (frames, joints, 4):
     /// each relative to its parent's frame, the root's relative to the Y-up world.
     #[getter]
     fn rotations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
-        let skeleton = self.inner.skeleton();
-        let joints = skeleton.joint_count();
-        let mut out = Vec::with_capacity(self.inner.frame_count() * joints * 4);
-        for pose in self.inner.frames() {
-            for j in 0..joints {
-                let r = skeleton.local_transform(j, pose).rotation;
-                let q = UnitQuaternion::from_rotation_matrix(&r);
-                out.extend([q.w, q.i, q.j, q.k]);
-            }
-        }
-        array3(py, (self.inner.frame_count(), joints, 4), out)
+        let joints = self.inner.skeleton().joint_count();
+        let flat = self.inner.to_rotations().rotations.concat();
+        array3(py, (self.inner.frame_count(), joints, 4), flat)
     }
 
     /// The root joint's world position, float64 (frames, 3), meters, Y up.
     #[getter]
     fn root_translation<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let skeleton = self.inner.skeleton();
-        let out: Vec<f64> = self
-            .inner
-            .frames()
-            .flat_map(|pose| skeleton.local_transform(0, pose).translation.vector.data.0[0])
-            .collect();
-        array2(py, (self.inner.frame_count(), 3), out)
+        let flat = self.inner.to_rotations().root_translation.concat();
+        array2(py, (self.inner.frame_count(), 3), flat)
     }
 
     /// Each joint's offset from its parent in the parent's frame, float64 (joints, 3),
@@ -259,21 +211,8 @@ impl Clip {
     /// `Clip.from_arrays` takes.
     #[getter]
     fn offsets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let skeleton = self.inner.skeleton();
-        let w = skeleton.world_from_file();
-        let out: Vec<f64> = skeleton
-            .joints()
-            .iter()
-            .flat_map(|j| {
-                let o = if j.parent.is_none() {
-                    w * j.offset
-                } else {
-                    j.offset
-                };
-                [o.x, o.y, o.z]
-            })
-            .collect();
-        array2(py, (skeleton.joint_count(), 3), out)
+        let flat = self.inner.to_rotations().offsets.concat();
+        array2(py, (self.inner.skeleton().joint_count(), 3), flat)
     }
 
     /// The pose values as read (radians, meters in the file's frame), float64 (frames,
@@ -418,113 +357,47 @@ impl Clip {
         end_sites: Option<Vec<bool>>,
     ) -> PyResult<Clip> {
         let n = joint_names.len();
-        let offsets = offsets.as_array();
-        let rotations = rotations.as_array();
-        let root = root_translation.as_array();
         let shape = |what: &str, found: &[usize], expected: String| {
             errors::input(format!(
                 "from_arrays: {what} has shape {found:?}, expected {expected}"
             ))
         };
-        if parents.len() != n {
-            return Err(errors::input(format!(
-                "from_arrays: {} parents for {n} joint names",
-                parents.len()
-            )));
-        }
+        let rows3 = |a: numpy::ndarray::ArrayView2<'_, f64>| -> Vec<[f64; 3]> {
+            a.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect()
+        };
+        let (offsets, rotations, root) = (
+            offsets.as_array(),
+            rotations.as_array(),
+            root_translation.as_array(),
+        );
         if offsets.shape() != [n, 3] {
             return Err(shape("offsets", offsets.shape(), format!("({n}, 3)")));
         }
         let frames = rotations.shape()[0];
         if rotations.shape() != [frames, n, 4] {
-            return Err(shape(
-                "rotations",
-                rotations.shape(),
-                format!("(frames, {n}, 4)"),
-            ));
+            let expected = format!("(frames, {n}, 4)");
+            return Err(shape("rotations", rotations.shape(), expected));
         }
         if root.shape() != [frames, 3] {
-            return Err(shape(
-                "root_translation",
-                root.shape(),
-                format!("({frames}, 3) (one row per frame of rotations)"),
-            ));
+            let expected = format!("({frames}, 3) (one row per frame of rotations)");
+            return Err(shape("root_translation", root.shape(), expected));
         }
-        let end_sites = end_sites.unwrap_or_else(|| vec![false; n]);
-        if end_sites.len() != n {
-            return Err(errors::input(format!(
-                "from_arrays: {} end_sites for {n} joints",
-                end_sites.len()
-            )));
-        }
-        let rotation_dofs = [Axis::Z, Axis::X, Axis::Y].map(Dof::Rotation);
-        let mut joints = Vec::with_capacity(n);
-        for (i, name) in joint_names.iter().enumerate() {
-            let parent = match parents[i] {
-                -1 => None,
-                p if p >= 0 && (p as usize) < i => Some(p as usize),
-                p => {
-                    return Err(errors::input(format!(
-                        "from_arrays: parents[{i}] = {p}: expected -1 (the root) or the index \
-                         of an earlier joint"
-                    )));
-                }
-            };
-            let mut dofs = Vec::new();
-            if parent.is_none() {
-                dofs.extend([Axis::X, Axis::Y, Axis::Z].map(Dof::Translation));
-            }
-            if !end_sites[i] {
-                dofs.extend(rotation_dofs);
-            }
-            joints.push(Joint {
-                name: name.clone(),
-                parent,
-                offset: Vector3::new(offsets[[i, 0]], offsets[[i, 1]], offsets[[i, 2]]),
-                dofs,
-                end_site: end_sites[i],
-                position_reading: PositionReading::AddToOffset,
-            });
-        }
-        let skeleton = Arc::new(Skeleton::new(joints).map_err(errors::raise)?);
-        let mut values = Vec::with_capacity(frames * skeleton.dof_count());
-        let mut previous: Vec<[f64; 3]> = vec![[0.0; 3]; n];
-        for f in 0..frames {
-            for (i, joint) in skeleton.joints().iter().enumerate() {
-                if joint.parent.is_none() {
-                    for a in 0..3 {
-                        values.push(root[[f, a]] - joint.offset[a]);
-                    }
-                }
-                if joint.end_site {
-                    continue;
-                }
-                let q = [0, 1, 2, 3].map(|k| rotations[[f, i, k]]);
-                let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-                if !(norm.is_finite() && (norm - 1.0).abs() < 1e-6) {
-                    return Err(errors::input(format!(
-                        "from_arrays: rotations[{f}, {i}] ({}) is not a unit quaternion \
-                         (norm {norm})",
-                        joint.name
-                    )));
-                }
-                let r: Rotation3<f64> = UnitQuaternion::from_quaternion(
-                    kinergy_motion::nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]),
-                )
-                .to_rotation_matrix();
-                let angles = euler_angles([Axis::Z, Axis::X, Axis::Y], &r)
-                    .ok_or_else(|| errors::KinergyError::new_err("Euler axes not distinct"))?;
-                let angles = if f == 0 {
-                    angles
-                } else {
-                    nearest_euler(angles, previous[i])
-                };
-                previous[i] = angles;
-                values.extend(angles);
-            }
-        }
-        let inner =
-            kinergy_motion::Clip::new(skeleton, frame_time, values).map_err(errors::raise)?;
+        let quaternions: Vec<[f64; 4]> = rotations
+            .rows()
+            .into_iter()
+            .map(|q| [q[0], q[1], q[2], q[3]])
+            .collect();
+        let arrays = RotationArrays {
+            joint_names: &joint_names,
+            parents: &parents,
+            offsets: &rows3(offsets),
+            rotations: &quaternions,
+            root_translation: &rows3(root),
+            frame_time,
+            end_sites: end_sites.as_deref(),
+        };
+        let inner = kinergy_motion::Clip::from_rotations(arrays)
+            .map_err(|e| errors::input(format!("from_arrays: {e}")))?;
         Ok(Clip::made(inner))
     }
 }
@@ -553,15 +426,7 @@ pub fn _clip_from_state(state: ClipState) -> PyResult<Clip> {
     for (name, parent, offset, channels, end_site, reading) in joints {
         let dofs = channels
             .iter()
-            .map(|c| match c.as_str() {
-                "Xposition" => Ok(Dof::Translation(Axis::X)),
-                "Yposition" => Ok(Dof::Translation(Axis::Y)),
-                "Zposition" => Ok(Dof::Translation(Axis::Z)),
-                "Xrotation" => Ok(Dof::Rotation(Axis::X)),
-                "Yrotation" => Ok(Dof::Rotation(Axis::Y)),
-                "Zrotation" => Ok(Dof::Rotation(Axis::Z)),
-                _ => Err(bad("an unknown channel")),
-            })
+            .map(|c| Dof::from_channel_name(c).ok_or_else(|| bad("an unknown channel")))
             .collect::<PyResult<Vec<_>>>()?;
         out.push(Joint {
             name,
@@ -617,20 +482,4 @@ fn array2(
     let array = Array2::from_shape_vec(shape, values)
         .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
     Ok(array.into_pyarray(py))
-}
-
-/// The export options of `unit` and `up` ("as-read" or "y").
-fn export_options(unit: &str, up: &str) -> PyResult<ExportOptions> {
-    Ok(ExportOptions {
-        unit: parse::<LengthUnit>("unit", unit)?,
-        up: match up {
-            "as-read" => ExportUp::AsRead,
-            "y" => ExportUp::Y,
-            _ => {
-                return Err(errors::input(format!(
-                    "up={up:?}: expected \"as-read\" or \"y\""
-                )));
-            }
-        },
-    })
 }

@@ -4,16 +4,18 @@
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::time::Duration;
 
 use kinergy_solver::{Model, OptimizerKind};
-use kinergy_train::experiment::{ExperimentSettings, Results, run_until};
+use kinergy_train::experiment::{ExperimentSettings, run_until};
+use kinergy_train::fit::SearchOptions;
 use pyo3::prelude::*;
 use pyo3::types::PyList;
 
-use crate::clip::parse;
+use crate::args::{
+    Arg, ClipsArg, ReachSource, Reading, SelectArg, on_pool, parse, thread_pool, to_python,
+};
 use crate::errors;
-use crate::verbs::{ReachSource, fit_settings, thread_pool};
+use crate::progress::watched;
 
 /// The paper's experiments on captures, as `kinergy compare` runs them: per reach, the models
 /// fitted nested with `optimizer` (Fig. 3), S_A and S_C with each of `optimizers` (Fig. 4),
@@ -31,14 +33,14 @@ use crate::verbs::{ReachSource, fit_settings, thread_pool};
 #[allow(clippy::too_many_arguments)]
 pub fn compare<'py>(
     py: Python<'py>,
-    clips: Option<&Bound<'py, PyAny>>,
+    clips: Option<Arg<ClipsArg>>,
     models: Vec<String>,
     optimizers: Vec<String>,
     optimizer: &str,
     baselines: bool,
     arm: &str,
     chain: Option<Vec<String>>,
-    select: Option<&Bound<'py, PyAny>>,
+    select: Option<Arg<SelectArg>>,
     frames: Option<(usize, usize)>,
     segments: Option<PathBuf>,
     fixed_base: bool,
@@ -74,17 +76,19 @@ pub fn compare<'py>(
         optimizers,
         optimizer: parse::<OptimizerKind>("optimizer", optimizer)?,
         baselines,
-        fit: fit_settings(
-            false,
+        fit: SearchOptions {
             seed,
             budget,
             population,
             temperature,
             stable_change,
             stable_window,
-            objective,
+            objective: Some(objective.to_string()),
             speed_weight,
-        )?,
+            library: false,
+        }
+        .settings()
+        .map_err(errors::raise)?,
     };
     let pool = thread_pool(threads)?;
     let reaches = ReachSource {
@@ -95,73 +99,38 @@ pub fn compare<'py>(
         select,
         frames,
         fixed_base,
-        reading: (unit, up, positions),
+        reading: Reading {
+            unit,
+            up,
+            positions,
+        },
     }
     .load(py, kinergy_train::source::Controller::default())?;
     let total = reaches.len();
     let done = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
-    let mut raised = None;
-    let outcome = py.detach(|| {
-        std::thread::scope(|scope| {
-            let worker = scope.spawn(|| {
-                let go = || {
-                    run_until(
-                        &reaches,
-                        &settings,
-                        &|| {
-                            done.fetch_add(1, Ordering::SeqCst);
-                        },
-                        &stop,
-                    )
-                };
-                match &pool {
-                    Some(pool) => pool.install(go),
-                    None => go(),
-                }
-            });
-            // This (the calling) thread watches for Ctrl-C and reports progress.
-            let mut reported = 0;
-            while !worker.is_finished() {
-                std::thread::sleep(Duration::from_millis(25));
-                let now = done.load(Ordering::SeqCst);
-                let checked = Python::attach(|py| -> PyResult<()> {
-                    py.check_signals()?;
-                    if let Some(callback) = &progress
-                        && now != reported
-                    {
-                        callback.call1(py, (now, total))?;
-                    }
-                    Ok(())
-                });
+    let count = || {
+        done.fetch_add(1, Ordering::SeqCst);
+    };
+    let mut reported = 0;
+    let results = watched(
+        py,
+        &stop,
+        || on_pool(&pool, || run_until(&reaches, &settings, &count, &stop)),
+        |py| {
+            let now = done.load(Ordering::SeqCst);
+            if let Some(callback) = &progress
+                && now != reported
+            {
                 reported = now;
-                if let Err(e) = checked {
-                    stop.store(true, Ordering::SeqCst);
-                    raised.get_or_insert(e);
-                }
+                callback.call1(py, (now, total))?;
             }
-            worker.join()
-        })
-    });
-    if let Some(e) = raised {
-        return Err(e);
-    }
-    let results = outcome
-        .map_err(|_| errors::KinergyError::new_err("the experiment's worker thread failed"))?
-        .map_err(errors::raise)?
-        .ok_or_else(|| errors::KinergyError::new_err("the experiment was stopped"))?;
-    rows(py, &results)
-}
-
-/// The results as dicts with results.csv's columns ([`kinergy_train::experiment::Row`]'s
-/// one schema).
-fn rows<'py>(py: Python<'py>, results: &Results) -> PyResult<Bound<'py, PyList>> {
-    let json = py.import("json")?;
-    let out = PyList::empty(py);
-    for r in &results.rows {
-        let text = serde_json::to_string(r)
-            .map_err(|e| errors::KinergyError::new_err(format!("results row: {e}")))?;
-        out.append(json.call_method1("loads", (text,))?)?;
-    }
-    Ok(out)
+            Ok(())
+        },
+    )?
+    .map_err(errors::raise)?
+    .ok_or_else(|| errors::KinergyError::new_err("the experiment was stopped"))?;
+    to_python(py, &results.rows)?
+        .cast_into::<PyList>()
+        .map_err(Into::into)
 }

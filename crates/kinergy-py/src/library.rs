@@ -4,8 +4,7 @@
 //! collect` write.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::time::Duration;
+use std::sync::atomic::AtomicBool;
 
 use kinergy_train::anneal::Observer;
 use kinergy_train::fit::FitJob;
@@ -15,35 +14,17 @@ use kinergy_train::source::{ReachQuery, capture_files, nothing_found, segment_cl
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
+use crate::args::{on_pool, to_python};
 use crate::errors;
-
-/// `shard=`: "I/N", a tuple (I, N), or None for the whole library.
-pub fn shard_arg(shard: Option<&Bound<'_, PyAny>>) -> PyResult<Shard> {
-    let Some(shard) = shard else {
-        return Ok(Shard::ALL);
-    };
-    let text = match shard.extract::<(usize, usize)>() {
-        Ok((i, n)) => format!("{i}/{n}"),
-        Err(_) => shard
-            .extract::<String>()
-            .map_err(|_| errors::input("shard: expected \"I/N\" or a tuple (I, N)"))?,
-    };
-    Shard::parse(&text).map_err(|e| errors::input(format!("shard {e}")))
-}
-
-/// Where a library's takes come from: capture paths (files or folders; not Clips, whose
-/// results would have no name), or a segments file's clips.
-pub struct LibrarySource {
-    /// The captures given (none with a segments file alone).
-    pub clips: Vec<PathBuf>,
-    /// The segments file.
-    pub segments: Option<PathBuf>,
-}
+use crate::progress::watched;
 
 /// A library fit as `fit(..., out_dir=)` asks for it.
 pub struct LibraryFit {
-    /// The takes.
-    pub source: LibrarySource,
+    /// The captures given: paths (files or folders; not Clips, whose results would have
+    /// no name), none with a segments file alone.
+    pub clips: Vec<PathBuf>,
+    /// The segments file.
+    pub segments: Option<PathBuf>,
     /// How each take's reaches are found.
     pub query: ReachQuery,
     /// How each reach is fitted.
@@ -63,7 +44,8 @@ pub struct LibraryFit {
 /// (a list of (clip, why)), `record`, and with one shard `rows` (library.csv's rows).
 pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py, PyDict>> {
     let LibraryFit {
-        source,
+        clips,
+        segments: segments_path,
         query,
         job,
         dir,
@@ -79,24 +61,22 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
             dir.display()
         )));
     }
-    let segments = source
-        .segments
+    let segments = segments_path
         .as_deref()
         .map(SegmentsFile::read)
         .transpose()
         .map_err(|e| errors::input(e.to_string()))?;
-    let paths = match (&segments, source.clips.is_empty()) {
+    let paths = match (&segments, clips.is_empty()) {
         (Some(file), true) => segment_clips(file),
-        _ => capture_files(&source.clips).map_err(errors::raise)?,
+        _ => capture_files(&clips).map_err(errors::raise)?,
     };
     let mut inputs = paths.clone();
-    inputs.extend(source.segments.iter().cloned());
+    inputs.extend(segments_path.iter().cloned());
     if let Some(file) = &segments {
         inputs.extend(file.rows().iter().map(|row| row.clip.clone()));
     }
     let takes = Takes::of(&paths, segments.as_ref());
     let interrupt = AtomicBool::new(false);
-    let done = AtomicUsize::new(0);
     let observer = || -> Box<dyn Observer> { Box::new(()) };
     let run = ShardRun {
         dir,
@@ -110,35 +90,14 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
         observer: &observer,
     };
     let mine = run.dealt();
-    let on_event = |event: ShardEvent<'_>| {
-        if let ShardEvent::TakeDone = event {
-            done.fetch_add(1, Ordering::SeqCst);
-        }
-    };
-    let mut raised = None;
-    let outcome = py.detach(|| {
-        std::thread::scope(|scope| {
-            let worker = scope.spawn(|| match &pool {
-                Some(pool) => pool.install(|| run.run(&mine, &on_event)),
-                None => run.run(&mine, &on_event),
-            });
-            // This (the calling) thread watches for Ctrl-C.
-            while !worker.is_finished() {
-                std::thread::sleep(Duration::from_millis(25));
-                if let Err(e) = Python::attach(|py| py.check_signals()) {
-                    interrupt.store(true, Ordering::SeqCst);
-                    raised.get_or_insert(e);
-                }
-            }
-            worker.join()
-        })
-    });
-    if let Some(e) = raised {
-        return Err(e);
-    }
-    let outcome = outcome
-        .map_err(|_| errors::KinergyError::new_err("the library's worker thread failed"))?
-        .map_err(errors::raise)?;
+    let on_event = |_: ShardEvent<'_>| {};
+    let outcome = watched(
+        py,
+        &interrupt,
+        || on_pool(&pool, || run.run(&mine, &on_event)),
+        |_| Ok(()),
+    )?
+    .map_err(errors::raise)?;
     if let Some((take, e)) = outcome.failed {
         return Err(errors::raise_naming(&take, e));
     }
@@ -181,12 +140,5 @@ fn collect_rows<'py>(py: Python<'py>, dir: &Path) -> PyResult<Bound<'py, PyList>
     let collected = py
         .detach(|| kinergy_train::library::collect(dir))
         .map_err(errors::raise)?;
-    let json = py.import("json")?;
-    let out = PyList::empty(py);
-    for row in &collected.table.rows {
-        let text = serde_json::to_string(row)
-            .map_err(|e| errors::KinergyError::new_err(format!("library row: {e}")))?;
-        out.append(json.call_method1("loads", (text,))?)?;
-    }
-    Ok(out)
+    Ok(to_python(py, &collected.table.rows)?.cast_into::<PyList>()?)
 }

@@ -8,10 +8,11 @@ use kinergy_train::PersonParams;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::args::to_python;
 use crate::errors;
 
 /// A person's synergy parameters: one vector, or a field (kinergy.fit, Params.load).
-#[pyclass(module = "kinergy", frozen)]
+#[pyclass(module = "kinergy", frozen, from_py_object)]
 #[derive(Clone)]
 pub struct Params {
     /// The parameters.
@@ -19,6 +20,11 @@ pub struct Params {
 }
 
 impl Params {
+    /// Python's view of `inner`.
+    pub fn of(inner: PersonParams) -> Params {
+        Params { inner }
+    }
+
     /// The file's JSON text.
     pub fn json(&self) -> String {
         match &self.inner {
@@ -26,11 +32,6 @@ impl Params {
             PersonParams::Field(field) => field.to_json(),
         }
     }
-}
-
-/// `json.loads(text)`.
-fn loads<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
-    py.import("json")?.call_method1("loads", (text,))
 }
 
 #[pymethods]
@@ -96,11 +97,7 @@ impl Params {
     #[getter]
     fn vector<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
         match &self.inner {
-            PersonParams::Vector(file) => {
-                let text = kinergy_io::to_pretty_json(&file.values)
-                    .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
-                loads(py, &text).map(Some)
-            }
+            PersonParams::Vector(file) => to_python(py, &file.values).map(Some),
             PersonParams::Field(_) => Ok(None),
         }
     }
@@ -110,11 +107,7 @@ impl Params {
     fn record<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
         match self.inner.record() {
             None => Ok(None),
-            Some(record) => {
-                let text = kinergy_io::to_pretty_json(&record)
-                    .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
-                loads(py, &text).map(Some)
-            }
+            Some(record) => to_python(py, &record).map(Some),
         }
     }
 
@@ -148,15 +141,4 @@ impl Params {
             self.optimizer()
         )
     }
-}
-
-/// `params=`: a Params, or a path to a parameters or field file.
-pub fn params_arg(arg: &Bound<'_, PyAny>) -> PyResult<PersonParams> {
-    if let Ok(p) = arg.cast::<Params>() {
-        return Ok(p.get().inner.clone());
-    }
-    let path: PathBuf = arg
-        .extract()
-        .map_err(|_| errors::input("params: expected a kinergy.Params or a path to its file"))?;
-    PersonParams::read(&path).map_err(errors::raise)
 }

@@ -94,3 +94,37 @@ impl Observer for Watch<'_> {
         self.check(Some(progress));
     }
 }
+
+/// Runs `work` on a worker thread with the GIL released while this (the calling) thread
+/// checks for Ctrl-C every 25 ms and calls `tick` (e.g. to report progress): a
+/// `KeyboardInterrupt`, or an exception `tick` raises, raises `stop` so the work ends early,
+/// and is returned in place of the work's result.
+pub fn watched<R: Send>(
+    py: Python<'_>,
+    stop: &AtomicBool,
+    work: impl FnOnce() -> R + Send,
+    mut tick: impl FnMut(Python<'_>) -> PyResult<()> + Send,
+) -> PyResult<R> {
+    let mut raised = None;
+    let outcome = py.detach(|| {
+        std::thread::scope(|scope| {
+            let worker = scope.spawn(work);
+            while !worker.is_finished() {
+                std::thread::sleep(std::time::Duration::from_millis(25));
+                let checked = Python::attach(|py| {
+                    py.check_signals()?;
+                    tick(py)
+                });
+                if let Err(e) = checked {
+                    stop.store(true, std::sync::atomic::Ordering::SeqCst);
+                    raised.get_or_insert(e);
+                }
+            }
+            worker.join()
+        })
+    });
+    if let Some(e) = raised {
+        return Err(e);
+    }
+    outcome.map_err(|_| crate::errors::KinergyError::new_err("a worker thread failed"))
+}

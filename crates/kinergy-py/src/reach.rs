@@ -8,10 +8,9 @@ use kinergy_reach::drive::{PersonReach, Profile, check_settings, check_target};
 use kinergy_train::limits;
 use pyo3::prelude::*;
 
-use crate::clip::{Clip, parse};
+use crate::args::{Arg, ClipArg, ParamsArg, parse};
+use crate::clip::Clip;
 use crate::errors;
-use crate::params::params_arg;
-use crate::verbs::clip_arg;
 
 /// One full-body reach of the 43-DoF character toward `target` (world meters, the
 /// character standing at the origin facing +z), as `kinergy reach` makes it: stepping,
@@ -28,9 +27,9 @@ use crate::verbs::clip_arg;
 pub fn reach<'py>(
     py: Python<'py>,
     target: [f64; 3],
-    params: Option<&Bound<'py, PyAny>>,
+    params: Option<Arg<ParamsArg>>,
     height: f64,
-    person: Option<&Bound<'py, PyAny>>,
+    person: Option<Arg<ClipArg>>,
     flexibility: f64,
     arm: Option<&str>,
     profile: &str,
@@ -56,14 +55,14 @@ pub fn reach<'py>(
     errors::check_range("height", height, limits::REACH_HEIGHT)?;
     let proportions = match person {
         Some(p) => {
-            let (clip, path) = clip_arg(py, p, &ImportOptions::default())?;
+            let (clip, path) = p.0.load(py, &ImportOptions::default())?;
             Proportions::from_clip(&clip)
                 .map_err(|e| errors::input(format!("{}: {e}", path.display())))?
         }
         None => Proportions::from_height(height)
             .map_err(|e| errors::input(format!("height={height}: {e}")))?,
     };
-    let person = params.map(params_arg).transpose()?;
+    let person = params.map(|p| p.0.load()).transpose()?;
     let request = PersonReach {
         target,
         proportions,

@@ -4,15 +4,13 @@
 use kinergy_motion::Side;
 use kinergy_motion::segment::Selection;
 use kinergy_solver::{BaseMode, Model, OptimizerKind};
-use kinergy_train::limits;
 use kinergy_train::source::{Controller, FrameChoice};
 use kinergy_train::synthesize::{Drive, SynthesizeRequest};
 use pyo3::prelude::*;
 
-use crate::clip::{Clip, import_options, parse};
+use crate::args::{Arg, ClipArg, FramesArg, ParamsArg, Reading, SelectArg, parse};
+use crate::clip::Clip;
 use crate::errors;
-use crate::params::params_arg;
-use crate::verbs::{clip_arg, selection_arg};
 
 /// A synergy reach on a capture's skeleton, as `kinergy synthesize` makes it: from the
 /// capture's frame where the reach starts toward its final hand position (or `target`,
@@ -31,10 +29,10 @@ use crate::verbs::{clip_arg, selection_arg};
 #[allow(clippy::too_many_arguments)]
 pub fn synthesize<'py>(
     py: Python<'py>,
-    clip: &Bound<'py, PyAny>,
-    params: Option<&Bound<'py, PyAny>>,
-    frames: Option<&Bound<'py, PyAny>>,
-    select: Option<&Bound<'py, PyAny>>,
+    clip: Arg<ClipArg>,
+    params: Option<Arg<ParamsArg>>,
+    frames: Option<Arg<FramesArg>>,
+    select: Option<Arg<SelectArg>>,
     target: Option<[f64; 3]>,
     model: &str,
     optimizer: &str,
@@ -50,44 +48,27 @@ pub fn synthesize<'py>(
     up: &str,
     positions: &str,
 ) -> PyResult<Clip> {
-    let options = import_options(unit, up, positions, limits::DEFAULT_INPUT_MB)?;
-    let frames = match frames {
-        None => FrameChoice::Fitted,
-        Some(f) => match f.extract::<(usize, usize)>() {
-            Ok((a, b)) if a < b => FrameChoice::Window(a..b),
-            Ok((a, b)) => {
-                return Err(errors::input(format!(
-                    "frames=({a}, {b}): expected (start, end) with start < end"
-                )));
-            }
-            Err(_) => match f.extract::<String>()?.as_str() {
-                "fit" => FrameChoice::Fitted,
-                "auto" => FrameChoice::Main,
-                "all" => FrameChoice::All,
-                other => {
-                    return Err(errors::input(format!(
-                        "frames={other:?}: expected \"fit\", \"auto\", \"all\" or (start, end)"
-                    )));
-                }
-            },
-        },
-    };
-    let frames = match select {
+    let options = Reading {
+        unit,
+        up,
+        positions,
+    }
+    .options()?;
+    let frames = frames.map_or(Ok(FrameChoice::Fitted), |f| f.0.choice())?;
+    let frames = match select.map(|s| s.0.selection()).transpose()? {
         None => frames,
         Some(_) if !matches!(frames, FrameChoice::Fitted) => {
             return Err(errors::input("select= or frames=: not both"));
         }
-        Some(s) => match selection_arg(Some(s))? {
-            Some(Selection::Nth(n)) => FrameChoice::Nth(n),
-            Some(Selection::Main) | None => FrameChoice::Main,
-            Some(Selection::All) => {
-                return Err(errors::input(
-                    "select=\"all\": synthesize makes one reach; pick \"main\" or a segment number",
-                ));
-            }
-        },
+        Some(Selection::Nth(n)) => FrameChoice::Nth(n),
+        Some(Selection::Main) => FrameChoice::Main,
+        Some(Selection::All) => {
+            return Err(errors::input(
+                "select=\"all\": synthesize makes one reach; pick \"main\" or a segment number",
+            ));
+        }
     };
-    let drive = match params.map(params_arg).transpose()? {
+    let drive = match params.map(|p| p.0.load()).transpose()? {
         Some(params) => Drive::Person {
             params: Box::new(params),
             path: None,
@@ -114,7 +95,7 @@ pub fn synthesize<'py>(
         stop_at_reach,
     };
     request.validate().map_err(errors::raise)?;
-    let (whole, from) = clip_arg(py, clip, &options)?;
+    let (whole, from) = clip.0.load(py, &options)?;
     let done = py
         .detach(|| request.run(&whole, &from))
         .map_err(errors::raise)?;

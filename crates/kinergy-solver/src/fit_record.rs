@@ -424,6 +424,19 @@ pub enum FitGrouping {
     Person,
 }
 
+impl std::str::FromStr for FitGrouping {
+    type Err = kinergy_io::InvalidSetting;
+    /// `clip` or `person`.
+    fn from_str(s: &str) -> Result<FitGrouping, Self::Err> {
+        [FitGrouping::Clip, FitGrouping::Person]
+            .into_iter()
+            .find(|g| g.name() == s)
+            .ok_or_else(|| {
+                kinergy_io::InvalidSetting::new("per", format!("`{s}`: expected clip or person"))
+            })
+    }
+}
+
 impl FitGrouping {
     /// `clip` or `person`.
     pub fn name(self) -> &'static str {

@@ -104,6 +104,23 @@ pub enum TrainError {
         /// What went wrong.
         source: Box<TrainError>,
     },
+    /// A field was asked of reaches of both arms: its targets are in one arm's base frame.
+    #[error(
+        "{first} is a reach of the {} arm and {other} of the {} arm; a field holds one arm's \
+         reaches (its targets are in that arm's base frame): fit each arm on its own",
+        side_name(*first_side),
+        side_name(*other_side)
+    )]
+    MixedArms {
+        /// The first reach.
+        first: String,
+        /// Its arm's side.
+        first_side: Option<Side>,
+        /// A reach of another arm.
+        other: String,
+        /// That arm's side.
+        other_side: Option<Side>,
+    },
     /// No row of a segments file names any of the clips given.
     #[error("{}: no row names any of the clips given", file.display())]
     NoRows {
@@ -184,6 +201,7 @@ impl kinergy_io::Classify for TrainError {
             | TrainError::Segments { .. }
             | TrainError::Row { .. }
             | TrainError::NoRows { .. }
+            | TrainError::MixedArms { .. }
             | TrainError::Frames { .. } => ErrorKind::Input,
             TrainError::Io { .. } => ErrorKind::Io,
             TrainError::Interrupted { .. } => ErrorKind::Interrupted,
@@ -256,4 +274,9 @@ pub(crate) fn in_file(e: TrainError, path: &std::path::Path) -> TrainError {
         },
         other => other,
     }
+}
+
+/// A side's name, `unnamed` for an arm named by its joints.
+fn side_name(side: Option<Side>) -> String {
+    side.map_or_else(|| "unnamed".to_string(), |s| s.to_string())
 }

@@ -107,11 +107,13 @@
 
 mod file;
 mod param_field;
+mod person_fit;
 mod regression;
 mod settings;
 
 pub use file::{FIELD_FORMAT_VERSION, FieldFile};
 pub use param_field::{LooRow, ParamField, leave_one_out};
+pub use person_fit::{FieldReport, FieldSample, check_one_arm, field_groups};
 pub use settings::{
     AUTO_FACTORS, Bandwidth, BandwidthScore, DEFAULT_RIDGE, FALLBACK_BANDWIDTH, FieldSettings,
     Regression,

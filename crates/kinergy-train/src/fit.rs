@@ -23,6 +23,7 @@
 mod job;
 mod nested;
 mod refine;
+mod search;
 mod single;
 
 pub use job::{FitJob, Interrupted};
@@ -31,5 +32,6 @@ pub use nested::{
     fit_nested,
 };
 pub use refine::{RefineSettings, Refinement, refine, refine_until};
+pub use search::{OBJECTIVES, SearchOptions};
 pub(crate) use single::unobserved_names;
 pub use single::{Fit, FitSettings, fit_model, model_seed};

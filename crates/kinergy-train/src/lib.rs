@@ -1,8 +1,8 @@
 //! Fitting joint-synergy parameters to captured reaches (Aubry, Julliard & Gibet 2009, §3.3–4;
 //! DESIGN §1.1):
 //!
-//! - [`segment`]: the reach segments of a clip (re-exported from `kinergy_motion::segment`,
-//!   where segmentation lives since it needs only motion types);
+//! - [`listing`]: a capture's labelled segments, arm by arm, as `segment` lists them
+//!   (segmentation itself is `kinergy_motion::segment`: it needs only motion types);
 //! - [`segments_file`]: the segments file — clips, frames, arm, label, person — read and written;
 //! - [`captured`]: a captured reach prepared for fitting — start posture, target, the person's
 //!   arm, the captured torso motion the synthesized arm rides on — and its score, the
@@ -34,14 +34,13 @@ pub mod field;
 pub mod fit;
 pub mod library;
 pub mod limits;
+pub mod listing;
 pub mod objective;
 pub mod person;
 pub mod segments_file;
-pub mod synthesize;
-/// Reach segmentation from `kinergy-motion`, re-exported as `kinergy_train::segment`.
-pub use kinergy_motion::segment;
 pub mod source;
 pub mod style;
+pub mod synthesize;
 pub mod synthetic;
 
 pub use captured::{

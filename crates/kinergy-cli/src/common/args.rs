@@ -10,7 +10,7 @@ use kinergy_motion::{
 };
 use kinergy_solver::FitObjective;
 use kinergy_train::anneal::AnnealSettings;
-use kinergy_train::fit::FitSettings;
+use kinergy_train::fit::{FitSettings, OBJECTIVES, SearchOptions};
 
 use super::failure::Failure;
 use super::limits::{self, check_optional, check_range};
@@ -264,34 +264,33 @@ impl SearchArgs {
     }
 
     /// Fit settings from the flags, with the default stopping rule where the flags give none.
-    pub fn settings(&self) -> FitSettings {
-        self.settings_from(AnnealSettings::default())
+    pub fn settings(&self) -> Result<FitSettings, Failure> {
+        self.options(false).settings().map_err(Failure::from)
     }
 
     /// Fit settings from the flags for a library of captures: its stopping rule
     /// ([`AnnealSettings::for_library`]) where the flags give none.
-    pub fn library_settings(&self) -> FitSettings {
-        self.settings_from(AnnealSettings::default().for_library())
+    pub fn library_settings(&self) -> Result<FitSettings, Failure> {
+        self.options(true).settings().map_err(Failure::from)
     }
 
-    fn settings_from(&self, defaults: AnnealSettings) -> FitSettings {
-        FitSettings {
-            anneal: AnnealSettings {
-                seed: self.seed,
-                max_evaluations: self.budget,
-                population: self.population,
-                temperature: self.temperature,
-                stable_tolerance: self.stable_change.unwrap_or(defaults.stable_tolerance),
-                stable_window: self.stable_window.unwrap_or(defaults.stable_window),
-                ..defaults
-            },
-            objective: match self.objective {
-                ObjectiveArg::Positions => FitObjective::Positions,
-                ObjectiveArg::PositionsSpeed => FitObjective::PositionsSpeed {
-                    speed_weight_s: self.speed_weight,
-                },
-            },
-            ..FitSettings::default()
+    fn options(&self, library: bool) -> SearchOptions {
+        SearchOptions {
+            seed: self.seed,
+            budget: Some(self.budget),
+            population: Some(self.population),
+            temperature: Some(self.temperature),
+            stable_change: self.stable_change,
+            stable_window: self.stable_window,
+            objective: Some(
+                match self.objective {
+                    ObjectiveArg::Positions => OBJECTIVES[0],
+                    ObjectiveArg::PositionsSpeed => OBJECTIVES[1],
+                }
+                .to_string(),
+            ),
+            speed_weight: Some(self.speed_weight),
+            library,
         }
     }
 

@@ -66,7 +66,7 @@ pub fn run(
         models: args.models.clone(),
         optimizer: args.optimizer,
         cross_model,
-        fit: args.search.settings(),
+        fit: args.search.settings()?,
         field: Some(FieldSettings::default()),
         tempo: args.held_out_tempo.into(),
     };
