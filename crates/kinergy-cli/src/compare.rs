@@ -41,7 +41,7 @@ use kinergy_train::experiment::{
 };
 use serde::Serialize;
 
-use crate::common::{Bar, Failure, check_optional, emit, limits, print_json};
+use crate::common::{Bar, CaptureClips, Failure, check_optional, emit, limits, print_json};
 
 /// The folder `compare` uses when no clips are given.
 pub const DEFAULT_DATA: &str = "data-synthetic";
@@ -107,7 +107,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "--person needs --per person --holdout K".into(),
         ));
     }
-    let reaches = args.reach.load_all(&clips)?;
+    run_experiment(args, &clips)
+}
+
+/// The experiments of Fig. 3, Fig. 4, the methods and the field on `clips`: results.csv,
+/// summary.md and the charts into `-o`.
+fn run_experiment(args: &Args, clips: &CaptureClips) -> Result<(), Failure> {
+    let reaches = args.reach.load_all(clips)?;
     let settings = ExperimentSettings {
         models: args.models.clone(),
         optimizers: args.optimizers.clone(),
