@@ -1,31 +1,17 @@
 //! `kinergy animate`: clips as superposed stick figures, synchronized by time (the paper's
 //! Fig. 6: captured vs S_A vs S_C) — an animated GIF and a film strip of snapshots — with,
 //! optionally, the scene a `plan` output moves in and the objects it carries (Kallmann's
-//! Fig. 5).
-//!
-//! What is drawn of a skeleton is decided by [`draw::bones`]: body bones full width, finger
-//! bones thin, face joints, a reference root and zero-length bones not at all. The view is
-//! fitted to the drawn joints over all frames (and to carried objects), with a margin; the
-//! scene is drawn clipped to it.
-
-mod objects;
-mod picture;
-mod timing;
-mod view;
+//! Fig. 5). The command checks its options and outputs, reads the clips and the scene, and
+//! reports; the pictures are [`kinergy_draw::animation`]'s.
 
 use std::path::{Path, PathBuf};
 
+use clap::builder::PossibleValue;
+use kinergy_draw::animation::{self, Scene, Track, View, gif_frame_count, read_props, strip_times};
 use serde::Serialize;
 
 use crate::common::limits;
 use crate::common::{Failure, ReadArgs, check_range, collect_clips, emit, parse_size, print_json};
-use crate::draw::bones::{BoneKind, Role};
-use crate::draw::{self, Format};
-use objects::{Track, read_props};
-use picture::{Scene, Strip, Style, draw_scene};
-use timing::{gif_frame_count, strip_times};
-use view::Bounds;
-pub use view::View;
 
 /// The most clips one picture holds: one palette colour each.
 const MAX_CLIPS: usize = 8;
@@ -43,7 +29,7 @@ pub struct Args {
     #[arg(short, long, value_name = "OUT.gif")]
     pub output: PathBuf,
     /// Where the camera looks from (the character faces +Z, Y up, its left at +X).
-    #[arg(long, value_enum, default_value = "front")]
+    #[arg(long, default_value = "front", value_parser = crate::common::named::<View>(View::ALL.map(|v| PossibleValue::new(v.name()).help(v.description()))))]
     pub view: View,
     /// GIF frames per second, 1 to 100. Frame k shows every clip at t = k / fps (its nearest
     /// frame; a shorter clip holds its last pose), up to the end of the longest clip. GIF
@@ -111,48 +97,16 @@ struct Report {
     moving_objects: Vec<String>,
 }
 
-/// Labels for the clips: their file stems, with as many parent folders as it takes to tell
-/// them apart (`p01/r01`, `p02/r01`).
-fn labels(paths: &[PathBuf]) -> Vec<String> {
-    let parts: Vec<Vec<String>> = paths
-        .iter()
-        .map(|p| {
-            let stem = p.file_stem().unwrap_or(p.as_os_str());
-            let mut parts = vec![stem.to_string_lossy().into_owned()];
-            if let Some(parent) = p.parent() {
-                parts.extend(
-                    parent
-                        .components()
-                        .rev()
-                        .map(|c| c.as_os_str().to_string_lossy().into_owned()),
-                );
-            }
-            parts
-        })
-        .collect();
-    let deepest = parts.iter().map(Vec::len).max().unwrap_or(1);
-    let mut out = Vec::new();
-    for depth in 1..=deepest {
-        out = parts
-            .iter()
-            .map(|p| {
-                let mut head: Vec<&str> = p.iter().take(depth).map(String::as_str).collect();
-                head.reverse();
-                head.join("/")
-            })
-            .collect();
-        let mut sorted = out.clone();
-        sorted.sort();
-        sorted.dedup();
-        if sorted.len() == out.len() {
-            break;
-        }
-    }
-    out
+/// The two pictures' files and sizes, pixels.
+struct Pictures {
+    strip: PathBuf,
+    size: (u32, u32),
+    strip_size: (u32, u32),
 }
 
-/// Runs `kinergy animate`.
-pub fn run(args: &Args) -> Result<(), Failure> {
+/// Checks the pictures' options before any work: the GIF's and the strip's names, the rate,
+/// the snapshots and the sizes.
+fn check_pictures(args: &Args) -> Result<Pictures, Failure> {
     let is_gif = args
         .output
         .extension()
@@ -167,7 +121,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .strip
         .clone()
         .unwrap_or_else(|| args.output.with_extension("png"));
-    Format::of(&strip, "--strip")?;
+    crate::common::picture_format(&strip, "--strip")?;
     args.read.check()?;
     check_range("--fps", args.fps, limits::ANIMATE_FPS)?;
     check_range(
@@ -195,7 +149,62 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         )));
     }
     let strip_size = (u32::try_from(strip_width).unwrap_or(u32::MAX), size.1);
+    Ok(Pictures {
+        strip,
+        size,
+        strip_size,
+    })
+}
 
+/// Reads the clips at `paths` as tracks; with their report rows and the longest duration.
+fn read_tracks(args: &Args, paths: &[PathBuf]) -> Result<(Vec<Track>, Vec<ClipRow>, f64), Failure> {
+    let mut tracks = Vec::with_capacity(paths.len());
+    let mut rows = Vec::with_capacity(paths.len());
+    let mut duration = 0.0_f64;
+    for (path, label) in paths.iter().zip(animation::labels(paths)) {
+        let (clip, _) = args.read.read(path)?;
+        duration = duration.max(clip.duration());
+        let track = Track::new(&clip, path, label.clone())?;
+        let drawn = track.drawn(clip.skeleton());
+        rows.push(ClipRow {
+            path: path.display().to_string(),
+            label,
+            frames: clip.frame_count(),
+            duration_s: clip.duration(),
+            body_bones: drawn.body_bones,
+            finger_bones: drawn.finger_bones,
+            not_drawn: drawn.not_drawn,
+        });
+        tracks.push(track);
+    }
+    Ok((tracks, rows, duration))
+}
+
+/// Draws the GIF (`frames` of them) and the strip (at `times`) of `scene`, both finished under
+/// temporary names first, so that a failure leaves neither behind.
+fn draw(
+    args: &Args,
+    scene: &Scene,
+    pictures: &Pictures,
+    frames: usize,
+    times: &[f64],
+) -> Result<(), Failure> {
+    // A bar on the terminal only (indicatif hides it when stderr is not one).
+    let bar = crate::common::Bar::counting(frames as u64, "frames");
+    let staged = animation::stage_gif(scene, &args.output, pictures.size, frames, args.fps, || {
+        bar.inc()
+    });
+    bar.finish();
+    let gif = staged?;
+    let strip = animation::stage_strip(scene, &pictures.strip, pictures.strip_size, times)?;
+    kinergy_draw::commit(strip)?;
+    kinergy_draw::commit(gif)?;
+    Ok(())
+}
+
+/// Runs `kinergy animate`.
+pub fn run(args: &Args) -> Result<(), Failure> {
+    let pictures = check_pictures(args)?;
     let paths = collect_clips(&args.clips)?;
     if paths.len() > MAX_CLIPS {
         return Err(Failure::Input(format!(
@@ -221,69 +230,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             &inputs,
             &[
                 Output::File("-o", &args.output),
-                Output::File("--strip", &strip),
+                Output::File("--strip", &pictures.strip),
             ],
         )?;
     }
-    let names = labels(&paths);
-    let mut tracks = Vec::with_capacity(paths.len());
-    let mut rows = Vec::with_capacity(paths.len());
-    let mut duration = 0.0_f64;
-    for (path, label) in paths.iter().zip(names) {
-        let (clip, _) = args.read.read(path)?;
-        duration = duration.max(clip.duration());
-        let track = Track::new(&clip, path, label.clone())?;
-        let first = &track.world[..track.joints];
-        let (mut body_bones, mut finger_bones) = (0, 0);
-        for (_, _, kind) in track.figure.bones(first) {
-            match kind {
-                BoneKind::Body => body_bones += 1,
-                BoneKind::Finger => finger_bones += 1,
-            }
-        }
-        let skeleton = clip.skeleton();
-        rows.push(ClipRow {
-            path: path.display().to_string(),
-            label,
-            frames: clip.frame_count(),
-            duration_s: clip.duration(),
-            body_bones,
-            finger_bones,
-            not_drawn: track
-                .figure
-                .roles()
-                .iter()
-                .enumerate()
-                .filter(|(_, r)| matches!(r, Role::Face | Role::Reference))
-                .map(|(j, _)| skeleton.joint(j).name.clone())
-                .collect(),
-        });
-        tracks.push(track);
-    }
+    let (tracks, rows, duration) = read_tracks(args, &paths)?;
     let props = scene.transpose()?.map(|s| s.props).unwrap_or_default();
-    let moving_objects: Vec<String> = props
-        .iter()
-        .filter(|p| p.moving())
-        .map(|p| p.name.clone())
-        .collect();
-    let view = args.view;
-    let bounds = Bounds::around(
-        tracks
-            .iter()
-            .flat_map(|t| t.drawn_points().map(|p| view.project(p)))
-            .chain(props.iter().flat_map(|p| p.moving_points(view))),
-    );
-    let scene = Scene {
-        tracks,
-        props,
-        bounds,
-        view,
-    };
-    // The GIF is seen at its size; the strip is usually shown shrunk to a page's width.
-    let gif_style = Style::for_height(size.1, 24, 200);
-    let strip_style = Style::for_height(size.1, 13, 120);
+    let scene = Scene::new(tracks, props, args.view);
 
-    let frames = gif_frame_count(duration, args.fps);
+    let (size, frames) = (pictures.size, gif_frame_count(duration, args.fps));
     let gif_pixels = u64::from(size.0)
         .saturating_mul(u64::from(size.1))
         .saturating_mul(frames as u64);
@@ -296,82 +251,45 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             limits::MAX_GIF_PIXELS
         )));
     }
-    let fps = f64::from(args.fps);
-    let delay_ms = (1000.0 / fps).round() as u32;
     let times = strip_times(duration, args.strip_frames);
-
-    // Both pictures are finished under temporary names first, so that a failure leaves
-    // neither behind.
-    // A bar on the terminal only (indicatif hides it when stderr is not one).
-    let bar = crate::common::Bar::counting(frames as u64, "frames");
-    let staged = draw::stage_gif(&args.output, size, frames, delay_ms, |k, root| {
-        bar.inc();
-        draw_scene(root, &scene, gif_style, &[k as f64 / fps])
-    });
-    bar.finish();
-    let gif = staged?;
-    let strip_file = draw::stage(
-        &Strip {
-            scene: &scene,
-            style: strip_style,
-            times: &times,
-        },
-        &strip,
-        strip_size,
-    )?;
-    draw::commit(strip_file)?;
-    draw::commit(gif)?;
+    draw(args, &scene, &pictures, frames, &times)?;
 
     let report = Report {
         output: args.output.display().to_string(),
-        strip: strip.display().to_string(),
+        strip: pictures.strip.display().to_string(),
         clips: rows,
         frames,
         fps: args.fps,
         duration_s: duration,
         view: args.view,
         size: [size.0, size.1],
-        strip_size: [strip_size.0, strip_size.1],
+        strip_size: [pictures.strip_size.0, pictures.strip_size.1],
         strip_times_s: times,
         scene: args.scene.as_ref().map(|p| p.display().to_string()),
-        moving_objects,
+        moving_objects: scene.moving_objects(),
     };
     if args.json {
-        print_json(&report)
-    } else {
-        let plural = |n: usize| if n == 1 { "" } else { "s" };
-        let clips = report.clips.len();
-        emit(&format!(
-            "{}: {clips} clip{}, {frames} frame{} at {} fps ({duration:.2} s), {} view; strip {} \
-             ({} snapshot{})\n",
-            report.output,
-            plural(clips),
-            plural(frames),
-            args.fps,
-            args.view.name(),
-            report.strip,
-            args.strip_frames,
-            plural(args.strip_frames),
-        ))
+        return print_json(&report);
     }
+    let plural = |n: usize| if n == 1 { "" } else { "s" };
+    let clips = report.clips.len();
+    emit(&format!(
+        "{}: {clips} clip{}, {frames} frame{} at {} fps ({duration:.2} s), {} view; strip {} \
+         ({} snapshot{})\n",
+        report.output,
+        plural(clips),
+        plural(frames),
+        args.fps,
+        args.view.name(),
+        report.strip,
+        args.strip_frames,
+        plural(args.strip_frames),
+    ))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn labels_add_folders_only_to_tell_clips_apart() {
-        let p = |s: &str| PathBuf::from(s);
-        assert_eq!(
-            labels(&[p("a/p01/r01.bvh"), p("a/p01/r02.bvh")]),
-            ["r01", "r02"]
-        );
-        assert_eq!(
-            labels(&[p("a/p01/r01.bvh"), p("a/p02/r01.bvh")]),
-            ["p01/r01", "p02/r01"]
-        );
-    }
 
     #[test]
     fn sizes_are_parsed_and_bounded() {

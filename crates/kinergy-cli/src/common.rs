@@ -44,6 +44,11 @@ pub fn write_csv<T: serde::Serialize>(
     kinergy_io::write_atomic(path, &bytes).map_err(|e| Failure::task(path, e))
 }
 
+/// The picture format the file name of `option` asks for (`.svg` or `.png`).
+pub fn picture_format(path: &Path, option: &str) -> Result<kinergy_draw::Format, Failure> {
+    kinergy_draw::Format::of(path).map_err(|e| Failure::Input(format!("{option} {e}")))
+}
+
 /// Prints a value as pretty JSON on stdout.
 pub fn print_json(value: &impl serde::Serialize) -> Result<(), Failure> {
     let text = kinergy_io::to_pretty_json(value)
@@ -125,10 +130,11 @@ pub fn length(meters: f64) -> String {
     format!("{value:.digits$} {unit}")
 }
 
-/// A flag's parser for a library enum read by its names (`FromStr`): clap lists `names` in
-/// `--help` and the shell completions, and the library's own parse makes the value.
+/// A flag's parser for a library enum read by its names (`FromStr`): clap lists `names` (with
+/// their help, if given as [`clap::builder::PossibleValue`]s) in `--help` and the shell
+/// completions, and the library's own parse makes the value.
 pub fn named<T>(
-    names: impl IntoIterator<Item = &'static str>,
+    names: impl IntoIterator<Item = impl Into<clap::builder::PossibleValue>>,
 ) -> impl clap::builder::TypedValueParser<Value = T>
 where
     T: std::str::FromStr + Clone + Send + Sync + 'static,

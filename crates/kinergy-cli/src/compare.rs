@@ -30,19 +30,18 @@ mod args;
 mod holdout;
 mod library;
 
-pub use args::{Args, Per, model_label};
+pub use args::{Args, Per};
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use kinergy_solver::{Model, OptimizerKind};
 use kinergy_train::experiment::{
-    self, ExperimentSettings, Method, PAPER_MODEL_REDUCTIONS, PAPER_OPTIMIZER_REDUCTIONS, Results,
-    Stats, Summary,
+    self, ExperimentSettings, PAPER_MODEL_REDUCTIONS, PAPER_OPTIMIZER_REDUCTIONS, Results, Stats,
+    Summary,
 };
 use serde::Serialize;
 
-use crate::common::{Bar, Failure, check_optional, emit, limits, print_json};
+use crate::common::{Bar, CaptureClips, Failure, check_optional, emit, limits, print_json};
 
 /// The folder `compare` uses when no clips are given.
 pub const DEFAULT_DATA: &str = "data-synthetic";
@@ -108,7 +107,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             "--person needs --per person --holdout K".into(),
         ));
     }
-    let reaches = args.reach.load_all(&clips)?;
+    run_experiment(args, &clips)
+}
+
+/// The experiments of Fig. 3, Fig. 4, the methods and the field on `clips`: results.csv,
+/// summary.md and the charts into `-o`.
+fn run_experiment(args: &Args, clips: &CaptureClips) -> Result<(), Failure> {
+    let reaches = args.reach.load_all(clips)?;
     let settings = ExperimentSettings {
         models: args.models.clone(),
         optimizers: args.optimizers.clone(),
@@ -150,7 +155,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let md_path = args.output.join("summary.md");
     kinergy_io::write_atomic(&md_path, markdown.as_bytes())
         .map_err(|e| Failure::task(&md_path, e))?;
-    let charts = draw_charts(&results, args)?;
+    // Fig. 3 (per model) and Fig. 4 (per optimizer, S_A and S_C) next to summary.md.
+    let charts = kinergy_draw::experiment::save_figures(
+        &results,
+        &args.models,
+        &args.optimizers,
+        args.optimizer,
+        &args.output,
+    )?;
     if args.json {
         return print_json(&report);
     }
@@ -183,75 +195,6 @@ fn output_files(dir: &std::path::Path, holdout: bool) -> Vec<PathBuf> {
         ]
     };
     names.iter().map(|name| dir.join(name)).collect()
-}
-
-/// Fig. 3 (per model) and Fig. 4 (per optimizer, S_A and S_C) as bar charts of the mean
-/// motion distance with min–max whiskers, in millimetres: `fig3.svg`/`.png` and
-/// `fig4.svg`/`.png` next to summary.md. Returns the files written.
-fn draw_charts(results: &Results, args: &Args) -> Result<Vec<PathBuf>, Failure> {
-    use crate::draw::{Bar, BarChart, save};
-    let bar = |series: usize, model: Model, optimizer: OptimizerKind| {
-        Stats::of(
-            results
-                .select(model, optimizer, Method::NestedAnnealing)
-                .map(|r| r.distance_m * 1e3),
-        )
-        .map(|s| Bar {
-            series,
-            mean: s.mean,
-            min: s.min,
-            max: s.max,
-        })
-    };
-    let mut models = args.models.clone();
-    models.sort();
-    models.dedup();
-    let fig3 = BarChart {
-        title: format!(
-            "Fig. 3: synergy models ({}, {} clips)",
-            args.optimizer.name().to_uppercase(),
-            results.clip_count()
-        ),
-        x_label: "synergy model".into(),
-        y_label: "motion distance to the capture (mm)".into(),
-        series: vec!["mean, min–max".into()],
-        groups: models
-            .iter()
-            .filter_map(|&m| {
-                let b = bar(0, m, args.optimizer)?;
-                Some((model_label(m), vec![b]))
-            })
-            .collect(),
-    };
-    let fig4 = BarChart {
-        title: "Fig. 4: optimizers with S_A and S_C".into(),
-        x_label: "optimizer".into(),
-        y_label: "motion distance to the capture (mm)".into(),
-        series: vec!["S_A".into(), "S_C".into()],
-        groups: args
-            .optimizers
-            .iter()
-            .map(|&o| {
-                let bars = [bar(0, Model::Sa, o), bar(1, Model::Sc, o)]
-                    .into_iter()
-                    .flatten()
-                    .collect();
-                (o.name().to_uppercase(), bars)
-            })
-            .collect(),
-    };
-    let mut written = Vec::new();
-    for (name, chart) in [("fig3", &fig3), ("fig4", &fig4)] {
-        if chart.groups.iter().all(|g| g.1.is_empty()) {
-            continue;
-        }
-        for ext in ["svg", "png"] {
-            let path = args.output.join(format!("{name}.{ext}"));
-            save(chart, &path, (800, 500))?;
-            written.push(path);
-        }
-    }
-    Ok(written)
 }
 
 /// The summary as `--json` prints it.

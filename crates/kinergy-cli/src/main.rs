@@ -9,7 +9,6 @@ mod collect;
 mod common;
 mod compare;
 mod convert;
-mod draw;
 mod fit;
 mod inspect;
 mod plan;

@@ -6,13 +6,13 @@
 
 use std::path::PathBuf;
 
+use kinergy_draw::{LineChart, Series, save};
 use kinergy_motion::segment::{SegmentSettings, hand_speed};
 use serde::Serialize;
 
 use crate::common::{
     ArmArgs, Failure, ReadArgs, check_range, collect_clips, emit, limits, parse_size, print_json,
 };
-use crate::draw::{LineChart, Series, save};
 
 /// Arguments of `kinergy plot`.
 #[derive(Debug, clap::Args)]
@@ -90,7 +90,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
 }
 
 fn speed(args: &SpeedArgs) -> Result<(), Failure> {
-    crate::draw::Format::of(&args.output, "-o")?;
+    crate::common::picture_format(&args.output, "-o")?;
     args.read.check()?;
     let size = parse_size(&args.size)?;
     check_range("--smoothing", args.smoothing, limits::PLOT_SMOOTHING)?;

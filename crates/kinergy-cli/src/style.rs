@@ -11,9 +11,9 @@
 //! wrist and hand from the shoulder, time-normalized, in arm lengths,
 //! [`kinergy_reach::style::arm_path`]) against the captured one. Where the synergy handed the
 //! hand over, its own part (onset to hand-over) is scored too. With `-o DIR`: style.csv,
-//! summary.md, and the pictures ([`pictures`]): `speed.svg|png` (every hand-speed profile,
-//! captured and reached, on one chart) and `strip.svg|png` (the first capture's reach as a
-//! film strip, the character over the capture).
+//! summary.md, and the pictures ([`kinergy_draw::style`]): `speed.svg|png` (every hand-speed
+//! profile, captured and reached, on one chart), `realtime.svg|png` and `strip.svg|png` (the
+//! first capture's reach as a film strip, the character over the capture).
 
 use std::path::{Path, PathBuf};
 
@@ -28,8 +28,6 @@ use serde::Serialize;
 
 use crate::common::{ArmArgs, Failure, ReadArgs, emit, print_json};
 use kinergy_train::source::names_clip;
-
-mod pictures;
 
 /// Arguments of `kinergy style`.
 #[derive(Debug, clap::Args)]
@@ -186,7 +184,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         files.extend(
             ["style.csv", "summary.md"]
                 .into_iter()
-                .chain(pictures::FILES)
+                .chain(kinergy_draw::style::FILES)
                 .map(|name| dir.join(name)),
         );
         crate::common::check_outputs(&inputs, &[crate::common::Output::Folder("-o", dir, &files)])?;
@@ -231,10 +229,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         kinergy_io::write_atomic(&dir.join("summary.md"), text.as_bytes())
             .map_err(|e| Failure::task(&dir.join("summary.md"), e))?;
         if let Some((clip, capture)) = &first {
-            let who = pictures::person_name(&args.params);
-            pictures::speed_chart(dir, &who, &summary, &runs)?;
-            pictures::realtime_chart(dir, &who, &fidelity)?;
-            pictures::film_strip(dir, &who, clip, capture, &runs[0], args.arm.side()?)?;
+            let who = person_name(&args.params);
+            let pictures = kinergy_draw::style::StylePictures {
+                who: &who,
+                summary: &summary,
+                runs: &runs,
+                fidelity: &fidelity,
+                clip,
+                capture,
+                arm: args.arm.side()?,
+            };
+            pictures.save_all(dir)?;
         }
     }
     if args.json {
@@ -246,6 +251,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         });
     }
     emit(&text)
+}
+
+/// The person's name in the pictures' titles: the parameters file's stem.
+fn person_name(params: &Path) -> String {
+    params
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| params.display().to_string())
 }
 
 /// One capture: its main reach's profile and arm path against the two reaches toward its

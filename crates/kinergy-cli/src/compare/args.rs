@@ -66,10 +66,7 @@ pub struct Args {
     pub reach: CaptureArgs,
 }
 
-/// `S_A` for `sa`.
-pub fn model_label(model: Model) -> String {
-    model.name().to_uppercase().replacen('S', "S_", 1)
-}
+pub use kinergy_draw::experiment::model_label;
 
 /// What one vector is fitted to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

@@ -12,7 +12,6 @@ use serde::Serialize;
 use super::Args;
 use super::args::model_label;
 use crate::common::{Failure, emit, print_json};
-use crate::draw::{Bar, BarChart, save};
 
 /// One person's (or everyone's) line as `--json` prints it: each model's distances in mm.
 #[derive(Debug, Serialize)]
@@ -60,39 +59,17 @@ pub fn run(args: &Args, library: &Path) -> Result<(), Failure> {
             table.display()
         )));
     }
-    let lines: Vec<Line> = library.by_person().into_iter().map(Line::from).collect();
+    let by_person = library.by_person();
+    let all = by_person.last().expect("the all line");
+    let chart = kinergy_draw::experiment::library_fig3(all, by_person.len() - 1);
+    let lines: Vec<Line> = by_person.into_iter().map(Line::from).collect();
     let models = library.models();
     let markdown = markdown(&table, &lines, &models);
     crate::common::make_folder(&args.output)?;
     let md = args.output.join("summary.md");
     kinergy_io::write_atomic(&md, markdown.as_bytes()).map_err(|e| Failure::task(&md, e))?;
-    let all = lines.last().expect("the all line");
-    let chart = BarChart {
-        title: format!(
-            "Fig. 3: synergy models ({} reaches of {} persons)",
-            all.reaches,
-            lines.len() - 1
-        ),
-        x_label: "synergy model".into(),
-        y_label: "motion distance to the capture (mm)".into(),
-        series: vec!["mean, min–max".into()],
-        groups: all
-            .models
-            .iter()
-            .map(|(label, s)| {
-                let bar = Bar {
-                    series: 0,
-                    mean: s.mean,
-                    min: s.min,
-                    max: s.max,
-                };
-                (label.clone(), vec![bar])
-            })
-            .collect(),
-    };
-    for ext in ["svg", "png"] {
-        save(&chart, &args.output.join(format!("fig3.{ext}")), (800, 500))?;
-    }
+    let size = kinergy_draw::experiment::SIZE;
+    kinergy_draw::save_both(&chart, &args.output, "fig3", size)?;
     if args.json {
         return print_json(&lines);
     }

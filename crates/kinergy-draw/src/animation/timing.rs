@@ -2,7 +2,7 @@
 //! takes, when the strip's snapshots are.
 
 /// The frame nearest to `t` seconds in a clip of `count` frames, clamped to the clip.
-pub(super) fn nearest_frame(t: f64, frame_time: f64, count: usize) -> usize {
+pub fn nearest_frame(t: f64, frame_time: f64, count: usize) -> usize {
     let i = (t / frame_time).round();
     if i > 0.0 {
         // `as` saturates: a time past the end clamps to the last frame.
@@ -14,7 +14,7 @@ pub(super) fn nearest_frame(t: f64, frame_time: f64, count: usize) -> usize {
 
 /// GIF frames for `duration` seconds at `fps`: floor(duration · fps) + 1, the last instant
 /// included even when rounding puts it a hair short.
-pub(super) fn gif_frame_count(duration: f64, fps: u32) -> usize {
+pub fn gif_frame_count(duration: f64, fps: u32) -> usize {
     let ticks = duration * f64::from(fps) + 1e-9;
     if ticks.is_finite() && ticks > 0.0 {
         ticks.floor() as usize + 1
@@ -24,7 +24,7 @@ pub(super) fn gif_frame_count(duration: f64, fps: u32) -> usize {
 }
 
 /// `n` instants evenly spaced from 0 to `duration`, both included (0 alone when `n` is 1).
-pub(super) fn strip_times(duration: f64, n: usize) -> Vec<f64> {
+pub fn strip_times(duration: f64, n: usize) -> Vec<f64> {
     if n <= 1 {
         return vec![0.0];
     }

@@ -1,12 +1,12 @@
 //! A film strip of stick figures overlaid: panels side by side, each showing every figure at
-//! one instant in its own colour, one legend above (`style -o`: the character's reach over the
-//! capture's, at a few fractions of the reach, seen from the side).
+//! one instant in its own colour, one legend above ([`style`](crate::style): the character's
+//! reach over the capture's, at a few fractions of the reach, seen from the side).
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::bones::{BoneKind, Segment};
-use super::{DrawResult, FONT, Figure, colour, font_scale, scaled};
+use crate::bones::{BoneKind, Segment};
+use crate::{DrawResult, FONT, Figure, colour, font_scale, scaled};
 
 /// One figure of a panel: its bones and dots, projected to the screen (meters, y up).
 #[derive(Debug, Clone, Default)]

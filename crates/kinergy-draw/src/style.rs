@@ -1,4 +1,5 @@
-//! The pictures of `style -o DIR`, each as .svg and .png like `compare`'s:
+//! The pictures of a style run ([`kinergy_reach::style`], `kinergy style -o DIR`), each as
+//! .svg and .png ([`StylePictures`]):
 //!
 //! - `speed`: every capture's hand-speed profile and the character's reaches toward its
 //!   target — with the person's parameters and with the default profile — over the fraction of
@@ -6,7 +7,7 @@
 //!   (correlation, peak error, arm path) in the legend; lines faster than 1.5× the fastest
 //!   capture are cut there, the title giving the cut and the highest speed;
 //! - `realtime`: each capture's hand speed in real time beside every predictor's
-//!   ([`realtime_chart`]);
+//!   ([`StylePictures::realtime_chart`]);
 //! - `strip`: the first capture's reach at 0, 25, 50, 75 and 100 % of it, seen from the side,
 //!   the character's full body driven by the person's parameters over the captured pose (the
 //!   capture carried onto the character by their reach frames at the reach's start, as the
@@ -17,37 +18,28 @@ use std::path::Path;
 
 use kinergy_motion::{Clip, Side};
 use kinergy_reach::style::{SAMPLES, StyleCapture, StyleRun, StyleSummary};
+use kinergy_train::fidelity::PersonFidelity;
 use nalgebra::Point3;
 
-use crate::common::Failure;
-use crate::draw::bones::StickFigure;
-use crate::draw::strip::{FilmStrip, Pose2};
-use crate::draw::{LineChart, Panels, Series, save};
-use kinergy_train::fidelity::PersonFidelity;
+use crate::bones::StickFigure;
+use crate::strip::{FilmStrip, Pose2};
+use crate::{DrawError, LineChart, Panels, Series, save_both};
 
-/// Palette indices ([`crate::draw::colour`]) of the captured, the person's and the default's.
-pub(crate) const CAPTURED: usize = 6;
-/// The person's parameters (`reach --params`).
-pub(crate) const PARAMS: usize = 0;
-/// The default profile.
-pub(crate) const PROFILE: usize = 1;
+/// Palette index ([`colour`](crate::colour)) of the captured motion.
+pub const CAPTURED: usize = 6;
+/// Palette index of the person's parameters (`reach --params`).
+pub const PARAMS: usize = 0;
+/// Palette index of the default profile.
+pub const PROFILE: usize = 1;
 
 /// Which of a run's time-normalized hand-speed profiles.
 type Profile = fn(&StyleRun) -> &[f64];
 
 /// The fractions of the reach the film strip shows.
-pub(crate) const STRIP_AT: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
+pub const STRIP_AT: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
 
-/// The person's name in titles: the parameters file's stem.
-pub(super) fn person_name(params: &Path) -> String {
-    params
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| params.display().to_string())
-}
-
-/// The files the pictures are written to in `-o DIR` (for the output check).
-pub(super) const FILES: [&str; 6] = [
+/// The files [`StylePictures::save_all`] writes into its folder (for an output check).
+pub const FILES: [&str; 6] = [
     "speed.svg",
     "speed.png",
     "realtime.svg",
@@ -56,12 +48,62 @@ pub(super) const FILES: [&str; 6] = [
     "strip.png",
 ];
 
+/// What a style run's pictures show: the person, the run's summary and motions, every
+/// predictor's hand speed in real time, and the first capture (its clip and reach) for the
+/// film strip.
+#[derive(Debug, Clone, Copy)]
+pub struct StylePictures<'a> {
+    /// The person's name in titles (e.g. the parameters file's stem).
+    pub who: &'a str,
+    /// The run's means.
+    pub summary: &'a StyleSummary,
+    /// Each capture's run, in order; the first is the film strip's.
+    pub runs: &'a [StyleRun],
+    /// The captures judged in real time.
+    pub fidelity: &'a PersonFidelity,
+    /// The first capture's clip.
+    pub clip: &'a Clip,
+    /// The first capture's reach.
+    pub capture: &'a StyleCapture,
+    /// The arm that reaches.
+    pub arm: Side,
+}
+
+impl StylePictures<'_> {
+    /// Writes every picture ([`FILES`]) into `dir`: the speed chart, the real-time chart and
+    /// the film strip, in this order.
+    pub fn save_all(&self, dir: &Path) -> Result<(), DrawError> {
+        self.speed_chart(dir)?;
+        self.realtime_chart(dir)?;
+        self.film_strip(dir)
+    }
+
+    /// `speed.svg|png`: every hand-speed profile of the runs on one chart (module docs).
+    pub fn speed_chart(&self, dir: &Path) -> Result<(), DrawError> {
+        speed_chart(dir, self.who, self.summary, self.runs)
+    }
+
+    /// `realtime.svg|png`: each capture's hand speed in real time beside every predictor's.
+    pub fn realtime_chart(&self, dir: &Path) -> Result<(), DrawError> {
+        realtime_chart(dir, self.who, self.fidelity)
+    }
+
+    /// `strip.svg|png`: the first run's reach, the character over the capture (nothing
+    /// without a run).
+    pub fn film_strip(&self, dir: &Path) -> Result<(), DrawError> {
+        match self.runs.first() {
+            Some(run) => film_strip(dir, self.who, self.clip, self.capture, run, self.arm),
+            None => Ok(()),
+        }
+    }
+}
+
 /// `realtime.svg|png`: one panel per capture, every motion's hand speed relative to the
 /// shoulder over seconds from its onset — the capture (black), the person's own repeats (the
 /// leave-one-out ceiling, sky blue), minimum jerk (yellow-orange), the arm on the captured
 /// torso (green), the full body with the person's parameters (blue) and with the default
 /// profile (vermillion) — each predictor's e in its panel's legend.
-pub(super) fn realtime_chart(dir: &Path, who: &str, f: &PersonFidelity) -> Result<(), Failure> {
+fn realtime_chart(dir: &Path, who: &str, f: &PersonFidelity) -> Result<(), DrawError> {
     use kinergy_train::fidelity::Predictor;
     let colour = |p: Predictor| match p {
         Predictor::Ceiling => 5,
@@ -143,26 +185,13 @@ pub(super) fn realtime_chart(dir: &Path, who: &str, f: &PersonFidelity) -> Resul
     )
 }
 
-/// Saves `figure` as `DIR/name.svg` and `DIR/name.png`.
-fn save_both(
-    figure: &impl crate::draw::Figure,
-    dir: &Path,
-    name: &str,
-    size: (u32, u32),
-) -> Result<(), Failure> {
-    for ext in ["svg", "png"] {
-        save(figure, &dir.join(format!("{name}.{ext}")), size)?;
-    }
-    Ok(())
-}
-
 /// `speed.svg|png`: every profile of `runs` on one chart.
-pub(super) fn speed_chart(
+fn speed_chart(
     dir: &Path,
     who: &str,
     s: &StyleSummary,
     runs: &[StyleRun],
-) -> Result<(), Failure> {
+) -> Result<(), DrawError> {
     // A synthesized spike (a first frame's jump) would flatten every bell: lines are cut at
     // 1.5× the fastest capture, and the title says so.
     let fastest = |f: fn(&StyleRun) -> &[f64]| {
@@ -253,17 +282,21 @@ fn poses_of(
     frames: &[usize],
     to: impl Fn(&Point3<f64>) -> Point3<f64>,
     name: &str,
-) -> Result<Vec<Pose2>, Failure> {
+) -> Result<Vec<Pose2>, DrawError> {
     let skeleton = clip.skeleton();
     let n = skeleton.joint_count();
     let mut world = Vec::with_capacity(n * frames.len());
     for &i in frames {
-        let pose = clip
-            .frame(i)
-            .ok_or_else(|| Failure::Task(format!("{name}: no frame {i}")))?;
+        let pose = clip.frame(i).ok_or_else(|| DrawError::NoFrame {
+            name: name.to_string(),
+            frame: i,
+        })?;
         let w = skeleton
             .world_positions(pose)
-            .map_err(|e| Failure::Task(format!("{name}: {e}")))?;
+            .map_err(|source| DrawError::Pose {
+                name: name.to_string(),
+                source,
+            })?;
         world.extend(w.iter().map(&to));
     }
     let figure = StickFigure::new(skeleton, &world);
@@ -280,19 +313,21 @@ fn poses_of(
 }
 
 /// `strip.svg|png`: the first capture's reach, the character over the capture.
-pub(super) fn film_strip(
+fn film_strip(
     dir: &Path,
     who: &str,
     clip: &Clip,
     capture: &StyleCapture,
     run: &StyleRun,
     arm: Side,
-) -> Result<(), Failure> {
+) -> Result<(), DrawError> {
     let name = &run.row.clip;
+    let character_failed = |source| DrawError::Character {
+        name: name.clone(),
+        source,
+    };
     let [onset, end] = capture.frames();
-    let to = capture
-        .to_character(arm)
-        .map_err(|e| Failure::Task(format!("{name}: {e}")))?;
+    let to = capture.to_character(arm).map_err(character_failed)?;
     let frames: Vec<usize> = STRIP_AT.iter().map(|&t| frame_at(onset, end, t)).collect();
     let captured = poses_of(clip, &frames, |p| to * p, name)?;
     let motion = &run.params_motion;
@@ -305,7 +340,7 @@ pub(super) fn film_strip(
     let character = capture
         .character()
         .to_clip(&picked, motion.frame_time)
-        .map_err(|e| Failure::Task(format!("{name}: {e}")))?;
+        .map_err(character_failed)?;
     let all: Vec<usize> = (0..picked.len()).collect();
     let reached = poses_of(&character, &all, |p| *p, name)?;
     let panels = captured

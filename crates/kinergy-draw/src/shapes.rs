@@ -1,11 +1,11 @@
 //! Scene objects as flat pictures: each shape's outline projected in a view.
 //!
 //! Pure (no drawing), so the picture tests can check what a scene puts on the screen.
-//! Projections are orthographic (`animate`'s views): a box is drawn as the convex hull of its
-//! projected corners, a sphere as a disc, a capsule as the hull of its two end discs; a mesh
-//! as its projected triangles filled, with its *feature edges* (edges on one triangle only,
-//! or between triangles meeting at more than [`FEATURE_ANGLE_DEG`]) as lines — the boards
-//! of a shelf, not its tessellation.
+//! Projections are orthographic ([`animation`](crate::animation)'s views): a box is drawn as
+//! the convex hull of its projected corners, a sphere as a disc, a capsule as the hull of its
+//! two end discs; a mesh as its projected triangles filled, with its *feature edges* (edges on
+//! one triangle only, or between triangles meeting at more than [`FEATURE_ANGLE_DEG`]) as
+//! lines — the boards of a shelf, not its tessellation.
 
 use std::collections::HashMap;
 

@@ -8,31 +8,61 @@ use plotters::prelude::*;
 
 use super::objects::{Prop, Track};
 use super::view::{Bounds, Mapping, View};
-use crate::draw::bones::BoneKind;
-use crate::draw::shapes::{Flat, clip_line, clip_polygon};
-use crate::draw::{self, DrawResult, FONT, Figure};
+use crate::bones::BoneKind;
+use crate::shapes::{Flat, clip_line, clip_polygon};
+use crate::{DrawResult, FONT, Figure};
 
 /// The length of a legend entry's colour line, pixels.
 const SWATCH: i32 = 18;
 
 /// Everything a picture needs: the clips' tracks, the scene's objects, their common box.
-pub(super) struct Scene {
-    pub(super) tracks: Vec<Track>,
-    pub(super) props: Vec<Prop>,
-    pub(super) bounds: Bounds,
-    pub(super) view: View,
+#[derive(Debug, Clone)]
+pub struct Scene {
+    tracks: Vec<Track>,
+    props: Vec<Prop>,
+    bounds: Bounds,
+    view: View,
+}
+
+impl Scene {
+    /// The clips' `tracks` (drawn in this order, one [`colour`](crate::colour) each) and the
+    /// scene's objects seen from `view`, the view fitted to the drawn joints over all frames
+    /// and to the moving objects.
+    pub fn new(tracks: Vec<Track>, props: Vec<Prop>, view: View) -> Scene {
+        let bounds = Bounds::around(
+            tracks
+                .iter()
+                .flat_map(|t| t.drawn_points().map(|p| view.project(p)))
+                .chain(props.iter().flat_map(|p| p.moving_points(view))),
+        );
+        Scene {
+            tracks,
+            props,
+            bounds,
+            view,
+        }
+    }
+
+    /// The names of the objects a plan moves.
+    pub fn moving_objects(&self) -> Vec<String> {
+        self.props
+            .iter()
+            .filter(|p| p.moving())
+            .map(|p| p.name().to_string())
+            .collect()
+    }
 }
 
 /// Text and line sizes of one picture, pixels.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Style {
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Style {
     font_px: i32,
     line_px: u32,
 }
 
 impl Style {
     /// Sizes for panels `height` pixels high: text 1/`per_text` of it, lines 1/`per_line`.
-    pub(super) fn for_height(height: u32, per_text: u32, per_line: u32) -> Style {
+    pub fn for_height(height: u32, per_text: u32, per_line: u32) -> Style {
         Style {
             font_px: i32::try_from(height / per_text)
                 .unwrap_or(i32::MAX)
@@ -87,7 +117,7 @@ where
 }
 
 /// Draws the legend band and, below it, one panel per instant in `times`, side by side.
-pub(super) fn draw_scene<DB: DrawingBackend>(
+pub fn draw_scene<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     scene: &Scene,
     style: Style,
@@ -102,7 +132,7 @@ where
     let fs = style.font_px;
     let swatch = SWATCH * fs / 16;
     for (i, (track, &(x, y))) in scene.tracks.iter().zip(&legend.spots).enumerate() {
-        let c = draw::colour(i);
+        let c = crate::colour(i);
         let mid = y + fs / 2 + 1;
         top.draw(&PathElement::new(
             vec![(x, mid), (x + swatch, mid)],
@@ -218,7 +248,7 @@ where
     let line = style.line_px;
     let dot = line as i32 + 1;
     for (i, track) in scene.tracks.iter().enumerate() {
-        let c = draw::colour(i);
+        let c = crate::colour(i);
         let world = track.at(t);
         let pixels: Vec<Option<(i32, i32)>> = world
             .iter()
@@ -248,10 +278,14 @@ where
 }
 
 /// The film strip: snapshots side by side under one legend.
-pub(super) struct Strip<'a> {
-    pub(super) scene: &'a Scene,
-    pub(super) style: Style,
-    pub(super) times: &'a [f64],
+#[derive(Debug, Clone, Copy)]
+pub struct Strip<'a> {
+    /// What is drawn.
+    pub scene: &'a Scene,
+    /// Its text and line sizes.
+    pub style: Style,
+    /// The snapshots' times, seconds.
+    pub times: &'a [f64],
 }
 
 impl Figure for Strip<'_> {

@@ -1,36 +1,54 @@
 //! What moves in the picture: each clip's stick figure over time, and the scene's objects,
 //! fixed or moving as a plan report ([`kinergy_plan::report`]) says.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use kinergy_motion::Clip;
+use kinergy_motion::{Clip, Skeleton};
 use kinergy_plan::report::MovedObjects;
 use nalgebra::{Isometry3, Point3};
 
 use super::timing::nearest_frame;
 use super::view::View;
-use crate::common::Failure;
-use crate::draw::bones::{Role, StickFigure};
-use crate::draw::shapes::Solid;
+use crate::DrawError;
+use crate::bones::{BoneKind, Role, StickFigure};
+use crate::shapes::Solid;
 
 /// One clip's stick figure over time.
-pub(super) struct Track {
+#[derive(Debug, Clone)]
+pub struct Track {
     pub(super) label: String,
-    pub(super) frame_time: f64,
-    pub(super) joints: usize,
+    frame_time: f64,
+    joints: usize,
     /// World positions (meters), frame after frame, `joints` per frame.
-    pub(super) world: Vec<Point3<f64>>,
+    world: Vec<Point3<f64>>,
     /// What is drawn of the skeleton.
     pub(super) figure: StickFigure,
 }
 
+/// What a track draws of its skeleton on its first frame.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Drawn {
+    /// Body bones drawn on the first frame.
+    pub body_bones: usize,
+    /// Finger bones (drawn thin) on the first frame.
+    pub finger_bones: usize,
+    /// Joints not drawn: a reference root and face joints.
+    pub not_drawn: Vec<String>,
+}
+
 impl Track {
-    pub(super) fn new(clip: &Clip, path: &Path, label: String) -> Result<Track, Failure> {
+    /// The track of `clip`, read from `path` (errors name it), labelled `label` in the legend.
+    pub fn new(clip: &Clip, path: &Path, label: String) -> Result<Track, DrawError> {
         let joints = clip.skeleton().joint_count();
         if clip.frame_count() == 0 || joints == 0 {
-            return Err(Failure::input(path, "the clip has no frames to draw"));
+            return Err(DrawError::NoFrames {
+                path: path.to_path_buf(),
+            });
         }
-        let (figure, world) = StickFigure::of(clip).map_err(|e| Failure::input(path, e))?;
+        let (figure, world) = StickFigure::of(clip).map_err(|source| DrawError::Figure {
+            path: path.to_path_buf(),
+            source,
+        })?;
         Ok(Track {
             label,
             frame_time: clip.frame_time(),
@@ -38,6 +56,35 @@ impl Track {
             world,
             figure,
         })
+    }
+
+    /// Its legend entry.
+    pub fn label(&self) -> &str {
+        &self.label
+    }
+
+    /// What is drawn of `skeleton` (the track's) on the first frame.
+    pub fn drawn(&self, skeleton: &Skeleton) -> Drawn {
+        let first = &self.world[..self.joints];
+        let (mut body_bones, mut finger_bones) = (0, 0);
+        for (_, _, kind) in self.figure.bones(first) {
+            match kind {
+                BoneKind::Body => body_bones += 1,
+                BoneKind::Finger => finger_bones += 1,
+            }
+        }
+        Drawn {
+            body_bones,
+            finger_bones,
+            not_drawn: self
+                .figure
+                .roles()
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| matches!(r, Role::Face | Role::Reference))
+                .map(|(j, _)| skeleton.joint(j).name.clone())
+                .collect(),
+        }
     }
 
     /// The pose at time `t`, seconds: the nearest frame, the last one after the end.
@@ -58,6 +105,7 @@ impl Track {
 }
 
 /// Where a scene object is: fixed, or on every frame of a plan.
+#[derive(Debug, Clone)]
 enum Placement {
     Fixed(Isometry3<f64>),
     Moving {
@@ -67,13 +115,25 @@ enum Placement {
 }
 
 /// One scene object ready to draw.
-pub(super) struct Prop {
-    pub(super) name: String,
+#[derive(Debug, Clone)]
+pub struct Prop {
+    name: String,
     pub(super) solid: Solid,
     placement: Placement,
 }
 
 impl Prop {
+    /// The object's name in the scene.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Whether a plan moves it.
+    pub fn moving(&self) -> bool {
+        matches!(self.placement, Placement::Moving { .. })
+    }
+
+    /// Where it is at time `t`, seconds.
     pub(super) fn pose(&self, t: f64) -> &Isometry3<f64> {
         match &self.placement {
             Placement::Fixed(p) => p,
@@ -81,10 +141,6 @@ impl Prop {
                 &poses[nearest_frame(t, *frame_time, poses.len())]
             }
         }
-    }
-
-    pub(super) fn moving(&self) -> bool {
-        matches!(self.placement, Placement::Moving { .. })
     }
 
     /// A moving object's outline points over all its frames (the view is fitted to them).
@@ -103,20 +159,25 @@ impl Prop {
 }
 
 /// The scene's objects, and the mesh files the scene was read from (inputs too).
-pub(super) struct Props {
+#[derive(Debug, Clone)]
+pub struct Props {
     /// The objects to draw.
     pub props: Vec<Prop>,
     /// The scene's mesh files.
-    pub meshes: Vec<std::path::PathBuf>,
+    pub meshes: Vec<PathBuf>,
 }
 
-/// Reads the scene `path` and, with `report`, the poses of the objects a plan moved.
-pub(super) fn read_props(
+/// Reads the scene `path` and, with `report` (read up to `max_input_mb` MiB), the poses of
+/// the objects a plan moved.
+pub fn read_props(
     path: &Path,
     report: Option<&Path>,
     max_input_mb: u64,
-) -> Result<Props, Failure> {
-    let plan_scene = kinergy_plan::scene::Scene::read(path).map_err(|e| Failure::input(path, e))?;
+) -> Result<Props, DrawError> {
+    let plan_scene = kinergy_plan::scene::Scene::read(path).map_err(|source| DrawError::Scene {
+        path: path.to_path_buf(),
+        source,
+    })?;
     let meshes = plan_scene.mesh_files().map(Path::to_path_buf).collect();
     Ok(Props {
         props: scene_props(path, &plan_scene, report, max_input_mb)?,
@@ -131,7 +192,7 @@ fn scene_props(
     plan_scene: &kinergy_plan::scene::Scene,
     report: Option<&Path>,
     max_input_mb: u64,
-) -> Result<Vec<Prop>, Failure> {
+) -> Result<Vec<Prop>, DrawError> {
     let mut props: Vec<Prop> = plan_scene
         .objects
         .iter()
@@ -144,23 +205,27 @@ fn scene_props(
     let Some(report_path) = report else {
         return Ok(props);
     };
-    let bad = |why: String| Failure::input(report_path, why);
+    let bad = |source| DrawError::Report {
+        path: report_path.to_path_buf(),
+        source,
+    };
     let text =
         kinergy_io::read_to_string_limited(report_path, max_input_mb.saturating_mul(1 << 20))
-            .map_err(|e| Failure::input(report_path, e))?;
-    let plan = MovedObjects::parse(&text).map_err(|e| Failure::input(report_path, e))?;
-    let frame_time = plan
-        .frame_time()
-        .map_err(|e| Failure::input(report_path, e))?;
+            .map_err(|source| DrawError::ReportRead {
+                path: report_path.to_path_buf(),
+                source,
+            })?;
+    let plan = MovedObjects::parse(&text).map_err(bad)?;
+    let frame_time = plan.frame_time().map_err(bad)?;
     for object in &plan.objects {
         let Some(prop) = props.iter_mut().find(|p| p.name == object.name) else {
-            return Err(bad(format!(
-                "object `{}` is not in the scene {}",
-                kinergy_io::clip_text(&object.name, 120),
-                path.display()
-            )));
+            return Err(DrawError::NotInScene {
+                path: report_path.to_path_buf(),
+                object: object.name.clone(),
+                scene: path.to_path_buf(),
+            });
         };
-        let poses = object.track().map_err(|e| Failure::input(report_path, e))?;
+        let poses = object.track().map_err(bad)?;
         prop.placement = Placement::Moving { frame_time, poses };
     }
     Ok(props)
