@@ -62,18 +62,7 @@ struct FitReport {
 
 /// Runs `kinergy fit`.
 pub fn run(args: &Args) -> Result<(), Failure> {
-    args.search.check()?;
-    args.reach.read.check()?;
-    args.reach.check_arm()?;
-    check_range(
-        "--checkpoint-every",
-        args.checkpoint_every,
-        limits::CHECKPOINT_EVERY,
-    )?;
-    if let Some(n) = args.refine {
-        check_range("--refine", n, limits::BUDGET)?;
-    }
-    args.search.apply_threads()?;
+    check_flags(args)?;
     let clips = args.reach.clips(&args.clips)?;
     let settings = args.search.settings()?;
     settings.anneal.validate().map_err(Failure::from)?;
@@ -93,16 +82,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         settings.anneal.validate().map_err(Failure::from)?;
         return library_run(args, &clips, &models, &settings, dest);
     }
-    if args.shard.is_some() {
-        return Err(Failure::Input(
-            "--shard shares a library: fit --per clip --out-dir DIR".into(),
-        ));
-    }
-    if args.resume && args.checkpoint.is_none() {
-        return Err(Failure::Input(
-            "--resume continues a --checkpoint, or a library (fit --per clip --out-dir DIR)".into(),
-        ));
-    }
+    check_not_library(args)?;
     let reaches = args.reach.load_all(&clips)?;
     if args.field {
         field::check_one_arm(&reaches)?;
@@ -192,6 +172,37 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         (true, 1) => print_json(&reports[0]),
         (true, _) => print_json(&reports),
     }
+}
+
+/// Checks the flags' ranges (before any work), then sizes the thread pool.
+fn check_flags(args: &Args) -> Result<(), Failure> {
+    args.search.check()?;
+    args.reach.read.check()?;
+    args.reach.check_arm()?;
+    check_range(
+        "--checkpoint-every",
+        args.checkpoint_every,
+        limits::CHECKPOINT_EVERY,
+    )?;
+    if let Some(n) = args.refine {
+        check_range("--refine", n, limits::BUDGET)?;
+    }
+    args.search.apply_threads()
+}
+
+/// Refuses a library's flags on a fit that is not one.
+fn check_not_library(args: &Args) -> Result<(), Failure> {
+    if args.shard.is_some() {
+        return Err(Failure::Input(
+            "--shard shares a library: fit --per clip --out-dir DIR".into(),
+        ));
+    }
+    if args.resume && args.checkpoint.is_none() {
+        return Err(Failure::Input(
+            "--resume continues a --checkpoint, or a library (fit --per clip --out-dir DIR)".into(),
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses outputs over the inputs (the captures, the segments file) or over each other:

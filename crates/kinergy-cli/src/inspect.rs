@@ -343,6 +343,22 @@ fn text(r: &Report) -> String {
             height(lo)
         );
     }
+    glitches(o, r);
+    arms(o, r);
+    let _ = writeln!(o, "  hierarchy");
+    for j in &r.joints {
+        let pad = "  ".repeat(j.depth);
+        if j.end_site {
+            let _ = writeln!(o, "    {pad}End Site");
+        } else {
+            let _ = writeln!(o, "    {pad}{} [{}]", j.name, j.channels.join(" "));
+        }
+    }
+    out
+}
+
+/// The glitch lines of [`text`].
+fn glitches(o: &mut String, r: &Report) {
     let _ = match r.glitches.len() {
         0 => writeln!(
             o,
@@ -384,6 +400,10 @@ fn text(r: &Report) -> String {
             r.glitches.len() - SHOWN
         );
     }
+}
+
+/// The arm lines of [`text`].
+fn arms(o: &mut String, r: &Report) {
     for arm in &r.arms {
         if !arm.found {
             let _ = writeln!(
@@ -416,16 +436,6 @@ fn text(r: &Report) -> String {
             }
         }
     }
-    let _ = writeln!(o, "  hierarchy");
-    for j in &r.joints {
-        let pad = "  ".repeat(j.depth);
-        if j.end_site {
-            let _ = writeln!(o, "    {pad}End Site");
-        } else {
-            let _ = writeln!(o, "    {pad}{} [{}]", j.name, j.channels.join(" "));
-        }
-    }
-    out
 }
 
 /// `"4.2 cm above y = 0"`, `"96.1 cm below y = 0"`.

@@ -121,7 +121,7 @@ impl StickFigure {
     /// Decides the figure of `clip` (runs forward kinematics on every frame); returns it with
     /// the world positions, frame after frame.
     pub fn of(clip: &Clip) -> Result<(StickFigure, Vec<Point3<f64>>), MotionError> {
-        let world = world_positions(clip)?;
+        let world = clip.world_positions()?;
         Ok((StickFigure::new(clip.skeleton(), &world), world))
     }
 
@@ -162,16 +162,6 @@ impl StickFigure {
             })
             .collect()
     }
-}
-
-/// Every joint's world position on every frame of `clip`, frame after frame.
-pub fn world_positions(clip: &Clip) -> Result<Vec<Point3<f64>>, MotionError> {
-    let skeleton = clip.skeleton();
-    let mut out = Vec::with_capacity(skeleton.joint_count() * clip.frame_count());
-    for pose in clip.frames() {
-        out.extend(skeleton.world_positions(pose)?);
-    }
-    Ok(out)
 }
 
 /// Joint 0 is a reference root when it has a single child, that child places itself with

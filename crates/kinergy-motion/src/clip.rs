@@ -112,10 +112,8 @@ impl Clip {
     pub fn world_positions(&self) -> Result<Vec<Point3<f64>>> {
         let skeleton = self.skeleton();
         let mut out = Vec::with_capacity(self.frame_count() * skeleton.joint_count());
-        let mut world = Vec::with_capacity(skeleton.joint_count());
         for pose in self.frames() {
-            skeleton.fk_into(pose, &mut world)?;
-            out.extend(world.iter().map(|t| Point3::from(t.translation.vector)));
+            out.extend(skeleton.world_positions(pose)?);
         }
         Ok(out)
     }

@@ -154,20 +154,7 @@ pub fn fit<'py>(
         let file = runner.field(py, reaches)?;
         return Ok(Bound::new(py, Params::of(PersonParams::Field(file)))?.into_any());
     }
-    let groups: Vec<Vec<CapturedReach>> = match grouping {
-        FitGrouping::Person => vec![reaches],
-        FitGrouping::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
-    };
-    let mut files = Vec::with_capacity(groups.len());
-    for group in &groups {
-        let fits = runner.nested(py, group)?;
-        let file = fits.params_file(group, grouping).map_err(errors::raise)?;
-        files.push(Params::of(PersonParams::Vector(file)));
-    }
-    match grouping {
-        FitGrouping::Person => Ok(Bound::new(py, files.remove(0))?.into_any()),
-        FitGrouping::Clip => Ok(PyList::new(py, files)?.into_any()),
-    }
+    runner.vectors(py, reaches, grouping)
 }
 
 /// What every nested fit of one `fit` call shares: the job (models, optimizer, settings,
@@ -193,6 +180,29 @@ impl Runner<'_> {
         });
         self.watch.finish()?;
         outcome.map_err(errors::raise)
+    }
+
+    /// One Params for all the reaches (per person), or a list of one per reach (per clip).
+    fn vectors<'py>(
+        &mut self,
+        py: Python<'py>,
+        reaches: Vec<CapturedReach>,
+        grouping: FitGrouping,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let groups: Vec<Vec<CapturedReach>> = match grouping {
+            FitGrouping::Person => vec![reaches],
+            FitGrouping::Clip => reaches.into_iter().map(|r| vec![r]).collect(),
+        };
+        let mut files = Vec::with_capacity(groups.len());
+        for group in &groups {
+            let fits = self.nested(py, group)?;
+            let file = fits.params_file(group, grouping).map_err(errors::raise)?;
+            files.push(Params::of(PersonParams::Vector(file)));
+        }
+        match grouping {
+            FitGrouping::Person => Ok(Bound::new(py, files.remove(0))?.into_any()),
+            FitGrouping::Clip => Ok(PyList::new(py, files)?.into_any()),
+        }
     }
 
     /// `fit(field=True)`: each reach fitted on its own (nested), the person's single vector

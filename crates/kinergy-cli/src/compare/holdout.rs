@@ -331,6 +331,49 @@ fn markdown(
             });
         md.push_str(&format!(" {best} |\n"));
     }
+    md.push_str(&cross_table(summary));
+    if !summary.field.is_empty() {
+        md.push_str(&field_table(summary, results));
+    }
+    // A field holds one arm's reaches: a person whose takes reach with both has none.
+    let without: Vec<String> = results
+        .fits
+        .iter()
+        .filter(|f| f.field.is_none())
+        .map(|f| md_code(&f.person))
+        .collect();
+    if settings.field.is_some() && !without.is_empty() {
+        md.push_str(&format!(
+            "
+No parameter field for {}: their takes reach with both arms, and a field holds \
+             one arm's reaches (its targets are in that arm's base frame); their single vector \
+             is fitted on both.\n",
+            without.join(", ")
+        ));
+    }
+    md.push_str("\n## In sample — the same vectors on the training takes, mean\n\n| person |");
+    for m in &models {
+        md.push_str(&format!(" {} |", model_label(*m)));
+    }
+    md.push_str("\n|---|");
+    md.push_str(&"---|".repeat(models.len()));
+    md.push('\n');
+    for f in &results.fits {
+        md.push_str(&format!("| {} |", md_code(&f.person)));
+        for (_, _, score) in &f.models {
+            md.push_str(&format!(" {} |", mm(*score)));
+        }
+        md.push('\n');
+    }
+    md
+}
+
+/// The person × person table of [`markdown`]: each person's vector on every person's
+/// held-out takes, and how often the own vector wins.
+fn cross_table(summary: &HoldoutSummary) -> String {
+    let mm = |v: f64| format!("{:.2}", v * 1e3);
+    let persons = summary.persons.len();
+    let mut md = String::new();
     let cm = model_label(summary.cross_model);
     md.push_str(&format!(
         "\n## Person × person — each person's {cm} vector on every person's held-out takes, mean\n\n| vector of ↓ · takes of → |"
@@ -377,39 +420,6 @@ fn markdown(
             )
         }
     ));
-    if !summary.field.is_empty() {
-        md.push_str(&field_table(summary, results));
-    }
-    // A field holds one arm's reaches: a person whose takes reach with both has none.
-    let without: Vec<String> = results
-        .fits
-        .iter()
-        .filter(|f| f.field.is_none())
-        .map(|f| md_code(&f.person))
-        .collect();
-    if settings.field.is_some() && !without.is_empty() {
-        md.push_str(&format!(
-            "
-No parameter field for {}: their takes reach with both arms, and a field holds \
-             one arm's reaches (its targets are in that arm's base frame); their single vector \
-             is fitted on both.\n",
-            without.join(", ")
-        ));
-    }
-    md.push_str("\n## In sample — the same vectors on the training takes, mean\n\n| person |");
-    for m in &models {
-        md.push_str(&format!(" {} |", model_label(*m)));
-    }
-    md.push_str("\n|---|");
-    md.push_str(&"---|".repeat(models.len()));
-    md.push('\n');
-    for f in &results.fits {
-        md.push_str(&format!("| {} |", md_code(&f.person)));
-        for (_, _, score) in &f.models {
-            md.push_str(&format!(" {} |", mm(*score)));
-        }
-        md.push('\n');
-    }
     md
 }
 

@@ -11,9 +11,9 @@ use kinergy_solver::Model;
 use kinergy_train::TrainError;
 use kinergy_train::anneal::Observer;
 use kinergy_train::fit::FitJob;
-use kinergy_train::library::{ShardEvent, ShardRun, Takes, collect};
+use kinergy_train::library::{Shard, ShardEvent, ShardOutcome, ShardRun, Takes, collect};
 
-use super::{Args, INTERRUPTED, InterruptAfter, report, report_text};
+use super::{Args, FitReport, INTERRUPTED, InterruptAfter, report, report_text};
 use crate::common::{Bar, CaptureClips, Failure, emit, report_skipped};
 
 /// Runs `fit --per clip` into the folder `dest`: this run's shard of the library of
@@ -87,6 +87,21 @@ pub fn run(
     bar.finish();
     said.into_inner()
         .map_err(|_| Failure::Task("a worker of the library run failed".into()))??;
+    let reports = reports
+        .into_inner()
+        .map_err(|_| Failure::Task("a worker of the library run failed".into()))?;
+    finish(args, dest, shard, outcome, reports)
+}
+
+/// What a finished shard says: the skipped takes, an interruption or a failed take, then the
+/// reports (`--json`), or the collected library (one shard), or the shard's summary.
+fn finish(
+    args: &Args,
+    dest: &Path,
+    shard: Shard,
+    outcome: ShardOutcome,
+    mut reports: Vec<FitReport>,
+) -> Result<(), Failure> {
     report_skipped(&outcome.skipped);
     let fitted = outcome.fitted;
     if outcome.interrupted || INTERRUPTED.load(Ordering::SeqCst) {
@@ -108,9 +123,6 @@ pub fn run(
         });
     }
     if args.json {
-        let mut reports = reports
-            .into_inner()
-            .map_err(|_| Failure::Task("a worker of the library run failed".into()))?;
         reports.sort_by(|a, b| a.output.cmp(&b.output));
         if shard.count == 1 {
             collect(dest)?;
