@@ -199,8 +199,10 @@ def test_clips_and_params_pickle_exactly():
     assert pickle.loads(pickle.dumps(motion)).report == motion.report
     params = kinergy.Params.load(ROOT / "tests/data/params/synthetic-p01-r09-sc.json")
     assert pickle.loads(pickle.dumps(params)).to_json() == params.to_json()
-    with pytest.raises(kinergy.InputError):
-        kinergy._kinergy._clip_from_state(([], [1.0] * 9, 0.1, b"\x00" * 7, None, None))
+    for damaged in ("not json", '{"joints": [], "world_from_file": [1, 0, 0, 0, 1, 0, 0, 0, 1], '
+                    '"frame_time": 0.1, "values": [0.0]}'):
+        with pytest.raises(kinergy.InputError):
+            kinergy._kinergy._clip_from_state((damaged, None, None))
 
 
 def test_fits_in_worker_processes_are_the_fits_here():

@@ -3,7 +3,9 @@
 use std::sync::Arc;
 
 mod arrays;
+mod state;
 pub use arrays::{ClipArrays, RotationArrays};
+pub use state::{ClipState, JointState};
 
 use nalgebra::Point3;
 

@@ -6,11 +6,8 @@
 //! rotation relative to its parent (the root's relative to the Y-up world).
 
 use std::path::PathBuf;
-use std::sync::Arc;
 
 use kinergy_motion::clip::RotationArrays;
-use kinergy_motion::nalgebra::{Rotation3, Vector3};
-use kinergy_motion::{Dof, Joint, PositionReading, Skeleton};
 use kinergy_train::limits;
 use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
@@ -258,47 +255,13 @@ impl Clip {
         })
     }
 
-    /// Pickling (multiprocessing, joblib): the clip's exact state — skeleton, frame time,
-    /// values as raw float64 bytes, its path and report.
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (ClipState,))> {
-        let skeleton = self.inner.skeleton();
-        let joints = skeleton
-            .joints()
-            .iter()
-            .map(|j| {
-                (
-                    j.name.clone(),
-                    j.parent.map_or(-1, |p| p as i64),
-                    [j.offset.x, j.offset.y, j.offset.z],
-                    j.dofs
-                        .iter()
-                        .map(|d| d.channel_name().to_string())
-                        .collect(),
-                    j.end_site,
-                    j.position_reading.name().to_string(),
-                )
-            })
-            .collect();
-        let w = skeleton.world_from_file();
-        let world: Vec<f64> = w.matrix().iter().copied().collect();
-        let bytes: Vec<u8> = self
-            .inner
-            .values()
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
+    /// Pickling (multiprocessing, joblib): the clip's exact state (skeleton, frame time,
+    /// values bit for bit, as JSON), its path and report.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, ClipState)> {
+        let state = serde_json::to_string(&self.inner.state())
+            .map_err(|e| errors::KinergyError::new_err(format!("pickling a clip: {e}")))?;
         let rebuild = py.import("kinergy._kinergy")?.getattr("_clip_from_state")?;
-        Ok((
-            rebuild,
-            ((
-                joints,
-                world,
-                self.inner.frame_time(),
-                bytes,
-                self.path.clone(),
-                self.report.clone(),
-            ),),
-        ))
+        Ok((rebuild, (state, self.path.clone(), self.report.clone())))
     }
 
     /// Frames `start..end` (end excluded) as a new clip.
@@ -402,59 +365,16 @@ impl Clip {
     }
 }
 
-/// A joint as pickled: name, parent (-1 for the root), offset, channel names, End Site,
-/// position reading ("add" or "replace").
-type JointState = (String, i64, [f64; 3], Vec<String>, bool, String);
-
-/// A clip as pickled ([`Clip::__reduce__`]): joints, the world-from-file rotation (9 values,
-/// column-major), frame time, values (float64 little-endian bytes), path, report.
-type ClipState = (
-    Vec<JointState>,
-    Vec<f64>,
-    f64,
-    Vec<u8>,
-    Option<PathBuf>,
-    Option<String>,
-);
+/// A clip as pickled ([`Clip::__reduce__`]): its state as JSON, path, report.
+type ClipState = (String, Option<PathBuf>, Option<String>);
 
 /// Unpickles a clip ([`Clip::__reduce__`]'s state); a state that is not one is an InputError.
 #[pyfunction]
 pub fn _clip_from_state(state: ClipState) -> PyResult<Clip> {
-    let (joints, world, frame_time, bytes, path, report) = state;
-    let bad = |why: &str| errors::input(format!("not a pickled kinergy.Clip: {why}"));
-    let mut out = Vec::with_capacity(joints.len());
-    for (name, parent, offset, channels, end_site, reading) in joints {
-        let dofs = channels
-            .iter()
-            .map(|c| Dof::from_channel_name(c).ok_or_else(|| bad("an unknown channel")))
-            .collect::<PyResult<Vec<_>>>()?;
-        out.push(Joint {
-            name,
-            parent: usize::try_from(parent).ok(),
-            offset: Vector3::from(offset),
-            dofs,
-            end_site,
-            position_reading: match reading.as_str() {
-                "replace" => PositionReading::ReplaceOffset,
-                _ => PositionReading::AddToOffset,
-            },
-        });
-    }
-    if world.len() != 9 || bytes.len() % 8 != 0 {
-        return Err(bad("its sizes"));
-    }
-    let rotation = Rotation3::from_matrix_unchecked(
-        kinergy_motion::nalgebra::Matrix3::from_column_slice(&world),
-    );
-    let skeleton = Skeleton::new(out)
-        .map_err(errors::raise)?
-        .with_world_from_file(rotation);
-    let values: Vec<f64> = bytes
-        .chunks_exact(8)
-        .map(|b| f64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]))
-        .collect();
-    let inner =
-        kinergy_motion::Clip::new(Arc::new(skeleton), frame_time, values).map_err(errors::raise)?;
+    let (json, path, report) = state;
+    let bad = |why: String| errors::input(format!("not a pickled kinergy.Clip: {why}"));
+    let state = serde_json::from_str(&json).map_err(|e| bad(e.to_string()))?;
+    let inner = kinergy_motion::Clip::from_state(state).map_err(|e| bad(e.to_string()))?;
     Ok(Clip {
         inner,
         path,
