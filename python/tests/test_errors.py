@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -181,3 +182,30 @@ def test_nothing_to_fit_is_its_own_class_as_the_cli_s_exit_1(cli, at_root, tmp_p
     with pytest.raises(kinergy.NothingToFitError, match="nothing to fit|no main reach") as caught:
         kinergy.fit("data-synthetic/p01/r09.bvh", arm="left", model="sa")
     assert not isinstance(caught.value, kinergy.InputError)
+
+
+def test_writes_refuse_what_is_not_a_regular_file(at_root, tmp_path):
+    """A FIFO, a folder and (where the test may make one) a device node in the test's own
+    folder are refused before anything is written, and stay what they were."""
+    import stat
+
+    clip = kinergy.read_bvh("data-synthetic/p01/r09.bvh")
+    params = kinergy.Params.load("tests/data/params/synthetic-p01-r09-sc.json")
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    folder = tmp_path / "folder"
+    folder.mkdir()
+    targets = [fifo, folder]
+    device = tmp_path / "null"
+    try:
+        os.mknod(device, 0o666 | stat.S_IFCHR, os.makedev(1, 3))
+        targets.append(device)
+    except PermissionError:
+        pass
+    for target in targets:
+        before = os.stat(target).st_mode
+        for write in (clip.write_bvh, params.save):
+            with pytest.raises(kinergy.KinergyError, match="not a regular file"):
+                write(target)
+        assert os.stat(target).st_mode == before, target
+    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]

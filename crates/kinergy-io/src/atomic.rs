@@ -80,7 +80,9 @@ pub struct AtomicFile {
 
 impl AtomicFile {
     /// Starts writing `path`: removes stale temporaries of `path`, then creates a new, empty
-    /// temporary file beside it. Fails if `path` names no file or its folder is missing.
+    /// temporary file beside it. Fails if `path` names no file, its folder is missing, or
+    /// it is something other than a regular file (a folder, a device, a FIFO, a socket),
+    /// which is never replaced.
     pub fn create(path: &Path) -> io::Result<AtomicFile> {
         let dir = match path.parent() {
             Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
@@ -92,6 +94,7 @@ impl AtomicFile {
                 "the path does not name a file",
             ));
         };
+        refuse_special(path)?;
         remove_stale_temporaries(&dir, file_name);
         let (temp, file) = create_temp(&dir, file_name).map_err(describe_full_disk)?;
         if let Ok(existing) = fs::metadata(path) {
@@ -148,6 +151,8 @@ impl AtomicFile {
         let result = file
             .flush()
             .and_then(|()| file.sync_all())
+            // Checked again: something else may have appeared there while this was written.
+            .and_then(|()| refuse_special(&self.target))
             .and_then(|()| fs::rename(&self.temp, &self.target))
             .map_err(describe_full_disk);
         if let Err(e) = result {
@@ -175,6 +180,40 @@ impl AtomicFile {
             Err(e) => Err(e),
         }
     }
+}
+
+/// Refuses a destination that exists and is not a regular file (followed through links):
+/// renaming a file over a device, a FIFO, a socket or a folder would replace it.
+fn refuse_special(path: &Path) -> io::Result<()> {
+    match fs::metadata(path) {
+        Ok(meta) if !meta.is_file() => Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "{} is {}, not a regular file: it is not replaced",
+                path.display(),
+                file_kind(&meta.file_type())
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// "a folder", "a FIFO", "a device", "a socket" or "not a regular file".
+fn file_kind(kind: &fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt as _;
+        if kind.is_fifo() {
+            return "a FIFO";
+        }
+        if kind.is_char_device() || kind.is_block_device() {
+            return "a device";
+        }
+        if kind.is_socket() {
+            return "a socket";
+        }
+    }
+    if kind.is_dir() { "a folder" } else { "not a regular file" }
 }
 
 impl Write for AtomicFile {
@@ -355,6 +394,56 @@ fn sync_dir(dir: &Path) {
 
 #[cfg(test)]
 mod tests {
+
+    /// A FIFO, a socket and a folder that the test makes in its own folder (and a device
+    /// node where the test may make one) are refused before anything is written, and stay
+    /// what they were; a regular file and a link to one are replaced.
+    #[cfg(unix)]
+    #[test]
+    fn only_regular_files_are_replaced() {
+        use std::fs;
+        use std::os::unix::fs::FileTypeExt as _;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        let socket = dir.path().join("socket");
+        let _listener = std::os::unix::net::UnixListener::bind(&socket).unwrap();
+        let folder = dir.path().join("folder");
+        fs::create_dir(&folder).unwrap();
+        let device = dir.path().join("null");
+        let _ = std::process::Command::new("mknod")
+            .args(["-m", "666"])
+            .arg(&device)
+            .args(["c", "1", "3"])
+            .stderr(std::process::Stdio::null())
+            .status();
+        let mut special = vec![(socket, "a socket"), (folder, "a folder")];
+        if made.is_ok_and(|s| s.success()) {
+            special.push((fifo, "a FIFO"));
+        }
+        if fs::metadata(&device).is_ok_and(|m| m.file_type().is_char_device()) {
+            special.push((device, "a device"));
+        }
+        for (path, kind) in &special {
+            let e = write_atomic(path, b"x").unwrap_err();
+            assert!(e.to_string().contains(kind), "{}: {e}", path.display());
+            let still = fs::metadata(path).unwrap();
+            assert!(!still.is_file(), "{} became a regular file", path.display());
+        }
+        let file = dir.path().join("file");
+        write_atomic(&file, b"old").unwrap();
+        let link = dir.path().join("link");
+        std::os::unix::fs::symlink(&file, &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert_eq!(fs::read(&link).unwrap(), b"new");
+        // Nothing left behind by the refusals.
+        let debris: Vec<_> = fs::read_dir(dir.path())
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+            .collect();
+        assert!(debris.is_empty(), "{debris:?}");
+    }
     use super::{AtomicFile, describe_full_disk, is_disk_full, temp_owner, write_atomic};
     use std::ffi::OsStr;
     use std::io::Write as _;
