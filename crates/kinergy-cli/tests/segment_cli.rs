@@ -350,3 +350,29 @@ fn a_generated_reach_to_the_floor_ends_at_its_target() {
     assert_eq!(checked, 8);
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
+
+/// A folder with a link to itself and two folders linking to each other are walked once:
+/// each capture is listed once, the links are said on stderr, nothing hangs.
+#[cfg(unix)]
+#[test]
+fn link_loops_are_walked_once_and_said() {
+    let (_dir, root) = persons();
+    std::os::unix::fs::symlink(&root, root.join("ann").join("up")).expect("link");
+    std::os::unix::fs::symlink(root.join("bob"), root.join("ann").join("to-bob")).expect("link");
+    std::os::unix::fs::symlink(root.join("ann"), root.join("bob").join("to-ann")).expect("link");
+    let o = kinergy(&["segment", utf8(&root), "--select", "main", "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let listed = json(&o);
+    let clips: Vec<&str> = listed
+        .as_array()
+        .expect("one listing per capture")
+        .iter()
+        .map(|r| r["clip"].as_str().expect("clip"))
+        .collect();
+    assert_eq!(clips.len(), 3, "{clips:?}");
+    assert!(
+        stderr(&o).contains("not followed") && stderr(&o).contains("the same folder as"),
+        "{}",
+        stderr(&o)
+    );
+}

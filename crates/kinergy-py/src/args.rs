@@ -16,7 +16,7 @@ use kinergy_train::library::Shard;
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, ArmRequest, Capture, Controller, Found, FrameChoice, ReachFrames, ReachQuery, Take,
-    capture_files, segment_clips,
+    segment_clips, walk_captures,
 };
 use kinergy_train::{CapturedReach, PersonParams, limits};
 use pyo3::prelude::*;
@@ -169,14 +169,13 @@ impl ClipArg {
 
     /// The take it is to a reach query: a Clip as read, a path (file or folder) as the
     /// capture files under it.
-    fn takes(self) -> PyResult<Vec<Take>> {
+    fn takes(self, py: Python<'_>) -> PyResult<Vec<Take>> {
         Ok(match self {
             ClipArg::Clip(clip) => vec![Take::Read(Capture::from_clip(
                 clip.path.as_deref().unwrap_or(Path::new("<clip>")),
                 clip.inner,
             ))],
-            ClipArg::Path(path) => capture_files(&[path])
-                .map_err(errors::raise)?
+            ClipArg::Path(path) => capture_files(py, &[path])?
                 .into_iter()
                 .map(Take::File)
                 .collect(),
@@ -417,14 +416,14 @@ impl ReachSource<'_> {
                 let wanted = if given.is_empty() {
                     segment_clips(&file)
                 } else {
-                    capture_files(&given).map_err(errors::raise)?
+                    capture_files(py, &given)?
                 };
                 py.detach(|| query.find_rows(&file, &wanted))
             }
             None => {
                 let mut takes = Vec::new();
                 for c in clips {
-                    takes.extend(c.takes()?);
+                    takes.extend(c.takes(py)?);
                 }
                 py.detach(|| query.find(takes))
             }
@@ -434,6 +433,21 @@ impl ReachSource<'_> {
             .map_err(errors::raise)?
             .into_reaches())
     }
+}
+
+/// The capture files `paths` name (folders walked, each folder and file once however many
+/// links lead to it); the links not followed are said in one `UserWarning`.
+pub fn capture_files(py: Python<'_>, paths: &[PathBuf]) -> PyResult<Vec<PathBuf>> {
+    let walk = walk_captures(paths).map_err(errors::raise)?;
+    if !walk.repeats.is_empty() {
+        let message = format!(
+            "{} link(s) to folders or files already taken, not followed: {}",
+            walk.repeats.len(),
+            kinergy_io::list_some(&walk.repeats, 5)
+        );
+        py.import("warnings")?.call_method1("warn", (message,))?;
+    }
+    Ok(walk.files)
 }
 
 /// The process that loaded the module. A process forked from it (multiprocessing's default

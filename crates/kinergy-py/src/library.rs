@@ -10,7 +10,7 @@ use kinergy_train::anneal::Observer;
 use kinergy_train::fit::FitJob;
 use kinergy_train::library::{Shard, ShardEvent, ShardRun, Takes};
 use kinergy_train::segments_file::SegmentsFile;
-use kinergy_train::source::{ReachQuery, capture_files, nothing_found, segment_clips};
+use kinergy_train::source::{ReachQuery, nothing_found, segment_clips};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -68,7 +68,7 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
         .map_err(|e| errors::input(e.to_string()))?;
     let paths = match (&segments, clips.is_empty()) {
         (Some(file), true) => segment_clips(file),
-        _ => capture_files(&clips).map_err(errors::raise)?,
+        _ => crate::args::capture_files(py, &clips)?,
     };
     let mut inputs = paths.clone();
     inputs.extend(segments_path.iter().cloned());

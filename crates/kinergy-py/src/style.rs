@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use kinergy_motion::Side;
 use kinergy_reach::style::{StyleCapture, StyleRun, StyleSummary};
 use kinergy_train::fidelity::PersonFidelity;
-use kinergy_train::source::capture_files;
 use kinergy_train::style::StyleTake;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -50,7 +49,7 @@ pub fn style<'py>(
     .options()?;
     let side = parse::<Side>("arm", arm)?;
     let person = params.0.load()?;
-    let paths = capture_files(&clips).map_err(errors::raise)?;
+    let paths = crate::args::capture_files(py, &clips)?;
     // One capture at a time with the GIL released, Ctrl-C checked between them.
     let mut runs = Vec::with_capacity(paths.len());
     for path in &paths {

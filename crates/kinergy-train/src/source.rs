@@ -425,38 +425,118 @@ impl FrameChoice {
     }
 }
 
+/// The captures `paths` name, as [`walk_captures`] finds them (the links it did not follow
+/// dropped silently; [`walk_captures`] says which).
+pub fn capture_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    walk_captures(paths).map(|walk| walk.files)
+}
+
+/// What a walk of captures found: the files, and the links it did not follow.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct CaptureWalk {
+    /// The capture files, each once, folder by folder in name order.
+    pub files: Vec<PathBuf>,
+    /// Each link, or second path, to a folder or file the walk had already taken, said as
+    /// "`link`: the same folder as `first`, taken once".
+    pub repeats: Vec<String>,
+}
+
 /// The capture files `paths` name: files as given, folders expanded to the `*.bvh` files in
 /// them and in their subfolders (sorted by path). An empty result, a missing path or one that
 /// is neither a file nor a folder (a device, a FIFO: reading it could block or never end) is
 /// a [`TrainError::File`] naming it.
-pub fn capture_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+pub fn walk_captures(paths: &[PathBuf]) -> Result<CaptureWalk> {
     let bad = |path: &Path, why: String| TrainError::File {
         path: Some(path.to_path_buf()),
         why,
     };
-    let mut out = Vec::new();
+    let mut walk = Walk::default();
     for p in paths {
         if p.is_dir() {
-            let mut found = Vec::new();
-            walk(p, &mut found)?;
-            found.sort();
-            if found.is_empty() {
+            let before = (walk.found.files.len(), walk.found.repeats.len());
+            walk.folder(p)?;
+            walk.found.files[before.0..].sort();
+            if (walk.found.files.len(), walk.found.repeats.len()) == before {
                 return Err(bad(p, "no .bvh files in this folder".into()));
             }
-            out.extend(found);
         } else if p.is_file() {
-            out.push(p.clone());
+            walk.file(p);
         } else {
             return Err(bad(p, not_a_capture(p)));
         }
     }
-    if out.is_empty() {
+    if walk.found.files.is_empty() {
         return Err(TrainError::File {
             path: None,
             why: "no clips given".into(),
         });
     }
-    Ok(out)
+    Ok(walk.found)
+}
+
+/// A walk of folders that takes each folder and each file once, by what it is (its
+/// canonical path), however many links lead to it: a link back to a parent neither loops
+/// nor weighs one capture many times.
+#[derive(Default)]
+struct Walk {
+    found: CaptureWalk,
+    seen_dirs: std::collections::HashMap<PathBuf, PathBuf>,
+    seen_files: std::collections::HashMap<PathBuf, PathBuf>,
+}
+
+impl Walk {
+    /// Takes the file `path` unless it was taken before.
+    fn file(&mut self, path: &Path) {
+        let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        match self.seen_files.get(&key) {
+            Some(first) => self.found.repeats.push(format!(
+                "{}: the same file as {}, taken once",
+                path.display(),
+                first.display()
+            )),
+            None => {
+                self.seen_files.insert(key, path.to_path_buf());
+                self.found.files.push(path.to_path_buf());
+            }
+        }
+    }
+
+    /// Every `*.bvh` file under `dir`, each folder once.
+    fn folder(&mut self, dir: &Path) -> Result<()> {
+        let bad = |e: std::io::Error| TrainError::File {
+            path: Some(dir.to_path_buf()),
+            why: e.to_string(),
+        };
+        let key = std::fs::canonicalize(dir).map_err(bad)?;
+        if let Some(first) = self.seen_dirs.get(&key) {
+            self.found.repeats.push(format!(
+                "{}: the same folder as {}, taken once",
+                dir.display(),
+                first.display()
+            ));
+            return Ok(());
+        }
+        self.seen_dirs.insert(key, dir.to_path_buf());
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map_err(bad)?
+            .map(|e| e.map(|e| e.path()))
+            .collect::<std::io::Result<_>>()
+            .map_err(bad)?;
+        // Name order, so that of two paths to one folder or file the first is the same on
+        // every machine.
+        entries.sort();
+        for path in entries {
+            if path.is_dir() {
+                self.folder(&path)?;
+            } else if path
+                .extension()
+                .is_some_and(|x| x.eq_ignore_ascii_case("bvh"))
+            {
+                self.file(&path);
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Why `path`, neither a file nor a folder, is no capture: what it is (a device, a FIFO),
@@ -484,26 +564,6 @@ fn not_a_capture(path: &Path) -> String {
     }
 }
 
-/// Every `*.bvh` file under `dir`.
-fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<()> {
-    let bad = |e: std::io::Error| TrainError::File {
-        path: Some(dir.to_path_buf()),
-        why: e.to_string(),
-    };
-    for entry in std::fs::read_dir(dir).map_err(bad)? {
-        let path = entry.map_err(bad)?.path();
-        if path.is_dir() {
-            walk(&path, out)?;
-        } else if path
-            .extension()
-            .is_some_and(|x| x.eq_ignore_ascii_case("bvh"))
-        {
-            out.push(path);
-        }
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::capture_files;
@@ -514,6 +574,40 @@ mod tests {
             Err(crate::TrainError::File { why, .. }) => why,
             other => panic!("expected a file error, got {other:?}"),
         }
+    }
+
+    /// A folder with a link to itself, and two folders linking to each other, are walked
+    /// once: each capture found once, the links said, nothing hangs.
+    #[cfg(unix)]
+    #[test]
+    fn links_back_are_taken_once_and_said() {
+        use std::os::unix::fs::symlink;
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a"), dir.path().join("b"));
+        std::fs::create_dir_all(&a).unwrap();
+        std::fs::create_dir_all(&b).unwrap();
+        std::fs::write(a.join("r1.bvh"), "x").unwrap();
+        std::fs::write(b.join("r2.bvh"), "x").unwrap();
+        symlink(&a, a.join("self")).unwrap();
+        symlink(&b, a.join("to-b")).unwrap();
+        symlink(&a, b.join("to-a")).unwrap();
+        symlink(a.join("r1.bvh"), b.join("same.bvh")).unwrap();
+        let walk = super::walk_captures(&[dir.path().to_path_buf()]).unwrap();
+        let names: Vec<_> = walk
+            .files
+            .iter()
+            .map(|p| p.strip_prefix(dir.path()).unwrap().to_path_buf())
+            .collect();
+        assert_eq!(
+            names,
+            [PathBuf::from("a/r1.bvh"), PathBuf::from("a/to-b/r2.bvh")]
+        );
+        assert_eq!(walk.repeats.len(), 4, "{:?}", walk.repeats);
+        assert!(
+            walk.repeats
+                .iter()
+                .any(|r| r.contains("same.bvh: the same file as"))
+        );
     }
 
     /// Issue 27 #11: each kind of non-capture is said as what it is ("no such file" was said
