@@ -98,6 +98,16 @@ def test_unreachable_targets_raise_with_the_motion_made():
         lambda: kinergy.read_bvh(R09, unit="furlong"),
         lambda: kinergy.read_bvh(R09, up="sideways"),
         lambda: kinergy.segment(R09, min_peak_speed=-1.0),
+        lambda: kinergy.segment(R09, min_peak_speed=50.0001),
+        lambda: kinergy.read_bvh(R09).with_values(np.zeros((0, kinergy.read_bvh(R09).values.shape[1]))),
+        lambda: kinergy.Clip.from_arrays(["root"], [-1], np.zeros((1, 3)), np.zeros((0, 1, 4)),
+                                         np.zeros((0, 3)), 0.1),
+        lambda: kinergy.fit(R09, budget=10**7 + 1),
+        lambda: kinergy.fit(R09, population=1001),
+        lambda: kinergy.fit(R09, temperature=1e6 + 1),
+        lambda: kinergy.fit(R09, stable_change=1.0001),
+        lambda: kinergy.fit(R09, stable_window=100001),
+        lambda: kinergy.compare(R09, temperature=1e6 + 1),
         lambda: kinergy.synthesize(R09, frames=(5, 2)),
         lambda: kinergy.synthesize(R09, frames="most"),
         lambda: kinergy.synthesize(R09, tolerance=float("nan")),
@@ -209,3 +219,11 @@ def test_writes_refuse_what_is_not_a_regular_file(at_root, tmp_path):
                 write(target)
         assert os.stat(target).st_mode == before, target
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
+
+
+def test_slow_motions_are_found_down_to_the_documented_peak_speed(at_root):
+    """min_peak_speed takes its whole documented range (0.001 to 50 m/s): the rest
+    threshold is lowered with it, as in the CLI."""
+    for speed in (0.001, 0.01, 0.05):
+        rows = kinergy.segment(R09, min_peak_speed=speed)
+        assert rows, speed

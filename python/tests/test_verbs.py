@@ -189,6 +189,20 @@ def test_progress_is_reported_and_its_exception_stops_the_fit(at_root):
         kinergy.fit(R09, model="sd", budget=4000, progress=stop_after_three)
 
 
+def test_progress_names_each_stage_whatever_its_length(at_root):
+    """Stages of one iteration (budget = population × 2) and S_E's phases are each named by
+    the model the nested fit runs, in order."""
+    for model, budget in (("sd", 16), ("se", 64)):
+        seen = []
+        kinergy.fit(R09, model=model, budget=budget, population=8, progress=seen.append)
+        stages = []
+        for s in seen:
+            if not stages or stages[-1] != (s["model"], s["stage"]):
+                stages.append((s["model"], s["stage"]))
+        names = ["sa", "sb", "sc", "sd", "se"][: ["sa", "sb", "sc", "sd", "se"].index(model) + 1]
+        assert stages == list(zip(names, range(len(names)))), (model, stages)
+
+
 def test_ctrl_c_raises_keyboard_interrupt_promptly(at_root):
     timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
     start = time.monotonic()

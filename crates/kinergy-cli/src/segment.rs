@@ -150,8 +150,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     let settings = SegmentSettings {
         relative_to_shoulder: !args.world,
-        min_peak_speed: args.min_peak_speed,
-        ..SegmentSettings::default()
+        ..SegmentSettings::default().with_min_peak_speed(args.min_peak_speed)
     };
     settings
         .validate()

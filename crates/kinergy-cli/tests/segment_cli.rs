@@ -376,3 +376,18 @@ fn link_loops_are_walked_once_and_said() {
         stderr(&o)
     );
 }
+
+/// `--min-peak-speed` takes its whole documented range, 0.001 to 50 m/s (the rest threshold
+/// is lowered with it), and refuses what is outside it.
+#[test]
+fn the_documented_peak_speeds_are_all_taken() {
+    let clip = fixture("006_14.bvh");
+    for speed in ["0.001", "0.01", "0.05", "50"] {
+        let o = kinergy(&["segment", utf8(&clip), "--min-peak-speed", speed]);
+        assert_eq!(o.status.code(), Some(0), "{speed}: {}", stderr(&o));
+    }
+    for speed in ["0.0009", "50.0001"] {
+        let o = kinergy(&["segment", utf8(&clip), "--min-peak-speed", speed]);
+        assert_eq!(o.status.code(), Some(2), "{speed}: {}", stderr(&o));
+    }
+}

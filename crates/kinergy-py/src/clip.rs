@@ -241,6 +241,11 @@ impl Clip {
                 values.ncols()
             )));
         }
+        if values.nrows() == 0 {
+            return Err(errors::input(
+                "with_values: no frames (a clip has at least one)",
+            ));
+        }
         let flat: Vec<f64> = values.iter().copied().collect();
         let inner = kinergy_motion::Clip::new(
             self.inner.skeleton().clone(),

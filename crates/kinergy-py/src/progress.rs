@@ -23,8 +23,6 @@ pub struct Watch<'a> {
     pub stage: usize,
     /// The models fitted in turn, by name.
     pub models: Vec<&'static str>,
-    /// The evaluation count of the last iteration seen (it falls when a new stage starts).
-    last_evaluations: usize,
 }
 
 impl<'a> Watch<'a> {
@@ -40,7 +38,6 @@ impl<'a> Watch<'a> {
             error: None,
             stage: 0,
             models,
-            last_evaluations: 0,
         }
     }
 
@@ -75,7 +72,6 @@ impl<'a> Watch<'a> {
     /// Marks the start of the next group of models (a per-clip fit's next reach).
     pub fn next_group(&mut self) {
         self.stage = 0;
-        self.last_evaluations = 0;
     }
 
     /// The exception that stopped the run, if one did; otherwise checks once more.
@@ -86,11 +82,11 @@ impl<'a> Watch<'a> {
 }
 
 impl Observer for Watch<'_> {
+    fn on_stage(&mut self, index: usize, _model: kinergy_solver::Model) {
+        self.stage = index;
+    }
+
     fn on_iteration(&mut self, progress: &Progress) {
-        if progress.evaluations < self.last_evaluations {
-            self.stage += 1;
-        }
-        self.last_evaluations = progress.evaluations;
         self.check(Some(progress));
     }
 }

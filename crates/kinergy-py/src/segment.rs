@@ -45,14 +45,10 @@ pub fn segment<'py>(
         selection: select.map(|s| s.0.selection()).transpose()?,
         settings: SegmentSettings {
             relative_to_shoulder: !world,
-            min_peak_speed: min_peak_speed.unwrap_or(defaults.min_peak_speed),
-            ..defaults
+            ..min_peak_speed.map_or(defaults, |v| defaults.with_min_peak_speed(v))
         },
     };
-    listing
-        .settings
-        .validate()
-        .map_err(|e| errors::input(format!("min_peak_speed: {e}")))?;
+    listing.validate().map_err(errors::raise)?;
     let arms = if arm == "auto" {
         if let Some(Selection::Nth(n)) = listing.selection {
             return Err(errors::input(format!(

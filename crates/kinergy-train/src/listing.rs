@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use kinergy_io::{Classify, ErrorKind};
+use kinergy_io::{Classify, ErrorKind, InvalidSetting};
 use kinergy_motion::segment::{Segment, SegmentSettings, Selection, find_segments, main_index};
 use kinergy_motion::{ArmJoints, Clip, MotionError, Side};
 use serde::Serialize;
@@ -96,6 +96,14 @@ pub struct ArmListing {
 }
 
 impl SegmentListing {
+    /// Checks the settings: the slowest peak within [`crate::limits::MIN_PEAK_SPEED`], then
+    /// every segmentation setting.
+    pub fn validate(&self) -> Result<()> {
+        let speed = self.settings.min_peak_speed;
+        InvalidSetting::in_range("min_peak_speed", speed, crate::limits::MIN_PEAK_SPEED)?;
+        Ok(self.settings.validate()?)
+    }
+
     /// The arm `arm` of `clip` (read from `path`): the selected segments, numbered as in the
     /// full list. `side` is the arm's side when its joints do not say (a chain named by
     /// joints).

@@ -128,6 +128,9 @@ impl Clip {
             return Err(invalid("offsets", why));
         }
         let frames = arrays.root_translation.len();
+        if frames == 0 {
+            return Err(MotionError::EmptyClip);
+        }
         if arrays.rotations.len() != frames * n {
             let why = format!(
                 "{} rotations for {frames} frames of {n} joints",

@@ -66,6 +66,18 @@ impl Default for SegmentSettings {
 }
 
 impl SegmentSettings {
+    /// These settings with peaks slower than `speed` (m/s) not counting as motion, and the
+    /// absolute rest threshold lowered with it where it would not stay below: a quarter of
+    /// `speed`, the defaults' ratio (0.05 of 0.2 m/s). Any positive `speed` then makes valid
+    /// settings, so that slow motions can be found as well as fast ones.
+    pub fn with_min_peak_speed(self, speed: f64) -> SegmentSettings {
+        SegmentSettings {
+            min_peak_speed: speed,
+            rest_speed: self.rest_speed.min(speed / 4.0),
+            ..self
+        }
+    }
+
     /// Checks every setting; the error names the first bad field.
     pub fn validate(&self) -> Result<()> {
         let nonneg = |v: f64| v.is_finite() && v >= 0.0;

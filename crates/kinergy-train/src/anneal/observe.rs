@@ -28,6 +28,9 @@ pub struct Progress {
 
 /// Watches a run. Observers must not change the run: they only see it.
 pub trait Observer {
+    /// Before a nested fit's stage `index` (0-based) fits `model`: the iterations that follow
+    /// are that model's until the next stage (a model's annealing may run in phases).
+    fn on_stage(&mut self, _index: usize, _model: kinergy_solver::Model) {}
     /// After every iteration.
     fn on_iteration(&mut self, _progress: &Progress) {}
     /// After a checkpoint was written.
@@ -39,6 +42,9 @@ impl Observer for () {}
 
 /// An observer borrowed.
 impl<T: Observer + ?Sized> Observer for &mut T {
+    fn on_stage(&mut self, index: usize, model: kinergy_solver::Model) {
+        (**self).on_stage(index, model);
+    }
     fn on_iteration(&mut self, p: &Progress) {
         (**self).on_iteration(p);
     }
@@ -49,6 +55,10 @@ impl<T: Observer + ?Sized> Observer for &mut T {
 
 /// Observers side by side.
 impl<A: Observer, B: Observer> Observer for (A, B) {
+    fn on_stage(&mut self, index: usize, model: kinergy_solver::Model) {
+        self.0.on_stage(index, model);
+        self.1.on_stage(index, model);
+    }
     fn on_iteration(&mut self, p: &Progress) {
         self.0.on_iteration(p);
         self.1.on_iteration(p);

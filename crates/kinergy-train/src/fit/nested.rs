@@ -461,6 +461,7 @@ impl NestedRun<'_> {
                 fits.push(stage.to_fit(&objective)?);
                 continue;
             }
+            observer.on_stage(i, model);
             let start = match fits.last() {
                 Some(poorer) => poorer.space.extend_to(&poorer.values, objective.space())?,
                 None => objective.space().neutral(),
