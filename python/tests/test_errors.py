@@ -103,6 +103,7 @@ def test_unreachable_targets_raise_with_the_motion_made():
         lambda: kinergy.Clip.from_arrays(["root"], [-1], np.zeros((1, 3)), np.zeros((0, 1, 4)),
                                          np.zeros((0, 3)), 0.1),
         lambda: kinergy.fit(R09, budget=10**7 + 1),
+        lambda: kinergy.fit(R09, speed_weight=0.1),
         lambda: kinergy.fit(R09, population=1001),
         lambda: kinergy.fit(R09, temperature=1e6 + 1),
         lambda: kinergy.fit(R09, stable_change=1.0001),

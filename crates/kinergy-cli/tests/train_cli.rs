@@ -905,6 +905,11 @@ fn the_speed_objective_is_recorded_and_kept_apart() {
         "{}",
         text(&bad.stderr)
     );
+    // A speed weight without the speed term would be ignored: it is refused, nothing written.
+    let ignored = fit(&dir.path().join("d.json"), &["--speed-weight", "0.1"]);
+    assert_eq!(ignored.status.code(), Some(2), "{}", text(&ignored.stderr));
+    assert!(text(&ignored.stderr).contains("positions+speed"));
+    assert!(!dir.path().join("d.json").exists());
 }
 
 /// Ctrl-C stops `compare` after the reaches in progress: a failed task (exit 1) that says so,

@@ -8,7 +8,6 @@ use kinergy_motion::{
     ArmJoints, Clip, ImportOptions, ImportReport, MotionError, PositionReadingChoice, Side,
     UnitChoice,
 };
-use kinergy_solver::FitObjective;
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::fit::{FitSettings, OBJECTIVES, SearchOptions};
 
@@ -228,9 +227,10 @@ pub struct SearchArgs {
     #[arg(long, value_enum, default_value_t = ObjectiveArg::Positions, value_name = "KIND")]
     pub objective: ObjectiveArg,
     /// With `--objective positions+speed`: meters of distance per m/s of RMS hand-speed error
-    /// (seconds), 0 to 10.
-    #[arg(long, default_value_t = FitObjective::DEFAULT_SPEED_WEIGHT, value_name = "S")]
-    pub speed_weight: f64,
+    /// (seconds), 0 to 10; default 0.05. Refused with the paper's objective, which has no
+    /// speed term.
+    #[arg(long, value_name = "S")]
+    pub speed_weight: Option<f64>,
 }
 
 /// `--objective`.
@@ -252,7 +252,14 @@ impl SearchArgs {
         check_range("--temperature", self.temperature, limits::TEMPERATURE)?;
         check_optional("--stable-change", self.stable_change, limits::STABLE_CHANGE)?;
         check_optional("--stable-window", self.stable_window, limits::STABLE_WINDOW)?;
-        check_range("--speed-weight", self.speed_weight, limits::SPEED_WEIGHT)?;
+        check_optional("--speed-weight", self.speed_weight, limits::SPEED_WEIGHT)?;
+        if self.speed_weight.is_some() && self.objective == ObjectiveArg::Positions {
+            return Err(Failure::Input(
+                "--speed-weight weighs the speed term of --objective positions+speed: add it, \
+                 or drop --speed-weight"
+                    .into(),
+            ));
+        }
         if self.budget < self.population {
             return Err(Failure::Input(format!(
                 "--budget {}: at least --population ({}), the evaluations of the first \
@@ -289,7 +296,7 @@ impl SearchArgs {
                 }
                 .to_string(),
             ),
-            speed_weight: Some(self.speed_weight),
+            speed_weight: self.speed_weight,
             library,
         }
     }

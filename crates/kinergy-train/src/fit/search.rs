@@ -73,6 +73,11 @@ impl SearchOptions {
             .unwrap_or(FitObjective::DEFAULT_SPEED_WEIGHT);
         InvalidSetting::in_range("speed_weight", weight, limits::SPEED_WEIGHT)?;
         let objective = match self.objective.as_deref().unwrap_or(OBJECTIVES[0]) {
+            "positions" if self.speed_weight.is_some() => {
+                let why = "weighs the speed term of the objective positions+speed: choose it, \
+                           or give no speed weight";
+                return Err(InvalidSetting::new("speed_weight", why));
+            }
             "positions" => FitObjective::Positions,
             "positions+speed" => FitObjective::PositionsSpeed {
                 speed_weight_s: weight,
@@ -135,6 +140,11 @@ mod tests {
             ..SearchOptions::default()
         };
         assert_eq!(odd.settings().unwrap_err().field, "objective");
+        let ignored = SearchOptions {
+            speed_weight: Some(0.1),
+            ..SearchOptions::default()
+        };
+        assert_eq!(ignored.settings().unwrap_err().field, "speed_weight");
         let nan = SearchOptions {
             temperature: Some(f64::NAN),
             ..SearchOptions::default()
