@@ -133,7 +133,7 @@ impl InvalidSetting {
         InvalidSetting::require(
             lo <= value && value <= hi,
             field,
-            format!("{value}: expected {lo} to {hi}"),
+            format!("{}: expected {lo} to {hi}", crate::quote_number(value)),
         )
     }
 }

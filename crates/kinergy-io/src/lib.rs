@@ -37,4 +37,4 @@ pub use read::{
     MAX_CAPTURE_BYTES, MAX_JSON_BYTES, MIB, describe_file_type, format_limit, not_regular,
     read_limited, read_to_string_limited,
 };
-pub use text::{MAX_QUOTED_CHARS, clip_text, list_some, meters};
+pub use text::{MAX_QUOTED_CHARS, Num, clip_text, list_some, meters, quote_number};

@@ -34,6 +34,32 @@ pub fn list_some<S: AsRef<str>>(items: &[S], max: usize) -> String {
     out
 }
 
+/// A number as a message quotes it: as Rust prints it (shortest exact digits) in the usual
+/// range, in scientific notation when tiny or huge (`1e-300`, `1e300`: never 300 digits).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let v = self.0;
+        if v.is_finite() && v != 0.0 && !(1e-5..1e16).contains(&v.abs()) {
+            write!(f, "{v:e}")
+        } else {
+            write!(f, "{v}")
+        }
+    }
+}
+
+/// Any number as a message quotes it ([`Num`] for the floats that print long): integers and
+/// short floats as they print, `1e300` rather than 301 digits.
+pub fn quote_number<T: std::fmt::Display>(v: T) -> String {
+    let text = v.to_string();
+    match text.parse::<f64>() {
+        Ok(x) if text.len() > 24 => Num(x).to_string(),
+        _ => text,
+    }
+}
+
 /// A length for a message: meters with two decimals, or in scientific notation when huge
 /// (never a 309-digit number: `1e308` is `1.000e308 m`).
 pub fn meters(v: f64) -> String {
@@ -46,6 +72,21 @@ pub fn meters(v: f64) -> String {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn numbers_are_quoted_short_whatever_their_size() {
+        assert_eq!(Num(1e-300).to_string(), "1e-300");
+        assert_eq!(Num(1e300).to_string(), "1e300");
+        assert_eq!(Num(-1.5e-7).to_string(), "-1.5e-7");
+        assert_eq!(Num(0.2).to_string(), "0.2");
+        assert_eq!(Num(50.0).to_string(), "50");
+        assert_eq!(Num(0.0).to_string(), "0");
+        assert_eq!(Num(f64::NAN).to_string(), "NaN");
+        for v in [1e-300, 1e300, 1e308, 5e-324, 0.123456789] {
+            assert!(Num(v).to_string().len() < 25, "{v}");
+            assert_eq!(Num(v).to_string().parse::<f64>().unwrap(), v);
+        }
+    }
     use super::*;
 
     #[test]

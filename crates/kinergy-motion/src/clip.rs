@@ -30,7 +30,10 @@ impl Clip {
         if !(frame_time.is_finite() && frame_time > 0.0) {
             return Err(MotionError::Invalid {
                 what: "frame time",
-                why: format!("{frame_time} is not a positive number of seconds"),
+                why: format!(
+                    "{} is not a positive number of seconds",
+                    kinergy_io::Num(frame_time)
+                ),
             });
         }
         let n = skeleton.dof_count();
@@ -188,7 +191,10 @@ impl Clip {
         if !(frame_time.is_finite() && frame_time > 0.0) {
             return Err(MotionError::Invalid {
                 what: "frame time",
-                why: format!("{frame_time} is not a positive number of seconds"),
+                why: format!(
+                    "{} is not a positive number of seconds",
+                    kinergy_io::Num(frame_time)
+                ),
             });
         }
         let frames = self.frame_count();

@@ -20,7 +20,10 @@ impl Trajectory {
         if !(frame_time.is_finite() && frame_time > 0.0) {
             return Err(MotionError::Invalid {
                 what: "frame time",
-                why: format!("{frame_time} is not a positive number of seconds"),
+                why: format!(
+                    "{} is not a positive number of seconds",
+                    kinergy_io::Num(frame_time)
+                ),
             });
         }
         if joints == 0 || !points.len().is_multiple_of(joints) {
@@ -83,7 +86,10 @@ impl Trajectory {
         if !(frame_time.is_finite() && frame_time > 0.0) {
             return Err(MotionError::Invalid {
                 what: "frame time",
-                why: format!("{frame_time} is not a positive number of seconds"),
+                why: format!(
+                    "{} is not a positive number of seconds",
+                    kinergy_io::Num(frame_time)
+                ),
             });
         }
         let frames = self.frame_count();

@@ -132,6 +132,9 @@ pub fn check_range<T: PartialOrd + std::fmt::Display + Copy>(
     if lo <= value && value <= hi {
         Ok(())
     } else {
-        Err(input(format!("{name}={value}: expected {lo} to {hi}")))
+        Err(input(format!(
+            "{name}={}: expected {lo} to {hi}",
+            kinergy_io::quote_number(value)
+        )))
     }
 }

@@ -13,7 +13,10 @@ pub enum SolverError {
     #[error(transparent)]
     Setting(#[from] kinergy_io::InvalidSetting),
     /// A synergy parameter lies outside its bounds.
-    #[error("synergy parameter `{name}` = {value} is outside its bounds [{lower}, {upper}]")]
+    #[error(
+        "synergy parameter `{name}` = {} is outside its bounds [{lower}, {upper}]",
+        kinergy_io::Num(*value)
+    )]
     OutOfBounds {
         /// The parameter's name, e.g. `g_elbow_flexion`.
         name: String,

@@ -238,6 +238,7 @@ pub fn run_until(
         "models/optimizers",
         "at least one each",
     )?;
+    check_baseline_budget(reaches, settings)?;
     let per_clip: Vec<Option<ClipResults>> = reaches
         .par_iter()
         .map(|reach| {
@@ -262,6 +263,35 @@ pub fn run_until(
     }
     rows.extend(field_rows(reaches, &sc, settings)?);
     Ok(Some(Results { rows, violations }))
+}
+
+/// With the baselines, the budget they share must hold each one's first iteration (a
+/// particle swarm's population, a simplex of S_C's dimension + 1): said of the budget,
+/// before any work.
+fn check_baseline_budget(reaches: &[CapturedReach], settings: &ExperimentSettings) -> Result<()> {
+    if !settings.baselines {
+        return Ok(());
+    }
+    let optimizer = settings.optimizer.default_optimizer();
+    let dimension = match reaches.first() {
+        Some(reach) => settings
+            .fit
+            .objective(std::slice::from_ref(reach), Model::Sc, optimizer)?
+            .dimension(),
+        None => return Ok(()),
+    };
+    let needed = BaselineSettings::default().particles.max(dimension + 1);
+    let budget = settings.fit.anneal.max_evaluations;
+    InvalidSetting::require(
+        budget >= needed,
+        "budget",
+        format!(
+            "{budget}: at least {needed} with the baselines, which share it (a particle swarm's \
+             first generation, a Nelder–Mead simplex of S_C): raise it, or run without the \
+             baselines"
+        ),
+    )?;
+    Ok(())
 }
 
 /// One clip's rows, its Fig. 3 violations and its Fig. 3 S_C values (for the field).

@@ -21,7 +21,8 @@ pub fn check_range<T: PartialOrd + Display + Copy>(
         Ok(())
     } else {
         Err(Failure::Input(format!(
-            "{name} {value}: expected {lo} to {hi}"
+            "{name} {}: expected {lo} to {hi}",
+            kinergy_io::quote_number(value)
         )))
     }
 }

@@ -6,7 +6,7 @@ use std::fmt;
 use std::ops::Range;
 use std::str::FromStr;
 
-use kinergy_io::InvalidSetting;
+use kinergy_io::{InvalidSetting, Num};
 use serde::Serialize;
 
 use crate::error::Result;
@@ -81,7 +81,7 @@ impl SegmentSettings {
     /// Checks every setting; the error names the first bad field.
     pub fn validate(&self) -> Result<()> {
         let nonneg = |v: f64| v.is_finite() && v >= 0.0;
-        let seconds = |v: f64| format!("{v} is not a finite number of seconds ≥ 0");
+        let seconds = |v: f64| format!("{} is not a finite number of seconds ≥ 0", Num(v));
         InvalidSetting::require(
             nonneg(self.smoothing),
             "segment.smoothing",
@@ -95,14 +95,15 @@ impl SegmentSettings {
         InvalidSetting::require(
             nonneg(self.rest_speed),
             "segment.rest_speed",
-            format!("{} is not a finite speed ≥ 0 m/s", self.rest_speed),
+            format!("{} is not a finite speed ≥ 0 m/s", Num(self.rest_speed)),
         )?;
         InvalidSetting::require(
             self.min_peak_speed.is_finite() && self.min_peak_speed > self.rest_speed,
             "segment.min_peak_speed",
             format!(
                 "{} is not a finite speed above rest_speed ({} m/s)",
-                self.min_peak_speed, self.rest_speed
+                Num(self.min_peak_speed),
+                Num(self.rest_speed)
             ),
         )?;
         InvalidSetting::require(
@@ -121,7 +122,7 @@ impl SegmentSettings {
             "segment.small_move",
             format!(
                 "{} is not a finite fraction of the arm's length ≥ 0",
-                self.small_move
+                Num(self.small_move)
             ),
         )?;
         InvalidSetting::require(
@@ -129,7 +130,8 @@ impl SegmentSettings {
             "segment.min_reach",
             format!(
                 "{} is not a finite fraction of the arm's length ≥ small_move ({})",
-                self.min_reach, self.small_move
+                Num(self.min_reach),
+                Num(self.small_move)
             ),
         )?;
         Ok(())

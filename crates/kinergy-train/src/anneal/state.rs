@@ -182,7 +182,9 @@ impl AnnealState {
                     &format!("members[{m}].x[{i}]"),
                     format!(
                         "is {}, outside its bounds [{}, {}]",
-                        member.x[i], self.lower[i], self.upper[i]
+                        kinergy_io::Num(member.x[i]),
+                        kinergy_io::Num(self.lower[i]),
+                        kinergy_io::Num(self.upper[i])
                     ),
                 );
             }
@@ -276,7 +278,9 @@ impl AnnealState {
                 &format!("best_x[{i}]"),
                 format!(
                     "is {}, outside its bounds [{}, {}]",
-                    self.best_x[i], self.lower[i], self.upper[i]
+                    kinergy_io::Num(self.best_x[i]),
+                    kinergy_io::Num(self.lower[i]),
+                    kinergy_io::Num(self.upper[i])
                 ),
             );
         }

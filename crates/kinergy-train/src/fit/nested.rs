@@ -443,7 +443,9 @@ impl NestedRun<'_> {
                         &format!("values[{k}]"),
                         format!(
                             "is {}, outside its bounds [{}, {}]",
-                            stage.values[k], lower[k], upper[k]
+                            kinergy_io::Num(stage.values[k]),
+                            kinergy_io::Num(lower[k]),
+                            kinergy_io::Num(upper[k])
                         ),
                     ));
                 }
