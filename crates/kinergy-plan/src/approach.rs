@@ -25,7 +25,7 @@
 use kinergy_io::InvalidSetting;
 use kinergy_reach::character::{Character, Pose};
 use kinergy_reach::controller::{
-    PLAIN_IK_TIME, STALL_WINDOW, SYNERGY_TIME, SynergyArm, reach_smoothing,
+    PLAIN_IK_TIME, PersonController, STALL_WINDOW, SYNERGY_TIME, SynergyArm, reach_smoothing,
 };
 use kinergy_reach::profile::CUBIC_PEAK_RATIO;
 use kinergy_solver::{Optimizer, Synergy};
@@ -123,10 +123,12 @@ impl PersonArm<'_> {
             &self.character.rest_pose(),
             &start,
             target,
-            self.optimizer,
-            self.synergy,
-            dt,
-            Some(smoothing),
+            PersonController {
+                optimizer: self.optimizer,
+                synergy: self.synergy,
+                frame_time: dt,
+                smoothing: Some(smoothing),
+            },
             None,
         )
         .map_err(reach_error)?;

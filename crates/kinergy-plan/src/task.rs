@@ -225,6 +225,43 @@ pub struct Planner {
     space: ArmSpace,
 }
 
+/// A kind of planned phase: its name (in the motion and in errors), the salt that gives its
+/// search a seed of its own, and whether the person's synergy finishes it where its motion is
+/// free (a reach's: [`crate::approach`]).
+#[derive(Debug, Clone, Copy)]
+struct PlannedPhase {
+    name: &'static str,
+    salt: u64,
+    synergy_finish: bool,
+}
+
+impl PlannedPhase {
+    /// To the grasp or the hand's target, finished by the person's synergy.
+    const REACH: PlannedPhase = PlannedPhase {
+        name: "reach",
+        salt: 0,
+        synergy_finish: true,
+    };
+    /// Carrying the held object to its place.
+    const TRANSFER: PlannedPhase = PlannedPhase {
+        name: "transfer",
+        salt: 1,
+        synergy_finish: false,
+    };
+    /// Back to the start posture.
+    const RETURN: PlannedPhase = PlannedPhase {
+        name: "return",
+        salt: 2,
+        synergy_finish: false,
+    };
+    /// To a reach's goal posture, where the straight settle after its synergy is blocked.
+    const SETTLE: PlannedPhase = PlannedPhase {
+        name: "settle",
+        salt: 3,
+        synergy_finish: false,
+    };
+}
+
 /// The motion being assembled.
 struct Builder<'a> {
     planner: &'a Planner,
@@ -309,7 +346,7 @@ impl Planner {
     pub fn reach(&self, target: &HandTarget, shape: HandShape) -> Result<Manipulation> {
         let mut b = self.builder()?;
         let (alpha, goal) = b.space.solve(target)?;
-        b.planned("reach", &goal, alpha, shape, 0, true)?;
+        b.planned(PlannedPhase::REACH, &goal, alpha, shape)?;
         b.settle(target, (&goal, alpha), shape)?;
         Ok(b.out)
     }
@@ -343,7 +380,7 @@ impl Planner {
             .space
             .solve(&target)
             .map_err(|e| in_phase(e, "the placing posture"))?;
-        b.planned("transfer", &place, alpha, b.hand, 1, false)?;
+        b.planned(PlannedPhase::TRANSFER, &place, alpha, b.hand)?;
         b.hand_phase("open", HandShape::open());
         b.release();
         let back = grasp_target(&dest, &grasp, grasp.distance);
@@ -498,19 +535,20 @@ impl Builder<'_> {
         (seconds * s.frame_rate).ceil() as usize + 1
     }
 
-    /// A planned phase to `goal`; `salt` varies the seed between phases. A reach (`reach`
-    /// true) is finished by the person's synergy where its motion is free
-    /// ([`crate::approach`]).
-    #[allow(clippy::too_many_arguments)]
+    /// A planned `phase` to `goal` (orbit angle `alpha`), the hand's shape blended to `shape`
+    /// over its frames.
     fn planned(
         &mut self,
-        name: &str,
+        phase: PlannedPhase,
         goal: &ArmConfig,
         alpha: f64,
         shape: HandShape,
-        salt: u64,
-        reach: bool,
     ) -> Result<()> {
+        let PlannedPhase {
+            name,
+            salt,
+            synergy_finish,
+        } = phase;
         let s = &self.planner.settings;
         let mut rrt = s.rrt.clone();
         // The phase's seed: `salt` moved `seed` steps along SplitMix64's Weyl sequence.
@@ -521,7 +559,7 @@ impl Builder<'_> {
         let (configs, synergy) = match &s.arm {
             ArmDrive::Synergy {
                 optimizer, synergy, ..
-            } if reach => {
+            } if synergy_finish => {
                 let person = PersonArm {
                     character: &self.planner.character,
                     body: &self.planner.start,
@@ -659,7 +697,7 @@ impl Builder<'_> {
                     t.poses.truncate(frames);
                 }
                 (self.q, self.alpha, self.hand) = (q, alpha, hand);
-                self.planned("settle", goal.0, goal.1, shape, 3, false)
+                self.planned(PlannedPhase::SETTLE, goal.0, goal.1, shape)
             }
             other => other,
         }
@@ -755,7 +793,7 @@ impl Builder<'_> {
             .space
             .solve(&pre)
             .map_err(|e| in_phase(e, "the pre-grasp"))?;
-        self.planned("reach", &goal, alpha, HandShape::open(), 0, true)?;
+        self.planned(PlannedPhase::REACH, &goal, alpha, HandShape::open())?;
         self.settle(&pre, (&goal, alpha), HandShape::open())?;
         self.space.set_ignored(name, true)?;
         let at = grasp_target(&object.pose, &grasp, 0.0);
@@ -774,7 +812,7 @@ impl Builder<'_> {
     fn return_to_start(&mut self) -> Result<()> {
         let goal = self.space.config_of(&self.planner.start);
         let alpha = self.space.ik().alpha_of(&goal);
-        self.planned("return", &goal, alpha, HandShape::relaxed(), 2, false)
+        self.planned(PlannedPhase::RETURN, &goal, alpha, HandShape::relaxed())
     }
 
     fn release(&mut self) {

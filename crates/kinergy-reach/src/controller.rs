@@ -93,8 +93,9 @@ pub use report::{
 };
 pub use settings::{ReachSettings, SynergyStart};
 pub use synergy::{
-    ArmDrive, PLAIN_IK_TIME, RELAXED_ELBOW, STALL_PROGRESS, STALL_WINDOW, SYNERGY_TIME, SynergyArm,
-    TWIST_BRAKE_BELOW, arm_dof_names, fitted_base_at_rest, reach_smoothing,
+    ArmDrive, PLAIN_IK_TIME, PersonController, RELAXED_ELBOW, STALL_PROGRESS, STALL_WINDOW,
+    SYNERGY_TIME, SynergyArm, TWIST_BRAKE_BELOW, arm_dof_names, fitted_base_at_rest,
+    reach_smoothing,
 };
 
 use crate::character::Character;

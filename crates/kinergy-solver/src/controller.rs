@@ -14,7 +14,7 @@ use kinergy_motion::{Chain, Linearization, Trajectory};
 
 use crate::error::{Result, SolverError};
 use crate::optimizer::{Optimizer, StepScratch};
-use crate::reachability::{Guidance, ReachSphere, StraightArm};
+use crate::reachability::{Guidance, Pace, ReachSphere, StraightArm};
 use crate::smoothing::{Frame, Smoother, Smoothing};
 
 mod limits;
@@ -477,88 +477,6 @@ impl Controller {
             pending: None,
         })
     }
-
-    /// Δθ' = S(t)·O(ΔX) for the current frame; with [`LimitHandling::Deactivate`], solved
-    /// again under the limits the step pushes against until it pushes against none: a
-    /// revolute DoF on its limit is removed; a swing on its ellipse first keeps only its
-    /// tangent direction (it slides along the ellipse), and is removed only if the synergy
-    /// still pushes it outward.
-    #[allow(clippy::too_many_arguments)]
-    fn limited_step(
-        &self,
-        chain: &Chain,
-        q: &[f64],
-        lin: &mut Linearization,
-        error: &crate::task::TaskError,
-        guidance: Option<&Guidance>,
-        t: f64,
-        scratch: &mut StepScratch,
-        locks: &mut [Lock],
-        step: &mut [f64],
-    ) {
-        let dt = self.settings.frame_time;
-        locks.fill(Lock::Free);
-        let guided;
-        let error = match guidance {
-            Some(g) => {
-                g.hand_over(lin);
-                guided = g.optimizer_error();
-                &guided
-            }
-            None => error,
-        };
-        loop {
-            self.optimizer.step(lin, error, dt, scratch, step);
-            if let Some(g) = guidance
-                && locks[g.hinge()] != Lock::Blocked
-            {
-                g.drive(lin, step);
-            }
-            // A sliding swing's first column holds the tangent direction: its step is the
-            // coefficient u along it.
-            for k in 0..locks.len() {
-                if let Lock::Slide(t0, t1) = locks[k] {
-                    let u = step[k];
-                    step[k] = u * t0;
-                    step[k + 1] = u * t1;
-                }
-            }
-            // The plain step of the progress floor and the finish (the smooth controller's
-            // only), without the DoFs a zero gain freezes (they stay frozen).
-            if self.settings.smoothing.is_some() {
-                scratch.raw.clear();
-                scratch.raw.extend(
-                    step.iter()
-                        .enumerate()
-                        .map(|(i, v)| if self.synergy.gain(i) == 0.0 { 0.0 } else { *v }),
-                );
-            }
-            self.synergy.apply(t, step);
-            if let Some(sm) = &self.settings.smoothing {
-                let beta = sm.finish_weight(t);
-                if beta > 0.0 {
-                    for (s, r) in step.iter_mut().zip(&scratch.raw) {
-                        *s = (1.0 - beta) * *s + beta * r;
-                    }
-                }
-            }
-            if self.settings.limits == LimitHandling::Clamp
-                || !lock_limits(chain, q, step, locks, lin)
-            {
-                break;
-            }
-        }
-        if let Some(sm) = &self.settings.smoothing {
-            progress_floor(lin, &error.linear, &scratch.raw, step, sm.progress_floor);
-        }
-        for (s, _) in step
-            .iter_mut()
-            .zip(locks.iter())
-            .filter(|(_, l)| **l == Lock::Blocked)
-        {
-            *s = 0.0;
-        }
-    }
 }
 
 /// The synergy controller one frame at a time, on a base the caller moves (made by
@@ -673,8 +591,10 @@ impl ArmStepper<'_> {
                 &self.lin,
                 t,
                 &base.rotation,
-                &self.controller.optimizer,
-                self.controller.settings.frame_time,
+                Pace {
+                    optimizer: &self.controller.optimizer,
+                    dt: self.controller.settings.frame_time,
+                },
                 self.straight_arm(),
             ),
             _ => None,
@@ -699,6 +619,89 @@ impl ArmStepper<'_> {
         }
     }
 
+    /// Δθ' = S(t)·O(ΔX) for the current frame; with [`LimitHandling::Deactivate`], solved
+    /// again under the limits the step pushes against until it pushes against none: a
+    /// revolute DoF on its limit is removed; a swing on its ellipse first keeps only its
+    /// tangent direction (it slides along the ellipse), and is removed only if the synergy
+    /// still pushes it outward.
+    fn limited_step(
+        &mut self,
+        error: &crate::task::TaskError,
+        guidance: Option<&Guidance>,
+        t: f64,
+    ) {
+        // The stepper's fields borrowed apart: the controller, chain and configuration read,
+        // the frame's linearization, scratch, step and locks written.
+        let controller: &Controller = &self.controller;
+        let (chain, q): (&Chain, &[f64]) = (&self.chain, &self.q);
+        let (lin, scratch) = (&mut self.lin, &mut self.scratch);
+        let (step, locks): (&mut [f64], &mut [Lock]) = (&mut self.step, &mut self.locks);
+        let dt = controller.settings.frame_time;
+        locks.fill(Lock::Free);
+        let guided;
+        let error = match guidance {
+            Some(g) => {
+                g.hand_over(lin);
+                guided = g.optimizer_error();
+                &guided
+            }
+            None => error,
+        };
+        loop {
+            controller.optimizer.step(lin, error, dt, scratch, step);
+            if let Some(g) = guidance
+                && locks[g.hinge()] != Lock::Blocked
+            {
+                g.drive(lin, step);
+            }
+            // A sliding swing's first column holds the tangent direction: its step is the
+            // coefficient u along it.
+            for k in 0..locks.len() {
+                if let Lock::Slide(t0, t1) = locks[k] {
+                    let u = step[k];
+                    step[k] = u * t0;
+                    step[k + 1] = u * t1;
+                }
+            }
+            // The plain step of the progress floor and the finish (the smooth controller's
+            // only), without the DoFs a zero gain freezes (they stay frozen).
+            if controller.settings.smoothing.is_some() {
+                scratch.raw.clear();
+                scratch.raw.extend(step.iter().enumerate().map(|(i, v)| {
+                    if controller.synergy.gain(i) == 0.0 {
+                        0.0
+                    } else {
+                        *v
+                    }
+                }));
+            }
+            controller.synergy.apply(t, step);
+            if let Some(sm) = &controller.settings.smoothing {
+                let beta = sm.finish_weight(t);
+                if beta > 0.0 {
+                    for (s, r) in step.iter_mut().zip(&scratch.raw) {
+                        *s = (1.0 - beta) * *s + beta * r;
+                    }
+                }
+            }
+            if controller.settings.limits == LimitHandling::Clamp
+                || !lock_limits(chain, q, step, locks, lin)
+            {
+                break;
+            }
+        }
+        if let Some(sm) = &controller.settings.smoothing {
+            progress_floor(lin, &error.linear, &scratch.raw, step, sm.progress_floor);
+        }
+        for (s, _) in step
+            .iter_mut()
+            .zip(locks.iter())
+            .filter(|(_, l)| **l == Lock::Blocked)
+        {
+            *s = 0.0;
+        }
+    }
+
     /// One frame's step from the last observation: Θ ← clamp(Θ + S(t)·O(ΔX)). False (and
     /// the configuration unchanged) when the step is not finite or nothing was observed.
     pub fn advance(&mut self) -> bool {
@@ -706,17 +709,7 @@ impl ArmStepper<'_> {
             return false;
         };
         let t = self.frame as f64 * self.controller.settings.frame_time;
-        self.controller.limited_step(
-            &self.chain,
-            &self.q,
-            &mut self.lin,
-            &error,
-            guidance.as_ref(),
-            t,
-            &mut self.scratch,
-            &mut self.locks,
-            &mut self.step,
-        );
+        self.limited_step(&error, guidance.as_ref(), t);
         if !self.step.iter().all(|v| v.is_finite()) {
             return false;
         }

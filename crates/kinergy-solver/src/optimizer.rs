@@ -204,6 +204,16 @@ pub struct StepScratch {
     pub(crate) raw: Vec<f64>,
 }
 
+/// A pose task's error with its orientation part present, as [`Optimizer::step`] stacks it:
+/// ΔX (meters), Δr (a world rotation vector, radians) and the meters per radian that put Δr
+/// on ΔX's scale. Borrowed from the [`TaskError`], so handing it on copies nothing.
+#[derive(Debug, Clone, Copy)]
+struct PoseError<'a> {
+    linear: &'a Vector3<f64>,
+    angular: &'a Vector3<f64>,
+    weight: f64,
+}
+
 impl Optimizer {
     /// Which optimizer this is.
     pub fn kind(&self) -> OptimizerKind {
@@ -257,9 +267,17 @@ impl Optimizer {
     ) {
         match error.angular {
             None => self.step_position(lin, &error.linear, dt, out),
-            Some(angular) => {
-                self.step_pose(lin, &error.linear, &angular, error.weight, dt, scratch, out)
-            }
+            Some(angular) => self.step_pose(
+                lin,
+                PoseError {
+                    linear: &error.linear,
+                    angular: &angular,
+                    weight: error.weight,
+                },
+                dt,
+                scratch,
+                out,
+            ),
         }
     }
 
@@ -318,17 +336,19 @@ impl Optimizer {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn step_pose(
         &self,
         lin: &Linearization,
-        dx: &Vector3<f64>,
-        dr: &Vector3<f64>,
-        weight: f64,
+        error: PoseError<'_>,
         dt: f64,
         scratch: &mut StepScratch,
         out: &mut [f64],
     ) {
+        let PoseError {
+            linear: dx,
+            angular: dr,
+            weight,
+        } = error;
         let n = lin.linear.ncols();
         let stacked = scratch.stacked.get_or_insert_with(|| DMatrix::zeros(6, n));
         if stacked.ncols() != n {

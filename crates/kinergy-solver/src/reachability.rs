@@ -217,17 +217,16 @@ impl ReachSphere {
     }
 
     /// The guidance for one frame (configuration `q`, its linearization, the target, the
-    /// base frame's rotation), or `None` when the target is not near the sphere's edge (and,
-    /// as `straight_arm` reads it, the arm is not near straight either).
-    #[allow(clippy::too_many_arguments)]
+    /// base frame's rotation; the hinge and wrist driven at the optimizer's `pace`), or
+    /// `None` when the target is not near the sphere's edge (and, as `straight_arm` reads
+    /// it, the arm is not near straight either).
     pub(crate) fn guide(
         &self,
         q: &[f64],
         lin: &Linearization,
         target: &Point3<f64>,
         base_rotation: &Rotation3<f64>,
-        optimizer: &Optimizer,
-        dt: f64,
+        pace: Pace<'_>,
         straight_arm: StraightArm,
     ) -> Option<Guidance> {
         let s = lin.joints[0];
@@ -311,7 +310,7 @@ impl ReachSphere {
             }
         };
         let column_sq = b_perp.norm_squared();
-        let hinge_step = optimizer.drive_step(column_sq, gap, dt);
+        let hinge_step = pace.step(column_sq, gap);
         // Rodrigues: the hand turned about the hinge by w × its step.
         let (sin, cos) = (weight * hinge_step).sin_cos();
         let mut moved = b_perp * (cos - 1.0) + w.cross(&b) * sin;
@@ -332,7 +331,7 @@ impl ReachSphere {
                 .clamp(-1.0, 1.0)
                 .acos();
             if bend > bend_goal {
-                let step = optimizer.drive_step(column_sq, bend_goal - bend, dt) / bend;
+                let step = pace.step(column_sq, bend_goal - bend) / bend;
                 wrist_step = [q[k] * step, q[k + 1] * step];
                 moved += (lin.linear.column(k) * wrist_step[0]
                     + lin.linear.column(k + 1) * wrist_step[1])
@@ -432,6 +431,26 @@ impl ReachSphere {
         let tangent = moved - h_hat * moved.dot(h_hat);
         let norm = tangent.norm();
         (norm > 1e-9).then(|| (tangent / norm, ds.norm()))
+    }
+}
+
+/// The pace at which the guidance drives the hinge and the wrist: the controller's optimizer's
+/// law for a single DoF over one frame of `dt` seconds ([`Optimizer`]'s one-DoF step, module
+/// docs step 1), so they keep the optimizer's pace.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Pace<'a> {
+    /// The controller's optimizer.
+    pub(crate) optimizer: &'a Optimizer,
+    /// The frame time, seconds.
+    pub(crate) dt: f64,
+}
+
+impl Pace<'_> {
+    /// The step of a DoF whose Jacobian column has squared norm `column_sq` and which should
+    /// move by `gap` radians.
+    #[inline]
+    fn step(&self, column_sq: f64, gap: f64) -> f64 {
+        self.optimizer.drive_step(column_sq, gap, self.dt)
     }
 }
 
@@ -636,8 +655,9 @@ mod tests {
             let radial = (lin.end - s).normalize();
             let target = s + radial * (beyond * sphere.reach());
             let optimizer = crate::OptimizerKind::Svd.default_optimizer();
+            let pace = Pace { optimizer: &optimizer, dt: 1.0 / 120.0 };
             let guidance = sphere
-                .guide(&q, &lin, &target, &base().rotation, &optimizer, 1.0 / 120.0, StraightArm::Ignored)
+                .guide(&q, &lin, &target, &base().rotation, pace, StraightArm::Ignored)
                 .expect("near the edge");
             let mut step = [0.0; 7];
             let mut handed = lin.clone();

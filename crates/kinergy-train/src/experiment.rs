@@ -380,16 +380,7 @@ fn clip_results(reach: &CapturedReach, settings: &ExperimentSettings) -> Result<
     if settings.baselines {
         let optimizer = settings.optimizer.default_optimizer();
         let clock = Instant::now();
-        let annealed = fit_model(
-            reaches,
-            Model::Sc,
-            optimizer,
-            None,
-            fit,
-            &mut (),
-            &Default::default(),
-            None,
-        )?;
+        let annealed = fit_model(reaches, Model::Sc, optimizer, fit)?;
         rows.push(row(
             Model::Sc,
             settings.optimizer,

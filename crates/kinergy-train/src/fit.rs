@@ -13,10 +13,11 @@
 //! (s = s_max, o = o_min: φ > 0.95 after 0.3 s). [`NestedFit::violations`] lists any richer
 //! fit that still ended worse than its poorer model, so a report can say so.
 //!
-//! One function runs a model's fit (a *stage*): [`fit_model`] runs one, [`NestedRun`] runs
-//! them in sequence with checkpoints that name the problem by value ([`FitProblem`]) and
-//! resume bit for bit. Each stage's annealer draws from the user's seed mixed with the model
-//! ([`model_seed`], applied by [`FitSettings::anneal_for`]).
+//! One function runs a model's fit (a *stage*): [`ModelRun`] runs one ([`fit_model`] from the
+//! neutral vector, unwatched), [`NestedRun`] runs them in sequence with checkpoints that name
+//! the problem by value ([`FitProblem`]) and resume bit for bit. Each stage's annealer draws
+//! from the user's seed mixed with the model ([`model_seed`], applied by
+//! [`FitSettings::anneal_for`]).
 //!
 //! [`ParamSpace::extend_to`]: kinergy_solver::ParamSpace::extend_to
 
@@ -34,4 +35,4 @@ pub use nested::{
 pub use refine::{RefineSettings, Refinement, refine, refine_until};
 pub use search::{OBJECTIVES, SearchOptions};
 pub(crate) use single::unobserved_names;
-pub use single::{Fit, FitSettings, fit_model, model_seed};
+pub use single::{Fit, FitSettings, ModelRun, fit_model, model_seed};

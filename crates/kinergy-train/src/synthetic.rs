@@ -34,20 +34,34 @@ pub struct MadeReach {
     pub final_error: f64,
 }
 
-/// Makes one reach of `frames` frames from `clip`'s first frame with `optimizer` and
-/// `truth` (values of `model`), toward the hand of the start posture moved by `offset`
-/// (per DoF, radians; clamped into the limits). `name` names the made reach.
-#[allow(clippy::too_many_arguments)]
+/// The controller a reach is made with, which a fit of the made reach must find again: the
+/// true values of a synergy model, and the optimizer.
+#[derive(Debug, Clone, Copy)]
+pub struct Truth<'a> {
+    /// The synergy model.
+    pub model: Model,
+    /// Its true parameter values.
+    pub values: &'a [f64],
+    /// The optimizer the motion is synthesized with.
+    pub optimizer: Optimizer,
+}
+
+/// Makes one reach of `frames` frames from `clip`'s first frame with the controller of
+/// `truth`, toward the hand of the start posture moved by `offset` (per DoF, radians; clamped
+/// into the limits). `name` names the made reach.
 pub fn made_reach(
     name: &str,
     clip: &Clip,
     arm: &ArmJoints,
     frames: usize,
-    model: Model,
-    truth: &[f64],
-    optimizer: Optimizer,
+    truth: Truth<'_>,
     offset: &[f64],
 ) -> Result<MadeReach> {
+    let Truth {
+        model,
+        values: truth,
+        optimizer,
+    } = truth;
     let frames = frames.min(clip.frame_count());
     let segment = clip.slice(0..frames)?;
     let source = CapturedReach::new(name, &segment, arm, 0..frames, BaseMode::Fixed)?;
@@ -120,9 +134,11 @@ pub fn made_set(
                 clip,
                 arm,
                 frames,
-                Model::Sc,
-                &truth,
-                optimizer,
+                Truth {
+                    model: Model::Sc,
+                    values: &truth,
+                    optimizer,
+                },
                 &offset,
             )?;
             tries += 1;

@@ -9,7 +9,7 @@ use kinergy_motion::{ArmJoints, Clip, ImportOptions, Side, read_clip};
 use kinergy_solver::{BaseMode, Model, OptimizerKind, ParamSpace, Synergy};
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::fit::{Fit, FitSettings, RefineSettings, fit_model, fit_nested};
-use kinergy_train::synthetic::{MadeReach, made_reach};
+use kinergy_train::synthetic::{MadeReach, Truth, made_reach};
 use kinergy_train::{CapturedReach, CostFunction, Objective};
 
 fn capture() -> (Clip, ArmJoints) {
@@ -28,9 +28,11 @@ fn made_capture(model: Model, truth: &[f64], frames: usize) -> (MadeReach, ArmJo
         &clip,
         &arm,
         frames,
-        model,
-        truth,
-        OptimizerKind::Svd.default_optimizer(),
+        Truth {
+            model,
+            values: truth,
+            optimizer: OptimizerKind::Svd.default_optimizer(),
+        },
         &[0.35, -0.25, -0.3, -0.5, 0.2, 0.1, 0.05],
     )
     .expect("made reach");
@@ -79,11 +81,7 @@ fn annealed_sc_fit(evaluations: usize, seed: u64) -> (CapturedReach, ParamSpace,
         std::slice::from_ref(&reach),
         Model::Sc,
         OptimizerKind::Svd.default_optimizer(),
-        None,
         &settings,
-        &mut (),
-        &Default::default(),
-        None,
     )
     .expect("fit");
     (reach, space, settings, fit)
@@ -746,11 +744,7 @@ fn known_se_parameters_are_recovered_where_s_d_cannot_follow() {
             std::slice::from_ref(&made.reach),
             model,
             OptimizerKind::Svd.default_optimizer(),
-            None,
             &settings,
-            &mut (),
-            &Default::default(),
-            None,
         )
         .expect("fit")
         .refined(std::slice::from_ref(&made.reach), &settings, &refine)

@@ -21,7 +21,7 @@ use kinergy_train::experiment::{
 };
 use kinergy_train::field::FieldSettings;
 use kinergy_train::fit::FitSettings;
-use kinergy_train::synthetic::made_reach;
+use kinergy_train::synthetic::{Truth, made_reach};
 use kinergy_train::{CapturedReach, Objective, TrainError};
 
 fn repo(path: &str) -> PathBuf {
@@ -54,9 +54,11 @@ fn made_persons() -> Vec<Take> {
                 &clip,
                 &arm,
                 45,
-                Model::Sc,
-                &truth,
-                OptimizerKind::Svd.default_optimizer(),
+                Truth {
+                    model: Model::Sc,
+                    values: &truth,
+                    optimizer: OptimizerKind::Svd.default_optimizer(),
+                },
                 offset,
             )
             .expect("made reach");

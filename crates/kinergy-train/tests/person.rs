@@ -14,7 +14,7 @@ use kinergy_solver::{
 use kinergy_train::anneal::AnnealSettings;
 use kinergy_train::field::{Bandwidth, FieldFile, FieldSettings, ParamField, Regression};
 use kinergy_train::fit::FitSettings;
-use kinergy_train::synthetic::made_reach;
+use kinergy_train::synthetic::{Truth, made_reach};
 use kinergy_train::{CapturedReach, PersonParams, TrainError};
 
 fn repo(path: &str) -> PathBuf {
@@ -44,9 +44,11 @@ fn made_reaches() -> Vec<CapturedReach> {
                 &clip,
                 &arm,
                 40,
-                Model::Sc,
-                &truth,
-                OptimizerKind::Svd.default_optimizer(),
+                Truth {
+                    model: Model::Sc,
+                    values: &truth,
+                    optimizer: OptimizerKind::Svd.default_optimizer(),
+                },
                 offset,
             )
             .expect("made reach")

@@ -41,6 +41,6 @@ mod idle;
 mod solve;
 mod tracking;
 
-pub(super) use follower::ArmFollower;
+pub(super) use follower::{ArmFollower, ProfileTime};
 pub(super) use idle::IdleArm;
-pub(super) use solve::{arm_error, arm_ik, hand_position, shoulder_position, solve_arm};
+pub(super) use solve::{ReachingArm, arm_ik, hand_position, shoulder_position};

@@ -5,12 +5,11 @@
 //! each shift, the correction carried from frame to frame at a bounded speed
 //! ([`BalanceCorrection`]).
 
-use kinergy_motion::nalgebra::{IsometryMatrix3, Point2, Point3, Vector2, Vector3};
-use kinergy_solver::analytic::{LimbIk, OrbitSearch};
+use kinergy_motion::nalgebra::{IsometryMatrix3, Point2, Vector2, Vector3};
 
-use super::arm::solve_arm;
+use super::arm::ReachingArm;
 use super::legs::{leg_iks, lower_root_for_legs, solve_legs};
-use crate::character::{Character, Limb, Pose, dof};
+use crate::character::{Character, Pose, dof};
 use crate::error::Result;
 
 /// The COM's margin inside the support polygon and, when short, the root shift that helps.
@@ -58,18 +57,15 @@ pub(super) fn rebalance(
 /// The COM adjustment of the final posture: eq. 8's `r = −kφ d_p` (`start`), then — beyond
 /// the paper — as much more toward the support polygon's centre as the final `posture` needs
 /// to keep the COM's projection `wanted` meters inside the final support polygon, with the
-/// ankles at `feet` (where the step leaves them) and the `arm` solved for `target`.
-#[allow(clippy::too_many_arguments)]
+/// ankles at `feet` (where the step leaves them) and the `arm` solved for its target.
 pub(super) fn plan_com_shift(
-    character: &Character,
+    arm: &ReachingArm<'_>,
     posture: &Pose,
     feet: &[IsometryMatrix3<f64>; 2],
-    arm: Limb,
-    arm_ik: &LimbIk,
-    target: &Point3<f64>,
     start: Vector3<f64>,
     wanted: f64,
 ) -> Result<Vector3<f64>> {
+    let character = arm.character;
     let legs = leg_iks(character)?;
     let mut com_shift = start;
     for _ in 0..40 {
@@ -78,8 +74,8 @@ pub(super) fn plan_com_shift(
         q[dof::ROOT_Z] += com_shift.z;
         lower_root_for_legs(character, &mut q, feet);
         solve_legs(character, &mut q, &legs, feet);
-        if let Some(a) = solve_arm(character, arm, arm_ik, &q, target, &OrbitSearch::default()) {
-            q[character.limb_dofs(arm)].copy_from_slice(&a);
+        if let Some(a) = arm.solve(&q) {
+            q[character.limb_dofs(arm.limb)].copy_from_slice(&a);
         }
         match rebalance(character, &character.world_frames(&q), wanted, 0.5).shift {
             None => break,

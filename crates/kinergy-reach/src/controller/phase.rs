@@ -21,12 +21,13 @@ use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
 use kinergy_solver::Optimizer;
 
 use super::SynergyStart;
-use super::arm::ArmFollower;
+use super::arm::{ArmFollower, ProfileTime};
 use super::plan::Plan;
 use super::report::{HandOver, HandOverWhy, SynergyTempo};
 use super::settings::ReachSettings;
 use super::synergy::{
-    ArmDrive, PLAIN_IK_TIME, STALL_PROGRESS, STALL_WINDOW, SynergyArm, reach_smoothing,
+    ArmDrive, PLAIN_IK_TIME, PersonController, STALL_PROGRESS, STALL_WINDOW, SynergyArm,
+    reach_smoothing,
 };
 use super::timeline::Timeline;
 use crate::character::{Character, Pose};
@@ -154,11 +155,14 @@ impl ArmPhase {
         Ok(phase)
     }
 
-    /// Seconds into the profile at `t`, and the profile, when the analytic IK follows it.
-    pub(super) fn follow(&self, rules: &ArmRules<'_>, t: f64) -> Option<(f64, &SpeedProfile)> {
+    /// The profile and the seconds into it at `t`, when the analytic IK follows it.
+    pub(super) fn follow(&self, rules: &ArmRules<'_>, t: f64) -> Option<ProfileTime<'_>> {
         match self {
             ArmPhase::Analytic(a) if t >= a.from && t >= rules.timeline.t_arm => {
-                Some((t - a.from, &a.profile))
+                Some(ProfileTime {
+                    profile: &a.profile,
+                    elapsed: t - a.from,
+                })
             }
             _ => None,
         }
@@ -341,10 +345,12 @@ impl Synergy {
             rules.rest,
             pose,
             plan.target,
-            optimizer,
-            person,
-            rules.dt,
-            rules.smooth.then_some(smoothing),
+            PersonController {
+                optimizer,
+                synergy: person,
+                frame_time: rules.dt,
+                smoothing: rules.smooth.then_some(smoothing),
+            },
             rules.start.as_ref(),
         )?;
         Ok(Synergy { arm, tempo })

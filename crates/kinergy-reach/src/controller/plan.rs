@@ -5,7 +5,7 @@
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::{Point3, Vector3};
 
-use super::arm::{arm_ik, hand_position, shoulder_position};
+use super::arm::{ReachingArm, arm_ik, hand_position, shoulder_position};
 use super::balance::plan_com_shift;
 use super::legs::{self, StepPlan};
 use super::report::Posture;
@@ -85,29 +85,23 @@ pub(super) fn plan(
     pose[dof::ROOT_Y] -= squat;
 
     let arm_ik = arm_ik(character, arm)?;
-    let k_com = s.r_max / s.phi_max;
-    let swing = plan_swing(
+    let reaching = ReachingArm {
         character,
-        &pose,
-        arm,
-        &arm_ik,
-        &target,
-        arm_length,
-        step.direction,
-        k_com,
-        s,
-    );
+        limb: arm,
+        ik: &arm_ik,
+        target: &target,
+        length: arm_length,
+    };
+    let k_com = s.r_max / s.phi_max;
+    let swing = plan_swing(&reaching, &pose, step.direction, k_com, s);
     if swing.angle != 0.0 {
         apply_swing(character, &mut pose, &swing.axis, swing.angle);
     }
     let feet = step.feet_after([frames[joint::RIGHT_FOOT], frames[joint::LEFT_FOOT]]);
     let com_shift = plan_com_shift(
-        character,
+        &reaching,
         &pose,
         &feet,
-        arm,
-        &arm_ik,
-        &target,
         -k_com * swing.angle.abs() * swing.dp,
         s.balance_margin + 0.02,
     )?;

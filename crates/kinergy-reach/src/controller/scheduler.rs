@@ -18,7 +18,7 @@
 use kinergy_motion::nalgebra::IsometryMatrix3;
 use kinergy_solver::analytic::LimbIk;
 
-use super::arm::{ArmFollower, IdleArm};
+use super::arm::{ArmFollower, IdleArm, ProfileTime};
 use super::balance::BalanceCorrection;
 use super::head::Head;
 use super::legs::{leg_iks, lower_root_for_legs_in, solve_legs_in};
@@ -30,7 +30,6 @@ use super::synergy::ArmDrive;
 use super::timeline::{Body, Timeline};
 use crate::character::{Character, Limb, Pose, dof};
 use crate::error::Result;
-use crate::profile::SpeedProfile;
 
 /// One frame's limbs, solved again on every balance pass: the legs for the feet, the reaching
 /// arm on its profile (when the profile drives it), the idle arm hanging.
@@ -41,8 +40,8 @@ struct FrameLimbs<'a> {
     plan: &'a Plan,
     /// The root's height on the planned path (lowered where the legs need it).
     height: f64,
-    /// Seconds into the profile, and the profile, when it drives the reaching arm.
-    follow: Option<(f64, &'a SpeedProfile)>,
+    /// The profile and the seconds into it, when it drives the reaching arm.
+    follow: Option<ProfileTime<'a>>,
     arm: &'a mut ArmFollower,
     /// The reaching arm hanging as the idle one does, before it reaches.
     waiting: Option<&'a mut IdleArm>,
@@ -68,16 +67,10 @@ impl FrameLimbs<'_> {
         lower_root_for_legs_in(c, pose, &mut above, self.feet);
         solve_legs_in(c, pose, &above, self.leg_iks, self.feet);
         let base = c.limb_base_frame_in(self.plan.arm, &above);
-        if let Some((elapsed, profile)) = self.follow
-            && let Some(a) = self.arm.follow(
-                c,
-                pose,
-                &base,
-                &self.plan.target,
-                profile,
-                elapsed,
-                first_pass,
-            )
+        if let Some(now) = self.follow
+            && let Some(a) = self
+                .arm
+                .follow(c, pose, &base, &self.plan.target, now, first_pass)
         {
             self.arm_alpha = Some(a);
         }

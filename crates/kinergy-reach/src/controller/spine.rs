@@ -19,9 +19,8 @@
 use kinergy_motion::Motion;
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::{Point3, Rotation3, Vector3};
-use kinergy_solver::analytic::LimbIk;
 
-use super::arm::{arm_error, shoulder_position};
+use super::arm::{ReachingArm, shoulder_position};
 use super::settings::ReachSettings;
 use crate::character::{Character, Limb, Pose, SpineJoint, dof, joint};
 
@@ -94,32 +93,26 @@ pub(super) struct SwingPlan {
     pub dp: Vector3<f64>,
 }
 
-/// The swing about `s = d × y` from `pose`, raised in 1° steps until the `arm` (solved by
-/// `arm_ik`) reaches `target` — or the limits or φ_max stop it — with the root shifted by
-/// `r = −k_com |φ| d_p` (eq. 8) on the way. `direction` is the step's, d_p's fallback.
-#[allow(clippy::too_many_arguments)]
+/// The swing about `s = d × y` from `pose`, raised in 1° steps until the `arm` reaches its
+/// target — or the limits or φ_max stop it — with the root shifted by `r = −k_com |φ| d_p`
+/// (eq. 8) on the way. `direction` is the step's, d_p's fallback.
 pub(super) fn plan_swing(
-    character: &Character,
+    arm: &ReachingArm<'_>,
     pose: &Pose,
-    arm: Limb,
-    arm_ik: &LimbIk,
-    target: &Point3<f64>,
-    arm_length: f64,
     direction: Vector3<f64>,
     k_com: f64,
     s: &ReachSettings,
 ) -> SwingPlan {
-    let shoulder = shoulder_position(character, pose, arm);
+    let (character, target) = (arm.character, arm.target);
+    let shoulder = arm.shoulder(pose);
     let dv = target - shoulder;
     let vertical = dv.y.abs();
     // How far the body is from letting the hand reach comfortably: the hand's distance from
     // the target with the arm solved at this posture, or the shoulder's distance beyond 90 %
     // of the arm's length, whichever is larger.
     let reach_of = |p: &Pose| {
-        let beyond = (shoulder_position(character, p, arm) - target).norm() - 0.9 * arm_length;
-        arm_error(character, p, arm, arm_ik, target)
-            .max(beyond)
-            .max(0.0)
+        let beyond = (arm.shoulder(p) - target).norm() - 0.9 * arm.length;
+        arm.error(p).max(beyond).max(0.0)
     };
     let reachable = 0.5 * s.tolerance;
     let horizontal = Vector3::new(dv.x, 0.0, dv.z);

@@ -48,7 +48,7 @@ use kinergy_motion::Side;
 use kinergy_motion::nalgebra::IsometryMatrix3;
 use kinergy_solver::{Optimizer, PersonTempo, Smoothing, Synergy};
 
-pub use arm::SynergyArm;
+pub use arm::{PersonController, SynergyArm};
 pub use brake::TWIST_BRAKE_BELOW;
 
 use super::report::ArmDriveKind;

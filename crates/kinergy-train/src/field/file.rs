@@ -11,7 +11,7 @@ use kinergy_solver::{
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::param_field::{LooRow, ParamField};
+use super::param_field::{BandwidthChoice, LooRow, ParamField};
 use super::settings::{BandwidthScore, FieldSettings, infinite_as_null};
 use crate::captured::{CapturedReach, person_tempo, under_person_tempo};
 use crate::error::{Result, TrainError, in_file};
@@ -301,7 +301,10 @@ impl FieldFile {
         }
         let h = best.map_or(field.bandwidth(), |b| b.bandwidth);
         Ok(FieldFile {
-            field: field.with_bandwidth(h, selection),
+            field: field.with_bandwidth(BandwidthChoice {
+                bandwidth: h,
+                selection,
+            }),
             ..self
         })
     }
@@ -690,8 +693,10 @@ impl Doc {
                 targets,
                 values,
                 self.settings,
-                self.bandwidth,
-                self.selection,
+                BandwidthChoice {
+                    bandwidth: self.bandwidth,
+                    selection: self.selection,
+                },
                 self.anchor,
             ),
             optimizer: self.optimizer,

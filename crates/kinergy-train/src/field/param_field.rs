@@ -28,6 +28,17 @@ pub struct ParamField {
     anchor: Option<Vec<f64>>,
 }
 
+/// A field's bandwidth as chosen: the h in use, meters, and the candidates'
+/// leave-one-out scores it was chosen among (empty for a fixed bandwidth, or when there was
+/// no scale to choose from).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct BandwidthChoice {
+    /// h, meters (∞: flat).
+    pub(crate) bandwidth: f64,
+    /// The candidates tried, smallest h first.
+    pub(crate) selection: Vec<BandwidthScore>,
+}
+
 impl ParamField {
     /// Fits the field of `samples` — (target in meters, fitted vector of `space`) — with
     /// `settings`. Errors name the offending field: `field.bandwidth`, `field.ridge`,
@@ -75,8 +86,11 @@ impl ParamField {
     ) -> ParamField {
         let lower = space.lower();
         let upper = space.upper();
-        let (bandwidth, selection) = match settings.bandwidth {
-            Bandwidth::Fixed(h) => (h, Vec::new()),
+        let choice = match settings.bandwidth {
+            Bandwidth::Fixed(h) => BandwidthChoice {
+                bandwidth: h,
+                selection: Vec::new(),
+            },
             Bandwidth::Auto => {
                 let data = Data {
                     targets: &targets,
@@ -87,22 +101,22 @@ impl ParamField {
                 data.select(settings.regression, anchor.is_some())
             }
         };
-        ParamField::stored(
-            space, targets, values, settings, bandwidth, selection, anchor,
-        )
+        ParamField::stored(space, targets, values, settings, choice, anchor)
     }
 
     /// A field read back from a file: everything as stored, nothing chosen again.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn stored(
         space: ParamSpace,
         targets: Vec<Point3<f64>>,
         values: Vec<Vec<f64>>,
         settings: FieldSettings,
-        bandwidth: f64,
-        selection: Vec<BandwidthScore>,
+        choice: BandwidthChoice,
         anchor: Option<Vec<f64>>,
     ) -> ParamField {
+        let BandwidthChoice {
+            bandwidth,
+            selection,
+        } = choice;
         ParamField {
             lower: space.lower(),
             upper: space.upper(),
@@ -163,11 +177,11 @@ impl ParamField {
         )
     }
 
-    /// The same field with bandwidth `h` in use, chosen among `selection`.
-    pub(crate) fn with_bandwidth(&self, h: f64, selection: Vec<BandwidthScore>) -> ParamField {
+    /// The same field with the bandwidth `choice`.
+    pub(crate) fn with_bandwidth(&self, choice: BandwidthChoice) -> ParamField {
         ParamField {
-            bandwidth: h,
-            selection,
+            bandwidth: choice.bandwidth,
+            selection: choice.selection,
             ..self.clone()
         }
     }

@@ -4,6 +4,7 @@
 use kinergy_motion::nalgebra::{Matrix3, Point3, Vector3};
 use rayon::prelude::*;
 
+use super::param_field::BandwidthChoice;
 use super::settings::{AUTO_FACTORS, BandwidthScore, FALLBACK_BANDWIDTH, Regression};
 
 /// Eigenvalues of the local-linear slope matrix below this fraction of the largest count as
@@ -213,9 +214,12 @@ impl Data<'_> {
 
     /// [`Bandwidth::Auto`]: the chosen h and every candidate's score; with `flat`, h = ∞ is
     /// a candidate too (an anchored field).
-    pub(super) fn select(&self, regression: Regression, flat: bool) -> (f64, Vec<BandwidthScore>) {
+    pub(super) fn select(&self, regression: Regression, flat: bool) -> BandwidthChoice {
         let Some(d) = self.median_nearest_distance() else {
-            return (FALLBACK_BANDWIDTH, Vec::new());
+            return BandwidthChoice {
+                bandwidth: FALLBACK_BANDWIDTH,
+                selection: Vec::new(),
+            };
         };
         let mut scores: Vec<BandwidthScore> = AUTO_FACTORS
             .par_iter()
@@ -244,6 +248,9 @@ impl Data<'_> {
                 _ => Some(s),
             })
             .map_or(FALLBACK_BANDWIDTH, |s| s.bandwidth);
-        (best, scores)
+        BandwidthChoice {
+            bandwidth: best,
+            selection: scores,
+        }
     }
 }

@@ -1,5 +1,5 @@
 //! One model's fit (a *stage*): how it searches ([`FitSettings`]), its seed ([`model_seed`]),
-//! running it ([`fit_model`]) and what it gives ([`Fit`]). See the [parent module](super).
+//! running it ([`ModelRun`], [`fit_model`]) and what it gives ([`Fit`]). See the [parent module](super).
 
 use kinergy_io::InvalidSetting;
 use kinergy_solver::{
@@ -221,34 +221,68 @@ pub(crate) fn unobserved_names(space: &ParamSpace, record: &FitRecord) -> Option
     (!hidden.is_empty()).then(|| hidden.iter().map(|&d| names[d].clone()).collect())
 }
 
-/// Fits `model` to `reaches` with `optimizer`, starting from `start` (the model's neutral
-/// vector when `None`). `observer` and `control` are the annealer's; pass a checkpointed
-/// state of this same fit to `resume` to continue it (the annealer checks its settings,
-/// seed, bounds and model; [`NestedRun`](super::NestedRun) checks the whole problem).
-#[allow(clippy::too_many_arguments)]
+/// One model's fit (a *stage*) that can be observed, checkpointed, interrupted and resumed,
+/// as [`NestedRun`](super::NestedRun) runs a sequence of them: the reaches, the model, the
+/// optimizer, where the search starts and how it searches. [`fit_model`] runs one from the
+/// neutral vector with nothing watching.
+#[derive(Debug, Clone, Copy)]
+pub struct ModelRun<'a> {
+    /// The reaches fitted (at least one).
+    pub reaches: &'a [CapturedReach],
+    /// The model.
+    pub model: Model,
+    /// The optimizer the motions are synthesized with.
+    pub optimizer: Optimizer,
+    /// The start vector, of `model`; `None`: the model's neutral vector.
+    pub start: Option<&'a [f64]>,
+    /// Search settings.
+    pub settings: &'a FitSettings,
+}
+
+impl ModelRun<'_> {
+    /// Runs the fit. `observer` and `control` are the annealer's; pass a checkpointed state of
+    /// this same fit to `resume` to continue it (the annealer checks its settings, seed,
+    /// bounds and model; [`NestedRun`](super::NestedRun) checks the whole problem).
+    pub fn run(
+        &self,
+        observer: &mut dyn Observer,
+        control: &Control<'_>,
+        resume: Option<AnnealState>,
+    ) -> Result<Fit> {
+        let objective = self
+            .settings
+            .objective(self.reaches, self.model, self.optimizer)?;
+        let start = match self.start {
+            Some(s) => {
+                objective.space().validate(s)?;
+                s.to_vec()
+            }
+            None => objective.space().neutral(),
+        };
+        run_stage(&objective, &start, self.settings, resume, observer, control)
+    }
+}
+
+/// Fits `model` to `reaches` with `optimizer` from the model's neutral vector: a
+/// [`ModelRun`] with nothing watching (no observer, checkpoint or interruption).
 pub fn fit_model(
     reaches: &[CapturedReach],
     model: Model,
     optimizer: Optimizer,
-    start: Option<&[f64]>,
     settings: &FitSettings,
-    observer: &mut dyn Observer,
-    control: &Control<'_>,
-    resume: Option<AnnealState>,
 ) -> Result<Fit> {
-    let objective = settings.objective(reaches, model, optimizer)?;
-    let start = match start {
-        Some(s) => {
-            objective.space().validate(s)?;
-            s.to_vec()
-        }
-        None => objective.space().neutral(),
+    let run = ModelRun {
+        reaches,
+        model,
+        optimizer,
+        start: None,
+        settings,
     };
-    run_stage(&objective, &start, settings, resume, observer, control)
+    run.run(&mut (), &Control::default(), None)
 }
 
 /// A model's fit on `objective` from `start` (or from `resume`, a state of the same stage):
-/// the one place a stage runs, for [`fit_model`] and every stage of a [`NestedRun`].
+/// the one place a stage runs, for a [`ModelRun`] and every stage of a [`NestedRun`].
 pub(super) fn run_stage(
     objective: &Objective,
     start: &[f64],

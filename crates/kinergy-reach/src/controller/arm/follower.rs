@@ -39,6 +39,16 @@ const HELD: f64 = 1e-9;
 /// 1e-4, under 0.1 mm: a synthetic clip ends with its hand at rest where its target is).
 const CAUGHT_UP: f64 = 1e-4;
 
+/// A moment on the hand's speed profile: the profile that times the hand's straight path to
+/// the target, and the seconds since the arm controller started on it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ProfileTime<'a> {
+    /// The hand's speed profile.
+    pub(crate) profile: &'a SpeedProfile,
+    /// Seconds since the arm controller started.
+    pub(crate) elapsed: f64,
+}
+
 /// The reaching arm over the frames of a reach: where the hand started, the last solution
 /// and orbit angle, and the previous frame's posture.
 #[derive(Debug, Clone)]
@@ -110,25 +120,23 @@ impl ArmFollower {
             .unwrap_or(or)
     }
 
-    /// One pass of the arm controller, `elapsed` seconds after it started: the hand's goal
-    /// on its path to `target` (the path starting where the hand is at the first call), the
-    /// arm solved for it into `pose`. A failed solve keeps the last solution; on later passes
-    /// of a frame, one that gives nothing at all leaves the pose's arm alone. Returns the
-    /// orbit angle solved at, if any.
-    #[allow(clippy::too_many_arguments)]
+    /// One pass of the arm controller at `now` on its profile: the hand's goal on its path to
+    /// `target` (the path starting where the hand is at the first call), the arm solved for it
+    /// into `pose`. A failed solve keeps the last solution; on later passes of a frame, one
+    /// that gives nothing at all leaves the pose's arm alone. Returns the orbit angle solved
+    /// at, if any.
     pub(crate) fn follow(
         &mut self,
         character: &Character,
         pose: &mut Pose,
         base: &IsometryMatrix3<f64>,
         target: &Point3<f64>,
-        profile: &SpeedProfile,
-        elapsed: f64,
+        now: ProfileTime<'_>,
         first_pass: bool,
     ) -> Option<f64> {
         let hand_now = self.hand(character, base, pose, *target);
         let start = *self.hand_start.get_or_insert(hand_now);
-        let goal = profile.position(&start, target, elapsed);
+        let goal = now.profile.position(&start, target, now.elapsed);
         let at: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
         // The previous frame's goal, not the arm shown, which lags it: the reference for a
         // flip of the orbit angle and the girdle's first guess. (Against the lagging arm the

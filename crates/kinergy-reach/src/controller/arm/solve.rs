@@ -242,20 +242,51 @@ pub(crate) fn hand_position(character: &Character, pose: &Pose, arm: Limb) -> Po
     Point3::from(frames[arm.joints()[3]].translation.vector)
 }
 
-/// The hand's distance from `target` with the arm solved by [`solve_arm`] at `pose`.
-pub(crate) fn arm_error(
-    character: &Character,
-    pose: &Pose,
-    arm: Limb,
-    ik: &LimbIk,
-    target: &Point3<f64>,
-) -> f64 {
-    match solve_arm(character, arm, ik, pose, target, &OrbitSearch::default()) {
-        Some(q) => {
-            let mut p = *pose;
-            p[character.limb_dofs(arm)].copy_from_slice(&q);
-            (hand_position(character, &p, arm) - target).norm()
+/// The arm a reach is planned for: the character's `limb`, solved by its analytic `ik` for
+/// the `target` — what the plan's swing and COM-shift searches solve at every posture they
+/// try.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ReachingArm<'a> {
+    /// The character reaching.
+    pub(crate) character: &'a Character,
+    /// Its reaching arm.
+    pub(crate) limb: Limb,
+    /// The arm's analytic IK.
+    pub(crate) ik: &'a LimbIk,
+    /// The target, world meters.
+    pub(crate) target: &'a Point3<f64>,
+    /// Upper arm + forearm + hand, meters.
+    pub(crate) length: f64,
+}
+
+impl ReachingArm<'_> {
+    /// The arm solved by [`solve_arm`] for the target, the body as in `pose` (the default
+    /// orbit search).
+    pub(crate) fn solve(&self, pose: &Pose) -> Option<[f64; 7]> {
+        solve_arm(
+            self.character,
+            self.limb,
+            self.ik,
+            pose,
+            self.target,
+            &OrbitSearch::default(),
+        )
+    }
+
+    /// The hand's distance from the target with the arm [solved](Self::solve) at `pose`.
+    pub(crate) fn error(&self, pose: &Pose) -> f64 {
+        match self.solve(pose) {
+            Some(q) => {
+                let mut p = *pose;
+                p[self.character.limb_dofs(self.limb)].copy_from_slice(&q);
+                (hand_position(self.character, &p, self.limb) - self.target).norm()
+            }
+            None => f64::INFINITY,
         }
-        None => f64::INFINITY,
+    }
+
+    /// The shoulder in `pose` ([`shoulder_position`]).
+    pub(crate) fn shoulder(&self, pose: &Pose) -> Point3<f64> {
+        shoulder_position(self.character, pose, self.limb)
     }
 }

@@ -66,26 +66,42 @@ pub struct SynergyArm {
 /// rule's value; an arm chattering on a limit is not coasting).
 const COASTING: f64 = 0.05;
 
+/// A person's controller as a [`SynergyArm`] runs it: their optimizer and synergy (a fit's),
+/// stepped every `frame_time` seconds, under the smooth controller's bounds or the paper's.
+#[derive(Debug, Clone, Copy)]
+pub struct PersonController<'a> {
+    /// The person's optimizer.
+    pub optimizer: &'a Optimizer,
+    /// The person's synergy.
+    pub synergy: &'a Synergy,
+    /// Seconds per frame.
+    pub frame_time: f64,
+    /// The smooth controller's bounds ([`reach_smoothing`](super::reach_smoothing) for a
+    /// planned reach), `None` for the paper's controller.
+    pub smoothing: Option<Smoothing>,
+}
+
 impl SynergyArm {
-    /// The synergy arm of `limb` toward `target`, starting from the arm of `pose` (the frame the
-    /// arm controller starts on), at `frame_time`. `rest` is the character's rest posture (it fixes
-    /// the rotation between the character's arm base and the fitted one). The elbow starts flexed
-    /// at least [`RELAXED_ELBOW`]. `smoothing`: the smooth controller's bounds
-    /// ([`reach_smoothing`](super::reach_smoothing) for a planned reach), `None` for the paper's
-    /// controller. The arm starts at rest.
-    #[allow(clippy::too_many_arguments)]
+    /// The synergy arm of `limb` toward `target` on the `person`'s controller, starting from the
+    /// arm of `pose` (the frame the arm controller starts on). `rest` is the character's rest
+    /// posture (it fixes the rotation between the character's arm base and the fitted one). The
+    /// elbow starts flexed at least [`RELAXED_ELBOW`]. The arm starts at rest, or as `start`
+    /// says.
     pub fn new(
         character: &Character,
         limb: Limb,
         rest: &Pose,
         pose: &Pose,
         target: Point3<f64>,
-        optimizer: &Optimizer,
-        synergy: &Synergy,
-        frame_time: f64,
-        smoothing: Option<Smoothing>,
+        person: PersonController<'_>,
         start: Option<&SynergyStart>,
     ) -> Result<SynergyArm> {
+        let PersonController {
+            optimizer,
+            synergy,
+            frame_time,
+            smoothing,
+        } = person;
         let setting = |e: kinergy_solver::SolverError| {
             ReachError::Setting(InvalidSetting::new("params", e.to_string()))
         };
