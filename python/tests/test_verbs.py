@@ -215,6 +215,22 @@ def test_ctrl_c_raises_keyboard_interrupt_promptly(at_root):
     assert time.monotonic() - start < 10
 
 
+@pytest.mark.parametrize("kwargs", [dict(threads=2), dict(threads=1), dict(refine=10**6)])
+def test_ctrl_c_reaches_fits_on_any_pool_and_refinements(at_root, kwargs):
+    """Signals are watched from the calling thread whatever pool the fit runs on, and a
+    refinement stops with the flag (it used to raise only when it ended)."""
+    timer = threading.Timer(1.0, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            budget = 16 if "refine" in kwargs else 10**6
+            kinergy.fit(R09, model="sd", budget=budget, stable_window=100000, **kwargs)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 15, kwargs
+
+
 def test_the_gil_is_released_while_fitting(at_root):
     ticks = []
     done = threading.Event()

@@ -946,3 +946,61 @@ fn an_interrupted_compare_says_so_and_writes_nothing() {
         out.display()
     );
 }
+
+/// Ctrl-C reaches inside a reach's fits and baselines: one reach with a budget that would
+/// run for many minutes (an annealing that never stabilizes; the baselines on the same
+/// budget) stops soon after the signal, as a failed task that says so. (Before, a compare
+/// stopped only between reaches: this one ran 322 s after the signal and exited 0.)
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_a_long_reach_in_the_middle_of_its_fits() {
+    for baselines in [false, true] {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let out = dir.path().join("report");
+        let mut args = vec![
+            "compare",
+            "data-synthetic/p01/r09.bvh",
+            "--models",
+            "sd",
+            "--optimizers",
+            "svd",
+            "--budget",
+            "1000000",
+            "--stable-window",
+            "100000",
+        ];
+        if !baselines {
+            args.push("--no-baselines");
+        }
+        let child = Command::new(env!("CARGO_BIN_EXE_kinergy"))
+            .current_dir(repo())
+            .args(&args)
+            .arg("-o")
+            .arg(&out)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("compare starts");
+        std::thread::sleep(std::time::Duration::from_millis(2000));
+        let signalled = std::time::Instant::now();
+        let killed = Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(killed.success());
+        let o = child.wait_with_output().expect("compare ends");
+        let after = signalled.elapsed().as_secs_f64();
+        assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+        assert!(
+            text(&o.stderr).contains("interrupted"),
+            "{}",
+            text(&o.stderr)
+        );
+        // Generous for a loaded machine: the fits check the flag every iteration (ms).
+        assert!(
+            after < 30.0,
+            "baselines {baselines}: {after:.1} s after Ctrl-C"
+        );
+        assert!(!out.exists());
+    }
+}

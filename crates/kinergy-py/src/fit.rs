@@ -18,7 +18,7 @@ use crate::args::{
 };
 use crate::errors;
 use crate::params::Params;
-use crate::progress::Watch;
+use crate::progress::{Watch, watched};
 
 /// Fits synergy parameters to captured reaches by simulated annealing, as `kinergy fit`
 /// does: for the same inputs and seed, `Params.save` writes the CLI's bytes.
@@ -167,18 +167,26 @@ struct Runner<'a> {
 }
 
 impl Runner<'_> {
-    /// The nested fit of `group` (then its refinement), with the GIL released
-    /// ([`FitJob::run_stoppable`]).
+    /// The nested fit of `group` (then its refinement), on a worker with the GIL released
+    /// while this thread watches for Ctrl-C ([`watched`]: the main thread is where Python's
+    /// signal handlers run, whatever pool the fit runs on).
     fn nested(&mut self, py: Python<'_>, group: &[CapturedReach]) -> PyResult<NestedFit> {
         self.watch.next_group();
         let (job, watch, pool, interrupt) =
             (&self.job, &mut self.watch, &self.pool, self.interrupt);
-        let outcome = py.detach(move || {
-            on_pool(pool, move || {
-                job.run_stoppable(group, watch, Some(interrupt))
-            })
-        });
-        self.watch.finish()?;
+        let outcome = watched(
+            py,
+            interrupt,
+            move || {
+                on_pool(pool, move || {
+                    job.run_stoppable(group, watch, Some(interrupt))
+                })
+            },
+            |_| Ok(()),
+        );
+        let callback = self.watch.finish();
+        let outcome = outcome?;
+        callback?;
         outcome.map_err(errors::raise)
     }
 

@@ -42,11 +42,12 @@ use kinergy_io::InvalidSetting;
 use kinergy_solver::{Model, OptimizerKind, ParamSpace};
 use rayon::prelude::*;
 
+use crate::anneal::{Control, Status};
 use crate::baseline::{BaselineMethod, BaselineSettings};
 use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError};
 use crate::field::{FieldSettings, leave_one_out};
-use crate::fit::{FitSettings, fit_model, fit_nested};
+use crate::fit::{FitSettings, ModelRun, NestedFit, NestedRun};
 use crate::objective::{CostFunction, Objective};
 
 /// The paper's reductions of the mean distance from one model to the next (§4), percent.
@@ -245,14 +246,19 @@ pub fn run_until(
             if stop.load(Ordering::SeqCst) {
                 return Ok(None);
             }
-            let results = clip_results(reach, settings);
-            clip_done();
-            results.map(Some)
+            let results = clip_results(reach, settings, stop)?;
+            if results.is_some() {
+                clip_done();
+            }
+            Ok(results)
         })
         .collect::<Result<_>>()?;
     let Some(per_clip) = per_clip.into_iter().collect::<Option<Vec<ClipResults>>>() else {
         return Ok(None);
     };
+    if stop.load(Ordering::SeqCst) {
+        return Ok(None);
+    }
     let mut rows = Vec::new();
     let mut violations = Vec::new();
     let mut sc = Vec::with_capacity(per_clip.len());
@@ -301,10 +307,29 @@ struct ClipResults {
     sc: Option<Vec<f64>>,
 }
 
-/// The rows of one clip: Fig. 3, Fig. 4, methods.
-fn clip_results(reach: &CapturedReach, settings: &ExperimentSettings) -> Result<ClipResults> {
+/// The rows of one clip: Fig. 3, Fig. 4, methods; `None` once `stop` is raised (every fit and
+/// baseline checks it between iterations).
+fn clip_results(
+    reach: &CapturedReach,
+    settings: &ExperimentSettings,
+    stop: &AtomicBool,
+) -> Result<Option<ClipResults>> {
     let reaches = std::slice::from_ref(reach);
     let fit = &settings.fit;
+    let control = Control {
+        interrupt: Some(stop),
+        ..Control::default()
+    };
+    let nested = |models: &[Model], optimizer: OptimizerKind| -> Result<Option<NestedFit>> {
+        let run = NestedRun {
+            reaches,
+            models,
+            optimizer: optimizer.default_optimizer(),
+            settings: fit,
+        };
+        let outcome = run.run(&mut (), &control, false)?;
+        Ok((!outcome.interrupted).then_some(outcome.fits))
+    };
     let mut rows = Vec::new();
     let row = |model, optimizer, method, distance_m, evaluations, seconds| Row {
         clip: reach.name().to_string(),
@@ -321,12 +346,9 @@ fn clip_results(reach: &CapturedReach, settings: &ExperimentSettings) -> Result<
     };
     // Fig. 3.
     let clock = Instant::now();
-    let fig3 = fit_nested(
-        reaches,
-        &settings.models,
-        settings.optimizer.default_optimizer(),
-        fit,
-    )?;
+    let Some(fig3) = nested(&settings.models, settings.optimizer)? else {
+        return Ok(None);
+    };
     let per_fit = clock.elapsed().as_secs_f64() / fig3.fits.len() as f64;
     for f in &fig3.fits {
         rows.push(row(
@@ -358,12 +380,9 @@ fn clip_results(reach: &CapturedReach, settings: &ExperimentSettings) -> Result<
             continue; // the Fig. 3 rows serve
         }
         let clock = Instant::now();
-        let fits = fit_nested(
-            reaches,
-            &[Model::Sa, Model::Sc],
-            optimizer.default_optimizer(),
-            fit,
-        )?;
+        let Some(fits) = nested(&[Model::Sa, Model::Sc], optimizer)? else {
+            return Ok(None);
+        };
         let per_fit = clock.elapsed().as_secs_f64() / fits.fits.len() as f64;
         for f in &fits.fits {
             rows.push(row(
@@ -380,7 +399,17 @@ fn clip_results(reach: &CapturedReach, settings: &ExperimentSettings) -> Result<
     if settings.baselines {
         let optimizer = settings.optimizer.default_optimizer();
         let clock = Instant::now();
-        let annealed = fit_model(reaches, Model::Sc, optimizer, fit)?;
+        let run = ModelRun {
+            reaches,
+            model: Model::Sc,
+            optimizer,
+            start: None,
+            settings: fit,
+        };
+        let annealed = run.run(&mut (), &control, None)?;
+        if annealed.status == Status::Interrupted {
+            return Ok(None);
+        }
         rows.push(row(
             Model::Sc,
             settings.optimizer,
@@ -393,7 +422,7 @@ fn clip_results(reach: &CapturedReach, settings: &ExperimentSettings) -> Result<
         let start = objective.space().neutral();
         for method in BaselineMethod::ALL {
             let clock = Instant::now();
-            let result = crate::baseline::minimize(
+            let result = crate::baseline::minimize_until(
                 method,
                 &objective as &dyn CostFunction,
                 &start,
@@ -402,7 +431,11 @@ fn clip_results(reach: &CapturedReach, settings: &ExperimentSettings) -> Result<
                     seed: fit.anneal.seed,
                     ..BaselineSettings::default()
                 },
+                Some(stop),
             )?;
+            if stop.load(Ordering::SeqCst) {
+                return Ok(None);
+            }
             rows.push(row(
                 Model::Sc,
                 settings.optimizer,
@@ -413,11 +446,11 @@ fn clip_results(reach: &CapturedReach, settings: &ExperimentSettings) -> Result<
             ));
         }
     }
-    Ok(ClipResults {
+    Ok(Some(ClipResults {
         rows,
         violations,
         sc,
-    })
+    }))
 }
 
 /// The person a reach belongs to: the folder of its clip.
