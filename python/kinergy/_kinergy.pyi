@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import pathlib
 from typing import Any, Callable, Literal, Sequence, Union, overload
 
 import numpy as np
@@ -67,8 +68,8 @@ class Clip:
     def frame_count(self) -> int:
         """The number of frames."""
     @property
-    def path(self) -> str | None:
-        """The file the clip was read from, or None."""
+    def path(self) -> pathlib.Path | None:
+        """The file the clip was read from (a pathlib.Path), or None."""
     @property
     def report(self) -> dict[str, Any] | None:
         """How a synthesized or full-body motion ended (the CLI's `--json` report), or None."""
@@ -303,7 +304,7 @@ def reach(
     target: Sequence[float],
     *,
     params: Params | PathLike | None = None,
-    height: float = 1.75,
+    height: float | None = None,
     person: ClipLike | None = None,
     flexibility: float = 1.0,
     arm: Arm | None = None,

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pathlib
+
 import numpy as np
 import pytest
 
@@ -192,6 +194,7 @@ def test_clips_and_params_pickle_exactly():
         clip = kinergy.read_bvh(path)
         back = pickle.loads(pickle.dumps(clip))
         assert back.path == clip.path and back.joint_names == clip.joint_names
+        assert isinstance(clip.path, pathlib.Path)  # as the stub says
         assert np.array_equal(back.values, clip.values)
         assert np.array_equal(back.positions, clip.positions), path.name
         assert back.to_bvh() == clip.to_bvh(), path.name

@@ -104,6 +104,7 @@ def test_unreachable_targets_raise_with_the_motion_made():
                                          np.zeros((0, 3)), 0.1),
         lambda: kinergy.fit(R09, budget=10**7 + 1),
         lambda: kinergy.fit(R09, speed_weight=0.1),
+        lambda: kinergy.reach([0, 1, 0.4], person=R09, height=1.2),
         lambda: kinergy.fit(R09, population=1001),
         lambda: kinergy.fit(R09, temperature=1e6 + 1),
         lambda: kinergy.fit(R09, stable_change=1.0001),

@@ -20,7 +20,7 @@ pub struct Args {
     #[arg(long, value_name = "FILE", conflicts_with = "height")]
     pub person: Option<PathBuf>,
     /// The character's height, meters, 0.5 to 2.5 (proportions from anthropometric ratios).
-    #[arg(long, default_value_t = 1.75, value_name = "H")]
+    #[arg(long, default_value_t = kinergy_reach::drive::DEFAULT_HEIGHT_M, value_name = "H")]
     pub height: f64,
     /// Leg flexibility, 0.1 to 10: higher squats, lower stoops.
     #[arg(long, default_value_t = 1.0, value_name = "F")]

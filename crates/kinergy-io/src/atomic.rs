@@ -182,6 +182,35 @@ impl AtomicFile {
     }
 }
 
+/// Creates the folder `dir` and its parents (nothing to do when it is one), saying what is
+/// in the way otherwise: a symbolic link to a missing folder, or a file.
+pub fn create_folder(dir: &Path) -> io::Result<()> {
+    if fs::symlink_metadata(dir).is_ok_and(|m| m.file_type().is_symlink())
+        && fs::metadata(dir).is_err()
+    {
+        return Err(io::Error::new(
+            io::ErrorKind::NotFound,
+            "a symbolic link to a missing folder: make the folder it names, or name another",
+        ));
+    }
+    match fs::metadata(dir) {
+        Ok(meta) if !meta.is_dir() => Err(io::Error::new(
+            io::ErrorKind::AlreadyExists,
+            format!("{}, not a folder", file_kind_or_file(&meta.file_type())),
+        )),
+        _ => fs::create_dir_all(dir),
+    }
+}
+
+/// "a file", or what [`file_kind`] says of a special file.
+fn file_kind_or_file(kind: &fs::FileType) -> &'static str {
+    if kind.is_file() {
+        "a file"
+    } else {
+        file_kind(kind)
+    }
+}
+
 /// Refuses a destination that exists and is not a regular file (followed through links):
 /// renaming a file over a device, a FIFO, a socket or a folder would replace it.
 fn refuse_special(path: &Path) -> io::Result<()> {

@@ -25,8 +25,8 @@ pub mod read;
 mod text;
 
 pub use atomic::{
-    AtomicFile, STALE_AFTER, describe_full_disk, is_disk_full, remove_stale_temporaries_in,
-    write_atomic,
+    AtomicFile, STALE_AFTER, create_folder, describe_full_disk, is_disk_full,
+    remove_stale_temporaries_in, write_atomic,
 };
 #[cfg(feature = "json")]
 pub use json::{

@@ -17,18 +17,18 @@ use crate::errors;
 /// twisting, bending and squatting as needed. With `params` (a person's Params or its
 /// file), the person's synergy drives the arm (their style); without, the speed profile.
 ///
-/// height: the character's height in meters (or `person`: a BVH whose skeleton gives the
+/// height: the character's height in meters, default 1.75 (or `person`: a BVH whose skeleton gives the
 /// proportions). flexibility, arm ("right"/"left", default: the nearer), profile
 /// ("ease-out" or "minimum-jerk"), seed, timeout (seconds): as the CLI's options. check:
 /// raise UnreachableError (its `clip` holds the motion) when the hand does not arrive.
 #[pyfunction]
-#[pyo3(signature = (target, *, params = None, height = 1.75, person = None, flexibility = 1.0, arm = None, profile = "ease-out", seed = 0, timeout = None, check = true))]
+#[pyo3(signature = (target, *, params = None, height = None, person = None, flexibility = 1.0, arm = None, profile = "ease-out", seed = 0, timeout = None, check = true))]
 #[allow(clippy::too_many_arguments)]
 pub fn reach<'py>(
     py: Python<'py>,
     target: [f64; 3],
     params: Option<Arg<ParamsArg>>,
-    height: f64,
+    height: Option<f64>,
     person: Option<Arg<ClipArg>>,
     flexibility: f64,
     arm: Option<&str>,
@@ -52,6 +52,13 @@ pub fn reach<'py>(
     let target = kinergy_motion::nalgebra::Point3::new(target[0], target[1], target[2]);
     check_target(&target).map_err(errors::raise)?;
     check_settings(&settings).map_err(errors::raise)?;
+    if person.is_some() && height.is_some() {
+        return Err(errors::input(
+            "height= and person= both give the body's size: give one (person= takes the \
+             proportions of its skeleton)",
+        ));
+    }
+    let height = height.unwrap_or(kinergy_reach::drive::DEFAULT_HEIGHT_M);
     errors::check_range("height", height, limits::REACH_HEIGHT)?;
     let proportions = match person {
         Some(p) => {

@@ -33,8 +33,8 @@
 mod person_reach;
 
 pub use person_reach::{
-    FLEXIBILITY, HEIGHT_M, MAX_TARGET_M, NotReached, PersonReach, PersonReachOutcome,
-    PersonReachReport, Profile, TIMEOUT_S, check_settings, check_target,
+    DEFAULT_HEIGHT_M, FLEXIBILITY, HEIGHT_M, MAX_TARGET_M, NotReached, PersonReach,
+    PersonReachOutcome, PersonReachReport, Profile, TIMEOUT_S, check_settings, check_target,
 };
 
 use kinergy_motion::Side;

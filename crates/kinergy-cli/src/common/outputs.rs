@@ -246,7 +246,7 @@ fn check_each<'a>(
 /// removes the temporaries that earlier runs killed while writing there left behind
 /// ([`kinergy_io::remove_stale_temporaries_in`]), saying so on stderr.
 pub fn make_folder(dir: &Path) -> Result<(), Failure> {
-    fs::create_dir_all(dir)
+    kinergy_io::create_folder(dir)
         .map_err(|e| Failure::input(dir, format!("cannot create the folder: {e}")))?;
     clean_folder(dir);
     Ok(())

@@ -20,6 +20,8 @@ use crate::profile::{BellTiming, SpeedProfile};
 
 /// The character's height range, meters.
 pub const HEIGHT_M: (f64, f64) = (0.5, 2.5);
+/// The character's height when none is given, meters.
+pub const DEFAULT_HEIGHT_M: f64 = 1.75;
 /// The leg flexibility range.
 pub const FLEXIBILITY: (f64, f64) = (0.1, 10.0);
 /// The longest reach's range, seconds.
