@@ -185,6 +185,9 @@ impl AtomicFile {
 /// Creates the folder `dir` and its parents (nothing to do when it is one), saying what is
 /// in the way otherwise: a symbolic link to a missing folder, or a file.
 pub fn create_folder(dir: &Path) -> io::Result<()> {
+    // Without a trailing separator, which would make the link be followed.
+    let dir: PathBuf = dir.components().collect();
+    let dir = dir.as_path();
     if fs::symlink_metadata(dir).is_ok_and(|m| m.file_type().is_symlink())
         && fs::metadata(dir).is_err()
     {

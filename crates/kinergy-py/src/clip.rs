@@ -262,11 +262,11 @@ impl Clip {
 
     /// Pickling (multiprocessing, joblib): the clip's exact state (skeleton, frame time,
     /// values bit for bit, as JSON), its path and report.
-    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, ClipState)> {
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (ClipState,))> {
         let state = serde_json::to_string(&self.inner.state())
             .map_err(|e| errors::KinergyError::new_err(format!("pickling a clip: {e}")))?;
         let rebuild = py.import("kinergy._kinergy")?.getattr("_clip_from_state")?;
-        Ok((rebuild, (state, self.path.clone(), self.report.clone())))
+        Ok((rebuild, ((state, self.path.clone(), self.report.clone()),)))
     }
 
     /// Frames `start..end` (end excluded) as a new clip.
