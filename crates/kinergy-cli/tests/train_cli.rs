@@ -919,21 +919,13 @@ fn the_speed_objective_is_recorded_and_kept_apart() {
 fn an_interrupted_compare_says_so_and_writes_nothing() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("report");
-    let child = Command::new(env!("CARGO_BIN_EXE_kinergy"))
-        .current_dir(repo())
-        .args(["compare", "data-synthetic", "-o"])
-        .arg(&out)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("compare starts");
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    let killed = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(killed.success());
-    let o = child.wait_with_output().expect("compare ends");
+    let args = strings(&[
+        "compare",
+        &path(&repo().join("data-synthetic")),
+        "-o",
+        &path(&out),
+    ]);
+    let o = interrupted(&args, || sleep_ms(1500));
     assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
     assert!(
         text(&o.stderr).contains("interrupted"),
@@ -957,9 +949,10 @@ fn ctrl_c_stops_a_long_reach_in_the_middle_of_its_fits() {
     for baselines in [false, true] {
         let dir = tempfile::tempdir().expect("tempdir");
         let out = dir.path().join("report");
-        let mut args = vec![
+        let clip = repo().join("data-synthetic/p01/r09.bvh");
+        let mut args = strings(&[
             "compare",
-            "data-synthetic/p01/r09.bvh",
+            &path(&clip),
             "--models",
             "sd",
             "--optimizers",
@@ -968,28 +961,18 @@ fn ctrl_c_stops_a_long_reach_in_the_middle_of_its_fits() {
             "1000000",
             "--stable-window",
             "100000",
-        ];
+            "-o",
+            &path(&out),
+        ]);
         if !baselines {
-            args.push("--no-baselines");
+            args.push("--no-baselines".into());
         }
-        let child = Command::new(env!("CARGO_BIN_EXE_kinergy"))
-            .current_dir(repo())
-            .args(&args)
-            .arg("-o")
-            .arg(&out)
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .expect("compare starts");
-        std::thread::sleep(std::time::Duration::from_millis(2000));
-        let signalled = std::time::Instant::now();
-        let killed = Command::new("kill")
-            .args(["-INT", &child.id().to_string()])
-            .status()
-            .expect("kill runs");
-        assert!(killed.success());
-        let o = child.wait_with_output().expect("compare ends");
-        let after = signalled.elapsed().as_secs_f64();
+        let signalled = std::cell::Cell::new(None);
+        let o = interrupted(&args, || {
+            sleep_ms(2000);
+            signalled.set(Some(std::time::Instant::now()));
+        });
+        let after = signalled.get().expect("signalled").elapsed().as_secs_f64();
         assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
         assert!(
             text(&o.stderr).contains("interrupted"),
@@ -1003,4 +986,19 @@ fn ctrl_c_stops_a_long_reach_in_the_middle_of_its_fits() {
         );
         assert!(!out.exists());
     }
+}
+
+/// `items` as owned strings.
+fn strings(items: &[&str]) -> Vec<String> {
+    items.iter().map(|s| s.to_string()).collect()
+}
+
+/// `p` as text (test paths are UTF-8).
+fn path(p: &Path) -> String {
+    p.to_str().expect("utf-8 path").to_string()
+}
+
+/// Sleeps `ms` milliseconds.
+fn sleep_ms(ms: u64) {
+    std::thread::sleep(std::time::Duration::from_millis(ms));
 }
