@@ -1,20 +1,34 @@
-//! A library of captures shared among machines: which takes a shard fits.
+//! A library of captures shared among machines: which takes a shard fits, what its record
+//! says, and the library's tables.
 //!
 //! A library's takes are dealt to shards by weight (their frame counts), the same way on
 //! every machine, so that shards run anywhere — a Slurm array's tasks, or `--shard I/N` by
-//! hand — fit disjoint shares that together are the library. [`collect`] checks the shards'
-//! records against the result files and writes the library's tables ([`LibraryRow`]:
+//! hand — fit disjoint shares that together are the library. Each shard records the
+//! library's takes ([`TakeIdentity`]: path from the root, size, hash, frames), its
+//! [`Settings`] and each result's hash ([`ShardHeader`], [`RecordRow`]); [`collect`] checks the shards' records against each
+//! other, the takes and the result files, and writes the library's tables ([`LibraryRow`]:
 //! `library.csv`, written and read by one type).
 
+mod collect;
+mod identity;
 mod names;
+mod record;
 mod shard;
 mod table;
 
-pub use names::{Takes, common_folder, names_of, relative_name, take_names, unique_takes};
-pub use shard::{ShardEvent, ShardOutcome, ShardRun};
+pub use collect::{Collected, collect};
+pub use identity::{Settings, TakeIdentity, hash_bytes, hash_file, takes_changes};
+pub use names::{
+    Takes, common_folder, names_of, relative_name, result_names, take_names, unique_takes,
+};
+pub use record::{
+    COLUMNS, FORMAT, RecordFile, RecordRow, ShardHeader, TakesList, header_path, parse_record_name,
+    read_header, read_record, record_path,
+};
+pub use shard::{ShardEvent, ShardOutcome, ShardPlan, ShardRun};
 pub use table::{
-    Collected, LIBRARY, LibraryError, LibraryRow, LibraryTable, PersonLine, RecordRow, SHARDS,
-    SKIPPED, SkippedRow, collect, is_complete, read_record, record_path, write_csv,
+    LIBRARY, LibraryError, LibraryRow, LibraryTable, PersonLine, SHARDS, SKIPPED, SkippedRow,
+    write_csv,
 };
 
 /// Which share of a library's takes this run fits: shard `index` (1-based) of `count`.
@@ -98,24 +112,10 @@ fn bounded(text: &str) -> Option<usize> {
         .filter(|n| (1..=MAX_SHARDS).contains(n))
 }
 
-/// The takes of `paths` (the library's, in its order) dealt to `shard`, each weighed by the
-/// frame count its header declares (1 where it cannot be read: its fit reports why).
-pub fn dealt_to(shard: Shard, paths: &[std::path::PathBuf]) -> Vec<&std::path::PathBuf> {
-    let weights: Vec<u64> = paths
-        .iter()
-        .map(|t| {
-            kinergy_motion::kinergy_bvh::header_frame_count(t)
-                .ok()
-                .flatten()
-                .unwrap_or(1) as u64
-        })
-        .collect();
-    paths
-        .iter()
-        .zip(deal(&weights, shard.count))
-        .filter(|(_, s)| *s == shard.index)
-        .map(|(t, _)| t)
-        .collect()
+/// `text` as a record's name spells a shard's index or count: [`bounded`], without a
+/// leading zero (so that one shard has one name).
+pub(crate) fn bounded_plain(text: &str) -> Option<usize> {
+    bounded(text).filter(|_| !text.starts_with('0'))
 }
 
 /// The most shards a library is dealt to (`--shard`, Slurm's task count, a record's name).
