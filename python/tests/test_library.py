@@ -23,7 +23,9 @@ def table(path):
 
 
 def results(folder):
-    return {p.relative_to(folder): p.read_bytes() for p in sorted(folder.rglob("*.json"))}
+    """The result files of a library folder (its records in shards/ left out)."""
+    return {p.relative_to(folder): p.read_bytes() for p in sorted(folder.rglob("*.json"))
+            if p.relative_to(folder).parts[0] != "shards"}
 
 
 def test_a_library_fit_writes_the_cli_s_files(cli, at_root, tmp_path):
@@ -83,3 +85,109 @@ def test_a_library_of_takes_with_nothing_to_fit_is_the_cli_s_exit_1(cli, at_root
     with pytest.raises(kinergy.NothingToFitError):
         kinergy.fit("data-synthetic/p01/r09.bvh", arm="left", model="sa", per="clip",
                     out_dir=tmp_path / "py")
+
+
+# ---- Issue 42: nothing lost in a library, through Python ----
+
+
+def _takes(tmp_path, n=3, name="takes"):
+    """A folder of `n` takes copied from the synthetic set's first person."""
+    import shutil
+    folder = tmp_path / name
+    folder.mkdir(parents=True)
+    for i in range(1, n + 1):
+        shutil.copy(f"data-synthetic/p01/r{i:02}.bvh", folder / f"r{i:02}.bvh")
+    return folder
+
+
+def _fit(takes, out, **kw):
+    return kinergy.fit(str(takes), model="sa", per="clip", budget=20, out_dir=out, **kw)
+
+
+def test_results_are_named_by_the_take_s_whole_file_name(at_root, tmp_path):
+    out = _fit(_takes(tmp_path, 2), tmp_path / "fits")
+    assert sorted(r["result"] for r in out["rows"]) == ["r01.bvh.json", "r02.bvh.json"]
+    assert all(len(r["settings"]) == 16 for r in out["rows"])
+
+
+def test_shards_with_other_settings_are_refused(at_root, tmp_path):
+    takes = _takes(tmp_path)
+    _fit(takes, tmp_path / "fits", shard="1/2")
+    with pytest.raises(kinergy.InputError, match=r"ran with other settings: seed 1 \(this run: 7\)"):
+        _fit(takes, tmp_path / "fits", shard="2/2", seed=7)
+    with pytest.raises(kinergy.InputError, match=r"controller smooth \(this run: paper\)"):
+        _fit(takes, tmp_path / "fits", shard="2/2", controller="paper")
+    assert not (tmp_path / "fits/shards/2-of-2.csv").exists()
+
+
+def test_collect_names_takes_changed_between_shards(at_root, tmp_path):
+    takes = _takes(tmp_path, 4)
+    _fit(takes, tmp_path / "fits", shard="1/2")
+    (takes / "r02.bvh").write_text((takes / "r02.bvh").read_text() + "\n")
+    (takes / "r04.bvh").unlink()
+    _fit(takes, tmp_path / "fits", shard="2/2")
+    with pytest.raises(kinergy.InputError) as e:
+        kinergy.collect(tmp_path / "fits")
+    assert "r02.bvh grown (" in str(e.value) and "r04.bvh removed" in str(e.value)
+    for i in (1, 2):
+        _fit(takes, tmp_path / "fits", shard=f"{i}/2", resume=True)
+    rows = kinergy.collect(tmp_path / "fits")
+    assert sorted(r["clip"] for r in rows) == ["r01.bvh", "r02.bvh", "r03.bvh"]
+
+
+def test_collect_refuses_a_result_that_is_not_the_one_recorded(at_root, tmp_path):
+    out = tmp_path / "fits"
+    takes = _takes(tmp_path)
+    _fit(takes, out)
+    whole = results(out)
+    (out / "r02.bvh.json").write_bytes((out / "r03.bvh.json").read_bytes())
+    with pytest.raises(kinergy.InputError, match="r02.bvh.json: not the result shard 1/1 recorded"):
+        kinergy.collect(out)
+    again = _fit(takes, out, resume=True)
+    assert [r["seconds"] is None for r in again["rows"]] == [True, False, True]
+    assert results(out) == whole
+
+
+@pytest.mark.parametrize("stray", ["2-of-1.csv", "0-of-1.csv", "01-of-1.csv",
+                                   "1-of-99999999999.csv", "1-of-1000000.csv"])
+def test_collect_refuses_stray_and_absurd_records(at_root, tmp_path, stray):
+    out = tmp_path / "fits"
+    _fit(_takes(tmp_path, 1), out)
+    (out / "shards" / stray).write_bytes((out / "shards/1-of-1.csv").read_bytes())
+    with pytest.raises(kinergy.InputError, match="a stray record") as e:
+        kinergy.collect(out)
+    assert stray in str(e.value) and len(str(e.value)) < 1000
+
+
+@pytest.mark.parametrize("case,said", [
+    ("empty", "empty"),
+    ("header", "line 1: the header line and no row"),
+    ("bom", "line 1 starts with a byte-order mark"),
+    ("column", "line 1: the columns are"),
+])
+def test_collect_refuses_records_that_cannot_be_true(at_root, tmp_path, case, said):
+    out = tmp_path / "fits"
+    _fit(_takes(tmp_path, 1), out)
+    record = out / "shards/1-of-1.csv"
+    text = record.read_bytes()
+    spoilt = {
+        "empty": b"",
+        "header": text.split(b"\n")[0] + b"\n",
+        "bom": b"\xef\xbb\xbf" + text,
+        "column": text.replace(b",why\n", b",why,extra\n", 1),
+    }[case]
+    record.write_bytes(spoilt)
+    with pytest.raises(kinergy.InputError, match=said) as e:
+        kinergy.collect(out)
+    assert "1-of-1.csv" in str(e.value)
+
+
+def test_resume_finds_the_results_from_another_folder_and_spelling(at_root, tmp_path, monkeypatch):
+    takes = _takes(tmp_path, 2, name="D/p01")
+    out = tmp_path / "fits"
+    first = _fit(takes, out)
+    monkeypatch.chdir(tmp_path)
+    for spelled in ["./D/p01", "D/../D/p01", str(takes.resolve())]:
+        again = kinergy.fit(spelled, model="sa", per="clip", budget=20, out_dir="fits", resume=True)
+        assert all(r["seconds"] is None for r in again["rows"]), spelled
+        assert [r["result"] for r in again["rows"]] == [r["result"] for r in first["rows"]]

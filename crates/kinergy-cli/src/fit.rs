@@ -102,11 +102,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     // A folder here holds one person's fit, named by its first clip.
     let names = match groups.first().and_then(|g| g.first()) {
-        Some(first) if folder => take_names(
-            Path::new(""),
-            Path::new(first.name()),
-            std::slice::from_ref(first),
-        ),
+        Some(first) if folder => {
+            // Named by the clip's file name alone, from its own folder.
+            let clip = Path::new(first.name());
+            let folder = std::fs::canonicalize(clip)
+                .ok()
+                .and_then(|p| p.parent().map(Path::to_path_buf))
+                .unwrap_or_default();
+            take_names(&folder, clip, std::slice::from_ref(first))
+        }
         _ => Vec::new(),
     };
     if several && args.checkpoint.is_some() {

@@ -279,7 +279,7 @@ fn shards_give_what_one_machine_gives_and_collect_names_a_missing_shard() {
     let (a, b) = (files(&one), files(&sharded));
     let results = |f: &BTreeMap<PathBuf, Vec<u8>>| -> BTreeMap<PathBuf, Vec<u8>> {
         f.iter()
-            .filter(|(p, _)| p.extension().is_some_and(|x| x == "json"))
+            .filter(|(p, _)| !p.starts_with("shards") && p.extension().is_some_and(|x| x == "json"))
             .map(|(p, b)| (p.clone(), b.clone()))
             .collect()
     };
@@ -342,10 +342,10 @@ fn resume_fits_only_the_reaches_without_a_complete_result() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let whole = files(&out);
     // Three results lost, one cut in half (as by a crash of something else).
-    for name in ["p01/r03.json", "p02/r07.json", "p02/r14.json"] {
+    for name in ["p01/r03.bvh.json", "p02/r07.bvh.json", "p02/r14.bvh.json"] {
         std::fs::remove_file(out.join(name)).expect("remove");
     }
-    let cut = out.join("p01/r05.json");
+    let cut = out.join("p01/r05.bvh.json");
     let text = std::fs::read(&cut).expect("read");
     std::fs::write(&cut, &text[..text.len() / 2]).expect("cut");
     let mut resume = args.clone();
@@ -399,7 +399,7 @@ fn a_library_stops_by_the_library_rule_and_either_rule_is_one_flag_away() {
     fit(&[], &library, true);
     let single_coarse = dir.path().join("coarse.json");
     fit(&coarse, &single_coarse, false);
-    let (lib, lib_evaluations) = values(&library.join("r02.json"));
+    let (lib, lib_evaluations) = values(&library.join("r02.bvh.json"));
     let (one, one_evaluations) = values(&single_coarse);
     assert_eq!((&lib, lib_evaluations), (&one, one_evaluations));
 
@@ -407,7 +407,7 @@ fn a_library_stops_by_the_library_rule_and_either_rule_is_one_flag_away() {
     fit(&fine, &library_fine, true);
     let single = dir.path().join("single.json");
     fit(&[], &single, false);
-    let (lib_fine, fine_evaluations) = values(&library_fine.join("r02.json"));
+    let (lib_fine, fine_evaluations) = values(&library_fine.join("r02.bvh.json"));
     let (one_fine, single_evaluations) = values(&single);
     assert_eq!(
         (&lib_fine, fine_evaluations),
@@ -454,7 +454,10 @@ fn one_capture_spelled_twice_is_one_take_and_its_arms_stay_apart() {
         s(&out),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(out.join("r03_3-73_left.json").is_file() && out.join("r03_3-73_right.json").is_file());
+    assert!(
+        out.join("r03.bvh@3-73@left.json").is_file()
+            && out.join("r03.bvh@3-73@right.json").is_file()
+    );
     let cmp = dir.path().join("cmp");
     let o = kinergy(&[
         "compare",
@@ -485,4 +488,614 @@ fn one_capture_spelled_twice_is_one_take_and_its_arms_stay_apart() {
         .iter()
         .find(|r| r["arm"] == "right" && r["model"] == left["model"]);
     assert_ne!(left["distance_m"], right.unwrap()["distance_m"]);
+}
+
+// ---- Issue 42: nothing lost in a library ----
+
+/// A folder of `n` takes (copies of the synthetic set's first person's) in `dir/name`.
+fn takes(dir: &Path, name: &str, n: usize) -> PathBuf {
+    let folder = dir.join(name);
+    std::fs::create_dir_all(&folder).expect("folder");
+    for i in 1..=n {
+        let take = format!("r{i:02}.bvh");
+        std::fs::copy(
+            repo().join("data-synthetic/p01").join(&take),
+            folder.join(&take),
+        )
+        .expect("copy");
+    }
+    folder
+}
+
+/// `fit TAKES --per clip --model sa --budget 20 -q --out-dir OUT` and `extra` (whose
+/// `--budget` replaces the 20).
+fn fit_library(takes: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    let budget = if extra.contains(&"--budget") {
+        &[][..]
+    } else {
+        &["--budget", "20"][..]
+    };
+    let mut args = vec![
+        "fit",
+        s(takes),
+        "--per",
+        "clip",
+        "--model",
+        "sa",
+        "-q",
+        "--out-dir",
+        s(out),
+    ];
+    args.extend(budget);
+    args.extend(extra);
+    kinergy(&args)
+}
+
+/// The results of a library folder (its `.json` files outside `shards/`) with their bytes.
+fn result_files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    files(dir)
+        .into_iter()
+        .filter(|(p, _)| !p.starts_with("shards") && p.extension().is_some_and(|x| x == "json"))
+        .collect()
+}
+
+/// The sweep's collision: a take with two reaches (`26_10.bvh`, both hands) and a take
+/// renamed `26_10_4-66.bvh` in one folder; and, without the shared captures, a take with
+/// two reaches from a segments file beside takes named like its reaches' results. Every
+/// reach keeps its own result, and `collect` finds each.
+#[test]
+fn result_names_of_takes_named_like_another_take_s_reaches_never_collide() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let folder = dir.path().join("takes");
+    std::fs::create_dir(&folder).expect("folder");
+    let r03 = repo().join("data-synthetic/p01/r03.bvh");
+    let names = ["r03.bvh", "r03_3-40.bvh", "r03.bvh@3-40", "r03.bvh@@3-40"];
+    let mut rows = String::from("clip,onset,end,arm\n");
+    for name in names {
+        std::fs::copy(&r03, folder.join(name)).expect("copy");
+        rows.push_str(&format!("{},3,40,right\n", folder.join(name).display()));
+    }
+    rows.push_str(&format!(
+        "{},40,73,right\n",
+        folder.join("r03.bvh").display()
+    ));
+    let segments = dir.path().join("segments.csv");
+    std::fs::write(&segments, rows).expect("segments");
+    let out = dir.path().join("fits");
+    let o = kinergy(&[
+        "fit",
+        "--segments",
+        s(&segments),
+        "--per",
+        "clip",
+        "--model",
+        "sa",
+        "--budget",
+        "20",
+        "-q",
+        "--out-dir",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = rows_of(&out.join("library.csv"));
+    assert_eq!(table.len(), 5, "{table:?}");
+    let results: std::collections::BTreeSet<&str> =
+        table.iter().map(|r| r["result"].as_str()).collect();
+    assert_eq!(
+        results.into_iter().collect::<Vec<_>>(),
+        [
+            "r03.bvh@3-40.json",
+            "r03.bvh@40-73.json",
+            "r03.bvh@@3-40.json",
+            "r03.bvh@@@@3-40.json",
+            "r03_3-40.bvh.json",
+        ]
+    );
+    // Each result records its own take and frames.
+    for row in &table {
+        let params: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join(&row["result"])).expect("result"))
+                .expect("json");
+        let reach = &params["fit"]["reaches"][0];
+        let clip = reach["clip"].as_str().expect("clip");
+        assert!(clip.ends_with(&row["clip"]), "{clip} vs {row:?}");
+        assert_eq!(reach["frames"][0].to_string(), row["onset"]);
+    }
+
+    // The sweep's own case, where the shared captures are.
+    let (Some(lift), Some(raise)) = (
+        shared("cmu-lift", "26_10.bvh"),
+        shared("bandai-raise-left", "normal_001.bvh"),
+    ) else {
+        return;
+    };
+    let mixed = dir.path().join("mixed");
+    std::fs::create_dir(&mixed).expect("folder");
+    std::fs::copy(lift, mixed.join("26_10.bvh")).expect("copy");
+    std::fs::copy(raise, mixed.join("26_10_4-66.bvh")).expect("copy");
+    let out = dir.path().join("mixed-fits");
+    let o = kinergy(&[
+        "fit",
+        s(&mixed),
+        "--per",
+        "clip",
+        "--arm",
+        "auto",
+        "--model",
+        "sa",
+        "--budget",
+        "20",
+        "-q",
+        "--out-dir",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = rows_of(&out.join("library.csv"));
+    let results: std::collections::BTreeSet<&str> =
+        table.iter().map(|r| r["result"].as_str()).collect();
+    assert_eq!(results.len(), table.len(), "{table:?}");
+    assert_eq!(result_files(&out).len(), table.len());
+}
+
+fn rows_of(path: &Path) -> Vec<BTreeMap<String, String>> {
+    rows(path)
+}
+
+/// `--resume` finds the complete results however the folder and the takes are spelled:
+/// `./D`, `D/../D`, an absolute path, or from another folder — nothing is fitted again.
+#[test]
+fn resume_finds_every_result_however_the_paths_are_spelled() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = takes(dir.path(), "D/p01", 3);
+    let out = dir.path().join("fits");
+    let o = fit_library(&lib, &out, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let before = result_files(&out);
+    assert_eq!(before.len(), 3);
+    let run_in = |cwd: &Path, takes: &str, out: &str| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_kinergy"))
+            .current_dir(cwd)
+            .args([
+                "fit",
+                takes,
+                "--per",
+                "clip",
+                "--model",
+                "sa",
+                "--budget",
+                "20",
+                "--out-dir",
+                out,
+                "--resume",
+            ])
+            .output()
+            .expect("run kinergy");
+        assert_eq!(o.status.code(), Some(0), "{takes}: {}", stderr(&o));
+        let fitted = stdout(&o)
+            .lines()
+            .filter(|l| l.ends_with("(clip fit, svd):"))
+            .count();
+        assert_eq!(fitted, 0, "{takes} from {cwd:?}: refitted\n{}", stdout(&o));
+    };
+    let abs = lib.canonicalize().expect("canonical");
+    run_in(dir.path(), "./D/p01", "fits");
+    run_in(dir.path(), "D/../D/p01", "./fits");
+    run_in(dir.path(), s(&abs), s(&out));
+    let elsewhere = dir.path().join("D");
+    run_in(&elsewhere, "p01", "../fits");
+    run_in(&elsewhere.join("p01"), ".", "../../fits");
+    assert_eq!(result_files(&out), before);
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// Shards run with different settings: `fit` refuses a shard whose settings differ from
+/// another shard's record (before any work), and `collect` refuses shards that ran at once
+/// with different settings, naming the setting; `compare --library` refuses a table of mixed
+/// settings.
+#[test]
+fn shards_with_different_settings_are_refused_naming_the_setting() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = takes(dir.path(), "takes", 4);
+    let out = dir.path().join("fits");
+    let o = fit_library(&lib, &out, &["--shard", "1/2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    for (flags, named) in [
+        (&["--seed", "7"][..], "seed 1 (this run: 7)"),
+        (&["--budget", "24"][..], "budget 20 (this run: 24)"),
+        (&["--optimizer", "dls"][..], "optimizer"),
+        (
+            &["--controller", "paper"][..],
+            "controller smooth (this run: paper)",
+        ),
+        (&["--objective", "positions+speed"][..], "objective"),
+        (&["--population", "4"][..], "population 8 (this run: 4)"),
+    ] {
+        let mut args = vec!["--shard", "2/2"];
+        args.extend(flags);
+        let o = fit_library(&lib, &out, &args);
+        assert_eq!(o.status.code(), Some(2), "{flags:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("shard 1/2 of this library ran with other settings")
+                && stderr(&o).contains(named),
+            "{flags:?}: {}",
+            stderr(&o)
+        );
+        assert!(!out.join("shards/2-of-2.csv").exists());
+    }
+    // --model sb: the models differ (sa, sb against sa).
+    let o = kinergy(&[
+        "fit",
+        s(&lib),
+        "--per",
+        "clip",
+        "--model",
+        "sb",
+        "--budget",
+        "20",
+        "-q",
+        "--out-dir",
+        s(&out),
+        "--shard",
+        "2/2",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("model [\"sa\"] (this run: [\"sa\",\"sb\"])"),
+        "{}",
+        stderr(&o)
+    );
+
+    // Two shards that ran at once, each unaware of the other: collect names the seed.
+    let other = dir.path().join("other");
+    let o = fit_library(&lib, &other, &["--shard", "2/2", "--seed", "7"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    for (name, bytes) in files(&other) {
+        if !name.ends_with("library.csv") && !name.ends_with("skipped.csv") {
+            let to = out.join(&name);
+            std::fs::create_dir_all(to.parent().unwrap()).expect("folder");
+            std::fs::write(to, bytes).expect("copy");
+        }
+    }
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "shard 2/2 was fitted with other settings than shard 1/2: seed 7 (shard 1/2: 1)"
+        ),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        !out.join("library.csv").exists(),
+        "a table of mixed settings was written"
+    );
+
+    // compare --library reads library.csv alone: rows of two settings are refused.
+    let a = dir.path().join("a");
+    let b = dir.path().join("b");
+    for (folder, seed) in [(&a, "1"), (&b, "2")] {
+        let o = fit_library(&lib, folder, &["--seed", seed]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    let mut mixed = std::fs::read_to_string(a.join("library.csv")).expect("table");
+    let other_rows = std::fs::read_to_string(b.join("library.csv")).expect("table");
+    mixed.push_str(other_rows.lines().nth(1).expect("a row"));
+    mixed.push('\n');
+    let table = dir.path().join("mixed.csv");
+    std::fs::write(&table, mixed).expect("write");
+    let report = dir.path().join("report");
+    let o = kinergy(&["compare", "--library", s(&table), "-o", s(&report)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("row 6, column settings") && stderr(&o).contains("mixed settings"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!report.exists());
+}
+
+/// Takes added, removed, grown, shrunk or edited between two shards: `collect` names each
+/// and the shards to run again; run again with --resume, the library is the one-machine
+/// library of the takes as they are now.
+#[test]
+fn takes_changed_between_shards_are_named_and_a_resume_mends_the_library() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = takes(dir.path(), "takes", 6);
+    let out = dir.path().join("fits");
+    let o = fit_library(&lib, &out, &["--shard", "1/2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = |name: &str| std::fs::read_to_string(lib.join(name)).expect("take");
+    // Grown: a trailing blank line; shrunk: its last newline gone; edited: one digit
+    // changed in its motion (same size); removed; added.
+    std::fs::write(lib.join("r01.bvh"), text("r01.bvh") + "\n").expect("grow");
+    let r02 = text("r02.bvh");
+    std::fs::write(lib.join("r02.bvh"), r02.trim_end()).expect("shrink");
+    let r03 = text("r03.bvh");
+    let at = r03.rfind('1').expect("a digit");
+    let edited = format!("{}2{}", &r03[..at], &r03[at + 1..]);
+    std::fs::write(lib.join("r03.bvh"), edited).expect("edit");
+    std::fs::remove_file(lib.join("r04.bvh")).expect("remove");
+    std::fs::copy(
+        repo().join("data-synthetic/p01/r07.bvh"),
+        lib.join("r07.bvh"),
+    )
+    .expect("add");
+    let o = fit_library(&lib, &out, &["--shard", "2/2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    for change in [
+        "r01.bvh grown (",
+        "r02.bvh shrunk (",
+        "r03.bvh edited (same size, other content)",
+        "r04.bvh removed",
+        "r07.bvh added",
+        "run it again with --resume",
+        "the takes changed since shard 1/2 ran",
+    ] {
+        assert!(err.contains(change), "{change}: {err}");
+    }
+    // Both shards again, resumed: the library of the takes as they are now.
+    for i in 1..=2 {
+        let o = fit_library(&lib, &out, &["--shard", &format!("{i}/2"), "--resume"]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    }
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let one = dir.path().join("one");
+    let o = fit_library(&lib, &one, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (now, whole) = (result_files(&out), result_files(&one));
+    // r04's old result stays on disk, in no table.
+    let mut stale = now.clone();
+    stale.retain(|p, _| !p.starts_with("r04.bvh.json"));
+    assert_eq!(stale, whole);
+    assert_eq!(
+        without_seconds(&out.join("library.csv")),
+        without_seconds(&one.join("library.csv"))
+    );
+
+    // A take edited after every shard ran: collect says so.
+    std::fs::write(lib.join("r05.bvh"), text("r05.bvh") + " ").expect("grow");
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the takes changed since shard 1/2, shard 2/2 ran: r05.bvh grown"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// A result that is not the one recorded — another reach's copied over it, or an S_A fit
+/// of its own reach put there — is refused by `collect` naming it; `--resume` fits it again.
+#[test]
+fn a_result_file_that_is_not_the_one_recorded_is_refused() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = takes(dir.path(), "takes", 4);
+    let out = dir.path().join("fits");
+    let fit_sb = |extra: &[&str]| {
+        let mut args = vec![
+            "fit",
+            s(&lib),
+            "--per",
+            "clip",
+            "--model",
+            "sb",
+            "--budget",
+            "20",
+            "-q",
+            "--out-dir",
+            s(&out),
+        ];
+        args.extend(extra);
+        kinergy(&args)
+    };
+    let o = fit_sb(&[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let whole = result_files(&out);
+    let sa = dir.path().join("sa.json");
+    let o = kinergy(&[
+        "fit",
+        s(&lib.join("r02.bvh")),
+        "--model",
+        "sa",
+        "--budget",
+        "20",
+        "-q",
+        "-o",
+        s(&sa),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    for (case, from) in [
+        ("r04 over r03", out.join("r04.bvh.json")),
+        ("an S_A fit", sa),
+    ] {
+        let target = if case == "an S_A fit" {
+            "r02.bvh.json"
+        } else {
+            "r03.bvh.json"
+        };
+        std::fs::copy(&from, out.join(target)).expect("copy");
+        let o = kinergy(&["collect", s(&out)]);
+        assert_eq!(o.status.code(), Some(2), "{case}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!("{target}: not the result shard 1/1 recorded")),
+            "{case}: {}",
+            stderr(&o)
+        );
+        let o = fit_sb(&["--resume"]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        assert_eq!(result_files(&out), whole, "{case}");
+    }
+}
+
+/// Stray records (`2-of-1.csv`, `0-of-1.csv`, `01-of-1.csv`), absurd counts
+/// (`1-of-99999999999.csv` killed collect, `1-of-1000000.csv` printed 87 MB), and records
+/// that cannot be true (empty, a header alone, a byte-order mark, a column too many): each
+/// refused, naming the file (and the line), in a few lines.
+#[test]
+fn stray_absurd_and_damaged_records_are_refused_in_a_few_lines() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = takes(dir.path(), "takes", 2);
+    let out = dir.path().join("fits");
+    let o = fit_library(&lib, &out, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let shards = out.join("shards");
+    let record = std::fs::read(shards.join("1-of-1.csv")).expect("record");
+    for stray in [
+        "2-of-1.csv",
+        "0-of-1.csv",
+        "01-of-1.csv",
+        "1-of-99999999999.csv",
+        "1-of-1000000.csv",
+    ] {
+        std::fs::write(shards.join(stray), &record).expect("stray");
+        let o = kinergy(&["collect", s(&out)]);
+        assert_eq!(o.status.code(), Some(2), "{stray}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!("{stray}: a stray record")),
+            "{stray}: {}",
+            stderr(&o)
+        );
+        assert!(o.stderr.len() < 1000, "{stray}: {} bytes", o.stderr.len());
+        std::fs::remove_file(shards.join(stray)).expect("remove");
+    }
+    let text = String::from_utf8(record.clone()).expect("utf-8");
+    let (header, _) = text.split_once('\n').expect("a header line");
+    for (case, bytes, said) in [
+        ("empty", Vec::new(), "1-of-1.csv: empty"),
+        (
+            "header only",
+            format!("{header}\n").into_bytes(),
+            "1-of-1.csv: line 1: the header line and no row",
+        ),
+        (
+            "a byte-order mark",
+            [b"\xef\xbb\xbf".as_slice(), &record].concat(),
+            "1-of-1.csv: line 1 starts with a byte-order mark",
+        ),
+        (
+            "an extra column",
+            text.replacen(",why\n", ",why,extra\n", 1).into_bytes(),
+            "1-of-1.csv: line 1: the columns are",
+        ),
+        (
+            "an extra field",
+            text.replacen("\ntake,", "\ntake,x,", 1).into_bytes(),
+            "1-of-1.csv: line 3: 11 fields where the header has 10",
+        ),
+    ] {
+        std::fs::write(shards.join("1-of-1.csv"), &bytes).expect("write");
+        let o = kinergy(&["collect", s(&out)]);
+        assert_eq!(o.status.code(), Some(2), "{case}: {}", stderr(&o));
+        assert!(stderr(&o).contains(said), "{case}: {}", stderr(&o));
+    }
+    std::fs::write(shards.join("1-of-1.csv"), &record).expect("write");
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// Shard counts from the environment or `--shard` beyond 100,000 are refused naming the
+/// variable or flag, at once (2^63 overflowed the deal's allocation, 1e10 took 80 GB).
+#[test]
+fn absurd_shard_counts_are_refused_naming_the_variable() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = takes(dir.path(), "takes", 1);
+    let out = dir.path().join("fits");
+    for count in ["9223372036854775808", "1e10", "100001"] {
+        let clock = std::time::Instant::now();
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_kinergy"))
+            .args([
+                "fit",
+                s(&lib),
+                "--per",
+                "clip",
+                "--model",
+                "sa",
+                "--budget",
+                "20",
+                "--out-dir",
+                s(&out),
+            ])
+            .env("SLURM_ARRAY_TASK_ID", "1")
+            .env("SLURM_ARRAY_TASK_MIN", "1")
+            .env("SLURM_ARRAY_TASK_COUNT", count)
+            .output()
+            .expect("run kinergy");
+        assert_eq!(o.status.code(), Some(2), "{count}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!(
+                "SLURM_ARRAY_TASK_COUNT=`{count}` is not a whole number from 1 to 100000"
+            )),
+            "{}",
+            stderr(&o)
+        );
+        assert!(clock.elapsed().as_secs() < 20);
+        assert!(!out.exists());
+    }
+    let o = fit_library(&lib, &out, &["--shard", "1/100001"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--shard `1/100001`"), "{}", stderr(&o));
+}
+
+/// `compare --library` refuses a table with NaN, ±inf or negative distances, or with every
+/// distance empty, naming the row and column; nothing is written.
+#[test]
+fn compare_library_refuses_distances_that_cannot_be_true() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let header = "clip,person,arm,onset,end,frames,model,optimizer,distance_sa_m,distance_sb_m,\
+                  distance_sc_m,distance_sd_m,distance_se_m,evaluations,seconds,result,settings";
+    let good = "r01.bvh,p01,right,0,10,10,sb,svd,0.02,0.01,,,,16,,r01.bvh.json,abc";
+    for (bad, said) in [
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,NaN,0.01,,,,16,,r02.bvh.json,abc",
+            "row 3, column distance_sa_m: NaN",
+        ),
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,0.02,inf,,,,16,,r02.bvh.json,abc",
+            "row 3, column distance_sb_m: inf",
+        ),
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,-inf,0.01,,,,16,,r02.bvh.json,abc",
+            "row 3, column distance_sa_m: -inf",
+        ),
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,0.02,-0.01,,,,16,,r02.bvh.json,abc",
+            "row 3, column distance_sb_m: -0.01",
+        ),
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,,,,,,16,,r02.bvh.json,abc",
+            "row 3: every distance",
+        ),
+    ] {
+        let table = dir.path().join("library.csv");
+        std::fs::write(&table, format!("{header}\n{good}\n{bad}\n")).expect("write");
+        let report = dir.path().join("report");
+        let o = kinergy(&["compare", "--library", s(&table), "-o", s(&report)]);
+        assert_eq!(o.status.code(), Some(2), "{said}: {}", stderr(&o));
+        assert!(stderr(&o).contains(said), "{said}: {}", stderr(&o));
+        assert!(!report.exists());
+    }
+    // Every distance empty, in every row: no table of dashes.
+    let table = dir.path().join("empty.csv");
+    std::fs::write(
+        &table,
+        format!("{header}\nr01.bvh,p01,right,0,10,10,sb,svd,,,,,,16,,r01.bvh.json,abc\n"),
+    )
+    .expect("write");
+    let o = kinergy(&[
+        "compare",
+        "--library",
+        s(&table),
+        "-o",
+        s(&dir.path().join("r")),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("row 2: every distance"),
+        "{}",
+        stderr(&o)
+    );
 }

@@ -566,17 +566,24 @@ fn a_file_an_output_folder_would_replace_is_refused_as_an_input() {
         check("synth --params p01/r03.bvh", p.clone(), strings(&args));
     }
     {
-        let s = segments("r01.json");
+        let s = segments("r01.bvh.json");
         let mut args = strings(&["fit", "--segments", &c(&s), "--per", "clip"]);
         args.extend(strings(&["--out-dir", &c(&d)]));
         args.extend(strings(&sa));
-        check("fit --segments r01.json --out-dir", s.clone(), args);
+        check("fit --segments r01.bvh.json --out-dir", s.clone(), args);
     }
     {
-        let f = copy(&clip, "r01.json");
-        let mut args = strings(&["fit", &c(&f), "--per", "clip", "--out-dir", &c(&d)]);
+        // A capture named like another capture's result: r09.bvh's is r09.bvh.json.
+        let take = copy(&clip, "r09.bvh");
+        let f = copy(&clip, "r09.bvh.json");
+        let mut args = strings(&["fit", &c(&take), &c(&f), "--per", "clip"]);
+        args.extend(strings(&["--out-dir", &c(&d)]));
         args.extend(strings(&sa));
-        check("fit a capture named r01.json --out-dir", f.clone(), args);
+        check(
+            "fit a capture named r09.bvh.json --out-dir",
+            f.clone(),
+            args,
+        );
     }
     {
         let mesh = shelf.join("shelf.obj");

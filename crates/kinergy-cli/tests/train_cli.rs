@@ -768,7 +768,7 @@ fn ctrl_c_in_a_per_clip_fit_says_which_results_were_written() {
     .map(|s| s.to_string())
     .collect();
     // The 14 fits take about 6 s on 2 cores: interrupt once the first is written.
-    let first = out.join("r01.json");
+    let first = out.join("r01.bvh.json");
     let o = interrupted(&args, || {
         let start = std::time::Instant::now();
         while !first.exists() && start.elapsed().as_secs() < 120 {

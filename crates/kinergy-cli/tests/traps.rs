@@ -49,7 +49,8 @@ fn fit_per_clip_keeps_every_result_of_clips_with_one_name() {
 }
 
 /// Two reaches of one clip that differ only by their arm keep a result each
-/// (both were written to `r01_6-72.json`, the right arm's fit lost).
+/// (both were written to `r01_6-72.json`, the right arm's fit lost; now
+/// `r01.bvh@6-72@right.json` and `…@left.json`).
 #[test]
 fn fit_per_clip_keeps_both_arms_of_one_clips_frames() {
     let dir = tempfile::tempdir().unwrap();
@@ -80,7 +81,7 @@ fn fit_per_clip_keeps_both_arms_of_one_clips_frames() {
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     for side in ["right", "left"] {
-        let file = out.join(format!("r01_6-72_{side}.json"));
+        let file = out.join(format!("r01.bvh@6-72@{side}.json"));
         let text = std::fs::read_to_string(&file).unwrap_or_else(|e| panic!("{file:?}: {e}"));
         let json: serde_json::Value = serde_json::from_str(&text).unwrap();
         assert_eq!(json["fit"]["reaches"][0]["arm"]["side"], side);
@@ -736,7 +737,7 @@ fn a_holdout_of_a_person_reaching_with_both_arms_says_why_there_is_no_field() {
 /// The adversarial sweep's findings: `style` with bad parameters leaves no empty
 /// output folder; `fit --resume` of a missing checkpoint is bad input (exit 2) naming it,
 /// not an OS error with exit 1; a library never writes a result over an input kept in its
-/// folder under a result's name (a segments file `out/r01_7-71.json`).
+/// folder under a result's name (a segments file `out/r01.bvh@7-71.json`).
 #[test]
 fn the_sweeps_findings_stay_fixed() {
     let dir = tempfile::tempdir().unwrap();
@@ -772,7 +773,7 @@ fn the_sweeps_findings_stay_fixed() {
 
     let out = dir.path().join("out");
     std::fs::create_dir(&out).unwrap();
-    let segments = out.join("r01_7-71.json");
+    let segments = out.join("r01.bvh@7-71.json");
     let c = clip.display();
     let text = format!("clip,onset,end,arm\n{c},7,71,right\n{c},10,60,right\n");
     std::fs::write(&segments, &text).unwrap();

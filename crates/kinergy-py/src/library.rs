@@ -89,12 +89,15 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
         interrupt: &interrupt,
         observer: &observer,
     };
-    let mine = run.dealt();
     let on_event = |_: ShardEvent<'_>| {};
     let outcome = watched(
         py,
         &interrupt,
-        || on_pool(&pool, || run.run(&mine, &on_event)),
+        || {
+            on_pool(&pool, || {
+                run.plan().and_then(|plan| run.run(&plan, &on_event))
+            })
+        },
         |_| Ok(()),
     )?
     .map_err(errors::raise)?;

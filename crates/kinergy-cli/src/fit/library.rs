@@ -59,8 +59,8 @@ pub fn run(
         interrupt: &INTERRUPTED,
         observer: &observer,
     };
-    let mine = run.dealt();
-    let bar = Bar::counting(mine.len() as u64, "takes");
+    let plan = run.plan()?;
+    let bar = Bar::counting(plan.dealt() as u64, "takes");
     let reports = Mutex::new(Vec::new());
     let said = Mutex::new(Ok(()));
     let on_event = |event: ShardEvent<'_>| match event {
@@ -83,7 +83,7 @@ pub fn run(
             }
         }
     };
-    let outcome = run.run(&mine, &on_event)?;
+    let outcome = run.run(&plan, &on_event)?;
     bar.finish();
     said.into_inner()
         .map_err(|_| Failure::Task("a worker of the library run failed".into()))??;

@@ -1,7 +1,14 @@
-//! Where a library's results go: a take's result is named by its path from the library's
-//! common folder, with `.json` — `p01/r01.json`; `p01/r01_<onset>-<end>.json` when the take
-//! gives several reaches, and `_<arm>` after the frames when two of them share their frames
-//! (they differ by arm).
+//! Where a library's results go. A reach's result is named by its take's path from the
+//! library's root (the takes' common folder), the take's whole file name kept, then
+//! `.json`: `p01/r01.bvh.json`. A take that gives several reaches adds each one's frames
+//! after an `@` — `p01/r01.bvh@120-245.json` — and, where two of them share their frames
+//! (they differ by arm), the arm after another `@`: `r01.bvh@6-72@left.json`.
+//!
+//! The names are unique by construction: an `@` in a take's own file name is written twice
+//! (`a@b.bvh` → `a@@b.bvh.json`), so the first single `@` of a result's name ends the take's
+//! name; what follows it (frames, and an arm label whose characters other than letters,
+//! digits, `-` and `_` are written `%XX`) has no `@` but the separators. Two different
+//! (take, reach) pairs never get one name (a property test checks it).
 
 use std::collections::HashMap;
 use std::ops::Range;
@@ -39,6 +46,11 @@ impl<'a> Takes<'a> {
         }
     }
 
+    /// The segments file the takes came with, if any.
+    pub fn segments(&self) -> Option<&'a SegmentsFile> {
+        self.segments
+    }
+
     /// The segments file, with its rows of `take`, when the takes came with one.
     pub fn rows_of(&self, take: &Path) -> Option<(&'a SegmentsFile, &[&'a SegmentRow])> {
         let (segments, index) = (self.segments?, self.rows.as_ref()?);
@@ -62,7 +74,10 @@ impl<'a> Takes<'a> {
                         .collect();
                     names.extend(names_of(&self.common, take, &keys));
                 }
-                None => names.push(relative_name(&self.common, take).with_extension("json")),
+                None => names.extend(result_names(
+                    &relative_name(&self.common, take),
+                    &[(0..0, String::new())],
+                )),
             }
         }
         names
@@ -106,35 +121,52 @@ pub fn take_names(common: &Path, take: &Path, reaches: &[CapturedReach]) -> Vec<
 
 /// [`take_names`] for reaches given by their frames and arm labels.
 pub fn names_of(common: &Path, take: &Path, reaches: &[(Range<usize>, String)]) -> Vec<PathBuf> {
-    let relative = relative_name(common, take);
-    let stem = relative
-        .file_stem()
-        .map_or_else(|| "clip".into(), |s| s.to_string_lossy().into_owned());
+    result_names(&relative_name(common, take), reaches)
+}
+
+/// The result names of the reaches `reaches` (frames and arm label, each pair once) of the
+/// take at `relative` (its path from the library's root), as the module docs describe.
+pub fn result_names(relative: &Path, reaches: &[(Range<usize>, String)]) -> Vec<PathBuf> {
+    let file = relative
+        .file_name()
+        .map_or_else(|| "clip".into(), |s| s.to_string_lossy().into_owned())
+        .replace('@', "@@");
     reaches
         .iter()
         .map(|(frames, arm)| {
             let same_frames = reaches.iter().filter(|(f, _)| f == frames).count() > 1;
             let (start, end) = (frames.start, frames.end);
             let name = match (reaches.len() > 1, same_frames) {
-                (false, _) => format!("{stem}.json"),
-                (true, false) => format!("{stem}_{start}-{end}.json"),
-                (true, true) => format!("{stem}_{start}-{end}_{arm}.json"),
+                (false, _) => format!("{file}.json"),
+                (true, false) => format!("{file}@{start}-{end}.json"),
+                (true, true) => format!("{file}@{start}-{end}@{}.json", label(arm)),
             };
             relative.with_file_name(name)
         })
         .collect()
 }
 
-/// The arm of a reach as a result name says it: its side, or its first joint's name where
-/// the side is unclear (joints named by hand), made safe for a file name.
+/// `arm` as a result name writes it: letters, digits, `-` and `_` as they are, every other
+/// byte `%XX` (so no `@`, `/` or `.` is left, and two labels never write alike).
+fn label(arm: &str) -> String {
+    let mut out = String::with_capacity(arm.len());
+    for b in arm.bytes() {
+        if b.is_ascii_alphanumeric() || b == b'-' || b == b'_' {
+            out.push(char::from(b));
+        } else {
+            out.push_str(&format!("%{b:02X}"));
+        }
+    }
+    out
+}
+
+/// The arm of a reach as a result name tells it apart: its side, or `joint-` and its first
+/// joint's name where the side is unclear (joints named by hand).
 fn arm_label(reach: &CapturedReach) -> String {
     let arm = reach.fitted_arm();
     match (arm.side, arm.joints.first()) {
         (Some(side), _) => side.to_string(),
-        (None, Some(joint)) => joint
-            .chars()
-            .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
-            .collect(),
+        (None, Some(joint)) => format!("joint-{joint}"),
         (None, None) => "arm".into(),
     }
 }
@@ -160,37 +192,46 @@ pub fn common_folder(paths: &[PathBuf]) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+    use std::collections::{BTreeSet, HashSet};
 
     #[test]
     fn several_reaches_of_a_take_are_named_by_frames_and_by_arm_where_frames_repeat() {
-        let common = Path::new("/lib");
-        let take = Path::new("/lib/p01/r01.bvh");
-        let one = names_of(common, take, &[(3..40, "right".into())]);
-        assert_eq!(one, [PathBuf::from("p01/r01.json")]);
-        let two = names_of(
-            common,
-            take,
-            &[(3..40, "right".into()), (50..90, "right".into())],
-        );
+        let take = Path::new("p01/r01.bvh");
+        let one = result_names(take, &[(3..40, "right".into())]);
+        assert_eq!(one, [PathBuf::from("p01/r01.bvh.json")]);
+        let two = result_names(take, &[(3..40, "right".into()), (50..90, "right".into())]);
         assert_eq!(
             two,
             [
-                PathBuf::from("p01/r01_3-40.json"),
-                PathBuf::from("p01/r01_50-90.json")
+                PathBuf::from("p01/r01.bvh@3-40.json"),
+                PathBuf::from("p01/r01.bvh@50-90.json")
             ]
         );
-        let both_hands = names_of(
-            common,
-            take,
-            &[(3..40, "right".into()), (3..40, "left".into())],
-        );
+        let both_hands = result_names(take, &[(3..40, "right".into()), (3..40, "left".into())]);
         assert_eq!(
             both_hands,
             [
-                PathBuf::from("p01/r01_3-40_right.json"),
-                PathBuf::from("p01/r01_3-40_left.json")
+                PathBuf::from("p01/r01.bvh@3-40@right.json"),
+                PathBuf::from("p01/r01.bvh@3-40@left.json")
             ]
         );
+    }
+
+    /// The sweep's collision: `26_10.bvh` with two reaches and a take renamed
+    /// `26_10_4-66.bvh` (or `26_10.bvh@4-66`) in one folder.
+    #[test]
+    fn a_take_named_like_another_take_s_reach_gets_its_own_result() {
+        let lift = result_names(
+            Path::new("26_10.bvh"),
+            &[(4..66, "left".into()), (4..66, "right".into())],
+        );
+        let mut names: HashSet<PathBuf> = lift.into_iter().collect();
+        for renamed in ["26_10_4-66.bvh", "26_10.bvh@4-66", "26_10.bvh@4-66@left"] {
+            let one = result_names(Path::new(renamed), &[(4..66, "left".into())]);
+            assert!(names.insert(one[0].clone()), "{renamed} collides: {one:?}");
+        }
+        assert!(names.contains(Path::new("26_10.bvh@@4-66@@left.json")));
     }
 
     #[test]
@@ -198,5 +239,54 @@ mod tests {
         let paths = [PathBuf::from("/a/b/c/x.bvh"), PathBuf::from("/a/b/d/y.bvh")];
         assert_eq!(common_folder(&paths), PathBuf::from("/a/b"));
         assert_eq!(common_folder(&paths[..1]), PathBuf::from("/a/b/c"));
+    }
+
+    /// File names made of the characters that could fool a name: the separators, digits,
+    /// dots, the escape, and a few others.
+    fn file_name() -> impl Strategy<Value = String> {
+        "[a1@._%-]{1,4}(\\.bvh|@[0-9]-[0-9]|@[0-9]-[0-9]@(left|%40)|\\.json)?"
+            .prop_filter("a file's name", |n| n != "." && n != "..")
+    }
+
+    /// A take's reaches: distinct (frames, arm label) keys, labels of any characters.
+    fn reach_keys() -> impl Strategy<Value = Vec<(Range<usize>, String)>> {
+        prop::collection::btree_set(
+            (0usize..4, 1usize..4, "(left|right|l@f|%4|[a@%.-]{0,3})"),
+            1..5,
+        )
+        .prop_map(|keys: BTreeSet<(usize, usize, String)>| {
+            keys.into_iter()
+                .map(|(s, len, arm)| (s..s + len, arm))
+                .collect()
+        })
+    }
+
+    proptest! {
+        /// No two (take, reach) pairs of a library map to one result name.
+        #[test]
+        fn result_names_are_unique_over_takes_and_reaches(
+            takes in prop::collection::btree_map(
+                ("(|p1/|p1/sub/|p@/)", file_name()).prop_map(|(d, f)| format!("{d}{f}")),
+                reach_keys(),
+                1..6,
+            )
+        ) {
+            let mut seen: HashSet<PathBuf> = HashSet::new();
+            let mut pairs = 0;
+            for (take, keys) in &takes {
+                let names = result_names(Path::new(take), keys);
+                prop_assert_eq!(names.len(), keys.len());
+                for name in names {
+                    pairs += 1;
+                    // In the take's folder, starting with its escaped file name.
+                    prop_assert_eq!(name.parent(), Path::new(take).parent());
+                    let file = Path::new(take).file_name().unwrap().to_string_lossy();
+                    let escaped = file.replace('@', "@@");
+                    prop_assert!(name.file_name().unwrap().to_string_lossy().starts_with(&escaped));
+                    prop_assert!(seen.insert(name.clone()), "{:?} twice in {:?}", name, takes);
+                }
+            }
+            prop_assert_eq!(seen.len(), pairs);
+        }
     }
 }

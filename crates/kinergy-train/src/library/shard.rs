@@ -1,9 +1,16 @@
 //! One shard of a library: its takes fitted in parallel, each reach's result written
-//! atomically as soon as it is fitted, and a record of what it did in
-//! `DIR/shards/I-of-N.csv` (the takes it was dealt, then each reach fitted and each take
-//! skipped). A result depends on its reach and the seed only, so every number in it is the
-//! same whichever shard fitted it.
+//! atomically as soon as it is fitted, and a record of what it did in `DIR/shards`
+//! ([`record`](super::record): the header `I-of-N.json` with the run's settings and the
+//! library's takes, and `I-of-N.csv`, the takes it was dealt, then each reach fitted, with
+//! its result's hash, and each take skipped). A result depends on its reach and the
+//! settings only, so every number in it is the same whichever shard fitted it.
+//!
+//! Resuming trusts the records, not the files' names: a reach is found fitted when a
+//! record of the same settings, whose take had the same content as now, lists its result
+//! with the hash the file has now — however the takes' paths are spelled, from whichever
+//! folder the run starts.
 
+use std::collections::HashMap;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -13,9 +20,15 @@ use std::time::Instant;
 use kinergy_solver::FitGrouping;
 use rayon::prelude::*;
 
-use super::names::{Takes, take_names};
-use super::table::{LibraryError, RecordRow, SHARDS, is_complete, record_path, write_csv};
-use super::{Shard, dealt_to};
+use super::deal;
+use super::identity::{Settings, TakeIdentity, hash_file, slash_path};
+use super::names::{Takes, relative_name, take_names};
+use super::record::{
+    FORMAT, RecordFile, RecordRow, ShardHeader, ShardRecord, TakesCache, header_path, load_shard,
+    parse_record_name, record_path, write_header, write_record, write_takes,
+};
+use super::table::{LibraryError, SHARDS};
+use super::{Shard, collect::safe_relative};
 use crate::CapturedReach;
 use crate::anneal::Observer;
 use crate::error::TrainError;
@@ -35,8 +48,8 @@ pub struct ShardRun<'a> {
     pub job: &'a FitJob,
     /// Which share of the takes this run fits.
     pub shard: Shard,
-    /// Keep the results already complete (a reach's result file of the job's last model,
-    /// recording its clip, frames and arm) and fit only the rest.
+    /// Keep the results already complete (recorded, with the same settings, for the take as
+    /// it is now, the file as recorded) and fit only the rest.
     pub resume: bool,
     /// Files no result may be written over (the captures, a segments file), as given: a
     /// result's name is known only once its take is segmented.
@@ -80,11 +93,70 @@ pub struct ShardOutcome {
     pub interrupted: bool,
 }
 
+/// What a shard will do, worked out before it starts ([`ShardRun::plan`]): the library's
+/// takes and settings as its record will say them, the takes dealt to it, and (resuming)
+/// the results found fitted.
+#[derive(Debug)]
+pub struct ShardPlan {
+    /// Each take's identity, in the library's order.
+    identities: Vec<TakeIdentity>,
+    /// The run's settings.
+    settings: Settings,
+    /// The takes dealt to the shard (indices into the library's takes).
+    mine: Vec<usize>,
+    /// Results found fitted, by take and result name (resuming).
+    fitted: HashMap<(String, String), RecordRow>,
+    /// The rows of the takes found wholly fitted, for the new record from its start.
+    carried: Vec<RecordRow>,
+    /// The interrupt flag stopped the planning.
+    interrupted: bool,
+}
+
+impl ShardPlan {
+    /// How many takes are dealt to the shard.
+    pub fn dealt(&self) -> usize {
+        self.mine.len()
+    }
+
+    /// The run's settings.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+}
+
 /// The shard's record, shared by the workers and written atomically now and then.
 struct Record {
     path: PathBuf,
-    rows: Mutex<Vec<RecordRow>>,
+    rows: Mutex<RecordRows>,
     last_write: Mutex<Instant>,
+}
+
+/// A record's rows, each reach's and each skipped take's once (a take found fitted at the
+/// start and again as it is done is recorded once).
+#[derive(Default)]
+struct RecordRows {
+    rows: Vec<RecordRow>,
+    at: HashMap<(String, String, String), usize>,
+}
+
+impl RecordRows {
+    fn push(&mut self, row: RecordRow) {
+        let key = match row.kind.as_str() {
+            "reach" => ("reach".to_string(), String::new(), row.result.clone()),
+            "skipped" => ("skipped".to_string(), row.clip.clone(), String::new()),
+            _ => {
+                self.rows.push(row);
+                return;
+            }
+        };
+        match self.at.get(&key) {
+            Some(&i) => self.rows[i] = row,
+            None => {
+                self.at.insert(key, self.rows.len());
+                self.rows.push(row);
+            }
+        }
+    }
 }
 
 /// How often, at most, the record is rewritten while the shard runs (it is at its end).
@@ -92,15 +164,22 @@ const RECORD_EVERY_S: f64 = 5.0;
 
 impl Record {
     fn write(&self) -> Result<(), LibraryError> {
-        let rows = self.rows.lock().map_err(|_| poisoned(&self.path))?.clone();
-        write_csv(&self.path, &rows)
+        let rows = self
+            .rows
+            .lock()
+            .map_err(|_| poisoned(&self.path))?
+            .rows
+            .clone();
+        write_record(&self.path, &rows)
     }
 
     fn push(&self, rows: Vec<RecordRow>) -> Result<(), LibraryError> {
-        self.rows
-            .lock()
-            .map_err(|_| poisoned(&self.path))?
-            .extend(rows);
+        {
+            let mut all = self.rows.lock().map_err(|_| poisoned(&self.path))?;
+            for row in rows {
+                all.push(row);
+            }
+        }
         let due = {
             let mut last = self.last_write.lock().map_err(|_| poisoned(&self.path))?;
             let due = last.elapsed().as_secs_f64() >= RECORD_EVERY_S;
@@ -149,26 +228,194 @@ impl From<TrainError> for TakeError {
 }
 
 impl ShardRun<'_> {
-    /// The takes dealt to this shard, in the library's order (each take's header read once
-    /// for its weight): what [`run`](Self::run) fits.
-    pub fn dealt(&self) -> Vec<&std::path::PathBuf> {
-        dealt_to(self.shard, &self.takes.paths)
+    /// Works out the shard's run before it starts: every take's identity (each read and
+    /// hashed once), the settings, the takes dealt to this shard and, resuming, the results
+    /// found fitted. Refuses, before any work, a library whose other shards' records say
+    /// they ran with other settings. An error here is about a take that cannot be read or
+    /// the library's own files.
+    pub fn plan(&self) -> Result<ShardPlan, LibraryError> {
+        let root = &self.takes.common;
+        let identities: Vec<Option<Result<TakeIdentity, LibraryError>>> = self
+            .takes
+            .paths
+            .par_iter()
+            .map(|take| {
+                if self.interrupt.load(Ordering::SeqCst) {
+                    return None;
+                }
+                Some(TakeIdentity::of(take, &relative_name(root, take)))
+            })
+            .collect();
+        let settings = Settings::of(
+            self.job,
+            self.query,
+            self.takes.segments().map(|s| s.path()),
+        )?;
+        let mut plan = ShardPlan {
+            identities: Vec::with_capacity(identities.len()),
+            settings,
+            mine: Vec::new(),
+            fitted: HashMap::new(),
+            carried: Vec::new(),
+            interrupted: false,
+        };
+        for identity in identities {
+            match identity {
+                Some(identity) => plan.identities.push(identity?),
+                None => {
+                    plan.interrupted = true;
+                    return Ok(plan);
+                }
+            }
+        }
+        let weights: Vec<u64> = plan.identities.iter().map(TakeIdentity::weight).collect();
+        plan.mine = deal(&weights, self.shard.count)
+            .into_iter()
+            .enumerate()
+            .filter(|(_, s)| *s == self.shard.index)
+            .map(|(i, _)| i)
+            .collect();
+        let records = self.records();
+        self.check_settings(&plan.settings, &records)?;
+        if self.resume {
+            self.found_fitted(&mut plan, &records);
+        }
+        Ok(plan)
     }
 
-    /// Runs the shard on the takes `mine` dealt to it ([`dealt`](Self::dealt)): makes the folder and its `shards` folder, writes the record of the
-    /// takes dealt, fits them (each reach's result written as soon as it is fitted, each
-    /// event told to `on_event`), and writes the record again at the end. A take that fails
-    /// stops the others (its error is in the outcome); a failed or interrupted run that
-    /// fitted nothing leaves the folder as it found it. An error here is about the library's
-    /// own files (its folder or record could not be made or written).
+    /// The records of this library already in its folder that can be read (the others
+    /// are `collect`'s to name).
+    fn records(&self) -> Vec<ShardRecord> {
+        let Ok(entries) = std::fs::read_dir(self.dir.join(SHARDS)) else {
+            return Vec::new();
+        };
+        let mut cache = TakesCache::new();
+        let mut records = Vec::new();
+        for entry in entries.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if let Some(Ok((i, n, RecordFile::Rows))) = parse_record_name(&name)
+                && let Ok(Ok(record)) = load_shard(self.dir, i, n, &mut cache)
+            {
+                records.push(record);
+            }
+        }
+        records.sort_by_key(|r| r.shard);
+        records
+    }
+
+    /// Refuses settings other than those of the other shards of this sharding.
+    fn check_settings(
+        &self,
+        settings: &Settings,
+        records: &[ShardRecord],
+    ) -> Result<(), LibraryError> {
+        let other = records.iter().find(|r| {
+            r.shard.1 == self.shard.count
+                && r.shard.0 != self.shard.index
+                && r.header.settings != *settings
+        });
+        let Some(other) = other else {
+            return Ok(());
+        };
+        let differences = settings.differences(&other.header.settings, "this run");
+        Err(LibraryError::Input {
+            path: header_path(self.dir, other.shard.0, other.shard.1),
+            why: format!(
+                "shard {}/{} of this library ran with other settings: {}: run every shard with \
+                 the same settings, or remove {} to fit the library anew",
+                other.shard.0,
+                other.shard.1,
+                differences.join(", "),
+                self.dir.join(SHARDS).display()
+            ),
+        })
+    }
+
+    /// The results the records say were fitted with these settings for the takes as they
+    /// are now, each file as recorded; and the rows of the takes dealt to this shard whose
+    /// every reach is among them.
+    fn found_fitted(&self, plan: &mut ShardPlan, records: &[ShardRecord]) {
+        let now: HashMap<&str, &TakeIdentity> = plan
+            .identities
+            .iter()
+            .map(|t| (t.path.as_str(), t))
+            .collect();
+        let mut hashes: HashMap<String, Option<String>> = HashMap::new();
+        // Each record's rows of each take, when every one of them holds.
+        let mut whole: HashMap<&str, Vec<RecordRow>> = HashMap::new();
+        for record in records
+            .iter()
+            .filter(|r| r.header.settings == plan.settings)
+        {
+            let then: HashMap<&str, &TakeIdentity> =
+                record.takes.iter().map(|t| (t.path.as_str(), t)).collect();
+            let mut by_take: HashMap<&str, (bool, Vec<RecordRow>)> = HashMap::new();
+            for row in record.rows.iter().filter(|r| r.kind == "reach") {
+                let same_take = match (then.get(row.clip.as_str()), now.get(row.clip.as_str())) {
+                    (Some(a), Some(b)) => a == b,
+                    _ => false,
+                };
+                let hash = hashes.entry(row.result.clone()).or_insert_with(|| {
+                    let path = self.dir.join(safe_relative(&row.result)?);
+                    hash_file(&path).ok().map(|(_, h)| h)
+                });
+                let holds = same_take && hash.as_deref() == Some(row.blake3.as_str());
+                let entry = by_take
+                    .entry(row.clip.as_str())
+                    .or_insert((true, Vec::new()));
+                entry.0 &= holds;
+                let found = RecordRow {
+                    seconds: String::new(),
+                    ..row.clone()
+                };
+                if holds {
+                    plan.fitted
+                        .insert((row.clip.clone(), row.result.clone()), found.clone());
+                }
+                entry.1.push(found);
+            }
+            for (clip, (holds, rows)) in by_take {
+                if holds {
+                    whole.entry(clip).or_insert(rows);
+                }
+            }
+        }
+        for &i in &plan.mine {
+            if let Some(rows) = whole.remove(plan.identities[i].path.as_str()) {
+                plan.carried.extend(rows);
+            }
+        }
+    }
+
+    /// Runs the shard as `plan` says ([`plan`](Self::plan)): makes the folder and its
+    /// `shards` folder, writes the record's header, takes list and first rows (the takes
+    /// dealt, and those found fitted), fits the takes (each reach's result written as soon
+    /// as it is fitted, each event told to `on_event`), and writes the record again at the
+    /// end. A take that fails stops the others (its error is in the outcome); a failed or
+    /// interrupted run that fitted nothing leaves the folder as it found it. An error here
+    /// is about the library's own files (its folder or record could not be made or
+    /// written).
     pub fn run(
         &self,
-        mine: &[&std::path::PathBuf],
+        plan: &ShardPlan,
         on_event: &(dyn Fn(ShardEvent<'_>) + Sync),
     ) -> Result<ShardOutcome, LibraryError> {
+        let record_file = record_path(self.dir, self.shard.index, self.shard.count);
+        if plan.interrupted {
+            return Ok(ShardOutcome {
+                dealt: plan.mine.len(),
+                fitted: 0,
+                skipped: Vec::new(),
+                record: record_file,
+                failed: None,
+                interrupted: true,
+            });
+        }
         let made_dir = !self.dir.exists();
         let shards = self.dir.join(SHARDS);
         let made_shards = !shards.exists();
+        let header_file = header_path(self.dir, self.shard.index, self.shard.count);
+        let made_record = !record_file.exists() && !header_file.exists();
         std::fs::create_dir_all(self.dir).map_err(|e| LibraryError::Input {
             path: self.dir.to_path_buf(),
             why: format!("cannot create the folder: {e}"),
@@ -177,9 +424,31 @@ impl ShardRun<'_> {
             path: shards.clone(),
             why: e.to_string(),
         })?;
+        let (takes_name, takes_blake3) = write_takes(&shards, &plan.identities)?;
+        let header = ShardHeader {
+            kinergy_library: FORMAT,
+            shard: [self.shard.index, self.shard.count],
+            root: self.takes.common.display().to_string(),
+            settings: plan.settings.clone(),
+            takes: takes_name.clone(),
+            takes_blake3,
+            take_count: plan.identities.len(),
+        };
+        let header_hash = write_header(&header_file, &header)?;
+        let mut rows = RecordRows::default();
+        rows.push(RecordRow::shard(
+            &format!("{}-of-{}.json", self.shard.index, self.shard.count),
+            &header_hash,
+        ));
+        for &i in &plan.mine {
+            rows.push(RecordRow::take(&plan.identities[i].path));
+        }
+        for row in &plan.carried {
+            rows.push(row.clone());
+        }
         let record = Record {
-            path: record_path(self.dir, self.shard.index, self.shard.count),
-            rows: Mutex::new(mine.iter().map(|t| RecordRow::take(t)).collect()),
+            path: record_file,
+            rows: Mutex::new(rows),
             last_write: Mutex::new(Instant::now()),
         };
         record.write()?;
@@ -189,13 +458,14 @@ impl ShardRun<'_> {
             .filter_map(|p| std::fs::canonicalize(p).ok())
             .collect();
         let failed = AtomicBool::new(false);
-        let outcomes: Vec<Result<TakeOutcome, TakeError>> = mine
+        let outcomes: Vec<Result<TakeOutcome, TakeError>> = plan
+            .mine
             .par_iter()
-            .map(|take| {
+            .map(|&i| {
                 if failed.load(Ordering::SeqCst) || self.interrupt.load(Ordering::SeqCst) {
                     return Ok(TakeOutcome::Stopped);
                 }
-                let outcome = self.take(take, &record, &inputs, on_event);
+                let outcome = self.take(i, plan, &record, &inputs, on_event);
                 if outcome.is_err() {
                     failed.store(true, Ordering::SeqCst);
                 }
@@ -204,7 +474,7 @@ impl ShardRun<'_> {
             })
             .collect();
         let mut outcome = ShardOutcome {
-            dealt: mine.len(),
+            dealt: plan.mine.len(),
             fitted: 0,
             skipped: Vec::new(),
             record: record.path.clone(),
@@ -212,7 +482,7 @@ impl ShardRun<'_> {
             interrupted: false,
         };
         let mut library_error = None;
-        for (take, result) in mine.iter().zip(outcomes) {
+        for (&i, result) in plan.mine.iter().zip(outcomes) {
             match result {
                 Ok(TakeOutcome::Fitted(rows)) => outcome.fitted += rows.len(),
                 Ok(TakeOutcome::Skipped(skip)) => outcome.skipped.push(skip),
@@ -221,7 +491,7 @@ impl ShardRun<'_> {
                 Err(TakeError::Take(e)) => {
                     outcome
                         .failed
-                        .get_or_insert_with(|| (take.to_path_buf(), e));
+                        .get_or_insert_with(|| (self.takes.paths[i].clone(), e));
                 }
                 Err(TakeError::Library(e)) => {
                     library_error.get_or_insert(e);
@@ -233,11 +503,14 @@ impl ShardRun<'_> {
         if let Some(e) = library_error {
             return Err(e);
         }
-        if outcome.fitted == 0 && (outcome.failed.is_some() || outcome.interrupted) {
+        if outcome.fitted == 0 && (outcome.failed.is_some() || outcome.interrupted) && made_record {
             // Nothing written but the record: a failed run leaves the folder as it found it
-            // (best effort: the run's error is what gets reported).
+            // (best effort: the run's error is what gets reported). A record there before
+            // stays, with the rows it carried.
             let _ = std::fs::remove_file(&record.path);
+            let _ = std::fs::remove_file(&header_file);
             if made_shards {
+                let _ = std::fs::remove_file(shards.join(&takes_name));
                 let _ = std::fs::remove_dir(&shards);
             }
             if made_dir {
@@ -247,14 +520,17 @@ impl ShardRun<'_> {
         Ok(outcome)
     }
 
-    /// Fits the reaches of one take (or finds them fitted, resuming) and records them.
+    /// Fits the reaches of take `index` (or finds them fitted, resuming) and records them.
     fn take(
         &self,
-        take: &Path,
+        index: usize,
+        plan: &ShardPlan,
         record: &Record,
         inputs: &HashSet<PathBuf>,
         on_event: &(dyn Fn(ShardEvent<'_>) + Sync),
     ) -> Result<TakeOutcome, TakeError> {
+        let take = self.takes.paths[index].as_path();
+        let clip = plan.identities[index].path.as_str();
         let found: Vec<(CapturedReach, Option<String>)> = match self.takes.rows_of(take) {
             Some((segments, rows)) => self
                 .query
@@ -265,22 +541,39 @@ impl ShardRun<'_> {
             None => match self.query.take_at(take)? {
                 Ok(reaches) => reaches.into_iter().map(|r| (r, None)).collect(),
                 Err(skip) => {
-                    record.push(vec![RecordRow::skipped(take, &skip.why)])?;
+                    record.push(vec![RecordRow::skipped(clip, &skip.why)])?;
                     return Ok(TakeOutcome::Skipped(skip));
                 }
             },
         };
         let reaches: Vec<CapturedReach> = found.iter().map(|(r, _)| r.clone()).collect();
         let names = take_names(&self.takes.common, take, &reaches);
-        let last_model = self.job.models.iter().max().copied();
+        if let Some(twice) = repeated(&names) {
+            return Err(LibraryError::Input {
+                path: take.to_path_buf(),
+                why: format!(
+                    "two of its reaches are one ({}): a segments file lists it twice?",
+                    twice.display()
+                ),
+            }
+            .into());
+        }
         let mut rows = Vec::with_capacity(found.len());
         for ((reach, person), name) in found.into_iter().zip(names) {
             let output = self.dir.join(&name);
             let person = person.unwrap_or_else(|| default_person(take));
-            let row = RecordRow::reach(take, &reach, person, &name, String::new());
-            if self.resume && last_model.is_some_and(|m| is_complete(&output, &reach, m)) {
-                rows.push(row);
-                continue;
+            let key = (clip.to_string(), slash_path(&name));
+            let row = |blake3: String, seconds: String| {
+                RecordRow::reach(clip, &reach, person.clone(), &name, blake3, seconds)
+            };
+            if self.resume
+                && let Some(done) = plan.fitted.get(&key)
+            {
+                let fresh = row(done.blake3.clone(), String::new());
+                if (&fresh.onset, &fresh.end, &fresh.arm) == (&done.onset, &done.end, &done.arm) {
+                    rows.push(fresh);
+                    continue;
+                }
             }
             if self.interrupt.load(Ordering::SeqCst) {
                 return Ok(TakeOutcome::Stopped);
@@ -301,16 +594,17 @@ impl ShardRun<'_> {
             fits.params_file(group, FitGrouping::Clip)?
                 .write(&output)
                 .map_err(TrainError::from)?;
+            let (_, blake3) = hash_file(&output).map_err(|e| LibraryError::Write {
+                path: output.clone(),
+                why: format!("cannot read the result back to record it: {e}"),
+            })?;
             let seconds = clock.elapsed().as_secs_f64();
             on_event(ShardEvent::Fitted {
                 output: &output,
                 reach: &reach,
                 fits: &fits,
             });
-            rows.push(RecordRow {
-                seconds: format!("{seconds:.3}"),
-                ..row
-            });
+            rows.push(row(blake3, format!("{seconds:.3}")));
         }
         record.push(rows.clone())?;
         Ok(TakeOutcome::Fitted(rows))
@@ -339,4 +633,10 @@ impl ShardRun<'_> {
             _ => Ok(()),
         }
     }
+}
+
+/// A name `names` has twice, if any.
+fn repeated(names: &[PathBuf]) -> Option<&PathBuf> {
+    let mut seen = HashSet::new();
+    names.iter().find(|n| !seen.insert(*n))
 }

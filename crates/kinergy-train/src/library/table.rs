@@ -1,11 +1,10 @@
-//! A fitted library's files: the shards' records, `library.csv` and `skipped.csv`, and
-//! [`collect`], which checks the records against the result files and writes the tables.
+//! A fitted library's tables: `library.csv` ([`LibraryRow`] per reach, read back as a
+//! [`LibraryTable`], refused where it cannot be true) and `skipped.csv` ([`SkippedRow`] per
+//! take with nothing to fit), and the library's errors.
 //!
 //! Layout of a library folder `DIR`: each reach's parameters file under its result name
-//! (relative to `DIR`), `DIR/shards/I-of-N.csv` (what shard I of N was dealt and did: a
-//! [`RecordRow`] per take dealt, then per reach fitted and per take skipped or failed),
-//! `DIR/library.csv` (a [`LibraryRow`] per reach) and `DIR/skipped.csv` (a [`SkippedRow`]
-//! per take with nothing to fit).
+//! (relative to `DIR`, see [`names`](super::names)), the shards' records in `DIR/shards`
+//! (see [`record`](super::record)), `DIR/library.csv` and `DIR/skipped.csv`.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt;
@@ -14,7 +13,7 @@ use std::path::{Path, PathBuf};
 use kinergy_solver::{Model, ParamsFile};
 use serde::{Deserialize, Serialize};
 
-use crate::CapturedReach;
+use super::record::RecordRow;
 use crate::experiment::Stats;
 
 /// The folder, inside a library folder, of the shards' records.
@@ -38,13 +37,23 @@ pub enum LibraryError {
     },
     /// The library is not complete: `summary` says what was tabled, `problems` what is
     /// missing and why (a task that is not done).
-    #[error("{summary}the library in {} is not complete:\n  {}", dir.display(), problems.join("\n  "))]
+    #[error("{summary}the library in {} is not complete:\n  {}", dir.display(), listed(problems))]
     Incomplete {
         /// The library folder.
         dir: PathBuf,
         /// What was written (reaches and skipped takes).
         summary: String,
         /// Each thing missing, in words.
+        problems: Vec<String>,
+    },
+    /// The library's files contradict each other or themselves — shards of other settings
+    /// or other takes, results that are not the ones recorded, stray records — so no table
+    /// is written: `problems` says what differs (bad input).
+    #[error("the library in {} cannot be collected:\n  {}", dir.display(), listed(problems))]
+    Refused {
+        /// The library folder.
+        dir: PathBuf,
+        /// Each thing wrong, in words.
         problems: Vec<String>,
     },
     /// A table could not be written.
@@ -62,11 +71,30 @@ impl kinergy_io::Classify for LibraryError {
     /// not done; a table not written a failed write.
     fn kind(&self) -> kinergy_io::ErrorKind {
         match self {
-            LibraryError::Input { .. } => kinergy_io::ErrorKind::Input,
+            LibraryError::Input { .. } | LibraryError::Refused { .. } => {
+                kinergy_io::ErrorKind::Input
+            }
             LibraryError::Incomplete { .. } => kinergy_io::ErrorKind::Task,
             LibraryError::Write { .. } => kinergy_io::ErrorKind::Io,
         }
     }
+}
+
+/// How many problems an error lists (the rest are counted).
+const LISTED: usize = 20;
+
+/// `problems`, one a line, at most [`LISTED`] of them.
+fn listed(problems: &[String]) -> String {
+    let mut out = problems
+        .iter()
+        .take(LISTED)
+        .map(|p| kinergy_io::clip_text(p, 1000).into_owned())
+        .collect::<Vec<_>>()
+        .join("\n  ");
+    if problems.len() > LISTED {
+        out.push_str(&format!("\n  … and {} more", problems.len() - LISTED));
+    }
+    out
 }
 
 /// `why` naming `path` once (messages about files that already name them stay as they are).
@@ -77,102 +105,6 @@ fn naming(path: &Path, why: impl fmt::Display) -> String {
     } else {
         format!("{}: {text}", path.display())
     }
-}
-
-/// One line of a shard's record.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct RecordRow {
-    /// `take` (dealt to the shard), `reach` (fitted or found fitted), `skipped` (nothing to
-    /// fit) or `failed` (the take could not be fitted).
-    pub kind: String,
-    /// The take, as the library's paths spell it.
-    pub clip: String,
-    /// The reach's person.
-    pub person: String,
-    /// The reach's arm side.
-    pub arm: String,
-    /// The reach's first frame.
-    pub onset: String,
-    /// The reach's end frame (excluded).
-    pub end: String,
-    /// The result file, relative to the library folder.
-    pub result: String,
-    /// Seconds the reach's fit took (empty when it was found already fitted).
-    pub seconds: String,
-    /// Why a take was skipped or failed.
-    pub why: String,
-}
-
-impl RecordRow {
-    /// The row saying take `clip` was dealt to the shard.
-    pub fn take(clip: &Path) -> RecordRow {
-        RecordRow {
-            kind: "take".into(),
-            clip: clip.display().to_string(),
-            person: String::new(),
-            arm: String::new(),
-            onset: String::new(),
-            end: String::new(),
-            result: String::new(),
-            seconds: String::new(),
-            why: String::new(),
-        }
-    }
-
-    /// The row saying take `clip` was skipped, and why.
-    pub fn skipped(clip: &Path, why: &str) -> RecordRow {
-        RecordRow {
-            kind: "skipped".into(),
-            why: why.to_string(),
-            ..RecordRow::take(clip)
-        }
-    }
-
-    /// The row of `reach` of take `clip`, by `person`, its result under `result` (relative
-    /// to the library folder); `seconds` empty when it was found already fitted.
-    pub fn reach(
-        clip: &Path,
-        reach: &CapturedReach,
-        person: String,
-        result: &Path,
-        seconds: String,
-    ) -> RecordRow {
-        RecordRow {
-            kind: "reach".into(),
-            person,
-            arm: reach
-                .fitted_arm()
-                .side
-                .map_or_else(String::new, |s| s.to_string()),
-            onset: reach.frames().start.to_string(),
-            end: reach.frames().end.to_string(),
-            result: result.display().to_string(),
-            seconds,
-            ..RecordRow::take(clip)
-        }
-    }
-}
-
-/// A shard's record file, `I-of-N.csv`, in the `shards` folder of `dir`.
-pub fn record_path(dir: &Path, index: usize, count: usize) -> PathBuf {
-    dir.join(SHARDS).join(format!("{index}-of-{count}.csv"))
-}
-
-/// Reads a shard's record.
-pub fn read_record(path: &Path) -> Result<Vec<RecordRow>, LibraryError> {
-    let text =
-        kinergy_io::read_to_string_limited(path, 1 << 30).map_err(|e| LibraryError::Input {
-            path: path.to_path_buf(),
-            why: e.to_string(),
-        })?;
-    let mut reader = csv::Reader::from_reader(text.as_bytes());
-    reader
-        .deserialize()
-        .collect::<Result<Vec<RecordRow>, _>>()
-        .map_err(|e| LibraryError::Input {
-            path: path.to_path_buf(),
-            why: format!("not a shard record: {e}"),
-        })
 }
 
 /// Writes `rows` as CSV to `path`, atomically.
@@ -193,7 +125,7 @@ pub fn write_csv<T: Serialize>(
 }
 
 /// One row of `library.csv`: a reach, its fit's model and optimizer, and the motion distance
-/// of each model its nested fit passed through. Written by [`collect`], read by
+/// of each model its nested fit passed through. Written by [`collect`](super::collect), read by
 /// [`LibraryTable::read`] (columns a library of an older version lacks read as empty).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LibraryRow {
@@ -239,6 +171,11 @@ pub struct LibraryRow {
     /// The result file, relative to the library folder.
     #[serde(default)]
     pub result: String,
+    /// The fingerprint of the settings the library was fitted with
+    /// ([`Settings::fingerprint`](super::Settings::fingerprint); empty in tables of older
+    /// versions): one value in a whole table.
+    #[serde(default)]
+    pub settings: String,
 }
 
 impl LibraryRow {
@@ -267,11 +204,10 @@ impl LibraryRow {
         self.distance_se_m = se;
     }
 
-    /// The row of a record's reach, from its result file in `dir`.
-    pub fn of_record(dir: &Path, row: &RecordRow) -> Result<LibraryRow, String> {
-        let path = dir.join(&row.result);
-        let file =
-            ParamsFile::read(&path).map_err(|e| format!("result {}: {e}", path.display()))?;
+    /// The row of a record's reach, from its result file `path` (already checked to be the
+    /// one recorded), fitted with the settings of fingerprint `settings`.
+    pub fn of_record(path: &Path, row: &RecordRow, settings: &str) -> Result<LibraryRow, String> {
+        let file = ParamsFile::read(path).map_err(|e| format!("result {}: {e}", path.display()))?;
         let record = file
             .fit
             .as_ref()
@@ -301,6 +237,7 @@ impl LibraryRow {
             evaluations: record.evaluations,
             seconds: row.seconds.parse().ok(),
             result: row.result.clone(),
+            settings: settings.to_string(),
         };
         out.set_distances(Model::ALL.map(distance));
         Ok(out)
@@ -323,23 +260,8 @@ pub struct SkippedRow {
     pub why: String,
 }
 
-/// Whether `path` holds a complete result for `reach` fitted up to `model`: a parameters
-/// file that reads, of that model, recording this reach's clip, frames and arm.
-pub fn is_complete(path: &Path, reach: &CapturedReach, model: Model) -> bool {
-    let Ok(file) = ParamsFile::read(path) else {
-        return false;
-    };
-    let Some(record) = &file.fit else {
-        return false;
-    };
-    file.model == model
-        && record.reaches.len() == 1
-        && record.reaches[0].clip == reach.name()
-        && record.reaches[0].frames == [reach.frames().start, reach.frames().end]
-        && record.reaches[0].arm.as_ref().map(|a| a.side) == Some(reach.fitted_arm().side)
-}
-
-/// A library's table: what [`collect`] wrote, or what [`LibraryTable::read`] read.
+/// A library's table: what [`collect`](super::collect) wrote, or what
+/// [`LibraryTable::read`] read.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LibraryTable {
     /// One row per reach, by clip, onset and arm.
@@ -362,7 +284,8 @@ pub struct PersonLine {
 }
 
 impl LibraryTable {
-    /// Reads `library.csv` (the file, or a library folder holding it).
+    /// Reads `library.csv` (the file, or a library folder holding it), refusing a table
+    /// that cannot be true ([`LibraryTable::check`]).
     pub fn read(path: &Path) -> Result<LibraryTable, LibraryError> {
         let table = if path.is_dir() {
             path.join(LIBRARY)
@@ -381,10 +304,65 @@ impl LibraryTable {
             .enumerate()
             .map(|(i, r)| r.map_err(|e| input(format!("row {}: {e}", i + 2))))
             .collect::<Result<Vec<LibraryRow>, LibraryError>>()?;
-        Ok(LibraryTable {
+        let read = LibraryTable {
             rows,
             skipped: Vec::new(),
-        })
+        };
+        read.check().map_err(input)?;
+        Ok(read)
+    }
+
+    /// Checks that the table can be true: every distance finite and at least 0, each row
+    /// with at least one, and one model, optimizer and settings fingerprint in the whole
+    /// table (a table of mixed settings compares unlike fits). Rows are numbered as lines
+    /// of `library.csv` (the header is line 1).
+    pub fn check(&self) -> Result<(), String> {
+        const COLUMNS: [&str; 5] = [
+            "distance_sa_m",
+            "distance_sb_m",
+            "distance_sc_m",
+            "distance_sd_m",
+            "distance_se_m",
+        ];
+        let Some(first) = self.rows.first() else {
+            return Ok(());
+        };
+        for (i, row) in self.rows.iter().enumerate() {
+            let line = i + 2;
+            for (value, column) in row.distances().iter().zip(COLUMNS) {
+                if let Some(d) = value
+                    && !(d.is_finite() && *d >= 0.0)
+                {
+                    return Err(format!(
+                        "row {line}, column {column}: {d} is not a distance (a finite number \
+                         of meters, at least 0)"
+                    ));
+                }
+            }
+            if row.distances().iter().all(Option::is_none) {
+                return Err(format!(
+                    "row {line}: every distance ({}) is empty: no fit to summarise",
+                    COLUMNS.join(", ")
+                ));
+            }
+            let mixed = [
+                ("model", &row.model, &first.model),
+                ("optimizer", &row.optimizer, &first.optimizer),
+                ("settings", &row.settings, &first.settings),
+            ]
+            .into_iter()
+            .find(|(_, a, b)| a != b);
+            if let Some((column, value, was)) = mixed {
+                return Err(format!(
+                    "row {line}, column {column}: `{}` where row 2 has `{}`: a table of \
+                     mixed settings (collect refuses shards fitted with different settings; \
+                     refit the library with one set)",
+                    kinergy_io::clip_text(value, 40),
+                    kinergy_io::clip_text(was, 40)
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// The models any reach was fitted with, in [`Model::ALL`]'s order.
@@ -426,143 +404,6 @@ fn person_line(person: &str, rows: &[&LibraryRow]) -> PersonLine {
     }
 }
 
-/// What [`collect`] found and wrote.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Collected {
-    /// The tables written.
-    pub table: LibraryTable,
-    /// The summary in words (reaches, skipped takes, the files).
-    pub text: String,
-}
-
-/// Reads the shards' records in `dir`, checks that every take dealt was fitted or skipped
-/// and every result is there and complete, and writes `library.csv` (one row per reach, by
-/// clip, frames and arm) and `skipped.csv`. Idempotent. Incomplete — a shard without a
-/// record, takes no shard finished, results missing or damaged, takes that failed — it
-/// still writes what is there, then fails ([`LibraryError::Incomplete`]) naming what is
-/// missing and why.
-pub fn collect(dir: &Path) -> Result<Collected, LibraryError> {
-    let shards = dir.join(SHARDS);
-    let entries = std::fs::read_dir(&shards).map_err(|e| LibraryError::Input {
-        path: shards.clone(),
-        why: format!("no shard records here ({e}): is this a `fit --out-dir` folder?"),
-    })?;
-    let mut records: BTreeMap<(usize, usize), Vec<RecordRow>> = BTreeMap::new();
-    for entry in entries.flatten() {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let Some(shard) = name
-            .strip_suffix(".csv")
-            .and_then(|s| s.split_once("-of-"))
-            .and_then(|(i, n)| Some((i.parse::<usize>().ok()?, n.parse::<usize>().ok()?)))
-        else {
-            continue;
-        };
-        records.insert(shard, read_record(&entry.path())?);
-    }
-    let Some(&(_, count)) = records.keys().max_by_key(|(_, n)| *n) else {
-        return Err(LibraryError::Input {
-            path: shards.clone(),
-            why: format!(
-                "{}: no shard record (I-of-N.csv): nothing was fitted into {} yet",
-                shards.display(),
-                dir.display()
-            ),
-        });
-    };
-    let mut problems = Vec::new();
-    let counts: BTreeSet<usize> = records.keys().map(|(_, n)| *n).collect();
-    if counts.len() > 1 {
-        problems.push(format!(
-            "records of different shardings ({}): remove the old ones from {}",
-            counts
-                .iter()
-                .map(|n| format!("of {n}"))
-                .collect::<Vec<_>>()
-                .join(", "),
-            shards.display()
-        ));
-    }
-    for index in 1..=count {
-        if !records.contains_key(&(index, count)) {
-            problems.push(format!(
-                "shard {index}/{count} has no record: it did not run (or was killed before \
-                 it started)"
-            ));
-        }
-    }
-    let mut library = Vec::new();
-    let mut skipped: Vec<SkippedRow> = Vec::new();
-    for ((index, n), rows) in &records {
-        if *n != count {
-            continue;
-        }
-        let mut done: BTreeMap<&str, bool> = BTreeMap::new();
-        for row in rows {
-            match row.kind.as_str() {
-                "take" => {
-                    done.entry(&row.clip).or_insert(false);
-                }
-                "skipped" => {
-                    done.insert(&row.clip, true);
-                    skipped.push(SkippedRow {
-                        clip: row.clip.clone(),
-                        why: row.why.clone(),
-                    });
-                }
-                "reach" => {
-                    done.insert(&row.clip, true);
-                    match LibraryRow::of_record(dir, row) {
-                        Ok(r) => library.push(r),
-                        Err(why) => problems.push(format!(
-                            "{}: reach {}..{} ({} arm): {why}",
-                            row.clip, row.onset, row.end, row.arm
-                        )),
-                    }
-                }
-                _ => {}
-            }
-        }
-        let missing: Vec<&str> = done.iter().filter(|(_, d)| !**d).map(|(c, _)| *c).collect();
-        if !missing.is_empty() {
-            problems.push(format!(
-                "shard {index}/{count}: {} of its takes not fitted ({}): run it again with \
-                 --resume",
-                missing.len(),
-                kinergy_io::list_some(&missing, 5)
-            ));
-        }
-    }
-    library.sort_by(|a, b| {
-        (&a.clip, a.onset, &a.arm)
-            .cmp(&(&b.clip, b.onset, &b.arm))
-            .then(a.result.cmp(&b.result))
-    });
-    skipped.sort_by(|a, b| (&a.clip, &a.why).cmp(&(&b.clip, &b.why)));
-    write_csv(&dir.join(LIBRARY), &library)?;
-    write_csv(&dir.join(SKIPPED), &skipped)?;
-    let text = format!(
-        "{} reaches in {}; {} takes skipped, listed in {}\n",
-        library.len(),
-        dir.join(LIBRARY).display(),
-        skipped.len(),
-        dir.join(SKIPPED).display()
-    );
-    if !problems.is_empty() {
-        return Err(LibraryError::Incomplete {
-            dir: dir.to_path_buf(),
-            summary: text,
-            problems,
-        });
-    }
-    Ok(Collected {
-        table: LibraryTable {
-            rows: library,
-            skipped,
-        },
-        text,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -585,6 +426,7 @@ mod tests {
             evaluations: 7,
             seconds: Some(0.5),
             result: format!("{clip}.json"),
+            settings: "0123456789abcdef".into(),
         }
     }
 
@@ -643,13 +485,62 @@ mod tests {
         assert_eq!(lines[0].models[1].1.count, 1);
     }
 
+    /// The sweep's tables that cannot be true, each refused naming its row and column.
     #[test]
-    fn collect_names_a_folder_that_is_not_a_library() {
-        let e = collect(Path::new("/nonexistent/kinergy-library")).unwrap_err();
-        assert!(kinergy_io::Classify::kind(&e).is_input(), "{e}");
-        assert!(
-            e.to_string().contains("is this a `fit --out-dir` folder?"),
-            "{e}"
-        );
+    fn tables_that_cannot_be_true_are_refused_naming_the_row_and_column() {
+        let good = || LibraryTable {
+            rows: vec![row("p1", "a", 0.02, Some(0.01)), row("p1", "b", 0.04, None)],
+            skipped: vec![],
+        };
+        assert_eq!(good().check(), Ok(()));
+        type Spoil = dyn Fn(&mut LibraryRow);
+        let cases: [(&Spoil, &str); 7] = [
+            (
+                &|r| r.distance_sa_m = Some(f64::NAN),
+                "row 3, column distance_sa_m: NaN",
+            ),
+            (
+                &|r| r.distance_sa_m = Some(f64::INFINITY),
+                "row 3, column distance_sa_m: inf",
+            ),
+            (
+                &|r| r.distance_sc_m = Some(f64::NEG_INFINITY),
+                "row 3, column distance_sc_m: -inf",
+            ),
+            (
+                &|r| r.distance_sa_m = Some(-0.001),
+                "row 3, column distance_sa_m: -0.001",
+            ),
+            (&|r| r.set_distances([None; 5]), "row 3: every distance"),
+            (
+                &|r| r.model = "sa".into(),
+                "row 3, column model: `sa` where row 2 has `sc`",
+            ),
+            (
+                &|r| r.settings = "ffff".into(),
+                "row 3, column settings: `ffff`",
+            ),
+        ];
+        for (spoil, expected) in cases {
+            let mut table = good();
+            spoil(&mut table.rows[1]);
+            let e = table.check().unwrap_err();
+            assert!(e.starts_with(expected), "{expected}: {e}");
+        }
+        // Through the file, as `compare --library` reads it: NaN and -inf as the CSV spells
+        // them, and a table with every distance empty.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(LIBRARY);
+        let header = "clip,person,distance_sa_m,distance_sb_m,distance_sc_m,distance_sd_m";
+        for (body, expected) in [
+            ("a,p1,NaN,,,", "row 2, column distance_sa_m: NaN"),
+            ("a,p1,0.02,-inf,,", "row 2, column distance_sb_m: -inf"),
+            ("a,p1,,,,\nb,p1,,,,", "row 2: every distance"),
+        ] {
+            std::fs::write(&path, format!("{header}\n{body}\n")).unwrap();
+            let e = LibraryTable::read(&path).unwrap_err();
+            assert!(kinergy_io::Classify::kind(&e).is_input(), "{e}");
+            assert!(e.to_string().contains(expected), "{expected}: {e}");
+        }
     }
 }

@@ -1,0 +1,503 @@
+//! [`collect`]: a library's shards' records checked against each other, against the takes
+//! on disk and against the result files, then tabled.
+
+use std::collections::{BTreeMap, BTreeSet, HashSet};
+use std::path::{Component, Path, PathBuf};
+
+use rayon::prelude::*;
+
+use super::deal;
+use super::identity::{TakeIdentity, hash_file, takes_changes};
+use super::record::{
+    RecordFile, RecordRow, ShardRecord, TakesCache, is_takes_file_name, load_shard,
+    parse_record_name,
+};
+use super::table::{
+    LIBRARY, LibraryError, LibraryRow, LibraryTable, SHARDS, SKIPPED, SkippedRow, write_csv,
+};
+
+/// What [`collect`] found and wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Collected {
+    /// The tables written.
+    pub table: LibraryTable,
+    /// The summary in words (reaches, skipped takes, the files).
+    pub text: String,
+}
+
+/// How many shards or takes a problem names (the rest are counted).
+const NAMED: usize = 8;
+
+/// Reads the shards' records in `dir` and checks them, then writes `library.csv` (one row
+/// per reach, by clip, frames and arm) and `skipped.csv`. Idempotent.
+///
+/// Refused ([`LibraryError::Refused`], no table written), naming what differs: stray
+/// records (`2-of-1.csv`, `01-of-1.csv`, `1-of-1000000.csv`) or records that cannot be read
+/// (empty, a header alone, a byte-order mark, a column too many: file and line), records
+/// of different shardings, shards run with different settings, takes added, removed,
+/// grown, shrunk or edited between the shards or since they ran, a record whose takes are
+/// not the ones the library deals it, and a result file that is not the one recorded (its
+/// hash differs). Incomplete ([`LibraryError::Incomplete`]: the tables of what is there are
+/// written) where pieces are only missing: a shard without a record, takes a shard did not
+/// reach, results missing.
+pub fn collect(dir: &Path) -> Result<Collected, LibraryError> {
+    let shards = dir.join(SHARDS);
+    let entries = std::fs::read_dir(&shards).map_err(|e| LibraryError::Input {
+        path: shards.clone(),
+        why: format!("no shard records here ({e}): is this a `fit --out-dir` folder?"),
+    })?;
+    let mut wrong: Vec<String> = Vec::new();
+    let mut missing: Vec<String> = Vec::new();
+    // Each shard's files found: its rows, its header.
+    let mut found: BTreeMap<(usize, usize), [bool; 2]> = BTreeMap::new();
+    for entry in entries {
+        let entry = entry.map_err(|e| LibraryError::Input {
+            path: shards.clone(),
+            why: e.to_string(),
+        })?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        // Hidden files: the temporaries of atomic writes, a system's own.
+        if name.starts_with('.') {
+            continue;
+        }
+        match parse_record_name(&name) {
+            Some(Ok((i, n, file))) => {
+                found.entry((i, n)).or_default()[(file == RecordFile::Header) as usize] = true;
+            }
+            Some(Err(why)) => wrong.push(format!("{}: {why}: remove it", entry.path().display())),
+            None if is_takes_file_name(&name) => {}
+            None => wrong.push(format!(
+                "{}: not a shard's record (I-of-N.csv), header (I-of-N.json) or takes list: \
+                 remove it",
+                entry.path().display()
+            )),
+        }
+    }
+    if found.is_empty() && wrong.is_empty() {
+        return Err(LibraryError::Input {
+            path: shards.clone(),
+            why: format!(
+                "{}: no shard record (I-of-N.csv): nothing was fitted into {} yet",
+                shards.display(),
+                dir.display()
+            ),
+        });
+    }
+    let counts: BTreeSet<usize> = found.keys().map(|&(_, n)| n).collect();
+    if counts.len() > 1 {
+        wrong.push(format!(
+            "records of different shardings ({}): remove the old ones from {}",
+            counts
+                .iter()
+                .map(|n| format!("of {n}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            shards.display()
+        ));
+    }
+    let count = counts.last().copied().unwrap_or(0);
+    let mut cache = TakesCache::new();
+    let mut records: Vec<ShardRecord> = Vec::new();
+    for (&(i, n), &[rows, header]) in &found {
+        if n != count {
+            continue;
+        }
+        match (rows, header) {
+            (true, _) => match load_shard(dir, i, n, &mut cache) {
+                Ok(Ok(record)) => records.push(record),
+                Ok(Err(why)) => missing.push(why),
+                Err(e) => wrong.push(e.to_string()),
+            },
+            (false, _) => missing.push(format!(
+                "shard {i}/{n} has a header and no record: it was stopped as it started: run it \
+                 again with --resume"
+            )),
+        }
+    }
+    let absent: Vec<usize> = (1..=count)
+        .filter(|&i| !found.get(&(i, count)).is_some_and(|f| f[0]))
+        .collect();
+    match absent.as_slice() {
+        [] => {}
+        [one] => missing.push(format!(
+            "shard {one}/{count} has no record: it did not run (or was killed before it started)"
+        )),
+        _ => {
+            // Named by at most NAMED: a count is at most MAX_SHARDS, and said in one line.
+            let named: Vec<String> = absent
+                .iter()
+                .map(|i| format!("{i}/{count}"))
+                .take(NAMED)
+                .collect();
+            missing.push(format!(
+                "{} of the {count} shards have no record ({}{}): they did not run (or were \
+                 killed before they started)",
+                absent.len(),
+                named.join(", "),
+                if absent.len() > NAMED { ", …" } else { "" }
+            ));
+        }
+    }
+    check_settings(&records, &mut wrong);
+    let takes_agree = check_takes(&records, &mut wrong);
+    if takes_agree {
+        check_deal(&records, count, &mut wrong);
+    }
+    let (mut library, mut skipped) = tabled(dir, &records, takes_agree, &mut wrong, &mut missing);
+    if !wrong.is_empty() {
+        return Err(LibraryError::Refused {
+            dir: dir.to_path_buf(),
+            problems: wrong,
+        });
+    }
+    library.sort_by(|a, b| {
+        (&a.clip, a.onset, &a.arm)
+            .cmp(&(&b.clip, b.onset, &b.arm))
+            .then(a.result.cmp(&b.result))
+    });
+    skipped.sort_by(|a, b| (&a.clip, &a.why).cmp(&(&b.clip, &b.why)));
+    write_csv(&dir.join(LIBRARY), &library)?;
+    write_csv(&dir.join(SKIPPED), &skipped)?;
+    let text = format!(
+        "{} reaches in {}; {} takes skipped, listed in {}\n",
+        library.len(),
+        dir.join(LIBRARY).display(),
+        skipped.len(),
+        dir.join(SKIPPED).display()
+    );
+    if !missing.is_empty() {
+        return Err(LibraryError::Incomplete {
+            dir: dir.to_path_buf(),
+            summary: text,
+            problems: missing,
+        });
+    }
+    Ok(Collected {
+        table: LibraryTable {
+            rows: library,
+            skipped,
+        },
+        text,
+    })
+}
+
+fn shard_name(record: &ShardRecord) -> String {
+    format!("shard {}/{}", record.shard.0, record.shard.1)
+}
+
+/// Every shard must have run with the first one's settings.
+fn check_settings(records: &[ShardRecord], wrong: &mut Vec<String>) {
+    let Some(first) = records.first() else {
+        return;
+    };
+    for record in &records[1..] {
+        let differences = first
+            .header
+            .settings
+            .differences(&record.header.settings, &shard_name(first));
+        if !differences.is_empty() {
+            wrong.push(format!(
+                "{} was fitted with other settings than {}: {}: fit every shard with the same \
+                 settings",
+                shard_name(record),
+                shard_name(first),
+                differences.join(", ")
+            ));
+        }
+    }
+}
+
+/// Every shard must have seen the same takes, and they must be the takes on disk now.
+/// Returns whether they were.
+fn check_takes(records: &[ShardRecord], wrong: &mut Vec<String>) -> bool {
+    // The takes on disk, under each root the shards recorded.
+    let mut agree = true;
+    let mut groups: BTreeMap<(&str, &str), Vec<&ShardRecord>> = BTreeMap::new();
+    for record in records {
+        groups
+            .entry((
+                record.header.root.as_str(),
+                record.header.takes_blake3.as_str(),
+            ))
+            .or_default()
+            .push(record);
+    }
+    let mut roots: BTreeMap<&str, BTreeSet<&str>> = BTreeMap::new();
+    for record in records {
+        let paths = roots.entry(record.header.root.as_str()).or_default();
+        paths.extend(record.takes.iter().map(|t| t.path.as_str()));
+    }
+    let mut disk: BTreeMap<&str, Vec<TakeIdentity>> = BTreeMap::new();
+    for (root, paths) in &roots {
+        if !Path::new(root).is_dir() {
+            wrong.push(format!(
+                "the takes' folder {root}, where the shards found them, is not here: collect \
+                 where the takes are"
+            ));
+            return false;
+        }
+        let paths: Vec<&str> = paths.iter().copied().collect();
+        let now: Vec<TakeIdentity> = paths
+            .par_iter()
+            .filter_map(|p| {
+                let relative = safe_relative(p)?;
+                TakeIdentity::of(&Path::new(root).join(&relative), &relative).ok()
+            })
+            .collect();
+        disk.insert(root, now);
+    }
+    let distinct: BTreeSet<&str> = records
+        .iter()
+        .map(|r| r.header.takes_blake3.as_str())
+        .collect();
+    for ((root, _), members) in &groups {
+        let changes = takes_changes(&members[0].takes, &disk[*root]);
+        if changes.is_empty() {
+            continue;
+        }
+        agree = false;
+        let names: Vec<String> = members.iter().map(|r| shard_name(r)).collect();
+        wrong.push(format!(
+            "the takes changed since {} ran{}: {}: run {} again with --resume",
+            kinergy_io::list_some(&names, NAMED),
+            if distinct.len() > 1 {
+                " (the shards saw different takes)"
+            } else {
+                ""
+            },
+            some(&changes),
+            if names.len() == 1 { "it" } else { "them" },
+        ));
+    }
+    agree && distinct.len() == 1
+}
+
+/// `items`, at most [`NAMED`] of them, then how many more.
+fn some(items: &[String]) -> String {
+    let mut out = items
+        .iter()
+        .take(NAMED)
+        .cloned()
+        .collect::<Vec<_>>()
+        .join(", ");
+    if items.len() > NAMED {
+        out.push_str(&format!(", … ({} more)", items.len() - NAMED));
+    }
+    out
+}
+
+/// Each record must list the takes the library deals its shard.
+fn check_deal(records: &[ShardRecord], count: usize, wrong: &mut Vec<String>) {
+    let Some(first) = records.first() else {
+        return;
+    };
+    let weights: Vec<u64> = first.takes.iter().map(TakeIdentity::weight).collect();
+    let shard_of = deal(&weights, count);
+    for record in records {
+        let expected: BTreeSet<&str> = first
+            .takes
+            .iter()
+            .zip(&shard_of)
+            .filter(|(_, s)| **s == record.shard.0)
+            .map(|(t, _)| t.path.as_str())
+            .collect();
+        let listed: BTreeSet<&str> = record
+            .rows
+            .iter()
+            .filter(|r| r.kind == "take")
+            .map(|r| r.clip.as_str())
+            .collect();
+        if listed != expected {
+            let odd: Vec<String> = listed
+                .symmetric_difference(&expected)
+                .map(|s| s.to_string())
+                .collect();
+            wrong.push(format!(
+                "{}'s record lists other takes than the library deals it ({}): run it again \
+                 with --resume",
+                shard_name(record),
+                some(&odd)
+            ));
+        }
+    }
+}
+
+/// The rows of `library.csv` and `skipped.csv` the records give, each result checked
+/// against the hash recorded for it (and, where the shards saw the same takes, recorded
+/// once).
+fn tabled(
+    dir: &Path,
+    records: &[ShardRecord],
+    takes_agree: bool,
+    wrong: &mut Vec<String>,
+    missing: &mut Vec<String>,
+) -> (Vec<LibraryRow>, Vec<SkippedRow>) {
+    let mut library = Vec::new();
+    let mut skipped = Vec::new();
+    let mut results: HashSet<&str> = HashSet::new();
+    for record in records {
+        let shard = shard_name(record);
+        let settings = record.header.settings.fingerprint();
+        let dealt: BTreeSet<&str> = record
+            .rows
+            .iter()
+            .filter(|r| r.kind == "take")
+            .map(|r| r.clip.as_str())
+            .collect();
+        let mut done: BTreeSet<&str> = BTreeSet::new();
+        for row in &record.rows {
+            match row.kind.as_str() {
+                "skipped" => {
+                    done.insert(&row.clip);
+                    skipped.push(SkippedRow {
+                        clip: row.clip.clone(),
+                        why: row.why.clone(),
+                    });
+                }
+                "reach" => {
+                    done.insert(&row.clip);
+                    if !dealt.contains(row.clip.as_str()) {
+                        wrong.push(format!(
+                            "{shard} records a reach of {}, a take it was not dealt",
+                            row.clip
+                        ));
+                        continue;
+                    }
+                    // Shards that saw different takes may deal one take twice: said above.
+                    if !results.insert(&row.result) && takes_agree {
+                        wrong.push(format!(
+                            "{}: recorded twice, for two reaches",
+                            dir.join(&row.result).display()
+                        ));
+                        continue;
+                    }
+                    match reach_row(dir, row, &settings, &shard) {
+                        Ok(r) => library.push(r),
+                        Err(Problem::Missing(why)) => missing.push(why),
+                        Err(Problem::Wrong(why)) => wrong.push(why),
+                    }
+                }
+                _ => {}
+            }
+        }
+        let not_done: Vec<&str> = dealt.difference(&done).copied().collect();
+        if !not_done.is_empty() {
+            missing.push(format!(
+                "{shard}: {} of its takes not fitted ({}): run it again with --resume",
+                not_done.len(),
+                kinergy_io::list_some(&not_done, 5)
+            ));
+        }
+    }
+    (library, skipped)
+}
+
+enum Problem {
+    Missing(String),
+    Wrong(String),
+}
+
+/// The table's row of a record's reach, its result checked against the recorded hash.
+fn reach_row(
+    dir: &Path,
+    row: &RecordRow,
+    settings: &str,
+    shard: &str,
+) -> Result<LibraryRow, Problem> {
+    let reach = format!(
+        "reach {}..{} ({} arm) of {}",
+        row.onset, row.end, row.arm, row.clip
+    );
+    let Some(relative) = safe_relative(&row.result) else {
+        return Err(Problem::Wrong(format!(
+            "{shard} records the result `{}` of its {reach}: not a path inside the library",
+            row.result
+        )));
+    };
+    let path = dir.join(relative);
+    match hash_file(&path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(Problem::Missing(format!(
+            "{}: the result of {shard}'s {reach} is missing: run it again with --resume",
+            path.display()
+        ))),
+        Err(e) => Err(Problem::Missing(format!(
+            "{}: the result of {shard}'s {reach} cannot be read ({e})",
+            path.display()
+        ))),
+        Ok((_, hash)) if hash != row.blake3 => Err(Problem::Wrong(format!(
+            "{}: not the result {shard} recorded for its {reach} (its content changed since it \
+             was written): run {shard} again with --resume to fit it again",
+            path.display()
+        ))),
+        Ok(_) => LibraryRow::of_record(&path, row, settings).map_err(Problem::Wrong),
+    }
+}
+
+/// `path` (`/`-separated) as a relative path of plain names, or `None` (empty, absolute,
+/// `.` or `..` in it).
+pub(crate) fn safe_relative(path: &str) -> Option<PathBuf> {
+    let relative = Path::new(path);
+    let plain = !path.is_empty()
+        && relative
+            .components()
+            .all(|c| matches!(c, Component::Normal(_)));
+    plain.then(|| relative.to_path_buf())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn collect_names_a_folder_that_is_not_a_library() {
+        let e = collect(Path::new("/nonexistent/kinergy-library")).unwrap_err();
+        assert!(kinergy_io::Classify::kind(&e).is_input(), "{e}");
+        assert!(
+            e.to_string().contains("is this a `fit --out-dir` folder?"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn paths_in_records_stay_inside_the_library() {
+        assert_eq!(
+            safe_relative("p01/r01.bvh.json"),
+            Some("p01/r01.bvh.json".into())
+        );
+        for bad in ["", "/etc/passwd", "../x.json", "p01/../../x", "./x"] {
+            assert_eq!(safe_relative(bad), None, "{bad}");
+        }
+    }
+
+    /// A record named for a sharding of a million or 10^11 shards is refused by its name:
+    /// nothing is allocated or said per shard.
+    #[test]
+    fn absurd_record_names_are_refused_without_a_word_per_shard() {
+        let dir = tempfile::tempdir().unwrap();
+        let shards = dir.path().join(SHARDS);
+        std::fs::create_dir(&shards).unwrap();
+        for name in [
+            "1-of-99999999999.csv",
+            "1-of-1000000.csv",
+            "2-of-1.csv",
+            "0-of-1.csv",
+            "01-of-1.csv",
+        ] {
+            std::fs::write(shards.join(name), "").unwrap();
+        }
+        let e = collect(dir.path()).unwrap_err();
+        let text = e.to_string();
+        assert!(matches!(e, LibraryError::Refused { .. }), "{text}");
+        for name in [
+            "1-of-99999999999.csv",
+            "1-of-1000000.csv",
+            "2-of-1.csv",
+            "0-of-1.csv",
+            "01-of-1.csv",
+        ] {
+            assert!(text.contains(name), "{name}: {text}");
+        }
+        assert!(text.len() < 2000, "{} bytes", text.len());
+        assert!(!dir.path().join(LIBRARY).exists());
+    }
+}
