@@ -229,3 +229,9 @@ def test_slow_motions_are_found_down_to_the_documented_peak_speed(at_root):
     for speed in (0.001, 0.01, 0.05):
         rows = kinergy.segment(R09, min_peak_speed=speed)
         assert rows, speed
+
+
+def test_a_destination_beyond_any_body_is_said_as_the_cli_says_it(at_root):
+    with pytest.raises(kinergy.InputError, match="beyond what any body reaches"):
+        kinergy.plan("examples/bookshelf/scene.json", task="relocate", object="blue_book",
+                     to=[1e308, 1, 0])

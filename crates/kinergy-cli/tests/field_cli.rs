@@ -115,9 +115,10 @@ fn fit_field_writes_a_field_file_of_per_reach_fits_that_synthesize_reads() {
     for (k, (sample, clip)) in samples.iter().zip(&clips).enumerate() {
         assert_eq!(sample["clip"], rows[k]["clip"]);
         assert_eq!(sample["arm"]["side"], "right");
+        // A result is named by its take's whole file name (`r01.bvh.json`).
         let own = read_json(&per_clip.join(format!(
             "{}.json",
-            clip.file_stem().expect("stem").to_string_lossy()
+            clip.file_name().expect("name").to_string_lossy()
         )));
         assert_eq!(sample["frames"], own["fit"]["reaches"][0]["frames"]);
         assert_eq!(sample["tempo"], own["fit"]["reaches"][0]["tempo"]);

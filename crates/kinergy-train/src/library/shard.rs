@@ -416,7 +416,7 @@ impl ShardRun<'_> {
         let made_shards = !shards.exists();
         let header_file = header_path(self.dir, self.shard.index, self.shard.count);
         let made_record = !record_file.exists() && !header_file.exists();
-        std::fs::create_dir_all(self.dir).map_err(|e| LibraryError::Input {
+        kinergy_io::create_folder(self.dir).map_err(|e| LibraryError::Input {
             path: self.dir.to_path_buf(),
             why: format!("cannot create the folder: {e}"),
         })?;
