@@ -109,13 +109,14 @@ pub fn collect(dir: &Path) -> Result<Collected, LibraryError> {
                 Err(e) => wrong.push(e.to_string()),
             },
             (false, _) => missing.push(format!(
-                "shard {i}/{n} has a header and no record: it was stopped as it started: run it \
-                 again with --resume"
+                "shard {i}/{n} has no record, only its header {i}-of-{n}.json: it was stopped as \
+                 it started, or its record was removed: run it again with --resume"
             )),
         }
     }
+    // (A shard with a header alone is said above.)
     let absent: Vec<usize> = (1..=count)
-        .filter(|&i| !found.get(&(i, count)).is_some_and(|f| f[0]))
+        .filter(|&i| !found.contains_key(&(i, count)))
         .collect();
     match absent.as_slice() {
         [] => {}
