@@ -41,7 +41,8 @@ fn fit_per_clip_keeps_every_result_of_clips_with_one_name() {
         &out_arg,
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    for p in ["p1/r.json", "p2/r.json"] {
+    // Results are named by their takes' whole file names.
+    for p in ["p1/r.bvh.json", "p2/r.bvh.json"] {
         assert!(out.join(p).is_file(), "no {p}");
     }
     let after: Vec<Vec<u8>> = clips.iter().map(|c| std::fs::read(c).unwrap()).collect();
@@ -230,7 +231,7 @@ fn fit_per_clip_with_out_dir_names_the_folder() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    assert!(out.join("p1/r.json").is_file() && out.join("p2/r.json").is_file());
+    assert!(out.join("p1/r.bvh.json").is_file() && out.join("p2/r.bvh.json").is_file());
     assert_eq!(clips.len(), 2);
 }
 
