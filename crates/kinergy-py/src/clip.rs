@@ -13,7 +13,7 @@ use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 
-use crate::args::{Reading, export_options};
+use crate::convert::{Reading, export_options};
 use crate::errors;
 
 /// A motion: a skeleton and one pose per frame (`kinergy.read_bvh`, `Clip.from_arrays`,
@@ -407,4 +407,13 @@ fn array2(
     let array = Array2::from_shape_vec(shape, values)
         .map_err(|e| errors::KinergyError::new_err(e.to_string()))?;
     Ok(array.into_pyarray(py))
+}
+
+/// `UnreachableError(message)` carrying the motion made as `clip`.
+pub fn unreachable(py: Python<'_>, message: String, clip: Clip) -> PyErr {
+    let err = errors::UnreachableError::new_err(message);
+    if let Ok(clip) = Bound::new(py, clip) {
+        let _ = err.value(py).setattr("clip", clip);
+    }
+    err
 }

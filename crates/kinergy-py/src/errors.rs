@@ -107,15 +107,6 @@ fn bvh_error(message: String, at: Option<Location>) -> PyErr {
     err
 }
 
-/// `UnreachableError(message)` carrying the motion made as `clip`.
-pub fn unreachable(py: Python<'_>, message: String, clip: crate::clip::Clip) -> PyErr {
-    let err = UnreachableError::new_err(message);
-    if let Ok(clip) = Bound::new(py, clip) {
-        let _ = err.value(py).setattr("clip", clip);
-    }
-    err
-}
-
 /// `InputError(message)`.
 pub fn input(message: impl Into<String>) -> PyErr {
     InputError::new_err(message.into())

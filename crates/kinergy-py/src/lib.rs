@@ -21,6 +21,7 @@ use pyo3::prelude::*;
 pub mod args;
 pub mod clip;
 pub mod compare;
+pub mod convert;
 pub mod errors;
 pub mod fit;
 pub mod library;

@@ -8,7 +8,7 @@ use kinergy_train::PersonParams;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::args::to_python;
+use crate::convert::to_python;
 use crate::errors;
 
 /// A person's synergy parameters: one vector, or a field (kinergy.fit, Params.load).

@@ -82,7 +82,7 @@ pub fn reach<'py>(
     let arrived = done.arrived();
     let out = Clip::made(done.clip).with_report(&done.report);
     match arrived {
-        Err(e) if check => Err(errors::unreachable(py, e.to_string(), out)),
+        Err(e) if check => Err(crate::clip::unreachable(py, e.to_string(), out)),
         _ => Ok(out),
     }
 }

@@ -105,7 +105,7 @@ pub fn synthesize<'py>(
     }
     let out = Clip::made(done.clip).with_report(&done.report);
     match done.report.ending() {
-        Err(e) if check => Err(errors::unreachable(py, e.to_string(), out)),
+        Err(e) if check => Err(crate::clip::unreachable(py, e.to_string(), out)),
         _ => Ok(out),
     }
 }
