@@ -302,12 +302,7 @@ fn check_deal(records: &[ShardRecord], count: usize, wrong: &mut Vec<String>) {
             .filter(|(_, s)| **s == record.shard.0)
             .map(|(t, _)| t.path.as_str())
             .collect();
-        let listed: BTreeSet<&str> = record
-            .rows
-            .iter()
-            .filter(|r| r.kind == "take")
-            .map(|r| r.clip.as_str())
-            .collect();
+        let listed = listed_takes(record);
         if listed != expected {
             let odd: Vec<String> = listed
                 .symmetric_difference(&expected)
@@ -321,6 +316,16 @@ fn check_deal(records: &[ShardRecord], count: usize, wrong: &mut Vec<String>) {
             ));
         }
     }
+}
+
+/// The takes a shard's record lists as dealt to it.
+fn listed_takes(record: &ShardRecord) -> BTreeSet<&str> {
+    record
+        .rows
+        .iter()
+        .filter(|r| r.kind == "take")
+        .map(|r| r.clip.as_str())
+        .collect()
 }
 
 /// The rows of `library.csv` and `skipped.csv` the records give, each result checked
@@ -339,12 +344,7 @@ fn tabled(
     for record in records {
         let shard = shard_name(record);
         let settings = record.header.settings.fingerprint();
-        let dealt: BTreeSet<&str> = record
-            .rows
-            .iter()
-            .filter(|r| r.kind == "take")
-            .map(|r| r.clip.as_str())
-            .collect();
+        let dealt = listed_takes(record);
         let mut done: BTreeSet<&str> = BTreeSet::new();
         for row in &record.rows {
             match row.kind.as_str() {
