@@ -289,7 +289,7 @@ def synthesize(
     arm: Arm | None = None,
     chain: Sequence[str] | None = None,
     fixed_base: bool = False,
-    controller: Literal["smooth", "paper"] = "smooth",
+    controller: Literal["smooth", "paper"] | None = None,
     stop_at_reach: bool = False,
     tolerance: float = 0.005,
     max_seconds: float = 10.0,

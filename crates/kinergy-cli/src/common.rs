@@ -19,7 +19,7 @@ pub use args::{
     parse_size, parse_world_target,
 };
 pub use captured::{
-    CaptureArgs, CaptureClips, Controller, Skipped, nothing_to_fit, report_skipped,
+    CaptureArgs, CaptureClips, ControllerKind, Skipped, nothing_to_fit, report_skipped,
 };
 pub use clips::collect_clips;
 pub use failure::{Failure, person_failure, read_person};

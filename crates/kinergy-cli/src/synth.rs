@@ -8,7 +8,7 @@ use kinergy_reach::drive::Driver;
 use kinergy_reach::synth::{MANIFEST, SynthSettings, set_files, write_set};
 use kinergy_train::synthetic::{SET_SEGMENTS, set_segments};
 
-use crate::common::{Controller, Failure, Output, check_outputs, check_range, emit, limits};
+use crate::common::{ControllerKind, Failure, Output, check_outputs, check_range, emit, limits};
 
 /// Arguments of `kinergy synth`.
 #[derive(Debug, clap::Args)]
@@ -36,11 +36,12 @@ pub struct Args {
     /// then runs the controller that made each clip: the person's vector retraces it).
     #[arg(long, value_name = "person.json")]
     pub params: Option<PathBuf>,
-    /// With --params, the synergy controller of the person's arm: `smooth` (the default) or
-    /// `paper` (the one `fit --controller paper` and `synthesize --controller paper` run, for
-    /// sets whose truth a fit must recover exactly).
-    #[arg(long, default_value_t = Controller::Smooth, value_parser = crate::common::named::<Controller>(Controller::ALL.map(Controller::name)), requires = "params")]
-    pub controller: Controller,
+    /// With --params, the synergy controller of the person's arm: `smooth` or `paper` (the
+    /// one `fit --controller paper` and `synthesize --controller paper` run, for sets whose
+    /// truth a fit must recover exactly). Default: the one the parameters were fitted under
+    /// (their file records it), else smooth.
+    #[arg(long, value_parser = crate::common::named::<ControllerKind>(ControllerKind::ALL.map(ControllerKind::name)), requires = "params")]
+    pub controller: Option<ControllerKind>,
 }
 
 /// Runs `kinergy synth`.
@@ -91,7 +92,7 @@ fn settings(args: &Args) -> SynthSettings {
         reaches: args.reaches,
         seed: args.seed,
         frame_rate: args.frame_rate,
-        smooth_synergy: args.controller == Controller::Smooth,
+        synergy_controller: args.controller,
     }
 }
 

@@ -16,7 +16,7 @@ use kinergy_train::TrainError;
 use kinergy_train::source::FrameChoice;
 use kinergy_train::synthesize::{Drive, Step, SynthesisReport, SynthesizeError, SynthesizeRequest};
 
-use crate::common::{Controller, Failure, ReadArgs, emit, parse_point, print_json};
+use crate::common::{ControllerKind, Failure, ReadArgs, emit, parse_point, print_json};
 
 /// Arguments of `kinergy synthesize`.
 #[derive(Debug, clap::Args)]
@@ -51,10 +51,11 @@ pub struct Args {
     fixed_base: bool,
     /// The synergy controller: `smooth` (bounded accelerations, progress floor, the finish to
     /// the plain optimizer after the reach's frames, the capture's start velocity) or `paper`
-    /// (Aubry et al.'s controller alone, from rest). Use the one the parameters were fitted
-    /// with (`fit --controller`).
-    #[arg(long, default_value_t = Controller::Smooth, value_parser = crate::common::named::<Controller>(Controller::ALL.map(Controller::name)))]
-    controller: Controller,
+    /// (Aubry et al.'s controller alone, from rest). Default: the one the parameters were
+    /// fitted under (their file records it, `fit --controller`), else smooth; another one
+    /// than they were fitted under gets a warning.
+    #[arg(long, value_parser = crate::common::named::<ControllerKind>(ControllerKind::ALL.map(ControllerKind::name)))]
+    controller: Option<ControllerKind>,
     /// Stop as soon as the target is reached (default: keep tracking it at least until the
     /// capture's last frame, and on until it is reached, up to --max-seconds).
     #[arg(long)]

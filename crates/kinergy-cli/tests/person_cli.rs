@@ -381,6 +381,59 @@ fn synthesize_warns_when_the_bones_differ_from_the_fitted_arm() {
     assert!(lines[0].contains("bones differ"), "{err}");
 }
 
+/// Issue 42, case 10: a file fitted under the paper's controller records it, and
+/// `synthesize --params` replays it under that controller unless told otherwise (before, it
+/// replayed under the smooth one, 59.9 → 84.0 mm, without a word); another controller is
+/// warned of.
+#[test]
+fn a_fit_under_the_papers_controller_replays_under_it() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let clip = synthetic("r09.bvh");
+    let params = dir.path().join("p.json");
+    let o = fit(&[s(&clip), "--controller", "paper", "-o", s(&params)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&params).expect("params")).expect("json");
+    assert_eq!(file["fit"]["controller"], "paper", "{file}");
+    let fitted = file["fit"]["reaches"][0]["distance_m"]
+        .as_f64()
+        .expect("distance");
+    let frames = file["fit"]["reaches"][0]["frames"].clone();
+    let range = format!("{}..{}", frames[0], frames[1]);
+    let replay = |extra: &[&str]| {
+        let mut args = vec![
+            "synthesize",
+            s(&clip),
+            "--params",
+            s(&params),
+            "--frames",
+            &range,
+            "-o",
+        ];
+        let out = dir.path().join(format!("replay{}.bvh", extra.len()));
+        args.push(s(&out));
+        args.push("--json");
+        args.extend(extra);
+        let o = kinergy(&args);
+        assert!(matches!(o.status.code(), Some(0 | 1)), "{}", stderr(&o));
+        let report = json(&o);
+        (report, stderr(&o))
+    };
+    let (report, err) = replay(&[]);
+    assert_eq!(report["controller"], "paper", "{report}");
+    let d = report["distance_to_capture_m"].as_f64().expect("distance");
+    assert!(
+        (d - fitted).abs() < 1e-9,
+        "the file replays to {d} m, the fit scored {fitted} m"
+    );
+    assert!(!err.contains("warning"), "{err}");
+    let (report, err) = replay(&["--controller", "smooth"]);
+    assert_eq!(report["controller"], "smooth", "{report}");
+    assert!(
+        err.contains("warning: the parameters were fitted under the paper controller"),
+        "{err}"
+    );
+}
 #[test]
 fn reach_person_takes_bandai_skeletons_without_a_hand_point() {
     let dir = tempfile::tempdir().expect("tempdir");

@@ -519,6 +519,7 @@ fn persons_grasp(c: &mut Criterion, summaries: &Summaries) {
             .synergy_for(&kinergy_reach::controller::arm_dof_names(plain.character()))
             .expect("the arm's DoFs"),
         tempo: None,
+        controller: None,
     };
     let person = Planner::new(
         scene,

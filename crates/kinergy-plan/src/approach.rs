@@ -88,6 +88,9 @@ pub(crate) struct PersonArm<'a> {
     /// timing).
     pub reach_speed: f64,
     pub min_duration: f64,
+    /// The controller the person's parameters were fitted under (`None`: not recorded, the
+    /// smooth one); the paper's runs without the smooth bounds.
+    pub controller: Option<kinergy_solver::ControllerKind>,
 }
 
 impl PersonArm<'_> {
@@ -127,7 +130,9 @@ impl PersonArm<'_> {
                 optimizer: self.optimizer,
                 synergy: self.synergy,
                 frame_time: dt,
-                smoothing: Some(smoothing),
+                smoothing: (self.controller.unwrap_or_default()
+                    == kinergy_solver::ControllerKind::Smooth)
+                    .then_some(smoothing),
             },
             None,
         )

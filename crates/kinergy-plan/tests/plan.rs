@@ -636,6 +636,7 @@ fn person(name: &str, planner: &Planner) -> ArmDrive {
             .synergy_for(&arm_dof_names(planner.character()))
             .unwrap(),
         tempo: None,
+        controller: None,
     }
 }
 

@@ -12,8 +12,8 @@ use kinergy_solver::BaseMode;
 use kinergy_train::library::Shard;
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
-    ArmChoice, ArmRequest, Capture, Controller, Found, FrameChoice, ReachFrames, ReachQuery, Take,
-    segment_clips, walk_captures,
+    ArmChoice, ArmRequest, Capture, ControllerKind, Found, FrameChoice, ReachFrames, ReachQuery,
+    Take, segment_clips, walk_captures,
 };
 use kinergy_train::{CapturedReach, PersonParams, limits};
 use pyo3::prelude::*;
@@ -267,7 +267,7 @@ pub struct ReachSource<'a> {
 
 impl ReachSource<'_> {
     /// The library's request for these arguments (checked as the CLI checks its flags).
-    pub fn query(&mut self, controller: Controller) -> PyResult<ReachQuery> {
+    pub fn query(&mut self, controller: ControllerKind) -> PyResult<ReachQuery> {
         let frames = match self.frames {
             Some(w) => ReachFrames::Window(window(w)?),
             None => ReachFrames::Segments(match self.select.take() {
@@ -322,7 +322,11 @@ impl ReachSource<'_> {
     /// [`ReachQuery::find`] of the captures given (paths, folders or Clips), or
     /// [`ReachQuery::find_rows`] of a segments file's rows; `NothingToFitError` when every
     /// take was skipped.
-    pub fn load(mut self, py: Python<'_>, controller: Controller) -> PyResult<Vec<CapturedReach>> {
+    pub fn load(
+        mut self,
+        py: Python<'_>,
+        controller: ControllerKind,
+    ) -> PyResult<Vec<CapturedReach>> {
         let query = self.query(controller)?;
         let clips = self
             .clips

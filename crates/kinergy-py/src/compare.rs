@@ -105,7 +105,7 @@ pub fn compare<'py>(
             positions,
         },
     }
-    .load(py, kinergy_train::source::Controller::default())?;
+    .load(py, kinergy_train::source::ControllerKind::default())?;
     let total = reaches.len();
     let done = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);

@@ -8,7 +8,7 @@ use std::sync::atomic::AtomicBool;
 use kinergy_solver::{FitGrouping, Model, OptimizerKind};
 use kinergy_train::field::{FieldFile, check_one_arm, field_groups};
 use kinergy_train::fit::{FitJob, NestedFit, SearchOptions};
-use kinergy_train::source::Controller;
+use kinergy_train::source::ControllerKind;
 use kinergy_train::{CapturedReach, PersonParams, limits};
 use pyo3::prelude::*;
 use pyo3::types::PyList;
@@ -78,7 +78,9 @@ pub fn fit<'py>(
     positions: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let grouping = per.parse::<FitGrouping>().map_err(errors::raise)?;
-    let controller = controller.parse::<Controller>().map_err(errors::raise)?;
+    let controller = controller
+        .parse::<ControllerKind>()
+        .map_err(errors::raise)?;
     let search = SearchOptions {
         seed,
         budget,

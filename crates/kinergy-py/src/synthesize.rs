@@ -4,7 +4,7 @@
 use kinergy_motion::Side;
 use kinergy_motion::segment::Selection;
 use kinergy_solver::{BaseMode, Model, OptimizerKind};
-use kinergy_train::source::{Controller, FrameChoice};
+use kinergy_train::source::{ControllerKind, FrameChoice};
 use kinergy_train::synthesize::{Drive, SynthesizeRequest};
 use pyo3::prelude::*;
 
@@ -22,10 +22,11 @@ use crate::errors;
 /// were fitted on for this capture; the default), "auto" (the main reach), "all", or
 /// (start, end); or select: "main" or a segment number (as `kinergy segment` lists them).
 /// arm: "right" or "left" (default: the fitted arm, else right; an arm other than the fitted
-/// one is warned of). check: raise UnreachableError (its `clip` holds the motion) when the
+/// one is warned of). controller: "smooth" or "paper" (default: the one the params were
+/// fitted under, else smooth; another one is warned of). check: raise UnreachableError (its `clip` holds the motion) when the
 /// target is not reached.
 #[pyfunction]
-#[pyo3(signature = (clip, params = None, *, frames = None, select = None, target = None, model = "sa", optimizer = "svd", arm = None, chain = None, fixed_base = false, controller = "smooth", stop_at_reach = false, tolerance = 0.005, max_seconds = 10.0, check = true, unit = "auto", up = "auto", positions = "auto"))]
+#[pyo3(signature = (clip, params = None, *, frames = None, select = None, target = None, model = "sa", optimizer = "svd", arm = None, chain = None, fixed_base = false, controller = None, stop_at_reach = false, tolerance = 0.005, max_seconds = 10.0, check = true, unit = "auto", up = "auto", positions = "auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn synthesize<'py>(
     py: Python<'py>,
@@ -39,7 +40,7 @@ pub fn synthesize<'py>(
     arm: Option<&str>,
     chain: Option<Vec<String>>,
     fixed_base: bool,
-    controller: &str,
+    controller: Option<&str>,
     stop_at_reach: bool,
     tolerance: f64,
     max_seconds: f64,
@@ -87,7 +88,10 @@ pub fn synthesize<'py>(
         } else {
             BaseMode::Replay
         },
-        controller: controller.parse::<Controller>().map_err(errors::raise)?,
+        controller: controller
+            .map(str::parse::<ControllerKind>)
+            .transpose()
+            .map_err(errors::raise)?,
         target: target.map(|[x, y, z]| kinergy_motion::nalgebra::Point3::new(x, y, z)),
         drive,
         tolerance,

@@ -46,6 +46,7 @@ fn per_frame(c: &mut Criterion) {
         optimizer: file.optimizer,
         synergy: synergy.clone(),
         tempo: None,
+        controller: None,
     };
     // As `reach --params` drives it: under the person's tempo law for the distance (the
     // fixture carries no tempo, so a person's: 0.5 m in 0.8 s, T ∝ d, a minimum-jerk peak).
@@ -58,6 +59,7 @@ fn per_frame(c: &mut Criterion) {
             exponent: 1.0,
             shape: 1.875,
         }),
+        controller: None,
     };
     for (name, target, drive) in [
         ("near_synergy", [0.25, 1.1, 0.35], &constant),

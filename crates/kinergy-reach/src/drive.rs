@@ -98,6 +98,7 @@ impl PersonArm {
                 optimizer: at.params.optimizer,
                 synergy,
                 tempo: at.params.fit.as_ref().and_then(|f| f.tempo()),
+                controller: at.params.fit.as_ref().and_then(|f| f.controller),
             },
             params: at.params,
             field: at.field,

@@ -48,9 +48,9 @@ pub struct SynthSettings {
     pub seed: u64,
     /// Frames per second of the clips.
     pub frame_rate: f64,
-    /// A person's synergy arm runs the smooth controller (the default) or, `false`, the
-    /// paper's ([`ReachSettings::smooth_synergy`]).
-    pub smooth_synergy: bool,
+    /// A person's synergy arm's controller; `None` (the default): the one their parameters
+    /// were fitted under ([`ReachSettings::synergy_controller`]).
+    pub synergy_controller: Option<kinergy_solver::ControllerKind>,
 }
 
 impl Default for SynthSettings {
@@ -60,7 +60,7 @@ impl Default for SynthSettings {
             reaches: 14,
             seed: 2026,
             frame_rate: 60.0,
-            smooth_synergy: true,
+            synergy_controller: None,
         }
     }
 }
@@ -316,7 +316,7 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
             );
             let reach_settings = ReachSettings {
                 frame_rate: settings.frame_rate,
-                smooth_synergy: settings.smooth_synergy,
+                synergy_controller: settings.synergy_controller,
                 profile: SpeedProfile::MinimumJerk {
                     timing: BellTiming::MeanSpeed {
                         speed: person.mean_speed,

@@ -21,6 +21,7 @@ fn synergy(c: &Character) -> ArmDrive {
         optimizer: OptimizerKind::Dls.default_optimizer(),
         synergy: Synergy::identity(arm_dof_names(c).len()),
         tempo: None,
+        controller: None,
     }
 }
 

@@ -31,6 +31,7 @@ fn drive(c: &Character, name: &str) -> ArmDrive {
         optimizer: file.optimizer,
         synergy: file.synergy_for(&arm_dof_names(c)).expect("the arm's DoFs"),
         tempo: None,
+        controller: None,
     }
 }
 
@@ -177,6 +178,7 @@ fn a_synergy_that_cannot_move_hands_over_and_says_so() {
         optimizer: file.optimizer,
         synergy,
         tempo: None,
+        controller: None,
     };
     let target = Point3::new(0.25, 1.1, 0.35);
     let m = reach_full_body_driven(&c, target, &ReachSettings::default(), &drive).expect("reach");
@@ -267,4 +269,48 @@ fn reaches_on_the_grid_have_no_speed_jumps() {
         eprintln!("{r}");
     }
     assert!(failed.is_empty(), "{failed:#?}");
+}
+
+/// The arm runs the controller the person's parameters were fitted under (the drive's
+/// `controller`, their record's) unless the settings choose one: a drive recorded under the
+/// paper's controller moves as the settings' `paper` does, and not as the smooth one.
+#[test]
+fn the_synergy_arm_runs_the_controller_the_person_was_fitted_under() {
+    let c = Character::from_height(1.75).expect("character");
+    let target = Point3::new(0.25, 1.1, 0.35);
+    let with = |recorded, chosen| {
+        let mut d = drive(&c, "synthetic-p01-r09-sc.json");
+        if let ArmDrive::Synergy { controller, .. } = &mut d {
+            *controller = recorded;
+        }
+        let settings = ReachSettings {
+            synergy_controller: chosen,
+            ..ReachSettings::default()
+        };
+        let m = reach_full_body_driven(&c, target, &settings, &d).expect("reach");
+        let end = match m.report.arm {
+            Limb::LeftArm => joint::LEFT_HAND_END,
+            _ => joint::RIGHT_HAND_END,
+        };
+        m.poses
+            .iter()
+            .map(|p| c.world_positions(p)[end])
+            .collect::<Vec<_>>()
+    };
+    use kinergy_solver::ControllerKind::{Paper, Smooth};
+    let recorded_paper = with(Some(Paper), None);
+    assert_eq!(recorded_paper, with(None, Some(Paper)));
+    assert_eq!(recorded_paper, with(Some(Smooth), Some(Paper)));
+    let smooth = with(None, None);
+    assert_eq!(smooth, with(Some(Smooth), None));
+    assert_eq!(smooth, with(Some(Paper), Some(Smooth)));
+    let apart = recorded_paper
+        .iter()
+        .zip(&smooth)
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max);
+    assert!(
+        apart > 1e-3,
+        "the controllers move the hand alike ({apart} m apart)"
+    );
 }

@@ -81,6 +81,11 @@ pub struct FitRecord {
     /// says what they mean).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tempo_law: Option<PersonTempo>,
+    /// The synergy controller the fit ran its reaches under, what a replay of the values runs
+    /// by default ([`FitRecord::controller`]). Absent in files written before it was
+    /// recorded (they were fitted under the smooth controller, or say nothing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub controller: Option<ControllerKind>,
 }
 
 /// What a fit minimizes (`kinergy fit --objective`).
@@ -171,6 +176,12 @@ impl FitRecord {
         Ok(())
     }
 
+    /// The controller the values were fitted under: the recorded one, else (files written
+    /// before it was recorded) the smooth controller, the only one there was by default.
+    pub fn controller(&self) -> ControllerKind {
+        self.controller.unwrap_or_default()
+    }
+
     /// The reach fitted on the clip that `is_clip` recognizes by its name, if any.
     pub fn reach(&self, is_clip: impl Fn(&str) -> bool) -> Option<&FittedReach> {
         self.reaches.iter().find(|r| is_clip(&r.clip))
@@ -185,6 +196,53 @@ impl FitRecord {
             .find(|r| is_clip(&r.clip) && r.arm.is_some())
             .or_else(|| self.reaches.iter().find(|r| r.arm.is_some()))
             .and_then(|r| r.arm.as_ref())
+    }
+}
+
+/// Which synergy controller synthesizes a reach, and which one a fit ran its reaches under
+/// (the record's `controller`: what every replay of the values runs unless told otherwise).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ControllerKind {
+    /// Bounded accelerations, a progress floor, the finish to the plain optimizer after the
+    /// reach's frames and the capture's start velocity (`smooth`, the default).
+    #[default]
+    Smooth,
+    /// Aubry et al.'s Θ ← clamp(Θ + S(t)·O(ΔX)) alone, from rest (`paper`).
+    Paper,
+}
+
+impl ControllerKind {
+    /// Both, in the order the front ends list them.
+    pub const ALL: [ControllerKind; 2] = [ControllerKind::Smooth, ControllerKind::Paper];
+
+    /// `smooth` or `paper`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ControllerKind::Smooth => "smooth",
+            ControllerKind::Paper => "paper",
+        }
+    }
+}
+
+impl fmt::Display for ControllerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ControllerKind {
+    type Err = kinergy_io::InvalidSetting;
+    fn from_str(s: &str) -> Result<ControllerKind, kinergy_io::InvalidSetting> {
+        ControllerKind::ALL
+            .into_iter()
+            .find(|c| c.name() == s)
+            .ok_or_else(|| {
+                kinergy_io::InvalidSetting::new(
+                    "controller",
+                    format!("`{s}`: expected smooth or paper"),
+                )
+            })
     }
 }
 
@@ -525,6 +583,30 @@ mod tests {
         assert_eq!(
             serde_json::from_str::<FitRecord>(&text).expect("back"),
             bare
+        );
+    }
+
+    #[test]
+    fn the_controller_is_recorded_by_name_and_smooth_where_it_is_not() {
+        let before: FitRecord = serde_json::from_str(WRITTEN).expect("record");
+        assert_eq!(before.controller, None);
+        assert_eq!(before.controller(), ControllerKind::Smooth);
+        let paper = FitRecord {
+            controller: Some(ControllerKind::Paper),
+            ..before
+        };
+        let text = serde_json::to_string(&paper).expect("json");
+        assert!(text.contains(r#""controller":"paper""#), "{text}");
+        let back: FitRecord = serde_json::from_str(&text).expect("back");
+        assert_eq!(back.controller(), ControllerKind::Paper);
+        for c in ControllerKind::ALL {
+            assert_eq!(c.name().parse::<ControllerKind>(), Ok(c));
+        }
+        let e = "fast".parse::<ControllerKind>().unwrap_err();
+        assert_eq!(e.field, "controller");
+        assert!(
+            e.to_string().contains("`fast`: expected smooth or paper"),
+            "{e}"
         );
     }
 

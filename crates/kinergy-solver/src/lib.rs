@@ -55,8 +55,8 @@ pub use controller::{
 };
 pub use error::{Result, SolverError};
 pub use fit_record::{
-    FitGrouping, FitMethod, FitObjective, FitRecord, FitStatus, FittedArm, FittedReach,
-    PersonTempo, ReachTempo, StageScore,
+    ControllerKind, FitGrouping, FitMethod, FitObjective, FitRecord, FitStatus, FittedArm,
+    FittedReach, PersonTempo, ReachTempo, StageScore,
 };
 pub use optimizer::{
     DampedLeastSquares, NormalizedTranspose, Optimizer, OptimizerKind, PseudoInverse, StepScratch,

@@ -15,9 +15,9 @@ use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_motion::{ArmJoints, Clip, Trajectory, frame_distance, motion_distance, speed_series};
 use kinergy_solver::{
-    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerSettings, FieldUse, FitObjective,
-    FittedArm, Model, Optimizer, ParamSpace, PersonStyle, PersonTempo, ReachTempo, Smoothing,
-    StopReason, StyleError, Synergy, Synthesis, Task,
+    ArmTask, Base, BaseMode, CaptureArm, Controller, ControllerKind, ControllerSettings, FieldUse,
+    FitObjective, FittedArm, Model, Optimizer, ParamSpace, PersonStyle, PersonTempo, ReachTempo,
+    Smoothing, StopReason, StyleError, Synergy, Synthesis, Task,
 };
 
 use crate::error::{Result, TrainError};
@@ -62,6 +62,9 @@ pub struct ReachDrive {
     /// tempos, as the full body runs it); `None`: the capture's own speed, for a neutral model
     /// or a file without a fit record.
     pub tempo: Option<PersonTempo>,
+    /// The controller the person's parameters were fitted under (their record's
+    /// `controller`); `None`: a neutral model, or a file that does not record it.
+    pub controller: Option<ControllerKind>,
 }
 
 impl ReachDrive {
@@ -82,6 +85,7 @@ impl ReachDrive {
             synergy,
             field: at.field,
             tempo: at.params.fit.as_ref().and_then(|f| f.tempo()),
+            controller: at.params.fit.as_ref().and_then(|f| f.controller),
         })
     }
 
@@ -98,6 +102,7 @@ impl ReachDrive {
             synergy: Synergy::new(&space, &space.neutral())?,
             field: None,
             tempo: None,
+            controller: None,
         })
     }
 }
@@ -408,6 +413,24 @@ impl CapturedReach {
     pub fn with_smoothing(mut self, smoothing: Option<Smoothing>) -> CapturedReach {
         self.smoothing = smoothing;
         self
+    }
+
+    /// The reach set up for `controller`: unchanged for the smooth controller (how a reach
+    /// is made), [`CapturedReach::with_paper_controller`] for the paper's.
+    pub fn under(self, controller: ControllerKind) -> CapturedReach {
+        match controller {
+            ControllerKind::Smooth => self,
+            ControllerKind::Paper => self.with_paper_controller(),
+        }
+    }
+
+    /// The controller this reach is synthesized by: the paper's without smoothing, else the
+    /// smooth one.
+    pub fn controller(&self) -> ControllerKind {
+        match self.smoothing {
+            Some(_) => ControllerKind::Smooth,
+            None => ControllerKind::Paper,
+        }
     }
 
     /// The reach synthesized by the paper's controller (no smoothing) from rest, as Aubry et

@@ -33,7 +33,7 @@
 mod query;
 
 pub use query::{
-    ArmRequest, Controller, Found, FoundReach, ReachQuery, Skipped, Take, nothing_found,
+    ArmRequest, ControllerKind, Found, FoundReach, ReachQuery, Skipped, Take, nothing_found,
 };
 
 use std::ops::Range;

@@ -47,12 +47,14 @@ impl StyleTake {
         let reach = CapturedReach::new(name, clip, joints, onset..end, BaseMode::Replay)?;
         let drive = ReachDrive::person(&reach, person, side)
             .map_err(|e| kinergy_reach::ReachError::Params { source: e })?;
+        // Under the controller the person was fitted under (the body's arm runs it too).
+        let reach = reach.under(drive.controller.unwrap_or_default());
         // The body's arm starts as the fit's replay does: the capture's start posture and
-        // velocity (a take cut mid-motion starts moving).
+        // velocity (a take cut mid-motion starts moving; the paper's controller from rest).
         let start = match (reach.arm().start(), reach.start_velocity()) {
-            (q, Some(v)) if q.len() == 7 && v.len() == 7 => Some(SynergyStart {
+            (q, v) if q.len() == 7 && v.is_none_or(|v| v.len() == 7) => Some(SynergyStart {
                 configuration: std::array::from_fn(|i| q[i]),
-                velocity: std::array::from_fn(|i| v[i]),
+                velocity: std::array::from_fn(|i| v.map_or(0.0, |v| v[i])),
                 // The bounds the replay runs under: the person's law, or the capture's own.
                 smoothing: reach.smoothing_under(drive.tempo.as_ref()),
                 hand_m: Some(reach.fitted_arm().hand_m),

@@ -17,7 +17,7 @@ use crate::captured::{CapturedReach, ReachDrive, Replay};
 use crate::error::TrainError;
 use crate::limits;
 use crate::person::PersonParams;
-use crate::source::{ArmChoice, Controller, FrameChoice};
+use crate::source::{ArmChoice, ControllerKind, FrameChoice};
 
 /// What drives the synthesized arm.
 #[derive(Debug, Clone)]
@@ -49,8 +49,9 @@ pub struct SynthesizeRequest {
     pub chain: Option<Vec<String>>,
     /// Whether the shoulder replays the capture's torso or stays where it starts.
     pub base: BaseMode,
-    /// The synergy controller.
-    pub controller: Controller,
+    /// The synergy controller; `None`: the one the parameters were fitted under (their
+    /// record's `controller`), else the smooth one.
+    pub controller: Option<ControllerKind>,
     /// The target in world meters (default: the capture's final hand position).
     pub target: Option<Point3<f64>>,
     /// What drives the arm.
@@ -123,7 +124,7 @@ fn at<E: Into<TrainError>>(step: Step) -> impl FnOnce(E) -> SynthesizeError {
 }
 
 /// A synthesized reach: the capture with the arm synthesized, the report, and a warning
-/// when the capture's arm is not the one the parameters were fitted on.
+/// when the capture's arm or the controller is not the one the parameters were fitted on.
 #[derive(Debug, Clone)]
 pub struct Synthesized {
     /// The capture's skeleton and frames, the arm replaced by the synthesis.
@@ -131,7 +132,8 @@ pub struct Synthesized {
     /// How it went.
     pub report: SynthesisReport,
     /// The arm driven differs from the fitted one (the other side, or bones more than 10 %
-    /// longer or shorter): what the front ends warn of.
+    /// longer or shorter), or the controller from the one they were fitted under: what the
+    /// front ends warn of.
     pub warning: Option<String>,
 }
 
@@ -152,6 +154,8 @@ pub struct SynthesisReport {
     pub optimizer: String,
     /// `fixed` or `replayed`.
     pub base: &'static str,
+    /// The synergy controller that ran: `smooth` or `paper`.
+    pub controller: &'static str,
     /// The target, world meters.
     pub target_m: [f64; 3],
     /// `--target` or the capture's final hand position.
@@ -261,12 +265,21 @@ impl SynthesizeRequest {
             .resolve(whole, from, &joints, record.as_ref())
             .map_err(at(Step::Frames))?;
         let name = from.display().to_string();
+        let recorded = record.as_ref().and_then(|r| r.controller);
+        let controller = self.controller.or(recorded).unwrap_or_default();
         let reach = CapturedReach::new(&name, whole, &joints, frames.clone(), self.base)
-            .map(|r| self.controller.apply(r))
+            .map(|r| r.under(controller))
             .map_err(at(Step::Reach))?;
-        let warning = fitted
-            .as_ref()
-            .and_then(|f| arm_mismatch(f, reach.fitted_arm()));
+        let warnings: Vec<String> = [
+            fitted
+                .as_ref()
+                .and_then(|f| arm_mismatch(f, reach.fitted_arm())),
+            controller_mismatch(recorded, controller),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        let warning = (!warnings.is_empty()).then(|| warnings.join("; "));
         let (reach, target_from) = match self.target {
             Some(t) => (reach.with_target(t).map_err(at(Step::Target))?, "--target"),
             None => (reach, "the capture's final hand position"),
@@ -313,6 +326,7 @@ impl SynthesizeRequest {
                 BaseMode::Fixed => "fixed",
                 BaseMode::Replay => "replayed",
             },
+            controller: controller.name(),
             target_m: [target.x, target.y, target.z],
             target_from,
             params_from: match (&self.drive, &drive.field) {
@@ -345,6 +359,20 @@ impl SynthesizeRequest {
             warning,
         })
     }
+}
+
+/// What to warn of when the parameters replay under another controller than the one they
+/// were fitted under (`recorded`): their distances were measured under that one.
+pub fn controller_mismatch(
+    recorded: Option<ControllerKind>,
+    running: ControllerKind,
+) -> Option<String> {
+    recorded.filter(|&r| r != running).map(|r| {
+        format!(
+            "the parameters were fitted under the {r} controller and replay under the \
+             {running} one: their fit's distances do not carry over"
+        )
+    })
 }
 
 /// Shoulder to end effector, fully stretched.

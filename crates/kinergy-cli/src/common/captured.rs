@@ -14,7 +14,7 @@ use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{
     ArmChoice, ArmRequest, Found, FoundReach, ReachFrames, ReachQuery, nothing_found, segment_clips,
 };
-pub use kinergy_train::source::{Controller, Skipped};
+pub use kinergy_train::source::{ControllerKind, Skipped};
 use kinergy_train::{CapturedReach, TrainError};
 
 use super::args::arm_failure_with;
@@ -52,8 +52,8 @@ pub struct CaptureArgs {
     /// the plain optimizer after the reach's frames, the capture's start velocity; see
     /// `docs/guide/fitting.md` "The controller: smooth (the default) or the paper's") or
     /// `paper` (Aubry et al.'s Θ ← clamp(Θ + S(t)·O(ΔX)) alone, from rest).
-    #[arg(long, default_value_t = Controller::Smooth, value_parser = crate::common::named::<Controller>(Controller::ALL.map(Controller::name)))]
-    pub controller: Controller,
+    #[arg(long, default_value_t = ControllerKind::Smooth, value_parser = crate::common::named::<ControllerKind>(ControllerKind::ALL.map(ControllerKind::name)))]
+    pub controller: ControllerKind,
     #[command(flatten)]
     pub read: ReadArgs,
     #[command(flatten)]

@@ -123,7 +123,10 @@ impl Builder<'_> {
         let (path, smoothing) = smooth(&self.space, &raw, &s.smoothing, rrt.seed);
         let (configs, synergy) = match &s.arm {
             ArmDrive::Synergy {
-                optimizer, synergy, ..
+                optimizer,
+                synergy,
+                controller,
+                ..
             } if synergy_finish => {
                 let person = PersonArm {
                     character: &self.planner.character,
@@ -134,6 +137,7 @@ impl Builder<'_> {
                     frame_rate: s.frame_rate,
                     reach_speed: s.reach_speed,
                     min_duration: s.min_duration,
+                    controller: *controller,
                 };
                 self.synergy_finish(&person, &path, goal)?
             }

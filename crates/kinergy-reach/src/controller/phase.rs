@@ -18,7 +18,7 @@
 //! itself) and whether the hand is done.
 
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3};
-use kinergy_solver::Optimizer;
+use kinergy_solver::{ControllerKind, Optimizer};
 
 use super::SynergyStart;
 use super::arm::{ArmFollower, ProfileTime};
@@ -51,8 +51,8 @@ pub(super) struct ArmRules<'a> {
     approach: SpeedProfile,
     dt: f64,
     tolerance: f64,
-    /// The synergy arm runs the smooth controller.
-    smooth: bool,
+    /// The synergy arm's controller when the settings choose one (`None`: the person's own).
+    controller: Option<ControllerKind>,
     /// The synergy arm has arrived within half the tolerance (it approaches its target
     /// asymptotically: stopping at the tolerance would stop it still moving).
     arrived: f64,
@@ -89,7 +89,7 @@ impl<'a> ArmRules<'a> {
             approach,
             dt,
             tolerance: s.tolerance,
-            smooth: s.smooth_synergy,
+            controller: s.synergy_controller,
             arrived,
             // A tight tolerance (a synthetic set's) is approached with progress below
             // STALL_PROGRESS well before arrival: the least progress is then a tenth of the
@@ -142,7 +142,14 @@ impl ArmPhase {
                     optimizer,
                     synergy,
                     tempo,
-                } => ArmPhase::Synergy(Synergy::start(rules, optimizer, synergy, *tempo, pose)?),
+                    controller,
+                } => {
+                    let smooth = rules.controller.or(*controller).unwrap_or_default()
+                        == ControllerKind::Smooth;
+                    ArmPhase::Synergy(Synergy::start(
+                        rules, optimizer, synergy, *tempo, smooth, pose,
+                    )?)
+                }
             },
             phase => phase,
         };
@@ -314,6 +321,7 @@ impl Synergy {
         optimizer: &Optimizer,
         person: &kinergy_solver::Synergy,
         tempo: Option<kinergy_solver::PersonTempo>,
+        smooth: bool,
         pose: &Pose,
     ) -> Result<Synergy> {
         let plan = rules.plan;
@@ -335,7 +343,7 @@ impl Synergy {
         let given = rules.start.and_then(|s| s.smoothing);
         let smoothing =
             given.unwrap_or_else(|| reach_smoothing(rules.character, plan.arm, peak, duration));
-        let tempo = (rules.smooth && given.is_none()).then_some(SynergyTempo {
+        let tempo = (smooth && given.is_none()).then_some(SynergyTempo {
             peak_speed_m_s: peak,
             duration_s: duration,
         });
@@ -349,7 +357,7 @@ impl Synergy {
                 optimizer,
                 synergy: person,
                 frame_time: rules.dt,
-                smoothing: rules.smooth.then_some(smoothing),
+                smoothing: smooth.then_some(smoothing),
             },
             rules.start.as_ref(),
         )?;

@@ -3,6 +3,7 @@
 
 use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
+use kinergy_solver::ControllerKind;
 use serde::Serialize;
 
 use crate::error::Result;
@@ -50,9 +51,11 @@ pub struct ReachSettings {
     pub arm: Option<Side>,
     /// Seed of the stepping decisions.
     pub seed: u64,
-    /// The synergy arm (a person's parameters) runs the smooth controller
-    /// (`kinergy_solver::smoothing`; the default) or, `false`, the paper's.
-    pub smooth_synergy: bool,
+    /// The synergy arm's (a person's parameters') controller: the smooth one
+    /// (`kinergy_solver::smoothing`) or the paper's; `None` (the default): the one the person's
+    /// parameters were fitted under ([`kinergy_solver::FitRecord::controller`]), as they were
+    /// fitted.
+    pub synergy_controller: Option<ControllerKind>,
     /// Where and how fast a person's synergy arm starts, in the fitted (capture) convention;
     /// `None` (the default): from the character's hanging arm, at rest. `style` starts it as
     /// the capture it compares with starts, as the fit did.
@@ -99,7 +102,7 @@ impl Default for ReachSettings {
             balance_margin: 0.01,
             arm: None,
             seed: 0,
-            smooth_synergy: true,
+            synergy_controller: None,
             synergy_start: None,
         }
     }

@@ -94,6 +94,10 @@ pub enum ArmDrive {
         /// distance. `None` (files without it): a reach peaking at 1 m/s (`SYNERGY_PEAK_SPEED`)
         /// or the profile's peak, whichever is faster.
         tempo: Option<PersonTempo>,
+        /// The controller the person's parameters were fitted under
+        /// ([`kinergy_solver::FitRecord::controller`]), what the arm runs unless the settings
+        /// choose ([`super::ReachSettings::synergy_controller`]); `None`: not recorded (smooth).
+        controller: Option<kinergy_solver::ControllerKind>,
     },
 }
 

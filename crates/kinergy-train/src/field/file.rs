@@ -5,8 +5,8 @@ use std::path::Path;
 use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::Point3;
 use kinergy_solver::{
-    Bounds, FitGrouping, FitMethod, FitRecord, FitStatus, FittedArm, FittedReach, Model, Optimizer,
-    ParamSpace, ParamsFile, PersonTempo, ReachTempo,
+    Bounds, ControllerKind, FitGrouping, FitMethod, FitRecord, FitStatus, FittedArm, FittedReach,
+    Model, Optimizer, ParamSpace, ParamsFile, PersonTempo, ReachTempo,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -71,6 +71,9 @@ pub struct FieldFile {
     /// field runs under (`None`: one sample, the paper's controller, or a file written before
     /// the law was recorded — each synthesis then under its capture's own speed).
     tempo_law: Option<PersonTempo>,
+    /// The synergy controller every sample was fitted under (`None`: a file written before it
+    /// was recorded).
+    controller: Option<ControllerKind>,
 }
 
 impl FieldFile {
@@ -100,6 +103,7 @@ impl FieldFile {
             optimizer,
             reaches,
             tempo_law: None,
+            controller: None,
         })
     }
 
@@ -109,6 +113,16 @@ impl FieldFile {
             tempo_law: law,
             ..self
         }
+    }
+
+    /// The same file recording the synergy `controller` its samples were fitted under.
+    pub fn with_controller(self, controller: Option<ControllerKind>) -> FieldFile {
+        FieldFile { controller, ..self }
+    }
+
+    /// The synergy controller the samples were fitted under (`None`: not recorded).
+    pub fn controller(&self) -> Option<ControllerKind> {
+        self.controller
     }
 
     /// The person's tempo law the samples were fitted under and a synthesis with the field
@@ -172,7 +186,9 @@ impl FieldFile {
         let law = (reaches.len() >= 2)
             .then(|| person_tempo(reaches))
             .flatten();
-        Ok(FieldFile::new(field, first.optimizer, records)?.with_tempo_law(law))
+        Ok(FieldFile::new(field, first.optimizer, records)?
+            .with_tempo_law(law)
+            .with_controller(reaches.first().map(CapturedReach::controller)))
     }
 
     /// Fits each reach on its own — `models` nested, poorest first, as `kinergy fit --per clip`
@@ -366,6 +382,7 @@ impl FieldFile {
             objective: None,
             unobserved: None,
             tempo_law: self.tempo_law,
+            controller: self.controller,
         }
     }
 
@@ -544,6 +561,10 @@ struct Doc {
     /// was recorded: each synthesis under its capture's own speed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     tempo_law: Option<PersonTempo>,
+    /// The controller the samples were fitted under ([`FieldFile::controller`]; absent in
+    /// files written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    controller: Option<ControllerKind>,
     samples: Vec<SampleDoc>,
 }
 
@@ -578,6 +599,7 @@ impl Doc {
             selection: field.selection().to_vec(),
             anchor: field.anchor().map(<[f64]>::to_vec),
             tempo_law: file.tempo_law,
+            controller: file.controller,
             samples: file
                 .reaches
                 .iter()
@@ -702,6 +724,7 @@ impl Doc {
             optimizer: self.optimizer,
             reaches,
             tempo_law: self.tempo_law,
+            controller: self.controller,
         })
     }
 }

@@ -193,6 +193,7 @@ impl Fit {
             objective: self.objective.recorded(),
             unobserved: None,
             tempo_law: None,
+            controller: reaches.first().map(CapturedReach::controller),
         }
     }
 

@@ -317,7 +317,7 @@ mod tests {
         assert_ne!(a.fingerprint(), b.fingerprint());
         assert_eq!(a.fingerprint().len(), 16);
         let paper = ReachQuery {
-            controller: crate::source::Controller::Paper,
+            controller: crate::source::ControllerKind::Paper,
             ..ReachQuery::default()
         };
         let c = Settings::of(&job, &paper, None).unwrap();

@@ -4,69 +4,18 @@
 //! the base, the synergy controller and how the captures are read. A take that has nothing
 //! to fit is [`Skipped`], saying why; everything else that goes wrong is an error.
 
-use std::fmt;
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
 
 use kinergy_io::{Classify, ErrorKind, InvalidSetting};
 use kinergy_motion::ImportOptions;
 use kinergy_motion::segment::Selection;
 use kinergy_solver::BaseMode;
+pub use kinergy_solver::ControllerKind;
 
 use super::{ArmChoice, Capture, ReachFrames, rows_reaches, segment_reaches};
 use crate::captured::CapturedReach;
 use crate::error::{Result, TrainError};
 use crate::segments_file::{SegmentRow, SegmentsFile};
-
-/// Which synergy controller synthesizes the reaches.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Controller {
-    /// Bounded accelerations, a progress floor, the finish to the plain optimizer after the
-    /// reach's frames and the capture's start velocity (the default).
-    #[default]
-    Smooth,
-    /// Aubry et al.'s Θ ← clamp(Θ + S(t)·O(ΔX)) alone, from rest.
-    Paper,
-}
-
-impl Controller {
-    /// Both, in the order the front ends list them.
-    pub const ALL: [Controller; 2] = [Controller::Smooth, Controller::Paper];
-
-    /// `smooth` or `paper`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Controller::Smooth => "smooth",
-            Controller::Paper => "paper",
-        }
-    }
-
-    /// `reach` set up for this controller.
-    pub fn apply(self, reach: CapturedReach) -> CapturedReach {
-        match self {
-            Controller::Smooth => reach,
-            Controller::Paper => reach.with_paper_controller(),
-        }
-    }
-}
-
-impl fmt::Display for Controller {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for Controller {
-    type Err = InvalidSetting;
-    fn from_str(s: &str) -> std::result::Result<Controller, InvalidSetting> {
-        Controller::ALL
-            .into_iter()
-            .find(|c| c.name() == s)
-            .ok_or_else(|| {
-                InvalidSetting::new("controller", format!("`{s}`: expected smooth or paper"))
-            })
-    }
-}
 
 /// Which arm of each take a query takes.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -169,7 +118,7 @@ pub struct ReachQuery {
     /// Whether the shoulder replays the capture's torso or stays where it starts.
     pub base: BaseMode,
     /// The synergy controller the reaches are synthesized with.
-    pub controller: Controller,
+    pub controller: ControllerKind,
     /// How the captures are read.
     pub read: ImportOptions,
 }
@@ -181,7 +130,7 @@ impl Default for ReachQuery {
             frames: ReachFrames::Segments(Selection::Main),
             arm: ArmRequest::Arm(ArmChoice::side(kinergy_motion::Side::Right)),
             base: BaseMode::Replay,
-            controller: Controller::Smooth,
+            controller: ControllerKind::Smooth,
             read: ImportOptions::default(),
         }
     }
@@ -224,7 +173,7 @@ impl ReachQuery {
         match found {
             Ok(reaches) => Ok(Ok(reaches
                 .into_iter()
-                .map(|r| self.controller.apply(r))
+                .map(|r| r.under(self.controller))
                 .collect())),
             Err(e)
                 if e.kind() == ErrorKind::NothingToFit
@@ -256,7 +205,7 @@ impl ReachQuery {
         Ok(found
             .into_iter()
             .map(|(reach, row)| FoundReach {
-                reach: self.controller.apply(reach),
+                reach: reach.under(self.controller),
                 person: Some(row.person.clone()),
             })
             .collect())
@@ -292,7 +241,7 @@ impl ReachQuery {
         let reaches = segment_reaches(segments, clips, &self.read, self.base)?
             .into_iter()
             .map(|(reach, row)| FoundReach {
-                reach: self.controller.apply(reach),
+                reach: reach.under(self.controller),
                 person: Some(row.person.clone()),
             })
             .collect();
@@ -324,16 +273,6 @@ fn skip_reason(e: &TrainError) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_controller_s_names_read_back_and_a_stranger_is_named() {
-        for c in Controller::ALL {
-            assert_eq!(c.name().parse::<Controller>(), Ok(c));
-        }
-        let e = "fast".parse::<Controller>().unwrap_err();
-        assert_eq!(e.field, "controller");
-        assert!(e.to_string().contains("`fast`"), "{e}");
-    }
 
     #[test]
     fn arm_auto_refuses_one_window_and_one_numbered_segment() {
