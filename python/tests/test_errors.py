@@ -99,6 +99,7 @@ def test_unreachable_targets_raise_with_the_motion_made():
         lambda: kinergy.read_bvh(R09, up="sideways"),
         lambda: kinergy.segment(R09, min_peak_speed=-1.0),
         lambda: kinergy.segment(R09, min_peak_speed=50.0001),
+        lambda: kinergy.segment(R09, arm="auto", world=True),
         lambda: kinergy.read_bvh(R09).with_values(np.zeros((0, kinergy.read_bvh(R09).values.shape[1]))),
         lambda: kinergy.Clip.from_arrays(["root"], [-1], np.zeros((1, 3)), np.zeros((0, 1, 4)),
                                          np.zeros((0, 3)), 0.1),

@@ -391,3 +391,30 @@ fn the_documented_peak_speeds_are_all_taken() {
         assert_eq!(o.status.code(), Some(2), "{speed}: {}", stderr(&o));
     }
 }
+
+/// Issue 42, case 10: `--arm auto` finds the arms that reach as `fit --arm auto` does, by the
+/// hand's speed relative to the shoulder; with `--world` (where a walk's swinging arms
+/// "reach") it is refused, saying why, while one arm's world-speed segments are listed.
+#[test]
+fn world_speed_is_refused_for_the_arms_that_reach_and_listed_for_one_arm() {
+    let clip = repo().join("data-synthetic/p01/r09.bvh");
+    let clip = clip.to_str().expect("utf-8 path");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("segments.csv");
+    let out_s = out.to_str().expect("utf-8 path");
+    assert_bad_input(
+        &[
+            "segment", clip, "--arm", "auto", "--world", "--manifest", out_s,
+        ],
+        "--world: the arms that reach are found as `fit --arm auto` finds them",
+        &out,
+    );
+    let o = kinergy(&["segment", clip, "--arm", "right", "--world", "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let report = json(&o);
+    assert_eq!(report["speed"], "world", "{report}");
+    assert!(
+        !report["segments"].as_array().expect("segments").is_empty(),
+        "{report}"
+    );
+}

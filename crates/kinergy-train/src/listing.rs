@@ -118,6 +118,15 @@ impl SegmentListing {
         path: &Path,
         clip: &Clip,
     ) -> Result<std::result::Result<Vec<ArmListing>, Skipped>> {
+        // `fit --arm auto` finds the arms that reach by the hand's speed relative to the
+        // shoulder; in the world a walk's swinging arms would "reach".
+        InvalidSetting::require(
+            self.settings.relative_to_shoulder,
+            "world",
+            "the arms that reach are found as `fit --arm auto` finds them, by the hand's speed \
+             relative to the shoulder (in the world, walking and torso motion count as \
+             reaching): choose an arm to list its world-speed segments",
+        )?;
         let capture = Capture::from_clip(path, clip.clone());
         match capture.reaching_segments(self.selection.unwrap_or_default(), &self.settings) {
             Ok(arms) => arms
