@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 import signal
 import threading
 import time
@@ -185,8 +186,21 @@ def test_progress_is_reported_and_its_exception_stops_the_fit(at_root):
         if len(calls) == 3:
             raise Stop("enough")
 
-    with pytest.raises(Stop):
+    with pytest.raises(Stop) as raised:
         kinergy.fit(R09, model="sd", budget=4000, progress=stop_after_three)
+    assert str(raised.value) == "enough"
+    if sys.version_info >= (3, 11):
+        assert any("the progress callback raised at iteration" in n
+                   for n in raised.value.__notes__), raised.value.__notes__
+
+    def bare_interrupt(info):
+        raise KeyboardInterrupt
+
+    # A bare KeyboardInterrupt from the callback says where it stopped the fit (issue 42).
+    with pytest.raises(KeyboardInterrupt, match="progress callback raised at iteration 0 of sa"
+                       ) as raised:
+        kinergy.fit(R09, model="sd", budget=4000, progress=bare_interrupt)
+    assert isinstance(raised.value.__cause__, KeyboardInterrupt)
 
 
 def test_progress_names_each_stage_whatever_its_length(at_root):

@@ -382,7 +382,7 @@ fn library_run(
     inputs.extend(args.reach.segments.as_deref());
     // Every take's first result name (a take with several reaches adds their frames) and the
     // library's tables; the rest are checked as they are written.
-    let takes = Takes::of(&clips.paths, clips.segments());
+    let takes = Takes::of(&clips.paths, clips.segments()).walked_from(&args.clips);
     let mut files: Vec<PathBuf> = takes.first_names().iter().map(|n| dest.join(n)).collect();
     files.extend([LIBRARY, SKIPPED].map(|f| dest.join(f)));
     let option = if args.out_dir.is_some() {

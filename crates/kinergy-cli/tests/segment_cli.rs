@@ -404,7 +404,13 @@ fn world_speed_is_refused_for_the_arms_that_reach_and_listed_for_one_arm() {
     let out_s = out.to_str().expect("utf-8 path");
     assert_bad_input(
         &[
-            "segment", clip, "--arm", "auto", "--world", "--manifest", out_s,
+            "segment",
+            clip,
+            "--arm",
+            "auto",
+            "--world",
+            "--manifest",
+            out_s,
         ],
         "--world: the arms that reach are found as `fit --arm auto` finds them",
         &out,

@@ -75,7 +75,7 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
     if let Some(file) = &segments {
         inputs.extend(file.rows().iter().map(|row| row.clip.clone()));
     }
-    let takes = Takes::of(&paths, segments.as_ref());
+    let takes = Takes::of(&paths, segments.as_ref()).walked_from(&clips);
     let interrupt = AtomicBool::new(false);
     let observer = || -> Box<dyn Observer> { Box::new(()) };
     let run = ShardRun {

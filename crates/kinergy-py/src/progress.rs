@@ -46,11 +46,13 @@ impl<'a> Watch<'a> {
         if self.error.is_some() {
             return;
         }
+        let model = self.models.get(self.stage).copied().unwrap_or("?");
         let outcome = Python::attach(|py| -> PyResult<()> {
-            py.check_signals()?;
+            py.check_signals()
+                .map_err(|e| explained(py, e, &format!("Ctrl-C during the fit of {model}")))?;
             if let (Some(callback), Some(p)) = (self.callback, progress) {
                 let info = PyDict::new(py);
-                info.set_item("model", self.models.get(self.stage).copied().unwrap_or("?"))?;
+                info.set_item("model", model)?;
                 info.set_item("stage", self.stage)?;
                 info.set_item("stages", self.models.len())?;
                 info.set_item("iteration", p.iteration)?;
@@ -59,7 +61,13 @@ impl<'a> Watch<'a> {
                 info.set_item("best_m", p.best_cost)?;
                 info.set_item("mean_m", p.mean_cost)?;
                 info.set_item("temperature", p.temperature)?;
-                callback.call1(py, (info,))?;
+                callback.call1(py, (info,)).map_err(|e| {
+                    let at = format!(
+                        "the progress callback raised at iteration {} of {model}: the fit stopped",
+                        p.iteration
+                    );
+                    explained(py, e, &at)
+                })?;
             }
             Ok(())
         });
@@ -89,6 +97,28 @@ impl Observer for Watch<'_> {
     fn on_iteration(&mut self, progress: &Progress) {
         self.check(Some(progress));
     }
+}
+
+/// `error` saying `why` it stopped a run: a `KeyboardInterrupt` without a message (Ctrl-C, or
+/// one a callback raised bare) becomes one that says it, caused by the original; any other
+/// exception keeps its own message and gets `why` as a note (Python ≥ 3.11).
+fn explained(py: Python<'_>, error: PyErr, why: &str) -> PyErr {
+    let value = error.value(py);
+    let bare = value
+        .getattr("args")
+        .is_ok_and(|a| a.len().is_ok_and(|n| n == 0));
+    if error.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) && bare {
+        let told = pyo3::exceptions::PyKeyboardInterrupt::new_err(why.to_string());
+        if !why.starts_with("Ctrl-C") {
+            told.set_cause(py, Some(error));
+        }
+        return told;
+    }
+    if value.hasattr("add_note").unwrap_or(false) {
+        // A failed note leaves the exception as it was.
+        let _ = value.call_method1("add_note", (why,));
+    }
+    error
 }
 
 /// Runs `work` on a worker thread with the GIL released while this (the calling) thread

@@ -158,6 +158,30 @@ impl Truth {
     }
 }
 
+/// The tiny fit every take gets (S_A, a population of 2, 4 evaluations, seeded) and the
+/// 16-frame window it is fitted on.
+fn tiny(seed: u64) -> (FitJob, ReachQuery) {
+    let job = FitJob {
+        models: vec![Model::Sa],
+        optimizer: Default::default(),
+        settings: FitSettings {
+            anneal: AnnealSettings {
+                population: 2,
+                max_evaluations: 4,
+                seed,
+                ..AnnealSettings::default()
+            },
+            ..FitSettings::default()
+        },
+        refine: None,
+    };
+    let query = ReachQuery {
+        frames: ReachFrames::Window(0..16),
+        ..ReachQuery::default()
+    };
+    (job, query)
+}
+
 /// Shard `shard` of the library in `takes_dir`, into `out`; interrupted after `stop_after`
 /// takes are done, if given. Returns whether it ran whole (every take dealt fitted or found
 /// fitted, uninterrupted).
@@ -171,7 +195,7 @@ fn run_shard(
     stop_after: Option<usize>,
 ) -> bool {
     let paths = capture_files(&[takes_dir.to_path_buf()]).expect("takes");
-    let takes = Takes::of(&paths, None);
+    let takes = Takes::of(&paths, None).walked_from(&[takes_dir.to_path_buf()]);
     let interrupt = AtomicBool::new(false);
     let observer = || -> Box<dyn Observer> { Box::new(()) };
     let run = ShardRun {
@@ -220,24 +244,7 @@ fn a_library_fitted_in_random_shards_with_kills_resumes_and_edits_is_whole_or_sa
             std::fs::create_dir_all(path.parent().unwrap()).expect("folder");
             std::fs::write(path, text).expect("take");
         }
-        let job = FitJob {
-            models: vec![Model::Sa],
-            optimizer: Default::default(),
-            settings: FitSettings {
-                anneal: AnnealSettings {
-                    population: 2,
-                    max_evaluations: 4,
-                    seed: trial,
-                    ..AnnealSettings::default()
-                },
-                ..FitSettings::default()
-            },
-            refine: None,
-        };
-        let query = ReachQuery {
-            frames: ReachFrames::Window(0..16),
-            ..ReachQuery::default()
-        };
+        let (job, query) = tiny(trial);
         let mut truth = Truth {
             job: job.clone(),
             query: query.clone(),
@@ -387,5 +394,55 @@ fn a_library_fitted_in_random_shards_with_kills_resumes_and_edits_is_whole_or_sa
     assert!(
         outcomes.get("collected").is_some_and(|&n| n > 0),
         "{outcomes:?}"
+    );
+}
+
+/// A take added to the library's folder after every shard ran is named by `collect` (the
+/// library is incomplete, not "complete" without it), and a resumed run of every shard fits
+/// it alone, after which the library is whole.
+#[test]
+fn a_take_added_after_every_shard_ran_is_named_then_fitted_on_resume() {
+    let sources = sources();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let takes_dir = dir.path().join("takes");
+    let write = |k: usize| {
+        let (name, text) = generated(&sources, k);
+        let path = takes_dir.join(&name);
+        std::fs::create_dir_all(path.parent().unwrap()).expect("folder");
+        std::fs::write(path, text).expect("take");
+        name
+    };
+    for k in 0..6 {
+        write(k);
+    }
+    let (job, query) = tiny(7);
+    let out = dir.path().join("fits");
+    for index in 1..=2 {
+        let shard = Shard { index, count: 2 };
+        assert!(run_shard(
+            &takes_dir, &out, &job, &query, shard, false, None
+        ));
+    }
+    let whole = collect(&out).expect("a whole library");
+    let added = write(6);
+    let e = collect(&out).expect_err("a take was added");
+    let text = e.to_string();
+    assert!(matches!(e, LibraryError::Incomplete { .. }), "{text}");
+    assert!(
+        text.contains("1 take(s) in the library's folders were added since shard 1/2, shard 2/2")
+            && text.contains(&added)
+            && text.contains("--resume"),
+        "{text}"
+    );
+    for index in 1..=2 {
+        let shard = Shard { index, count: 2 };
+        assert!(run_shard(&takes_dir, &out, &job, &query, shard, true, None));
+    }
+    let now = collect(&out).expect("whole again");
+    assert_eq!(
+        now.table.rows.len(),
+        whole.table.rows.len() + 1,
+        "{:?}",
+        now.table.rows
     );
 }

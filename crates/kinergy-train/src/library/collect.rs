@@ -39,7 +39,8 @@ const NAMED: usize = 8;
 /// not the ones the library deals it, and a result file that is not the one recorded (its
 /// hash differs). Incomplete ([`LibraryError::Incomplete`]: the tables of what is there are
 /// written) where pieces are only missing: a shard without a record, takes a shard did not
-/// reach, results missing.
+/// reach, results missing, and takes added to the library's folders since the shards walked
+/// them.
 pub fn collect(dir: &Path) -> Result<Collected, LibraryError> {
     let shards = dir.join(SHARDS);
     let entries = std::fs::read_dir(&shards).map_err(|e| LibraryError::Input {
@@ -143,6 +144,7 @@ pub fn collect(dir: &Path) -> Result<Collected, LibraryError> {
     let takes_agree = check_takes(&records, &mut wrong);
     if takes_agree {
         check_deal(&records, count, &mut wrong);
+        check_added(&records, &mut missing);
     }
     let (mut library, mut skipped) = tabled(dir, &records, takes_agree, &mut wrong, &mut missing);
     if !wrong.is_empty() {
@@ -205,6 +207,45 @@ fn check_settings(records: &[ShardRecord], wrong: &mut Vec<String>) {
                 differences.join(", ")
             ));
         }
+    }
+}
+
+/// The takes in the folders the shards walked that no shard's takes list has: added since.
+fn check_added(records: &[ShardRecord], missing: &mut Vec<String>) {
+    let Some(first) = records.first() else {
+        return;
+    };
+    let folders: Vec<PathBuf> = first.header.folders.iter().map(PathBuf::from).collect();
+    if folders.is_empty() || !folders.iter().all(|f| f.is_dir()) {
+        return;
+    }
+    // A walk that fails now (an unreadable folder) says nothing new: the takes were checked.
+    let Ok(walk) = crate::source::walk_captures(&folders) else {
+        return;
+    };
+    let root = Path::new(&first.header.root);
+    let known: HashSet<PathBuf> = first
+        .takes
+        .iter()
+        .filter_map(|t| safe_relative(&t.path))
+        .map(|relative| super::names::canonical(&root.join(relative)))
+        .collect();
+    let added: Vec<String> = walk
+        .files
+        .iter()
+        .filter(|f| !known.contains(&super::names::canonical(f)))
+        .map(|f| f.display().to_string())
+        .collect();
+    if !added.is_empty() {
+        let shards: Vec<String> = records.iter().map(shard_name).take(NAMED).collect();
+        missing.push(format!(
+            "{} take(s) in the library's folders were added since {}{} walked them: {}: fit \
+             every shard again with --resume (the results of the unchanged takes are kept)",
+            added.len(),
+            shards.join(", "),
+            if records.len() > NAMED { ", …" } else { "" },
+            kinergy_io::list_some(&added, NAMED)
+        ));
     }
 }
 

@@ -30,6 +30,9 @@ pub struct Takes<'a> {
     segments: Option<&'a SegmentsFile>,
     /// With a segments file, its rows by clip ([`SegmentsFile::rows_by_clip`]).
     rows: Option<HashMap<PathBuf, Vec<&'a SegmentRow>>>,
+    /// The folders the takes were found in by walking them (canonical), where `collect`
+    /// looks for takes added since ([`Takes::walked_from`]).
+    pub folders: Vec<PathBuf>,
 }
 
 impl<'a> Takes<'a> {
@@ -43,7 +46,22 @@ impl<'a> Takes<'a> {
             paths,
             segments,
             rows: segments.map(SegmentsFile::rows_by_clip),
+            folders: Vec::new(),
         }
+    }
+
+    /// The same takes, found by walking the folders among `given` (the paths the user gave,
+    /// files and folders): `collect` walks them again and names a take added since the
+    /// shards ran.
+    pub fn walked_from(self, given: &[PathBuf]) -> Takes<'a> {
+        let mut folders: Vec<PathBuf> = given
+            .iter()
+            .filter(|p| p.is_dir())
+            .map(|p| canonical(p))
+            .collect();
+        folders.sort();
+        folders.dedup();
+        Takes { folders, ..self }
     }
 
     /// The segments file the takes came with, if any.
@@ -94,7 +112,7 @@ pub fn unique_takes(paths: &[PathBuf]) -> Vec<PathBuf> {
         .collect()
 }
 
-fn canonical(path: &Path) -> PathBuf {
+pub(crate) fn canonical(path: &Path) -> PathBuf {
     std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
 }
 

@@ -146,6 +146,11 @@ pub struct ShardHeader {
     pub takes_blake3: String,
     /// How many takes it lists.
     pub take_count: usize,
+    /// The folders the takes were found in by walking them, canonical, on the machine that
+    /// ran the shard (absent: the takes were given one by one). `collect` walks them again
+    /// and names a take no shard saw.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub folders: Vec<String>,
 }
 
 /// The takes list, `takes-<hash>.json`.

@@ -433,6 +433,12 @@ impl ShardRun<'_> {
             takes: takes_name.clone(),
             takes_blake3,
             take_count: plan.identities.len(),
+            folders: self
+                .takes
+                .folders
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect(),
         };
         let header_hash = write_header(&header_file, &header)?;
         let mut rows = RecordRows::default();
