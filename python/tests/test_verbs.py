@@ -197,7 +197,7 @@ def test_progress_is_reported_and_its_exception_stops_the_fit(at_root):
         raise KeyboardInterrupt
 
     # A bare KeyboardInterrupt from the callback says where it stopped the fit (issue 42).
-    with pytest.raises(KeyboardInterrupt, match="progress callback raised at iteration 0 of sa"
+    with pytest.raises(KeyboardInterrupt, match="progress callback raised at iteration 1 of sa"
                        ) as raised:
         kinergy.fit(R09, model="sd", budget=4000, progress=bare_interrupt)
     assert isinstance(raised.value.__cause__, KeyboardInterrupt)
