@@ -594,7 +594,9 @@ def fam_outdir_inputs(rng, n):
         for d in dspell:
             for s in ispell:
                 combos.append(("synth", name, "params", d, s))
-    fit_names = ["r01.json", "r02.json", "r01_7-71.json"]
+    # a library's result names: the take's whole file name + `.json`, `@START-END` for a take of
+    # several reaches, and `@ARM` after it where two reaches share their frames
+    fit_names = ["r01.bvh.json", "r02.bvh.json", "r01.bvh@7-71.json", "r01.bvh@7-71@left.json"]
     # newer binaries also write tables into the folder (`fit --help` names them)
     fit_help = kin(["fit", "--help"], check=False).stdout.decode(errors="replace")
     fit_names += [t for t in ("library.csv", "skipped.csv") if t in fit_help]
@@ -604,6 +606,8 @@ def fam_outdir_inputs(rng, n):
                 for s in ispell:
                     if kind == "clip_self" and s in ("inlink", "hard"):
                         continue
+                    if kind == "clip_self" and "@" in name:
+                        continue  # a take of one reach is never named with `@`
                     combos.append(("fit", name, kind, d, s))
     weights = {"compare": 0.30, "compare_holdout": 0.10, "style": 0.30, "synth": 0.12, "fit": 0.18}
     chosen = []
@@ -660,17 +664,16 @@ def fam_outdir_inputs(rng, n):
                     cl = lambda x: os.path.join(c, "clips", "p01", x)
                     rows = [[cl("r01.bvh"), 7, 71, "right", "reach", "p01"],
                             [cl("r02.bvh"), 9, 101, "right", "reach", "p01"]]
-                    if "_" in name:
+                    if "@left" in name:
+                        rows.append([cl("r01.bvh"), 7, 71, "left", "reach", "p01"])
+                    elif "@" in name:
                         rows.append([cl("r01.bvh"), 10, 60, "right", "reach", "p01"])
                     w(os.path.join(c, "out", name), seg_text(rows))
                     # clips are in clips/p01: outputs are named from their common folder
                 argv += ["--segments", ip]
-            else:  # a clip whose own result name is its path: out/rNN.json (+ another clip)
+            else:  # a capture stored at out/NAME: its own result is out/NAME.json
                 content = ds("p01/r01.bvh")
                 argv += [ip]
-                if "_" in name:
-                    # clip out/r01_7-71.json as a clip, and frames so that its name repeats
-                    argv += ["--frames", "7..71"]
         setup0 = base_setup(c, name, content, s)
 
         def setup(setup0=setup0, extra_setup=extra_setup):
@@ -678,6 +681,10 @@ def fam_outdir_inputs(rng, n):
             if extra_setup:
                 extra_setup()
         expect = "any" if s == "hard" else "refuse"
+        if cmd == "fit" and kind == "clip_self" and name.endswith(".json"):
+            # a take is never its own result (`r01.bvh.json` fits into `r01.bvh.json.json`):
+            # nothing to refuse, but the take must stay as it was
+            expect = "success"
         hints = [os.path.basename(name), name, ip, os.path.basename(ip)]
         inputs = [os.path.join(c, "out", name), os.path.join(c, "clips"), os.path.join(c, "P.json")]
         if s in ("inlink", "hard"):
@@ -759,7 +766,9 @@ def fam_arm_pairs(rng, n):
                 return f
             outd = os.path.join(case.cwd, "out")
             files = []
-            for base, _d, fn in os.walk(outd):
+            for base, dnames, fn in os.walk(outd):
+                if base == outd and "shards" in dnames:
+                    dnames.remove("shards")  # the library's shard records, not results
                 files += [os.path.join(base, x) for x in fn if x.endswith(".json") and not x.startswith(".")]
             if len(files) != nrows:
                 f.append(("data_loss", "%d reaches but %d result files (%s): a result was overwritten"
@@ -1562,10 +1571,11 @@ def fam_sigkill(rng, n):
         threads = rng.choice([None, "1", "2"])
         if variant.endswith("nested"):
             clips_arg = [ds("p01"), ds("p02/r01.bvh"), ds("p02/r02.bvh"), ds("p02/r03.bvh")]
-            names = ["p01/r%02d.json" % k for k in range(1, 15)] + ["p02/r01.json", "p02/r02.json", "p02/r03.json"]
+            names = ["p01/r%02d.bvh.json" % k for k in range(1, 15)] + ["p02/r01.bvh.json", "p02/r02.bvh.json",
+                                                                         "p02/r03.bvh.json"]
         else:
             clips_arg = [ds("p01")]
-            names = ["r%02d.json" % k for k in range(1, 15)]
+            names = ["r%02d.bvh.json" % k for k in range(1, 15)]
         out = os.path.join(c, "out")
         if variant == "kill-single":
             argv = ["fit", ds("p01"), "--model", "sd", "--budget", "300", "-q", "-o", os.path.join(c, "single.json")]
