@@ -1038,10 +1038,38 @@ fn absurd_shard_counts_are_refused_naming_the_variable() {
     let o = fit_library(&lib, &out, &["--shard", "1/100001"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("--shard `1/100001`"), "{}", stderr(&o));
+    // A task ID that is not UTF-8 is set, not absent (the sweep: it fitted the whole library
+    // as shard 1 of 1).
+    use std::os::unix::ffi::OsStrExt;
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_kinergy"))
+        .args([
+            "fit",
+            s(&lib),
+            "--per",
+            "clip",
+            "--model",
+            "sa",
+            "--budget",
+            "20",
+        ])
+        .args(["--out-dir", s(&out)])
+        .env("SLURM_ARRAY_TASK_ID", std::ffi::OsStr::from_bytes(b"\xff"))
+        .env("SLURM_ARRAY_TASK_MIN", "1")
+        .env("SLURM_ARRAY_TASK_COUNT", "2")
+        .output()
+        .expect("run kinergy");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("SLURM_ARRAY_TASK_ID=`"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!out.exists());
 }
 
-/// `compare --library` refuses a table with NaN, ±inf or negative distances, or with every
-/// distance empty, naming the row and column; nothing is written.
+/// `compare --library` refuses a table with NaN, ±inf, negative or absurd (> 1 km) distances,
+/// with every distance empty, or with a model's distance missing from one reach, naming the
+/// row and column; nothing is written.
 #[test]
 fn compare_library_refuses_distances_that_cannot_be_true() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -1068,6 +1096,20 @@ fn compare_library_refuses_distances_that_cannot_be_true() {
         (
             "r02.bvh,p01,right,0,10,10,sb,svd,,,,,,16,,r02.bvh.json,abc",
             "row 3: every distance",
+        ),
+        // The sweep: 1e300 printed as 303 digits in summary.md, 1e308 made a mean of inf.
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,1e300,0.01,,,,16,,r02.bvh.json,abc",
+            "row 3, column distance_sa_m: 1e300 is not a distance (meters from 0 to 1000)",
+        ),
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,0.02,1e308,,,,16,,r02.bvh.json,abc",
+            "row 3, column distance_sb_m: 1e308",
+        ),
+        // One reach without S_B's distance would average S_B over fewer reaches.
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,0.02,,,,,16,,r02.bvh.json,abc",
+            "row 3, column distance_sb_m: empty where row 2 has a distance",
         ),
     ] {
         let table = dir.path().join("library.csv");

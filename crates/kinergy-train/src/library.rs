@@ -63,6 +63,13 @@ impl Shard {
     /// `--array=1-8` both make 8 shards). `None` outside an array job. Every variable is a
     /// whole number within bounds — the count at most 100,000 as `--shard`'s, the ID and
     /// the minimum at most [`MAX_TASK_ID`] — or the error names it.
+    pub fn from_slurm_env() -> Result<Option<Shard>, String> {
+        // Read as bytes: a value that is not UTF-8 is set, and refused by name (read with
+        // `std::env::var` it looked unset, and the task fitted the whole library).
+        Shard::from_slurm(|name| std::env::var_os(name).map(|v| v.to_string_lossy().into_owned()))
+    }
+
+    /// [`Shard::from_slurm_env`] with the variables from `env` (a test's, or the process's).
     pub fn from_slurm(env: impl Fn(&str) -> Option<String>) -> Result<Option<Shard>, String> {
         const ID: &str = "SLURM_ARRAY_TASK_ID";
         const MIN: &str = "SLURM_ARRAY_TASK_MIN";

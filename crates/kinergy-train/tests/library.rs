@@ -446,3 +446,72 @@ fn a_take_added_after_every_shard_ran_is_named_then_fitted_on_resume() {
         now.table.rows
     );
 }
+
+/// The sweep's data loss (issue 42): a library whose takes are all in one subfolder has that
+/// subfolder as its root; a take added in another subfolder between the shards moves the root,
+/// and each shard's takes are still on disk as it saw them. `collect` said complete (a take
+/// without a result, another listed twice); it refuses, naming what each shard saw.
+#[test]
+fn shards_that_saw_different_takes_under_different_roots_are_refused() {
+    let sources = sources();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let takes_dir = dir.path().join("takes");
+    let write = |k: usize| {
+        let (name, text) = generated(&sources, k);
+        let path = takes_dir.join(&name);
+        std::fs::create_dir_all(path.parent().unwrap()).expect("folder");
+        std::fs::write(path, text).expect("take");
+        name
+    };
+    for k in 0..6 {
+        write(k);
+    }
+    let (job, query) = tiny(11);
+    let out = dir.path().join("fits");
+    let shard = |index| Shard { index, count: 3 };
+    assert!(run_shard(
+        &takes_dir,
+        &out,
+        &job,
+        &query,
+        shard(1),
+        false,
+        None
+    ));
+    let added = write(20);
+    assert!(!added.starts_with("p01/"), "{added}");
+    for index in 2..=3 {
+        assert!(run_shard(
+            &takes_dir,
+            &out,
+            &job,
+            &query,
+            shard(index),
+            false,
+            None
+        ));
+    }
+    let e = collect(&out).expect_err("the shards saw different takes");
+    let text = e.to_string();
+    assert!(matches!(e, LibraryError::Refused { .. }), "{text}");
+    assert!(
+        text.contains("the shards saw different takes (")
+            && text.contains("shard 1/3 saw 6 takes under")
+            && text.contains("shard 2/3, shard 3/3 saw 7 takes under")
+            && text.contains("--resume"),
+        "{text}"
+    );
+    for index in 1..=3 {
+        assert!(run_shard(
+            &takes_dir,
+            &out,
+            &job,
+            &query,
+            shard(index),
+            true,
+            None
+        ));
+    }
+    let whole = collect(&out).expect("whole after every shard ran again");
+    assert_eq!(whole.table.rows.len(), 7, "{:?}", whole.table.rows);
+}

@@ -29,7 +29,7 @@ pub fn run(
     let shard = match &args.shard {
         Some(text) => kinergy_train::library::Shard::parse(text)
             .map_err(|e| Failure::Input(format!("--shard {e}")))?,
-        None => kinergy_train::library::Shard::from_slurm(|name| std::env::var(name).ok())
+        None => kinergy_train::library::Shard::from_slurm_env()
             .map_err(Failure::Input)?
             .unwrap_or(kinergy_train::library::Shard::ALL),
     };

@@ -311,6 +311,28 @@ fn check_takes(records: &[ShardRecord], wrong: &mut Vec<String>) -> bool {
             if names.len() == 1 { "it" } else { "them" },
         ));
     }
+    if agree && distinct.len() > 1 {
+        // Each shard's takes are still on disk as it saw them, yet the shards saw different
+        // lists (a take added or moved between them changed the library's root): no shard's
+        // list is the library's.
+        let seen: Vec<String> = groups
+            .iter()
+            .map(|((root, _), members)| {
+                let names: Vec<String> = members.iter().map(|r| shard_name(r)).collect();
+                format!(
+                    "{} saw {} takes under {root}",
+                    kinergy_io::list_some(&names, NAMED),
+                    members[0].takes.len()
+                )
+            })
+            .collect();
+        wrong.push(format!(
+            "the shards saw different takes ({}): a take was added, removed or moved between \
+             them: run every shard again with --resume",
+            seen.join("; ")
+        ));
+        agree = false;
+    }
     agree && distinct.len() == 1
 }
 

@@ -312,11 +312,15 @@ impl LibraryTable {
         Ok(read)
     }
 
-    /// Checks that the table can be true: every distance finite and at least 0, each row
-    /// with at least one, and one model, optimizer and settings fingerprint in the whole
-    /// table (a table of mixed settings compares unlike fits). Rows are numbered as lines
+    /// Checks that the table can be true: every distance a number of meters from 0 to 1000,
+    /// each row with at least one and with the same models' distances as the first row, and
+    /// one model, optimizer and settings fingerprint in the whole table (a table of mixed
+    /// settings compares unlike fits). Rows are numbered as lines
     /// of `library.csv` (the header is line 1).
     pub fn check(&self) -> Result<(), String> {
+        /// The largest distance a row may hold, meters: a joint-position distance beyond a
+        /// kilometre is no fit's (and a mean of such numbers overflows to ∞).
+        const MAX_DISTANCE_M: f64 = 1e3;
         const COLUMNS: [&str; 5] = [
             "distance_sa_m",
             "distance_sb_m",
@@ -331,11 +335,12 @@ impl LibraryTable {
             let line = i + 2;
             for (value, column) in row.distances().iter().zip(COLUMNS) {
                 if let Some(d) = value
-                    && !(d.is_finite() && *d >= 0.0)
+                    && !(d.is_finite() && (0.0..=MAX_DISTANCE_M).contains(d))
                 {
                     return Err(format!(
-                        "row {line}, column {column}: {d} is not a distance (a finite number \
-                         of meters, at least 0)"
+                        "row {line}, column {column}: {} is not a distance (meters from 0 to \
+                         {MAX_DISTANCE_M})",
+                        kinergy_io::quote_number(*d)
                     ));
                 }
             }
@@ -343,6 +348,30 @@ impl LibraryTable {
                 return Err(format!(
                     "row {line}: every distance ({}) is empty: no fit to summarise",
                     COLUMNS.join(", ")
+                ));
+            }
+            // A nested fit scores every model up to the table's for every reach: one reach
+            // without a model's distance would leave that model's mean over fewer reaches.
+            let (here, there) = (row.distances(), first.distances());
+            let gap = here
+                .iter()
+                .zip(there.iter())
+                .zip(COLUMNS)
+                .find(|((here, there), _)| here.is_some() != there.is_some());
+            if let Some(((here, _), column)) = gap {
+                return Err(format!(
+                    "row {line}, column {column}: {} where row 2 {}: every reach of a library \
+                     has the distances of the same models",
+                    if here.is_some() {
+                        "a distance"
+                    } else {
+                        "empty"
+                    },
+                    if here.is_some() {
+                        "is empty"
+                    } else {
+                        "has a distance"
+                    },
                 ));
             }
             let mixed = [
