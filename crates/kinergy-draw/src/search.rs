@@ -12,7 +12,9 @@
 //!   nothing else is drawn as a line in those colours (the legend's swatches are filled
 //!   rectangles): a tree of n nodes gives n − 1 such lines;
 //! - each root is a filled disc in its tree's colour;
-//! - the wrist path as found is a thin black line, the smoothed one a thick green line.
+//! - the wrist path as found is a thin black line, the smoothed one a thick green line;
+//! - scene objects are light grey: boxes, spheres and capsules filled, meshes by their
+//!   feature edges only ([`shapes`](crate::shapes)).
 
 use nalgebra::{Isometry3, Point3};
 use plotters::coord::Shift;
@@ -222,7 +224,12 @@ impl Figure for SearchFigure {
             let round = |p: Flat| (p.0.round() as i32, p.1.round() as i32);
             for (solid, pose) in &self.objects {
                 let outline = solid.outline(pose, |p| self.view.project(p));
-                for polygon in &outline.fills {
+                // A mesh by its feature edges alone: its triangles would be most of the file.
+                let fills = match solid {
+                    Solid::Mesh { .. } => &[][..],
+                    Solid::Convex(_) => &outline.fills[..],
+                };
+                for polygon in fills {
                     let pixels: Vec<Flat> = polygon.iter().map(|&p| map.pixel_f(p)).collect();
                     let clipped = clip_polygon(&pixels, clip);
                     if clipped.len() >= 3 {
