@@ -290,7 +290,13 @@ fn a_forced_level_that_fails_names_itself_and_writes_nothing() {
     let shelf = scene();
     let cases: [(Vec<&str>, i32, &[&str]); 4] = [
         (
-            vec!["--scene", &board, "--target=-0.2,1.15,0.35", "--level", "straight"],
+            vec![
+                "--scene",
+                &board,
+                "--target=-0.2,1.15,0.35",
+                "--level",
+                "straight",
+            ],
             1,
             &["level straight failed", "blocked", "board"],
         ),
@@ -301,13 +307,26 @@ fn a_forced_level_that_fails_names_itself_and_writes_nothing() {
         ),
         (
             vec![
-                "--scene", &shelf, "--task", "grasp", "--object", "blue_book", "--level", "ik",
+                "--scene",
+                &shelf,
+                "--task",
+                "grasp",
+                "--object",
+                "blue_book",
+                "--level",
+                "ik",
             ],
             2,
             &["--level", "a task's moves are planned"],
         ),
         (
-            vec!["--scene", &board, "--target=-0.2,1.15,0.35", "--level", "rrt"],
+            vec![
+                "--scene",
+                &board,
+                "--target=-0.2,1.15,0.35",
+                "--level",
+                "rrt",
+            ],
             2,
             &["rrt"],
         ),
@@ -330,7 +349,11 @@ fn a_forced_level_that_fails_names_itself_and_writes_nothing() {
 fn lines_in(svg: &str, colour: &str) -> usize {
     let stroke = format!("stroke=\"{}\"", colour.to_ascii_uppercase());
     svg.lines()
-        .filter(|l| l.trim_start().starts_with("<polyline") && l.to_ascii_uppercase().contains(&stroke.to_ascii_uppercase()))
+        .filter(|l| {
+            l.trim_start().starts_with("<polyline")
+                && l.to_ascii_uppercase()
+                    .contains(&stroke.to_ascii_uppercase())
+        })
         .count()
 }
 
@@ -404,8 +427,15 @@ fn tree_svg_draws_every_edge_of_both_trees() {
         let (_, again) = run(args);
         assert_eq!(again, picture, "{args:?}");
     }
-    let (report, picture) = run(&["--scene", &levels_scene("open.json"), "--target=-0.2,1.2,0.4"]);
+    let (report, picture) = run(&[
+        "--scene",
+        &levels_scene("open.json"),
+        "--target=-0.2,1.2,0.4",
+    ]);
     assert_eq!(report["level"], "ik");
     assert!(picture.contains("solved by the ik level"));
-    assert_eq!(lines_in(&picture, "#0072B2") + lines_in(&picture, "#D55E00"), 0);
+    assert_eq!(
+        lines_in(&picture, "#0072B2") + lines_in(&picture, "#D55E00"),
+        0
+    );
 }

@@ -25,8 +25,8 @@ use crate::DrawError;
 pub use objects::{Drawn, Prop, Props, Track, read_props};
 pub use picture::{Scene, Strip, Style, draw_scene};
 pub use timing::{gif_frame_count, nearest_frame, strip_times};
-pub use view::{UnknownView, View};
 pub(crate) use view::{Bounds, Mapping};
+pub use view::{UnknownView, View};
 
 /// Labels for the clips at `paths`: their file stems, with as many parent folders as it takes
 /// to tell them apart (`p01/r01`, `p02/r01`).

@@ -238,8 +238,7 @@ impl Figure for SearchFigure {
                     }
                 }
                 for l in &outline.lines {
-                    if let Some([a, b]) = clip_line([map.pixel_f(l[0]), map.pixel_f(l[1])], clip)
-                    {
+                    if let Some([a, b]) = clip_line([map.pixel_f(l[0]), map.pixel_f(l[1])], clip) {
                         area.draw(&PathElement::new(
                             vec![round(a), round(b)],
                             OBJECT_EDGE.stroke_width(1),
@@ -250,7 +249,10 @@ impl Figure for SearchFigure {
             let px = |p: Flat| round(map.pixel_f(p));
             for ((edges, _), c) in panel.trees.iter().zip([START_TREE, GOAL_TREE]) {
                 for [a, b] in edges {
-                    area.draw(&PathElement::new(vec![px(*a), px(*b)], c.stroke_width(line)))?;
+                    area.draw(&PathElement::new(
+                        vec![px(*a), px(*b)],
+                        c.stroke_width(line),
+                    ))?;
                 }
             }
             area.draw(&PathElement::new(

@@ -23,7 +23,9 @@ use kinergy_plan::task::{Planner, TaskSettings};
 use nalgebra::Point3;
 
 fn planner(file: &str) -> Planner {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples").join(file);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(file);
     let scene = Scene::read(&path).expect("the scene");
     Planner::new(scene, TaskSettings::default()).expect("a planner")
 }
@@ -38,7 +40,12 @@ fn target(x: f64, y: f64, z: f64) -> HandTarget {
 fn main() {
     let mut c = Criterion::default().configure_from_args();
     let cases = [
-        ("open", "levels/open.json", target(-0.2, 1.2, 0.4), Level::Ik),
+        (
+            "open",
+            "levels/open.json",
+            target(-0.2, 1.2, 0.4),
+            Level::Ik,
+        ),
         (
             "post",
             "levels/post.json",

@@ -389,7 +389,8 @@ impl TaskRequest<'_> {
             )?;
         }
         InvalidSetting::require(
-            matches!(self.goal, Goal::Reach(_)) || matches!(self.level, Level::Auto | Level::Planner),
+            matches!(self.goal, Goal::Reach(_))
+                || matches!(self.level, Level::Auto | Level::Planner),
             "level",
             format!(
                 "`{}` applies to a reach (a hand target); a task's moves are planned: auto or planner",

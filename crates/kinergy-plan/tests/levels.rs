@@ -9,6 +9,7 @@
 use std::path::PathBuf;
 
 use kinergy_io::{Classify, ErrorKind};
+use kinergy_motion::Side;
 use kinergy_plan::PlanError;
 use kinergy_plan::hand::HandShape;
 use kinergy_plan::level::Level;
@@ -17,7 +18,6 @@ use kinergy_plan::rrt::ArmPath;
 use kinergy_plan::scene::Scene;
 use kinergy_plan::space::{ArmConfig, HandTarget};
 use kinergy_plan::task::{Manipulation, Planner, TaskSettings};
-use kinergy_motion::Side;
 use nalgebra::Point3;
 
 mod support;
@@ -93,7 +93,10 @@ fn auto_ends_at_the_level_each_scene_was_made_for_and_its_motion_is_free() {
         for failed in m.levels.iter().filter(|l| !l.solved()) {
             let why = failed.failure.as_deref().unwrap();
             let obstacle = if name == "post.json" { "post" } else { "board" };
-            assert!(why.contains("blocked") && why.contains(obstacle), "{name}: {why}");
+            assert!(
+                why.contains("blocked") && why.contains(obstacle),
+                "{name}: {why}"
+            );
         }
         assert!(m.levels.iter().all(|l| l.motion_checked && l.seconds > 0.0));
         assert_eq!(recheck(&planner, &m), None, "{name}");
@@ -125,7 +128,10 @@ fn the_ik_and_straight_levels_keep_the_grip_on_the_straight_line() {
         for (k, g) in grips.iter().enumerate() {
             let s = (g - p0).dot(&axis);
             let off = ((g - p0) - axis * s).norm();
-            assert!(off < 1e-3, "{name} {level}: frame {k} is {off} m off the line");
+            assert!(
+                off < 1e-3,
+                "{name} {level}: frame {k} is {off} m off the line"
+            );
             assert!(s >= along - 1e-6, "{name} {level}: frame {k} goes back");
             along = s;
         }
@@ -150,7 +156,10 @@ fn a_forced_ik_does_not_check_its_motion_and_says_so() {
     assert!(contact.contains("post"), "{contact}");
     let space = planner.space().unwrap();
     let last: ArmConfig = space.config_of(m.poses.last().unwrap());
-    assert_eq!(Verifier::new(&planner, &[]).contact(&space, &last, None), None);
+    assert_eq!(
+        Verifier::new(&planner, &[]).contact(&space, &last, None),
+        None
+    );
 }
 
 #[test]
@@ -196,15 +205,20 @@ fn a_forced_level_that_fails_names_the_level_and_why() {
         .reach_by(&inside, HandShape::relaxed(), Level::Auto)
         .unwrap_err();
     assert!(
-        e.to_string()
-            .starts_with("level auto: stopped at ik, as no level can mend this: the goal is in collision"),
+        e.to_string().starts_with(
+            "level auto: stopped at ik, as no level can mend this: the goal is in collision"
+        ),
         "{e}"
     );
     assert_eq!(e.kind(), ErrorKind::Unreachable);
     let e = planner
         .reach_by(&inside, HandShape::relaxed(), Level::Ik)
         .unwrap_err();
-    assert!(e.to_string().starts_with("level ik failed: the goal is in collision"), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("level ik failed: the goal is in collision"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -216,7 +230,10 @@ fn the_planners_trees_are_the_ones_its_path_was_made_from() {
     let phase = &m.phases[0];
     let planned = phase.planned.as_ref().expect("a planned reach");
     let [from_start, from_goal] = &planned.trees;
-    assert!(planned.search.iterations > 0, "the board blocks the straight line");
+    assert!(
+        planned.search.iterations > 0,
+        "the board blocks the straight line"
+    );
     assert_eq!(
         from_start.nodes.len() + from_goal.nodes.len(),
         planned.search.nodes
@@ -242,7 +259,10 @@ fn the_planners_trees_are_the_ones_its_path_was_made_from() {
     // The path as found runs along tree branches: every configuration is a node.
     for q in &planned.raw.configs {
         assert!(
-            planned.trees.iter().any(|t| t.nodes.iter().any(|n| n.q == *q)),
+            planned
+                .trees
+                .iter()
+                .any(|t| t.nodes.iter().any(|n| n.q == *q)),
             "{q:?} is no node"
         );
     }
@@ -276,7 +296,11 @@ fn a_request_reports_the_levels_and_the_searches() {
     );
     assert_eq!(planned.searches.len(), 1);
     let search = &planned.searches[0];
-    let nodes = planned.report.phases[0].planned.as_ref().unwrap().tree_nodes;
+    let nodes = planned.report.phases[0]
+        .planned
+        .as_ref()
+        .unwrap()
+        .tree_nodes;
     assert_eq!(
         nodes,
         [search.trees[0].nodes.len(), search.trees[1].nodes.len()]

@@ -156,10 +156,7 @@ impl Builder<'_> {
                     return Err(blocked(contact));
                 }
                 if let Some(contact) = self.space.edge_contact(&self.q, &q) {
-                    return Err(blocked(format!(
-                        "{contact} (moving from frame {})",
-                        k - 1
-                    )));
+                    return Err(blocked(format!("{contact} (moving from frame {})", k - 1)));
                 }
             }
             self.q = q;
