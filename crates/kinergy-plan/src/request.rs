@@ -450,7 +450,16 @@ impl TaskRequest<'_> {
         let triangles = self.scene.triangle_count();
         let planner = Planner::new(self.scene, settings)?;
         let motion: Manipulation = match &self.goal {
-            Goal::Reach(target) => planner.reach_by(target, HandShape::relaxed(), self.level),
+            Goal::Reach(target) => {
+                // A person's synergy finishes a planned reach (their style), not an IK line:
+                // with a person, `auto` plans, as a person's reach was planned before the
+                // levels; a level asked for by name is run as asked.
+                let level = match (self.level, self.person) {
+                    (Level::Auto, Some(_)) => Level::Planner,
+                    (level, _) => level,
+                };
+                planner.reach_by(target, HandShape::relaxed(), level)
+            }
             Goal::Grasp(object) => planner.grasp(object),
             Goal::Relocate { object, to } => planner.relocate(object, to),
             Goal::Slide { object, distance } => planner.pull(object, *distance),
