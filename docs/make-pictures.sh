@@ -31,11 +31,12 @@ FRAMES=$("$K" synthesize --from "$CLIP" --params "$WORK/sc.json" --frames auto -
 "$K" compare --models sa,sb,sc,sd,se -o "$WORK/compare" > /dev/null
 cp "$WORK/compare/fig3.png" "$WORK/compare/fig4.png" "$WORK/compare/summary.md" docs/
 
-# The bookshelf relocation (Kallmann's Fig. 5).
+# The bookshelf relocation (Kallmann's Fig. 5), and its planner's search trees (his Fig. 4).
 # Its JSON report holds the book's pose on every frame: animate draws the shelf and the book
 # moving with the hand.
 "$K" plan --scene examples/bookshelf/scene.json --task relocate --object blue_book \
-    --to -0.22,1.49,0.50 -o "$WORK/relocate.bvh" --json > "$WORK/relocate.json"
+    --to -0.22,1.49,0.50 -o "$WORK/relocate.bvh" --json \
+    --tree-svg docs/plan-trees.svg --tree-view front > "$WORK/relocate.json"
 "$K" animate "$WORK/relocate.bvh" --scene examples/bookshelf/scene.json \
     --report "$WORK/relocate.json" --view side --fps 10 --size 360x360 \
     -o docs/relocate.gif --strip docs/relocate-strip.png --strip-frames 6 > /dev/null

@@ -351,6 +351,7 @@ def plan(
     to: Sequence[float] | None = None,
     distance: float = 0.2,
     arm: Arm = "right",
+    level: Literal["ik", "straight", "planner", "auto"] = "auto",
     seed: int = 0,
     params: Params | PathLike | None = None,
     budget_ms: int | None = None,

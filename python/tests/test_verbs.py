@@ -329,6 +329,29 @@ def test_a_planned_grasp_is_the_cli_s(cli, at_root, tmp_path):
         kinergy.plan(scene)
 
 
+def test_plan_levels_are_the_cli_s(cli, at_root, tmp_path):
+    """`plan(level=)` is parsed and run as `plan --level`: the same motion, the same levels in
+    the report; a forced level that fails raises UnreachableError naming it; a bad level, or a
+    level for a task, is an InputError."""
+    board = "examples/levels/board.json"
+    target = [-0.2, 1.15, 0.35]
+    ours = kinergy.plan(board, target=target)
+    assert ours.report["level"] == "planner"
+    assert [(l["level"], l["solved"]) for l in ours.report["levels"]] == [
+        ("ik", False), ("straight", False), ("planner", True)]
+    said = json.loads(run(cli, "plan", "--scene", board, "--target=-0.2,1.15,0.35", "-o",
+                          str(tmp_path / "b.bvh"), "--json", quiet=False).stdout)
+    assert [l["level"] for l in said["levels"]] == [l["level"] for l in ours.report["levels"]]
+    back = kinergy.read_bvh(tmp_path / "b.bvh", unit="cm")
+    assert np.abs(ours.positions - back.positions).max() <= 1e-9
+    with pytest.raises(kinergy.UnreachableError, match="level straight failed"):
+        kinergy.plan(board, target=target, level="straight")
+    with pytest.raises(kinergy.InputError, match="level"):
+        kinergy.plan(board, target=target, level="rrt")
+    with pytest.raises(kinergy.InputError, match="a task's moves are planned"):
+        kinergy.plan("examples/bookshelf/scene.json", task="grasp", object="blue_book", level="ik")
+
+
 def test_a_field_fit_is_the_cli_s_field_file_and_drives_as_it(cli, at_root, tmp_path):
     clips = ["data-synthetic/p01/r01.bvh", "data-synthetic/p01/r02.bvh", "data-synthetic/p01/r03.bvh"]
     field = kinergy.fit(clips, model="sb", field=True, budget=80)

@@ -98,7 +98,7 @@ enum Command {
     /// Plan collision-free reaching and manipulation in a scene (Kallmann 2005): IK with
     /// collision avoidance, RRT-Connect, smoothing; BVH with fingers.
     #[command(
-        after_help = "Examples:\n  kinergy plan --scene examples/bookshelf/scene.json --task relocate --object blue_book --to -0.22,1.49,0.50 -o relocate.bvh\n  kinergy plan --scene examples/bookshelf/scene.json --target -0.25,1.1,0.3 --seed 3 -o reach.bvh --json"
+        after_help = "Examples:\n  kinergy plan --scene examples/bookshelf/scene.json --task relocate --object blue_book --to -0.22,1.49,0.50 -o relocate.bvh\n  kinergy plan --scene examples/bookshelf/scene.json --target -0.25,1.1,0.3 --seed 3 -o reach.bvh --json\n  kinergy plan --scene examples/levels/board.json --target -0.2,1.15,0.35 --level planner -o board.bvh --tree-svg trees.svg"
     )]
     Plan(plan::Args),
     /// Draw charts: hand speed over time of captured and synthesized clips (Fig. 5).

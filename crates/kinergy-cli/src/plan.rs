@@ -4,8 +4,12 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
+use clap::builder::PossibleValue;
+use kinergy_draw::animation::View;
+use kinergy_draw::search::SearchFigure;
 use kinergy_motion::Side;
 use kinergy_plan::PlanError;
+use kinergy_plan::level::Level;
 use kinergy_plan::request::{BUDGET_MS, DISTANCE_M, Goal, PlanReport, TaskKind, TaskRequest};
 use kinergy_plan::scene::Scene;
 use kinergy_plan::space::HandTarget;
@@ -46,6 +50,14 @@ pub struct Args {
     /// The acting arm: right or left.
     #[arg(long, default_value = "right", value_name = "SIDE")]
     pub arm: Side,
+    /// How a reach (`--target`) is computed, after Kallmann's three levels: `ik` (the hand on
+    /// a straight line, IK on every frame; only the goal posture is checked for collisions,
+    /// the motion is not), `straight` (the same line, IK with collision avoidance on every
+    /// frame, every frame and the motion between frames checked), `planner` (RRT-Connect and
+    /// smoothing) or `auto` (ik, then straight, then planner, until one's motion is
+    /// collision-free). A task (`--task`) takes auto or planner.
+    #[arg(long, default_value = "auto", value_name = "LEVEL", value_parser = crate::common::named::<Level>(Level::ALL.map(Level::name)))]
+    pub level: Level,
     /// Seed of the planner's random stream (same seed, same motion).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -59,6 +71,15 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Kallmann's Fig. 4: each planned phase's two RRT-Connect trees (their nodes at the
+    /// wrist's position, parent to child), the wrist's path as found and as smoothed, and the
+    /// scene behind, one panel per planned phase (SVG or PNG by the extension, written
+    /// atomically). A reach solved without the planner draws a note saying so.
+    #[arg(long, value_name = "FILE.svg")]
+    pub tree_svg: Option<PathBuf>,
+    /// Where `--tree-svg` looks from (the character faces +Z, Y up, its left at +X).
+    #[arg(long, default_value = "side", value_parser = crate::common::named::<View>(View::ALL.map(|v| PossibleValue::new(v.name()).help(v.description()))))]
+    pub tree_view: View,
     /// A person's parameters (`kinergy fit -o person.json`, or a field, which gives the
     /// person's vector for the reach's target): the planned phases are played with the
     /// person's bell — the peak time and spread of their synergy's hand speed on a reach in
@@ -68,6 +89,9 @@ pub struct Args {
     #[arg(long, value_name = "person.json")]
     pub params: Option<PathBuf>,
 }
+
+/// The size of `--tree-svg`'s picture, pixels.
+const TREE_PICTURE: (u32, u32) = (900, 700);
 
 /// The goal the flags give: `--target`, or `--task` on `--object`.
 fn goal(args: &Args) -> Result<Goal, Failure> {
@@ -118,7 +142,12 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let mut inputs = vec![args.scene.as_path()];
     inputs.extend(scene.iter().flat_map(Scene::mesh_files));
     inputs.extend(args.params.as_deref());
-    crate::common::check_outputs(&inputs, &[crate::common::Output::File("-o", &args.output)])?;
+    let mut outputs = vec![crate::common::Output::File("-o", &args.output)];
+    if let Some(path) = &args.tree_svg {
+        crate::common::picture_format(path, "--tree-svg")?;
+        outputs.push(crate::common::Output::File("--tree-svg", path));
+    }
+    crate::common::check_outputs(&inputs, &outputs)?;
     let scene = scene.map_err(|e| Failure::input(&args.scene, e))?;
     let goal = goal(args)?;
     let person = args
@@ -126,11 +155,14 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .as_deref()
         .map(crate::common::read_person)
         .transpose()?;
+    // The picture draws the scene behind the trees.
+    let drawn_scene = args.tree_svg.as_ref().map(|_| scene.clone());
     let request = TaskRequest {
         scene,
         scene_name: args.scene.display().to_string(),
         goal,
         side: args.arm,
+        level: args.level,
         seed: args.seed,
         // Within BUDGET_MS, checked on entry.
         budget: args.budget_ms.map(Duration::from_millis),
@@ -147,7 +179,33 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         (Some(path), e @ PlanError::NoBell { .. }) => Failure::input(path, e),
         (_, e) => e.into(),
     })?;
+    // The picture is drawn first and put in place after the motion: both or neither.
+    let picture = match &args.tree_svg {
+        Some(path) => {
+            let figure = SearchFigure::new(
+                format!(
+                    "RRT-Connect's trees: {} in {}, seed {} ({} view)",
+                    planned.report.task,
+                    args.scene.file_name().unwrap_or_default().to_string_lossy(),
+                    planned.report.seed,
+                    args.tree_view
+                ),
+                &planned.searches,
+                drawn_scene.as_ref(),
+                args.tree_view,
+                format!(
+                    "no search to draw: the reach was solved by the {} level",
+                    planned.report.level.unwrap_or("planner")
+                ),
+            );
+            Some(kinergy_draw::stage(&figure, path, TREE_PICTURE)?)
+        }
+        None => None,
+    };
     crate::common::write_clip(&args.output, &planned.clip, &Default::default())?;
+    if let Some(staged) = picture {
+        kinergy_draw::commit(staged)?;
+    }
     let report = PlanReport {
         output: Some(args.output.display().to_string()),
         ..planned.report
@@ -164,6 +222,21 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             report.frames,
             report.duration_s
         );
+        for l in &report.levels {
+            text += &match &l.why {
+                None => format!(
+                    "  level {:<8} solved in {:.1} ms{}\n",
+                    l.level,
+                    l.ms,
+                    if l.motion_checked {
+                        ""
+                    } else {
+                        " (the motion to the goal posture not checked for collisions)"
+                    }
+                ),
+                Some(why) => format!("  level {:<8} failed in {:.1} ms: {why}\n", l.level, l.ms),
+            };
+        }
         for p in &report.phases {
             text += &format!(
                 "  {:<9} frames {:>4}–{:<4}",

@@ -217,3 +217,225 @@ fn plan_with_a_persons_params_plays_their_bell_and_synergy() {
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
     assert!(!out.exists());
 }
+
+fn levels_scene(name: &str) -> String {
+    repo()
+        .join("examples/levels")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// `--level auto` (the default) ends at the level each example scene was made for
+/// (`examples/levels/`), and the report says which level solved the reach and how each one
+/// tried went, with its time.
+#[test]
+fn plan_level_auto_ends_at_the_level_each_scene_was_made_for() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("reach.bvh");
+    for (name, target, expected) in [
+        ("open.json", "-0.2,1.2,0.4", vec![("ik", true)]),
+        (
+            "post.json",
+            "-0.2,1.2,0.4",
+            vec![("ik", false), ("straight", true)],
+        ),
+        (
+            "board.json",
+            "-0.2,1.15,0.35",
+            vec![("ik", false), ("straight", false), ("planner", true)],
+        ),
+    ] {
+        let scene = levels_scene(name);
+        let target = format!("--target={target}");
+        let o = kinergy(&[
+            "plan",
+            "--scene",
+            &scene,
+            &target,
+            "-o",
+            out.to_str().expect("utf-8"),
+            "--json",
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{name}: {}", text(&o.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+        let levels: Vec<(&str, bool)> = report["levels"]
+            .as_array()
+            .expect("levels")
+            .iter()
+            .map(|l| {
+                assert!(l["ms"].as_f64().expect("ms") > 0.0, "{l}");
+                assert_eq!(l["motion_checked"], true, "{l}");
+                (
+                    l["level"].as_str().expect("level"),
+                    l["solved"].as_bool().expect("solved"),
+                )
+            })
+            .collect();
+        assert_eq!(levels, expected, "{name}");
+        assert_eq!(report["level"], expected.last().expect("a level").0);
+        let planned = report["phases"][0].get("planned").is_some();
+        assert_eq!(planned, report["level"] == "planner", "{name}");
+    }
+}
+
+/// A forced level that fails exits 1 (as every task failure does) naming the level and why,
+/// and writes nothing; a level for a task, or an unknown one, is bad input (exit 2).
+#[test]
+fn a_forced_level_that_fails_names_itself_and_writes_nothing() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("x.bvh");
+    let svg = dir.path().join("x.svg");
+    let board = levels_scene("board.json");
+    let shelf = scene();
+    let cases: [(Vec<&str>, i32, &[&str]); 4] = [
+        (
+            vec![
+                "--scene",
+                &board,
+                "--target=-0.2,1.15,0.35",
+                "--level",
+                "straight",
+            ],
+            1,
+            &["level straight failed", "blocked", "board"],
+        ),
+        (
+            vec!["--scene", &board, "--target=-0.2,1.0,0.3", "--level", "ik"],
+            1,
+            &["level ik failed", "in collision"],
+        ),
+        (
+            vec![
+                "--scene",
+                &shelf,
+                "--task",
+                "grasp",
+                "--object",
+                "blue_book",
+                "--level",
+                "ik",
+            ],
+            2,
+            &["--level", "a task's moves are planned"],
+        ),
+        (
+            vec![
+                "--scene",
+                &board,
+                "--target=-0.2,1.15,0.35",
+                "--level",
+                "rrt",
+            ],
+            2,
+            &["rrt"],
+        ),
+    ];
+    for (extra, code, needles) in cases {
+        let mut args = vec!["plan", "-o", out.to_str().expect("utf-8")];
+        args.extend(["--tree-svg", svg.to_str().expect("utf-8")]);
+        args.extend(extra.iter().copied());
+        let o = kinergy(&args);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
+        for needle in needles {
+            assert!(err.contains(needle), "{args:?}: {err}");
+        }
+        assert!(!out.exists() && !svg.exists(), "{args:?} left an output");
+    }
+}
+
+/// The SVG lines drawn in `colour` (`#RRGGBB`).
+fn lines_in(svg: &str, colour: &str) -> usize {
+    let stroke = format!("stroke=\"{}\"", colour.to_ascii_uppercase());
+    svg.lines()
+        .filter(|l| {
+            l.trim_start().starts_with("<polyline")
+                && l.to_ascii_uppercase()
+                    .contains(&stroke.to_ascii_uppercase())
+        })
+        .count()
+}
+
+/// `--tree-svg` (Kallmann's Fig. 4): a planner run writes an SVG whose tree edges — one line
+/// each in its tree's colour — are the trees' nodes of the report less their roots, in every
+/// planned phase; the same seed draws the same bytes; a reach solved without the planner
+/// draws a note and no edge.
+#[test]
+fn tree_svg_draws_every_edge_of_both_trees() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("x.bvh");
+    let svg = dir.path().join("trees.svg");
+    let run = |args: &[&str]| {
+        let mut all = vec![
+            "plan",
+            "-o",
+            out.to_str().expect("utf-8"),
+            "--tree-svg",
+            svg.to_str().expect("utf-8"),
+            "--json",
+        ];
+        all.extend(args);
+        let o = kinergy(&all);
+        assert_eq!(o.status.code(), Some(0), "{all:?}: {}", text(&o.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+        let picture = std::fs::read_to_string(&svg).expect("the picture");
+        (report, picture)
+    };
+    let board = levels_scene("board.json");
+    let shelf = scene();
+    let relocate = [
+        "--scene",
+        &shelf,
+        "--task",
+        "relocate",
+        "--object",
+        "blue_book",
+        "--to=-0.22,1.49,0.50",
+        "--seed",
+        "3",
+    ];
+    let reach = [
+        "--scene",
+        &board,
+        "--target=-0.2,1.15,0.35",
+        "--level",
+        "planner",
+    ];
+    for args in [&reach[..], &relocate[..]] {
+        let (report, picture) = run(args);
+        assert!(picture.starts_with("<svg") && picture.trim_end().ends_with("</svg>"));
+        let nodes: Vec<[u64; 2]> = report["phases"]
+            .as_array()
+            .expect("phases")
+            .iter()
+            .filter_map(|p| p.get("planned"))
+            .map(|p| {
+                let n = &p["tree_nodes"];
+                let pair = [n[0].as_u64().expect("n"), n[1].as_u64().expect("n")];
+                assert_eq!(pair[0] + pair[1], p["nodes"].as_u64().expect("nodes"));
+                pair
+            })
+            .collect();
+        assert!(!nodes.is_empty(), "{args:?}");
+        let start: u64 = nodes.iter().map(|n| n[0] - 1).sum();
+        let goal: u64 = nodes.iter().map(|n| n[1] - 1).sum();
+        assert!(start + goal > 0, "{args:?}: the trees grew");
+        assert_eq!(lines_in(&picture, "#0072B2") as u64, start, "{args:?}");
+        assert_eq!(lines_in(&picture, "#D55E00") as u64, goal, "{args:?}");
+        // Same seed, same picture.
+        let (_, again) = run(args);
+        assert_eq!(again, picture, "{args:?}");
+    }
+    let (report, picture) = run(&[
+        "--scene",
+        &levels_scene("open.json"),
+        "--target=-0.2,1.2,0.4",
+    ]);
+    assert_eq!(report["level"], "ik");
+    assert!(picture.contains("solved by the ik level"));
+    assert_eq!(
+        lines_in(&picture, "#0072B2") + lines_in(&picture, "#D55E00"),
+        0
+    );
+}

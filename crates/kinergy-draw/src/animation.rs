@@ -25,6 +25,7 @@ use crate::DrawError;
 pub use objects::{Drawn, Prop, Props, Track, read_props};
 pub use picture::{Scene, Strip, Style, draw_scene};
 pub use timing::{gif_frame_count, nearest_frame, strip_times};
+pub(crate) use view::{Bounds, Mapping};
 pub use view::{UnknownView, View};
 
 /// Labels for the clips at `paths`: their file stems, with as many parent folders as it takes

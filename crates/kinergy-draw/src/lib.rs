@@ -8,6 +8,8 @@
 //!   flat outlines; [`strip`]: a film strip of stick figures overlaid;
 //! - [`animation`]: clips as superposed stick figures synchronized by time, in a scene, as an
 //!   animated GIF and a film strip (the paper's Fig. 6);
+//! - [`search`]: a planner's two search trees and the wrist's path before and after
+//!   smoothing (Kallmann's Fig. 4);
 //! - [`style`]: the pictures of a style run (hand-speed profiles, the character over the
 //!   capture);
 //! - [`save`], [`stage`], [`stage_gif`], [`commit`]: SVG, PNG and GIF files written atomically,
@@ -43,6 +45,7 @@ mod chart;
 mod error;
 pub mod experiment;
 mod output;
+pub mod search;
 pub mod shapes;
 pub mod strip;
 pub mod style;

@@ -6,6 +6,8 @@ use kinergy_motion::MotionError;
 use kinergy_reach::ReachError;
 use kinergy_solver::analytic::AnalyticError;
 
+use crate::level::{Level, LevelTry};
+
 /// Everything that can go wrong in `kinergy-plan`: bad input (scene files, OBJ meshes,
 /// settings) and the planner's typed failures.
 #[derive(Debug, thiserror::Error)]
@@ -98,6 +100,34 @@ pub enum PlanError {
         /// between a node of one tree and a node of the other.
         gap: f64,
     },
+    /// A straight hand path (a reach's `ik` or `straight` level, [`crate::level`]) is blocked:
+    /// on some frame no posture of the orbit-angle search is free, or the motion between two
+    /// frames collides.
+    #[error(
+        "the straight hand path is blocked {:.0} % of the way (frame {frame} of {frames}): {why}",
+        100.0 * .fraction
+    )]
+    PathBlocked {
+        /// The frame, 1-based from the start's (frame 0).
+        frame: usize,
+        /// The frames after the start's.
+        frames: usize,
+        /// How far along the hand's line, 0 to 1.
+        fraction: f64,
+        /// What blocks it: the first contact, or why the IK found no posture.
+        why: String,
+    },
+    /// A reach failed at the level asked for (`plan --level`), or at every level `auto` tried
+    /// ([`crate::level`]).
+    #[error("{}", say_levels(*.asked, .tried, .cause))]
+    Level {
+        /// The level asked for.
+        asked: Level,
+        /// The levels tried, in order, each with why it failed.
+        tried: Vec<LevelTry>,
+        /// The last failure; the error is of its kind.
+        cause: Box<PlanError>,
+    },
     /// A value was NaN or infinite.
     #[error("{0} is not finite")]
     NonFinite(String),
@@ -169,10 +199,12 @@ impl kinergy_io::Classify for PlanError {
         use kinergy_io::ErrorKind;
         match self {
             PlanError::Reach(e) => e.kind(),
+            PlanError::Level { cause, .. } => cause.kind(),
             PlanError::StartInCollision { .. }
             | PlanError::GoalUnreachable { .. }
             | PlanError::GoalInCollision { .. }
             | PlanError::NoPath { .. }
+            | PlanError::PathBlocked { .. }
             | PlanError::Placement { .. } => ErrorKind::Unreachable,
             _ => ErrorKind::Input,
         }
@@ -191,6 +223,31 @@ impl From<AnalyticError> for PlanError {
             },
         }
     }
+}
+
+/// A level failure as people read it: `level straight failed: …` for a forced level;
+/// `level auto: ik failed: …; straight failed: …; planner failed: …` after escalating, or
+/// where the escalation stopped and why.
+fn say_levels(asked: Level, tried: &[LevelTry], cause: &PlanError) -> String {
+    let last = tried.last().map_or(asked, |t| t.level);
+    if asked != Level::Auto {
+        return format!("level {asked} failed: {cause}");
+    }
+    let mut text = String::from("level auto: ");
+    for t in &tried[..tried.len().saturating_sub(1)] {
+        text += &format!(
+            "{} failed: {}; ",
+            t.level,
+            t.failure.as_deref().unwrap_or("?")
+        );
+    }
+    // `auto` stops before the planner only on a failure no level mends.
+    if last == Level::Planner {
+        text += &format!("{last} failed: {cause}");
+    } else {
+        text += &format!("stopped at {last}, as no level can mend this: {cause}");
+    }
+    text
 }
 
 /// Shorthand for results of this crate.

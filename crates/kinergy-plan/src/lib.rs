@@ -6,6 +6,8 @@
 //!   meshes), [`obj`]: the OBJ reader, [`shelf`]: the bookshelf example's shelf unit;
 //! - [`space`]: the arm's configuration space: collision tests, Kallmann's distance, IK with
 //!   collision avoidance (the orbit-angle search rejecting colliding postures);
+//! - [`level`]: Kallmann's three levels of a reach — IK, IK with collision avoidance along a
+//!   straight hand line, the planner — and `auto`, which escalates from one to the next;
 //! - [`rrt`]: bidirectional RRT-Connect (Algorithm 1), shortcut smoothing, the bell time warp;
 //! - [`hand`]: hand targets' grip point, hand shapes, fingers in the BVH export;
 //! - [`task`]: reach, grasp, relocate and push/pull sequences made of planned and straight
@@ -18,6 +20,7 @@ pub mod body;
 mod colliders;
 pub mod error;
 pub mod hand;
+pub mod level;
 pub mod obj;
 pub mod person;
 pub mod report;

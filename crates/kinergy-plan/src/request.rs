@@ -1,7 +1,8 @@
 //! A planning task as `kinergy plan` and Python's `plan` ask for it: a scene, a goal — a hand
 //! target, or a grasp, relocation, pull or push of one of its objects — the acting arm, the
-//! planner's seed and time budget, and a person whose synergy finishes the reach and whose
-//! bell times the path; the motion, and a report both front ends serialize.
+//! level a reach is computed at ([`Level`]), the planner's seed and time budget, and a person
+//! whose synergy finishes the reach and whose bell times the path; the motion, a report both
+//! front ends serialize, and the planner's search trees ([`SearchTrace`], Kallmann's Fig. 4).
 
 use std::fmt;
 use std::str::FromStr;
@@ -17,8 +18,9 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::hand::HandShape;
+use crate::level::{Level, LevelTry};
 use crate::report::ObjectReport;
-use crate::rrt::Warp;
+use crate::rrt::{SearchTree, Warp};
 use crate::scene::Scene;
 use crate::space::HandTarget;
 use crate::task::{Manipulation, Planner, TaskSettings};
@@ -185,6 +187,9 @@ pub struct TaskRequest<'a> {
     pub goal: Goal,
     /// The acting arm.
     pub side: Side,
+    /// How a reach is computed ([`crate::level`]); a task takes only [`Level::Auto`] or
+    /// [`Level::Planner`] (its moves are planned).
+    pub level: Level,
     /// The planner's random stream.
     pub seed: u64,
     /// Each planned phase's time budget (the iteration budget applies too).
@@ -206,6 +211,12 @@ pub struct PlanReport {
     pub task: String,
     /// The planner's seed.
     pub seed: u64,
+    /// For a reach: the level that solved it (`ik`, `straight` or `planner`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub level: Option<&'static str>,
+    /// For a reach: every level tried, in order ([`crate::level`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub levels: Vec<LevelReport>,
     /// Frames of the motion.
     pub frames: usize,
     /// Seconds a frame.
@@ -218,6 +229,34 @@ pub struct PlanReport {
     pub objects: Vec<ObjectReport>,
     /// How the planned phases were played over time.
     pub timing: TimingReport,
+}
+
+/// One level tried for a reach.
+#[derive(Debug, Clone, Serialize)]
+pub struct LevelReport {
+    /// `ik`, `straight` or `planner`.
+    pub level: &'static str,
+    /// Whether it solved the reach.
+    pub solved: bool,
+    /// Its wall time, milliseconds (the goal posture's IK, the motion and its checks).
+    pub ms: f64,
+    /// Why it failed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub why: Option<String>,
+    /// Whether its motion was checked for collisions (false only for a forced `ik`).
+    pub motion_checked: bool,
+}
+
+impl LevelReport {
+    fn of(t: &LevelTry) -> LevelReport {
+        LevelReport {
+            level: t.level.name(),
+            solved: t.solved(),
+            ms: t.seconds * 1e3,
+            why: t.failure.clone(),
+            motion_checked: t.motion_checked,
+        }
+    }
 }
 
 /// A phase of the motion.
@@ -244,6 +283,8 @@ pub struct PlannedReport {
     pub iterations: usize,
     /// Nodes in both trees.
     pub nodes: usize,
+    /// Nodes in the tree grown from the start, and in the one grown from the goal.
+    pub tree_nodes: [usize; 2],
     /// The search's time, milliseconds.
     pub plan_ms: f64,
     /// The smoothing's time, milliseconds.
@@ -290,13 +331,32 @@ pub struct TimingReport {
     pub spread: f64,
 }
 
-/// A planned task: the motion (the character with fingers, 60 Hz) and its report.
+/// A planned phase's search as Kallmann's Fig. 4 draws it (`plan --tree-svg`): both trees
+/// and the wrist's path as found and as smoothed.
+#[derive(Debug, Clone)]
+pub struct SearchTrace {
+    /// The phase (`reach`, `transfer`, `return`, `settle`).
+    pub phase: String,
+    /// The tree grown from the start, and the one grown from the goal.
+    pub trees: [SearchTree; 2],
+    /// The wrist's world positions along the path as found, meters (every configuration,
+    /// and the interpolations between them every centimeter of the planner's distance).
+    pub raw_wrist: Vec<Point3<f64>>,
+    /// And along the smoothed path.
+    pub smoothed_wrist: Vec<Point3<f64>>,
+}
+
+/// A planned task: the motion (the character with fingers, 60 Hz), its report and the
+/// planner's searches.
 #[derive(Debug, Clone)]
 pub struct Planned {
     /// The motion as a clip.
     pub clip: Clip,
     /// The report.
     pub report: PlanReport,
+    /// Each planned phase's search, in the order of the phases (none when a reach was solved
+    /// by the `ik` or `straight` level).
+    pub searches: Vec<SearchTrace>,
 }
 
 impl TaskRequest<'_> {
@@ -328,6 +388,15 @@ impl TaskRequest<'_> {
                 ),
             )?;
         }
+        InvalidSetting::require(
+            matches!(self.goal, Goal::Reach(_))
+                || matches!(self.level, Level::Auto | Level::Planner),
+            "level",
+            format!(
+                "`{}` applies to a reach (a hand target); a task's moves are planned: auto or planner",
+                self.level
+            ),
+        )?;
         if let Some(budget) = self.budget {
             let ms = budget.as_millis();
             InvalidSetting::require(
@@ -381,7 +450,16 @@ impl TaskRequest<'_> {
         let triangles = self.scene.triangle_count();
         let planner = Planner::new(self.scene, settings)?;
         let motion: Manipulation = match &self.goal {
-            Goal::Reach(target) => planner.reach(target, HandShape::relaxed()),
+            Goal::Reach(target) => {
+                // A person's synergy finishes a planned reach (their style), not an IK line:
+                // with a person, `auto` plans, as a person's reach was planned before the
+                // levels; a level asked for by name is run as asked.
+                let level = match (self.level, self.person) {
+                    (Level::Auto, Some(_)) => Level::Planner,
+                    (level, _) => level,
+                };
+                planner.reach_by(target, HandShape::relaxed(), level)
+            }
             Goal::Grasp(object) => planner.grasp(object),
             Goal::Relocate { object, to } => planner.relocate(object, to),
             Goal::Slide { object, distance } => planner.pull(object, *distance),
@@ -393,6 +471,12 @@ impl TaskRequest<'_> {
             triangles,
             task: self.goal.name(),
             seed: self.seed,
+            level: motion
+                .levels
+                .iter()
+                .find(|t| t.solved())
+                .map(|t| t.level.name()),
+            levels: motion.levels.iter().map(LevelReport::of).collect(),
             frames: motion.poses.len(),
             frame_time_s: motion.frame_time,
             duration_s: motion.duration(),
@@ -400,8 +484,25 @@ impl TaskRequest<'_> {
             objects: motion.objects.iter().filter_map(ObjectReport::of).collect(),
             timing,
         };
-        Ok(Planned { clip, report })
+        let searches = motion.phases.iter().filter_map(search_trace).collect();
+        Ok(Planned {
+            clip,
+            report,
+            searches,
+        })
     }
+}
+
+/// A planned phase's search, for Kallmann's Fig. 4.
+fn search_trace(p: &crate::task::Phase) -> Option<SearchTrace> {
+    let pl = p.planned.as_ref()?;
+    let step = pl.space.resolution();
+    Some(SearchTrace {
+        phase: p.name.clone(),
+        trees: pl.trees.clone(),
+        raw_wrist: pl.raw.wrist_curve(&pl.space, step),
+        smoothed_wrist: pl.path.wrist_curve(&pl.space, step),
+    })
 }
 
 /// A phase of a planned motion as the report says it.
@@ -413,6 +514,7 @@ fn phase_report(p: &crate::task::Phase) -> PhaseReport {
         planned: p.planned.as_ref().map(|pl| PlannedReport {
             iterations: pl.search.iterations,
             nodes: pl.search.nodes,
+            tree_nodes: [pl.trees[0].nodes.len(), pl.trees[1].nodes.len()],
             plan_ms: pl.search.seconds * 1e3,
             smooth_ms: pl.smoothing.seconds * 1e3,
             length_before_m: pl.smoothing.length_before,

@@ -17,6 +17,11 @@
 //! safety net for interactive use; when it is what stops a search, the result depends on the
 //! machine's speed.
 //!
+//! # The trees
+//! [`search`] returns both trees as the search left them ([`SearchTree`]: each node's
+//! configuration, wrist position and parent), for Kallmann's Fig. 4 — "the graph of a search
+//! and the solution path, before smoothing" — which `plan --tree-svg` draws.
+//!
 //! # Smoothing
 //! [`smooth`] repeatedly picks two random points along the path (not necessarily nodes) and
 //! replaces the stretch between them by their straight interpolation when that is free and
@@ -28,6 +33,8 @@ use std::time::{Duration, Instant};
 use kinergy_io::InvalidSetting;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
+
+use nalgebra::Point3;
 
 use crate::error::{PlanError, Result};
 use crate::space::{ArmConfig, ArmSpace, Points, lerp};
@@ -226,6 +233,60 @@ impl Tree {
     }
 }
 
+/// One node of a [`SearchTree`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TreeNode {
+    /// Its configuration.
+    pub q: ArmConfig,
+    /// The wrist's world position there, meters.
+    pub wrist: Point3<f64>,
+    /// Its parent's index in the tree (`None` for the root).
+    pub parent: Option<usize>,
+}
+
+/// One of RRT-Connect's two trees as the search left it: the root first (the start for the
+/// first tree, the goal for the second), every other node after its parent.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SearchTree {
+    /// The nodes.
+    pub nodes: Vec<TreeNode>,
+}
+
+impl SearchTree {
+    fn of(tree: &Tree) -> SearchTree {
+        SearchTree {
+            nodes: tree
+                .nodes
+                .iter()
+                .map(|n| TreeNode {
+                    q: n.q,
+                    wrist: n.points.wrist(),
+                    parent: n.parent,
+                })
+                .collect(),
+        }
+    }
+
+    /// Its edges, parent → child, as node indices: one per node but the root.
+    pub fn edges(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.nodes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, n)| n.parent.map(|p| (p, i)))
+    }
+}
+
+/// A search's outcome: the path found, what the search did, and both trees.
+#[derive(Debug, Clone)]
+pub struct Search {
+    /// The path from the start to the goal, before smoothing.
+    pub path: ArmPath,
+    /// Iterations, nodes and time.
+    pub stats: PlanStats,
+    /// The tree grown from the start, and the one grown from the goal.
+    pub trees: [SearchTree; 2],
+}
+
 /// A piecewise-linear path in configuration space, from the start to the goal.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArmPath {
@@ -267,6 +328,29 @@ impl ArmPath {
                 .configs
                 .windows(2)
                 .all(|w| space.edge_free(&w[0], &w[1]))
+    }
+
+    /// The wrist's world positions along the path: every configuration's, and between two
+    /// the interpolation's at most `step` meters apart in the planner's distance (the
+    /// wrist moves on a curve between nodes, the interpolation being linear in the joints).
+    pub fn wrist_curve(&self, space: &ArmSpace, step: f64) -> Vec<Point3<f64>> {
+        let step = if step.is_finite() && step > 0.0 {
+            step
+        } else {
+            space.resolution()
+        };
+        let mut out = Vec::new();
+        for (i, q) in self.configs.iter().enumerate() {
+            if i > 0 {
+                let a = &self.configs[i - 1];
+                let n = (space.distance(a, q) / step).ceil().min(10_000.0) as usize;
+                for k in 1..n {
+                    out.push(space.points(&lerp(a, q, k as f64 / n as f64)).wrist());
+                }
+            }
+            out.push(space.points(q).wrist());
+        }
+        out
     }
 
     /// The configuration at fraction `s` ∈ \[0, 1\] of the path's length (`None` for an
@@ -312,6 +396,16 @@ pub fn plan(
     goal: &ArmConfig,
     settings: &RrtSettings,
 ) -> Result<(ArmPath, PlanStats)> {
+    search(space, start, goal, settings).map(|s| (s.path, s.stats))
+}
+
+/// [`plan`], returning both trees too ([`Search`]).
+pub fn search(
+    space: &ArmSpace,
+    start: &ArmConfig,
+    goal: &ArmConfig,
+    settings: &RrtSettings,
+) -> Result<Search> {
     settings.validate()?;
     for (what, q) in [("start", start), ("goal", goal)] {
         if !q.iter().all(|v| v.is_finite()) {
@@ -343,14 +437,17 @@ pub fn plan(
         nodes: trees[0].nodes.len() + trees[1].nodes.len(),
         seconds: clock.elapsed().as_secs_f64(),
     };
+    let found = |trees: &[Tree; 2], path, iterations| Search {
+        path,
+        stats: stats(trees, iterations),
+        trees: [SearchTree::of(&trees[0]), SearchTree::of(&trees[1])],
+    };
     // Line 5 on the roots: a free straight line needs no tree.
     if space.edge_free(start, goal) {
-        return Ok((
-            ArmPath {
-                configs: vec![*start, *goal],
-            },
-            stats(&trees, 0),
-        ));
+        let path = ArmPath {
+            configs: vec![*start, *goal],
+        };
+        return Ok(found(&trees, path, 0));
     }
     for iteration in 0..settings.budget.iterations {
         if settings.budget.time.is_some_and(|t| clock.elapsed() > t) {
@@ -370,7 +467,7 @@ pub fn plan(
                 .distance(&trees[1 - a].nodes[i2].points),
         );
         if space.edge_free(&q1, &q2) {
-            return Ok((join(&trees, a, i1, i2), stats(&trees, iteration + 1)));
+            return Ok(found(&trees, join(&trees, a, i1, i2), iteration + 1));
         }
         let q_exp = if d1 <= settings.step {
             sample
@@ -382,7 +479,7 @@ pub fn plan(
             let pe = trees[a].nodes[e].points;
             gap = gap.min(pe.distance(&trees[1 - a].nodes[i2].points));
             if space.edge_free(&q_exp, &q2) {
-                return Ok((join(&trees, a, e, i2), stats(&trees, iteration + 1)));
+                return Ok(found(&trees, join(&trees, a, e, i2), iteration + 1));
             }
         }
         a = 1 - a;
@@ -601,7 +698,7 @@ impl Warp {
 
     /// The fraction of the path's length reached at each of `frames` (≥ 2) evenly spaced
     /// fractions of the duration: 0 first, 1 last, never decreasing.
-    fn fractions(&self, frames: usize) -> Vec<f64> {
+    pub(crate) fn fractions(&self, frames: usize) -> Vec<f64> {
         let frames = frames.max(2);
         match *self {
             Warp::Cubic => (0..frames)

@@ -571,10 +571,27 @@ impl ArmSpace {
         resolution: f64,
         clearance: f64,
     ) -> bool {
+        self.edge_contact_at(a, b, resolution, clearance).is_none()
+    }
+
+    /// What the interpolation from `a` to `b` first runs into at the space's resolution and
+    /// clearance — `part × obstacle`, or the joint limits — or `None` when it is free (as
+    /// [`ArmSpace::edge_free`], the ends are not tested).
+    pub fn edge_contact(&self, a: &ArmConfig, b: &ArmConfig) -> Option<String> {
+        self.edge_contact_at(a, b, self.resolution, self.clearance)
+    }
+
+    fn edge_contact_at(
+        &self,
+        a: &ArmConfig,
+        b: &ArmConfig,
+        resolution: f64,
+        clearance: f64,
+    ) -> Option<String> {
         let d = self.distance(a, b);
         let n = (d / resolution).ceil() as usize;
         if n <= 1 {
-            return true;
+            return None;
         }
         // Bisection order: every interior sample k/n, coarse levels first.
         let mut stride = n.next_power_of_two();
@@ -587,15 +604,18 @@ impl ArmSpace {
                 if !seen[k] {
                     seen[k] = true;
                     let q = lerp(a, b, k as f64 / n as f64);
-                    if !self.ik.within_limits(&q) || self.contact_with(&q, clearance).is_some() {
-                        return false;
+                    if !self.ik.within_limits(&q) {
+                        return Some("the joint limits".into());
+                    }
+                    if let Some(contact) = self.contact_with(&q, clearance) {
+                        return Some(contact);
                     }
                 }
                 k += stride;
             }
             stride /= 2;
         }
-        true
+        None
     }
 
     /// The goal in the chain's base frame for a world hand target.
@@ -625,14 +645,26 @@ impl ArmSpace {
         target: &HandTarget,
         accept: &dyn Fn(&ArmConfig) -> bool,
     ) -> Result<(f64, ArmConfig)> {
-        self.solve_searching(target, &self.orbit, accept)
+        self.solve_searching(target, &self.orbit, accept, true)
     }
 
     /// [`ArmSpace::solve`] with another orbit-angle search (e.g. one starting at the previous
     /// frame's angle when a target is followed).
     pub fn solve_from(&self, target: &HandTarget, orbit: &OrbitSearch) -> Result<(f64, ArmConfig)> {
         orbit.validate()?;
-        self.solve_searching(target, orbit, &|_| true)
+        self.solve_searching(target, orbit, &|_| true, true)
+    }
+
+    /// The IK without collision avoidance: the orbit-angle search `orbit` accepts the first
+    /// posture within the joint limits, whatever it touches (the `ik` level's frames,
+    /// [`crate::level`]).
+    pub fn solve_within_limits(
+        &self,
+        target: &HandTarget,
+        orbit: &OrbitSearch,
+    ) -> Result<(f64, ArmConfig)> {
+        orbit.validate()?;
+        self.solve_searching(target, orbit, &|_| true, false)
     }
 
     fn solve_searching(
@@ -640,11 +672,12 @@ impl ArmSpace {
         target: &HandTarget,
         orbit: &OrbitSearch,
         accept: &dyn Fn(&ArmConfig) -> bool,
+        collisions: bool,
     ) -> Result<(f64, ArmConfig)> {
         if !target.position.iter().all(|v| v.is_finite()) {
             return Err(PlanError::NonFinite("the hand target".into()));
         }
-        let ok = |q: &ArmConfig| self.contact(q).is_none() && accept(q);
+        let ok = |q: &ArmConfig| (!collisions || self.contact(q).is_none()) && accept(q);
         let solve_on = |base: &IsometryMatrix3<f64>| match &target.orientation {
             Some(o) => self.ik.search_with(&self.goal(base, target, o), orbit, &ok),
             None => {

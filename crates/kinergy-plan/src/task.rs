@@ -17,6 +17,10 @@
 //! puts the object at its destination, open the fingers, back off straight along the
 //! approach and plan the way back to the starting posture.
 //!
+//! **A reach** ([`Planner::reach_by`]) is computed at one of Kallmann's three levels — IK
+//! along a straight hand line, the same with collision avoidance, or the planner — or by
+//! escalating from one to the next ([`crate::level`]); [`Planner::reach`] is the planner's.
+//!
 //! **A person's reach** ([`TaskSettings::arm`] = [`ArmDrive::Synergy`]): a reach's planned
 //! phase (the reach of [`Planner::reach`], the reach to a grasp's pre-grasp) is finished by
 //! the person's synergy controller where its motion is free of obstacles, followed by a
@@ -34,11 +38,13 @@ use crate::approach::SynergyApproach;
 use crate::body::{BodyGeometry, reference_pose};
 use crate::error::{PlanError, Result};
 use crate::hand::{FingeredSkeleton, HandShape, Hands};
-use crate::rrt::{ArmPath, Budget, PlanStats, RrtSettings, SmoothStats, Warp};
+use crate::level::LevelTry;
+use crate::rrt::{ArmPath, Budget, PlanStats, RrtSettings, SearchTree, SmoothStats, Warp};
 use crate::scene::{Grasp, Scene};
 use crate::space::{ArmConfig, ArmSpace, HandTarget};
 
 mod builder;
+mod levels;
 use builder::{Builder, PlannedPhase};
 
 /// Settings of a task.
@@ -161,6 +167,8 @@ pub struct Planned {
     pub raw: ArmPath,
     /// The smoothed path the motion plays.
     pub path: ArmPath,
+    /// The search's two trees (grown from the start and from the goal).
+    pub trees: [SearchTree; 2],
     /// The space the phase was planned in (the held object, ignored objects).
     pub space: ArmSpace,
 }
@@ -187,6 +195,9 @@ pub struct Manipulation {
     pub phases: Vec<Phase>,
     /// Objects that moved.
     pub objects: Vec<ObjectTrack>,
+    /// For a reach at a level ([`Planner::reach_by`]): every level tried, in order, the last
+    /// the one that solved it. Empty otherwise.
+    pub levels: Vec<LevelTry>,
 }
 
 impl Manipulation {
@@ -287,6 +298,7 @@ impl Planner {
                 frame_time: 1.0 / self.settings.frame_rate,
                 phases: Vec::new(),
                 objects: Vec::new(),
+                levels: Vec::new(),
             },
             held: None,
         };
@@ -294,12 +306,11 @@ impl Planner {
         Ok(b)
     }
 
-    /// A collision-free reach to a hand target, the hand taking `shape` on the way.
+    /// A collision-free reach to a hand target, the hand taking `shape` on the way: the
+    /// planner's ([`crate::level::Level::Planner`]; [`Planner::reach_by`] for the others).
     pub fn reach(&self, target: &HandTarget, shape: HandShape) -> Result<Manipulation> {
         let mut b = self.builder()?;
-        let (alpha, goal) = b.space.solve(target)?;
-        b.planned(PlannedPhase::REACH, &goal, alpha, shape)?;
-        b.settle(target, (&goal, alpha), shape)?;
+        b.planned_reach(target, shape)?;
         Ok(b.out)
     }
 

@@ -6,6 +6,7 @@ use std::time::Duration;
 
 use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
+use kinergy_plan::level::Level;
 use kinergy_plan::request::{BUDGET_MS, DISTANCE_M, Goal, TaskKind, TaskRequest};
 use kinergy_plan::scene::Scene;
 use kinergy_plan::space::HandTarget;
@@ -23,11 +24,16 @@ use crate::errors;
 /// [x, y, z] in world meters, optionally with the hand's rotation [x, y, z, qx, qy, qz, qw]
 /// — or `task`: "grasp", "relocate" (with `to`), "pull" or "push" (by `distance` meters) on
 /// the scene's `object`. params: a person's Params (or file): their synergy drives the arm
-/// and their hand-speed bell times the path. arm: the acting arm. seed: the planner's random
-/// stream. budget_ms: the planner's time budget (default: its iteration budget only).
+/// and their hand-speed bell times the path. arm: the acting arm. level: how a reach
+/// (`target`) is computed after Kallmann's three levels — "ik" (the hand on a straight line,
+/// IK on every frame, only the goal posture checked for collisions), "straight" (IK with
+/// collision avoidance on every frame), "planner" (RRT-Connect), or "auto" (each in turn until
+/// one's motion is collision-free); a task takes "auto" or "planner". seed: the planner's
+/// random stream. budget_ms: the planner's time budget (default: its iteration budget only).
+/// The clip's report says which level solved a reach and how each tried went.
 /// Raises UnreachableError when no collision-free motion is found.
 #[pyfunction]
-#[pyo3(signature = (scene, *, target = None, task = None, object = None, to = None, distance = 0.2, arm = "right", seed = 0, params = None, budget_ms = None))]
+#[pyo3(signature = (scene, *, target = None, task = None, object = None, to = None, distance = 0.2, arm = "right", level = "auto", seed = 0, params = None, budget_ms = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn plan<'py>(
     py: Python<'py>,
@@ -38,6 +44,7 @@ pub fn plan<'py>(
     to: Option<[f64; 3]>,
     distance: f64,
     arm: &str,
+    level: &str,
     seed: u64,
     params: Option<Arg<ParamsArg>>,
     budget_ms: Option<u64>,
@@ -47,6 +54,7 @@ pub fn plan<'py>(
         errors::check_range("budget_ms", ms, BUDGET_MS)?;
     }
     let side = parse::<Side>("arm", arm)?;
+    let level = parse::<Level>("level", level)?;
     let scene_file = Scene::read(&scene).map_err(errors::raise)?;
     let goal = match (target, task) {
         (Some(t), _) => Goal::Reach(hand_target(&t)?),
@@ -67,6 +75,7 @@ pub fn plan<'py>(
         scene_name: scene.display().to_string(),
         goal,
         side,
+        level,
         seed,
         budget: budget_ms.map(Duration::from_millis),
         person: person

@@ -15,7 +15,7 @@ use super::{
 use crate::approach::{CANDIDATE_STEP, PersonArm, Run, SynergyApproach};
 use crate::error::{PlanError, Result};
 use crate::hand::{HandShape, Hands};
-use crate::rrt::{ArmPath, plan, smooth, timed_with};
+use crate::rrt::{ArmPath, search, smooth, timed_with};
 use crate::scene::Grasp;
 use crate::space::{ArmConfig, ArmSpace, HandTarget};
 
@@ -100,6 +100,14 @@ impl Builder<'_> {
         (seconds * s.frame_rate).ceil() as usize + 1
     }
 
+    /// The planner's reach to `target`: the goal posture by the IK with collision avoidance,
+    /// a planned phase to it, settled onto the target where the person's synergy finished it.
+    pub(super) fn planned_reach(&mut self, target: &HandTarget, shape: HandShape) -> Result<()> {
+        let (alpha, goal) = self.space.solve(target)?;
+        self.planned(PlannedPhase::REACH, &goal, alpha, shape)?;
+        self.settle(target, (&goal, alpha), shape)
+    }
+
     /// A planned `phase` to `goal` (orbit angle `alpha`), the hand's shape blended to `shape`
     /// over its frames.
     pub(super) fn planned(
@@ -118,8 +126,8 @@ impl Builder<'_> {
         let mut rrt = s.rrt.clone();
         // The phase's seed: `salt` moved `seed` steps along SplitMix64's Weyl sequence.
         rrt.seed = kinergy_motion::seed::weyl(salt, s.rrt.seed);
-        let (raw, search) =
-            plan(&self.space, &self.q, goal, &rrt).map_err(|e| in_phase(e, name))?;
+        let found = search(&self.space, &self.q, goal, &rrt).map_err(|e| in_phase(e, name))?;
+        let (raw, search, trees) = (found.path, found.stats, found.trees);
         let (path, smoothing) = smooth(&self.space, &raw, &s.smoothing, rrt.seed);
         let (configs, synergy) = match &s.arm {
             ArmDrive::Synergy {
@@ -167,6 +175,7 @@ impl Builder<'_> {
                 smoothing,
                 raw,
                 path,
+                trees,
                 space: self.space.clone(),
             }),
             synergy,

@@ -1,0 +1,186 @@
+//! A reach at Kallmann's levels ([`crate::level`]): the straight hand line with the IK on every
+//! frame, with or without collision avoidance, and the escalation from one level to the next.
+
+use std::time::Instant;
+
+use kinergy_io::{Classify, ErrorKind, InvalidSetting};
+use kinergy_solver::analytic::OrbitSearch;
+use nalgebra::{Point3, UnitQuaternion};
+
+use super::builder::Builder;
+use super::{Manipulation, Phase, Planner};
+use crate::error::{PlanError, Result};
+use crate::hand::HandShape;
+use crate::level::{Level, LevelTry};
+use crate::space::{ArmConfig, HandTarget};
+
+/// The orbit search's first increment along a hand line: small, so a frame's elbow stays
+/// near the interpolated one.
+const LINE_ORBIT_STEP_DEG: f64 = 2.0;
+
+/// How a hand line is checked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Line {
+    /// The `ik` level: every frame within the joint limits; collisions looked at only when
+    /// `checked` (under `auto`).
+    Ik {
+        /// Frames and the motion between them tested for collisions after the IK.
+        checked: bool,
+    },
+    /// The `straight` level: the orbit search rejects colliding postures; the motion between
+    /// frames tested.
+    Straight,
+}
+
+impl Planner {
+    /// A reach to `target` at `level` ([`crate::level`]), the hand taking `shape`: the motion of
+    /// the level that solved it, every level tried in [`Manipulation::levels`] (the last is the
+    /// one that solved it).
+    ///
+    /// `auto` goes on to the next level when one's motion is blocked
+    /// ([`PlanError::PathBlocked`]); it stops where no level can do better (the goal beyond
+    /// reach or colliding at every orbit angle, the start colliding). A task failure is
+    /// [`PlanError::Level`], naming the levels tried and why each failed; bad input is
+    /// returned as it is.
+    pub fn reach_by(
+        &self,
+        target: &HandTarget,
+        shape: HandShape,
+        level: Level,
+    ) -> Result<Manipulation> {
+        let order = level.order();
+        let mut tried: Vec<LevelTry> = Vec::with_capacity(order.len());
+        for (i, &at) in order.iter().enumerate() {
+            let checked = at != Level::Ik || level == Level::Auto;
+            let clock = Instant::now();
+            let attempt = self.builder().and_then(|mut b| {
+                match at {
+                    Level::Ik => b.line_reach(target, shape, Line::Ik { checked })?,
+                    Level::Straight => b.line_reach(target, shape, Line::Straight)?,
+                    Level::Planner | Level::Auto => b.planned_reach(target, shape)?,
+                }
+                Ok(b.out)
+            });
+            let seconds = clock.elapsed().as_secs_f64();
+            match attempt {
+                Ok(mut out) => {
+                    tried.push(LevelTry {
+                        level: at,
+                        seconds,
+                        failure: None,
+                        motion_checked: checked,
+                    });
+                    out.levels = tried;
+                    return Ok(out);
+                }
+                Err(e) if e.kind() == ErrorKind::Input => return Err(e),
+                Err(e) => {
+                    tried.push(LevelTry {
+                        level: at,
+                        seconds,
+                        failure: Some(e.to_string()),
+                        motion_checked: checked,
+                    });
+                    let mendable = matches!(e, PlanError::PathBlocked { .. });
+                    if !mendable || i + 1 == order.len() {
+                        return Err(PlanError::Level {
+                            asked: level,
+                            tried,
+                            cause: Box::new(e),
+                        });
+                    }
+                }
+            }
+        }
+        // `order` is never empty: the loop has returned.
+        Err(PlanError::Setting(InvalidSetting::new(
+            "level",
+            "no level to try",
+        )))
+    }
+}
+
+impl Builder<'_> {
+    /// A reach along the straight hand line (the [`crate::level`] docs): the goal posture by
+    /// the IK with collision avoidance; the grip point lerped and the hand's rotation slerped
+    /// from where they are to the goal posture's, timed by the task's warp; on every frame the
+    /// IK, its orbit search starting at the angle interpolated between the start's and the
+    /// goal's.
+    fn line_reach(&mut self, target: &HandTarget, shape: HandShape, line: Line) -> Result<()> {
+        let settings = &self.planner.settings;
+        let (alpha_goal, goal) = self.space.solve(target)?;
+        let rest = self.rest_rotation();
+        let frame_of = |q: &ArmConfig| {
+            let f = self.space.grip_frame(q);
+            let r = UnitQuaternion::from_rotation_matrix(&(f.rotation * rest.inverse()));
+            (Point3::from(f.translation.vector), r)
+        };
+        let (p0, r0) = frame_of(&self.q);
+        let (p1, r1) = frame_of(&goal);
+        let search = OrbitSearch::default();
+        let alpha0 = self.alpha.clamp(search.min, search.max);
+        let frames = self.frames_for((p1 - p0).norm(), settings.reach_speed);
+        let fractions = settings.warp.fractions(frames);
+        let n = frames - 1;
+        let first = self.out.poses.len() - 1;
+        let hand0 = self.hand;
+        for (k, &t) in fractions.iter().enumerate().skip(1) {
+            let step = HandTarget {
+                position: p0 + (p1 - p0) * t,
+                orientation: Some(r0.slerp(&r1, t)),
+            };
+            let orbit = OrbitSearch {
+                start: (alpha0 + (alpha_goal - alpha0) * t).clamp(search.min, search.max),
+                step: LINE_ORBIT_STEP_DEG.to_radians(),
+                ..search
+            };
+            let blocked = |why: String| PlanError::PathBlocked {
+                frame: k,
+                frames: n,
+                fraction: t,
+                why,
+            };
+            let solved = match line {
+                // The last frame is the goal posture itself (free, and the target reached).
+                Line::Ik { .. } if k == n => Ok((alpha_goal, goal)),
+                Line::Ik { .. } => self.space.solve_within_limits(&step, &orbit),
+                Line::Straight => self.space.solve_from(&step, &orbit),
+            };
+            let (alpha, q) = solved.map_err(|e| blocked(why_unsolved(e)))?;
+            let test = match line {
+                Line::Ik { checked } => checked,
+                Line::Straight => true,
+            };
+            if test {
+                if let Some(contact) = self.space.contact(&q) {
+                    return Err(blocked(contact));
+                }
+                if let Some(contact) = self.space.edge_contact(&self.q, &q) {
+                    return Err(blocked(format!("{contact} (moving from frame {})", k - 1)));
+                }
+            }
+            self.q = q;
+            self.alpha = alpha;
+            self.hand = hand0.lerp(&shape, k as f64 / n as f64);
+            self.push_frame();
+        }
+        self.out.phases.push(Phase {
+            name: "reach".into(),
+            frames: first..self.out.poses.len(),
+            planned: None,
+            synergy: None,
+        });
+        Ok(())
+    }
+}
+
+/// Why the IK found no posture on a frame of a hand line, as [`PlanError::PathBlocked`] says it.
+fn why_unsolved(e: PlanError) -> String {
+    match e {
+        PlanError::GoalInCollision { tried, contact } => {
+            format!("every orbit angle tried collides ({tried} within limits; first {contact})")
+        }
+        PlanError::GoalUnreachable { why } => format!("no posture within the joint limits: {why}"),
+        other => other.to_string(),
+    }
+}
