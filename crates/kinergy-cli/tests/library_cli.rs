@@ -1068,8 +1068,7 @@ fn absurd_shard_counts_are_refused_naming_the_variable() {
 }
 
 /// `compare --library` refuses a table with NaN, ±inf, negative or absurd (> 1 km) distances,
-/// with every distance empty, or with a model's distance missing from one reach, naming the
-/// row and column; nothing is written.
+/// or with every distance empty, naming the row and column; nothing is written.
 #[test]
 fn compare_library_refuses_distances_that_cannot_be_true() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -1106,11 +1105,6 @@ fn compare_library_refuses_distances_that_cannot_be_true() {
             "r02.bvh,p01,right,0,10,10,sb,svd,0.02,1e308,,,,16,,r02.bvh.json,abc",
             "row 3, column distance_sb_m: 1e308",
         ),
-        // One reach without S_B's distance would average S_B over fewer reaches.
-        (
-            "r02.bvh,p01,right,0,10,10,sb,svd,0.02,,,,,16,,r02.bvh.json,abc",
-            "row 3, column distance_sb_m: empty where row 2 has a distance",
-        ),
     ] {
         let table = dir.path().join("library.csv");
         std::fs::write(&table, format!("{header}\n{good}\n{bad}\n")).expect("write");
@@ -1140,4 +1134,27 @@ fn compare_library_refuses_distances_that_cannot_be_true() {
         "{}",
         stderr(&o)
     );
+}
+
+/// A model some reaches of a line lack is not averaged silently over fewer: its cell says how
+/// many reaches it covers (the sweep: S_C averaged over 2 of 3 reaches without a word).
+#[test]
+fn compare_library_says_when_a_model_covers_fewer_reaches() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let header = "clip,person,arm,onset,end,frames,model,optimizer,distance_sa_m,distance_sb_m,\
+                  distance_sc_m,distance_sd_m,distance_se_m,evaluations,seconds,result,settings";
+    let table = dir.path().join("library.csv");
+    std::fs::write(
+        &table,
+        format!(
+            "{header}\nr01.bvh,p01,right,0,10,10,sb,svd,0.02,0.01,,,,16,,r01.bvh.json,abc\n\
+             r02.bvh,p01,right,0,10,10,sb,svd,0.03,,,,,16,,r02.bvh.json,abc\n"
+        ),
+    )
+    .expect("write");
+    let report = dir.path().join("report");
+    let o = kinergy(&["compare", "--library", s(&table), "-o", s(&report)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(report.join("summary.md")).expect("summary.md");
+    assert!(summary.contains("1 of 2 reaches"), "{summary}");
 }

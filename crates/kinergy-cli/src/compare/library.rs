@@ -111,7 +111,13 @@ fn markdown(table: &Path, lines: &[Line], models: &[Model]) -> String {
             let label = model_label(*m);
             match l.models.iter().find(|(x, _)| *x == label) {
                 Some((_, s)) => {
-                    md.push_str(&format!(" {:.2} ({:.2}–{:.2}) |", s.mean, s.min, s.max))
+                    // A model some reaches lack is said, not averaged silently over fewer.
+                    let of = if s.count < l.reaches {
+                        format!(", {} of {} reaches", s.count, l.reaches)
+                    } else {
+                        String::new()
+                    };
+                    md.push_str(&format!(" {:.2} ({:.2}–{:.2}{of}) |", s.mean, s.min, s.max))
                 }
                 None => md.push_str(" — |"),
             }

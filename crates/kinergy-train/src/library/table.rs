@@ -313,7 +313,7 @@ impl LibraryTable {
     }
 
     /// Checks that the table can be true: every distance a number of meters from 0 to 1000,
-    /// each row with at least one and with the same models' distances as the first row, and
+    /// each row with at least one, and
     /// one model, optimizer and settings fingerprint in the whole table (a table of mixed
     /// settings compares unlike fits). Rows are numbered as lines
     /// of `library.csv` (the header is line 1).
@@ -348,30 +348,6 @@ impl LibraryTable {
                 return Err(format!(
                     "row {line}: every distance ({}) is empty: no fit to summarise",
                     COLUMNS.join(", ")
-                ));
-            }
-            // A nested fit scores every model up to the table's for every reach: one reach
-            // without a model's distance would leave that model's mean over fewer reaches.
-            let (here, there) = (row.distances(), first.distances());
-            let gap = here
-                .iter()
-                .zip(there.iter())
-                .zip(COLUMNS)
-                .find(|((here, there), _)| here.is_some() != there.is_some());
-            if let Some(((here, _), column)) = gap {
-                return Err(format!(
-                    "row {line}, column {column}: {} where row 2 {}: every reach of a library \
-                     has the distances of the same models",
-                    if here.is_some() {
-                        "a distance"
-                    } else {
-                        "empty"
-                    },
-                    if here.is_some() {
-                        "is empty"
-                    } else {
-                        "has a distance"
-                    },
                 ));
             }
             let mixed = [
