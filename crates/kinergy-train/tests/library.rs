@@ -158,6 +158,15 @@ impl Truth {
     }
 }
 
+/// Generated take `k` written under `takes_dir`; its path from there.
+fn write_take(sources: &[PathBuf], takes_dir: &Path, k: usize) -> String {
+    let (name, text) = generated(sources, k);
+    let path = takes_dir.join(&name);
+    std::fs::create_dir_all(path.parent().unwrap()).expect("folder");
+    std::fs::write(path, text).expect("take");
+    name
+}
+
 /// The tiny fit every take gets (S_A, a population of 2, 4 evaluations, seeded) and the
 /// 16-frame window it is fitted on.
 fn tiny(seed: u64) -> (FitJob, ReachQuery) {
@@ -405,13 +414,7 @@ fn a_take_added_after_every_shard_ran_is_named_then_fitted_on_resume() {
     let sources = sources();
     let dir = tempfile::tempdir().expect("tempdir");
     let takes_dir = dir.path().join("takes");
-    let write = |k: usize| {
-        let (name, text) = generated(&sources, k);
-        let path = takes_dir.join(&name);
-        std::fs::create_dir_all(path.parent().unwrap()).expect("folder");
-        std::fs::write(path, text).expect("take");
-        name
-    };
+    let write = |k: usize| write_take(&sources, &takes_dir, k);
     for k in 0..6 {
         write(k);
     }
@@ -456,13 +459,7 @@ fn shards_that_saw_different_takes_under_different_roots_are_refused() {
     let sources = sources();
     let dir = tempfile::tempdir().expect("tempdir");
     let takes_dir = dir.path().join("takes");
-    let write = |k: usize| {
-        let (name, text) = generated(&sources, k);
-        let path = takes_dir.join(&name);
-        std::fs::create_dir_all(path.parent().unwrap()).expect("folder");
-        std::fs::write(path, text).expect("take");
-        name
-    };
+    let write = |k: usize| write_take(&sources, &takes_dir, k);
     for k in 0..6 {
         write(k);
     }
