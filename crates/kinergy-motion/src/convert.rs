@@ -59,6 +59,17 @@ pub enum PositionReadingChoice {
     Replace,
 }
 
+impl PositionReadingChoice {
+    /// As `--positions` spells it: `auto`, `add` or `replace`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PositionReadingChoice::Auto => "auto",
+            PositionReadingChoice::Add => "add",
+            PositionReadingChoice::Replace => "replace",
+        }
+    }
+}
+
 impl std::str::FromStr for PositionReadingChoice {
     type Err = String;
     fn from_str(s: &str) -> std::result::Result<Self, String> {
