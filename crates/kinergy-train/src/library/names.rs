@@ -330,11 +330,23 @@ mod tests {
     fn takes_in_folders_named_like_the_library_s_files_or_a_result_get_their_own_folder() {
         let name = |take: &str| result_names(Path::new(take), &[(1..2, "right".into())]);
         assert_eq!(name("shards/a.bvh"), [PathBuf::from("shards@/a.bvh.json")]);
-        assert_eq!(name("Library.CSV/a.bvh"), [PathBuf::from("Library.CSV@/a.bvh.json")]);
-        assert_eq!(name("skipped.csv/a.bvh"), [PathBuf::from("skipped.csv@/a.bvh.json")]);
+        assert_eq!(
+            name("Library.CSV/a.bvh"),
+            [PathBuf::from("Library.CSV@/a.bvh.json")]
+        );
+        assert_eq!(
+            name("skipped.csv/a.bvh"),
+            [PathBuf::from("skipped.csv@/a.bvh.json")]
+        );
         // Below the root, the library's names are anybody's.
-        assert_eq!(name("x/shards/a.bvh"), [PathBuf::from("x/shards/a.bvh.json")]);
-        assert_eq!(name("r.bvh.json/a.bvh"), [PathBuf::from("r.bvh.json@/a.bvh.json")]);
+        assert_eq!(
+            name("x/shards/a.bvh"),
+            [PathBuf::from("x/shards/a.bvh.json")]
+        );
+        assert_eq!(
+            name("r.bvh.json/a.bvh"),
+            [PathBuf::from("r.bvh.json@/a.bvh.json")]
+        );
         assert_eq!(
             name("p/r.bvh@1-2.JSON/a.bvh"),
             [PathBuf::from("p/r.bvh@1-2.JSON@/a.bvh.json")]

@@ -312,16 +312,17 @@ pub fn read_record(path: &Path) -> Result<Vec<RecordRow>, LibraryError> {
 /// Checks a `reach` row's frames: `onset` and `end` whole numbers (a `usize`), the end
 /// after the onset. Says which column is wrong otherwise.
 fn check_frames(row: &RecordRow) -> Result<(), String> {
-    let frame = |column: &str, text: &str| {
-        let plain = !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit());
-        plain.then(|| text.parse::<usize>().ok()).flatten().ok_or_else(|| {
+    let frame =
+        |column: &str, text: &str| {
+            let plain = !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit());
+            plain.then(|| text.parse::<usize>().ok()).flatten().ok_or_else(|| {
             format!(
                 "column {column}: `{}` is no frame (a whole number, 0 or more): not a record \
                  Kinergy wrote (edited by hand?)",
                 kinergy_io::clip_text(text, 24)
             )
         })
-    };
+        };
     let (onset, end) = (frame("onset", &row.onset)?, frame("end", &row.end)?);
     if end <= onset {
         return Err(format!(
@@ -573,9 +574,13 @@ mod tests {
         let good = format!("{header}\nshard,,,,,,1-of-1.json,abc,,\ntake,a.bvh,,,,,,,,\n");
         let path = write(dir.path(), "good.csv", good.as_bytes());
         assert_eq!(read_record(&path).unwrap().len(), 2);
-        let huge = format!("{header}\nshard,,,,,,1-of-1.json,abc,,\nreach,a.bvh,p,right,{},9,a.bvh.json,h,,\n", "9".repeat(40));
-        let backwards =
-            format!("{header}\nshard,,,,,,1-of-1.json,abc,,\nreach,a.bvh,p,right,9,3,a.bvh.json,h,,\n");
+        let huge = format!(
+            "{header}\nshard,,,,,,1-of-1.json,abc,,\nreach,a.bvh,p,right,{},9,a.bvh.json,h,,\n",
+            "9".repeat(40)
+        );
+        let backwards = format!(
+            "{header}\nshard,,,,,,1-of-1.json,abc,,\nreach,a.bvh,p,right,9,3,a.bvh.json,h,,\n"
+        );
         let cases: [(&str, Vec<u8>, &str); 8] = [
             (
                 "huge-onset.csv",

@@ -293,8 +293,12 @@ impl ShardRun<'_> {
             "a regular file" => "a file",
             other => other,
         };
-        let not_folder =
-            |path: &Path| std::fs::metadata(path).ok().filter(|m| !m.is_dir()).map(|m| kind(&m));
+        let not_folder = |path: &Path| {
+            std::fs::metadata(path)
+                .ok()
+                .filter(|m| !m.is_dir())
+                .map(|m| kind(&m))
+        };
         let in_the_way = |path: PathBuf, kind: &str, needed: String| LibraryError::Input {
             path,
             why: format!("{kind} where {needed}: move it away, or fit into another folder"),
