@@ -407,7 +407,10 @@ fn realtime_markdown(f: &PersonFidelity) -> String {
         f.capture_duration_s, f.capture_peak_m_s, f.capture_sparc
     );
     // NaN where there is no ceiling to compare with (fidelity's documented value).
-    let no_ceiling = f.summaries.iter().any(|s| !s.error_over_ceiling.is_finite());
+    let no_ceiling = f
+        .summaries
+        .iter()
+        .any(|s| !s.error_over_ceiling.is_finite());
     for s in &f.summaries {
         let over_ceiling = if s.error_over_ceiling.is_finite() {
             format!("{:.2}", s.error_over_ceiling)

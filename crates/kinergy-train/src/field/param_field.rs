@@ -354,14 +354,35 @@ fn check_inputs(
 }
 
 fn check_sample(space: &ParamSpace, k: usize, target: &Point3<f64>, params: &[f64]) -> Result<()> {
+    let num = kinergy_io::Num;
     InvalidSetting::require(
         target.iter().all(|c| c.is_finite()),
         &format!("samples[{k}].target"),
         format!(
             "finite coordinates, not ({}, {}, {})",
-            target.x, target.y, target.z
+            num(target.x),
+            num(target.y),
+            num(target.z)
         ),
     )?;
+    // A target no arm reaches (1e308 m, from a damaged file) would make every kernel weight
+    // overflow, and the field's parameters NaN: refused here, where the file says it.
+    let distance = target.x.hypot(target.y).hypot(target.z);
+    let max = crate::MAX_TARGET_DISTANCE;
+    if let Some(i) = (0..3)
+        .find(|&i| target[i].abs() > max)
+        .or((distance > max).then_some(0))
+    {
+        return Err(TrainError::Setting(InvalidSetting::new(
+            format!("samples[{k}].target[{i}]"),
+            format!(
+                "is {}: a sample's target is within {max} m of its arm's base ({} m away): \
+                 a damaged file?",
+                num(target[i]),
+                num(distance)
+            ),
+        )));
+    }
     space.validate(params).map_err(|e| {
         TrainError::Setting(InvalidSetting::new(
             format!("samples[{k}].params"),
