@@ -184,10 +184,11 @@ pub enum ParseErrorKind {
         crate::MAX_VALUE
     )]
     ValueTooLarge {
-        /// The value as written.
-        value: String,
-        /// Where it is: "Hips Xposition", "an OFFSET component of Hips".
-        what: String,
+        /// The value as written (shortened; boxed, as `what`).
+        value: Box<str>,
+        /// Where it is: "Hips Xposition", "an OFFSET component of Hips" (boxed, so that the
+        /// error stays as small as the others).
+        what: Box<str>,
     },
     /// The number of complete frames differs from the header's count
     /// ([`FrameCountPolicy::Strict`](crate::FrameCountPolicy::Strict) only). Reported at

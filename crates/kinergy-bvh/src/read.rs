@@ -324,8 +324,8 @@ impl<'a> Parser<'a> {
                 Err(self.scanner.error_at(
                     &token,
                     ParseErrorKind::ValueTooLarge {
-                        value: token.found(),
-                        what,
+                        value: token.found().into(),
+                        what: what.into(),
                     },
                 ))
             }
@@ -522,8 +522,10 @@ impl<'a> Parser<'a> {
                 return Err(self.scanner.error_at_pos(
                     token_pos,
                     ParseErrorKind::ValueTooLarge {
-                        value: shorten(text),
-                        what: self.channel_name(motion.len().checked_rem(channels.get())),
+                        value: shorten(text).into(),
+                        what: self
+                            .channel_name(motion.len().checked_rem(channels.get()))
+                            .into(),
                     },
                 ));
             }

@@ -461,7 +461,7 @@ fn a_file_where_a_folder_of_the_library_goes_is_refused_by_the_plan() {
         std::fs::copy(&sources[i], path).expect("take");
     }
     let (job, query) = tiny(3);
-    let paths = capture_files(&[takes_dir.clone()]).expect("takes");
+    let paths = capture_files(std::slice::from_ref(&takes_dir)).expect("takes");
     let takes = Takes::of(&paths, None);
     let interrupt = AtomicBool::new(false);
     let observer = || -> Box<dyn Observer> { Box::new(()) };

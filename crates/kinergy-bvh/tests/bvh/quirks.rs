@@ -242,7 +242,7 @@ fn bounded_values_refuse_what_no_capture_holds() {
     let e = kinergy_bvh::parse_with(&far, &bounded).unwrap_err();
     assert!(
         e.line == 14
-            && matches!(&e.kind, ParseErrorKind::ValueTooLarge { what, .. } if what == "Hips Xposition"),
+            && matches!(&e.kind, ParseErrorKind::ValueTooLarge { what, .. } if &**what == "Hips Xposition"),
         "{e}"
     );
     let offset = text.replace("OFFSET 5. 1E+2", "OFFSET 5. -2e9");
