@@ -175,6 +175,21 @@ pub enum ParseErrorKind {
         /// The value as written.
         value: String,
     },
+    /// An `OFFSET` component or a motion value beyond ±[`MAX_VALUE`](crate::MAX_VALUE),
+    /// with [`ReadOptions::bounded_values`](crate::ReadOptions::bounded_values): no length
+    /// or angle a capture holds.
+    #[error(
+        "`{value}` ({what}) is beyond ±{:e}: no length or angle of a capture is that large \
+         (a damaged file?)",
+        crate::MAX_VALUE
+    )]
+    ValueTooLarge {
+        /// The value as written (shortened; boxed, as `what`).
+        value: Box<str>,
+        /// Where it is: "Hips Xposition", "an OFFSET component of Hips" (boxed, so that the
+        /// error stays as small as the others).
+        what: Box<str>,
+    },
     /// The number of complete frames differs from the header's count
     /// ([`FrameCountPolicy::Strict`](crate::FrameCountPolicy::Strict) only). Reported at
     /// the header's count.

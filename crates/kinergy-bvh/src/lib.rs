@@ -25,7 +25,7 @@ mod write;
 pub use document::{Bvh, Channel, Joint};
 pub use error::{Error, ParseError, ParseErrorKind, WriteError};
 pub use options::{FrameCountPolicy, MAX_FILE_BYTES, ReadOptions};
-pub use read::{MAX_DEPTH, MAX_FRAME_TIME, MIN_FRAME_TIME};
+pub use read::{MAX_DEPTH, MAX_FRAME_TIME, MAX_VALUE, MIN_FRAME_TIME};
 
 /// Parses BVH text strictly: `parse_with(text, &ReadOptions::default())`.
 pub fn parse(text: &str) -> Result<Bvh, ParseError> {

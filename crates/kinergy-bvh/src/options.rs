@@ -13,6 +13,11 @@ pub struct ReadOptions {
     /// [`read_file`](crate::read_file) refuses a file holding more bytes than this
     /// (an [`Error::Io`](crate::Error::Io) of kind `FileTooLarge`), checked while reading.
     pub max_file_bytes: u64,
+    /// Refuse an `OFFSET` component or a motion value beyond ±[`MAX_VALUE`](crate::MAX_VALUE)
+    /// ([`ParseErrorKind::ValueTooLarge`](crate::ParseErrorKind::ValueTooLarge), naming
+    /// the joint and channel), as a reader of captures wants; off by default, where every
+    /// finite number is kept as the format allows.
+    pub bounded_values: bool,
 }
 
 impl Default for ReadOptions {
@@ -20,6 +25,7 @@ impl Default for ReadOptions {
         ReadOptions {
             frame_count: FrameCountPolicy::default(),
             max_file_bytes: MAX_FILE_BYTES,
+            bounded_values: false,
         }
     }
 }

@@ -20,6 +20,13 @@ pub const MIN_FRAME_TIME: f64 = 1e-4;
 /// The longest frame time the reader accepts (and the writer writes), seconds: 0.1 Hz.
 pub const MAX_FRAME_TIME: f64 = 10.0;
 
+/// The largest magnitude of an `OFFSET` component or a motion value the reader accepts
+/// with [`ReadOptions::bounded_values`](crate::ReadOptions::bounded_values): 1e9, a
+/// million kilometers in millimeters, or millions of turns in degrees. No capture holds a
+/// length or an angle that large; a file that does is damaged, and its numbers would
+/// overflow every distance computed from them.
+pub const MAX_VALUE: f64 = 1e9;
+
 /// What a joint body may contain, for error messages.
 const BODY: &str = "OFFSET, CHANNELS, JOINT, End Site or `}`";
 
@@ -30,6 +37,7 @@ pub(crate) fn parse_str(text: &str, options: &ReadOptions) -> Result<Bvh, ParseE
         scanner: Scanner::new(text),
         joints: Vec::new(),
         channel_count: 0,
+        bounded: options.bounded_values,
     };
     parser.hierarchy()?;
     parser.motion(options)
@@ -71,6 +79,8 @@ struct Parser<'a> {
     joints: Vec<Joint>,
     /// Channels of the joints read so far.
     channel_count: usize,
+    /// Refuse values beyond ±[`MAX_VALUE`] ([`ReadOptions::bounded_values`]).
+    bounded: bool,
 }
 
 impl<'a> Parser<'a> {
@@ -298,6 +308,27 @@ impl<'a> Parser<'a> {
     fn finite_number(&mut self, expected: &'static str) -> Result<f64, ParseError> {
         let token = self.require(expected)?;
         match parse_number(token.text) {
+            Some(value) if value.is_finite() && self.bounded && value.abs() > MAX_VALUE => {
+                let joint = match self.joints.last() {
+                    Some(j) if j.end_site => {
+                        let parent = j.parent.and_then(|p| self.joints.get(p));
+                        format!(
+                            "the End Site of {}",
+                            parent.map_or("?", Joint::display_name)
+                        )
+                    }
+                    Some(j) => j.display_name().to_string(),
+                    None => "the root".into(),
+                };
+                let what = format!("an OFFSET component of {joint}");
+                Err(self.scanner.error_at(
+                    &token,
+                    ParseErrorKind::ValueTooLarge {
+                        value: token.found().into(),
+                        what: what.into(),
+                    },
+                ))
+            }
             Some(value) if value.is_finite() => Ok(value),
             Some(_) => Err(self.scanner.error_at(
                 &token,
@@ -486,6 +517,18 @@ impl<'a> Parser<'a> {
                     }
                 }
             };
+            if self.bounded && value.abs() > MAX_VALUE {
+                let text = self.scanner.token_text_at(token_pos);
+                return Err(self.scanner.error_at_pos(
+                    token_pos,
+                    ParseErrorKind::ValueTooLarge {
+                        value: shorten(text).into(),
+                        what: self
+                            .channel_name(motion.len().checked_rem(channels.get()))
+                            .into(),
+                    },
+                ));
+            }
             motion.push(value);
             last_value = token_pos;
             if let Some((pos, values)) = lines.value(token_pos.saturating_sub(start)) {
@@ -594,6 +637,20 @@ impl LineCheck {
 
 impl Parser<'_> {
     /// [`ParseErrorKind::LineValues`] at offset `pos` of the motion text at `start`.
+    /// The channel at `k` of a frame, as a message names it: "Hips Xposition".
+    fn channel_name(&self, k: Option<usize>) -> String {
+        let found = k.and_then(|k| {
+            self.joints.iter().find_map(|joint| {
+                let at = k.checked_sub(joint.first_channel)?;
+                joint
+                    .channels
+                    .get(at)
+                    .map(|c| format!("{} {c}", joint.display_name()))
+            })
+        });
+        found.unwrap_or_else(|| "a motion value".into())
+    }
+
     fn line_values(&self, start: usize, pos: usize, values: usize, channels: usize) -> ParseError {
         self.scanner.error_at_pos(
             start.saturating_add(pos),

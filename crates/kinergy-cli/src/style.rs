@@ -406,12 +406,22 @@ fn realtime_markdown(f: &PersonFidelity) -> String {
          capture | time to peak (s) | SPARC | speed jumps |\n|---|---|---|---|---|---|---|---|---|\n",
         f.capture_duration_s, f.capture_peak_m_s, f.capture_sparc
     );
+    // NaN where there is no ceiling to compare with (fidelity's documented value).
+    let no_ceiling = f
+        .summaries
+        .iter()
+        .any(|s| !s.error_over_ceiling.is_finite());
     for s in &f.summaries {
+        let over_ceiling = if s.error_over_ceiling.is_finite() {
+            format!("{:.2}", s.error_over_ceiling)
+        } else {
+            "—".to_string()
+        };
         out.push_str(&format!(
-            "| {} | {:.3} | {:.2} | {} of {} | {:.2} | {:.2} | {:.2} | {:.2} | {} |\n",
+            "| {} | {:.3} | {} | {} of {} | {:.2} | {:.2} | {:.2} | {:.2} | {} |\n",
             s.predictor.label(),
             s.error,
-            s.error_over_ceiling,
+            over_ceiling,
             s.beats_minimum_jerk,
             s.takes,
             s.duration_ratio,
@@ -420,6 +430,12 @@ fn realtime_markdown(f: &PersonFidelity) -> String {
             s.sparc,
             s.jumps
         ));
+    }
+    if no_ceiling {
+        out.push_str(
+            "\n— in × ceiling: no ceiling to compare with on every capture. The ceiling predicts \
+             a capture from the person's other captures, so it needs at least two of them.\n",
+        );
     }
     out.push_str(
         "\n| capture | duration (s) | peak (m/s) | e ceiling | e minimum jerk | e arm | e body | \

@@ -226,6 +226,12 @@ fn old_damaged_and_misused_field_files_are_bad_input_naming_the_field() {
         v["samples"][0]["arm"]["upper_arm_m"] = serde_json::json!(-0.3)
     });
     synthesize(&arm, "`samples[0].arm.upper_arm_m` is -0.3");
+    // The sweep's target of 1e308 m, once "synergy parameter `g` = NaN is outside its
+    // bounds": the value in the file, short.
+    let far = write("far.json", &|v| {
+        v["samples"][0]["target"][0] = serde_json::json!(1e308)
+    });
+    synthesize(&far, "far.json: `samples[0].target[0]` is 1e308");
     let old = write("old.json", &|v| v["format_version"] = serde_json::json!(1));
     synthesize(&old, "run `kinergy fit --field` again");
     let neither = write("neither.json", &|v| {

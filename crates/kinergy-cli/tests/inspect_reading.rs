@@ -259,3 +259,41 @@ fn convert_up_out_y_writes_a_y_up_file_with_the_same_body() {
         approx::assert_relative_eq!(f(&v["first_frame_lowest_m"]), 0.0, epsilon = 1e-9);
     }
 }
+
+/// The sweep's root position of 1e300 (and ±1e308) in one frame: `inspect` said "Hips
+/// jumps inf cm" and `fit` "sa inf mm", both exit 0. Now the capture is refused as it is
+/// read, naming the file, the line and the channel.
+#[test]
+fn a_root_position_no_capture_holds_is_refused_on_reading() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (i, units) in [1e300, 1e308, -1e308].into_iter().enumerate() {
+        let sub = dir.path().join(i.to_string());
+        std::fs::create_dir(&sub).expect("folder");
+        let bad = with_root_glitch("cmu_12_01_walk.bvh", 48, units, &sub);
+        let params = sub.join("o.json");
+        for args in [
+            vec!["inspect", utf8(&bad)],
+            vec![
+                "fit",
+                utf8(&bad),
+                "--model",
+                "sa",
+                "--budget",
+                "20",
+                "-o",
+                utf8(&params),
+            ],
+        ] {
+            let o = kinergy(&args);
+            let err = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{units} {args:?}: {err}");
+            assert!(
+                err.contains("cmu_12_01_walk.bvh")
+                    && err.contains("(Hips Xposition) is beyond ±1e9")
+                    && !stdout(&o).contains("inf"),
+                "{units} {args:?}: {err}"
+            );
+            assert!(!params.exists());
+        }
+    }
+}

@@ -710,6 +710,13 @@ fn shards_with_different_settings_are_refused_naming_the_setting() {
         ),
         (&["--objective", "positions+speed"][..], "objective"),
         (&["--population", "4"][..], "population 8 (this run: 4)"),
+        // The reading options, once printed as `read ImportOptions { unit: … }`.
+        (&["--from-unit", "cm"][..], "unit auto (this run: cm)"),
+        (&["--up", "z"][..], "up auto (this run: z)"),
+        (
+            &["--positions", "add"][..],
+            "positions auto (this run: add)",
+        ),
     ] {
         let mut args = vec!["--shard", "2/2"];
         args.extend(flags);
@@ -721,6 +728,7 @@ fn shards_with_different_settings_are_refused_naming_the_setting() {
             "{flags:?}: {}",
             stderr(&o)
         );
+        assert!(!stderr(&o).contains("ImportOptions"), "{}", stderr(&o));
         assert!(!out.join("shards/2-of-2.csv").exists());
     }
     // --model sb: the models differ (sa, sb against sa).
@@ -986,6 +994,11 @@ fn stray_absurd_and_damaged_records_are_refused_in_a_few_lines() {
             text.replacen("\ntake,", "\ntake,x,", 1).into_bytes(),
             "1-of-1.csv: line 3: 11 fields where the header has 10",
         ),
+        (
+            "a 40-digit onset",
+            huge_onset(&text).into_bytes(),
+            "column onset: `999999999999999999999999…",
+        ),
     ] {
         std::fs::write(shards.join("1-of-1.csv"), &bytes).expect("write");
         let o = kinergy(&["collect", s(&out)]);
@@ -995,6 +1008,147 @@ fn stray_absurd_and_damaged_records_are_refused_in_a_few_lines() {
     std::fs::write(shards.join("1-of-1.csv"), &record).expect("write");
     let o = kinergy(&["collect", s(&out)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// A shard record whose first reach row's onset is 40 nines (collect once said only
+/// "frame `999…`", naming no file or line).
+fn huge_onset(record: &str) -> String {
+    let mut lines: Vec<String> = record.lines().map(str::to_string).collect();
+    let reach = lines
+        .iter_mut()
+        .find(|l| l.starts_with("reach,"))
+        .expect("a reach row");
+    let mut fields: Vec<String> = reach.split(',').map(str::to_string).collect();
+    fields[4] = "9".repeat(40);
+    *reach = fields.join(",");
+    lines.join("\n") + "\n"
+}
+
+// ---- The sweep after issue 42 ----
+
+/// The sweep's takes whose results fell on the library's own files or another take's:
+/// under `shards/` (even `shards/1-of-1.bvh`), `library.csv/`, `skipped.csv/`, a folder
+/// `r.bvh.json/` beside `r.bvh`, and a 240-character name whose result's temporary passed
+/// 255 bytes. Every take keeps its own result, `collect` finds each, and `--resume` fits
+/// nothing again.
+#[test]
+fn takes_named_like_the_library_s_files_or_a_result_keep_their_own_results() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = dir.path().join("LIB");
+    let long = format!("{}.bvh", "L".repeat(240));
+    let takes = [
+        "shards/1-of-1.bvh",
+        "shards/a.bvh",
+        "library.csv/a.bvh",
+        "skipped.csv/a.bvh",
+        "r.bvh",
+        "r.bvh.json/a.bvh",
+        "x@/a.bvh",
+        long.as_str(),
+    ];
+    for (i, take) in takes.iter().enumerate() {
+        let path = lib.join(take);
+        std::fs::create_dir_all(path.parent().unwrap()).expect("folder");
+        let source = format!("data-synthetic/p01/r{:02}.bvh", i + 1);
+        std::fs::copy(repo().join(source), &path).expect("copy");
+    }
+    let out = dir.path().join("D");
+    let o = fit_library(&lib, &out, &["--arm", "auto"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = rows_of(&out.join("library.csv"));
+    let mut results: Vec<&str> = table.iter().map(|r| r["result"].as_str()).collect();
+    results.sort();
+    let long_result = format!("{long}.json");
+    let mut expected = vec![
+        "library.csv@/a.bvh.json",
+        "r.bvh.json",
+        "r.bvh.json@/a.bvh.json",
+        "shards@/1-of-1.bvh.json",
+        "shards@/a.bvh.json",
+        "skipped.csv@/a.bvh.json",
+        "x@@/a.bvh.json",
+        long_result.as_str(),
+    ];
+    expected.sort();
+    assert_eq!(results, expected);
+    assert!(out.join("library.csv").is_file() && out.join("skipped.csv").is_file());
+    let before = result_files(&out);
+    let o = fit_library(&lib, &out, &["--arm", "auto", "--resume"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(result_files(&out), before);
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// The sweep's result replaced by a symbolic link to another result: `collect` says run
+/// again with `--resume`, which once refused ("would be written twice"). Now the resumed
+/// run replaces the link itself with the result, the other result untouched, and the
+/// library is whole again.
+#[cfg(unix)]
+#[test]
+fn a_result_replaced_by_a_link_to_another_is_written_again_by_resume() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = takes(dir.path(), "takes", 3);
+    let out = dir.path().join("fits");
+    let o = fit_library(&lib, &out, &["--shard", "1/2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = fit_library(&lib, &out, &["--shard", "2/2"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let whole = result_files(&out);
+    std::fs::remove_file(out.join("r01.bvh.json")).expect("remove");
+    std::os::unix::fs::symlink("r02.bvh.json", out.join("r01.bvh.json")).expect("link");
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--resume"), "{}", stderr(&o));
+    for shard in ["1/2", "2/2"] {
+        let o = fit_library(&lib, &out, &["--shard", shard, "--resume"]);
+        assert_eq!(o.status.code(), Some(0), "{shard}: {}", stderr(&o));
+    }
+    let link = std::fs::symlink_metadata(out.join("r01.bvh.json")).expect("result");
+    assert!(link.is_file(), "the link stayed");
+    assert_eq!(result_files(&out), whole);
+    let o = kinergy(&["collect", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// The sweep's file where a folder goes: `D/shards` or `D/p01` a file (once "File exists
+/// (os error 17)"), `D/library.csv` a folder. Each refused
+/// before any work, naming the path and what it is needed for, and left as it was.
+#[test]
+fn a_file_where_a_library_s_folder_goes_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = dir.path().join("LIB");
+    takes(&lib, "p01", 2);
+    takes(&lib, "p02", 1);
+    for (in_the_way, folder, said) in [
+        (
+            "shards",
+            false,
+            "a file where the folder of the shards' records is needed",
+        ),
+        ("p01", false, "a file where the folder of the results of"),
+        ("library.csv", true, "exists and is a folder"),
+    ] {
+        let out = dir.path().join(format!("D-{in_the_way}"));
+        std::fs::create_dir(&out).expect("folder");
+        let path = out.join(in_the_way);
+        if folder {
+            std::fs::create_dir(&path).expect("folder");
+        } else {
+            std::fs::write(&path, "keep\n").expect("file");
+        }
+        let o = fit_library(&lib, &out, &[]);
+        assert_eq!(o.status.code(), Some(2), "{in_the_way}: {}", stderr(&o));
+        let err = stderr(&o);
+        assert!(
+            err.contains(&format!("{}: {said}", path.display())) && !err.contains("os error"),
+            "{in_the_way}: {err}"
+        );
+        let left: Vec<_> = std::fs::read_dir(&out).expect("folder").collect();
+        assert_eq!(left.len(), 1, "{in_the_way}: something was written");
+    }
 }
 
 /// Shard counts from the environment or `--shard` beyond 100,000 are refused naming the
@@ -1104,6 +1258,19 @@ fn compare_library_refuses_distances_that_cannot_be_true() {
         (
             "r02.bvh,p01,right,0,10,10,sb,svd,0.02,1e308,,,,16,,r02.bvh.json,abc",
             "row 3, column distance_sb_m: 1e308",
+        ),
+        // Cells that are no number, once "CSV deserialize error… field 8".
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,abc,0.01,,,,16,,r02.bvh.json,abc",
+            "row 3, column distance_sa_m: `abc` is not a number",
+        ),
+        (
+            "r02.bvh,p01,right,0,10,10,sb,svd,0.02,1_0,,,,16,,r02.bvh.json,abc",
+            "row 3, column distance_sb_m: `1_0` is not a number",
+        ),
+        (
+            "r02.bvh,p01,right,x,10,10,sb,svd,0.02,0.01,,,,16,,r02.bvh.json,abc",
+            "row 3, column onset: `x` is not a whole number",
         ),
     ] {
         let table = dir.path().join("library.csv");

@@ -837,6 +837,33 @@ fn style_compares_hand_speed_profiles_with_the_captures() {
     assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
 }
 
+/// The sweep's `style` of a person's single capture: no ceiling (it needs the person's
+/// other captures), which summary.md printed as `NaN` in its "× ceiling" column. Now a
+/// dash, and a note says why.
+#[test]
+fn style_of_a_single_capture_says_there_is_no_ceiling_instead_of_nan() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let params = repo().join("tests/data/params/synthetic-p01-r09-sc.json");
+    let out = dir.path().join("style");
+    let o = kinergy(&[
+        "style",
+        s(&synthetic("r09.bvh")),
+        "--arm",
+        "right",
+        "--params",
+        s(&params),
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(out.join("summary.md")).expect("summary");
+    assert!(!summary.contains("NaN"), "{summary}");
+    assert!(
+        summary.contains("| — |") && summary.contains("— in × ceiling: no ceiling"),
+        "{summary}"
+    );
+}
+
 /// `style` with parameters fitted on another skeleton's arm warns as
 /// `synthesize` does (which arm, which bones, how much they differ), and still compares.
 #[test]

@@ -165,7 +165,7 @@ fn realtime_chart(dir: &Path, who: &str, f: &PersonFidelity) -> Result<(), DrawE
     let title = format!(
         "{who}: hand speed in real time{}",
         match (body, ceiling) {
-            (Some(b), Some(c)) => format!(
+            (Some(b), Some(c)) if b.error_over_ceiling.is_finite() => format!(
                 ": full body e {:.3}, {:.1}× their own repeats' {:.3}",
                 b.error, b.error_over_ceiling, c.error
             ),

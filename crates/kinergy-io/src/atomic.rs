@@ -5,6 +5,11 @@
 //! renamed over `<name>`: readers see the old file or the new one, never a part. A failure
 //! removes the temporary file and leaves `<name>` untouched.
 //!
+//! **Long names.** A `<name>` longer than [`TEMP_NAME_KEPT`] bytes is shortened in its
+//! temporaries' names to its first 160 bytes, `~` and 16 hexadecimal digits of a hash of the
+//! whole name, so that every target whose own name fits the file system's limit (255 bytes
+//! on most) has temporaries that fit too: a temporary's name is at most 237 bytes.
+//!
 //! **No debris.** A process killed mid-write cannot remove its temporary file. So before
 //! writing `<name>`, a writer removes the *stale* temporaries of `<name>`: files named
 //! exactly `.<name>.<pid>.<n>.tmp` whose process is gone. On Linux (where `/proc` is
@@ -276,10 +281,37 @@ impl Drop for AtomicFile {
     }
 }
 
+/// The longest target name a temporary's name keeps whole, bytes (see the
+/// [module docs](self)): with `.`, the process (at most 10 digits), the counter (at most 20)
+/// and `.tmp`, a temporary's name stays within 237 bytes.
+pub const TEMP_NAME_KEPT: usize = 200;
+
+/// The bytes of a longer name that its temporaries keep, before `~` and the hash.
+const TEMP_NAME_PREFIX: usize = 160;
+
+/// `file_name` as its temporaries' names spell it: whole up to [`TEMP_NAME_KEPT`] bytes,
+/// otherwise its first 160 bytes (whole characters), `~` and 16 hexadecimal digits of a
+/// hash of the whole name (64-bit FNV-1a, the same on every platform and run).
+fn temp_stem(file_name: &OsStr) -> OsString {
+    let bytes = file_name.as_encoded_bytes();
+    if bytes.len() <= TEMP_NAME_KEPT {
+        return file_name.to_os_string();
+    }
+    let hash = bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    let text = file_name.to_string_lossy();
+    let mut cut = TEMP_NAME_PREFIX.min(text.len());
+    while !text.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    OsString::from(format!("{}~{hash:016x}", &text[..cut]))
+}
+
 /// The name of a temporary file of `file_name` written by process `pid`.
 fn temp_name(file_name: &OsStr, pid: u32, n: u64) -> OsString {
     let mut name = OsString::from(".");
-    name.push(file_name);
+    name.push(temp_stem(file_name));
     name.push(format!(".{pid}.{n}.tmp"));
     name
 }
@@ -287,7 +319,8 @@ fn temp_name(file_name: &OsStr, pid: u32, n: u64) -> OsString {
 /// The process that wrote `name`, if it is a temporary file of `file_name` by our rule.
 fn temp_owner(name: &OsStr, file_name: &OsStr) -> Option<u32> {
     let name = name.to_str()?;
-    let file_name = file_name.to_str()?;
+    let stem = temp_stem(file_name);
+    let file_name = stem.to_str()?;
     let rest = name
         .strip_prefix('.')?
         .strip_prefix(file_name)?
@@ -480,7 +513,9 @@ mod tests {
             .collect();
         assert!(debris.is_empty(), "{debris:?}");
     }
-    use super::{AtomicFile, describe_full_disk, is_disk_full, temp_owner, write_atomic};
+    use super::{
+        AtomicFile, describe_full_disk, is_disk_full, temp_name, temp_owner, write_atomic,
+    };
     use std::ffi::OsStr;
     use std::io::Write as _;
 
@@ -502,6 +537,39 @@ mod tests {
         std::fs::write(dir.path().join(".out.bvh.999999.0.tmp"), b"half a file").unwrap();
         write_atomic(&dir.path().join("out.bvh"), b"whole").unwrap();
         assert_eq!(names(dir.path()), ["out.bvh"]);
+    }
+
+    /// The sweep's 240-character take: its result's temporary passed 255 bytes ("File name
+    /// too long"). A target of any name that fits has a temporary that fits, found again
+    /// as its own when stale.
+    #[test]
+    fn a_target_of_a_long_name_has_a_temporary_that_fits() {
+        let dir = tempfile::tempdir().unwrap();
+        for len in [200, 201, 250, 255] {
+            let name = format!("{}.json", "L".repeat(len - 5));
+            let target = dir.path().join(&name);
+            write_atomic(&target, b"whole").unwrap();
+            assert_eq!(std::fs::read(&target).unwrap(), b"whole");
+            let temp = temp_name(OsStr::new(&name), u32::MAX, u64::MAX);
+            assert!(temp.len() <= 237, "{len}: {} bytes", temp.len());
+            assert_eq!(temp_owner(&temp, OsStr::new(&name)), Some(u32::MAX));
+            // Another long name of the same first bytes has other temporaries.
+            let other = format!("{}.jsoN", "L".repeat(len - 5));
+            assert_eq!(temp_owner(&temp, OsStr::new(&other)), None, "{len}");
+        }
+        // A name of multi-byte characters is cut between characters.
+        let name = "ü".repeat(127);
+        let temp = temp_name(OsStr::new(&name), 1, 2);
+        assert!(temp.to_str().is_some() && temp.len() <= 237, "{temp:?}");
+        #[cfg(target_os = "linux")]
+        {
+            let name = "L".repeat(240) + ".bvh.json";
+            let stale = temp_name(OsStr::new(&name), 999_999, 0);
+            std::fs::write(dir.path().join(&stale), b"half a file").unwrap();
+            write_atomic(&dir.path().join(&name), b"whole").unwrap();
+            assert!(!dir.path().join(&stale).exists(), "{stale:?} stayed");
+        }
+        assert!(!names(dir.path()).iter().any(|n| n.ends_with(".tmp")));
     }
 
     #[test]

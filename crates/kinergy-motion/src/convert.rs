@@ -59,6 +59,17 @@ pub enum PositionReadingChoice {
     Replace,
 }
 
+impl PositionReadingChoice {
+    /// As `--positions` spells it: `auto`, `add` or `replace`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PositionReadingChoice::Auto => "auto",
+            PositionReadingChoice::Add => "add",
+            PositionReadingChoice::Replace => "replace",
+        }
+    }
+}
+
 impl std::str::FromStr for PositionReadingChoice {
     type Err = String;
     fn from_str(s: &str) -> std::result::Result<Self, String> {
@@ -351,12 +362,16 @@ pub fn clip_from_bvh(bvh: &Bvh, options: &ImportOptions) -> Result<(Clip, Import
 
 /// Reads a BVH file as a clip; errors name the file (and line, for parse errors). Only
 /// regular files up to [`ImportOptions::max_file_bytes`] are read (see
-/// [`kinergy_bvh::read_file`]).
+/// [`kinergy_bvh::read_file`]), and only values a capture can hold: an `OFFSET` component
+/// or a channel value beyond ±[`kinergy_bvh::MAX_VALUE`] (1e9) is refused naming its line,
+/// joint and channel ([`kinergy_bvh::ReadOptions::bounded_values`]), where it would have
+/// made every distance of the clip infinite.
 pub fn read_clip(path: &Path, options: &ImportOptions) -> Result<(Clip, ImportReport)> {
     let read = kinergy_bvh::ReadOptions {
         max_file_bytes: options
             .max_file_bytes
             .unwrap_or(kinergy_bvh::MAX_FILE_BYTES),
+        bounded_values: true,
         ..kinergy_bvh::ReadOptions::default()
     };
     let bvh = kinergy_bvh::read_file(path, &read)?;

@@ -102,6 +102,16 @@ pub enum UnitChoice {
     Fixed(LengthUnit),
 }
 
+impl UnitChoice {
+    /// As `--from-unit` spells it: `auto`, `m`, `cm`, `mm`, `in` or `cmu`.
+    pub fn name(self) -> &'static str {
+        match self {
+            UnitChoice::Auto => "auto",
+            UnitChoice::Fixed(unit) => unit.name(),
+        }
+    }
+}
+
 impl FromStr for UnitChoice {
     type Err = UnknownUnit;
     fn from_str(s: &str) -> Result<Self, Self::Err> {

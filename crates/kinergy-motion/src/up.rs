@@ -178,6 +178,16 @@ pub enum UpChoice {
     Fixed(UpAxis),
 }
 
+impl UpChoice {
+    /// As `--up` spells it: `auto`, `y`, `z`, `x`, `-y`, `-z` or `-x`.
+    pub fn name(self) -> &'static str {
+        match self {
+            UpChoice::Auto => "auto",
+            UpChoice::Fixed(axis) => axis.name(),
+        }
+    }
+}
+
 impl FromStr for UpChoice {
     type Err = UnknownUpAxis;
     fn from_str(s: &str) -> Result<Self, Self::Err> {

@@ -510,3 +510,45 @@ fn the_up_axis_can_be_forced() {
     );
     assert_eq!(clip.skeleton().world_from_file(), Rotation3::identity());
 }
+
+/// The sweep's capture whose root position is 1e300 or ±1e308 in one frame: `fit` printed
+/// "sa inf mm" and `inspect` "Hips jumps inf cm". Reading it refuses the value, naming the
+/// file, its line and the channel; a real capture's values are far below the bound.
+#[test]
+fn a_channel_value_no_capture_holds_is_refused_naming_the_file_line_and_channel() {
+    let dir = std::env::temp_dir().join(format!("kinergy-huge-value-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("folder");
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data-synthetic/p01/r01.bvh"),
+    )
+    .expect("capture");
+    let motion = text
+        .lines()
+        .position(|l| l.starts_with("Frame Time"))
+        .expect("motion")
+        + 1;
+    for value in [
+        "1e300",
+        "1e308",
+        "-1e308",
+        "123456789012345678901234567890123",
+    ] {
+        let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+        let line = motion + 48;
+        let mut fields: Vec<&str> = lines[line].split(' ').collect();
+        fields[0] = value;
+        lines[line] = fields.join(" ");
+        let path = dir.join("t.bvh");
+        std::fs::write(&path, lines.join("\n") + "\n").expect("write");
+        let e = read_clip(&path, &ImportOptions::default()).expect_err(value);
+        let said = e.to_string();
+        assert!(
+            said.contains("t.bvh")
+                && said.contains(&format!("line {}", line + 1))
+                && said.contains("(Hips Xposition) is beyond ±1e9"),
+            "{value}: {said}"
+        );
+        assert!(matches!(e, MotionError::Bvh(_)), "{value}: {e:?}");
+    }
+    std::fs::remove_dir_all(&dir).expect("clean up");
+}

@@ -334,7 +334,7 @@ impl Check<'_> {
                 format!(
                     "expected coordinates within ±{MAX_SCENE_EXTENT} m, found {}",
                     v.iter()
-                        .map(|x| format!("{x}"))
+                        .map(|&x| kinergy_io::Num(x).to_string())
                         .collect::<Vec<_>>()
                         .join(", ")
                 ),
@@ -349,7 +349,10 @@ impl Check<'_> {
         } else {
             Err(self.fail(
                 field,
-                format!("expected a number > 0 and ≤ {MAX_SCENE_EXTENT} (meters), found {v}"),
+                format!(
+                    "expected a number > 0 and ≤ {MAX_SCENE_EXTENT} (meters), found {}",
+                    kinergy_io::Num(v)
+                ),
             ))
         }
     }
@@ -428,7 +431,10 @@ fn build_shape(
             if !(half_height.is_finite() && (0.0..=MAX_SCENE_EXTENT).contains(&half_height)) {
                 return Err(check.fail(
                     &at("shape.half_height"),
-                    format!("expected a number ≥ 0 and ≤ {MAX_SCENE_EXTENT} (meters), found {half_height}"),
+                    format!(
+                        "expected a number ≥ 0 and ≤ {MAX_SCENE_EXTENT} (meters), found {}",
+                        kinergy_io::Num(half_height)
+                    ),
                 ));
             }
             Shape::Capsule {
@@ -674,6 +680,24 @@ mod tests {
             let msg = e.to_string();
             assert!(msg.starts_with("s.json"), "{msg}");
             assert_eq!(field_of(e), field, "{msg}");
+        }
+    }
+
+    /// The sweep's 33-digit size, once printed whole; and a far position, each short.
+    #[test]
+    fn numbers_out_of_range_are_printed_short() {
+        for (text, said) in [
+            (
+                GOOD.replace("[1, 2, 3]", "[123456789012345678901234567890123, 2, 3]"),
+                "found 1.2345678901234569e32",
+            ),
+            (
+                GOOD.replace("[0, 1, 2]", "[0, 1, 1e300]"),
+                "found 0, 1, 1e300",
+            ),
+        ] {
+            let msg = parse(&text).unwrap_err().to_string();
+            assert!(msg.ends_with(said), "{msg}");
         }
     }
 

@@ -121,7 +121,10 @@ impl ShelfUnit {
             InvalidSetting::require(
                 value.is_finite() && value > 0.0,
                 field,
-                format!("expected a positive finite length in meters, found {value}"),
+                format!(
+                    "expected a positive finite length in meters, found {}",
+                    kinergy_io::Num(value)
+                ),
             )?;
         }
         self.validate_board()?;
@@ -164,10 +167,11 @@ impl ShelfUnit {
             "board",
             format!(
                 "expected a thickness below half the width ({} m), the depth ({} m) and the \
-                 height ({} m), found {b}",
-                self.width / 2.0,
-                self.depth,
-                self.height
+                 height ({} m), found {}",
+                kinergy_io::Num(self.width / 2.0),
+                kinergy_io::Num(self.depth),
+                kinergy_io::Num(self.height),
+                kinergy_io::Num(b)
             ),
         )?;
         Ok(())

@@ -466,9 +466,40 @@ pub fn walk_captures(paths: &[PathBuf]) -> Result<CaptureWalk> {
         }
     }
     if walk.found.files.is_empty() {
-        return Err(TrainError::File {
-            path: None,
-            why: "no clips given".into(),
+        if walk.links.is_empty() {
+            return Err(TrainError::File {
+                path: None,
+                why: "no clips given".into(),
+            });
+        }
+        // Folders whose only ways on are links back (a folder holding a link to itself).
+        let links: Vec<String> = walk.links.iter().map(|l| l.display().to_string()).collect();
+        let why = match links.as_slice() {
+            [link] => format!(
+                "no captures (no .bvh file; its link {link} leads back to a folder already \
+                 walked, taken once)"
+            ),
+            _ => format!(
+                "no captures (no .bvh file; its links {} lead back to folders already walked, \
+                 each taken once)",
+                kinergy_io::list_some(&links, 5)
+            ),
+        };
+        return Err(match paths {
+            [folder] => bad(folder, why),
+            _ => TrainError::File {
+                path: None,
+                why: format!(
+                    "{}: {why}",
+                    kinergy_io::list_some(
+                        &paths
+                            .iter()
+                            .map(|p| p.display().to_string())
+                            .collect::<Vec<_>>(),
+                        5
+                    )
+                ),
+            },
         });
     }
     Ok(walk.found)
@@ -482,6 +513,8 @@ struct Walk {
     found: CaptureWalk,
     seen_dirs: std::collections::HashMap<PathBuf, PathBuf>,
     seen_files: std::collections::HashMap<PathBuf, PathBuf>,
+    /// The paths to a folder already taken, as found (for the message when nothing else is).
+    links: Vec<PathBuf>,
 }
 
 impl Walk {
@@ -509,6 +542,7 @@ impl Walk {
         };
         let key = std::fs::canonicalize(dir).map_err(bad)?;
         if let Some(first) = self.seen_dirs.get(&key) {
+            self.links.push(dir.to_path_buf());
             self.found.repeats.push(format!(
                 "{}: the same folder as {}, taken once",
                 dir.display(),
@@ -608,6 +642,32 @@ mod tests {
                 .iter()
                 .any(|r| r.contains("same.bvh: the same file as"))
         );
+    }
+
+    /// The sweep's folder holding only a link to itself, once "no clips given" naming
+    /// neither: the folder and the link are named.
+    #[cfg(unix)]
+    #[test]
+    fn a_folder_holding_only_a_link_back_names_the_folder_and_the_link() {
+        let dir = tempfile::tempdir().unwrap();
+        let folder = dir.path().join("selfloopdir");
+        std::fs::create_dir(&folder).unwrap();
+        std::os::unix::fs::symlink(&folder, folder.join("self")).unwrap();
+        match capture_files(std::slice::from_ref(&folder)) {
+            Err(crate::TrainError::File {
+                path: Some(path),
+                why,
+            }) => {
+                assert_eq!(path, folder);
+                assert!(
+                    why.starts_with("no captures")
+                        && why.contains(&folder.join("self").display().to_string())
+                        && why.contains("leads back to a folder already walked"),
+                    "{why}"
+                );
+            }
+            other => panic!("expected a file error, got {other:?}"),
+        }
     }
 
     /// Issue 27 #11: each kind of non-capture is said as what it is ("no such file" was said

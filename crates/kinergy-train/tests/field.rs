@@ -507,6 +507,12 @@ fn errors_name_the_field() {
     let mut inf_target = vec![ok(0.1), ok(0.2)];
     inf_target[1].0.z = f64::INFINITY;
     assert_eq!(fit(&inf_target, d), "samples[1].target");
+    // A target no arm reaches, whose kernel weights overflowed into NaN parameters.
+    let mut far_target = vec![ok(0.1), ok(0.2)];
+    far_target[1].0.y = 1e308;
+    let err = ParamField::fit(&space, &far_target, &d).expect_err("far");
+    assert!(err.to_string().contains("is 1e308"), "{err}");
+    assert_eq!(setting_field(err), "samples[1].target[1]");
 
     for h in [0.0, -0.1, f64::NAN, f64::INFINITY] {
         let s = FieldSettings {

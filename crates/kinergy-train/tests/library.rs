@@ -512,3 +512,63 @@ fn shards_that_saw_different_takes_under_different_roots_are_refused() {
     let whole = collect(&out).expect("whole after every shard ran again");
     assert_eq!(whole.table.rows.len(), 7, "{:?}", whole.table.rows);
 }
+
+/// The sweep's file where a folder goes (once "File exists (os error 17)" part way): the
+/// plan refuses it before any work, naming the path and what it is needed for, and a
+/// take's results that would land on the library's own `shards` go to `shards@` instead.
+#[test]
+fn a_file_where_a_folder_of_the_library_goes_is_refused_by_the_plan() {
+    let sources = sources();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let takes_dir = dir.path().join("takes");
+    for (i, name) in ["p01/a.bvh", "shards/b.bvh"].iter().enumerate() {
+        let path = takes_dir.join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).expect("folder");
+        std::fs::copy(&sources[i], path).expect("take");
+    }
+    let (job, query) = tiny(3);
+    let paths = capture_files(std::slice::from_ref(&takes_dir)).expect("takes");
+    let takes = Takes::of(&paths, None);
+    let interrupt = AtomicBool::new(false);
+    let observer = || -> Box<dyn Observer> { Box::new(()) };
+    for in_the_way in ["shards", "p01"] {
+        let out = dir.path().join(format!("fits-{in_the_way}"));
+        std::fs::create_dir(&out).expect("folder");
+        std::fs::write(out.join(in_the_way), "keep").expect("file");
+        let run = ShardRun {
+            dir: &out,
+            takes: &takes,
+            query: &query,
+            job: &job,
+            shard: Shard::ALL,
+            resume: false,
+            inputs: &paths,
+            interrupt: &interrupt,
+            observer: &observer,
+        };
+        let e = run.plan().expect_err("a file in the way");
+        let text = e.to_string();
+        assert!(
+            matches!(e, LibraryError::Input { .. })
+                && text.starts_with(&format!(
+                    "{}: a file where ",
+                    out.join(in_the_way).display()
+                )),
+            "{text}"
+        );
+        assert_eq!(std::fs::read_dir(&out).expect("folder").count(), 1);
+    }
+    let out = dir.path().join("fits");
+    assert!(run_shard(
+        &takes_dir,
+        &out,
+        &job,
+        &query,
+        Shard::ALL,
+        false,
+        None
+    ));
+    assert!(out.join("shards@/b.bvh.json").is_file());
+    let collected = collect(&out).expect("whole");
+    assert_eq!(collected.table.rows.len(), 2);
+}

@@ -13,6 +13,7 @@ use Channel::{Xposition, Xrotation, Yposition, Yrotation, Zposition, Zrotation};
 const LENIENT: ReadOptions = ReadOptions {
     max_file_bytes: kinergy_bvh::MAX_FILE_BYTES,
     frame_count: FrameCountPolicy::AcceptCompleteFrames,
+    bounded_values: false,
 };
 
 fn valid(name: &str) -> Bvh {
@@ -218,6 +219,50 @@ fn number_forms() {
             1e-300
         ]
     );
+}
+
+/// With `bounded_values` (what a reader of captures asks for), the same long mantissa,
+/// and the sweep's root position of 1e300, are refused at their line naming the joint and
+/// channel; an OFFSET too. Without it they are kept, as the format allows.
+#[test]
+fn bounded_values_refuse_what_no_capture_holds() {
+    let bounded = ReadOptions {
+        bounded_values: true,
+        ..ReadOptions::default()
+    };
+    let text = std::fs::read_to_string(quirk("valid/number_forms.bvh")).unwrap();
+    let e = kinergy_bvh::parse_with(&text, &bounded).unwrap_err();
+    assert_eq!(e.line, 15, "{e}");
+    let said = e.to_string();
+    assert!(
+        said.contains("`123456789012345678901234567890` (Hips Zrotation) is beyond ±1e9"),
+        "{said}"
+    );
+    let far = text.replace("-0 +1 .5 5. 1E+2", "1e300 +1 .5 5. 1E+2");
+    let e = kinergy_bvh::parse_with(&far, &bounded).unwrap_err();
+    assert!(
+        e.line == 14
+            && matches!(&e.kind, ParseErrorKind::ValueTooLarge { what, .. } if &**what == "Hips Xposition"),
+        "{e}"
+    );
+    let offset = text.replace("OFFSET 5. 1E+2", "OFFSET 5. -2e9");
+    let e = kinergy_bvh::parse_with(&offset, &bounded).unwrap_err();
+    assert!(
+        e.line == 8
+            && e.to_string()
+                .contains("(an OFFSET component of the End Site of Hips)"),
+        "{e}"
+    );
+    // Up to the bound, kept.
+    let edge = text.replace("123456789012345678901234567890", "-1e9");
+    assert_eq!(
+        kinergy_bvh::parse_with(&edge, &bounded)
+            .unwrap()
+            .frame(1)
+            .unwrap()[3],
+        -1e9
+    );
+    assert!(kinergy_bvh::parse(&far).is_ok());
 }
 
 #[test]

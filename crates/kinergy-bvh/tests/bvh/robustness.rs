@@ -14,6 +14,7 @@ use crate::common::{QUIRKS_DIR, real_files, trimmed};
 const LENIENT: ReadOptions = ReadOptions {
     max_file_bytes: kinergy_bvh::MAX_FILE_BYTES,
     frame_count: FrameCountPolicy::AcceptCompleteFrames,
+    bounded_values: false,
 };
 
 /// Parses `bytes` in both modes. Anything accepted must validate and round-trip exactly.

@@ -13,7 +13,10 @@
 //!   output names them all: `compare -o D` with `D/results.csv` as its segments file is
 //!   refused, not run);
 //! - two outputs that are the same file (`--checkpoint` equal to `-o`, or two reaches'
-//!   results given one name).
+//!   results given one name). An output that is a symbolic link counts as the link itself:
+//!   an atomic write replaces the link, never what it leads to, so a result replaced by a
+//!   link to another result is written again in its own place (and one that is a link to an
+//!   input is refused, to be safe).
 //!
 //! A file output `-` is standard output and passes.
 
@@ -71,6 +74,22 @@ impl Identity {
         })
     }
 
+    /// The identity of what writing `path` replaces: an atomic write renames its file over
+    /// the name, so a symbolic link there is replaced itself, never what it leads to — its
+    /// identity is the link's own (its folder's canonical path and its name). Anything
+    /// else is [`Identity::of`].
+    fn replaced(path: &Path) -> Option<Identity> {
+        if !is_link(path) {
+            return Identity::of(path);
+        }
+        let name = path.file_name()?;
+        let folder = fs::canonicalize(folder_of(path)).ok()?;
+        Some(Identity {
+            path: folder.join(name),
+            inode: None,
+        })
+    }
+
     fn same(&self, other: &Identity) -> bool {
         self.path == other.path || (self.inode.is_some() && self.inode == other.inode)
     }
@@ -85,6 +104,11 @@ fn inode(m: &Metadata) -> Option<(u64, u64)> {
 #[cfg(not(unix))]
 fn inode(_: &Metadata) -> Option<(u64, u64)> {
     None
+}
+
+/// Whether `path` is a symbolic link (not followed).
+fn is_link(path: &Path) -> bool {
+    fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink())
 }
 
 /// The folder `path` is written in.
@@ -218,7 +242,7 @@ fn check_each<'a>(
                 _ => {}
             }
         }
-        let Some(id) = Identity::of(path) else {
+        let (Some(id), Some(replaced)) = (Identity::of(path), Identity::replaced(path)) else {
             return Err(Failure::Input(format!("{}: does not name a file", named())));
         };
         if let Output::File(..) = output
@@ -229,15 +253,27 @@ fn check_each<'a>(
             } else {
                 format!(" ({})", input.display())
             };
+            if is_link(path) {
+                // Written atomically the link itself would be replaced, but a link to an
+                // input is no place for an output: refused, to be safe.
+                return Err(Failure::Input(format!(
+                    "{}: is a symbolic link to one of the inputs{also}: remove the link or \
+                     choose another output",
+                    named()
+                )));
+            }
             return Err(Failure::Input(format!(
                 "{}: is one of the inputs{also}; writing it would replace it: choose another output",
                 named()
             )));
         }
-        if let Some((first, _)) = seen.iter().find(|(_, i)| i.same(&id)) {
+        // Two outputs are one when writing them replaces one name: a link is replaced
+        // itself, so a result replaced by a link to another result is written again in its
+        // own place (the link goes), never through the link onto the other.
+        if let Some((first, _)) = seen.iter().find(|(_, i)| i.same(&replaced)) {
             return Err(Failure::Input(twice(&named(), first.option(), option)));
         }
-        seen.push((output, id));
+        seen.push((output, replaced));
     }
     Ok(())
 }
@@ -313,6 +349,35 @@ mod tests {
             &[Output::File("-o", &a), Output::File("--checkpoint", &b)],
         ));
         assert!(m.contains("is also the -o output"), "{m}");
+    }
+
+    /// The sweep's result replaced by a link to another result: the two are not one output
+    /// (writing the link replaces the link), so `--resume` writes it again; a link to an
+    /// input is still refused, naming the link.
+    #[cfg(unix)]
+    #[test]
+    fn a_link_to_another_output_is_its_own_output() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a.json"), dir.path().join("b.json"));
+        std::fs::write(&a, "{}").unwrap();
+        std::os::unix::fs::symlink(&a, &b).unwrap();
+        let files = [a.clone(), b.clone()];
+        check_outputs(&[], &[Output::Folder("--out-dir", dir.path(), &files)]).unwrap();
+        // A folder of results that is a link to another is one folder: refused.
+        std::fs::create_dir(dir.path().join("p1")).unwrap();
+        std::os::unix::fs::symlink(dir.path().join("p1"), dir.path().join("p2")).unwrap();
+        let files = [dir.path().join("p1/r.json"), dir.path().join("p2/r.json")];
+        let m = refused(check_outputs(
+            &[],
+            &[Output::Folder("--out-dir", dir.path(), &files)],
+        ));
+        assert!(m.contains("would be written twice"), "{m}");
+        let input = dir.path().join("in.bvh");
+        std::fs::write(&input, "x").unwrap();
+        let link = dir.path().join("out.bvh");
+        std::os::unix::fs::symlink(&input, &link).unwrap();
+        let m = refused(check_outputs(&[&input], &[Output::File("-o", &link)]));
+        assert!(m.contains("is a symbolic link to one of the inputs"), "{m}");
     }
 
     #[test]

@@ -11,7 +11,7 @@ use kinergy_solver::{
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::param_field::{BandwidthChoice, LooRow, ParamField};
+use super::param_field::{BandwidthChoice, LooRow, ParamField, target_problem};
 use super::settings::{BandwidthScore, FieldSettings, infinite_as_null};
 use crate::captured::{CapturedReach, person_tempo, under_person_tempo};
 use crate::error::{Result, TrainError, in_file};
@@ -689,11 +689,8 @@ impl Doc {
         let mut values = Vec::with_capacity(self.samples.len());
         let mut reaches = Vec::with_capacity(self.samples.len());
         for (k, s) in self.samples.into_iter().enumerate() {
-            if !s.target.iter().all(|c| c.is_finite()) {
-                return Err(err(
-                    &format!("samples[{k}].target"),
-                    format!("is {:?}: expected finite coordinates", s.target),
-                ));
+            if let Some(problem) = target_problem(k, &Point3::from(s.target)) {
+                return Err(problem);
             }
             space
                 .validate(&s.values)

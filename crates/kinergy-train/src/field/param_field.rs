@@ -336,6 +336,41 @@ where
     rows.into_iter().collect()
 }
 
+/// What is wrong with sample `k`'s `target`, if anything: the field (`samples[k].target`,
+/// or the coordinate) and why. A target is finite and within
+/// [`MAX_TARGET_DISTANCE`](crate::MAX_TARGET_DISTANCE) of its arm's base: one no arm
+/// reaches (1e308 m, from a damaged file) would make every kernel weight overflow and the
+/// field's parameters NaN. Numbers are said short.
+pub(crate) fn target_problem(k: usize, target: &Point3<f64>) -> Option<(String, String)> {
+    let num = kinergy_io::Num;
+    if !target.iter().all(|c| c.is_finite()) {
+        return Some((
+            format!("samples[{k}].target"),
+            format!(
+                "is ({}, {}, {}): expected finite coordinates",
+                num(target.x),
+                num(target.y),
+                num(target.z)
+            ),
+        ));
+    }
+    let distance = target.x.hypot(target.y).hypot(target.z);
+    let max = crate::MAX_TARGET_DISTANCE;
+    if distance <= max {
+        return None;
+    }
+    let i = (0..3).find(|&i| target[i].abs() > max).unwrap_or(0);
+    Some((
+        format!("samples[{k}].target[{i}]"),
+        format!(
+            "is {}: a sample's target is within {max} m of its arm's base ({} m away): a \
+             damaged file?",
+            num(target[i]),
+            num(distance)
+        ),
+    ))
+}
+
 fn check_inputs(
     space: &ParamSpace,
     samples: &[(Point3<f64>, Vec<f64>)],
@@ -354,14 +389,9 @@ fn check_inputs(
 }
 
 fn check_sample(space: &ParamSpace, k: usize, target: &Point3<f64>, params: &[f64]) -> Result<()> {
-    InvalidSetting::require(
-        target.iter().all(|c| c.is_finite()),
-        &format!("samples[{k}].target"),
-        format!(
-            "finite coordinates, not ({}, {}, {})",
-            target.x, target.y, target.z
-        ),
-    )?;
+    if let Some((field, why)) = target_problem(k, target) {
+        return Err(TrainError::Setting(InvalidSetting::new(field, why)));
+    }
     space.validate(params).map_err(|e| {
         TrainError::Setting(InvalidSetting::new(
             format!("samples[{k}].params"),

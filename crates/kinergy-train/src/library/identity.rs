@@ -120,7 +120,8 @@ pub fn hash_bytes(bytes: &[u8]) -> String {
 /// Every setting a library's results depend on, by name (the CLI's flag names where there
 /// is one): the seed, the models, the optimizer, the controller, the objective, the budget
 /// and the other search settings, the refinement, and the query's arm, frames, selection,
-/// base, reading options and segments file (its hash). Shards of one library must have the
+/// base, reading options (`unit`, `up` and `positions`, as `--from-unit`, `--up` and
+/// `--positions` spell them) and segments file (its hash). Shards of one library must have the
 /// same; [`Settings::differences`] names the ones that differ.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(transparent)]
@@ -187,13 +188,11 @@ impl Settings {
         set("frames", frames.into());
         set("select", select);
         set("base", format!("{:?}", query.base).to_lowercase().into());
-        // How the captures are read, but for the largest file read (which refuses a take,
-        // never changes its fit).
-        let read = kinergy_motion::ImportOptions {
-            max_file_bytes: None,
-            ..query.read
-        };
-        set("read", format!("{read:?}").into());
+        // How the captures are read, each as its flag spells it (`--from-unit`, `--up`,
+        // `--positions`); the largest file read refuses a take, never changes its fit.
+        set("unit", query.read.unit.name().into());
+        set("up", query.read.up.name().into());
+        set("positions", query.read.position_reading.name().into());
         let segments = match segments {
             None => Value::Null,
             Some(path) => {
@@ -325,6 +324,35 @@ mod tests {
             a.differences(&c, "here"),
             ["controller paper (here: smooth)"]
         );
+        // The sweep's reading options, once printed as `read ImportOptions { unit: … }`:
+        // each named as its flag spells it, with both values.
+        let read = ReachQuery {
+            read: kinergy_motion::ImportOptions {
+                unit: kinergy_motion::UnitChoice::Fixed(kinergy_motion::LengthUnit::Centimeter),
+                up: kinergy_motion::UpChoice::Fixed(kinergy_motion::UpAxis::NegZ),
+                position_reading: kinergy_motion::PositionReadingChoice::Add,
+                max_file_bytes: Some(7),
+            },
+            ..ReachQuery::default()
+        };
+        let d = Settings::of(&job, &read, None).unwrap();
+        assert_eq!(
+            a.differences(&d, "this run"),
+            [
+                "unit cm (this run: auto)",
+                "up -z (this run: auto)",
+                "positions add (this run: auto)"
+            ]
+        );
+        // The largest file read is no setting of the fits.
+        let big = ReachQuery {
+            read: kinergy_motion::ImportOptions {
+                max_file_bytes: Some(1 << 40),
+                ..ReachQuery::default().read
+            },
+            ..ReachQuery::default()
+        };
+        assert_eq!(Settings::of(&job, &big, None).unwrap(), a);
     }
 
     #[test]

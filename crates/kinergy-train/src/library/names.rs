@@ -9,11 +9,26 @@
 //! name; what follows it (frames, and an arm label whose characters other than letters,
 //! digits, `-` and `_` are written `%XX`) has no `@` but the separators. Two different
 //! (take, reach) pairs never get one name (a property test checks it).
+//!
+//! The folders of a take's path are kept as they are, but for three kinds of name, which
+//! get an `@` added at their end ([`folder_name`]):
+//! - a folder whose name ends in `.json` (any case), which a take's result could be named
+//!   (`r.bvh.json/a.bvh` → `r.bvh.json@/a.bvh.json`, beside `r.bvh`'s `r.bvh.json`);
+//! - at the root, the library's own names, [`RESERVED`]: `shards`, `library.csv` and
+//!   `skipped.csv` (any case): `shards/a.bvh` → `shards@/a.bvh.json`;
+//! - a folder whose name already ends in `@` (`x@/a.bvh` → `x@@/a.bvh.json`), so that no
+//!   two folders are written alike.
+//!
+//! So a result file's name always ends in `.json` and a results folder's never does, no
+//! results folder is one of the library's own files, and two folders of takes are never
+//! one folder of results.
 
 use std::collections::HashMap;
+use std::ffi::{OsStr, OsString};
 use std::ops::Range;
 use std::path::{Component, Path, PathBuf};
 
+use super::table::{LIBRARY, SHARDS, SKIPPED};
 use crate::CapturedReach;
 use crate::segments_file::{SegmentRow, SegmentsFile};
 
@@ -142,9 +157,39 @@ pub fn names_of(common: &Path, take: &Path, reaches: &[(Range<usize>, String)]) 
     result_names(&relative_name(common, take), reaches)
 }
 
+/// The library's own names at its root, which no folder of results may have (compared
+/// without regard to case, for file systems that ignore it).
+pub const RESERVED: [&str; 3] = [SHARDS, LIBRARY, SKIPPED];
+
+/// How a folder of a take's path from the root is named among the results: `name` as it
+/// is, or with an `@` added where it ends in `.json`, in `@`, or (at the root, `top`) is one
+/// of the [`RESERVED`] names (see the [module docs](self)).
+pub fn folder_name(name: &OsStr, top: bool) -> OsString {
+    // The tests are on ASCII, which a lossy conversion keeps; the name itself is kept whole.
+    let lower = name.to_string_lossy().to_ascii_lowercase();
+    let reserved = top && RESERVED.iter().any(|r| lower == *r);
+    let mut out = name.to_os_string();
+    if reserved || lower.ends_with(".json") || lower.ends_with('@') {
+        out.push("@");
+    }
+    out
+}
+
+/// The folder of the results of the take at `relative` (its path from the library's root),
+/// relative to the library folder: its folders, each named by [`folder_name`].
+pub fn result_folder(relative: &Path) -> PathBuf {
+    let folders = relative.parent().unwrap_or(Path::new(""));
+    folders
+        .components()
+        .enumerate()
+        .map(|(i, c)| folder_name(c.as_os_str(), i == 0))
+        .collect()
+}
+
 /// The result names of the reaches `reaches` (frames and arm label, each pair once) of the
 /// take at `relative` (its path from the library's root), as the module docs describe.
 pub fn result_names(relative: &Path, reaches: &[(Range<usize>, String)]) -> Vec<PathBuf> {
+    let folder = result_folder(relative);
     let file = relative
         .file_name()
         .map_or_else(|| "clip".into(), |s| s.to_string_lossy().into_owned())
@@ -159,7 +204,7 @@ pub fn result_names(relative: &Path, reaches: &[(Range<usize>, String)]) -> Vec<
                 (true, false) => format!("{file}@{start}-{end}.json"),
                 (true, true) => format!("{file}@{start}-{end}@{}.json", label(arm)),
             };
-            relative.with_file_name(name)
+            folder.join(name)
         })
         .collect()
 }
@@ -279,32 +324,92 @@ mod tests {
         })
     }
 
+    /// The sweep's takes whose results fell on the library's own files or on another take's
+    /// results: under `shards/`, `library.csv/`, a folder named like a result.
+    #[test]
+    fn takes_in_folders_named_like_the_library_s_files_or_a_result_get_their_own_folder() {
+        let name = |take: &str| result_names(Path::new(take), &[(1..2, "right".into())]);
+        assert_eq!(name("shards/a.bvh"), [PathBuf::from("shards@/a.bvh.json")]);
+        assert_eq!(
+            name("Library.CSV/a.bvh"),
+            [PathBuf::from("Library.CSV@/a.bvh.json")]
+        );
+        assert_eq!(
+            name("skipped.csv/a.bvh"),
+            [PathBuf::from("skipped.csv@/a.bvh.json")]
+        );
+        // Below the root, the library's names are anybody's.
+        assert_eq!(
+            name("x/shards/a.bvh"),
+            [PathBuf::from("x/shards/a.bvh.json")]
+        );
+        assert_eq!(
+            name("r.bvh.json/a.bvh"),
+            [PathBuf::from("r.bvh.json@/a.bvh.json")]
+        );
+        assert_eq!(
+            name("p/r.bvh@1-2.JSON/a.bvh"),
+            [PathBuf::from("p/r.bvh@1-2.JSON@/a.bvh.json")]
+        );
+        assert_eq!(name("x@/a.bvh"), [PathBuf::from("x@@/a.bvh.json")]);
+        assert_eq!(name("p01/r01.bvh"), [PathBuf::from("p01/r01.bvh.json")]);
+        // The file next to the folder keeps its name.
+        assert_eq!(name("r.bvh"), [PathBuf::from("r.bvh.json")]);
+    }
+
+    /// Folders of takes: plain, with `@`, and named like the library's files or a result.
+    fn folders() -> impl Strategy<Value = String> {
+        prop::collection::vec(
+            "(p1|sub|p@|p@@|shards|SHARDS|library\\.csv|skipped\\.csv|r\\.bvh\\.json|a\\.JSON@?|[a.@]{1,3}\\.json@{0,2}|a@1-2\\.json)",
+            0..3,
+        )
+        .prop_map(|parts| parts.iter().map(|p| format!("{p}/")).collect())
+    }
+
     proptest! {
-        /// No two (take, reach) pairs of a library map to one result name.
+        /// No two (take, reach) pairs of a library map to one result name, no result file is
+        /// a folder of other results, and none is, or is in, one of the library's own names.
         #[test]
         fn result_names_are_unique_over_takes_and_reaches(
             takes in prop::collection::btree_map(
-                ("(|p1/|p1/sub/|p@/)", file_name()).prop_map(|(d, f)| format!("{d}{f}")),
+                (folders(), file_name()).prop_map(|(d, f)| format!("{d}{f}")),
                 reach_keys(),
-                1..6,
+                1..8,
             )
         ) {
             let mut seen: HashSet<PathBuf> = HashSet::new();
+            let mut folders: HashSet<PathBuf> = HashSet::new();
             let mut pairs = 0;
             for (take, keys) in &takes {
                 let names = result_names(Path::new(take), keys);
                 prop_assert_eq!(names.len(), keys.len());
                 for name in names {
                     pairs += 1;
-                    // In the take's folder, starting with its escaped file name.
-                    prop_assert_eq!(name.parent(), Path::new(take).parent());
+                    // In the take's results folder, starting with its escaped file name.
+                    let folder = result_folder(Path::new(take));
+                    prop_assert_eq!(name.parent(), Some(folder.as_path()));
                     let file = Path::new(take).file_name().unwrap().to_string_lossy();
                     let escaped = file.replace('@', "@@");
                     prop_assert!(name.file_name().unwrap().to_string_lossy().starts_with(&escaped));
+                    prop_assert!(name.to_string_lossy().ends_with(".json"));
+                    let first = name.components().next().unwrap().as_os_str().to_string_lossy();
+                    let first = first.to_ascii_lowercase();
+                    prop_assert!(!RESERVED.contains(&first.as_str()), "{:?} is the library's", name);
                     prop_assert!(seen.insert(name.clone()), "{:?} twice in {:?}", name, takes);
+                    folders.extend(name.ancestors().skip(1).map(Path::to_path_buf));
                 }
             }
             prop_assert_eq!(seen.len(), pairs);
+            for name in &seen {
+                prop_assert!(!folders.contains(name), "{:?} is a file and a folder in {:?}", name, takes);
+            }
+        }
+
+        /// Two folders of takes are never one folder of results.
+        #[test]
+        fn folders_of_results_are_one_to_one(a in folders(), b in folders()) {
+            let (fa, fb) = (result_folder(&Path::new(&a).join("t.bvh")), result_folder(&Path::new(&b).join("t.bvh")));
+            prop_assert_eq!(a == b, fa == fb, "{:?} {:?} -> {:?} {:?}", a, b, fa, fb);
         }
     }
 }

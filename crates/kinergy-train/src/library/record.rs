@@ -13,8 +13,8 @@
 //!   shard goes.
 //!
 //! Reading is strict: a record that is empty, has only its header line, starts with a
-//! byte-order mark, or has a column too many or too few is refused, naming the file and
-//! the line. Record names are `I-of-N` with 1 ≤ I ≤ N ≤ 100,000 and no leading zero.
+//! byte-order mark, has a column too many or too few, or a reach whose frames are not whole
+//! numbers (or end before they start) is refused, naming the file and the line. Record names are `I-of-N` with 1 ≤ I ≤ N ≤ 100,000 and no leading zero.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -294,6 +294,9 @@ pub fn read_record(path: &Path) -> Result<Vec<RecordRow>, LibraryError> {
                 )));
             }
         }
+        if row.kind == "reach" {
+            check_frames(&row).map_err(|why| refuse(format!("line {line}, {why}")))?;
+        }
         rows.push(row);
     }
     if rows.is_empty() {
@@ -304,6 +307,30 @@ pub fn read_record(path: &Path) -> Result<Vec<RecordRow>, LibraryError> {
         ));
     }
     Ok(rows)
+}
+
+/// Checks a `reach` row's frames: `onset` and `end` whole numbers (a `usize`), the end
+/// after the onset. Says which column is wrong otherwise.
+fn check_frames(row: &RecordRow) -> Result<(), String> {
+    let frame =
+        |column: &str, text: &str| {
+            let plain = !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit());
+            plain.then(|| text.parse::<usize>().ok()).flatten().ok_or_else(|| {
+            format!(
+                "column {column}: `{}` is no frame (a whole number, 0 or more): not a record \
+                 Kinergy wrote (edited by hand?)",
+                kinergy_io::clip_text(text, 24)
+            )
+        })
+        };
+    let (onset, end) = (frame("onset", &row.onset)?, frame("end", &row.end)?);
+    if end <= onset {
+        return Err(format!(
+            "columns onset, end: the reach ends (frame {end}) before it starts (frame \
+             {onset}): not a record Kinergy wrote (edited by hand?)"
+        ));
+    }
+    Ok(())
 }
 
 /// A CSV error as a record's refusal says it: the line, and what is wrong.
@@ -547,7 +574,24 @@ mod tests {
         let good = format!("{header}\nshard,,,,,,1-of-1.json,abc,,\ntake,a.bvh,,,,,,,,\n");
         let path = write(dir.path(), "good.csv", good.as_bytes());
         assert_eq!(read_record(&path).unwrap().len(), 2);
-        let cases: [(&str, Vec<u8>, &str); 6] = [
+        let huge = format!(
+            "{header}\nshard,,,,,,1-of-1.json,abc,,\nreach,a.bvh,p,right,{},9,a.bvh.json,h,,\n",
+            "9".repeat(40)
+        );
+        let backwards = format!(
+            "{header}\nshard,,,,,,1-of-1.json,abc,,\nreach,a.bvh,p,right,9,3,a.bvh.json,h,,\n"
+        );
+        let cases: [(&str, Vec<u8>, &str); 8] = [
+            (
+                "huge-onset.csv",
+                huge.into_bytes(),
+                "line 3, column onset: `999999999999999999999999…",
+            ),
+            (
+                "backwards.csv",
+                backwards.into_bytes(),
+                "line 3, columns onset, end: the reach ends (frame 3) before it starts",
+            ),
             ("empty.csv", vec![], "empty"),
             (
                 "header.csv",

@@ -22,12 +22,12 @@ use rayon::prelude::*;
 
 use super::deal;
 use super::identity::{Settings, TakeIdentity, hash_file, slash_path};
-use super::names::{Takes, relative_name, take_names};
+use super::names::{Takes, relative_name, result_folder, take_names};
 use super::record::{
     FORMAT, RecordFile, RecordRow, ShardHeader, ShardRecord, TakesCache, header_path, load_shard,
     parse_record_name, record_path, write_header, write_record, write_takes,
 };
-use super::table::{LibraryError, SHARDS};
+use super::table::{LIBRARY, LibraryError, SHARDS, SKIPPED};
 use super::{Shard, collect::safe_relative};
 use crate::CapturedReach;
 use crate::anneal::Observer;
@@ -275,12 +275,70 @@ impl ShardRun<'_> {
             .filter(|(_, s)| *s == self.shard.index)
             .map(|(i, _)| i)
             .collect();
+        self.check_folders(&plan.mine)?;
         let records = self.records();
         self.check_settings(&plan.settings, &records)?;
         if self.resume {
             self.found_fitted(&mut plan, &records);
         }
         Ok(plan)
+    }
+
+    /// Refuses, before any work, a library folder where something is in the way of what the
+    /// run writes: a file (or anything but a folder) where the `shards` folder or a folder
+    /// of the results of one of the takes `mine` goes, or anything but a regular file where
+    /// `library.csv` or `skipped.csv` goes.
+    fn check_folders(&self, mine: &[usize]) -> Result<(), LibraryError> {
+        let kind = |m: &std::fs::Metadata| match kinergy_io::describe_file_type(m) {
+            "a regular file" => "a file",
+            other => other,
+        };
+        let not_folder = |path: &Path| {
+            std::fs::metadata(path)
+                .ok()
+                .filter(|m| !m.is_dir())
+                .map(|m| kind(&m))
+        };
+        let in_the_way = |path: PathBuf, kind: &str, needed: String| LibraryError::Input {
+            path,
+            why: format!("{kind} where {needed}: move it away, or fit into another folder"),
+        };
+        let shards = self.dir.join(SHARDS);
+        if let Some(kind) = not_folder(&shards) {
+            return Err(in_the_way(
+                shards,
+                kind,
+                "the folder of the shards' records is needed".into(),
+            ));
+        }
+        for table in [LIBRARY, SKIPPED] {
+            let path = self.dir.join(table);
+            if let Ok(m) = std::fs::metadata(&path)
+                && !m.is_file()
+            {
+                return Err(in_the_way(path, kind(&m), "the table is written".into()));
+            }
+        }
+        let mut checked = HashSet::new();
+        for &i in mine {
+            let take = &self.takes.paths[i];
+            let folder = result_folder(&relative_name(&self.takes.common, take));
+            let mut path = self.dir.to_path_buf();
+            for part in folder.components() {
+                path.push(part);
+                if !checked.insert(path.clone()) {
+                    continue;
+                }
+                if let Some(kind) = not_folder(&path) {
+                    return Err(in_the_way(
+                        path,
+                        kind,
+                        format!("the folder of the results of {} is needed", take.display()),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The records of this library already in its folder that can be read (the others
@@ -420,9 +478,9 @@ impl ShardRun<'_> {
             path: self.dir.to_path_buf(),
             why: format!("cannot create the folder: {e}"),
         })?;
-        std::fs::create_dir_all(&shards).map_err(|e| LibraryError::Input {
+        kinergy_io::create_folder(&shards).map_err(|e| LibraryError::Input {
             path: shards.clone(),
-            why: e.to_string(),
+            why: format!("cannot create the folder of the shards' records: {e}"),
         })?;
         let (takes_name, takes_blake3) = write_takes(&shards, &plan.identities)?;
         let header = ShardHeader {
@@ -591,9 +649,9 @@ impl ShardRun<'_> {
                 .job
                 .run_stoppable(group, &mut *observer, Some(self.interrupt))?;
             if let Some(parent) = output.parent() {
-                std::fs::create_dir_all(parent).map_err(|e| LibraryError::Write {
+                kinergy_io::create_folder(parent).map_err(|e| LibraryError::Write {
                     path: parent.to_path_buf(),
-                    why: e.to_string(),
+                    why: format!("cannot create the folder of the results of {clip}: {e}"),
                 })?;
             }
             self.check_not_input(&output, inputs)?;

@@ -218,8 +218,19 @@ impl LibraryRow {
                 None => (file.model == model).then_some(record.score_m),
             }
         };
-        let number = |s: &str| s.parse::<usize>().map_err(|_| format!("frame `{s}`"));
-        let (onset, end) = (number(&row.onset)?, number(&row.end)?);
+        // A record's rows are checked as it is read (`read_record`); this names the result
+        // should one reach here unchecked.
+        let number = |column: &str, s: &str| {
+            s.parse::<usize>().map_err(|_| {
+                format!(
+                    "result {}: its record's {column} `{}` is no frame (a whole number, 0 or \
+                     more)",
+                    path.display(),
+                    kinergy_io::clip_text(s, 24)
+                )
+            })
+        };
+        let (onset, end) = (number("onset", &row.onset)?, number("end", &row.end)?);
         let mut out = LibraryRow {
             clip: row.clip.clone(),
             person: row.person.clone(),
@@ -299,11 +310,19 @@ impl LibraryTable {
         let text = kinergy_io::read_to_string_limited(&table, 1 << 30)
             .map_err(|e| input(e.to_string()))?;
         let mut reader = csv::Reader::from_reader(text.as_bytes());
-        let rows = reader
-            .deserialize()
-            .enumerate()
-            .map(|(i, r)| r.map_err(|e| input(format!("row {}: {e}", i + 2))))
-            .collect::<Result<Vec<LibraryRow>, LibraryError>>()?;
+        let header = reader
+            .headers()
+            .map_err(|e| input(format!("line 1: {e}")))?
+            .clone();
+        let mut rows = Vec::new();
+        for (i, record) in reader.records().enumerate() {
+            let record = record.map_err(|e| input(csv_error(&e, i + 2)))?;
+            let line = record.position().map_or(i + 2, |p| p.line() as usize);
+            let row: LibraryRow = record
+                .deserialize(Some(&header))
+                .map_err(|e| input(cell_error(&e, &header, &record, line)))?;
+            rows.push(row);
+        }
         let read = LibraryTable {
             rows,
             skipped: Vec::new(),
@@ -391,6 +410,50 @@ impl LibraryTable {
         lines.push(person_line("all", &self.rows.iter().collect::<Vec<_>>()));
         lines
     }
+}
+
+/// A CSV error of row `line` of `library.csv`, in words: the row, and what is wrong.
+fn csv_error(e: &csv::Error, line: usize) -> String {
+    match e.kind() {
+        csv::ErrorKind::UnequalLengths {
+            pos,
+            expected_len,
+            len,
+        } => format!(
+            "row {}: {len} fields where the header has {expected_len}",
+            pos.as_ref().map_or(line as u64, csv::Position::line)
+        ),
+        csv::ErrorKind::Utf8 { .. } => format!("row {line}: not UTF-8 text"),
+        _ => format!("row {line}: {e}"),
+    }
+}
+
+/// A cell of `library.csv` that cannot be read, in words: its row (as a line of the file)
+/// and column, the value as written (shortened), and what it should be.
+fn cell_error(
+    e: &csv::Error,
+    header: &csv::StringRecord,
+    record: &csv::StringRecord,
+    line: usize,
+) -> String {
+    let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
+        return csv_error(e, line);
+    };
+    let Some(field) = err.field().and_then(|f| usize::try_from(f).ok()) else {
+        return format!("row {line}: {}", err.kind());
+    };
+    let column = header.get(field).unwrap_or("?");
+    let value = kinergy_io::clip_text(record.get(field).unwrap_or(""), 40);
+    let should = match err.kind() {
+        csv::DeserializeErrorKind::ParseFloat(_) => {
+            "is not a number (a decimal such as 0.0123, or empty)".to_string()
+        }
+        csv::DeserializeErrorKind::ParseInt(_) => {
+            "is not a whole number (0 or more, digits only)".to_string()
+        }
+        kind => format!("cannot be read: {kind}"),
+    };
+    format!("row {line}, column {column}: `{value}` {should}")
 }
 
 fn person_line(person: &str, rows: &[&LibraryRow]) -> PersonLine {
@@ -533,7 +596,8 @@ mod tests {
             assert!(e.starts_with(expected), "{expected}: {e}");
         }
         // Through the file, as `compare --library` reads it: NaN and -inf as the CSV spells
-        // them, and a table with every distance empty.
+        // them, and a table with every distance empty; and the sweep's cells that are no
+        // number (`abc`, `1_0`, ` 0.05`, `0x10`), once "CSV deserialize error… field 8".
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(LIBRARY);
         let header = "clip,person,distance_sa_m,distance_sb_m,distance_sc_m,distance_sd_m";
@@ -541,6 +605,23 @@ mod tests {
             ("a,p1,NaN,,,", "row 2, column distance_sa_m: NaN"),
             ("a,p1,0.02,-inf,,", "row 2, column distance_sb_m: -inf"),
             ("a,p1,,,,\nb,p1,,,,", "row 2: every distance"),
+            (
+                "a,p1,0.02,,,\nb,p1,abc,,,",
+                "row 3, column distance_sa_m: `abc` is not a number",
+            ),
+            (
+                "a,p1,0.02,1_0,,",
+                "row 2, column distance_sb_m: `1_0` is not a number",
+            ),
+            (
+                "a,p1,0.02,,,\nb,p1,0.02,, 0.05,",
+                "row 3, column distance_sc_m: ` 0.05` is not a number",
+            ),
+            (
+                "a,p1,0.02,,,0x10",
+                "row 2, column distance_sd_m: `0x10` is not a number",
+            ),
+            ("a,p1,0.02,,", "row 2: 5 fields where the header has 6"),
         ] {
             std::fs::write(&path, format!("{header}\n{body}\n")).unwrap();
             let e = LibraryTable::read(&path).unwrap_err();
