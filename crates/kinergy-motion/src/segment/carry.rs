@@ -3,13 +3,12 @@
 //! Relative to the shoulder, a stoop to the floor barely moves the hand, and a hand that ends
 //! hanging straight down under a bent trunk looks like an arm going back to rest; in the
 //! world both are the hand going down to where it stops. Where the world reading has a reach
-//! (or, carried by the trunk, a return) that walking does not explain, it replaces the
-//! relative segments over the same frames; a relative reach that the trunk carries is
-//! measured in the world.
+//! the trunk carries, or one the relative reading missed, or a return the trunk carries, and
+//! walking does not explain it, it replaces the relative segments over the same frames.
 
 use nalgebra::Vector3;
 
-use super::label::Labelled;
+use super::label::{Labelled, settle, settled};
 use super::signal::Signal;
 use super::types::{Label, Segment, SegmentSettings};
 
@@ -17,17 +16,6 @@ use super::types::{Label, Segment, SegmentSettings};
 /// displacement without the body's travel over the ground), from which the trunk carries the
 /// hand (a stoop, a squat, standing up).
 const TRUNK_SHARE: f64 = 0.5;
-
-/// What a world segment does to the relative reading (module docs, step 7).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Verdict {
-    /// Nothing.
-    Keep,
-    /// It replaces the relative segments over its frames.
-    Take,
-    /// The relative reaches arriving in it are measured in the world.
-    Measure,
-}
 
 /// The segments of the relative reading (`relative`, on `signal`) with what the world
 /// segments (`world`, on `world_signal`, the same clip read in the world) change in it (module
@@ -39,33 +27,30 @@ pub(super) fn merge(
     world: &[Segment],
     settings: &SegmentSettings,
 ) -> Vec<Segment> {
+    // Step 7's tests judge a world segment as its motion ends; the one taken ends where the
+    // hand comes to rest (step 6).
     let mut taken: Vec<Segment> = Vec::new();
-    let mut measured: Vec<Segment> = Vec::new();
-    for w in world {
-        match verdict(world_signal, w, &relative, settings) {
-            Verdict::Keep => {}
-            Verdict::Take => taken.push(Segment {
+    for (i, w) in world.iter().enumerate() {
+        if verdict(world_signal, w, &relative, settings) {
+            let next = world.get(i + 1).map_or(world_signal.len(), |s| s.onset);
+            let w = if w.label == Label::Reach {
+                settled(world_signal, w, next, settings)
+            } else {
+                *w
+            };
+            taken.push(Segment {
                 from_world: true,
-                ..*w
-            }),
-            Verdict::Measure => measured.push(*w),
+                ..w
+            });
         }
     }
-    let hand = &world_signal.world;
-    let relative = relative.into_iter().map(|l| {
-        let s = l.segment;
-        if s.label == Label::Reach && measured.iter().any(|w| arrives(&s, w)) {
-            Segment {
-                displacement: (hand[s.end - 1] - hand[s.onset]).norm(),
-                from_world: true,
-                ..s
-            }
-        } else {
-            s
-        }
-    });
+    let relative = settle(
+        signal,
+        relative.into_iter().map(|l| l.segment).collect(),
+        settings,
+    );
     if taken.is_empty() {
-        return relative.collect();
+        return relative;
     }
     let mut out = taken.clone();
     for s in relative {
@@ -83,7 +68,7 @@ pub(super) fn merge(
         let (onset, end) = (s.onset + start, s.onset + start + len);
         if (onset, end) == (s.onset, s.end) {
             out.push(s);
-        } else if let Some(cut) = cut(signal, world_signal, &s, onset, end) {
+        } else if let Some(cut) = cut(signal, &s, onset, end) {
             out.push(cut);
         }
     }
@@ -92,10 +77,15 @@ pub(super) fn merge(
     out
 }
 
-/// `r` (a relative reach) overlaps `w` and ends in its later half: it is the relative
-/// reading's arrival of `w`.
-fn arrives(r: &Segment, w: &Segment) -> bool {
-    r.onset < w.end && r.end > w.onset + (w.end - w.onset) / 2
+/// `r` (a relative reach) overlaps `w`, ends in its later half, and its hand stops where
+/// `w`'s does (within a small move, in the world): it is the relative reading's arrival of
+/// `w`. A relative reach that stops short — the arm done while the trunk still carries the
+/// hand down — is not.
+fn arrives(world: &Signal, r: &Segment, w: &Segment, settings: &SegmentSettings) -> bool {
+    let hand = &world.world;
+    r.onset < w.end
+        && r.end > w.onset + (w.end - w.onset) / 2
+        && (hand[r.end - 1] - hand[w.end - 1]).norm() <= settings.small_move * world.arm_length
 }
 
 /// Frames of `r` inside `w`.
@@ -103,16 +93,12 @@ fn inside(r: &Segment, w: &Segment) -> usize {
     r.end.min(w.end).saturating_sub(r.onset.max(w.onset))
 }
 
-/// What the world segment `w` does to the relative reading (module docs, step 7).
-fn verdict(
-    world: &Signal,
-    w: &Segment,
-    relative: &[Labelled],
-    settings: &SegmentSettings,
-) -> Verdict {
+/// Whether the world segment `w` replaces the relative segments over its frames (module
+/// docs, step 7).
+fn verdict(world: &Signal, w: &Segment, relative: &[Labelled], settings: &SegmentSettings) -> bool {
     let (a, b) = (w.onset, w.end.saturating_sub(1));
     if b <= a || b >= world.len() {
-        return Verdict::Keep;
+        return false;
     }
     let length = world.arm_length;
     let hand = world.world[b] - world.world[a];
@@ -128,29 +114,30 @@ fn verdict(
         })
         .sum();
     if own < settings.min_reach * length || travel > own + length {
-        return Verdict::Keep;
+        return false;
     }
     let span = w.end - w.onset;
     // The arm must move relative to the shoulder over most of `w`: otherwise the body
     // carries a resting hand (the idle hand of a one-hand pick-up).
     let moving: usize = relative.iter().map(|r| inside(&r.segment, w)).sum();
     if 2 * moving < span {
-        return Verdict::Keep;
+        return false;
     }
     let trunk = shoulder.y.abs() >= (TRUNK_SHARE * own).max(settings.min_reach * length);
     match w.label {
         Label::Reach if !w.truncated_end => {
+            if trunk {
+                // The hand goes where the trunk takes it: the reach ends where the hand
+                // stops in the world, not where the arm stops moving relative to the
+                // shoulder.
+                return true;
+            }
             if relative
                 .iter()
-                .any(|r| r.segment.label == Label::Reach && arrives(&r.segment, w))
+                .any(|r| r.segment.label == Label::Reach && arrives(world, &r.segment, w, settings))
             {
-                // The relative reading has the reach: it keeps it, measured in the world if
-                // the trunk carries it.
-                return if trunk {
-                    Verdict::Measure
-                } else {
-                    Verdict::Keep
-                };
+                // The relative reading has the reach.
+                return false;
             }
             // Or it cuts the same stretch into directed movements — those at least half
             // inside `w` cover at least half of it, none oscillating, one at least a reach's
@@ -160,19 +147,14 @@ fn verdict(
                 .filter(|r| 2 * inside(&r.segment, w) >= r.segment.end - r.segment.onset)
                 .collect();
             let seen: usize = same.iter().map(|r| inside(&r.segment, w)).sum();
-            let missed = 2 * seen >= span
+            2 * seen >= span
                 && same.iter().all(|r| r.directed)
                 && same
                     .iter()
-                    .any(|r| r.segment.displacement >= settings.min_reach * length);
-            if trunk || missed {
-                Verdict::Take
-            } else {
-                Verdict::Keep
-            }
+                    .any(|r| r.segment.displacement >= settings.min_reach * length)
         }
-        Label::Return if trunk => Verdict::Take,
-        _ => Verdict::Keep,
+        Label::Return => trunk,
+        _ => false,
     }
 }
 
@@ -190,11 +172,10 @@ fn longest_run(flags: &[bool]) -> (usize, usize) {
     best
 }
 
-/// `s` cut to frames `onset..end` (inside it, end excluded): its peak and displacement taken
-/// again on `signal` (the displacement on the world hand of `world` for a reach measured
-/// there); a cut side is no longer cut by the clip. `None` when fewer than two frames are
-/// left.
-fn cut(signal: &Signal, world: &Signal, s: &Segment, onset: usize, end: usize) -> Option<Segment> {
+/// `s` (a relative segment) cut to frames `onset..end` (inside it, end excluded): its peak
+/// and displacement taken again on `signal`; a cut side is no longer cut by the clip. `None`
+/// when fewer than two frames are left.
+fn cut(signal: &Signal, s: &Segment, onset: usize, end: usize) -> Option<Segment> {
     if end < onset + 2 || end > signal.len() {
         return None;
     }
@@ -210,11 +191,7 @@ fn cut(signal: &Signal, world: &Signal, s: &Segment, onset: usize, end: usize) -
         peak_speed: speed[peak],
         truncated_start: s.truncated_start && onset == s.onset,
         truncated_end: s.truncated_end && end == s.end,
-        displacement: if s.from_world {
-            (world.world[end - 1] - world.world[onset]).norm()
-        } else {
-            (signal.path[end - 1] - signal.path[onset]).norm()
-        },
+        displacement: (signal.path[end - 1] - signal.path[onset]).norm(),
         ..*s
     })
 }
