@@ -437,7 +437,7 @@ fn every_generated_floor_reach_is_found_and_ends_where_the_hand_stops_lowest() {
             hand[stop].y - lowest
         );
         let last = main["end"].as_u64().expect("end") as usize - 1;
-        if main["label"] != "reach" || main["truncated"] != false || last.abs_diff(stop) > 3 {
+        if main["label"] != "reach" || main["truncated_end"] != false || last.abs_diff(stop) > 3 {
             wrong.push(format!(
                 "{clip}: main {} ({}), the hand stops lowest on frame {stop}",
                 main["frames"], main["label"]

@@ -162,12 +162,16 @@
 //!    The *trunk carries* w when the shoulder rises or falls by at least half of o and by at
 //!    least `min_reach` · L (a stoop, a squat, standing up). These tests take w as its motion
 //!    ends, before step 6's settle. Then:
+//!    - a relative reach *arrives* in w when it overlaps w, ends in its later half and stops
+//!      within `small_move` · L of where w stops; it *has all of* w when it also starts no
+//!      later than w;
 //!    - a reach w that ends held (not cut by the clip's end) and that the trunk carries
-//!      *replaces* the relative segments over its frames: the reach ends where the hand stops
-//!      in the world, not where the arm stops moving relative to the shoulder;
-//!    - a reach w that ends held, not carried by the trunk, where a relative reach overlaps w,
-//!      ends in its later half and stops within `small_move` · L of where w stops (the
-//!      relative reading has it): the relative reach stays;
+//!      *replaces* the relative segments over its frames — the reach ends where the hand
+//!      stops in the world, not where the arm stops moving relative to the shoulder — unless
+//!      a relative reach has all of it: that one stays, its displacement measured in the
+//!      world;
+//!    - a reach w that ends held, not carried by the trunk, where a relative reach arrives
+//!      (the relative reading has it): the relative reach stays;
 //!    - a reach w that ends held, without such a relative reach, replaces the relative
 //!      segments if the relative reading missed it: the relative segments at least half
 //!      inside w cover at least half of it, each one directed movement (a chain of step 3, not
@@ -178,8 +182,8 @@
 //!    A relative segment with at least half of its frames inside replacing world segments is
 //!    dropped; one with fewer is cut to its longest stretch outside them (peak and
 //!    displacement taken again). A replacing segment is the world reading's: frames, label,
-//!    peak, speed and displacement (a reach settled as in step 6, on the world path). They are
-//!    marked [`Segment::from_world`]. The two hands of a both-hands pick-up — one arm's reach found
+//!    peak, speed and displacement (a reach settled as in step 6, on the world path).
+//!    Segments measured or replacing are marked [`Segment::from_world`]. The two hands of a both-hands pick-up — one arm's reach found
 //!    relative to the shoulder, the other's only in the world — so compare alike (`--arm
 //!    auto` keeps an arm by its reach's displacement). Raises, pointing and reaches at a
 //!    table change nothing: the shoulder barely rises or falls and the relative reading has

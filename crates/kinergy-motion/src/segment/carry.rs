@@ -4,7 +4,8 @@
 //! hanging straight down under a bent trunk looks like an arm going back to rest; in the
 //! world both are the hand going down to where it stops. Where the world reading has a reach
 //! the trunk carries, or one the relative reading missed, or a return the trunk carries, and
-//! walking does not explain it, it replaces the relative segments over the same frames.
+//! walking does not explain it, it replaces the relative segments over the same frames; a
+//! relative reach that has all of a reach the trunk carries is measured in the world.
 
 use nalgebra::Vector3;
 
@@ -30,25 +31,48 @@ pub(super) fn merge(
     // Step 7's tests judge a world segment as its motion ends; the one taken ends where the
     // hand comes to rest (step 6).
     let mut taken: Vec<Segment> = Vec::new();
+    let mut measured: Vec<Segment> = Vec::new();
     for (i, w) in world.iter().enumerate() {
-        if verdict(world_signal, w, &relative, settings) {
-            let next = world.get(i + 1).map_or(world_signal.len(), |s| s.onset);
-            let w = if w.label == Label::Reach {
-                settled(world_signal, w, next, settings)
-            } else {
-                *w
-            };
-            taken.push(Segment {
-                from_world: true,
-                ..w
-            });
+        match verdict(world_signal, w, &relative, settings) {
+            Verdict::Keep => {}
+            Verdict::Measure => measured.push(*w),
+            Verdict::Take => {
+                let next = world.get(i + 1).map_or(world_signal.len(), |s| s.onset);
+                let w = if w.label == Label::Reach {
+                    settled(world_signal, w, next, settings)
+                } else {
+                    *w
+                };
+                taken.push(Segment {
+                    from_world: true,
+                    ..w
+                });
+            }
         }
     }
-    let relative = settle(
+    let hand = &world_signal.world;
+    let relative: Vec<Segment> = settle(
         signal,
         relative.into_iter().map(|l| l.segment).collect(),
         settings,
-    );
+    )
+    .into_iter()
+    .map(|s| {
+        if s.label == Label::Reach
+            && measured
+                .iter()
+                .any(|w| covers(world_signal, &s, w, settings))
+        {
+            Segment {
+                displacement: (hand[s.end - 1] - hand[s.onset]).norm(),
+                from_world: true,
+                ..s
+            }
+        } else {
+            s
+        }
+    })
+    .collect();
     if taken.is_empty() {
         return relative;
     }
@@ -88,17 +112,38 @@ fn arrives(world: &Signal, r: &Segment, w: &Segment, settings: &SegmentSettings)
         && (hand[r.end - 1] - hand[w.end - 1]).norm() <= settings.small_move * world.arm_length
 }
 
+/// `r` (a relative reach) [`arrives`] in `w` and starts no later: the relative reading has
+/// all of `w`.
+fn covers(world: &Signal, r: &Segment, w: &Segment, settings: &SegmentSettings) -> bool {
+    r.onset <= w.onset && arrives(world, r, w, settings)
+}
+
+/// What a world segment does to the relative reading (module docs, step 7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Verdict {
+    /// Nothing.
+    Keep,
+    /// It replaces the relative segments over its frames.
+    Take,
+    /// The relative reach that has all of it is measured in the world.
+    Measure,
+}
+
 /// Frames of `r` inside `w`.
 fn inside(r: &Segment, w: &Segment) -> usize {
     r.end.min(w.end).saturating_sub(r.onset.max(w.onset))
 }
 
-/// Whether the world segment `w` replaces the relative segments over its frames (module
-/// docs, step 7).
-fn verdict(world: &Signal, w: &Segment, relative: &[Labelled], settings: &SegmentSettings) -> bool {
+/// What the world segment `w` does to the relative reading (module docs, step 7).
+fn verdict(
+    world: &Signal,
+    w: &Segment,
+    relative: &[Labelled],
+    settings: &SegmentSettings,
+) -> Verdict {
     let (a, b) = (w.onset, w.end.saturating_sub(1));
     if b <= a || b >= world.len() {
-        return false;
+        return Verdict::Keep;
     }
     let length = world.arm_length;
     let hand = world.world[b] - world.world[a];
@@ -114,30 +159,40 @@ fn verdict(world: &Signal, w: &Segment, relative: &[Labelled], settings: &Segmen
         })
         .sum();
     if own < settings.min_reach * length || travel > own + length {
-        return false;
+        return Verdict::Keep;
     }
     let span = w.end - w.onset;
     // The arm must move relative to the shoulder over most of `w`: otherwise the body
     // carries a resting hand (the idle hand of a one-hand pick-up).
     let moving: usize = relative.iter().map(|r| inside(&r.segment, w)).sum();
     if 2 * moving < span {
-        return false;
+        return Verdict::Keep;
     }
     let trunk = shoulder.y.abs() >= (TRUNK_SHARE * own).max(settings.min_reach * length);
     match w.label {
         Label::Reach if !w.truncated_end => {
+            let reach = |r: &&Labelled| r.segment.label == Label::Reach;
             if trunk {
                 // The hand goes where the trunk takes it: the reach ends where the hand
                 // stops in the world, not where the arm stops moving relative to the
-                // shoulder.
-                return true;
+                // shoulder — unless the relative reading has all of it.
+                return if relative
+                    .iter()
+                    .filter(reach)
+                    .any(|r| covers(world, &r.segment, w, settings))
+                {
+                    Verdict::Measure
+                } else {
+                    Verdict::Take
+                };
             }
             if relative
                 .iter()
-                .any(|r| r.segment.label == Label::Reach && arrives(world, &r.segment, w, settings))
+                .filter(reach)
+                .any(|r| arrives(world, &r.segment, w, settings))
             {
                 // The relative reading has the reach.
-                return false;
+                return Verdict::Keep;
             }
             // Or it cuts the same stretch into directed movements — those at least half
             // inside `w` cover at least half of it, none oscillating, one at least a reach's
@@ -147,14 +202,19 @@ fn verdict(world: &Signal, w: &Segment, relative: &[Labelled], settings: &Segmen
                 .filter(|r| 2 * inside(&r.segment, w) >= r.segment.end - r.segment.onset)
                 .collect();
             let seen: usize = same.iter().map(|r| inside(&r.segment, w)).sum();
-            2 * seen >= span
+            if 2 * seen >= span
                 && same.iter().all(|r| r.directed)
                 && same
                     .iter()
                     .any(|r| r.segment.displacement >= settings.min_reach * length)
+            {
+                Verdict::Take
+            } else {
+                Verdict::Keep
+            }
         }
-        Label::Return => trunk,
-        _ => false,
+        Label::Return if trunk => Verdict::Take,
+        _ => Verdict::Keep,
     }
 }
 

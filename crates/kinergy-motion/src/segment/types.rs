@@ -204,11 +204,12 @@ pub struct Segment {
     /// How far the hand moves from `onset` to `end − 1`, meters (relative to the shoulder by
     /// default, like the speed; in the world for a segment [`from_world`](Self::from_world)).
     pub displacement: f64,
-    /// Read in the world although the segmentation is relative to the shoulder (module docs,
-    /// step 7): a reach or return the trunk carries, or a reach the relative reading misses,
-    /// is the world reading's segment — its frames, label, peak, peak speed and displacement
-    /// (the world hand's). Always false when the whole segmentation is in the world
-    /// ([`SegmentSettings::relative_to_shoulder`] false).
+    /// Measured in the world although the segmentation is relative to the shoulder (module
+    /// docs, step 7): its `displacement` is the world hand's. A reach or return the trunk
+    /// carries, or a reach the relative reading misses, is the world reading's segment (its
+    /// frames, label, peak and peak speed too) — but where a relative reach has all of a
+    /// reach the trunk carries, that one keeps its frames and peak. Always false when the
+    /// whole segmentation is in the world ([`SegmentSettings::relative_to_shoulder`] false).
     pub from_world: bool,
 }
 
