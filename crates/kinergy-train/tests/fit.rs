@@ -890,7 +890,7 @@ fn every_carry_over_scores_the_poorer_model_s_distance_on_real_clips() {
 // Issue 43, item 9: nesting holds. Every clip of the synthetic set, fitted nested S_A → S_D
 // with a small budget (48 evaluations a model, as `compare` does with 4000): each richer
 // model's distance is at most the poorer one's, no violation. (Before the carry-over was
-// exact, S_C ended worse than S_B on 16 of the 56 with 4000.) On 1 thread and on 2, the same
+// exact, S_C ended worse than S_B on 14 of the 56 with 4000.) On 1 thread and on 2, the same
 // fits, bit for bit.
 #[test]
 fn nested_fits_of_the_synthetic_set_never_end_worse_on_any_thread_count() {
