@@ -369,7 +369,7 @@ fn markdown(report: &SummaryReport, summary: &Summary, settings: &ExperimentSett
     if report.nested_violations.is_empty() {
         md.push_str("No richer model ended worse than the poorer one it started from.\n");
     } else {
-        md.push_str("A richer model ended worse than the poorer one (the S_B → S_C carry-over is not exact with the paper's o ≥ 0):\n\n");
+        md.push_str("A richer model ended worse than the poorer one (the carry-over into a sigmoid is exact only where the offsets' lower bound reaches −37, as the default −40 does; with the paper's o ≥ 0 it is not):\n\n");
         for v in &report.nested_violations {
             md.push_str(&format!("- {v}\n"));
         }

@@ -456,7 +456,7 @@ fn report(
             .iter()
             .map(|(a, b)| {
                 format!(
-                    "{} ended worse than {} (the S_B → S_C carry-over is not exact with o ≥ 0)",
+                    "{} ended worse than {} (the carry-over into a sigmoid is exact only where the offsets' lower bound reaches −37, as the default −40 does)",
                     b.name(),
                     a.name()
                 )

@@ -351,6 +351,102 @@ fn a_generated_reach_to_the_floor_ends_at_its_target() {
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
+// Issue 43, item 8: a generated library's floor reaches (`kinergy synth`, 48 persons × 4
+// reaches at 30 Hz: every person's fourth reach is `floor_far`, a stoop or a squat down to a
+// target 8 % of the height above the floor) are all found by `segment --arm auto` — no take
+// skipped — and the right arm's main reach ends within 3 frames of where the hand stops
+// lowest. The truth is the hand's own: a generated clip ends at rest at its target, low on
+// the floor, and the hand stops there on the first frame from which its speed (central
+// differences) stays under 5 cm/s to the clip's end. Before the way down was judged in the
+// world (the hand below where it hangs at rest is not going back to rest; a reach the trunk
+// carries ends where the hand stops, and settles there), 7 of these 48 ended 5 to 9 frames
+// early, at a dip or before a last correction. (In a 100-person set, p72/r04 still fails: the
+// controller flings the hand 1.3 m up and forward before it goes down, and that fling is the
+// larger reach.)
+#[test]
+fn every_generated_floor_reach_is_found_and_ends_where_the_hand_stops_lowest() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let set = dir.path().join("set");
+    let o = kinergy(&[
+        "synth",
+        "-o",
+        utf8(&set),
+        "--persons",
+        "48",
+        "--reaches",
+        "4",
+        "--frame-rate",
+        "30",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let manifest = std::fs::read_to_string(set.join("manifest.csv")).expect("manifest");
+    let mut lines = manifest.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|&h| h == name)
+            .unwrap_or_else(|| panic!("no `{name}` column in {header:?}"))
+    };
+    let (clip_at, kind_at) = (column("clip"), column("kind"));
+    let floor: Vec<String> = lines
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|cells| cells[kind_at] == "floor_far")
+        .map(|cells| cells[clip_at].to_string())
+        .collect();
+    assert_eq!(floor.len(), 48);
+    let paths: Vec<PathBuf> = floor.iter().map(|c| set.join(c)).collect();
+    let mut args = vec!["segment", "--arm", "auto", "--select", "main", "--json"];
+    args.extend(paths.iter().map(|p| utf8(p)));
+    let o = kinergy(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("skipped"), "{}", stderr(&o));
+    let listed = json(&o);
+    let mut wrong = Vec::new();
+    for (clip, path) in floor.iter().zip(&paths) {
+        let right = listed
+            .as_array()
+            .expect("one listing per arm")
+            .iter()
+            .find(|r| r["side"] == "right" && path.ends_with(r["clip"].as_str().unwrap_or("-")));
+        let Some(main) = right.map(|r| &r["segments"][0]) else {
+            wrong.push(format!("{clip}: no right-arm reach"));
+            continue;
+        };
+        let (c, _) = kinergy_motion::read_clip(path, &Default::default()).expect("clip");
+        let arm = kinergy_motion::ArmJoints::find(c.skeleton(), kinergy_motion::Side::Right)
+            .expect("right arm");
+        let hand = c
+            .trajectory(&[arm.end_effector()])
+            .expect("trajectory")
+            .path(0);
+        let n = hand.len();
+        let speed = |i: usize| {
+            let (a, b) = (i.saturating_sub(1), (i + 1).min(n - 1));
+            (hand[b] - hand[a]).norm() / ((b - a) as f64 * c.frame_time())
+        };
+        let mut stop = n;
+        while stop > 0 && speed(stop - 1) < 0.05 {
+            stop -= 1;
+        }
+        assert!(stop < n, "{clip}: the hand never comes to rest");
+        let lowest = hand.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+        assert!(
+            hand[stop].y - lowest < 0.05,
+            "{clip}: the hand stops {:.3} m above its lowest",
+            hand[stop].y - lowest
+        );
+        let last = main["end"].as_u64().expect("end") as usize - 1;
+        if main["label"] != "reach" || main["truncated_end"] != false || last.abs_diff(stop) > 3 {
+            wrong.push(format!(
+                "{clip}: main {} ({}), the hand stops lowest on frame {stop}",
+                main["frames"], main["label"]
+            ));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
 /// A folder with a link to itself and two folders linking to each other are walked once:
 /// each capture is listed once, the links are said on stderr, nothing hangs.
 #[cfg(unix)]

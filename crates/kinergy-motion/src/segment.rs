@@ -102,15 +102,18 @@
 //!    return are two reversing sub-movements, so it takes a third to make an oscillation.
 //!    The others form chains: consecutive sub-movements with no hold and no reversal between
 //!    them are one movement (a brief stop — the gather and release of a basketball shot —
-//!    does not end it; a return does). The small sub-movements right after a chain, inside
-//!    the same motion, join it when the hand comes to rest with them and they move it mostly
-//!    one way, their displacement at least half their path's length (a final correction;
-//!    dithering or waving in place goes nowhere).
+//!    does not end it; a return does). The small sub-movements right after a chain, with no
+//!    hold before them (in the same motion or the next), join it when the hand comes to rest
+//!    with them and they move it mostly one way, their displacement at least half their
+//!    path's length (a final correction; dithering or waving in place goes nowhere).
 //! 4. **Where a reach begins** — walking back from a chain's last sub-movement, a
 //!    sub-movement belongs to the approach when it brings the hand, in the world, closer to
 //!    where the chain ends by at least half its own length (small ones always belong). The
 //!    sub-movements before the first that does not are cut off as a chain of their own, cut
-//!    the same way. In the world because a reach's goal is a place: a step or a squat that
+//!    the same way. A last sub-movement shorter than half the one before it is a correction,
+//!    judged with what it corrects: the walk back starts from where the corrected one ends
+//!    (an approach that overshoots its target and comes back, or falls short and completes,
+//!    is one reach). In the world because a reach's goal is a place: a step or a squat that
 //!    carries the hand toward it is part of reaching it, while a dribble before a shot is
 //!    not. The hand must still move relative to the shoulder (steps 1–2), or be carried up or
 //!    down by the trunk (step 7), so walking alone is never a reach.
@@ -119,7 +122,11 @@
 //!    - *return* when, for the onset position r of some earlier reach of the clip (with
 //!      none, the hanging hand, r = shoulder + (0, −L, 0), provided |a − r| ≥ `small_move` ·
 //!      L), at least half of |d| goes toward r, b is nearer to r than a, and the hand covers
-//!      at least half of |r − a| toward r (waived when the chain runs into the clip's end);
+//!      at least half of |r − a| toward r (waived when the chain runs into the clip's end) —
+//!      unless the hand ends, in the world, more than `min_reach` · L below where it hangs
+//!      from the standing body (the highest the shoulder gets in the clip, less L): carried
+//!      down to something (the floor, a low shelf), under a bent trunk it hangs as it does at
+//!      rest but is not back at rest;
 //!    - else *reach* when |d| ≥ [`min_reach`](SegmentSettings::min_reach) · L and the hand
 //!      is held after the chain — it comes to rest (the chain ends a motion), or only small
 //!      sub-movements follow for at least `hold` seconds (a hand raised to wave) — or the
@@ -130,7 +137,12 @@
 //!    stretch without a hold.
 //! 6. **Output** — segments in time order, disjoint: two segments split at a speed minimum
 //!    share its frame, which goes to the first. Segments shorter than `min_duration` are
-//!    dropped. The peak of a segment is its fastest frame.
+//!    dropped. The peak of a segment is its fastest frame. A reach ends where the hand comes
+//!    to rest: where its motion ends with s still at least `rest_speed` (the hand turns or
+//!    slows, it does not rest) and s falls below `rest_speed` before the next segment starts,
+//!    less than `small_move` · L from where the motion ended, the reach ends on that frame (a
+//!    last correction too short to be a motion of its own; a squat's dip below the object and
+//!    back up to it).
 //! 7. **Reaches the trunk carries** (relative to the shoulder only) — relative to the
 //!    shoulder, a stoop to the floor barely moves the hand, and a hand that ends hanging
 //!    straight down under a bent trunk looks like the arm going back to rest: a pick-up's way
@@ -148,22 +160,30 @@
 //!      one-hand pick-up — reaches for nothing).
 //!
 //!    The *trunk carries* w when the shoulder rises or falls by at least half of o and by at
-//!    least `min_reach` · L (a stoop, a squat, standing up). Then:
-//!    - a reach w that ends held (not cut by the clip's end), where a relative reach overlaps
-//!      w and ends in its later half (the relative reading has it): the relative reach stays,
-//!      and if the trunk carries w its displacement is measured in the world;
-//!    - a reach w that ends held, without such a relative reach, *replaces* the relative
-//!      segments over its frames if the trunk carries it, or if the relative reading missed
-//!      it: the relative segments at least half inside w cover at least half of it, each one
-//!      directed movement (a chain of step 3, not oscillation nor dither — an arm swing is no
-//!      reach missed) and one at least `min_reach` · L long, labelled `other` or `return`;
+//!    least `min_reach` · L (a stoop, a squat, standing up). These tests take w as its motion
+//!    ends, before step 6's settle. Then:
+//!    - a relative reach *arrives* in w when it overlaps w, ends in its later half and stops
+//!      within `small_move` · L of where w stops; it *has all of* w when it also starts no
+//!      later than w;
+//!    - a reach w that ends held (not cut by the clip's end) and that the trunk carries
+//!      *replaces* the relative segments over its frames — the reach ends where the hand
+//!      stops in the world, not where the arm stops moving relative to the shoulder — unless
+//!      a relative reach has all of it: that one stays, its displacement measured in the
+//!      world;
+//!    - a reach w that ends held, not carried by the trunk, where a relative reach arrives
+//!      (the relative reading has it): the relative reach stays;
+//!    - a reach w that ends held, without such a relative reach, replaces the relative
+//!      segments if the relative reading missed it: the relative segments at least half
+//!      inside w cover at least half of it, each one directed movement (a chain of step 3, not
+//!      oscillation nor dither — an arm swing is no reach missed) and one at least
+//!      `min_reach` · L long, labelled `other` or `return`;
 //!    - a return the trunk carries (the lift after a pick-up) replaces them too.
 //!
 //!    A relative segment with at least half of its frames inside replacing world segments is
 //!    dropped; one with fewer is cut to its longest stretch outside them (peak and
 //!    displacement taken again). A replacing segment is the world reading's: frames, label,
-//!    peak, speed and displacement. Segments measured or replacing are marked
-//!    [`Segment::from_world`]. The two hands of a both-hands pick-up — one arm's reach found
+//!    peak, speed and displacement (a reach settled as in step 6, on the world path).
+//!    Segments measured or replacing are marked [`Segment::from_world`]. The two hands of a both-hands pick-up — one arm's reach found
 //!    relative to the shoulder, the other's only in the world — so compare alike (`--arm
 //!    auto` keeps an arm by its reach's displacement). Raises, pointing and reaches at a
 //!    table change nothing: the shoulder barely rises or falls and the relative reading has
@@ -275,7 +295,8 @@ pub fn find_segments(
 fn segments_of(signal: &signal::Signal, settings: &SegmentSettings) -> Vec<Segment> {
     let found = labelled(signal, settings);
     if !signal.relative {
-        return found.into_iter().map(|l| l.segment).collect();
+        let found = found.into_iter().map(|l| l.segment).collect();
+        return label::settle(signal, found, settings);
     }
     let world = signal.in_world(settings);
     let in_world: Vec<Segment> = labelled(&world, settings)

@@ -67,7 +67,7 @@ pub use person::{FieldUse, PersonStyle, StyleAt, StyleError};
 pub use reachability::ReachSphere;
 pub use smoothing::{Finish, Smoothing};
 pub use synergy::{
-    ACCELERATION, Bounds, GROWTH, Interval, Model, ONSET, ParamKind, ParamSpace, Synergy,
-    TempoFactors, growth_factor, sig,
+    ACCELERATION, Bounds, GROWTH, Interval, Model, OFFSET_ON, ONSET, ParamKind, ParamSpace,
+    Synergy, TempoFactors, growth_factor, sig,
 };
 pub use task::{Task, TaskError};

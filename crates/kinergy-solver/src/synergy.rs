@@ -11,8 +11,13 @@
 //! | S_E | diag(g_i) | e^{k_i(1 − e^{−t})}·sig(−s_i·t + o_i) | S_D's, `k_<dof>`…, `acceleration`, `onset` |
 //!
 //! t is seconds since the start of the motion, so φ rises from sig(o) at t = 0 through ½
-//! at t = o/s (when the DoF "switches on") toward 1. Default bounds are the paper's:
-//! g ∈ [−5, 5], s ∈ [1, 10], o ∈ [0, 20].
+//! at t = o/s (when the DoF "switches on") toward 1. Default bounds are the paper's,
+//! g ∈ [−5, 5], s ∈ [1, 10], o ∈ [0, 20], but for o's lower bound: −40 ([`OFFSET_ON`]), a
+//! sigmoid switched on before the motion starts. There φ = 1 to double precision
+//! (1 + e⁻³⁷ rounds to 1), so S_C holds S_B's motion exactly and each model nests the poorer
+//! ones ([`ParamSpace::extend_to`]); with the paper's o ≥ 0, φ(0) ≤ ½ and S_C cannot move as
+//! S_B does. Searches still start from a sigmoid switching on as the motion starts, o = 0
+//! ([`ParamSpace::neutral`]).
 //!
 //! S_E is ours, beyond the paper: a DoF's gain moves from g_i at the start toward g_i·e^{k_i}
 //! (time constant 1 s; k ∈ [−3, 3]: the shoulder can lead and fade, the elbow come in later),
@@ -153,7 +158,8 @@ pub struct Bounds {
     pub gain: Interval,
     /// Sigmoid slopes s, 1/s: [1, 10].
     pub slope: Interval,
-    /// Sigmoid offsets o: [0, 20].
+    /// Sigmoid offsets o: [−40, 20] (the paper's [0, 20], and a sigmoid already on at the
+    /// start, [`OFFSET_ON`]).
     pub offset: Interval,
 }
 
@@ -162,7 +168,7 @@ impl Default for Bounds {
         Bounds {
             gain: Interval::new(-5.0, 5.0),
             slope: Interval::new(1.0, 10.0),
-            offset: Interval::new(0.0, 20.0),
+            offset: Interval::new(OFFSET_ON, 20.0),
         }
     }
 }
@@ -201,6 +207,12 @@ pub enum ParamKind {
     /// S_E: the factor on the smooth controller's onset (the time its bounds take to rise).
     Onset,
 }
+
+/// The default lower bound of the sigmoid offsets, below the paper's 0: a sigmoid on from the
+/// start, φ(t) = sig(−s·t − 40) = 1 to double precision for every t ≥ 0 and s ≥ 0 (e⁻⁴⁰ is
+/// below half of f64's ε, so 1 + e⁻⁴⁰ rounds to 1). The carry-over of S_A or S_B into a
+/// model with sigmoids puts its offsets here: the same motion, bit for bit.
+pub const OFFSET_ON: f64 = -40.0;
 
 /// S_E's growths k: [−3, 3] (a gain can end up to e³ ≈ 20 times larger or smaller).
 pub const GROWTH: Interval = Interval::new(-3.0, 3.0);
@@ -331,8 +343,9 @@ impl ParamSpace {
         self.names.iter().position(|n| n == name)
     }
 
-    /// The neutral vector: gains 1, and sigmoids switched on from the start as far as the
-    /// bounds allow (largest slope, smallest offset), clamped into the bounds.
+    /// The neutral vector, where searches start: gains 1, and sigmoids switching on as the
+    /// motion starts, as steeply as the bounds allow (largest slope, offset 0 — the paper's
+    /// lowest — clamped into the bounds).
     pub fn neutral(&self) -> Vec<f64> {
         (0..self.len())
             .map(|i| {
@@ -340,7 +353,7 @@ impl ParamSpace {
                 match self.kinds[i] {
                     ParamKind::Gain => b.clamp(1.0),
                     ParamKind::Slope => b.upper,
-                    ParamKind::Offset => b.lower,
+                    ParamKind::Offset => b.clamp(0.0),
                     ParamKind::Growth => 0.0,
                     ParamKind::Acceleration | ParamKind::Onset => 1.0,
                 }
@@ -383,10 +396,12 @@ impl ParamSpace {
 
     /// Carries a vector of this space into a richer model's space on the same chain, so
     /// that training the richer model can start from this one's solution: S_A's gain goes
-    /// to every DoF; S_C's shared sigmoid goes to every DoF of S_D (exactly the same
-    /// motion). S_B → S_C adds the sigmoid switched on as early as the bounds allow
-    /// (the neutral one); with the paper's bounds (o ≥ 0) that sigmoid starts at ½, so that
-    /// step alone is not exact. Going to the same model returns the vector unchanged.
+    /// to every DoF; S_C's shared sigmoid goes to every DoF of S_D; S_E's own parameters are
+    /// neutral (no growth, the tempo factors 1). S_A and S_B gain sigmoids switched on as
+    /// early as the bounds allow (largest slope, smallest offset): with the default bounds
+    /// (o down to [`OFFSET_ON`]) φ = 1 and every carry-over is the same motion, bit for bit;
+    /// with the paper's o ≥ 0 that sigmoid starts at ½ and S_A/S_B → S_C is not exact. Going
+    /// to the same model returns the vector unchanged.
     pub fn extend_to(&self, values: &[f64], richer: &ParamSpace) -> Result<Vec<f64>> {
         self.validate(values)?;
         InvalidSetting::require(
@@ -406,13 +421,9 @@ impl ParamSpace {
         };
         let (slopes, offsets): (Vec<f64>, Vec<f64>) = match self.model {
             Model::Sa | Model::Sb => {
-                let neutral = richer.neutral();
-                let (s, o) = match richer.model {
-                    Model::Sd | Model::Se => (neutral[n], neutral[2 * n]),
-                    Model::Sc => (neutral[n], neutral[n + 1]),
-                    _ => (0.0, 0.0),
-                };
-                (vec![s; n], vec![o; n])
+                // On as early as the bounds allow: φ = 1 where they reach OFFSET_ON.
+                let b = richer.bounds;
+                (vec![b.slope.upper; n], vec![b.offset.lower; n])
             }
             Model::Sc => (vec![values[n]; n], vec![values[n + 1]; n]),
             Model::Sd | Model::Se => (values[n..2 * n].to_vec(), values[2 * n..3 * n].to_vec()),
@@ -637,11 +648,11 @@ mod tests {
     }
 
     #[test]
-    fn names_counts_and_bounds_follow_the_paper() {
+    fn names_counts_and_bounds_follow_the_paper_but_the_offset_s_lower_bound() {
         let d = dofs();
         let sc = ParamSpace::new(Model::Sc, &d, Bounds::default()).expect("sc");
         assert_eq!(sc.names(), ["g_a", "g_b", "g_c", "s", "o"]);
-        assert_eq!(sc.lower(), [-5.0, -5.0, -5.0, 1.0, 0.0]);
+        assert_eq!(sc.lower(), [-5.0, -5.0, -5.0, 1.0, OFFSET_ON]);
         assert_eq!(sc.upper(), [5.0, 5.0, 5.0, 10.0, 20.0]);
         let sd = ParamSpace::new(Model::Sd, &d, Bounds::default()).expect("sd");
         assert_eq!(sd.names()[3..], ["s_a", "s_b", "s_c", "o_a", "o_b", "o_c"]);
@@ -718,6 +729,52 @@ mod tests {
         }
         let err = spaces[3].extend_to(&sd, &spaces[0]).expect_err("poorer");
         assert!(err.to_string().contains("model"), "{err}");
+    }
+
+    // Issue 43, item 9: with the default bounds every model carries into every richer one as
+    // the same step, bit for bit, at any time — S_B into S_C too, its sigmoid on from before
+    // the start (o = OFFSET_ON). With the paper's o ≥ 0 it starts at ½: not the same step.
+    #[test]
+    fn every_carry_over_is_the_same_step_bit_for_bit() {
+        let d = dofs();
+        let spaces: Vec<_> = Model::ALL
+            .iter()
+            .map(|&m| ParamSpace::new(m, &d, Bounds::default()).expect("space"))
+            .collect();
+        let values: [&[f64]; 4] = [
+            &[-1.7],
+            &[1.3, -0.4, 4.9],
+            &[0.8, 2.0, -3.0, 2.5, 7.0],
+            &[1.5, -0.5, 2.0, 4.0, 6.0, 2.0, 1.0, 0.0, 3.0],
+        ];
+        for (i, v) in values.iter().enumerate() {
+            let poorer = Synergy::new(&spaces[i], v).expect("poorer");
+            for richer in &spaces[i + 1..] {
+                let carried = spaces[i].extend_to(v, richer).expect("extend");
+                let r = Synergy::new(richer, &carried).expect("richer");
+                for t in [0.0, 0.01, 0.3, 1.0, 2.5, 30.0] {
+                    let (mut x, mut y) = ([0.3, -0.7, 1.1], [0.3, -0.7, 1.1]);
+                    poorer.apply(t, &mut x);
+                    r.apply(t, &mut y);
+                    assert_eq!(
+                        x.map(f64::to_bits),
+                        y.map(f64::to_bits),
+                        "{} → {} at t = {t}",
+                        spaces[i].model(),
+                        richer.model()
+                    );
+                }
+            }
+        }
+        let paper = Bounds {
+            offset: Interval::new(0.0, 20.0),
+            ..Bounds::default()
+        };
+        let sb = ParamSpace::new(Model::Sb, &d, paper).expect("sb");
+        let sc = ParamSpace::new(Model::Sc, &d, paper).expect("sc");
+        let carried = sb.extend_to(values[1], &sc).expect("extend");
+        let phi = Synergy::new(&sc, &carried).expect("sc").phi(0, 0.0);
+        assert_relative_eq!(phi, 0.5);
     }
 
     #[test]

@@ -3,15 +3,18 @@
 //! sequence S_A → S_B → S_C → S_D (→ S_E) in which each richer model starts from the poorer
 //! one's solution.
 //!
-//! **The nested guarantee.** The annealer's member 0 starts at the poorer solution carried
-//! into the richer space ([`ParamSpace::extend_to`]) and the best vector ever evaluated is
-//! returned, so a richer fit never scores worse than that carried-over vector. S_A → S_B
-//! and S_C → S_D carry over exactly (the same motion), and so does S_D → S_E (no growth,
-//! the tempo factors 1). S_B → S_C does not: the paper's
-//! sigmoid sig(−s·t + o) with o ≥ 0 is at most ½ at t = 0, so S_C cannot reproduce S_B's
-//! constant φ = 1; the carried vector switches the sigmoid on as early as the bounds allow
-//! (s = s_max, o = o_min: φ > 0.95 after 0.3 s). [`NestedFit::violations`] lists any richer
-//! fit that still ended worse than its poorer model, so a report can say so.
+//! **The nested guarantee.** A richer model starts from the poorer one's solution carried
+//! into its space ([`ParamSpace::extend_to`]), and its fit keeps that vector unless its
+//! search finds a better one, so a richer fit never scores worse than the carried vector.
+//! Every carry-over is exact, the same motion bit for bit: S_A → S_B copies the gain,
+//! S_C → S_D the shared sigmoid, S_D → S_E adds no growth and tempo factors 1, and S_A or
+//! S_B → S_C adds a sigmoid already on before the motion starts (o at the default bounds'
+//! lower end, [`kinergy_solver::OFFSET_ON`], where φ = 1 to double precision). The search
+//! itself covers the paper's offsets, o ≥ 0 (below, moving an offset changes nothing it
+//! could follow), and starts such a sigmoid switching on at the start. So with the default
+//! bounds no richer model ends worse than a poorer one; with the paper's o ≥ 0 the sigmoid
+//! starts at ½ and S_B → S_C is not exact. [`NestedFit::violations`] lists any richer fit
+//! that ended worse than its poorer model, so a report can say so.
 //!
 //! One function runs a model's fit (a *stage*): [`ModelRun`] runs one ([`fit_model`] from the
 //! neutral vector, unwatched), [`NestedRun`] runs them in sequence with checkpoints that name

@@ -3,13 +3,13 @@
 //! Relative to the shoulder, a stoop to the floor barely moves the hand, and a hand that ends
 //! hanging straight down under a bent trunk looks like an arm going back to rest; in the
 //! world both are the hand going down to where it stops. Where the world reading has a reach
-//! (or, carried by the trunk, a return) that walking does not explain, it replaces the
-//! relative segments over the same frames; a relative reach that the trunk carries is
-//! measured in the world.
+//! the trunk carries, or one the relative reading missed, or a return the trunk carries, and
+//! walking does not explain it, it replaces the relative segments over the same frames; a
+//! relative reach that has all of a reach the trunk carries is measured in the world.
 
 use nalgebra::Vector3;
 
-use super::label::Labelled;
+use super::label::{Labelled, settle, settled};
 use super::signal::Signal;
 use super::types::{Label, Segment, SegmentSettings};
 
@@ -17,17 +17,6 @@ use super::types::{Label, Segment, SegmentSettings};
 /// displacement without the body's travel over the ground), from which the trunk carries the
 /// hand (a stoop, a squat, standing up).
 const TRUNK_SHARE: f64 = 0.5;
-
-/// What a world segment does to the relative reading (module docs, step 7).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Verdict {
-    /// Nothing.
-    Keep,
-    /// It replaces the relative segments over its frames.
-    Take,
-    /// The relative reaches arriving in it are measured in the world.
-    Measure,
-}
 
 /// The segments of the relative reading (`relative`, on `signal`) with what the world
 /// segments (`world`, on `world_signal`, the same clip read in the world) change in it (module
@@ -39,22 +28,41 @@ pub(super) fn merge(
     world: &[Segment],
     settings: &SegmentSettings,
 ) -> Vec<Segment> {
+    // Step 7's tests judge a world segment as its motion ends; the one taken ends where the
+    // hand comes to rest (step 6).
     let mut taken: Vec<Segment> = Vec::new();
     let mut measured: Vec<Segment> = Vec::new();
-    for w in world {
+    for (i, w) in world.iter().enumerate() {
         match verdict(world_signal, w, &relative, settings) {
             Verdict::Keep => {}
-            Verdict::Take => taken.push(Segment {
-                from_world: true,
-                ..*w
-            }),
             Verdict::Measure => measured.push(*w),
+            Verdict::Take => {
+                let next = world.get(i + 1).map_or(world_signal.len(), |s| s.onset);
+                let w = if w.label == Label::Reach {
+                    settled(world_signal, w, next, settings)
+                } else {
+                    *w
+                };
+                taken.push(Segment {
+                    from_world: true,
+                    ..w
+                });
+            }
         }
     }
     let hand = &world_signal.world;
-    let relative = relative.into_iter().map(|l| {
-        let s = l.segment;
-        if s.label == Label::Reach && measured.iter().any(|w| arrives(&s, w)) {
+    let relative: Vec<Segment> = settle(
+        signal,
+        relative.into_iter().map(|l| l.segment).collect(),
+        settings,
+    )
+    .into_iter()
+    .map(|s| {
+        if s.label == Label::Reach
+            && measured
+                .iter()
+                .any(|w| covers(world_signal, &s, w, settings))
+        {
             Segment {
                 displacement: (hand[s.end - 1] - hand[s.onset]).norm(),
                 from_world: true,
@@ -63,9 +71,10 @@ pub(super) fn merge(
         } else {
             s
         }
-    });
+    })
+    .collect();
     if taken.is_empty() {
-        return relative.collect();
+        return relative;
     }
     let mut out = taken.clone();
     for s in relative {
@@ -83,7 +92,7 @@ pub(super) fn merge(
         let (onset, end) = (s.onset + start, s.onset + start + len);
         if (onset, end) == (s.onset, s.end) {
             out.push(s);
-        } else if let Some(cut) = cut(signal, world_signal, &s, onset, end) {
+        } else if let Some(cut) = cut(signal, &s, onset, end) {
             out.push(cut);
         }
     }
@@ -92,10 +101,32 @@ pub(super) fn merge(
     out
 }
 
-/// `r` (a relative reach) overlaps `w` and ends in its later half: it is the relative
-/// reading's arrival of `w`.
-fn arrives(r: &Segment, w: &Segment) -> bool {
-    r.onset < w.end && r.end > w.onset + (w.end - w.onset) / 2
+/// `r` (a relative reach) overlaps `w`, ends in its later half, and its hand stops where
+/// `w`'s does (within a small move, in the world): it is the relative reading's arrival of
+/// `w`. A relative reach that stops short — the arm done while the trunk still carries the
+/// hand down — is not.
+fn arrives(world: &Signal, r: &Segment, w: &Segment, settings: &SegmentSettings) -> bool {
+    let hand = &world.world;
+    r.onset < w.end
+        && r.end > w.onset + (w.end - w.onset) / 2
+        && (hand[r.end - 1] - hand[w.end - 1]).norm() <= settings.small_move * world.arm_length
+}
+
+/// `r` (a relative reach) [`arrives`] in `w` and starts no later: the relative reading has
+/// all of `w`.
+fn covers(world: &Signal, r: &Segment, w: &Segment, settings: &SegmentSettings) -> bool {
+    r.onset <= w.onset && arrives(world, r, w, settings)
+}
+
+/// What a world segment does to the relative reading (module docs, step 7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Verdict {
+    /// Nothing.
+    Keep,
+    /// It replaces the relative segments over its frames.
+    Take,
+    /// The relative reach that has all of it is measured in the world.
+    Measure,
 }
 
 /// Frames of `r` inside `w`.
@@ -140,17 +171,28 @@ fn verdict(
     let trunk = shoulder.y.abs() >= (TRUNK_SHARE * own).max(settings.min_reach * length);
     match w.label {
         Label::Reach if !w.truncated_end => {
-            if relative
-                .iter()
-                .any(|r| r.segment.label == Label::Reach && arrives(&r.segment, w))
-            {
-                // The relative reading has the reach: it keeps it, measured in the world if
-                // the trunk carries it.
-                return if trunk {
+            let reach = |r: &&Labelled| r.segment.label == Label::Reach;
+            if trunk {
+                // The hand goes where the trunk takes it: the reach ends where the hand
+                // stops in the world, not where the arm stops moving relative to the
+                // shoulder — unless the relative reading has all of it.
+                return if relative
+                    .iter()
+                    .filter(reach)
+                    .any(|r| covers(world, &r.segment, w, settings))
+                {
                     Verdict::Measure
                 } else {
-                    Verdict::Keep
+                    Verdict::Take
                 };
+            }
+            if relative
+                .iter()
+                .filter(reach)
+                .any(|r| arrives(world, &r.segment, w, settings))
+            {
+                // The relative reading has the reach.
+                return Verdict::Keep;
             }
             // Or it cuts the same stretch into directed movements — those at least half
             // inside `w` cover at least half of it, none oscillating, one at least a reach's
@@ -160,12 +202,12 @@ fn verdict(
                 .filter(|r| 2 * inside(&r.segment, w) >= r.segment.end - r.segment.onset)
                 .collect();
             let seen: usize = same.iter().map(|r| inside(&r.segment, w)).sum();
-            let missed = 2 * seen >= span
+            if 2 * seen >= span
                 && same.iter().all(|r| r.directed)
                 && same
                     .iter()
-                    .any(|r| r.segment.displacement >= settings.min_reach * length);
-            if trunk || missed {
+                    .any(|r| r.segment.displacement >= settings.min_reach * length)
+            {
                 Verdict::Take
             } else {
                 Verdict::Keep
@@ -190,11 +232,10 @@ fn longest_run(flags: &[bool]) -> (usize, usize) {
     best
 }
 
-/// `s` cut to frames `onset..end` (inside it, end excluded): its peak and displacement taken
-/// again on `signal` (the displacement on the world hand of `world` for a reach measured
-/// there); a cut side is no longer cut by the clip. `None` when fewer than two frames are
-/// left.
-fn cut(signal: &Signal, world: &Signal, s: &Segment, onset: usize, end: usize) -> Option<Segment> {
+/// `s` (a relative segment) cut to frames `onset..end` (inside it, end excluded): its peak
+/// and displacement taken again on `signal`; a cut side is no longer cut by the clip. `None`
+/// when fewer than two frames are left.
+fn cut(signal: &Signal, s: &Segment, onset: usize, end: usize) -> Option<Segment> {
     if end < onset + 2 || end > signal.len() {
         return None;
     }
@@ -210,11 +251,7 @@ fn cut(signal: &Signal, world: &Signal, s: &Segment, onset: usize, end: usize) -
         peak_speed: speed[peak],
         truncated_start: s.truncated_start && onset == s.onset,
         truncated_end: s.truncated_end && end == s.end,
-        displacement: if s.from_world {
-            (world.world[end - 1] - world.world[onset]).norm()
-        } else {
-            (signal.path[end - 1] - signal.path[onset]).norm()
-        },
+        displacement: (signal.path[end - 1] - signal.path[onset]).norm(),
         ..*s
     })
 }

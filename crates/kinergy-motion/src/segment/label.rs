@@ -217,11 +217,7 @@ impl Context<'_> {
         for chain in &mut chains {
             let last = chain[chain.len() - 1];
             let mut k = last + 1;
-            while k < self.strokes.len()
-                && self.small(k)
-                && self.strokes[k].onset == self.strokes[k - 1].end
-                && self.strokes[k].motion == self.strokes[last].motion
-            {
+            while k < self.strokes.len() && self.small(k) && !self.hold_between(k - 1, k) {
                 k += 1;
             }
             if k > last + 1
@@ -242,8 +238,13 @@ impl Context<'_> {
         let world = &self.signal.world;
         let mut parts = Vec::new();
         while let Some(&last) = chain.last() {
-            let target = world[self.strokes[last].end];
-            let mut t = chain.len() - 1;
+            // A final correction — shorter than half the sub-movement before it — is
+            // judged with what it corrects: an overshoot it brings back, an undershoot it
+            // completes. The approach is walked back from where the corrected one ends.
+            let corrects = chain.len() >= 2
+                && self.d(last).norm() < 0.5 * self.d(chain[chain.len() - 2]).norm();
+            let mut t = chain.len() - 1 - usize::from(corrects);
+            let target = world[self.strokes[chain[t]].end];
             while t > 0 {
                 let s = &self.strokes[chain[t - 1]];
                 let (from, to) = (world[s.onset], world[s.end]);
@@ -279,7 +280,12 @@ impl Context<'_> {
         } else {
             reach_starts
         };
-        if references.iter().any(|&r| returns(a, b, r, cut_end)) {
+        // Below the standing body's resting hand by a reach's length, the hand has been
+        // carried down to something: under a bent trunk it hangs as it does at rest, but it
+        // is not back at rest.
+        let lowered = self.signal.world[self.strokes[last].end].y
+            < self.signal.rest_height() - self.settings.min_reach * length;
+        if !lowered && references.iter().any(|&r| returns(a, b, r, cut_end)) {
             Label::Return
         } else if (b - a).norm() >= self.settings.min_reach * length && (self.held(last) || cut_end)
         {
@@ -311,6 +317,52 @@ impl Context<'_> {
             displacement: (self.signal.path[end] - self.signal.path[onset]).norm(),
             from_world: false,
         }
+    }
+}
+
+/// The reaches of `segments` (one reading of the clip on `signal`, in time order and
+/// disjoint) each with the hand's settle after it (module docs, step 6).
+pub(super) fn settle(
+    signal: &Signal,
+    mut segments: Vec<Segment>,
+    settings: &SegmentSettings,
+) -> Vec<Segment> {
+    for i in 0..segments.len() {
+        if segments[i].label == Label::Reach {
+            let next = segments.get(i + 1).map_or(signal.len(), |s| s.onset);
+            segments[i] = settled(signal, &segments[i], next, settings);
+        }
+    }
+    segments
+}
+
+/// `w` (a reach) with the hand's settle after it (module docs, step 8): where its motion ends
+/// above `rest_speed` — the hand turns or slows, it does not rest — and the hand comes to rest
+/// before frame `next` (the next segment's onset), within a small move, the reach ends where
+/// it comes to rest: a squat's dip below the object and back up to it, a last correction too
+/// short to be a motion. Unchanged otherwise.
+pub(super) fn settled(
+    signal: &Signal,
+    w: &Segment,
+    next: usize,
+    settings: &SegmentSettings,
+) -> Segment {
+    let (speed, path) = (&signal.speed, &signal.path);
+    let last = w.end - 1;
+    if w.truncated_end || speed[last] < settings.rest_speed {
+        return *w;
+    }
+    let mut i = last + 1;
+    while i < next && speed[i] >= settings.rest_speed {
+        i += 1;
+    }
+    if i >= next || (path[i] - path[last]).norm() >= settings.small_move * signal.arm_length {
+        return *w;
+    }
+    Segment {
+        end: i + 1,
+        displacement: (path[i] - path[w.onset]).norm(),
+        ..*w
     }
 }
 

@@ -84,6 +84,18 @@ impl Signal {
         self.speed.len()
     }
 
+    /// How high the hand hangs at rest from the standing body, in the world: the highest the
+    /// shoulder gets in the clip, less the arm's length (module docs, step 5). A hand that
+    /// ends a reach's length below it has been carried down to something — the floor, a
+    /// low shelf — not back to rest.
+    pub fn rest_height(&self) -> f64 {
+        self.shoulder
+            .iter()
+            .map(|p| p.y)
+            .fold(f64::NEG_INFINITY, f64::max)
+            - self.arm_length
+    }
+
     /// Where the hand hangs at rest on frame `i` (the arm straight down from the shoulder),
     /// in the frame of [`Signal::path`].
     pub fn hanging(&self, i: usize) -> Point3<f64> {

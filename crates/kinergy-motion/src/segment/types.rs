@@ -207,9 +207,9 @@ pub struct Segment {
     /// Measured in the world although the segmentation is relative to the shoulder (module
     /// docs, step 7): its `displacement` is the world hand's. A reach or return the trunk
     /// carries, or a reach the relative reading misses, is the world reading's segment (its
-    /// frames, label, peak and peak speed too); a reach the relative reading found and the
-    /// trunk carries keeps the relative frames and peak. Always false when the whole
-    /// segmentation is in the world ([`SegmentSettings::relative_to_shoulder`] false).
+    /// frames, label, peak and peak speed too) — but where a relative reach has all of a
+    /// reach the trunk carries, that one keeps its frames and peak. Always false when the
+    /// whole segmentation is in the world ([`SegmentSettings::relative_to_shoulder`] false).
     pub from_world: bool,
 }
 

@@ -3,8 +3,8 @@
 
 use kinergy_io::InvalidSetting;
 use kinergy_solver::{
-    Bounds, FitMethod, FitObjective, FitRecord, FittedReach, Model, Optimizer, ParamSpace,
-    ParamsFile,
+    Bounds, FitMethod, FitObjective, FitRecord, FittedReach, Model, Optimizer, ParamKind,
+    ParamSpace, ParamsFile,
 };
 
 use super::refine::{RefineSettings, Refinement, refine_until};
@@ -301,9 +301,15 @@ pub(super) fn run_stage(
     for &i in &pinned {
         held[i] = neutral[i];
     }
-    let start = held.as_slice();
+    let exact = held.as_slice();
     // Fail on a broken setup here, with its message, rather than as a silent f64::MAX.
-    let start_score = objective.score(start)?;
+    let start_score = objective.score(exact)?;
+    // The search covers the paper's offsets (from the neutral one, o = 0, switching on as
+    // the motion starts): a sigmoid on from before the start (a poorer model's constant φ
+    // carried over, o at OFFSET_ON) starts it switching on at the start. The start itself
+    // stays the stage's best-so-far: kept when the search ends worse.
+    let raised = search_start(objective.space(), exact);
+    let start = raised.as_slice();
     let anneal = settings.anneal_for(model);
     let annealer = Annealer::new(anneal)?;
     // S_E first searches its own parameters with S_D's held (see `own_first`), then all;
@@ -317,10 +323,10 @@ pub(super) fn run_stage(
         // resumed fit starts it afresh, exactly as an uninterrupted one.
         return Ok(Fit {
             objective: objective.kind(),
-            distances: objective.distances(start)?,
+            distances: objective.distances(exact)?,
             space: objective.space().clone(),
             optimizer: objective.optimizer(),
-            values: start.to_vec(),
+            values: exact.to_vec(),
             score: start_score,
             start_score,
             evaluations: own_evaluations,
@@ -335,15 +341,16 @@ pub(super) fn run_stage(
         Some(o) => o.values.as_slice(),
         None => start,
     };
+    let searched = Searched::new(objective);
     let part = Subspace {
-        inner: objective,
+        inner: &searched,
         base: start.to_vec(),
         free: (0..objective.space().len())
             .filter(|i| !pinned.contains(i))
             .collect(),
     };
     // Nothing held: the objective itself, with no copy of the vector per evaluation.
-    let cost: &dyn CostFunction = if pinned.is_empty() { objective } else { &part };
+    let cost: &dyn CostFunction = if pinned.is_empty() { &searched } else { &part };
     // The stage's name in the annealer's state; the problem itself is checked by value by
     // the caller's checkpoint (see `FitProblem`).
     let tag = model.name();
@@ -359,14 +366,18 @@ pub(super) fn run_stage(
         None => annealer.init(cost, &part.part(start), tag)?,
     };
     let state = annealer.run(cost, state, observer, control)?;
-    let values = part.full(&state.best_x);
+    let (values, score) = if start_score < state.best_cost && state.status != Status::Interrupted {
+        (exact.to_vec(), start_score)
+    } else {
+        (part.full(&state.best_x), state.best_cost)
+    };
     Ok(Fit {
         objective: objective.kind(),
         distances: objective.distances(&values)?,
         space: objective.space().clone(),
         optimizer: objective.optimizer(),
         values,
-        score: state.best_cost,
+        score,
         start_score,
         evaluations: own_evaluations + state.evaluations,
         iterations: own_iterations + state.iteration,
@@ -376,6 +387,65 @@ pub(super) fn run_stage(
             * objective.frames_per_evaluation(),
         refinement: None,
     })
+}
+
+/// `start` with every sigmoid offset below the neutral one (o = 0 with the default bounds:
+/// a sigmoid on before the motion starts) raised to it, into the region [`Searched`] covers.
+fn search_start(space: &ParamSpace, start: &[f64]) -> Vec<f64> {
+    let neutral = space.neutral();
+    start
+        .iter()
+        .zip(space.kinds())
+        .zip(&neutral)
+        .map(|((&v, &kind), &n)| {
+            if kind == ParamKind::Offset {
+                v.max(n)
+            } else {
+                v
+            }
+        })
+        .collect()
+}
+
+/// The region of a model's space its search covers: its bounds, but the sigmoid offsets
+/// from the neutral one up (the paper's o ≥ 0 with the default bounds). Below it a sigmoid
+/// is on before the motion starts: the constant φ of S_A and S_B, which a carry-over holds
+/// exactly ([`kinergy_solver::OFFSET_ON`]) and a stage keeps when its search ends worse, but
+/// where moving an offset changes nothing a search could follow.
+struct Searched<'a> {
+    inner: &'a Objective,
+    lower: Vec<f64>,
+}
+
+impl<'a> Searched<'a> {
+    fn new(inner: &'a Objective) -> Searched<'a> {
+        let space = inner.space();
+        let (lower, _) = inner.bounds();
+        let lower = search_start(space, &lower);
+        Searched { inner, lower }
+    }
+}
+
+impl CostFunction for Searched<'_> {
+    fn dimension(&self) -> usize {
+        self.inner.dimension()
+    }
+
+    fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        (self.lower.clone(), self.inner.bounds().1)
+    }
+
+    fn cost(&self, x: &[f64]) -> f64 {
+        self.inner.cost(x)
+    }
+
+    fn cost_within(&self, x: &[f64], limit: f64) -> f64 {
+        self.inner.cost_within(x, limit)
+    }
+
+    fn frames_per_evaluation(&self) -> usize {
+        self.inner.frames_per_evaluation()
+    }
 }
 
 /// S_E's first phase: its own parameters (the growth rates and the tempo factors, from
