@@ -312,6 +312,15 @@ def reach(
     seed: int = 0,
     timeout: float | None = None,
     check: bool = True,
+    v_s: float | None = None,
+    r_s: float | None = None,
+    r_st: float | None = None,
+    r_tw: float | None = None,
+    comfortable_angle_deg: float | None = None,
+    start_swing_distance_m: float | None = None,
+    head_speed_deg_s: float | None = None,
+    p_max: float | None = None,
+    p_min: float | None = None,
 ) -> Clip:
     """One full-body reach of the 43-DoF character, as `kinergy reach` makes it."""
 

@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use kinergy_motion::Side;
 use kinergy_reach::character::Proportions;
 use kinergy_reach::controller::{ArmDriveKind, Ending, ReachSettings};
-use kinergy_reach::drive::{HEIGHT_M, PersonReach, PersonReachReport, Profile, check_settings};
+use kinergy_reach::drive::{
+    HEIGHT_M, HuangKnobs, PersonReach, PersonReachReport, Profile, check_settings,
+};
 
 use crate::common::{Failure, ReadArgs, check_range, emit, length, print_json};
 
@@ -53,7 +55,65 @@ pub struct Args {
     #[arg(long, value_name = "person.json")]
     pub params: Option<PathBuf>,
     #[command(flatten)]
+    pub knobs: Knobs,
+    #[command(flatten)]
     pub read: ReadArgs,
+}
+
+/// Huang, Kapadia & Terzopoulos's handles on varied motion; each one not given keeps the
+/// paper's default ([`HuangKnobs`]).
+#[derive(Debug, clap::Args)]
+#[command(next_help_heading = "Huang et al.'s knobs (default: the paper's)")]
+pub struct Knobs {
+    /// v_s, the ease-out hand's start speed, m/s, 0.01 to 5 (0.20).
+    #[arg(long = "v-s", value_name = "M/S")]
+    pub v_s: Option<f64>,
+    /// r_s, the ease-out's constant-speed share of its time, in (0, 1] (0.8).
+    #[arg(long = "r-s", value_name = "SHARE")]
+    pub r_s: Option<f64>,
+    /// r_st, the share of the step after which the arm, head and twist start, 0 to 1 (0.5).
+    #[arg(long = "r-st", value_name = "SHARE")]
+    pub r_st: Option<f64>,
+    /// r_tw, the share of the twist after which the swing, COM shift and squat start, 0 to 1
+    /// (0.5).
+    #[arg(long = "r-tw", value_name = "SHARE")]
+    pub r_tw: Option<f64>,
+    /// The comfortable reaching angle's half-width about the chest's forward direction,
+    /// degrees, 1 to 179 (40): a target beyond it twists the spine.
+    #[arg(long, value_name = "DEG")]
+    pub comfortable_angle_deg: Option<f64>,
+    /// The vertical shoulder–target distance beyond which the spine swings, meters, 0 to 2.5
+    /// (0.35).
+    #[arg(long, value_name = "M")]
+    pub start_swing_distance_m: Option<f64>,
+    /// The head's largest turning speed, degrees per second, 1 to 2000 (143).
+    #[arg(long, value_name = "DEG/S")]
+    pub head_speed_deg_s: Option<f64>,
+    /// P_max, the half step's probability for a target at the convenient reaching range, 0
+    /// to 1 (0.9).
+    #[arg(long = "p-max", value_name = "P")]
+    pub p_max: Option<f64>,
+    /// P_min, the half step's probability for a target at the maximal reaching range, 0 to
+    /// P_max (0.1).
+    #[arg(long = "p-min", value_name = "P")]
+    pub p_min: Option<f64>,
+}
+
+impl Knobs {
+    /// The library's knobs.
+    fn knobs(&self) -> HuangKnobs {
+        HuangKnobs {
+            v_s: self.v_s,
+            r_s: self.r_s,
+            r_st: self.r_st,
+            r_tw: self.r_tw,
+            comfortable_angle_deg: self.comfortable_angle_deg,
+            start_swing_distance_m: self.start_swing_distance_m,
+            head_speed_deg_s: self.head_speed_deg_s,
+            p_max: self.p_max,
+            p_min: self.p_min,
+        }
+    }
 }
 
 /// Runs `kinergy reach`: the request ([`PersonReach`]) from the flags, run, the motion
@@ -69,7 +129,11 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         profile: args.profile.speed_profile(),
         ..ReachSettings::default()
     };
-    check_settings(&settings).map_err(|e| Failure::Input(format!("--{} {}", e.field, e.why)))?;
+    let flag = |e: kinergy_io::InvalidSetting| {
+        Failure::Input(format!("--{} {}", e.field.replace('_', "-"), e.why))
+    };
+    let settings = args.knobs.knobs().apply(settings).map_err(flag)?;
+    check_settings(&settings).map_err(flag)?;
     crate::common::check_outputs(
         &args
             .person

@@ -157,3 +157,72 @@ fn synth_regenerates_the_committed_set_byte_for_byte() {
     assert_eq!(manifest.lines().count(), 1 + 4 * 14);
     assert!(manifest.starts_with("clip,person,height_m,flexibility"));
 }
+
+/// Issue 43: Huang et al.'s knobs are the user's, each checked (exit 2 naming the flag), and
+/// each moves the motion as the paper says: a faster v_s ends the ease-out reach sooner, and
+/// P_max = P_min = 1 makes every step toward a target between the CRR and the MRR a half step,
+/// P_max = P_min = 0 a full one.
+#[test]
+fn reach_takes_huangs_knobs() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("r.bvh");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["reach", "--json", "-o", out.to_str().expect("utf-8")];
+        args.extend(extra);
+        let o = kinergy(&args);
+        (o.status.code(), text(&o.stdout), text(&o.stderr))
+    };
+    for (flag, value) in [
+        ("--v-s", "0"),
+        ("--r-s", "1.5"),
+        ("--r-st", "-0.1"),
+        ("--r-tw", "NaN"),
+        ("--comfortable-angle-deg", "180"),
+        ("--start-swing-distance-m", "-1"),
+        ("--head-speed-deg-s", "inf"),
+        ("--p-min", "0.95"),
+    ] {
+        let given = format!("{flag}={value}");
+        let (code, _, err) = run(&["--target", "0.3,1.1,0.4", &given]);
+        assert_eq!(code, Some(2), "{flag} {value}: {err}");
+        assert!(err.contains(flag), "{flag} {value}: {err}");
+        assert!(!out.exists(), "{flag} {value} wrote a clip");
+    }
+    let duration = |extra: &[&str]| {
+        let mut args = vec!["--target", "0.3,1.1,0.4"];
+        args.extend(extra);
+        let (code, json, err) = run(&args);
+        assert_eq!(code, Some(0), "{err}");
+        let report: serde_json::Value = serde_json::from_str(&json).expect("json");
+        report["duration"].as_f64().expect("duration")
+    };
+    let (paper, fast) = (duration(&[]), duration(&["--v-s", "0.4"]));
+    assert!(fast < 0.75 * paper, "v_s 0.4: {fast} s against {paper} s");
+    let steps = |p: &str| {
+        (0..8)
+            .map(|seed| {
+                let seed = seed.to_string();
+                let (code, json, err) = run(&[
+                    "--target",
+                    "0.0,1.1,0.85",
+                    "--seed",
+                    &seed,
+                    "--p-max",
+                    p,
+                    "--p-min",
+                    p,
+                ]);
+                assert_eq!(code, Some(0), "{err}");
+                let report: serde_json::Value = serde_json::from_str(&json).expect("json");
+                report["step"].as_str().expect("step").to_string()
+            })
+            .filter(|s| s != "none")
+            .collect::<Vec<_>>()
+    };
+    let halves = steps("1");
+    assert!(!halves.is_empty(), "no step drawn in 8 seeds");
+    assert!(halves.iter().all(|s| s.starts_with("half")), "{halves:?}");
+    let fulls = steps("0");
+    assert!(!fulls.is_empty(), "no step drawn in 8 seeds");
+    assert!(fulls.iter().all(|s| s == "full"), "{fulls:?}");
+}

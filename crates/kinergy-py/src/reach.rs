@@ -4,7 +4,7 @@
 use kinergy_motion::{ImportOptions, Side};
 use kinergy_reach::character::Proportions;
 use kinergy_reach::controller::ReachSettings;
-use kinergy_reach::drive::{PersonReach, Profile, check_settings, check_target};
+use kinergy_reach::drive::{HuangKnobs, PersonReach, Profile, check_settings, check_target};
 use kinergy_train::limits;
 use pyo3::prelude::*;
 
@@ -21,8 +21,11 @@ use crate::errors;
 /// proportions). flexibility, arm ("right"/"left", default: the nearer), profile
 /// ("ease-out" or "minimum-jerk"), seed, timeout (seconds): as the CLI's options. check:
 /// raise UnreachableError (its `clip` holds the motion) when the hand does not arrive.
+/// Huang et al.'s knobs, each None for the paper's default (as the CLI's flags): v_s (m/s),
+/// r_s, r_st, r_tw, comfortable_angle_deg, start_swing_distance_m, head_speed_deg_s, p_max,
+/// p_min.
 #[pyfunction]
-#[pyo3(signature = (target, *, params = None, height = None, person = None, flexibility = 1.0, arm = None, profile = "ease-out", seed = 0, timeout = None, check = true))]
+#[pyo3(signature = (target, *, params = None, height = None, person = None, flexibility = 1.0, arm = None, profile = "ease-out", seed = 0, timeout = None, check = true, v_s = None, r_s = None, r_st = None, r_tw = None, comfortable_angle_deg = None, start_swing_distance_m = None, head_speed_deg_s = None, p_max = None, p_min = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn reach<'py>(
     py: Python<'py>,
@@ -36,6 +39,15 @@ pub fn reach<'py>(
     seed: u64,
     timeout: Option<f64>,
     check: bool,
+    v_s: Option<f64>,
+    r_s: Option<f64>,
+    r_st: Option<f64>,
+    r_tw: Option<f64>,
+    comfortable_angle_deg: Option<f64>,
+    start_swing_distance_m: Option<f64>,
+    head_speed_deg_s: Option<f64>,
+    p_max: Option<f64>,
+    p_min: Option<f64>,
 ) -> PyResult<Clip> {
     let defaults = ReachSettings::default();
     let settings = ReachSettings {
@@ -49,6 +61,19 @@ pub fn reach<'py>(
             .speed_profile(),
         ..defaults
     };
+    let settings = HuangKnobs {
+        v_s,
+        r_s,
+        r_st,
+        r_tw,
+        comfortable_angle_deg,
+        start_swing_distance_m,
+        head_speed_deg_s,
+        p_max,
+        p_min,
+    }
+    .apply(settings)
+    .map_err(errors::raise)?;
     let target = kinergy_motion::nalgebra::Point3::new(target[0], target[1], target[2]);
     check_target(&target).map_err(errors::raise)?;
     check_settings(&settings).map_err(errors::raise)?;

@@ -30,8 +30,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod knobs;
 mod person_reach;
 
+pub use knobs::{COMFORTABLE_ANGLE_DEG, HEAD_SPEED_DEG_S, HuangKnobs, START_SWING_DISTANCE_M, V_S};
 pub use person_reach::{
     DEFAULT_HEIGHT_M, FLEXIBILITY, HEIGHT_M, MAX_TARGET_M, NotReached, PersonReach,
     PersonReachOutcome, PersonReachReport, Profile, TIMEOUT_S, check_settings, check_target,

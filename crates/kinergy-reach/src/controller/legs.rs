@@ -38,13 +38,21 @@ pub(super) fn step_settings(
     arm: Limb,
     s: &ReachSettings,
 ) -> Result<StepSettings> {
-    match s.steps {
-        Some(st) => Ok(st),
+    let settings = match s.steps {
+        Some(st) => st,
         None => {
             let a = character.proportions().arm(arm.side());
-            StepSettings::for_arm_length(a.upper_arm + a.forearm + a.hand)
+            StepSettings::for_arm_length(a.upper_arm + a.forearm + a.hand)?
         }
-    }
+    };
+    Ok(match s.half_step_probability {
+        Some((p_max, p_min)) => StepSettings {
+            p_max,
+            p_min,
+            ..settings
+        },
+        None => settings,
+    })
 }
 
 /// The step decided at the start.

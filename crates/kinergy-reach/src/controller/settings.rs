@@ -51,6 +51,9 @@ pub struct ReachSettings {
     pub arm: Option<Side>,
     /// Seed of the stepping decisions.
     pub seed: u64,
+    /// P_max and P_min, the half step's probability at the CRR and at the MRR (§3.5),
+    /// replacing those of the step settings; `None`: theirs (0.9 and 0.1).
+    pub half_step_probability: Option<(f64, f64)>,
     /// The synergy arm's (a person's parameters') controller: the smooth one
     /// (`kinergy_solver::smoothing`) or the paper's; `None` (the default): the one the person's
     /// parameters were fitted under ([`kinergy_solver::FitRecord::controller`]), as they were
@@ -102,6 +105,7 @@ impl Default for ReachSettings {
             balance_margin: 0.01,
             arm: None,
             seed: 0,
+            half_step_probability: None,
             synergy_controller: None,
             synergy_start: None,
         }
@@ -160,6 +164,15 @@ impl ReachSettings {
             "balance_margin",
             "≥ 0 meters",
         )?;
+        if let Some((p_max, p_min)) = self.half_step_probability {
+            let probability = |v: f64| (0.0..=1.0).contains(&v);
+            InvalidSetting::require(probability(p_max), "p_max", "a probability in [0, 1]")?;
+            InvalidSetting::require(
+                probability(p_min) && p_min <= p_max,
+                "p_min",
+                format!("a probability in [0, p_max = {p_max}]"),
+            )?;
+        }
         Ok(())
     }
 }
