@@ -103,8 +103,19 @@ fn a_target_beyond_the_mrr_makes_a_step_toward_it() {
     }
 }
 
+/// Issue 43: a low far target is reached by every body — the flexible one squats (after the
+/// step the paper's state machine draws), the stiff one (which the paper has stoop) steps toward it, stoops, and squats only
+/// as far as the step and the stoop leave it short (0.30 m for this one) — each within
+/// a centimetre, feet planted, the balance held (`checked`). Before the posture search the
+/// stiff body stooped 90°, took no step and ended 0.33 m short; at flexibility 0.7 it squatted
+/// 0.18 m and ended 0.19 m short.
 #[test]
-fn a_low_far_target_squats_when_flexible_and_stoops_when_stiff() {
+fn a_low_far_target_squats_when_flexible_and_steps_and_stoops_when_stiff() {
+    let reached = |m: &ReachMotion, what: &str| {
+        assert_eq!(m.report.stop, ReachStop::Reached, "{what}: {:?}", m.report);
+        assert!(m.report.final_error <= 0.01, "{what}: {:?}", m.report);
+        assert!(m.report.min_balance_margin >= 0.0, "{what}: {:?}", m.report);
+    };
     let flexible = checked(
         [0.2, 0.15, 0.8],
         &ReachSettings {
@@ -116,32 +127,41 @@ fn a_low_far_target_squats_when_flexible_and_stoops_when_stiff() {
     );
     assert_eq!(flexible.report.posture, "squat", "{:?}", flexible.report);
     assert!(flexible.report.squat_m > 0.1);
-    assert_eq!(
-        flexible.report.stop,
-        ReachStop::Reached,
-        "{:?}",
-        flexible.report
-    );
-    let stiff = checked(
-        [0.2, 0.15, 0.8],
+    reached(&flexible, "flexible");
+    for flexibility in [0.5, 0.7] {
+        let stiff = checked(
+            [0.2, 0.15, 0.8],
+            &ReachSettings {
+                flexibility,
+                seed: 1,
+                ..ReachSettings::default()
+            },
+            "stiff",
+        );
+        reached(&stiff, &format!("flexibility {flexibility}"));
+        assert_ne!(stiff.report.step, "none", "{:?}", stiff.report);
+        assert!(stiff.report.swing_deg.abs() > 10.0);
+    }
+    // Lower and nearer: 0.095 m short before.
+    let low = checked(
+        [0.2, 0.3, 0.5],
         &ReachSettings {
             flexibility: 0.5,
             seed: 1,
             ..ReachSettings::default()
         },
-        "stiff",
+        "low near",
     );
-    assert_eq!(stiff.report.posture, "stoop", "{:?}", stiff.report);
-    assert_eq!(stiff.report.squat_m, 0.0);
-    assert!(stiff.report.swing_deg.abs() > 10.0);
+    reached(&low, "low near");
 }
 
 // A high lateral target (above the start swing distance, beyond a comfortable 90 % of the
-// arm from the shoulder): the spine twists toward it and swings. (This one stays out of the
-// hand's reach — the 0-DoF clavicle and the shoulder's 130° × 100° swing ellipse stop the
-// arm short of overhead — and the report says so.)
+// arm from the shoulder): the spine twists toward it. From where the paper's decisions leave
+// the body the hand cannot reach it — the 0-DoF clavicle and the shoulder's 130° × 100° swing
+// ellipse stop the arm short of overhead — so the posture search steps toward it (Huang's
+// Fig. 4h, stepping and swinging up to a high apple), and the hand gets there.
 #[test]
-fn a_high_lateral_target_twists_and_swings() {
+fn a_high_lateral_target_twists_steps_and_is_reached() {
     let m = checked(
         [0.7, 2.0, 0.2],
         &ReachSettings {
@@ -151,11 +171,9 @@ fn a_high_lateral_target_twists_and_swings() {
         "high lateral",
     );
     assert!(m.report.twist_deg > 1.0, "{:?}", m.report);
-    assert!(m.report.swing_deg.abs() > 1.0, "{:?}", m.report);
-    assert_eq!(
-        m.report.stop == ReachStop::Reached,
-        m.report.final_error <= 0.01
-    );
+    assert_ne!(m.report.step, "none", "{:?}", m.report);
+    assert_eq!(m.report.stop, ReachStop::Reached, "{:?}", m.report);
+    assert!(m.report.final_error <= 0.01, "{:?}", m.report);
 }
 
 #[test]

@@ -137,6 +137,29 @@ pub(super) fn plan_step(
     }
 }
 
+impl StepPlan {
+    /// The step `step` of `length` meters along `direction` toward a target `d` meters from
+    /// the shoulder.
+    pub(super) fn new(
+        step: StepDecision,
+        length: f64,
+        direction: Vector3<f64>,
+        d: f64,
+    ) -> StepPlan {
+        StepPlan {
+            step,
+            length,
+            direction,
+            horizontal_distance: d,
+        }
+    }
+}
+
+/// The longest step the posture search takes ([`static_step_limit`]).
+pub(super) fn longest_step(character: &Character) -> f64 {
+    static_step_limit(character)
+}
+
 /// The longest step a foot can take while the root stays over the other foot's toe (static
 /// balance), from the leg's geometry with the knees bent by [`STEP_KNEE_BEND`].
 fn static_step_limit(character: &Character) -> f64 {

@@ -10,6 +10,7 @@ use super::balance::plan_com_shift;
 use super::legs::{self, StepPlan};
 use super::report::Posture;
 use super::settings::ReachSettings;
+use super::spine::{SwingPlan, max_squat};
 use super::spine::{apply_swing, plan_squat, plan_swing, plan_twist, set_twist};
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::Result;
@@ -49,8 +50,22 @@ impl Plan {
     }
 }
 
+/// How much deeper each squat the posture search tries is, meters.
+const SQUAT_INCREMENT: f64 = 0.02;
+
+/// How much longer each step the posture search tries is, meters.
+const STEP_INCREMENT: f64 = 0.05;
+
 /// Chooses the arm, the step, the twist, the squat and the swing, each from the posture the
 /// ones before it leave, and the COM shift the final posture needs.
+///
+/// The paper's decisions come first: the step its state machine draws, the squat the leg
+/// flexibility asks for, the swing that brings the hand in reach. Where the hand still cannot
+/// reach from that posture, the body searches on as a person does ([`search_posture`]):
+/// squatting deeper (down to [`max_squat`]) or stepping toward the target and stooping — eq.
+/// 9's step, then longer ones up to [`legs::longest_step`] — in the order the leg flexibility
+/// prefers, then stepping and squatting. Only a target no such posture brings in reach stays out of it (the report's
+/// `unreachable`, with the margin).
 pub(super) fn plan(
     character: &Character,
     rest: &Pose,
@@ -65,7 +80,7 @@ pub(super) fn plan(
     let arm_length = segments.upper_arm + segments.forearm + segments.hand;
     let step_settings = legs::step_settings(character, arm, s)?;
     let shoulder = shoulder_position(character, rest, arm);
-    let step = legs::plan_step(
+    let drawn = legs::plan_step(
         character,
         &root,
         &shoulder,
@@ -74,16 +89,6 @@ pub(super) fn plan(
         &step_settings,
         s.seed,
     );
-    let mut pose = *rest;
-    let root_move = step.root_move();
-    pose[dof::ROOT_X] += step.direction.x * root_move;
-    pose[dof::ROOT_Z] += step.direction.z * root_move;
-
-    let twist = plan_twist(character, &pose, arm, &target, s.comfortable_angle);
-    set_twist(&mut pose, twist);
-    let squat = plan_squat(character, &pose, arm, &target, arm_length / s.flexibility);
-    pose[dof::ROOT_Y] -= squat;
-
     let arm_ik = arm_ik(character, arm)?;
     let reaching = ReachingArm {
         character,
@@ -93,10 +98,30 @@ pub(super) fn plan(
         length: arm_length,
     };
     let k_com = s.r_max / s.phi_max;
-    let swing = plan_swing(&reaching, &pose, step.direction, k_com, s);
-    if swing.angle != 0.0 {
-        apply_swing(character, &mut pose, &swing.axis, swing.angle);
-    }
+    let at =
+        |step: &StepPlan, squat: Option<f64>| posture_at(&reaching, rest, step, squat, k_com, s);
+    let paper = at(&drawn, None);
+    let chosen = if paper.hand_error <= 0.5 * s.tolerance {
+        paper
+    } else {
+        search_posture(
+            &reaching,
+            paper,
+            &drawn,
+            &step_settings,
+            s.flexibility,
+            0.5 * s.tolerance,
+            &at,
+        )
+    };
+    let Candidate {
+        step,
+        twist,
+        squat,
+        swing,
+        pose,
+        ..
+    } = chosen;
     let feet = step.feet_after([frames[joint::RIGHT_FOOT], frames[joint::LEFT_FOOT]]);
     let com_shift = plan_com_shift(
         &reaching,
@@ -115,6 +140,140 @@ pub(super) fn plan(
         squat,
         com_shift,
     })
+}
+
+/// One posture the scheduler can plan: the step, the twist, the squat and the swing, and the
+/// body they leave (before the COM shift), with the hand's distance from the target there.
+#[derive(Debug, Clone)]
+struct Candidate {
+    step: StepPlan,
+    twist: f64,
+    squat: f64,
+    swing: SwingPlan,
+    pose: Pose,
+    hand_error: f64,
+}
+
+/// The posture after `step`, the twist toward the target, the squat `squat` (`None`: the one
+/// the leg flexibility asks for, [`plan_squat`]) and the swing that brings the hand nearest.
+fn posture_at(
+    reaching: &ReachingArm<'_>,
+    rest: &Pose,
+    step: &StepPlan,
+    squat: Option<f64>,
+    k_com: f64,
+    s: &ReachSettings,
+) -> Candidate {
+    let (character, arm, target) = (reaching.character, reaching.limb, reaching.target);
+    let mut pose = *rest;
+    let root_move = step.root_move();
+    pose[dof::ROOT_X] += step.direction.x * root_move;
+    pose[dof::ROOT_Z] += step.direction.z * root_move;
+    let twist = plan_twist(character, &pose, arm, target, s.comfortable_angle);
+    set_twist(&mut pose, twist);
+    let squat = squat.unwrap_or_else(|| {
+        plan_squat(
+            character,
+            &pose,
+            arm,
+            target,
+            reaching.length / s.flexibility,
+        )
+    });
+    pose[dof::ROOT_Y] -= squat;
+    let swing = plan_swing(reaching, &pose, step.direction, k_com, s);
+    if swing.angle != 0.0 {
+        apply_swing(character, &mut pose, &swing.axis, swing.angle);
+    }
+    Candidate {
+        step: *step,
+        twist,
+        squat,
+        hand_error: swing.hand_error,
+        swing,
+        pose,
+    }
+}
+
+/// The posture search beyond the paper's decisions ([`plan`]): deeper squats from the
+/// paper's posture, and steps toward the target (the drawn step if it stepped, else a full
+/// step of eq. 9's length; then longer ones up to the balance's limit) with a stoop alone —
+/// the squats first for a flexible body, the steps for a stiff one — then the steps with
+/// every squat from the least to the deepest. The first posture from which the hand reaches wins; if none does, the
+/// one that brings it nearest (the reach ends `unreachable` there, with its margin). A
+/// posture reaches when the hand, the arm solved there, is within `reached` meters.
+fn search_posture(
+    reaching: &ReachingArm<'_>,
+    paper: Candidate,
+    drawn: &StepPlan,
+    settings: &crate::steps::StepSettings,
+    flexibility: f64,
+    reached: f64,
+    at: &dyn Fn(&StepPlan, Option<f64>) -> Candidate,
+) -> Candidate {
+    let character = reaching.character;
+    let reachable = |c: &Candidate| c.hand_error <= reached;
+    let deepest = max_squat(character);
+    let squats_from = |from: f64| {
+        let n = ((deepest - from) / SQUAT_INCREMENT).ceil().max(0.0) as usize;
+        (1..=n).map(move |k| (from + k as f64 * SQUAT_INCREMENT).min(deepest))
+    };
+    let mut best = paper.clone();
+    let mut consider = |c: Candidate| -> Option<Candidate> {
+        if reachable(&c) {
+            return Some(c);
+        }
+        if c.hand_error < best.hand_error {
+            best = c;
+        }
+        None
+    };
+    // Step toward the target: the drawn step if it stepped, else a full step of eq. 9's
+    // length; then longer ones up to the balance's limit.
+    let d = drawn.horizontal_distance;
+    let first = if drawn.step.steps() {
+        drawn.length
+    } else {
+        crate::steps::step_length(settings, d, settings.p_mean)
+    };
+    let longest = legs::longest_step(character).min((d - 0.5 * settings.d_c).max(0.0));
+    let kind = match drawn.step {
+        crate::steps::StepDecision::NoStep => crate::steps::StepDecision::FullStep,
+        kind => kind,
+    };
+    let mut steps = Vec::new();
+    let mut length = first.min(longest);
+    while length > 1e-3 {
+        if !(drawn.step.steps() && (length - drawn.length).abs() < 1e-9) {
+            steps.push(StepPlan::new(kind, length, drawn.direction, d));
+        }
+        if length >= longest - 1e-9 {
+            break;
+        }
+        length = (length + STEP_INCREMENT).min(longest);
+    }
+    // A flexible body squats deeper before it steps; a stiff one (flexibility below 1: the
+    // paper's stooper) steps and stoops before it squats.
+    let mut order: Vec<(StepPlan, f64)> = Vec::new();
+    let deeper = squats_from(paper.squat).map(|q| (*drawn, q));
+    let stepped_stoop = steps.iter().map(|st| (*st, 0.0));
+    let stepped_squat = steps
+        .iter()
+        .flat_map(|st| squats_from(0.0).map(move |q| (*st, q)));
+    if flexibility >= 1.0 {
+        order.extend(deeper);
+        order.extend(stepped_stoop);
+    } else {
+        order.extend(stepped_stoop);
+        order.extend(deeper);
+    }
+    order.extend(stepped_squat);
+    for (step, squat) in order {
+        if let Some(c) = consider(at(&step, Some(squat))) {
+            return c;
+        }
+    }
+    best
 }
 
 /// The arm that reaches for `target`: `arm` if given, else the one on the target's side of

@@ -71,13 +71,26 @@ pub(super) fn plan_squat(
 ) -> f64 {
     let shoulder = shoulder_position(character, pose, arm);
     let drop = shoulder.y - target.y;
-    let leg = character.proportions().leg(Side::Right);
-    let max_squat = 0.45 * (leg.thigh + leg.shank);
     if drop > stoop_range {
-        (drop - stoop_range).min(max_squat)
+        (drop - stoop_range).min(max_squat(character))
     } else {
         0.0
     }
+}
+
+/// The deepest squat, as a fraction of the leg length (hip to ankle): the hips lowered to
+/// about the knees' standing height. With Drillis & Contini's proportions (Winter,
+/// *Biomechanics and Motor Control of Human Movement*, Fig. 4.1: hip 0.530 H, knee 0.285 H,
+/// leg 0.491 H) the hips at knee height would be 0.245 H = 0.50 of the leg. 0.45, the depth
+/// the reach grids' balance and planted-feet checks hold at, stays until the deeper,
+/// kneel-like crouch is checked the same way.
+const DEEPEST_SQUAT: f64 = 0.45;
+
+/// The deepest squat, meters the root is lowered ([`DEEPEST_SQUAT`] of the leg length: 0.39 m
+/// for a 1.75 m body).
+pub(super) fn max_squat(character: &Character) -> f64 {
+    let leg = character.proportions().leg(Side::Right);
+    DEEPEST_SQUAT * (leg.thigh + leg.shank)
 }
 
 /// The spine's swing: its total angle φ (radians, 0: none) about `axis`, and d_p, the
@@ -91,6 +104,9 @@ pub(super) struct SwingPlan {
     /// d_p: the target's ground direction from the shoulder (`direction` when straight above
     /// or below).
     pub dp: Vector3<f64>,
+    /// The hand's distance from the target with the arm solved at the swung posture, meters
+    /// (what the posture search asks: can the hand reach from here).
+    pub hand_error: f64,
 }
 
 /// The swing about `s = d × y` from `pose`, raised in 1° steps until the `arm` reaches its
@@ -161,10 +177,18 @@ pub(super) fn plan_swing(
         }
         swing = best.1;
     }
+    let mut swung = *pose;
+    if swing != 0.0 {
+        apply_swing(character, &mut swung, &axis, swing);
+        let shift = -k_com * swing.abs() * dp;
+        swung[dof::ROOT_X] += shift.x;
+        swung[dof::ROOT_Z] += shift.z;
+    }
     SwingPlan {
         angle: swing,
         axis,
         dp,
+        hand_error: arm.error(&swung),
     }
 }
 
