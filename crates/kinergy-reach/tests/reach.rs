@@ -266,3 +266,91 @@ fn bad_settings_name_the_field() {
     .to_string();
     assert!(e.contains("flexibility"), "{e}");
 }
+
+/// Issue 43, item 2: a step is eq. 9's, with its random p, wherever the body holds it, and the
+/// balance model shortens only the steps it cannot hold — no fixed cap. Between the cylinders
+/// the steps vary as eq. 9 draws them (the paper's 0.433 m in the middle of the band, on
+/// average); beyond the MRR eq. 9 asks for l_max (0.633 m), which the balance model shortens
+/// to the longest the body holds — longer than the old static cap (0.39 m), every frame
+/// balanced (`checked`).
+#[test]
+fn steps_are_eq_9_s_where_the_body_holds_them_and_no_cap_shortens_them() {
+    use kinergy_motion::Side;
+    use kinergy_reach::steps::{self, StepSettings};
+    use rand::SeedableRng;
+    use rand::rngs::ChaCha8Rng;
+
+    let c = character();
+    let rest = c.world_positions(&c.rest_pose());
+    let shoulder = rest[joint::LEFT_ARM];
+    let a = c.proportions().arm(Side::Left);
+    let settings = StepSettings::for_arm_length(a.upper_arm + a.forearm + a.hand).expect("steps");
+    let hips = rest[joint::HIPS];
+    // (target, whether eq. 9 asks for more than the body holds)
+    let middle = 0.5 * (settings.d_c + settings.d_max);
+    let targets = [
+        (Point3::new(shoulder.x, 1.2, shoulder.z + middle), false),
+        (Point3::new(shoulder.x, 1.0, shoulder.z + 1.3), true),
+    ];
+    for (target, beyond) in targets {
+        let mut lengths = Vec::new();
+        for seed in 0..40 {
+            let settings_seeded = ReachSettings {
+                seed,
+                ..ReachSettings::default()
+            };
+            let m = checked([target.x, target.y, target.z], &settings_seeded, "eq. 9");
+            assert_eq!(m.report.stop, ReachStop::Reached, "{:?}", m.report);
+            let d = m.report.horizontal_distance;
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let side = steps::target_side(
+                &hips,
+                &Point3::new(0.0, 0.0, 1.0).coords,
+                &target,
+                Side::Left,
+            );
+            let decision = steps::decide(&settings, d, side, &mut rng);
+            let p = steps::draw_p(&settings, &mut rng);
+            assert_eq!(m.report.step, decision, "seed {seed}: {:?}", m.report);
+            if !decision.steps() {
+                continue;
+            }
+            let eq9 = steps::step_length(&settings, d, p).min(d - 0.5 * settings.d_c);
+            let l = m.report.step_length;
+            if beyond {
+                assert!(
+                    l < eq9 - 0.01 && l > 0.45,
+                    "seed {seed}: {l} m (eq. 9: {eq9})"
+                );
+            } else {
+                assert!(
+                    (l - eq9).abs() < 1e-9,
+                    "seed {seed}: {l} m, eq. 9 says {eq9}"
+                );
+            }
+            lengths.push(l);
+        }
+        let n = lengths.len() as f64;
+        let mean = lengths.iter().sum::<f64>() / n;
+        let distinct = {
+            let mut v: Vec<i64> = lengths.iter().map(|l| (l * 1e4).round() as i64).collect();
+            v.sort_unstable();
+            v.dedup();
+            v.len()
+        };
+        if beyond {
+            assert_eq!(lengths.len(), 40);
+        } else {
+            assert!(lengths.len() >= 10, "{} steps in 40 seeds", lengths.len());
+            assert!(
+                distinct * 10 >= lengths.len() * 9,
+                "{distinct} lengths of {}",
+                lengths.len()
+            );
+            assert!(
+                (mean - steps::PAPER_STEP_LENGTH).abs() < 0.03,
+                "mean {mean}"
+            );
+        }
+    }
+}

@@ -9,7 +9,14 @@
 //! second foot swings after the first has landed and the weight has shifted again. The root
 //! moves on eased keyframes — over the stance foot before each swing, dipping a little while
 //! a foot is in the air, and to its end (half the step for a half step) — with the knees bent
-//! by [`STEP_KNEE_BEND`] for static balance.
+//! as far as the step needs (from [`STEP_KNEE_BEND`] to a lunge, [`LUNGE_KNEE_BEND`]) and never
+//! higher than both legs reach their feet from.
+//!
+//! The step's length is eq. 9's; whether the body can take it is the balance model's to say
+//! ([`StepBalance`]): the planned step is checked through each swing — the stance foot flat,
+//! the COM over it, the joints within limits — and one the body cannot hold at any knee bend
+//! is shortened to the longest it can. There is no fixed cap: a 1.75 m body holds eq. 9's
+//! steps between the cylinders as drawn and shortens the MRR's 0.633 m to 0.53–0.58 m.
 
 use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
@@ -18,6 +25,7 @@ use kinergy_solver::analytic::{LimbIk, OrbitSearch};
 use rand::SeedableRng;
 use rand::rngs::ChaCha8Rng;
 
+use super::balance::rebalance;
 use super::settings::ReachSettings;
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::{ReachError, Result};
@@ -28,8 +36,16 @@ use crate::steps::{self, StepDecision, StepSettings};
 /// lasts longer when the root has further to go).
 const ROOT_SPEED: f64 = 1.0;
 
-/// The root's drop while stepping, as a fraction of the leg length.
+/// The root's least drop while stepping, as a fraction of the leg length.
 const STEP_KNEE_BEND: f64 = 0.12;
+
+/// The root's deepest drop while stepping, as a fraction of the leg length: a lunge's, the
+/// stance knee bent about 90° (the hips a third of the leg lower than standing).
+const LUNGE_KNEE_BEND: f64 = 0.35;
+
+/// The swinging leg's reach to its landing spot, as a fraction of the leg's length (not quite
+/// straight).
+const SWING_REACH: f64 = 0.97;
 
 /// The step settings of a reach: the given ones, or [`StepSettings::for_arm_length`] of the
 /// reaching arm.
@@ -66,6 +82,10 @@ pub(super) struct StepPlan {
     pub direction: Vector3<f64>,
     /// d, the target's horizontal distance from the shoulder, meters.
     pub horizontal_distance: f64,
+    /// The root's drop while a foot swings, as a fraction of the leg length: enough for the
+    /// swinging leg to reach its landing spot while the root stays over the stance foot
+    /// ([`step_knee_bend`]).
+    pub knee_bend: f64,
 }
 
 impl StepPlan {
@@ -100,9 +120,9 @@ impl StepPlan {
 
 /// The stepping decision (§3.5) for the reaching arm on `side` with its shoulder at
 /// `shoulder` and the root at `root`, both at rest: the target's distance from the CRR and
-/// MRR cylinders decides no step, a half step or a full step, eq. 9 its length — never past
-/// the point where the target would be closer than the CRR, nor longer than
-/// [`static_step_limit`].
+/// MRR cylinders decides no step, a half step or a full step, eq. 9 its length with its random
+/// p — never past the point where the target would be closer than the CRR. Whether the body
+/// can take that step is the balance model's to say ([`StepBalance::fit`]), not a cap here.
 pub(super) fn plan_step(
     character: &Character,
     root: &Point3<f64>,
@@ -123,24 +143,19 @@ pub(super) fn plan_step(
     let p = steps::draw_p(settings, &mut rng);
     let length = if step.steps() {
         // Never step past the point where the target would be closer than the CRR.
-        steps::step_length(settings, d, p)
-            .min((d - settings.d_c * 0.5).max(0.0))
-            .min(static_step_limit(character))
+        steps::step_length(settings, d, p).min((d - settings.d_c * 0.5).max(0.0))
     } else {
         0.0
     };
-    StepPlan {
-        step,
-        length,
-        direction,
-        horizontal_distance: d,
-    }
+    StepPlan::new(character, step, length, direction, d)
 }
 
 impl StepPlan {
     /// The step `step` of `length` meters along `direction` toward a target `d` meters from
-    /// the shoulder.
+    /// the shoulder, the knees bent as little as lets the swinging leg reach its landing spot
+    /// ([`step_knee_bend`]; the balance model may bend them more, [`StepBalance::fit`]).
     pub(super) fn new(
+        character: &Character,
         step: StepDecision,
         length: f64,
         direction: Vector3<f64>,
@@ -151,24 +166,227 @@ impl StepPlan {
             length,
             direction,
             horizontal_distance: d,
+            knee_bend: step_knee_bend(character, length).unwrap_or(LUNGE_KNEE_BEND),
         }
     }
 }
 
-/// The longest step the posture search takes ([`static_step_limit`]).
-pub(super) fn longest_step(character: &Character) -> f64 {
-    static_step_limit(character)
+/// How far past the stance ankle the root stands while the other foot swings, meters: over
+/// the stance foot toward its toe (the COM 30 % of the foot ahead of the ankle).
+fn stance_lead(character: &Character) -> f64 {
+    let leg = character.proportions().leg(Side::Right);
+    0.3 * (leg.toe - leg.heel).max(0.0)
 }
 
-/// The longest step a foot can take while the root stays over the other foot's toe (static
-/// balance), from the leg's geometry with the knees bent by [`STEP_KNEE_BEND`].
-fn static_step_limit(character: &Character) -> f64 {
+/// The least root drop (a fraction of the leg length, at least [`STEP_KNEE_BEND`]) that lets
+/// the swinging leg reach a step of `length` meters while the root stays over the stance
+/// foot; `None` beyond a lunge ([`LUNGE_KNEE_BEND`]). A first guess from the legs' lengths:
+/// whether the body holds the step is [`StepBalance`]'s to say.
+pub(super) fn step_knee_bend(character: &Character, length: f64) -> Option<f64> {
     let leg = character.proportions().leg(Side::Right);
     let l = leg.thigh + leg.shank;
-    let drop = l - STEP_KNEE_BEND * l;
-    let reach = 0.97 * l;
-    let horizontal = (reach * reach - drop * drop).max(0.0).sqrt();
-    horizontal + 0.3 * (leg.toe - leg.heel).max(0.0)
+    let ahead = (length - stance_lead(character)).max(0.0);
+    let reach = SWING_REACH * l;
+    if ahead > reach {
+        return None;
+    }
+    let drop = (reach * reach - ahead * ahead).sqrt();
+    let bend = (1.0 - drop / l).max(STEP_KNEE_BEND);
+    (bend <= LUNGE_KNEE_BEND + 1e-12).then_some(bend)
+}
+
+/// How many knee bends between a step's least ([`step_knee_bend`]) and a lunge
+/// ([`LUNGE_KNEE_BEND`]) the balance model tries.
+const KNEE_BEND_TRIES: usize = 5;
+
+/// Where in a foot's swing the balance model checks the body: lifted off, mid-swing, about to
+/// land, landed (fractions of the swing).
+const SWING_CHECKS: [f64; 5] = [0.15, 0.4, 0.7, 0.95, 1.0];
+
+/// How far a swinging foot's toe tip may be from its path, meters (the leg may not put the
+/// foot there flat: its heel rises about the toe as it leaves the ground).
+const SWING_FOOT_TOLERANCE: f64 = 0.01;
+
+/// How close the longest step the balance allows is found, meters.
+const LENGTH_TOLERANCE: f64 = 0.005;
+
+/// The balance model of a step (beyond the paper, which does not test balance): the body
+/// standing at rest, stepping as [`Stepping`] times it, is checked at [`SWING_CHECKS`] of each
+/// swing with its legs solved for the planned feet — the stance foot flat where it stands (no
+/// heel rising on the one foot carrying the body), the swinging foot where its path puts it,
+/// every joint within its limits, and the COM the reach's balance margin
+/// ([`ReachSettings::balance_margin`]) inside the support.
+/// A step passes at the least knee bend that holds; a longer one than eq. 9 asks for is never
+/// taken, and one the body cannot hold at a lunge is shortened to the longest it can.
+pub(super) struct StepBalance<'a> {
+    character: &'a Character,
+    rest: &'a Pose,
+    arm: Limb,
+    settings: &'a ReachSettings,
+    steps: StepSettings,
+    legs: [LimbIk; 2],
+}
+
+impl<'a> StepBalance<'a> {
+    /// The model for `character` standing at `rest`, reaching with `arm` under `settings`.
+    pub(super) fn new(
+        character: &'a Character,
+        rest: &'a Pose,
+        arm: Limb,
+        settings: &'a ReachSettings,
+    ) -> Result<StepBalance<'a>> {
+        Ok(StepBalance {
+            character,
+            rest,
+            arm,
+            settings,
+            steps: step_settings(character, arm, settings)?,
+            legs: leg_iks(character)?,
+        })
+    }
+
+    /// The leg controller's parameters the steps are drawn with ([`step_settings`]).
+    pub(super) fn steps(&self) -> &StepSettings {
+        &self.steps
+    }
+
+    /// Whether the body holds `step` with its knees bent as the step says.
+    pub(super) fn holds(&self, step: &StepPlan) -> bool {
+        if !step.step.steps() || step.length <= 0.0 {
+            return true;
+        }
+        let Ok(stepping) = Stepping::new(self.character, self.rest, step, self.arm, self.settings)
+        else {
+            return false;
+        };
+        let c = self.character;
+        stepping.windows.iter().flatten().all(|&(a, b)| {
+            SWING_CHECKS.iter().all(|u| {
+                let t = a + u * (b - a);
+                let feet = stepping.feet(t);
+                let root = stepping.root(t);
+                let mut pose = *self.rest;
+                pose[dof::ROOT_X] = root.x;
+                pose[dof::ROOT_Y] = root.y;
+                pose[dof::ROOT_Z] = root.z;
+                // As every animated frame is ([`super::balance::BalanceCorrection`]): the legs
+                // solved, the root shifted toward the support, up to nine times.
+                let wanted = self.settings.balance_margin;
+                let mut frames;
+                let mut pass = 0;
+                loop {
+                    lower_root_for_legs(c, &mut pose, &feet);
+                    solve_legs(c, &mut pose, &self.legs, &feet);
+                    frames = c.world_frames(&pose);
+                    match rebalance(c, &frames, wanted, 1.5).shift {
+                        Some(shift) if pass < 9 => {
+                            pose[dof::ROOT_X] += shift.x;
+                            pose[dof::ROOT_Z] += shift.y;
+                            pass += 1;
+                        }
+                        _ => break,
+                    }
+                }
+                // The stance foot exactly where it stands, flat; the swinging one near its path
+                // (its heel may rise about the toe as it leaves the ground).
+                let placed = [joint::RIGHT_FOOT, joint::LEFT_FOOT]
+                    .iter()
+                    .zip(&feet)
+                    .enumerate()
+                    .all(|(i, (&j, want))| {
+                        let got = &frames[j];
+                        let leg = [Limb::RightLeg, Limb::LeftLeg][i];
+                        let toe = c.limb_chain(leg).end_effector();
+                        let off = (got.translation.vector - want.translation.vector).norm();
+                        let toe_off = ((got.translation.vector + got.rotation * toe)
+                            - (want.translation.vector + want.rotation * toe))
+                            .norm();
+                        // (A matrix difference: `angle()` of a near-identity rotation can be NaN.)
+                        let turn = (got.rotation.matrix() - want.rotation.matrix()).norm();
+                        let swinging = stepping.windows[i].is_some_and(|(a, b)| t > a && t < b);
+                        if swinging {
+                            toe_off < SWING_FOOT_TOLERANCE
+                        } else {
+                            off < 1e-3 && turn < 1e-2
+                        }
+                    });
+                let margin = rebalance(c, &frames, wanted, 1.0).margin;
+                placed && c.joint_limits_ok(&pose).is_ok() && margin >= wanted
+            })
+        })
+    }
+
+    /// `step` with the least knee bend from its own to a lunge at which the body holds it;
+    /// `None` where none does.
+    pub(super) fn balanced(&self, step: &StepPlan) -> Option<StepPlan> {
+        if !step.step.steps() {
+            return Some(*step);
+        }
+        let least = step_knee_bend(self.character, step.length)?;
+        (0..KNEE_BEND_TRIES)
+            .map(|k| {
+                let u = k as f64 / (KNEE_BEND_TRIES - 1) as f64;
+                StepPlan {
+                    knee_bend: least + (LUNGE_KNEE_BEND - least) * u,
+                    ..*step
+                }
+            })
+            .find(|s| self.holds(s))
+    }
+
+    /// The step the body takes for the drawn `step`: as drawn where it holds it, else the
+    /// longest shorter one it holds (to [`LENGTH_TOLERANCE`]); no step where even the shortest
+    /// does not hold.
+    pub(super) fn fit(&self, step: &StepPlan) -> StepPlan {
+        if let Some(held) = self.balanced(step) {
+            return held;
+        }
+        self.longest(step).unwrap_or(StepPlan {
+            step: StepDecision::NoStep,
+            length: 0.0,
+            ..*step
+        })
+    }
+
+    /// The longest step of `step`'s kind and direction, no longer than it, that the body holds.
+    pub(super) fn longest(&self, step: &StepPlan) -> Option<StepPlan> {
+        let with = |length: f64| {
+            StepPlan::new(
+                self.character,
+                step.step,
+                length,
+                step.direction,
+                step.horizontal_distance,
+            )
+        };
+        if let Some(held) = self.balanced(&with(step.length)) {
+            return Some(held);
+        }
+        let (mut short, mut long) = (0.0, step.length);
+        let mut best = None;
+        while long - short > LENGTH_TOLERANCE {
+            let middle = 0.5 * (short + long);
+            match self.balanced(&with(middle)) {
+                Some(held) => {
+                    short = middle;
+                    best = Some(held);
+                }
+                None => long = middle,
+            }
+        }
+        best
+    }
+}
+
+/// The longest step the posture search tries, meters: one the swinging leg reaches with the
+/// root over the stance foot at a lunge ([`LUNGE_KNEE_BEND`]); whether the body holds it is
+/// [`StepBalance::longest`]'s to say.
+pub(super) fn longest_step(character: &Character) -> f64 {
+    let leg = character.proportions().leg(Side::Right);
+    let l = leg.thigh + leg.shank;
+    let reach = SWING_REACH * l;
+    let drop = (1.0 - LUNGE_KNEE_BEND) * l;
+    (reach * reach - drop * drop).max(0.0).sqrt() + stance_lead(character)
 }
 
 /// The step over time: where each foot and the root are at a time `t` of the reach.
@@ -234,15 +452,21 @@ impl Stepping {
             let leg = character
                 .proportions()
                 .leg(if i == 0 { Side::Right } else { Side::Left });
-            // Toward the toe, where the swinging foot is going (the COM stays 2 cm inside).
-            let toward = 0.3 * (leg.toe - leg.heel).max(0.0);
-            let forward = step.direction * toward;
+            // Along the stance foot toward its toe as far as the step goes that way (a foot is
+            // long but narrow: a root moved sideways along a lateral step's direction would
+            // leave the COM beside the foot).
+            let toe_ward = feet_rest[i].rotation * Vector3::y();
+            let toe_ward = Vector3::new(toe_ward.x, 0.0, toe_ward.z)
+                .try_normalize(1e-9)
+                .unwrap_or_else(Vector3::z);
+            let forward =
+                toe_ward * (stance_lead(character) * step.direction.dot(&toe_ward).max(0.0));
             let c = ankle + forward + if moved { step_vec } else { Vector3::zeros() };
             // Knees bent while stepping (static balance: the swinging leg must reach its
             // landing spot while the root stays over the stance foot).
             Point3::new(
                 c.x,
-                root_rest.y - STEP_KNEE_BEND * (leg.thigh + leg.shank),
+                root_rest.y - step.knee_bend * (leg.thigh + leg.shank),
                 c.z,
             )
         };
@@ -270,7 +494,7 @@ impl Stepping {
             root_keys.push((t0 + shift_time(&from, &end), end));
         }
         let total = root_keys.last().map_or(0.0, |k| k.0);
-        Ok(Stepping {
+        let mut stepping = Stepping {
             feet_rest,
             step_vec,
             windows,
@@ -278,7 +502,19 @@ impl Stepping {
             total,
             root_rest,
             settings: step_settings(character, arm, s)?,
-        })
+        };
+        // Each key no higher than both legs reach their feet from: a root the legs pulled down
+        // between keys would spring up when a foot left the ground.
+        for k in 1..stepping.root_keys.len() {
+            let (t, key) = stepping.root_keys[k];
+            let mut pose = *rest;
+            pose[dof::ROOT_X] = key.x;
+            pose[dof::ROOT_Y] = key.y;
+            pose[dof::ROOT_Z] = key.z;
+            lower_root_for_legs(character, &mut pose, &stepping.feet(t));
+            stepping.root_keys[k].1.y = pose[dof::ROOT_Y];
+        }
+        Ok(stepping)
     }
 
     /// When the last foot has landed and the root arrived, seconds (0 without a step).

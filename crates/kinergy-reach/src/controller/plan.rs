@@ -89,6 +89,9 @@ pub(super) fn plan(
         &step_settings,
         s.seed,
     );
+    // Eq. 9's step where the body holds it, else the longest it holds (the balance model).
+    let balance = legs::StepBalance::new(character, rest, arm, s)?;
+    let drawn = balance.fit(&drawn);
     let arm_ik = arm_ik(character, arm)?;
     let reaching = ReachingArm {
         character,
@@ -108,7 +111,7 @@ pub(super) fn plan(
             &reaching,
             paper,
             &drawn,
-            &step_settings,
+            &balance,
             s.flexibility,
             0.5 * s.tolerance,
             &at,
@@ -206,12 +209,13 @@ fn search_posture(
     reaching: &ReachingArm<'_>,
     paper: Candidate,
     drawn: &StepPlan,
-    settings: &crate::steps::StepSettings,
+    balance: &legs::StepBalance<'_>,
     flexibility: f64,
     reached: f64,
     at: &dyn Fn(&StepPlan, Option<f64>) -> Candidate,
 ) -> Candidate {
     let character = reaching.character;
+    let settings = balance.steps();
     let reachable = |c: &Candidate| c.hand_error <= reached;
     let deepest = max_squat(character);
     let squats_from = |from: f64| {
@@ -236,16 +240,22 @@ fn search_posture(
     } else {
         crate::steps::step_length(settings, d, settings.p_mean)
     };
-    let longest = legs::longest_step(character).min((d - 0.5 * settings.d_c).max(0.0));
     let kind = match drawn.step {
         crate::steps::StepDecision::NoStep => crate::steps::StepDecision::FullStep,
         kind => kind,
     };
+    let step_of = |length: f64| StepPlan::new(character, kind, length, drawn.direction, d);
+    let reach_limit = legs::longest_step(character).min((d - 0.5 * settings.d_c).max(0.0));
+    let longest = balance
+        .longest(&step_of(reach_limit))
+        .map_or(0.0, |st| st.length);
     let mut steps = Vec::new();
     let mut length = first.min(longest);
     while length > 1e-3 {
-        if !(drawn.step.steps() && (length - drawn.length).abs() < 1e-9) {
-            steps.push(StepPlan::new(kind, length, drawn.direction, d));
+        if !(drawn.step.steps() && (length - drawn.length).abs() < 1e-9)
+            && let Some(held) = balance.balanced(&step_of(length))
+        {
+            steps.push(held);
         }
         if length >= longest - 1e-9 {
             break;

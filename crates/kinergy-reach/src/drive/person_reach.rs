@@ -277,7 +277,12 @@ mod tests {
         let request = PersonReach {
             target: Point3::new(0.0, 1.2, 2.5),
             proportions: Proportions::from_height(1.75).expect("a body"),
-            settings: ReachSettings::default(),
+            // The nearest posture (a full step, the torso level) leaves the hand 1.5 m of
+            // straight path at the paper's v_s: about 14 s.
+            settings: ReachSettings {
+                timeout: 30.0,
+                ..ReachSettings::default()
+            },
             person: None,
         };
         request.validate().expect("a valid request");
