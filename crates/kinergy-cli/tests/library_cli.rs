@@ -1303,8 +1303,9 @@ fn compare_library_refuses_distances_that_cannot_be_true() {
     );
 }
 
-/// A model some reaches of a line lack is not averaged silently over fewer: its cell says how
-/// many reaches it covers (the sweep: S_C averaged over 2 of 3 reaches without a word).
+/// A model some reaches of a line lack (a stage below the fitted model) is not averaged
+/// silently over fewer: its cell says how many reaches it covers (the sweep: S_C averaged over
+/// 2 of 3 reaches without a word). A row without its own model's distance is refused.
 #[test]
 fn compare_library_says_when_a_model_covers_fewer_reaches() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -1314,8 +1315,8 @@ fn compare_library_says_when_a_model_covers_fewer_reaches() {
     std::fs::write(
         &table,
         format!(
-            "{header}\nr01.bvh,p01,right,0,10,10,sb,svd,0.02,0.01,,,,16,,r01.bvh.json,abc\n\
-             r02.bvh,p01,right,0,10,10,sb,svd,0.03,,,,,16,,r02.bvh.json,abc\n"
+            "{header}\nr01.bvh,p01,right,0,10,10,sc,svd,0.02,0.01,0.01,,,16,,r01.bvh.json,abc\n\
+             r02.bvh,p01,right,0,10,10,sc,svd,0.03,,0.02,,,16,,r02.bvh.json,abc\n"
         ),
     )
     .expect("write");
@@ -1324,4 +1325,31 @@ fn compare_library_says_when_a_model_covers_fewer_reaches() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let summary = std::fs::read_to_string(report.join("summary.md")).expect("summary.md");
     assert!(summary.contains("1 of 2 reaches"), "{summary}");
+}
+
+/// The sweep (09_tables #40): a row of model S_C without an S_C distance was summarised; no
+/// fit writes such a row, so `compare --library` refuses it, naming the row and the column.
+#[test]
+fn compare_library_refuses_a_row_without_its_own_models_distance() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let header = "clip,person,arm,onset,end,frames,model,optimizer,distance_sa_m,distance_sb_m,\
+                  distance_sc_m,distance_sd_m,distance_se_m,evaluations,seconds,result,settings";
+    let table = dir.path().join("library.csv");
+    std::fs::write(
+        &table,
+        format!(
+            "{header}\nr01.bvh,p01,right,0,10,10,sc,svd,0.02,0.01,0.01,,,16,,r01.bvh.json,abc\n\
+             r02.bvh,p01,right,0,10,10,sc,svd,0.03,0.02,,,,16,,r02.bvh.json,abc\n"
+        ),
+    )
+    .expect("write");
+    let report = dir.path().join("report");
+    let o = kinergy(&["compare", "--library", s(&table), "-o", s(&report)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("row 3, column distance_sc_m: empty in a row of model sc"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!report.exists());
 }

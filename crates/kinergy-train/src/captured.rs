@@ -335,7 +335,7 @@ impl CapturedReach {
 
     /// The same reach toward another target, world meters (the capture it is scored
     /// against stays the same). The target must be finite and within [`MAX_TARGET_DISTANCE`]
-    /// of the arm's base (the clavicle) on the reach's last frame: farther, no body reaches
+    /// of the arm's base (the clavicle) on the reach's first and last frames: farther, no body reaches
     /// it, and a fit's distances would overflow (a target of 1e308 m would be fitted to "inf mm"
     /// and stored as 1.797e308). Else [`TrainError::Setting`] naming `target`.
     pub fn with_target(self, target: Point3<f64>) -> Result<CapturedReach> {
@@ -346,16 +346,21 @@ impl CapturedReach {
                 "the target's coordinates must be finite numbers",
             )));
         }
-        let last = self.base.at(self.frame_count().saturating_sub(1));
-        let shoulder = Point3::from(last.translation.vector);
+        // From the shoulder on the last frame and on the first (where the field reads its
+        // target: one check for both, so a field never refuses a reach this accepted).
         // `hypot` does not overflow where the squares would (a target of 1e155 m).
-        let d = target - shoulder;
-        let distance = d.x.hypot(d.y).hypot(d.z);
+        let distance = [0, self.frame_count().saturating_sub(1)]
+            .map(|f| {
+                let d = target - Point3::from(self.base.at(f).translation.vector);
+                d.x.hypot(d.y).hypot(d.z)
+            })
+            .into_iter()
+            .fold(0.0, f64::max);
         if distance > MAX_TARGET_DISTANCE {
             return Err(TrainError::Setting(InvalidSetting::new(
                 field(),
                 format!(
-                    "the target is {} from the arm's shoulder on the reach's last frame, \
+                    "the target is {} from the arm's shoulder on the reach's first or last frame, \
                      beyond what any body reaches (at most {MAX_TARGET_DISTANCE} m): a target \
                      in another unit, or a typo?",
                     kinergy_io::meters(distance)

@@ -495,6 +495,10 @@ fn shards_that_saw_different_takes_under_different_roots_are_refused() {
         text.contains("the shards saw different takes (")
             && text.contains("shard 1/3 saw 6 takes under")
             && text.contains("shard 2/3, shard 3/3 saw 7 takes under")
+            && text.contains(&format!(
+                "not seen by every shard: {}",
+                takes_dir.join(&added).display()
+            ))
             && text.contains("--resume"),
         "{text}"
     );

@@ -363,8 +363,8 @@ pub(crate) fn target_problem(k: usize, target: &Point3<f64>) -> Option<(String, 
     Some((
         format!("samples[{k}].target[{i}]"),
         format!(
-            "is {}: a sample's target is within {max} m of its arm's base ({} m away): a \
-             damaged file?",
+            "is {}: the sample's target is {} m from its arm's base, beyond the {max} m a \
+             target may lie: a damaged file?",
             num(target[i]),
             num(distance)
         ),

@@ -326,10 +326,28 @@ fn check_takes(records: &[ShardRecord], wrong: &mut Vec<String>) -> bool {
                 )
             })
             .collect();
+        // The takes not every shard saw, by their full paths (the roots differ).
+        let lists: Vec<BTreeSet<String>> = groups
+            .iter()
+            .map(|((root, _), members)| {
+                members[0]
+                    .takes
+                    .iter()
+                    .map(|t| format!("{}/{}", root.trim_end_matches('/'), t.path))
+                    .collect()
+            })
+            .collect();
+        let every: BTreeSet<&String> = lists.iter().flatten().collect();
+        let differ: Vec<String> = every
+            .into_iter()
+            .filter(|t| !lists.iter().all(|l| l.contains(*t)))
+            .cloned()
+            .collect();
         wrong.push(format!(
-            "the shards saw different takes ({}): a take was added, removed or moved between \
-             them: run every shard again with --resume",
-            seen.join("; ")
+            "the shards saw different takes ({}; not seen by every shard: {}): a take was \
+             added, removed or moved between them: run every shard again with --resume",
+            seen.join("; "),
+            some(&differ)
         ));
         agree = false;
     }

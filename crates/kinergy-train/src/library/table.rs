@@ -369,6 +369,18 @@ impl LibraryTable {
                     COLUMNS.join(", ")
                 ));
             }
+            // A fit's own model always has its distance (a richer one's stages may not).
+            if let Some(k) = ["sa", "sb", "sc", "sd", "se"]
+                .iter()
+                .position(|m| row.model.eq_ignore_ascii_case(m))
+                && row.distances()[k].is_none()
+            {
+                return Err(format!(
+                    "row {line}, column {}: empty in a row of model {}: the fit's own distance \
+                     is missing (the row was edited or cut short)",
+                    COLUMNS[k], row.model
+                ));
+            }
             let mixed = [
                 ("model", &row.model, &first.model),
                 ("optimizer", &row.optimizer, &first.optimizer),
@@ -484,7 +496,7 @@ mod tests {
             onset: 0,
             end: 10,
             frames: 10,
-            model: "sc".into(),
+            model: "sa".into(),
             optimizer: "svd".into(),
             distance_sa_m: Some(sa),
             distance_sb_m: None,
@@ -562,7 +574,7 @@ mod tests {
         };
         assert_eq!(good().check(), Ok(()));
         type Spoil = dyn Fn(&mut LibraryRow);
-        let cases: [(&Spoil, &str); 7] = [
+        let cases: [(&Spoil, &str); 8] = [
             (
                 &|r| r.distance_sa_m = Some(f64::NAN),
                 "row 3, column distance_sa_m: NaN",
@@ -581,8 +593,15 @@ mod tests {
             ),
             (&|r| r.set_distances([None; 5]), "row 3: every distance"),
             (
-                &|r| r.model = "sa".into(),
-                "row 3, column model: `sa` where row 2 has `sc`",
+                &|r| r.model = "sc".into(),
+                "row 3, column distance_sc_m: empty in a row of model sc",
+            ),
+            (
+                &|r| {
+                    r.model = "sb".into();
+                    r.distance_sb_m = Some(0.03);
+                },
+                "row 3, column model: `sb` where row 2 has `sa`",
             ),
             (
                 &|r| r.settings = "ffff".into(),
