@@ -226,3 +226,89 @@ fn reach_takes_huangs_knobs() {
     assert!(!fulls.is_empty(), "no step drawn in 8 seeds");
     assert!(fulls.iter().all(|s| s == "full"), "{fulls:?}");
 }
+
+/// Issue 43, item 7: Huang et al.'s Fig. 4 gallery (`examples/huang-fig4/gallery.csv`, drawn
+/// by `docs/make-pictures.sh`): each situation does what its caption says — the step (none, a
+/// half or a full one), the posture (upright, stoop, squat), the twist and the swing — and
+/// reaches its target within a centimetre.
+#[test]
+fn huangs_fig_4_gallery_does_what_its_captions_say() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let csv = std::fs::read_to_string(repo().join("examples/huang-fig4/gallery.csv"))
+        .expect("the gallery");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let mut panels = 0;
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let cell = |name: &str| {
+            cells[header
+                .iter()
+                .position(|&h| h == name)
+                .unwrap_or_else(|| panic!("no `{name}` column"))]
+        };
+        let target = format!(
+            "{},{},{}",
+            cell("target_x"),
+            cell("target_y"),
+            cell("target_z")
+        );
+        let out = dir.path().join(format!("{}.bvh", cell("panel")));
+        let o = kinergy(&[
+            "reach",
+            "--target",
+            &target,
+            "--flexibility",
+            cell("flexibility"),
+            "--seed",
+            cell("seed"),
+            "--p-max",
+            cell("p_max"),
+            "--p-min",
+            cell("p_min"),
+            // A high target after a step is a long path at the paper's v_s.
+            "--timeout",
+            "30",
+            "--json",
+            "-o",
+            out.to_str().expect("utf-8"),
+        ]);
+        let what = format!("({}) {}", cell("panel"), cell("caption"));
+        assert_eq!(o.status.code(), Some(0), "{what}: {}", text(&o.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+        let r = report.get("reach").unwrap_or(&report);
+        assert_eq!(r["stop"], "reached", "{what}: {r}");
+        assert!(
+            r["final_error"].as_f64().expect("error") <= 0.01,
+            "{what}: {r}"
+        );
+        let step = r["step"].as_str().expect("step");
+        let step_ok = match cell("step") {
+            "any" => true,
+            "any-step" => step != "none",
+            "half" => step.starts_with("half"),
+            kind => step == kind,
+        };
+        assert!(step_ok, "{what}: step {step}, wanted {}", cell("step"));
+        let posture = r["posture"].as_str().expect("posture");
+        assert!(
+            cell("posture") == "any" || posture == cell("posture"),
+            "{what}: posture {posture}, wanted {}",
+            cell("posture")
+        );
+        let twist = r["twist_deg"].as_f64().expect("twist").abs();
+        match cell("twist") {
+            "yes" => assert!(twist > 1.0, "{what}: no twist ({twist}°)"),
+            "no" => assert!(twist <= 1.0, "{what}: a twist of {twist}°"),
+            _ => {}
+        }
+        let swing = r["swing_deg"].as_f64().expect("swing").abs();
+        match cell("swing") {
+            "yes" => assert!(swing > 1.0, "{what}: no swing ({swing}°)"),
+            "no" => assert!(swing <= 1.0, "{what}: a swing of {swing}°"),
+            _ => {}
+        }
+        panels += 1;
+    }
+    assert_eq!(panels, 8, "Huang's Fig. 4 has panels a–h");
+}

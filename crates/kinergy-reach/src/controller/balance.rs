@@ -57,19 +57,22 @@ pub(super) fn rebalance(
 /// The COM adjustment of the final posture: eq. 8's `r = −kφ d_p` (`start`), then — beyond
 /// the paper — as much more toward the support polygon's centre as the final `posture` needs
 /// to keep the COM's projection `wanted` meters inside the final support polygon, with the
-/// ankles at `feet` (where the step leaves them) and the `arm` solved for its target.
+/// ankles at `feet` (where the step leaves them) and the `arm` solved for its target. Returns
+/// the shift and the hand's distance from the target in the shifted posture (the root moved
+/// back for balance can leave the hand short).
 pub(super) fn plan_com_shift(
     arm: &ReachingArm<'_>,
     posture: &Pose,
     feet: &[IsometryMatrix3<f64>; 2],
     start: Vector3<f64>,
     wanted: f64,
-) -> Result<Vector3<f64>> {
+) -> Result<(Vector3<f64>, f64)> {
     let character = arm.character;
     let legs = leg_iks(character)?;
     let mut com_shift = start;
+    let mut q = *posture;
     for _ in 0..40 {
-        let mut q = *posture;
+        q = *posture;
         q[dof::ROOT_X] += com_shift.x;
         q[dof::ROOT_Z] += com_shift.z;
         lower_root_for_legs(character, &mut q, feet);
@@ -82,7 +85,7 @@ pub(super) fn plan_com_shift(
             Some(shift) => com_shift += Vector3::new(shift.x, 0.0, shift.y),
         }
     }
-    Ok(com_shift)
+    Ok((com_shift, arm.error(&q)))
 }
 
 /// The fastest the balance correction moves the root, m/s.

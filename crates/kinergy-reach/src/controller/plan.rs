@@ -14,6 +14,7 @@ use super::spine::{SwingPlan, max_squat};
 use super::spine::{apply_swing, plan_squat, plan_swing, plan_twist, set_twist};
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::Result;
+use crate::steps::StepDecision;
 
 /// The plan: every decision, made once at the start.
 #[derive(Debug, Clone)]
@@ -103,8 +104,30 @@ pub(super) fn plan(
     let k_com = s.r_max / s.phi_max;
     let at =
         |step: &StepPlan, squat: Option<f64>| posture_at(&reaching, rest, step, squat, k_com, s);
+    // A posture with its COM shift and the hand's distance from the target after it (the root
+    // moved back for balance can leave the hand short of a target it reached before).
+    let feet_rest = [frames[joint::RIGHT_FOOT], frames[joint::LEFT_FOOT]];
+    let settle = |mut c: Candidate| -> Result<Candidate> {
+        let feet = c.step.feet_after(feet_rest);
+        let (shift, error) = plan_com_shift(
+            &reaching,
+            &c.pose,
+            &feet,
+            -k_com * c.swing.angle.abs() * c.swing.dp,
+            s.balance_margin + 0.02,
+        )?;
+        c.com_shift = Some(shift);
+        c.hand_error = c.hand_error.max(error);
+        Ok(c)
+    };
+    let reached = 0.5 * s.tolerance;
     let paper = at(&drawn, None);
-    let chosen = if paper.hand_error <= 0.5 * s.tolerance {
+    let paper = if paper.hand_error <= reached {
+        settle(paper)?
+    } else {
+        paper
+    };
+    let chosen = if paper.hand_error <= reached {
         paper
     } else {
         search_posture(
@@ -113,26 +136,24 @@ pub(super) fn plan(
             &drawn,
             &balance,
             s.flexibility,
-            0.5 * s.tolerance,
+            reached,
             &at,
-        )
+            &settle,
+        )?
+    };
+    let chosen = match chosen.com_shift {
+        Some(_) => chosen,
+        None => settle(chosen)?,
     };
     let Candidate {
         step,
         twist,
         squat,
         swing,
-        pose,
+        com_shift,
         ..
     } = chosen;
-    let feet = step.feet_after([frames[joint::RIGHT_FOOT], frames[joint::LEFT_FOOT]]);
-    let com_shift = plan_com_shift(
-        &reaching,
-        &pose,
-        &feet,
-        -k_com * swing.angle.abs() * swing.dp,
-        s.balance_margin + 0.02,
-    )?;
+    let com_shift = com_shift.unwrap_or_else(Vector3::zeros);
     Ok(Plan {
         arm,
         target,
@@ -155,6 +176,8 @@ struct Candidate {
     swing: SwingPlan,
     pose: Pose,
     hand_error: f64,
+    /// The root's COM adjustment once settled (`plan`'s `settle`), when it has been.
+    com_shift: Option<Vector3<f64>>,
 }
 
 /// The posture after `step`, the twist toward the target, the squat `squat` (`None`: the one
@@ -195,6 +218,7 @@ fn posture_at(
         hand_error: swing.hand_error,
         swing,
         pose,
+        com_shift: None,
     }
 }
 
@@ -213,7 +237,8 @@ fn search_posture(
     flexibility: f64,
     reached: f64,
     at: &dyn Fn(&StepPlan, Option<f64>) -> Candidate,
-) -> Candidate {
+    settle: &dyn Fn(Candidate) -> Result<Candidate>,
+) -> Result<Candidate> {
     let character = reaching.character;
     let settings = balance.steps();
     let reachable = |c: &Candidate| c.hand_error <= reached;
@@ -223,14 +248,16 @@ fn search_posture(
         (1..=n).map(move |k| (from + k as f64 * SQUAT_INCREMENT).min(deepest))
     };
     let mut best = paper.clone();
-    let mut consider = |c: Candidate| -> Option<Candidate> {
+    // A posture reaches once settled with its COM shift.
+    let mut consider = |c: Candidate| -> Result<Option<Candidate>> {
+        let c = if reachable(&c) { settle(c)? } else { c };
         if reachable(&c) {
-            return Some(c);
+            return Ok(Some(c));
         }
         if c.hand_error < best.hand_error {
             best = c;
         }
-        None
+        Ok(None)
     };
     // Step toward the target: the drawn step if it stepped, else a full step of eq. 9's
     // length; then longer ones up to the balance's limit.
@@ -240,27 +267,35 @@ fn search_posture(
     } else {
         crate::steps::step_length(settings, d, settings.p_mean)
     };
-    let kind = match drawn.step {
-        crate::steps::StepDecision::NoStep => crate::steps::StepDecision::FullStep,
+    // The drawn kind of step first (a full one where none was drawn), then — a half step
+    // moves the root only half as far — a full one.
+    let drawn_kind = match drawn.step {
+        StepDecision::NoStep => StepDecision::FullStep,
         kind => kind,
     };
-    let step_of = |length: f64| StepPlan::new(character, kind, length, drawn.direction, d);
+    let kinds: &[StepDecision] = if drawn_kind == StepDecision::FullStep {
+        &[StepDecision::FullStep]
+    } else {
+        &[drawn_kind, StepDecision::FullStep]
+    };
     let reach_limit = legs::longest_step(character).min((d - 0.5 * settings.d_c).max(0.0));
-    let longest = balance
-        .longest(&step_of(reach_limit))
-        .map_or(0.0, |st| st.length);
     let mut steps = Vec::new();
-    let mut length = first.min(longest);
-    while length > 1e-3 {
-        if !(drawn.step.steps() && (length - drawn.length).abs() < 1e-9)
-            && let Some(held) = balance.balanced(&step_of(length))
-        {
-            steps.push(held);
+    for &kind in kinds {
+        let step_of = |length: f64| StepPlan::new(character, kind, length, drawn.direction, d);
+        let longest = balance
+            .longest(&step_of(reach_limit))
+            .map_or(0.0, |st| st.length);
+        let mut length = first.min(longest);
+        while length > 1e-3 {
+            let drawn_again = kind == drawn.step && (length - drawn.length).abs() < 1e-9;
+            if !drawn_again && let Some(held) = balance.balanced(&step_of(length)) {
+                steps.push(held);
+            }
+            if length >= longest - 1e-9 {
+                break;
+            }
+            length = (length + STEP_INCREMENT).min(longest);
         }
-        if length >= longest - 1e-9 {
-            break;
-        }
-        length = (length + STEP_INCREMENT).min(longest);
     }
     // A flexible body squats deeper before it steps; a stiff one (flexibility below 1: the
     // paper's stooper) steps and stoops before it squats.
@@ -279,11 +314,11 @@ fn search_posture(
     }
     order.extend(stepped_squat);
     for (step, squat) in order {
-        if let Some(c) = consider(at(&step, Some(squat))) {
-            return c;
+        if let Some(c) = consider(at(&step, Some(squat)))? {
+            return Ok(c);
         }
     }
-    best
+    Ok(best)
 }
 
 /// The arm that reaches for `target`: `arm` if given, else the one on the target's side of
