@@ -137,8 +137,10 @@ pub(super) fn plan(
             &balance,
             s.flexibility,
             reached,
-            &at,
-            &settle,
+            &Evaluate {
+                at: &at,
+                settle: &settle,
+            },
         )?
     };
     let chosen = match chosen.com_shift {
@@ -222,6 +224,14 @@ fn posture_at(
     }
 }
 
+/// How the search evaluates a posture: `at` builds it (a step and a squat, `None` for the
+/// flexibility's), `settle` gives it its COM shift and the hand's distance after it.
+#[derive(Clone, Copy)]
+struct Evaluate<'a> {
+    at: &'a dyn Fn(&StepPlan, Option<f64>) -> Candidate,
+    settle: &'a dyn Fn(Candidate) -> Result<Candidate>,
+}
+
 /// The posture search beyond the paper's decisions ([`plan`]): deeper squats from the
 /// paper's posture, and steps toward the target (the drawn step if it stepped, else a full
 /// step of eq. 9's length; then longer ones up to the balance's limit) with a stoop alone —
@@ -236,9 +246,9 @@ fn search_posture(
     balance: &legs::StepBalance<'_>,
     flexibility: f64,
     reached: f64,
-    at: &dyn Fn(&StepPlan, Option<f64>) -> Candidate,
-    settle: &dyn Fn(Candidate) -> Result<Candidate>,
+    evaluate: &Evaluate<'_>,
 ) -> Result<Candidate> {
+    let Evaluate { at, settle } = *evaluate;
     let character = reaching.character;
     let settings = balance.steps();
     let reachable = |c: &Candidate| c.hand_error <= reached;
