@@ -8,7 +8,7 @@ REPO="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$REPO"
 K="${KINERGY:-$REPO/target/release/kinergy}"
 WORK="${WORK:-$(mktemp -d)}"
-python3 - "$WORK" examples/huang-fig4/gallery.csv <<'PY' | while IFS='|' read -r panel target flexibility seed p_max p_min view scene; do
+python3 - "$WORK" examples/huang-fig4/gallery.csv <<'PY' | while IFS='|' read -r panel name target flexibility seed p_max p_min view scene; do
 import csv, json, os, sys
 work, table = sys.argv[1], sys.argv[2]
 shapes = {
@@ -31,12 +31,13 @@ for row in csv.DictReader(open(table)):
     }
     path = os.path.join(work, "fig4-%s.json" % row["panel"])
     json.dump(scene, open(path, "w"))
-    print("|".join([row["panel"], ",".join(row[k] for k in ("target_x", "target_y", "target_z")),
+    name = "%s) %s" % (row["panel"], row["caption"])
+    print("|".join([row["panel"], name.replace(" ", "_"), ",".join(row[k] for k in ("target_x", "target_y", "target_z")),
                     row["flexibility"], row["seed"], row["p_max"], row["p_min"], row["view"], path]))
 PY
     "$K" reach --target "$target" --flexibility "$flexibility" --seed "$seed" \
-        --p-max "$p_max" --p-min "$p_min" --timeout 30 -o "$WORK/fig4-$panel.bvh" > /dev/null
-    "$K" animate "$WORK/fig4-$panel.bvh" --scene "$scene" --view "$view" --fps 10 \
+        --p-max "$p_max" --p-min "$p_min" --timeout 30 -o "$WORK/$name.bvh" > /dev/null
+    "$K" animate "$WORK/$name.bvh" --scene "$scene" --view "$view" --fps 10 \
         --size 200x280 -o "$WORK/fig4-$panel.gif" --strip "docs/huang-fig4-$panel.png" \
         --strip-frames 5 > /dev/null
 done

@@ -27,9 +27,41 @@ FRAMES=$("$K" synthesize --from "$CLIP" --params "$WORK/sc.json" --frames auto -
 "$K" animate "$WORK/captured.bvh" "$WORK/S_A.bvh" "$WORK/S_C.bvh" --view side --fps 15 \
     --size 480x360 -o docs/overlay.gif --strip docs/overlay-strip.png --strip-frames 6 > /dev/null
 
-# The paper's Fig. 3 (with S_E, beyond the paper) and Fig. 4 on the synthetic set.
+# The paper's Fig. 5: the hand speed of four captured reaches (four targets) against S_A's and
+# S_C's, each fitted to its reach, under the default smooth controller and the paper's.
+for controller in smooth paper; do
+    i=0
+    for clip in p01/r09 p02/r02 p03/r06 p04/r13; do
+        i=$((i + 1))
+        C="data-synthetic/$clip.bvh"
+        D="$WORK/fig5-$controller-$i"
+        mkdir -p "$D"
+        for model in sa sc; do
+            "$K" fit "$C" --model "$model" --optimizer svd --per clip --controller "$controller" \
+                -o "$D/$model.json" > /dev/null
+            "$K" synthesize --from "$C" --params "$D/$model.json" --frames auto --stop-at-reach \
+                -o "$D/S_${model^^}.bvh" > /dev/null
+        done
+        F=$("$K" synthesize --from "$C" --params "$D/sc.json" --frames auto -o "$D/x.bvh" --json \
+            | python3 -c "import json, sys; a, b = json.load(sys.stdin)['capture_frames']; print(f'{a}..{b}')")
+        "$K" convert "$C" --frames "$F" -o "$D/captured.bvh"
+        "$K" plot speed "$D/captured.bvh" "$D/S_SA.bvh" "$D/S_SC.bvh" --size 450x300 \
+            --title "$clip, $controller controller" -o "docs/fig5-$controller-$i.png" > /dev/null
+    done
+done
+
+# The paper's Fig. 3 (with S_E, beyond the paper) and Fig. 4 on the synthetic set, under both
+# controllers (docs/make-tables.sh puts their tables in the README).
 "$K" compare --models sa,sb,sc,sd,se -o "$WORK/compare" > /dev/null
 cp "$WORK/compare/fig3.png" "$WORK/compare/fig4.png" "$WORK/compare/summary.md" docs/
+"$K" compare --models sa,sb,sc,sd,se --controller paper -o "$WORK/compare-paper" > /dev/null
+cp "$WORK/compare-paper/fig3.png" docs/fig3-paper.png
+cp "$WORK/compare-paper/fig4.png" docs/fig4-paper.png
+cp "$WORK/compare-paper/summary.md" docs/summary-paper.md
+docs/make-tables.sh --from "$WORK/compare" --from-paper "$WORK/compare-paper"
+
+# Huang, Kapadia & Terzopoulos' Fig. 4: the gallery of situations a–h.
+KINERGY="$K" WORK="$WORK" docs/huang-fig4.sh
 
 # The bookshelf relocation (Kallmann's Fig. 5), and its planner's search trees (his Fig. 4).
 # Its JSON report holds the book's pose on every frame: animate draws the shelf and the book

@@ -3,12 +3,14 @@
 # their marker comments in README.md:
 #   <!-- tables:paper begin --> … <!-- tables:paper end -->
 #       the paper's Fig. 3 and Fig. 4, from `kinergy compare --models sa,sb,sc,sd,se` on
-#       data-synthetic/ (seed 1: the same numbers on every run and thread count).
+#       data-synthetic/ (seed 1: the same numbers on every run and thread count), under the
+#       default smooth controller and under the paper's (`--controller paper`), side by side.
 #
-# Usage: docs/make-tables.sh [--check] [--from DIR]
-#   --check     regenerate into a temporary copy; exit 1 with a diff if README.md differs
-#   --from DIR  use the summary.md of a compare run already made with those models
-#               (e.g. compare-out/) instead of running compare (1–5 minutes on 2 cores)
+# Usage: docs/make-tables.sh [--check] [--from DIR] [--from-paper DIR]
+#   --check           regenerate into a temporary copy; exit 1 with a diff if README.md differs
+#   --from DIR        use the summary.md of a compare run already made with those models
+#                     (e.g. compare-out/) instead of running compare (1–5 minutes on 2 cores)
+#   --from-paper DIR  the same for the run with --controller paper
 # The binary is ${KINERGY:-target/release/kinergy} (build it with
 # `cargo build --release -p kinergy-cli`). Exit codes: 0 done (or up to date), 1 the README
 # differs (--check), 2 bad usage or a missing binary, summary or marker.
@@ -19,12 +21,18 @@ KINERGY="${KINERGY:-target/release/kinergy}"
 
 check=0
 from=""
+from_paper=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --check) check=1 ;;
         --from)
             [ $# -ge 2 ] || { echo "make-tables: --from needs a folder" >&2; exit 2; }
             from="$2"
+            shift
+            ;;
+        --from-paper)
+            [ $# -ge 2 ] || { echo "make-tables: --from-paper needs a folder" >&2; exit 2; }
+            from_paper="$2"
             shift
             ;;
         -h | --help)
@@ -42,58 +50,81 @@ done
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
+if { [ -z "$from" ] || [ -z "$from_paper" ]; } && [ ! -x "$KINERGY" ]; then
+    echo "make-tables: no binary at $KINERGY: run 'cargo build --release -p kinergy-cli' or set KINERGY" >&2
+    exit 2
+fi
 if [ -z "$from" ]; then
-    if [ ! -x "$KINERGY" ]; then
-        echo "make-tables: no binary at $KINERGY: run 'cargo build --release -p kinergy-cli' or set KINERGY" >&2
-        exit 2
-    fi
     "$KINERGY" compare --models sa,sb,sc,sd,se -o "$work/compare" -q
     from="$work/compare"
 fi
-summary="$from/summary.md"
-if [ ! -f "$summary" ]; then
-    echo "make-tables: $summary not found" >&2
-    exit 2
+if [ -z "$from_paper" ]; then
+    "$KINERGY" compare --models sa,sb,sc,sd,se --controller paper -o "$work/compare-paper" -q
+    from_paper="$work/compare-paper"
 fi
+for summary in "$from/summary.md" "$from_paper/summary.md"; do
+    if [ ! -f "$summary" ]; then
+        echo "make-tables: $summary not found" >&2
+        exit 2
+    fi
+done
 
-# The paper's table, from compare's summary.md: its settings line, the Fig. 3 rows
+# The paper's table, from each compare's summary.md: its settings line, the Fig. 3 rows
 # (| S_A | mean | min | max | reduction | paper |) and the Fig. 4 rows
-# (| JT | S_A mean (min–max) | S_C mean (min–max) | reduction | paper |).
-awk '
-    function trim(s) { gsub(/^ +| +$/, "", s); return s }
-    function mm(s) { s = trim(s); sub(/ \(.*$/, "", s); return s }
-    NR == 3 {
-        clips = $1
-        evals = $0; sub(/ evaluations per fit.*$/, "", evals); sub(/^.* /, "", evals)
-    }
-    /^## Fig\. 3/ { section = 3; next }
-    /^## Fig\. 4/ { section = 4; next }
-    /^## / { section = 0; next }
-    section == 3 && /^\| S_/ {
-        split($0, c, "|")
-        fig3[++n3] = sprintf("| %s | %s | %s | %s |", trim(c[2]), mm(c[3]), trim(c[6]), trim(c[7]))
-    }
-    section == 4 && /^\| [A-Z]/ && !/^\| optimizer/ {
-        split($0, c, "|")
-        fig4[++n4] = sprintf("| %s | %s → %s | %s | %s |", trim(c[2]), mm(c[3]), mm(c[4]), trim(c[5]), trim(c[6]))
-    }
-    END {
-        if (n3 == 0 || n4 == 0 || clips == "" || evals == "") {
-            print "make-tables: no Fig. 3 / Fig. 4 rows in summary.md" > "/dev/stderr"
-            exit 2
-        }
-        printf "<!-- Made by docs/make-tables.sh from `kinergy compare --models sa,sb,sc,sd,se`; do not edit by hand. -->\n"
-        printf "%s reaches of `data-synthetic/`, one fit per reach, %s evaluations per fit, seed 1; mean\n", clips, evals
-        printf "joint-position motion distance in mm. The paper: 14 seated reaches of one subject.\n\n"
-        print "| Fig. 3 (SVD) | ours: mean (mm) | ours: reduction from the previous model | paper: reduction |"
-        print "|---|---|---|---|"
-        for (i = 1; i <= n3; i++) print fig3[i]
-        print ""
-        print "| Fig. 4: S_C instead of S_A | ours: S_A → S_C (mm) | ours: reduction | paper: reduction |"
-        print "|---|---|---|---|"
-        for (i = 1; i <= n4; i++) print fig4[i]
-    }
-' "$summary" > "$work/paper.md"
+# (| JT | S_A mean (min–max) | S_C mean (min–max) | reduction | paper |), the two controllers
+# side by side.
+python3 - "$from/summary.md" "$from_paper/summary.md" > "$work/paper.md" <<'PY'
+import re, sys
+
+def cells(line):
+    return [c.strip() for c in line.strip().strip("|").split("|")]
+
+def mm(text):
+    return re.sub(r" \(.*$", "", text.strip())
+
+def read(path):
+    lines = open(path, encoding="utf-8").read().split("\n")
+    first = lines[2].split()
+    clips, evals = first[0], re.search(r"(\S+) evaluations per fit", lines[2])
+    fig3, fig4, section = {}, {}, 0
+    for line in lines:
+        if line.startswith("## Fig. 3"):
+            section = 3
+        elif line.startswith("## Fig. 4"):
+            section = 4
+        elif line.startswith("## "):
+            section = 0
+        elif section == 3 and line.startswith("| S_"):
+            c = cells(line)
+            fig3[c[0]] = (mm(c[1]), c[4], c[5])
+        elif section == 4 and re.match(r"^\| [A-Z]", line) and not line.startswith("| optimizer"):
+            c = cells(line)
+            fig4[c[0]] = ("%s → %s" % (mm(c[1]), mm(c[2])), c[3], c[4])
+    if not fig3 or not fig4 or evals is None:
+        sys.exit("make-tables: no Fig. 3 / Fig. 4 rows in %s" % path)
+    return clips, evals.group(1), fig3, fig4
+
+smooth, paper = read(sys.argv[1]), read(sys.argv[2])
+if smooth[:2] != paper[:2] or smooth[2].keys() != paper[2].keys() or smooth[3].keys() != paper[3].keys():
+    sys.exit("make-tables: the two compare runs differ in their reaches, budgets or rows")
+clips, evals = smooth[0], smooth[1]
+print("<!-- Made by docs/make-tables.sh from `kinergy compare --models sa,sb,sc,sd,se` and the same with `--controller paper`; do not edit by hand. -->")
+print("%s reaches of `data-synthetic/`, one fit per reach, %s evaluations per fit, seed 1; mean" % (clips, evals))
+print("joint-position motion distance in mm, under the default smooth controller and under the")
+print("paper's (`--controller paper`). The paper: 14 seated reaches of one subject.")
+print()
+print("| Fig. 3 (SVD) | smooth: mean (mm) | smooth: reduction | paper's controller: mean (mm) | paper's controller: reduction | paper: reduction |")
+print("|---|---|---|---|---|---|")
+for model, (mean, red, ref) in smooth[2].items():
+    pmean, pred, _ = paper[2][model]
+    print("| %s | %s | %s | %s | %s | %s |" % (model, mean, red, pmean, pred, ref))
+print()
+print("| Fig. 4: S_C instead of S_A | smooth: S_A → S_C (mm) | smooth: reduction | paper's controller: S_A → S_C (mm) | paper's controller: reduction | paper: reduction |")
+print("|---|---|---|---|---|---|")
+for optimizer, (change, red, ref) in smooth[3].items():
+    pchange, pred, _ = paper[3][optimizer]
+    print("| %s | %s | %s | %s | %s | %s |" % (optimizer, change, red, pchange, pred, ref))
+PY
 
 begin='<!-- tables:paper begin -->'
 end='<!-- tables:paper end -->'
