@@ -199,14 +199,34 @@ pub fn result_names(relative: &Path, reaches: &[(Range<usize>, String)]) -> Vec<
         .map(|(frames, arm)| {
             let same_frames = reaches.iter().filter(|(f, _)| f == frames).count() > 1;
             let (start, end) = (frames.start, frames.end);
-            let name = match (reaches.len() > 1, same_frames) {
-                (false, _) => format!("{file}.json"),
-                (true, false) => format!("{file}@{start}-{end}.json"),
-                (true, true) => format!("{file}@{start}-{end}@{}.json", label(arm)),
+            let suffix = match (reaches.len() > 1, same_frames) {
+                (false, _) => ".json".to_string(),
+                (true, false) => format!("@{start}-{end}.json"),
+                (true, true) => format!("@{start}-{end}@{}.json", label(arm)),
             };
-            folder.join(name)
+            folder.join(within_name_limit(&file, &suffix))
         })
         .collect()
+}
+
+/// The longest file name most file systems take, bytes.
+pub const NAME_LIMIT: usize = 255;
+
+/// `file` (a take's escaped name) followed by `suffix`, shortened where the two pass
+/// [`NAME_LIMIT`]: the name cut at a character boundary, then `~` and 16 hexadecimal digits of
+/// the BLAKE3 hash of the whole name, then the suffix — so a take whose name fills the limit
+/// still has results, and two long names that share their first bytes stay apart.
+fn within_name_limit(file: &str, suffix: &str) -> String {
+    let whole = format!("{file}{suffix}");
+    if whole.len() <= NAME_LIMIT {
+        return whole;
+    }
+    let hash = blake3::hash(whole.as_bytes()).to_hex();
+    let mut keep = NAME_LIMIT.saturating_sub(suffix.len() + 17).min(file.len());
+    while !file.is_char_boundary(keep) {
+        keep -= 1;
+    }
+    format!("{}~{}{suffix}", &file[..keep], &hash[..16])
 }
 
 /// `arm` as a result name writes it: letters, digits, `-` and `_` as they are, every other
@@ -307,8 +327,14 @@ mod tests {
     /// File names made of the characters that could fool a name: the separators, digits,
     /// dots, the escape, and a few others.
     fn file_name() -> impl Strategy<Value = String> {
-        "[a1@._%-]{1,4}(\\.bvh|@[0-9]-[0-9]|@[0-9]-[0-9]@(left|%40)|\\.json)?"
-            .prop_filter("a file's name", |n| n != "." && n != "..")
+        prop_oneof![
+            "[a1@._%-]{1,4}(\\.bvh|@[0-9]-[0-9]|@[0-9]-[0-9]@(left|%40)|\\.json)?",
+            // Names near the file systems' 255 bytes, alike but for their ends.
+            "[L@]{0,2}L{236,246}[a@]{0,2}(\\.bvh|@[0-9]-[0-9])?",
+        ]
+        .prop_filter("a file's name", |n| {
+            n != "." && n != ".." && n.len() <= NAME_LIMIT
+        })
     }
 
     /// A take's reaches: distinct (frames, arm label) keys, labels of any characters.
@@ -390,7 +416,15 @@ mod tests {
                     prop_assert_eq!(name.parent(), Some(folder.as_path()));
                     let file = Path::new(take).file_name().unwrap().to_string_lossy();
                     let escaped = file.replace('@', "@@");
-                    prop_assert!(name.file_name().unwrap().to_string_lossy().starts_with(&escaped));
+                    let written = name.file_name().unwrap().to_string_lossy().into_owned();
+                    prop_assert!(written.len() <= NAME_LIMIT, "{:?} is too long", name);
+                    if written.contains('~') && !escaped.contains('~') {
+                        // Shortened: a prefix of the escaped name.
+                        let cut = written.split('~').next().unwrap();
+                        prop_assert!(escaped.starts_with(cut));
+                    } else {
+                        prop_assert!(written.starts_with(&escaped));
+                    }
                     prop_assert!(name.to_string_lossy().ends_with(".json"));
                     let first = name.components().next().unwrap().as_os_str().to_string_lossy();
                     let first = first.to_ascii_lowercase();
