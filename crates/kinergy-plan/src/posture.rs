@@ -167,13 +167,6 @@ impl BodyMotion {
         self.legs.drift(frames)
     }
 
-    /// [`BodyMotion::pose`] when the legs keep the feet where they stand, else `None`.
-    pub fn planted_pose(&self, b: &BodyDofs) -> Option<Pose> {
-        let pose = self.pose(b);
-        let frames = self.character.world_frames(&pose);
-        (self.drift(&frames) <= PLANTED).then_some(pose)
-    }
-
     /// The body DoFs of a pose this motion made ([`BodyMotion::pose`]), read back from the
     /// root's swing and twist and its height (to rounding).
     pub fn dofs_of(&self, pose: &Pose) -> BodyDofs {

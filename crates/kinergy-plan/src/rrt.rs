@@ -1,6 +1,10 @@
 //! Bidirectional RRT-Connect in the arm's configuration space — Kallmann's Algorithm 1 —
 //! with his sampling routine, random-shortcut smoothing and the bell-shaped time warp.
 //!
+//! The space is the arm's 7 DoFs, and where the body moves ([`ArmSpace::moves_body`]) its
+//! three too ([`crate::posture`]): "when spine DoFs and/or root translation DoFs (for knee
+//! flexion) are used, they are sampled with very small variation" ([`Sampler`]).
+//!
 //! # Algorithm 1, as implemented
 //! Two trees grow from the start and the goal. Each iteration samples a free posture
 //! ([`Sampler`]), finds the node of each tree closest to it (linear search, Kallmann's

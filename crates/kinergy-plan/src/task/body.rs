@@ -3,15 +3,8 @@
 //! a reachable location"; the spine rotated toward the target), found before the arm's IK.
 //!
 //! A reach first asks the arm alone, the body in its reference posture. Only when that goal
-//! is beyond reach or collides at every orbit angle does the body move ([`Planner::body_goal`]):
-//! the stances the reach layer's posture search tries with the feet where they stand
-//! ([`standing_stances`]: its twist, the squat its leg flexibility asks for, the swing raised
-//! until the hand reaches, then squats 2 cm deeper each), each also with the swing raised by
-//! [`EXTRA_SWING_DEG`] more (the reach's hand is its fingertip, the planner's its grip point,
-//! a little nearer the wrist; and a deeper bend can clear an obstacle). The first stance whose
-//! feet stay planted, whose body collides with nothing, from which the arm's IK with collision
-//! avoidance finds a posture (the whole body tested) and whose centre of mass stays over the
-//! feet is the goal posture.
+//! is beyond reach or collides at every orbit angle does the body move
+//! ([`Planner::body_goal`]; the search's order is [`BodyUse`]'s docs').
 
 use std::time::Instant;
 
@@ -36,6 +29,18 @@ pub const EXTRA_SWING_DEG: [f64; 11] =
     [0.0, 3.0, 6.0, 9.0, 12.0, 15.0, 18.0, 21.0, 24.0, 27.0, 30.0];
 
 /// How a reach moved the body: its goal posture and why.
+///
+/// The goal posture is searched only where the arm alone fails (Kallmann 2005, "Spine
+/// Motion and Leg Flexion", before the arm's IK): the stances the reach layer's posture
+/// search tries with the feet where they stand
+/// ([`standing_stances`](kinergy_reach::controller::standing_stances): its twist, the squat
+/// its leg flexibility asks for, the swing raised until the hand reaches, then squats 2 cm
+/// deeper each), each with the trunk turned [`EXTRA_TWIST_DEG`] further (bringing the acting
+/// shoulder forward) and the swing raised [`EXTRA_SWING_DEG`] further (the reach's hand is
+/// its fingertip, the planner's its grip point, nearer the wrist; and a deeper bend or a turn
+/// can clear an obstacle). The first stance whose feet stay planted, whose body but the arm
+/// touches nothing, from which the arm's IK with collision avoidance finds a posture and
+/// whose centre of mass stays over the feet is the goal.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BodyUse {
     /// The goal posture's body DoFs: the spine's swing and twist (radians), the squat

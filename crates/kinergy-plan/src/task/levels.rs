@@ -46,9 +46,10 @@ impl Planner {
     ///
     /// The body moves only where the arm alone cannot reach: when the arm's goal in the
     /// reference posture is beyond reach or collides at every orbit angle, the body's goal
-    /// posture is searched first ([`Planner::body_goal`]) and every level moves the spine and
-    /// the legs with the arm ([`Manipulation::body`] says how); where no stance helps, the
-    /// levels fail as the arm alone does, the error saying the body was tried.
+    /// posture is searched first — the reach layer's standing stances, with more swing and
+    /// twist ([`EXTRA_SWING_DEG`](crate::task::EXTRA_SWING_DEG)) — and every level moves the
+    /// spine and the legs with the arm ([`Manipulation::body`] says how); where no stance
+    /// helps, the levels fail as the arm alone does, the error saying the body was tried.
     pub fn reach_by(
         &self,
         target: &HandTarget,

@@ -26,8 +26,8 @@ use super::spine::{apply_swing, max_squat, max_swing_split, max_twist_split, set
 use crate::character::{Character, Pose, dof, joint};
 use crate::error::Result;
 
-/// A posture of the spine and the legs with the feet where they stand ([module
-/// docs](self)): the spine's swing and twist, the squat, and the swing's axis and the COM
+/// A posture of the spine and the legs with the feet where they stand ([`pose_stance`]
+/// poses it): the spine's swing and twist, the squat, and the swing's axis and the COM
 /// shift's direction, fixed for a reach by its target.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Stance {
