@@ -195,3 +195,48 @@ pub fn used_dofs(b: &BodyDofs) -> Vec<&'static str> {
         .map(|(n, _)| *n)
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::reference_pose;
+
+    fn motion() -> (Character, Pose, BodyMotion) {
+        let c = Character::from_height(1.75).unwrap();
+        let reference = reference_pose(&c);
+        let goal = Stance {
+            swing: -0.5,
+            twist: 0.3,
+            squat: 0.25,
+            ..Stance::upright()
+        };
+        let m = BodyMotion::new(&c, &reference, &goal, &ReachSettings::default()).unwrap();
+        (c, reference, m)
+    }
+
+    /// All zeros is the reference posture itself; other DoFs read back from the pose they
+    /// make (to rounding), the feet planted along the way to the goal.
+    #[test]
+    fn body_dofs_read_back_from_the_pose_they_make() {
+        let (c, reference, m) = motion();
+        assert_eq!(m.pose(&[0.0; BODY_DOFS]), reference);
+        assert_eq!(m.goal(), [-0.5, 0.3, 0.25]);
+        for k in 1..=10 {
+            let t = k as f64 / 10.0;
+            let b = m.goal().map(|v| v * t);
+            assert!(m.within_limits(&b));
+            let pose = m.pose(&b);
+            let back = m.dofs_of(&pose);
+            for (x, y) in b.iter().zip(&back) {
+                assert!((x - y).abs() < 1e-12, "{b:?} read back as {back:?}");
+            }
+            assert!(m.drift(&c.world_frames(&pose)) <= PLANTED, "{b:?}");
+            c.joint_limits_ok(&pose).unwrap();
+        }
+        let l = m.limits();
+        assert!(!m.within_limits(&[l.swing * 1.01, 0.0, 0.0]));
+        assert!(!m.within_limits(&[0.0, 0.0, -0.01]));
+        assert!(!m.within_limits(&[0.0, f64::NAN, 0.0]));
+        assert_eq!(used_dofs(&[0.0, 0.1, 0.2]), ["spine_twist", "squat"]);
+    }
+}

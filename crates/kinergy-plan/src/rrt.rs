@@ -897,6 +897,69 @@ mod tests {
         assert_eq!(path.cut(&space, 2.0 * total), path);
     }
 
+    /// Where the body moves, its DoFs are drawn along the line from the start's to the goal's,
+    /// at most the variation off it; where it does not, they stay zero.
+    #[test]
+    fn the_body_is_sampled_in_a_small_band_about_its_line() {
+        use crate::posture::{BodyMotion, body_dof};
+        use kinergy_reach::controller::{ReachSettings, Stance};
+        let planner = crate::task::Planner::new(
+            crate::scene::Scene::parse(
+                r#"{"format_version": 1, "objects": []}"#,
+                "t.json".as_ref(),
+                ".".as_ref(),
+            )
+            .expect("scene"),
+            crate::task::TaskSettings::default(),
+        )
+        .expect("planner");
+        let settings = RrtSettings::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let arm_only = planner.space().expect("space");
+        for i in 0..200 {
+            let q = Sampler::new(&settings).draw(&arm_only, i, &mut rng);
+            assert_eq!(body_of(&q), [0.0; BODY_DOFS]);
+        }
+        let goal = Stance {
+            swing: -0.6,
+            twist: 0.2,
+            squat: 0.2,
+            ..Stance::upright()
+        };
+        let motion = BodyMotion::new(
+            planner.character(),
+            planner.start_pose(),
+            &goal,
+            &ReachSettings::default(),
+        )
+        .expect("motion");
+        let space = planner
+            .space()
+            .expect("space")
+            .with_body(motion)
+            .expect("body");
+        let sampler = Sampler::new(&settings);
+        let v = settings.body_variation.as_array();
+        for i in 0..500 {
+            let q = sampler.draw(&space, i, &mut rng);
+            let b = body_of(&q);
+            // One fraction u along the line explains all three within the variation.
+            let u = ((b[2] - 0.0) / 0.2).clamp(0.0, 1.0);
+            let line = [-0.6 * u, 0.2 * u, 0.2 * u];
+            let slack = v.map(|x| x * (1.0 + 1e-9));
+            assert!(
+                (b[0] - line[0]).abs() <= slack[0] + 0.6 * v[2] / 0.2,
+                "{b:?}"
+            );
+            assert!(
+                (b[1] - line[1]).abs() <= slack[1] + 0.2 * v[2] / 0.2,
+                "{b:?}"
+            );
+            assert!(space.body_motion().unwrap().within_limits(&b), "{b:?}");
+            assert!(q[body_dof::SQUAT] >= 0.0);
+        }
+    }
+
     #[test]
     fn the_beta_two_two_warp_is_kallmanns_cubic() {
         let beta = Warp::Beta {
