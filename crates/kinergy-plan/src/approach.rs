@@ -1,4 +1,5 @@
-//! A planned reach finished by a person's synergy controller.
+//! A planned reach finished by a person's synergy controller (where the body does not move:
+//! the synergy drives the arm alone, on the body standing).
 //!
 //! RRT-Connect finds a collision-free path; the person's synergy controller
 //! ([`kinergy_reach::controller::SynergyArm`]) knows how they move. A reach's planned phase is

@@ -25,10 +25,11 @@
 //! distance between corresponding tracked points — elbow, wrist, fingertip, and the corners
 //! of a held box, and where the body moves, the head's top, both shoulders, the other hand's
 //! fingertip and both knees — posed at each ([`ArmSpace::distance`]). An interpolation
-//! (linear in the DoFs) is valid when configurations spaced at most `resolution` apart in that distance
-//! along it are all free ([`ArmSpace::edge_free`]); with the default 1 cm resolution and
-//! 1 cm clearance no unchecked point of the motion comes closer than the clearance can
-//! cover. Samples are tested midpoint first (bisection order) so colliding edges fail fast.
+//! (linear in the DoFs) is valid when configurations spaced at most `resolution` apart in
+//! that distance along it are all free ([`ArmSpace::edge_free`]); with the default 1 cm
+//! resolution and 1 cm clearance no unchecked point of the motion comes closer than the
+//! clearance can cover. Samples are tested midpoint first (bisection order) so colliding
+//! edges fail fast.
 
 use std::sync::Arc;
 

@@ -21,7 +21,8 @@ use crate::space::{ArmConfig, ArmSpace, HandTarget};
 
 /// A kind of planned phase: its name (in the motion and in errors), the salt that gives its
 /// search a seed of its own, and whether the person's synergy finishes it where its motion is
-/// free (a reach's: [`crate::approach`]).
+/// free (a reach's: [`crate::approach`]; not where the body moves, whose synergy drives the
+/// arm alone).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct PlannedPhase {
     pub(super) name: &'static str,
