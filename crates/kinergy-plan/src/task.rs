@@ -320,7 +320,8 @@ impl Planner {
     }
 
     /// A collision-free reach to a hand target, the hand taking `shape` on the way: the
-    /// planner's ([`crate::level::Level::Planner`]; [`Planner::reach_by`] for the others).
+    /// planner's ([`crate::level::Level::Planner`]; [`Planner::reach_by`] for the others),
+    /// the arm's alone ([`Planner::reach_by`] moves the body where the arm cannot reach).
     pub fn reach(&self, target: &HandTarget, shape: HandShape) -> Result<Manipulation> {
         let mut b = self.builder()?;
         b.planned_reach(target, shape)?;
