@@ -55,7 +55,9 @@ pub struct Args {
     /// the motion is not), `straight` (the same line, IK with collision avoidance on every
     /// frame, every frame and the motion between frames checked), `planner` (RRT-Connect and
     /// smoothing) or `auto` (ik, then straight, then planner, until one's motion is
-    /// collision-free). A task (`--task`) takes auto or planner.
+    /// collision-free). A task (`--task`) takes auto or planner. Where the arm alone cannot
+    /// reach the target (beyond reach, or colliding at every orbit angle), every level also
+    /// bends and twists the spine and squats, the feet planted (the report's `body_dofs`).
     #[arg(long, default_value = "auto", value_name = "LEVEL", value_parser = crate::common::named::<Level>(Level::ALL.map(Level::name)))]
     pub level: Level,
     /// Seed of the planner's random stream (same seed, same motion).
@@ -236,6 +238,19 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 ),
                 Some(why) => format!("  level {:<8} failed in {:.1} ms: {why}\n", l.level, l.ms),
             };
+        }
+        if let Some(b) = &report.body {
+            text += &format!(
+                "  body      moves {}: spine swing {:.0}°, twist {:.0}°, squat {:.2} m ({} stances \
+                 tried in {:.1} ms), as the arm alone could not: {}\n",
+                b.dofs.join(", "),
+                b.spine_swing_deg,
+                b.spine_twist_deg,
+                b.squat_m,
+                b.stances_tried,
+                b.ms,
+                b.arm_alone
+            );
         }
         for p in &report.phases {
             text += &format!(

@@ -439,3 +439,93 @@ fn tree_svg_draws_every_edge_of_both_trees() {
         0
     );
 }
+
+/// The finding (43, item 5): `plan --target=-0.25,0.45,0.4`, a point on the bookshelf's
+/// front between its boards at 0.10 m and 0.55 m, was beyond the arm's reach from the standing
+/// posture (exit 1, "beyond reach by 0.404 m"). The planner now bends, twists and squats: exit
+/// 0, the report names the body DoFs that moved and why, and the BVH's root and spine channels
+/// move while a mid-height target's stay still (its report naming none). One or two rayon
+/// threads write the same bytes.
+#[test]
+fn plan_moves_the_body_for_a_low_target_between_the_shelves() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let scene = scene();
+    let run = |target: &str, out: &std::path::Path, threads: &str| {
+        let target = format!("--target={target}");
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_kinergy"))
+            .args([
+                "plan",
+                "--scene",
+                &scene,
+                &target,
+                "-o",
+                out.to_str().expect("utf-8"),
+                "--json",
+            ])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .expect("run kinergy");
+        assert_eq!(o.status.code(), Some(0), "{target}: {}", text(&o.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+        let bvh = kinergy_bvh::read_file(out, &Default::default()).expect("read the BVH");
+        (report, bvh)
+    };
+    // The largest change of any of `joint`'s channels over the motion.
+    let moved = |bvh: &kinergy_bvh::Bvh, joint: &str| {
+        let j = &bvh.joints[bvh.joint_index(joint).expect(joint)];
+        let first = bvh.frame(0).expect("a frame");
+        (0..bvh.frame_count)
+            .flat_map(|f| {
+                let frame = bvh.frame(f).expect("a frame");
+                (0..j.channels.len()).map(move |c| {
+                    let k = j.first_channel + c;
+                    (frame[k] - first[k]).abs()
+                })
+            })
+            .fold(0.0_f64, f64::max)
+    };
+    let low = dir.path().join("low.bvh");
+    let (report, bvh) = run("-0.25,0.45,0.4", &low, "1");
+    let dofs: Vec<&str> = report["body_dofs"]
+        .as_array()
+        .expect("body_dofs")
+        .iter()
+        .map(|d| d.as_str().expect("a name"))
+        .collect();
+    assert!(
+        dofs.contains(&"squat") && dofs.contains(&"spine_swing"),
+        "{dofs:?}"
+    );
+    let body = &report["body"];
+    assert!(body["squat_m"].as_f64().expect("squat") > 0.1, "{body}");
+    assert!(
+        body["arm_alone"]
+            .as_str()
+            .expect("why")
+            .contains("beyond reach by 0.404 m"),
+        "{body}"
+    );
+    // Hips: position (cm) and rotation; the spine's joints; the knees.
+    assert!(moved(&bvh, "Hips") > 10.0, "the root stays");
+    for joint in ["Spine", "Chest", "RightLeg", "LeftLeg"] {
+        assert!(moved(&bvh, joint) > 5.0, "{joint} stays");
+    }
+    let again = dir.path().join("low-2.bvh");
+    let (report2, _) = run("-0.25,0.45,0.4", &again, "2");
+    assert_eq!(report2["body"]["squat_m"], report["body"]["squat_m"]);
+    assert_eq!(
+        std::fs::read(&low).expect("read"),
+        std::fs::read(&again).expect("read")
+    );
+    // A mid-height target the arm alone reaches: nothing but the arm moves.
+    let mid = dir.path().join("mid.bvh");
+    let (report, bvh) = run("-0.25,1.1,0.3", &mid, "2");
+    assert_eq!(report["body_dofs"], serde_json::json!([]));
+    assert!(report.get("body").is_none(), "{report}");
+    for joint in [
+        "Hips", "Spine", "Chest", "Neck", "RightLeg", "LeftLeg", "LeftArm",
+    ] {
+        assert_eq!(moved(&bvh, joint), 0.0, "{joint} moves");
+    }
+    assert!(moved(&bvh, "RightArm") > 5.0);
+}

@@ -285,7 +285,7 @@ mod tests {
 
     fn node(x: f64, parent: Option<usize>) -> TreeNode {
         TreeNode {
-            q: [0.0; 7],
+            q: [0.0; kinergy_plan::posture::CONFIG_DOFS],
             wrist: Point3::new(x, 1.0, 0.3 * x),
             parent,
         }

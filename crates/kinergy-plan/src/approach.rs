@@ -1,4 +1,5 @@
-//! A planned reach finished by a person's synergy controller.
+//! A planned reach finished by a person's synergy controller (where the body does not move:
+//! the synergy drives the arm alone, on the body standing).
 //!
 //! RRT-Connect finds a collision-free path; the person's synergy controller
 //! ([`kinergy_reach::controller::SynergyArm`]) knows how they move. A reach's planned phase is
@@ -103,7 +104,7 @@ impl PersonArm<'_> {
         // The shoulder rides the girdle: each arm's hand on its own base.
         let end = |q: &ArmConfig| {
             chain
-                .end_position(&self.space.base_for(q), q)
+                .end_position(&self.space.base_for(q), &crate::space::arm_of(q))
                 .map_err(|e| PlanError::Setting(InvalidSetting::new("character", e.to_string())))
         };
         let target = end(goal)?;
@@ -192,7 +193,7 @@ impl PersonArm<'_> {
 
     /// Why the frame `q` after `previous` cannot be played, if it cannot.
     fn blocked(&self, previous: &ArmConfig, q: &ArmConfig) -> Option<String> {
-        if !self.space.ik().within_limits(q) {
+        if !self.space.within_limits(q) {
             return Some("outside the joint limits".into());
         }
         if let Some(contact) = self.space.contact(q) {

@@ -35,6 +35,16 @@
 //! The levels choose how a *reach* (`plan --target`) moves; a task (grasp, relocate, pull,
 //! push) is Kallmann's sequence of planned and straight phases and is planned as before
 //! (`auto` or `planner` only).
+//!
+//! # The body
+//! Every level moves the arm alone where it can: the goal is first solved with the body in
+//! its reference posture. Where that goal is beyond reach or collides at every orbit angle,
+//! the body's goal posture is searched before any level runs (Kallmann's "spine motion and
+//! leg flexion" before the IK, [`crate::posture`]), and each level moves the body too: `ik`
+//! and `straight` solve every frame's arm on the body part of the way to its goal posture
+//! (ahead of the grip, so the shoulder comes down first), and `planner` searches the arm's and
+//! the body's DoFs together, the body sampled in a small band ([`crate::rrt::Sampler`]). Every
+//! check then tests the whole body. The report's `body_dofs` names the body DoFs that moved.
 
 use std::fmt;
 use std::str::FromStr;

@@ -6,6 +6,8 @@
 //!   meshes), [`obj`]: the OBJ reader, [`shelf`]: the bookshelf example's shelf unit;
 //! - [`space`]: the arm's configuration space: collision tests, Kallmann's distance, IK with
 //!   collision avoidance (the orbit-angle search rejecting colliding postures);
+//! - [`posture`]: the body's DoFs in a configuration (the spine's swing and twist, the squat,
+//!   the feet planted), used where the arm alone cannot reach its goal;
 //! - [`level`]: Kallmann's three levels of a reach — IK, IK with collision avoidance along a
 //!   straight hand line, the planner — and `auto`, which escalates from one to the next;
 //! - [`rrt`]: bidirectional RRT-Connect (Algorithm 1), shortcut smoothing, the bell time warp;
@@ -23,6 +25,7 @@ pub mod hand;
 pub mod level;
 pub mod obj;
 pub mod person;
+pub mod posture;
 pub mod report;
 pub mod request;
 pub mod rrt;

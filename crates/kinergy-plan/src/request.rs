@@ -23,7 +23,7 @@ use crate::report::ObjectReport;
 use crate::rrt::{SearchTree, Warp};
 use crate::scene::Scene;
 use crate::space::HandTarget;
-use crate::task::{Manipulation, Planner, TaskSettings};
+use crate::task::{BodyUse, Manipulation, Planner, TaskSettings};
 
 /// A drawer's travel range, meters (its sign: pulled or pushed).
 pub const DISTANCE_M: (f64, f64) = (-2.0, 2.0);
@@ -217,6 +217,12 @@ pub struct PlanReport {
     /// For a reach: every level tried, in order ([`crate::level`]).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub levels: Vec<LevelReport>,
+    /// The body DoFs the motion moves besides the arm's ([`crate::posture::BODY_DOF_NAMES`]:
+    /// `spine_swing`, `spine_twist`, `squat`); empty when the arm alone reached.
+    pub body_dofs: Vec<&'static str>,
+    /// For a reach the arm alone could not make: the body's goal posture and why it moved.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub body: Option<BodyReport>,
     /// Frames of the motion.
     pub frames: usize,
     /// Seconds a frame.
@@ -255,6 +261,40 @@ impl LevelReport {
             ms: t.seconds * 1e3,
             why: t.failure.clone(),
             motion_checked: t.motion_checked,
+        }
+    }
+}
+
+/// How a reach moved the body ([`crate::task::BodyUse`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct BodyReport {
+    /// The body DoFs it moves.
+    pub dofs: Vec<&'static str>,
+    /// The goal posture's spine swing toward the target, degrees (about `s = d × y`: negative
+    /// bends toward the target).
+    pub spine_swing_deg: f64,
+    /// The goal posture's spine twist, degrees (> 0 turns left).
+    pub spine_twist_deg: f64,
+    /// How far the goal posture lowers the root, meters.
+    pub squat_m: f64,
+    /// Why the arm alone could not reach.
+    pub arm_alone: String,
+    /// Stances of the spine and legs tried, the one taken included.
+    pub stances_tried: usize,
+    /// The posture search's time, milliseconds.
+    pub ms: f64,
+}
+
+impl BodyReport {
+    fn of(b: &BodyUse) -> BodyReport {
+        BodyReport {
+            dofs: b.dofs.clone(),
+            spine_swing_deg: b.goal[0].to_degrees(),
+            spine_twist_deg: b.goal[1].to_degrees(),
+            squat_m: b.goal[2],
+            arm_alone: b.arm_alone.clone(),
+            stances_tried: b.tried,
+            ms: b.seconds * 1e3,
         }
     }
 }
@@ -477,6 +517,12 @@ impl TaskRequest<'_> {
                 .find(|t| t.solved())
                 .map(|t| t.level.name()),
             levels: motion.levels.iter().map(LevelReport::of).collect(),
+            body_dofs: motion
+                .body
+                .as_ref()
+                .map(|b| b.dofs.clone())
+                .unwrap_or_default(),
+            body: motion.body.as_ref().map(BodyReport::of),
             frames: motion.poses.len(),
             frame_time_s: motion.frame_time,
             duration_s: motion.duration(),

@@ -1,6 +1,10 @@
 //! Bidirectional RRT-Connect in the arm's configuration space — Kallmann's Algorithm 1 —
 //! with his sampling routine, random-shortcut smoothing and the bell-shaped time warp.
 //!
+//! The space is the arm's 7 DoFs, and where the body moves ([`ArmSpace::moves_body`]) its
+//! three too ([`crate::posture`]): "when spine DoFs and/or root translation DoFs (for knee
+//! flexion) are used, they are sampled with very small variation" ([`Sampler`]).
+//!
 //! # Algorithm 1, as implemented
 //! Two trees grow from the start and the goal. Each iteration samples a free posture
 //! ([`Sampler`]), finds the node of each tree closest to it (linear search, Kallmann's
@@ -37,7 +41,8 @@ use rand::{RngExt, SeedableRng};
 use nalgebra::Point3;
 
 use crate::error::{PlanError, Result};
-use crate::space::{ArmConfig, ArmSpace, Points, lerp};
+use crate::posture::{BODY_DOFS, BodyDofs};
+use crate::space::{self, ArmConfig, ArmSpace, Points, body_of, lerp};
 
 /// When a search or a smoothing stops.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,6 +68,9 @@ pub struct RrtSettings {
     pub wrist_range: f64,
     /// Draws before a sampling gives up on finding a free posture for this iteration.
     pub sample_tries: usize,
+    /// Where the body moves: how far its DoFs are sampled off the line between the start's
+    /// and the goal's ([`Sampler`]).
+    pub body_variation: BodyVariation,
     /// When to give up.
     pub budget: Budget,
     /// The random stream's seed.
@@ -77,6 +85,7 @@ impl Default for RrtSettings {
             elbow_widening: 300,
             wrist_range: 0.3,
             sample_tries: 50,
+            body_variation: BodyVariation::default(),
             budget: Budget {
                 iterations: 5000,
                 time: Some(Duration::from_secs(10)),
@@ -105,7 +114,55 @@ impl RrtSettings {
             "a fraction in [0, 1]",
         )?;
         InvalidSetting::require(self.sample_tries > 0, "rrt.sample_tries", "at least 1")?;
+        self.body_variation.validate()
+    }
+}
+
+/// How far the body's DoFs are sampled off the line between the start's and the goal's, each
+/// by at most ± its value (Kallmann: the spine's and the root's DoFs "are sampled with very
+/// small variation, only to give an overall human-like movement, and therefore these DoFs do
+/// not augment the dimension of the considered search space").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyVariation {
+    /// The spine's swing, radians.
+    pub swing: f64,
+    /// The spine's twist, radians.
+    pub twist: f64,
+    /// The squat, meters.
+    pub squat: f64,
+}
+
+impl Default for BodyVariation {
+    /// 3° of swing and of twist, 1 cm of squat.
+    fn default() -> BodyVariation {
+        BodyVariation {
+            swing: 3f64.to_radians(),
+            twist: 3f64.to_radians(),
+            squat: 0.01,
+        }
+    }
+}
+
+impl BodyVariation {
+    /// Checks every field: finite, ≥ 0, at most 30° (swing, twist) or 0.1 m (squat) — a small
+    /// variation.
+    pub fn validate(&self) -> Result<()> {
+        for (name, v, most) in [
+            ("rrt.body_variation.swing", self.swing, 30f64.to_radians()),
+            ("rrt.body_variation.twist", self.twist, 30f64.to_radians()),
+            ("rrt.body_variation.squat", self.squat, 0.1),
+        ] {
+            InvalidSetting::require(
+                v.is_finite() && (0.0..=most).contains(&v),
+                name,
+                format!("a finite number from 0 to {most:.3}"),
+            )?;
+        }
         Ok(())
+    }
+
+    fn as_array(&self) -> BodyDofs {
+        [self.swing, self.twist, self.squat]
     }
 }
 
@@ -123,9 +180,16 @@ pub struct PlanStats {
 /// Kallmann's sampling routine: valid joint values inside their limits, the elbow biased to
 /// almost full flexion (widening with the iterations), the wrist swing within a narrowed
 /// ellipse; a sample is kept only when collision-free.
+///
+/// Where the body moves ([`ArmSpace::moves_body`]), its DoFs are drawn after the arm's: a
+/// point uniformly along the line from the start's body DoFs to the goal's ([`Sampler::body_line`];
+/// by default from the reference posture to the space's goal posture), moved by at most
+/// ± [`RrtSettings::body_variation`] each, within the stance's limits. Where it does not, no
+/// draw is made for them: an arm-only search draws what it drew before the body could move.
 #[derive(Debug, Clone)]
 pub struct Sampler {
     settings: RrtSettings,
+    body_line: Option<(BodyDofs, BodyDofs)>,
 }
 
 impl Sampler {
@@ -133,7 +197,14 @@ impl Sampler {
     pub fn new(settings: &RrtSettings) -> Sampler {
         Sampler {
             settings: settings.clone(),
+            body_line: None,
         }
+    }
+
+    /// The same sampler drawing the body's DoFs about the line from `from` to `to`.
+    pub fn body_line(mut self, from: BodyDofs, to: BodyDofs) -> Sampler {
+        self.body_line = Some((from, to));
+        self
     }
 
     /// One posture within the limits (not tested for collisions) at `iteration`.
@@ -152,7 +223,28 @@ impl Sampler {
         let flex = uniform((hi - width * (hi - lo), hi), rng);
         let etwist = uniform(l.elbow_twist, rng);
         let (wx, wy) = in_ellipse(l.wrist_swing, s.wrist_range, rng);
-        [sx, sy, twist, flex, etwist, wx, wy]
+        let arm = [sx, sy, twist, flex, etwist, wx, wy];
+        let Some(motion) = space.body_motion() else {
+            return space::join(&arm, &[0.0; BODY_DOFS]);
+        };
+        let (from, to) = self.body_line.unwrap_or(([0.0; BODY_DOFS], motion.goal()));
+        let u: f64 = rng.random_range(0.0..=1.0);
+        let spread = s.body_variation.as_array();
+        let limits = motion.limits();
+        let range = [
+            (-limits.swing, limits.swing),
+            (-limits.twist, limits.twist),
+            (0.0, limits.squat),
+        ];
+        let body: BodyDofs = std::array::from_fn(|i| {
+            let off = if spread[i] > 0.0 {
+                rng.random_range(-spread[i]..=spread[i])
+            } else {
+                0.0
+            };
+            (from[i] + (to[i] - from[i]) * u + off).clamp(range[i].0, range[i].1)
+        });
+        space::join(&arm, &body)
     }
 
     /// A free posture, or `None` after [`RrtSettings::sample_tries`] draws.
@@ -418,13 +510,13 @@ pub fn search(
     if let Some(contact) = space.contact(goal) {
         return Err(PlanError::GoalInCollision { tried: 1, contact });
     }
-    if !space.ik().within_limits(goal) {
+    if !space.within_limits(goal) {
         return Err(PlanError::GoalUnreachable {
             why: "the goal configuration is outside the joint limits".into(),
         });
     }
     let clock = Instant::now();
-    let sampler = Sampler::new(settings);
+    let sampler = Sampler::new(settings).body_line(body_of(start), body_of(goal));
     let mut rng = ChaCha8Rng::seed_from_u64(settings.seed);
     let mut trees = [Tree::default(), Tree::default()];
     trees[0].add(space, *start, None);
@@ -803,6 +895,69 @@ mod tests {
             &[a, b, lerp(&b, &c, 0.5)]
         ));
         assert_eq!(path.cut(&space, 2.0 * total), path);
+    }
+
+    /// Where the body moves, its DoFs are drawn along the line from the start's to the goal's,
+    /// at most the variation off it; where it does not, they stay zero.
+    #[test]
+    fn the_body_is_sampled_in_a_small_band_about_its_line() {
+        use crate::posture::{BodyMotion, body_dof};
+        use kinergy_reach::controller::{ReachSettings, Stance};
+        let planner = crate::task::Planner::new(
+            crate::scene::Scene::parse(
+                r#"{"format_version": 1, "objects": []}"#,
+                "t.json".as_ref(),
+                ".".as_ref(),
+            )
+            .expect("scene"),
+            crate::task::TaskSettings::default(),
+        )
+        .expect("planner");
+        let settings = RrtSettings::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let arm_only = planner.space().expect("space");
+        for i in 0..200 {
+            let q = Sampler::new(&settings).draw(&arm_only, i, &mut rng);
+            assert_eq!(body_of(&q), [0.0; BODY_DOFS]);
+        }
+        let goal = Stance {
+            swing: -0.6,
+            twist: 0.2,
+            squat: 0.2,
+            ..Stance::upright()
+        };
+        let motion = BodyMotion::new(
+            planner.character(),
+            planner.start_pose(),
+            &goal,
+            &ReachSettings::default(),
+        )
+        .expect("motion");
+        let space = planner
+            .space()
+            .expect("space")
+            .with_body(motion)
+            .expect("body");
+        let sampler = Sampler::new(&settings);
+        let v = settings.body_variation.as_array();
+        for i in 0..500 {
+            let q = sampler.draw(&space, i, &mut rng);
+            let b = body_of(&q);
+            // One fraction u along the line explains all three within the variation.
+            let u = ((b[2] - 0.0) / 0.2).clamp(0.0, 1.0);
+            let line = [-0.6 * u, 0.2 * u, 0.2 * u];
+            let slack = v.map(|x| x * (1.0 + 1e-9));
+            assert!(
+                (b[0] - line[0]).abs() <= slack[0] + 0.6 * v[2] / 0.2,
+                "{b:?}"
+            );
+            assert!(
+                (b[1] - line[1]).abs() <= slack[1] + 0.2 * v[2] / 0.2,
+                "{b:?}"
+            );
+            assert!(space.body_motion().unwrap().within_limits(&b), "{b:?}");
+            assert!(q[body_dof::SQUAT] >= 0.0);
+        }
     }
 
     #[test]

@@ -2,11 +2,15 @@
 //! tracks, the collision test of a configuration and of an interpolation between two, the
 //! planner's distance, and IK with collision avoidance.
 //!
-//! A configuration is the arm's 7 DoFs ([`ArmConfig`], the order of
-//! [`kinergy_reach::character::dof`]): shoulder swing x, swing y, twist, elbow flexion,
-//! twist, wrist swing x, y. The rest of the body stays in the pose the space was built for.
+//! A configuration ([`ArmConfig`]) is Kallmann's arm configuration `s`: the arm's 7 DoFs (the
+//! order of [`kinergy_reach::character::dof`]: shoulder swing x, swing y, twist, elbow
+//! flexion, twist, wrist swing x, y) and the body's three ([`crate::posture`]: the spine's
+//! swing and twist, the squat). In a space built with [`ArmSpace::new`] the body stays in the
+//! pose the space was built for and its three DoFs stay zero; a space given a body motion
+//! ([`ArmSpace::with_body`]) poses the spine and the legs from them, the feet planted.
 //!
 //! # What a configuration collides with
+//! Where the body moves, every body part is tested ([`ArmSpace::with_body`]); otherwise:
 //! The arm's three parts (upper arm, forearm, hand) are tested against every other body part
 //! of the enabled pairs ([`BodyGeometry`]), against each other where not adjacent, and
 //! against every scene object that is not ignored; a held object ([`ArmSpace::attach`])
@@ -19,11 +23,15 @@
 //! # Distance and edge resolution
 //! The planner's distance between two configurations is Kallmann's: the largest Euclidean
 //! distance between corresponding tracked points — elbow, wrist, fingertip, and the corners
-//! of a held box — posed at each ([`ArmSpace::distance`]). An interpolation (linear in the
-//! 7 DoFs) is valid when configurations spaced at most `resolution` apart in that distance
-//! along it are all free ([`ArmSpace::edge_free`]); with the default 1 cm resolution and
-//! 1 cm clearance no unchecked point of the motion comes closer than the clearance can
-//! cover. Samples are tested midpoint first (bisection order) so colliding edges fail fast.
+//! of a held box, and where the body moves, the head's top, both shoulders, the other hand's
+//! fingertip and both knees — posed at each ([`ArmSpace::distance`]). An interpolation
+//! (linear in the DoFs) is valid when configurations spaced at most `resolution` apart in
+//! that distance along it are all free ([`ArmSpace::edge_free`]); with the default 1 cm
+//! resolution and 1 cm clearance no unchecked point of the motion comes closer than the
+//! clearance can cover. Samples are tested midpoint first (bisection order) so colliding
+//! edges fail fast.
+
+use std::sync::Arc;
 
 use kinergy_io::InvalidSetting;
 use kinergy_motion::{Chain, ChainPose, Side};
@@ -42,20 +50,53 @@ use crate::colliders::{
 pub use crate::colliders::{PLACE_TOLERANCE, SUPPORT_GAP, check_placement};
 use crate::error::{PlanError, Result};
 use crate::hand::GRIP_FRACTION;
+use crate::posture::{ARM_DOFS, BodyDofs, BodyMotion, CONFIG_DOFS};
 use crate::scene::{Scene, Shape};
 
-/// An arm configuration: the 7 DoFs of one arm.
-pub type ArmConfig = [f64; 7];
+mod whole_body;
+use whole_body::BodyMode;
+
+/// An arm configuration (Kallmann's `s`): the 7 DoFs of one arm, then the body's three
+/// ([`crate::posture::body_dof`]; zero where the body does not move).
+pub type ArmConfig = [f64; CONFIG_DOFS];
+
+/// The arm's 7 DoFs of a configuration.
+pub fn arm_of(q: &ArmConfig) -> [f64; ARM_DOFS] {
+    std::array::from_fn(|i| q[i])
+}
+
+/// The body's 3 DoFs of a configuration.
+pub fn body_of(q: &ArmConfig) -> BodyDofs {
+    std::array::from_fn(|i| q[ARM_DOFS + i])
+}
+
+/// The configuration of arm DoFs `arm` and body DoFs `body`.
+pub fn join(arm: &[f64; ARM_DOFS], body: &BodyDofs) -> ArmConfig {
+    std::array::from_fn(|i| {
+        if i < ARM_DOFS {
+            arm[i]
+        } else {
+            body[i - ARM_DOFS]
+        }
+    })
+}
 
 /// How much a held object is shrunk for collision tests, meters: it may touch (rest on) a
 /// surface by this much without colliding.
 pub const HELD_CONTACT: f64 = 0.01;
 
-/// Most tracked points: elbow, wrist, fingertip and a held box's 8 corners.
-const MAX_POINTS: usize = 11;
+/// Most tracked points: elbow, wrist, fingertip, a held box's 8 corners and, where the body
+/// moves, six of its joints ([`whole_body`]).
+const MAX_POINTS: usize = 17;
 
 /// The girdle's fixed point stops when the shoulder moves less than this, meters.
 const GIRDLE_TOLERANCE: f64 = 1e-13;
+
+/// A solution whose shoulder is farther than this (meters) from where the girdle puts it
+/// for the solution is none: its hand would miss by as much. (Where the girdle's fixed point
+/// is not reached, it is a fraction of a millimetre but at the edge of the arm's reach, where
+/// a body posture can put the shoulder: there it reached 17 mm.)
+const GIRDLE_MISS: f64 = 1e-3;
 
 /// At most this many IK searches refine the girdle's fixed point.
 const GIRDLE_ITERATIONS: usize = 24;
@@ -166,6 +207,10 @@ pub struct ArmSpace {
     clearance: f64,
     resolution: f64,
     orbit: OrbitSearch,
+    /// The body's collision geometry.
+    geometry: Arc<BodyGeometry>,
+    /// The body's motion, where it moves ([`ArmSpace::with_body`]).
+    body: Option<Arc<BodyMode>>,
 }
 
 impl std::fmt::Debug for ArmSpace {
@@ -177,6 +222,7 @@ impl std::fmt::Debug for ArmSpace {
                 &self.colliders.iter().map(|c| &c.name).collect::<Vec<_>>(),
             )
             .field("held", &self.held.as_ref().map(|h| &h.name))
+            .field("moves_body", &self.body.is_some())
             .field("clearance", &self.clearance)
             .field("resolution", &self.resolution)
             .finish()
@@ -270,7 +316,47 @@ impl ArmSpace {
             clearance: 0.01,
             resolution: 0.01,
             orbit: OrbitSearch::default(),
+            geometry: Arc::new(body.clone()),
+            body: None,
         })
+    }
+
+    /// The same space with the body moving by `motion` ([`crate::posture`]): a configuration's
+    /// three body DoFs pose the spine and the legs (the feet planted), and every body part is
+    /// tested for collisions — each arm part as before; the other parts against each other
+    /// (the enabled pairs, without the clearance) and against the scene (with it), but for the
+    /// feet, which stand where they stand. The motion's reference posture should be the one
+    /// the space was built for.
+    pub fn with_body(mut self, motion: BodyMotion) -> Result<ArmSpace> {
+        self.body = Some(Arc::new(BodyMode::new(&self.geometry, self.limb, motion)?));
+        Ok(self)
+    }
+
+    /// True when the body moves ([`ArmSpace::with_body`]).
+    pub fn moves_body(&self) -> bool {
+        self.body.is_some()
+    }
+
+    /// The body's motion, where it moves.
+    pub fn body_motion(&self) -> Option<&BodyMotion> {
+        self.body.as_ref().map(|b| &b.motion)
+    }
+
+    /// True when `q`'s arm is within its joint limits and its body DoFs within the stance's
+    /// (zero where the body does not move).
+    pub fn within_limits(&self, q: &ArmConfig) -> bool {
+        let b = body_of(q);
+        self.ik.within_limits(&arm_of(q))
+            && match &self.body {
+                Some(mode) => mode.motion.within_limits(&b),
+                None => b.iter().all(|&v| v == 0.0),
+            }
+    }
+
+    /// The orbit angle of `q`'s arm on its body (α = 0 its lowest elbow).
+    pub fn alpha_of(&self, q: &ArmConfig) -> f64 {
+        let (_, ik) = self.base_and_ik(&body_of(q));
+        ik.alpha_of(&arm_of(q))
     }
 
     /// The same space with the arm capsules inflated by `clearance` meters (≥ 0).
@@ -409,26 +495,38 @@ impl ArmSpace {
         self.held.as_ref().map(|h| h.name.as_str())
     }
 
-    /// The arm's base frame at `q`: the shoulder where the girdle puts it.
+    /// The arm's base frame at `q`: the shoulder where the body and the girdle put it.
     pub fn base_for(&self, q: &ArmConfig) -> IsometryMatrix3<f64> {
-        self.base_shifted(&self.girdle.shift(q))
+        let (base, _) = self.base_and_ik(&body_of(q));
+        shifted(&base, &self.girdle.shift(&arm_of(q)))
     }
 
-    /// The arm's base frame with its shoulder moved by `shift` (in the base's own frame).
-    fn base_shifted(&self, shift: &Vector3<f64>) -> IsometryMatrix3<f64> {
-        let shift = self.base.rotation * shift;
-        IsometryMatrix3::from_parts(
-            (self.base.translation.vector + shift).into(),
-            self.base.rotation,
-        )
+    /// The arm's base frame with the girdle at rest, and its IK (α's lowest elbow world down),
+    /// with the body at `b`.
+    fn base_and_ik(&self, b: &BodyDofs) -> (IsometryMatrix3<f64>, std::borrow::Cow<'_, LimbIk>) {
+        match &self.body {
+            Some(mode) if b.iter().any(|&v| v != 0.0) => {
+                let base = mode.base_frame(&self.girdle, self.limb, b);
+                let ik = self
+                    .ik
+                    .clone()
+                    .with_down(base.rotation.inverse() * -Vector3::y())
+                    .unwrap_or_else(|_| self.ik.clone());
+                (base, std::borrow::Cow::Owned(ik))
+            }
+            _ => (self.base, std::borrow::Cow::Borrowed(&self.ik)),
+        }
     }
 
     /// World frames of the shoulder, elbow and wrist at `q`.
     pub fn frames(&self, q: &ArmConfig) -> [IsometryMatrix3<f64>; 3] {
+        if let Some(mode) = &self.body {
+            return mode.arm_frames(self.limb, q);
+        }
         let mut out = ChainPose::default();
         let base = self.base_for(q);
         // The chain has 7 DoFs: fk_into cannot fail on a 7-array.
-        if self.chain.fk_into(&base, q, &mut out).is_err() || out.frames.len() != 3 {
+        if self.chain.fk_into(&base, &arm_of(q), &mut out).is_err() || out.frames.len() != 3 {
             return [base; 3];
         }
         [out.frames[0], out.frames[1], out.frames[2]]
@@ -445,9 +543,14 @@ impl ArmSpace {
         w
     }
 
-    /// The tracked points at `q` (elbow, wrist, fingertip, held box corners).
+    /// The tracked points at `q` (elbow, wrist, fingertip, held box corners; where the body
+    /// moves, six of its joints).
     pub fn points(&self, q: &ArmConfig) -> Points {
-        let [_, e, w] = self.frames(q);
+        let body = self.body.as_ref().map(|mode| mode.posed(self.limb, q));
+        let [_, e, w] = match &body {
+            Some(posed) => posed.arm_frames(self.limb),
+            None => self.frames(q),
+        };
         let mut p = [Point3::origin(); MAX_POINTS];
         p[0] = Point3::from(e.translation.vector);
         p[1] = Point3::from(w.translation.vector);
@@ -461,6 +564,12 @@ impl ArmSpace {
                 n += 1;
             }
         }
+        if let (Some(mode), Some(posed)) = (&self.body, &body) {
+            for point in mode.tracked(posed) {
+                p[n] = point;
+                n += 1;
+            }
+        }
         Points { p, n }
     }
 
@@ -469,9 +578,10 @@ impl ArmSpace {
         self.points(a).distance(&self.points(b))
     }
 
-    /// True when `q` is within the joint limits and collides with nothing.
+    /// True when `q` is within the joint limits ([`ArmSpace::within_limits`]) and collides
+    /// with nothing.
     pub fn free(&self, q: &ArmConfig) -> bool {
-        self.ik.within_limits(q) && self.contact(q).is_none()
+        self.within_limits(q) && self.contact(q).is_none()
     }
 
     /// The first collision at `q`, as `part × obstacle`, or `None` when it is free (joint
@@ -480,8 +590,13 @@ impl ArmSpace {
         self.contact_with(q, self.clearance)
     }
 
-    /// [`ArmSpace::contact`] with another clearance (0 tests the true geometry).
+    /// [`ArmSpace::contact`] with another clearance (0 tests the true geometry). Where the
+    /// body moves, feet its legs cannot keep planted are a contact too (`the feet …`).
     pub fn contact_with(&self, q: &ArmConfig, clearance: f64) -> Option<String> {
+        if let Some(mode) = &self.body {
+            let posed = mode.posed(self.limb, q);
+            return self.whole_body_contact(mode, &posed, clearance);
+        }
         let frames = self.frames(q);
         let mut world = [Capsule {
             a: Point3::origin(),
@@ -517,16 +632,20 @@ impl ArmSpace {
             }
         }
         if let Some(h) = &self.held {
-            return self.held_contact(h, &frames[2], clearance);
+            let statics = self.statics.iter().map(|(n, c, _)| (n.as_str(), c));
+            return self.held_contact(h, &frames[2], clearance, statics);
         }
         None
     }
 
-    fn held_contact(
+    /// The held object's first contact with the body parts `statics` (name, world capsule)
+    /// and the scene.
+    fn held_contact<'n>(
         &self,
         h: &Held,
         wrist: &IsometryMatrix3<f64>,
         clearance: f64,
+        statics: impl Iterator<Item = (&'n str, &'n Capsule)>,
     ) -> Option<String> {
         let wq = isometry(wrist);
         let pose = to_parry(&(wq * h.local));
@@ -540,7 +659,7 @@ impl ArmSpace {
             _ => h.shape.as_ref(),
         };
         let bounds = bounds_of(shape, &pose);
-        for (name, c, _) in &self.statics {
+        for (name, c) in statics {
             let cap = PCapsule::new(pvec(&c.a), pvec(&c.b), c.radius as f32);
             if hit(&PPose::IDENTITY, &cap, &pose, shape) {
                 return Some(format!("{} × {name}", h.name));
@@ -604,7 +723,7 @@ impl ArmSpace {
                 if !seen[k] {
                     seen[k] = true;
                     let q = lerp(a, b, k as f64 / n as f64);
-                    if !self.ik.within_limits(&q) {
+                    if !self.within_limits(&q) {
                         return Some("the joint limits".into());
                     }
                     if let Some(contact) = self.contact_with(&q, clearance) {
@@ -634,7 +753,7 @@ impl ArmSpace {
 
     /// IK with collision avoidance (Kallmann's unified search): the orbit-angle search
     /// accepts the first posture within the joint limits that collides with nothing.
-    /// Returns the orbit angle and the configuration.
+    /// Returns the orbit angle and the configuration (the body at the reference posture).
     pub fn solve(&self, target: &HandTarget) -> Result<(f64, ArmConfig)> {
         self.solve_with(target, &|_| true)
     }
@@ -645,14 +764,14 @@ impl ArmSpace {
         target: &HandTarget,
         accept: &dyn Fn(&ArmConfig) -> bool,
     ) -> Result<(f64, ArmConfig)> {
-        self.solve_searching(target, &self.orbit, accept, true)
+        self.solve_searching(target, &[0.0; 3], &self.orbit, accept, true)
     }
 
     /// [`ArmSpace::solve`] with another orbit-angle search (e.g. one starting at the previous
     /// frame's angle when a target is followed).
     pub fn solve_from(&self, target: &HandTarget, orbit: &OrbitSearch) -> Result<(f64, ArmConfig)> {
         orbit.validate()?;
-        self.solve_searching(target, orbit, &|_| true, true)
+        self.solve_searching(target, &[0.0; 3], orbit, &|_| true, true)
     }
 
     /// The IK without collision avoidance: the orbit-angle search `orbit` accepts the first
@@ -664,12 +783,28 @@ impl ArmSpace {
         orbit: &OrbitSearch,
     ) -> Result<(f64, ArmConfig)> {
         orbit.validate()?;
-        self.solve_searching(target, orbit, &|_| true, false)
+        self.solve_searching(target, &[0.0; 3], orbit, &|_| true, false)
+    }
+
+    /// The arm's IK with the body at `body` (its DoFs within the stance's limits, the feet
+    /// planted; zeros where the body does not move): the orbit-angle search `orbit` accepts
+    /// the first posture within the joint limits that — when `collisions` — collides with
+    /// nothing, the whole body tested. The configuration carries `body`.
+    pub fn solve_at(
+        &self,
+        target: &HandTarget,
+        body: &BodyDofs,
+        orbit: &OrbitSearch,
+        collisions: bool,
+    ) -> Result<(f64, ArmConfig)> {
+        orbit.validate()?;
+        self.solve_searching(target, body, orbit, &|_| true, collisions)
     }
 
     fn solve_searching(
         &self,
         target: &HandTarget,
+        body: &BodyDofs,
         orbit: &OrbitSearch,
         accept: &dyn Fn(&ArmConfig) -> bool,
         collisions: bool,
@@ -677,18 +812,57 @@ impl ArmSpace {
         if !target.position.iter().all(|v| v.is_finite()) {
             return Err(PlanError::NonFinite("the hand target".into()));
         }
-        let ok = |q: &ArmConfig| (!collisions || self.contact(q).is_none()) && accept(q);
+        if !body.iter().all(|v| v.is_finite()) {
+            return Err(PlanError::NonFinite("the body's DoFs".into()));
+        }
+        let within = match &self.body {
+            Some(mode) => mode.motion.within_limits(body),
+            None => body.iter().all(|&v| v == 0.0),
+        };
+        if !within {
+            return Err(PlanError::GoalUnreachable {
+                why: format!(
+                    "the body's DoFs {body:?} lie outside the stance's limits (or the body does \
+                     not move in this space)"
+                ),
+            });
+        }
+        // The body's pose, and what it touches but for the acting arm, are solved once for
+        // the whole search: the arm's DoFs do not move them.
+        let posed = self.body.as_ref().map(|mode| mode.posed_body(body));
+        let body_touches = match (&self.body, &posed) {
+            (Some(mode), Some(p)) => {
+                if !mode.planted(p) {
+                    return Err(PlanError::GoalUnreachable {
+                        why: "the legs cannot keep the feet planted in that body posture".into(),
+                    });
+                }
+                self.body_contact(mode, p, &mode.world(p), self.clearance)
+            }
+            _ => None,
+        };
+        let contact = |q7: &[f64; ARM_DOFS]| match (&self.body, &posed) {
+            (Some(mode), Some(p)) => body_touches.clone().or_else(|| {
+                let posed = mode.with_arm(p, self.limb, q7);
+                self.arm_contact(mode, &posed, &mode.world(&posed), self.clearance)
+            }),
+            _ => self.contact(&join(q7, body)),
+        };
+        let ok = |q7: &[f64; ARM_DOFS]| {
+            (!collisions || contact(q7).is_none()) && accept(&join(q7, body))
+        };
+        let (base, ik) = self.base_and_ik(body);
         let solve_on = |base: &IsometryMatrix3<f64>| match &target.orientation {
-            Some(o) => self.ik.search_with(&self.goal(base, target, o), orbit, &ok),
+            Some(o) => ik.search_with(&self.goal(base, target, o), orbit, &ok),
             None => {
                 let p = base.inverse() * target.position;
-                self.ik.solve_position_with(&p, orbit, &ok)
+                ik.solve_position_with(&p, orbit, &ok)
             }
         };
         // The shoulder rides the girdle, which depends on the solution: the fixed point
         // s = shift(solve(base + s)) of the girdle's shift s.
         let mut s = Vector3::zeros();
-        let mut result = solve_on(&self.base_shifted(&s));
+        let mut result = solve_on(&shifted(&base, &s));
         let mut previous: Option<(Vector3<f64>, Vector3<f64>)> = None;
         for _ in 0..GIRDLE_ITERATIONS {
             let Ok((_, q)) = &result else { break };
@@ -707,7 +881,7 @@ impl ArmSpace {
             previous = Some((s, image));
             // An extrapolated shoulder whose search fails falls back to the plain step.
             let next = mixed.into_iter().chain([image]).find_map(|candidate| {
-                let solved = solve_on(&self.base_shifted(&candidate)).ok()?;
+                let solved = solve_on(&shifted(&base, &candidate)).ok()?;
                 Some((candidate, solved))
             });
             let Some((candidate, solved)) = next else {
@@ -716,50 +890,90 @@ impl ArmSpace {
             s = candidate;
             result = Ok(solved);
         }
-        result.map_err(|e| match e {
-            AnalyticError::Rejected { within_limits, .. } => PlanError::GoalInCollision {
-                tried: within_limits,
-                contact: self
-                    .first_contact_of(target, orbit)
-                    .unwrap_or_else(|| "a rejected posture".into()),
-            },
-            other => other.into(),
-        })
+        // A posture solved for a shoulder the girdle does not put there misses the target:
+        // not a solution.
+        if let Ok((_, q)) = &result {
+            let off = (self.girdle.shift(q) - s).norm();
+            if off > GIRDLE_MISS {
+                return Err(PlanError::GoalUnreachable {
+                    why: format!(
+                        "the girdle moves the shoulder {:.1} mm from where the arm was solved \
+                         for, at the edge of its reach",
+                        off * 1e3
+                    ),
+                });
+            }
+        }
+        result
+            .map(|(alpha, q7)| (alpha, join(&q7, body)))
+            .map_err(|e| match e {
+                AnalyticError::Rejected { within_limits, .. } => PlanError::GoalInCollision {
+                    tried: within_limits,
+                    contact: self
+                        .first_contact_of(target, &base, &ik, orbit, &contact)
+                        .unwrap_or_else(|| "a rejected posture".into()),
+                },
+                other => other.into(),
+            })
     }
 
-    /// The first contact of the first within-limits posture the search tries.
-    fn first_contact_of(&self, target: &HandTarget, orbit: &OrbitSearch) -> Option<String> {
+    /// The first contact of the first within-limits posture the search tries on `base`.
+    fn first_contact_of(
+        &self,
+        target: &HandTarget,
+        base: &IsometryMatrix3<f64>,
+        ik: &LimbIk,
+        orbit: &OrbitSearch,
+        contact: &dyn Fn(&[f64; ARM_DOFS]) -> Option<String>,
+    ) -> Option<String> {
         let found = std::cell::RefCell::new(None);
-        let record = |q: &ArmConfig| {
+        let record = |q: &[f64; ARM_DOFS]| {
             if found.borrow().is_none() {
-                *found.borrow_mut() = self.contact(q);
+                *found.borrow_mut() = contact(q);
             }
             false
         };
         let _ = match &target.orientation {
-            Some(o) => self
-                .ik
-                .search_with(&self.goal(&self.base, target, o), orbit, &record),
+            Some(o) => ik.search_with(&self.goal(base, target, o), orbit, &record),
             None => {
-                let p = self.base.inverse() * target.position;
-                self.ik.solve_position_with(&p, orbit, &record)
+                let p = base.inverse() * target.position;
+                ik.solve_position_with(&p, orbit, &record)
             }
         };
         found.into_inner()
     }
 
-    /// The arm's DoFs in a full-body pose.
+    /// The configuration of a full-body pose: the arm's DoFs and, where the body moves, the
+    /// body's read back from the spine and the root ([`BodyMotion::dofs_of`]: for poses the
+    /// space made, [`ArmSpace::pose_with`]); zeros otherwise.
     pub fn config_of(&self, pose: &Pose) -> ArmConfig {
         let d = self.limb.dofs().start;
-        std::array::from_fn(|i| pose[d + i])
+        let arm = std::array::from_fn(|i| pose[d + i]);
+        let body = match &self.body {
+            Some(mode) => mode.motion.dofs_of(pose),
+            None => [0.0; 3],
+        };
+        join(&arm, &body)
     }
 
-    /// A full-body pose with the arm at `q`.
+    /// A full-body pose with the arm at `q` — and where the body moves, the spine, root and
+    /// legs at `q`'s body DoFs; `pose` gives every other DoF.
     pub fn pose_with(&self, pose: &Pose, q: &ArmConfig) -> Pose {
         let mut out = *pose;
-        out[self.limb.dofs()].copy_from_slice(q);
+        if let Some(mode) = &self.body {
+            mode.set_body(&mut out, &body_of(q));
+        }
+        out[self.limb.dofs()].copy_from_slice(&arm_of(q));
         out
     }
+}
+
+/// `base` with its shoulder moved by `shift` (in the base's own frame).
+fn shifted(base: &IsometryMatrix3<f64>, shift: &Vector3<f64>) -> IsometryMatrix3<f64> {
+    IsometryMatrix3::from_parts(
+        (base.translation.vector + base.rotation * shift).into(),
+        base.rotation,
+    )
 }
 
 /// Linear interpolation of two configurations.

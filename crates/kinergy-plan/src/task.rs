@@ -9,7 +9,9 @@
 //!   the retreat after a release, a drawer's handle followed;
 //! - **hand** phases: the arm still while the fingers close or open.
 //!
-//! The character stands in [`crate::body::reference_pose`]; only the acting arm moves.
+//! The character stands in [`crate::body::reference_pose`]; only the acting arm moves — but
+//! for a reach the arm alone cannot make, where the spine bends and twists and the legs
+//! squat, the feet planted ([`crate::posture`], [`BodyUse`]).
 //!
 //! **Relocation** (the paper's Fig. 5): plan to the pre-grasp (the grasp pulled back
 //! along its approach by its distance, hand opening), approach straight and close the
@@ -43,8 +45,10 @@ use crate::rrt::{ArmPath, Budget, PlanStats, RrtSettings, SearchTree, SmoothStat
 use crate::scene::{Grasp, Scene};
 use crate::space::{ArmConfig, ArmSpace, HandTarget};
 
+mod body;
 mod builder;
 mod levels;
+pub use body::{BodyUse, EXTRA_SWING_DEG, EXTRA_TWIST_DEG};
 use builder::{Builder, PlannedPhase};
 
 /// Settings of a task.
@@ -185,7 +189,7 @@ pub struct ObjectTrack {
 /// A task's motion: body poses and hand shapes per frame, the phases and moved objects.
 #[derive(Debug, Clone)]
 pub struct Manipulation {
-    /// Full-body poses (only the acting arm moves).
+    /// Full-body poses (only the acting arm moves, but where [`Manipulation::body`] says).
     pub poses: Vec<Pose>,
     /// Hand shapes per frame.
     pub hands: Vec<Hands>,
@@ -198,6 +202,8 @@ pub struct Manipulation {
     /// For a reach at a level ([`Planner::reach_by`]): every level tried, in order, the last
     /// the one that solved it. Empty otherwise.
     pub levels: Vec<LevelTry>,
+    /// For a reach the arm alone could not make: how the body moved (`None`: it did not).
+    pub body: Option<BodyUse>,
 }
 
 impl Manipulation {
@@ -282,9 +288,14 @@ impl Planner {
     }
 
     fn builder(&self) -> Result<Builder<'_>> {
-        let space = self.space()?;
+        self.builder_in(self.space()?, None)
+    }
+
+    /// A builder whose motion starts at the start pose in `space`, a reach's goal posture
+    /// `goal` (orbit angle, configuration) given when it was found before.
+    fn builder_in(&self, space: ArmSpace, goal: Option<(f64, ArmConfig)>) -> Result<Builder<'_>> {
         let q = space.config_of(&self.start);
-        let alpha = space.ik().alpha_of(&q);
+        let alpha = space.alpha_of(&q);
         let hand = HandShape::relaxed();
         let mut b = Builder {
             planner: self,
@@ -299,15 +310,18 @@ impl Planner {
                 phases: Vec::new(),
                 objects: Vec::new(),
                 levels: Vec::new(),
+                body: None,
             },
             held: None,
+            goal,
         };
         b.push_frame();
         Ok(b)
     }
 
     /// A collision-free reach to a hand target, the hand taking `shape` on the way: the
-    /// planner's ([`crate::level::Level::Planner`]; [`Planner::reach_by`] for the others).
+    /// planner's ([`crate::level::Level::Planner`]; [`Planner::reach_by`] for the others),
+    /// the arm's alone ([`Planner::reach_by`] moves the body where the arm cannot reach).
     pub fn reach(&self, target: &HandTarget, shape: HandShape) -> Result<Manipulation> {
         let mut b = self.builder()?;
         b.planned_reach(target, shape)?;

@@ -30,7 +30,9 @@ use crate::errors;
 /// collision avoidance on every frame), "planner" (RRT-Connect), or "auto" (each in turn until
 /// one's motion is collision-free); a task takes "auto" or "planner". seed: the planner's
 /// random stream. budget_ms: the planner's time budget (default: its iteration budget only).
-/// The clip's report says which level solved a reach and how each tried went.
+/// Where the arm alone cannot reach the target, the spine bends and twists and the legs squat,
+/// the feet planted. The clip's report says which level solved a reach and how each tried
+/// went, and which body DoFs moved (`body_dofs`, `body`).
 /// Raises UnreachableError when no collision-free motion is found.
 #[pyfunction]
 #[pyo3(signature = (scene, *, target = None, task = None, object = None, to = None, distance = 0.2, arm = "right", level = "auto", seed = 0, params = None, budget_ms = None))]

@@ -49,7 +49,8 @@
 //!
 //! One (private) file per controller — `legs.rs`, `spine.rs`, `head.rs`, `arm.rs`,
 //! `balance.rs` (with the balance correction carried from frame to frame), `synergy.rs` (a
-//! person's arm) — and the scheduler's: `plan.rs` (every decision, made once),
+//! person's arm), `stance.rs` (the spine and the squat as one posture with the feet planted,
+//! for a planner: [`Stance`], [`standing_stances`]) — and the scheduler's: `plan.rs` (every decision, made once),
 //! `timeline.rs` (when the body's controllers start, and the body they bring about),
 //! `phase.rs` (the reaching arm's phases: waiting, analytic, synergy, plain IK, each stepping
 //! to the next) and `scheduler.rs`, which animates the states frame by frame;
@@ -80,6 +81,7 @@ mod report;
 mod scheduler;
 mod settings;
 mod spine;
+mod stance;
 mod synergy;
 mod timeline;
 
@@ -92,6 +94,10 @@ pub use report::{
     ArmDriveKind, HandOver, HandOverWhy, Posture, ReachMotion, ReachReport, ReachStop, SynergyTempo,
 };
 pub use settings::{ReachSettings, SynergyStart};
+pub use stance::{
+    PlantedLegs, Stance, StanceCandidate, StanceLimits, pose_stance, stance_limits,
+    standing_stances,
+};
 pub use synergy::{
     ArmDrive, PLAIN_IK_TIME, PersonController, RELAXED_ELBOW, STALL_PROGRESS, STALL_WINDOW,
     SYNERGY_TIME, SynergyArm, TWIST_BRAKE_BELOW, arm_dof_names, fitted_base_at_rest,

@@ -21,7 +21,8 @@ use crate::space::{ArmConfig, ArmSpace, HandTarget};
 
 /// A kind of planned phase: its name (in the motion and in errors), the salt that gives its
 /// search a seed of its own, and whether the person's synergy finishes it where its motion is
-/// free (a reach's: [`crate::approach`]).
+/// free (a reach's: [`crate::approach`]; not where the body moves, whose synergy drives the
+/// arm alone).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct PlannedPhase {
     pub(super) name: &'static str,
@@ -65,6 +66,9 @@ pub(super) struct Builder<'a> {
     pub(super) hand: HandShape,
     pub(super) out: Manipulation,
     pub(super) held: Option<usize>,
+    /// A reach's goal posture (orbit angle, configuration) when it was found before the
+    /// motion (the body's posture search); `None`: the IK with collision avoidance finds it.
+    pub(super) goal: Option<(f64, ArmConfig)>,
 }
 
 impl Builder<'_> {
@@ -100,10 +104,19 @@ impl Builder<'_> {
         (seconds * s.frame_rate).ceil() as usize + 1
     }
 
-    /// The planner's reach to `target`: the goal posture by the IK with collision avoidance,
-    /// a planned phase to it, settled onto the target where the person's synergy finished it.
+    /// The goal posture of a reach to `target`: the one found before, or the IK with
+    /// collision avoidance's.
+    pub(super) fn reach_goal(&self, target: &HandTarget) -> Result<(f64, ArmConfig)> {
+        match self.goal {
+            Some(goal) => Ok(goal),
+            None => self.space.solve(target),
+        }
+    }
+
+    /// The planner's reach to `target`: the goal posture ([`Builder::reach_goal`]), a planned
+    /// phase to it, settled onto the target where the person's synergy finished it.
     pub(super) fn planned_reach(&mut self, target: &HandTarget, shape: HandShape) -> Result<()> {
-        let (alpha, goal) = self.space.solve(target)?;
+        let (alpha, goal) = self.reach_goal(target)?;
         self.planned(PlannedPhase::REACH, &goal, alpha, shape)?;
         self.settle(target, (&goal, alpha), shape)
     }
@@ -135,7 +148,7 @@ impl Builder<'_> {
                 synergy,
                 controller,
                 ..
-            } if synergy_finish => {
+            } if synergy_finish && !self.space.moves_body() => {
                 let person = PersonArm {
                     character: &self.planner.character,
                     body: &self.planner.start,
@@ -163,7 +176,7 @@ impl Builder<'_> {
             self.push_frame();
         }
         self.alpha = if synergy.is_some() {
-            self.space.ik().alpha_of(&self.q)
+            self.space.alpha_of(&self.q)
         } else {
             alpha
         };
@@ -394,7 +407,7 @@ impl Builder<'_> {
     /// A planned phase back to the starting posture, the hand relaxing.
     pub(super) fn return_to_start(&mut self) -> Result<()> {
         let goal = self.space.config_of(&self.planner.start);
-        let alpha = self.space.ik().alpha_of(&goal);
+        let alpha = self.space.alpha_of(&goal);
         self.planned(PlannedPhase::RETURN, &goal, alpha, HandShape::relaxed())
     }
 

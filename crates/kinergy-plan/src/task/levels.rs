@@ -12,7 +12,8 @@ use super::{Manipulation, Phase, Planner};
 use crate::error::{PlanError, Result};
 use crate::hand::HandShape;
 use crate::level::{Level, LevelTry};
-use crate::space::{ArmConfig, HandTarget};
+use crate::posture::BodyDofs;
+use crate::space::{ArmConfig, HandTarget, body_of};
 
 /// The orbit search's first increment along a hand line: small, so a frame's elbow stays
 /// near the interpolated one.
@@ -42,18 +43,39 @@ impl Planner {
     /// reach or colliding at every orbit angle, the start colliding). A task failure is
     /// [`PlanError::Level`], naming the levels tried and why each failed; bad input is
     /// returned as it is.
+    ///
+    /// The body moves only where the arm alone cannot reach: when the arm's goal in the
+    /// reference posture is beyond reach or collides at every orbit angle, the body's goal
+    /// posture is searched first — the reach layer's standing stances, with more swing and
+    /// twist ([`EXTRA_SWING_DEG`](crate::task::EXTRA_SWING_DEG)) — and every level moves the
+    /// spine and the legs with the arm ([`Manipulation::body`] says how); where no stance
+    /// helps, the levels fail as the arm alone does, the error saying the body was tried.
     pub fn reach_by(
         &self,
         target: &HandTarget,
         shape: HandShape,
         level: Level,
     ) -> Result<Manipulation> {
+        let mut body = None;
+        let mut body_note = None;
+        if let Err(e @ (PlanError::GoalUnreachable { .. } | PlanError::GoalInCollision { .. })) =
+            self.space.solve(target)
+        {
+            match self.body_goal(target, &e)? {
+                Ok(goal) => body = Some(goal),
+                Err(note) => body_note = Some(note),
+            }
+        }
         let order = level.order();
         let mut tried: Vec<LevelTry> = Vec::with_capacity(order.len());
         for (i, &at) in order.iter().enumerate() {
             let checked = at != Level::Ik || level == Level::Auto;
             let clock = Instant::now();
-            let attempt = self.builder().and_then(|mut b| {
+            let builder = match &body {
+                Some(g) => self.builder_in(g.space.clone(), Some((g.alpha, g.q))),
+                None => self.builder(),
+            };
+            let attempt = builder.and_then(|mut b| {
                 match at {
                     Level::Ik => b.line_reach(target, shape, Line::Ik { checked })?,
                     Level::Straight => b.line_reach(target, shape, Line::Straight)?,
@@ -71,6 +93,7 @@ impl Planner {
                         motion_checked: checked,
                     });
                     out.levels = tried;
+                    out.body = body.map(|g| g.used);
                     return Ok(out);
                 }
                 Err(e) if e.kind() == ErrorKind::Input => return Err(e),
@@ -86,7 +109,7 @@ impl Planner {
                         return Err(PlanError::Level {
                             asked: level,
                             tried,
-                            cause: Box::new(e),
+                            cause: Box::new(with_note(e, body_note.as_deref())),
                         });
                     }
                 }
@@ -106,9 +129,13 @@ impl Builder<'_> {
     /// from where they are to the goal posture's, timed by the task's warp; on every frame the
     /// IK, its orbit search starting at the angle interpolated between the start's and the
     /// goal's.
+    ///
+    /// Where the body moves, its DoFs go from the start's to the goal's ahead of the grip
+    /// ([`body_lead`]), and each frame's arm is solved on the body there.
     fn line_reach(&mut self, target: &HandTarget, shape: HandShape, line: Line) -> Result<()> {
         let settings = &self.planner.settings;
-        let (alpha_goal, goal) = self.space.solve(target)?;
+        let (alpha_goal, goal) = self.reach_goal(target)?;
+        let (b0, b1) = (body_of(&self.q), body_of(&goal));
         let rest = self.rest_rotation();
         let frame_of = |q: &ArmConfig| {
             let f = self.space.grip_frame(q);
@@ -119,7 +146,13 @@ impl Builder<'_> {
         let (p1, r1) = frame_of(&goal);
         let search = OrbitSearch::default();
         let alpha0 = self.alpha.clamp(search.min, search.max);
-        let frames = self.frames_for((p1 - p0).norm(), settings.reach_speed);
+        // Where the body moves, its motion counts too: the farthest-moving tracked point (the
+        // head's top, a knee) can travel farther than the grip.
+        let mut length = (p1 - p0).norm();
+        if self.space.moves_body() {
+            length = length.max(self.space.distance(&self.q, &goal));
+        }
+        let frames = self.frames_for(length, settings.reach_speed);
         let fractions = settings.warp.fractions(frames);
         let n = frames - 1;
         let first = self.out.poses.len() - 1;
@@ -140,11 +173,13 @@ impl Builder<'_> {
                 fraction: t,
                 why,
             };
+            let lead = body_lead(t);
+            let body: BodyDofs = std::array::from_fn(|i| b0[i] + (b1[i] - b0[i]) * lead);
             let solved = match line {
                 // The last frame is the goal posture itself (free, and the target reached).
                 Line::Ik { .. } if k == n => Ok((alpha_goal, goal)),
-                Line::Ik { .. } => self.space.solve_within_limits(&step, &orbit),
-                Line::Straight => self.space.solve_from(&step, &orbit),
+                Line::Ik { .. } => self.space.solve_at(&step, &body, &orbit, false),
+                Line::Straight => self.space.solve_at(&step, &body, &orbit, true),
             };
             let (alpha, q) = solved.map_err(|e| blocked(why_unsolved(e)))?;
             let test = match line {
@@ -183,4 +218,30 @@ fn why_unsolved(e: PlanError) -> String {
         PlanError::GoalUnreachable { why } => format!("no posture within the joint limits: {why}"),
         other => other.to_string(),
     }
+}
+
+/// A failure of the arm alone, with `note` (why moving the body did not help) added to what
+/// it says.
+fn with_note(e: PlanError, note: Option<&str>) -> PlanError {
+    let Some(note) = note else { return e };
+    match e {
+        PlanError::GoalUnreachable { why } => PlanError::GoalUnreachable {
+            why: format!("{why}; {note}"),
+        },
+        PlanError::GoalInCollision { tried, contact } => PlanError::GoalInCollision {
+            tried,
+            contact: format!("{contact}; {note}"),
+        },
+        other => other,
+    }
+}
+
+/// How far (0 to 1) the body's DoFs have gone from the start's to the goal's when the grip has
+/// gone the fraction `t` of its line: `1 − (1 − t)²`, ahead of the grip and arriving with it.
+/// The body leads because a hand reaching low needs its shoulder lowered first: the arm
+/// hangs almost straight at the start, and at the grip's pace the squat leaves the first
+/// frames' hand targets beyond its reach.
+pub(super) fn body_lead(t: f64) -> f64 {
+    let t = t.clamp(0.0, 1.0);
+    1.0 - (1.0 - t) * (1.0 - t)
 }

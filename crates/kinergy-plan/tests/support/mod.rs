@@ -140,6 +140,54 @@ impl Verifier {
         None
     }
 
+    /// The first contact of the whole body at `q` (every part but the feet against the
+    /// scene, every enabled pair of parts against each other), if any; no clearance.
+    #[allow(dead_code)] // the body test's, not every binary's
+    pub fn whole_body_contact(&self, space: &ArmSpace, q: &ArmConfig) -> Option<String> {
+        let pose = space.pose_with(&self.start, q);
+        let frames = self.character.world_frames(&pose);
+        let world = self.body.world_capsules(&frames);
+        let parts = self.body.parts();
+        for i in 0..parts.len() {
+            for j in i + 1..parts.len() {
+                if !self.body.is_disabled(i, j) && world[i].gap(&world[j]) < 0.0 {
+                    return Some(format!("{} × {}", parts[i].name, parts[j].name));
+                }
+            }
+            if parts[i].name.ends_with("_foot") {
+                continue;
+            }
+            if let Some(hit) = self.capsule_hits(&world[i]) {
+                return Some(format!("{} × {hit}", parts[i].name));
+            }
+        }
+        None
+    }
+
+    /// Re-checks the whole body along every segment of `path`, with samples every
+    /// `resolution` meters of the largest tracked-point displacement; the first contact.
+    #[allow(dead_code)] // the body test's, not every binary's
+    pub fn recheck_whole_body(
+        &self,
+        space: &ArmSpace,
+        path: &ArmPath,
+        resolution: f64,
+    ) -> Option<String> {
+        for w in path.configs.windows(2) {
+            let n = (space.distance(&w[0], &w[1]) / resolution).ceil().max(1.0) as usize;
+            for k in 0..=n {
+                let q = lerp(&w[0], &w[1], k as f64 / n as f64);
+                if !space.within_limits(&q) {
+                    return Some(format!("outside the joint limits at {q:?}"));
+                }
+                if let Some(c) = self.whole_body_contact(space, &q) {
+                    return Some(format!("{c} at {q:?}"));
+                }
+            }
+        }
+        None
+    }
+
     fn capsule_hits(&self, c: &Capsule) -> Option<String> {
         let (min, max) = c.bounds(0.0);
         let cap = PCapsule::new(pvec(&c.a), pvec(&c.b), c.radius as f32);
@@ -201,7 +249,7 @@ impl Verifier {
             let n = (space.distance(&w[0], &w[1]) / resolution).ceil().max(1.0) as usize;
             for k in 0..=n {
                 let q = lerp(&w[0], &w[1], k as f64 / n as f64);
-                if !space.ik().within_limits(&q) {
+                if !space.within_limits(&q) {
                     return Some(format!("outside the joint limits at {q:?}"));
                 }
                 let held = half.map(|h| (space.held_pose(&q).unwrap(), h));

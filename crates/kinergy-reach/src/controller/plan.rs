@@ -12,6 +12,7 @@ use super::report::Posture;
 use super::settings::ReachSettings;
 use super::spine::{SwingPlan, max_squat};
 use super::spine::{apply_swing, plan_squat, plan_swing, plan_twist, set_twist};
+use super::stance::{Stance, StanceCandidate};
 use crate::character::{Character, Limb, Pose, dof, joint};
 use crate::error::Result;
 use crate::steps::StepDecision;
@@ -329,6 +330,63 @@ fn search_posture(
         }
     }
     Ok(best)
+}
+
+/// The stances the posture search tries with the feet where they stand in `rest` (the public
+/// [`super::stance::standing_stances`]): [`posture_at`] with no step, the paper's squat
+/// first, then squats [`SQUAT_INCREMENT`] deeper each to [`max_squat`].
+pub(super) fn standing_stances(
+    character: &Character,
+    rest: &Pose,
+    target: &Point3<f64>,
+    s: &ReachSettings,
+) -> Result<Vec<StanceCandidate>> {
+    let side = reaching_side(character, target, s.arm);
+    let arm = Limb::arm(side);
+    let segments = character.proportions().arm(side);
+    let arm_ik = arm_ik(character, arm)?;
+    let reaching = ReachingArm {
+        character,
+        limb: arm,
+        ik: &arm_ik,
+        target,
+        length: segments.upper_arm + segments.forearm + segments.hand,
+    };
+    let shoulder = shoulder_position(character, rest, arm);
+    let still = StepPlan::new(
+        crate::steps::StepDecision::NoStep,
+        0.0,
+        crate::steps::step_direction(&shoulder, target)
+            .map(|u| u.into_inner())
+            .unwrap_or_else(Vector3::z),
+        crate::steps::horizontal_distance(&shoulder, target),
+    );
+    let k_com = s.r_max / s.phi_max;
+    let at = |squat: Option<f64>| {
+        let c = posture_at(&reaching, rest, &still, squat, k_com, s);
+        StanceCandidate {
+            stance: Stance {
+                swing: c.swing.angle,
+                twist: c.twist,
+                squat: c.squat,
+                axis: c.swing.axis,
+                dp: c.swing.dp,
+            },
+            hand_error: c.hand_error,
+        }
+    };
+    let paper = at(None);
+    let deepest = max_squat(character);
+    let n = ((deepest - paper.stance.squat) / SQUAT_INCREMENT)
+        .ceil()
+        .max(0.0) as usize;
+    let mut out = vec![paper];
+    out.extend((1..=n).map(|k| {
+        at(Some(
+            (paper.stance.squat + k as f64 * SQUAT_INCREMENT).min(deepest),
+        ))
+    }));
+    Ok(out)
 }
 
 /// The arm that reaches for `target`: `arm` if given, else the one on the target's side of

@@ -37,7 +37,7 @@ pub(super) fn plan_twist(
     target: &Point3<f64>,
     comfortable_angle: f64,
 ) -> f64 {
-    let max_twist = max_equal_split(character, |j| j.rotation_dofs().start + dof::TWIST);
+    let max_twist = max_twist_split(character);
     let forward_local = chest_forward_local(character);
     let mut closest = (f64::INFINITY, 0.0);
     for k in 0..=180 {
@@ -201,9 +201,15 @@ fn max_equal_split(character: &Character, index: impl Fn(SpineJoint) -> usize) -
         .fold(f64::INFINITY, f64::min)
 }
 
+/// The largest total twist splitting equally over the three lower spine joints within their
+/// limits.
+pub(super) fn max_twist_split(character: &Character) -> f64 {
+    max_equal_split(character, |j| j.rotation_dofs().start + dof::TWIST)
+}
+
 /// The largest total swing splitting equally over the three lower spine joints (the
 /// smaller ellipse radius of each, so every direction fits).
-fn max_swing_split(character: &Character) -> f64 {
+pub(super) fn max_swing_split(character: &Character) -> f64 {
     LOWER_SPINE
         .iter()
         .map(|&j| {
