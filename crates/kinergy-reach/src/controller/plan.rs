@@ -354,6 +354,7 @@ pub(super) fn standing_stances(
     };
     let shoulder = shoulder_position(character, rest, arm);
     let still = StepPlan::new(
+        character,
         crate::steps::StepDecision::NoStep,
         0.0,
         crate::steps::step_direction(&shoulder, target)
