@@ -848,12 +848,9 @@ pub fn timed_with(space: &ArmSpace, path: &ArmPath, frames: usize, warp: &Warp) 
 mod tests {
     use super::*;
 
-    /// A cut path begins where the path does, keeps its waypoints up to the cut and ends at
-    /// the fraction of the cut segment's length (at a waypoint, exactly the length asked
-    /// for); cut beyond its end, it is the whole path.
-    #[test]
-    fn a_cut_path_is_the_start_of_the_path() {
-        let planner = crate::task::Planner::new(
+    /// A planner in a scene without objects.
+    fn empty_planner() -> crate::task::Planner {
+        crate::task::Planner::new(
             crate::scene::Scene::parse(
                 r#"{"format_version": 1, "objects": []}"#,
                 "t.json".as_ref(),
@@ -862,7 +859,15 @@ mod tests {
             .expect("scene"),
             crate::task::TaskSettings::default(),
         )
-        .expect("planner");
+        .expect("planner")
+    }
+
+    /// A cut path begins where the path does, keeps its waypoints up to the cut and ends at
+    /// the fraction of the cut segment's length (at a waypoint, exactly the length asked
+    /// for); cut beyond its end, it is the whole path.
+    #[test]
+    fn a_cut_path_is_the_start_of_the_path() {
+        let planner = empty_planner();
         let space = planner.space().expect("space");
         let a = space.config_of(planner.start_pose());
         let mut b = a;
@@ -903,16 +908,7 @@ mod tests {
     fn the_body_is_sampled_in_a_small_band_about_its_line() {
         use crate::posture::{BodyMotion, body_dof};
         use kinergy_reach::controller::{ReachSettings, Stance};
-        let planner = crate::task::Planner::new(
-            crate::scene::Scene::parse(
-                r#"{"format_version": 1, "objects": []}"#,
-                "t.json".as_ref(),
-                ".".as_ref(),
-            )
-            .expect("scene"),
-            crate::task::TaskSettings::default(),
-        )
-        .expect("planner");
+        let planner = empty_planner();
         let settings = RrtSettings::default();
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let arm_only = planner.space().expect("space");
