@@ -262,6 +262,11 @@ impl<'a> StepBalance<'a> {
             return false;
         };
         let c = self.character;
+        // Never lower than a lunge (the legs spread pull the root down).
+        let leg = c.proportions().leg(Side::Right);
+        let lowest = self.rest[dof::ROOT_Y]
+            - LUNGE_KNEE_BEND * (leg.thigh + leg.shank)
+            - self.steps.root_dip;
         stepping.windows.iter().flatten().all(|&(a, b)| {
             SWING_CHECKS.iter().all(|u| {
                 let t = a + u * (b - a);
@@ -313,12 +318,6 @@ impl<'a> StepBalance<'a> {
                         }
                     });
                 let margin = rebalance(c, &frames, wanted, 1.0).margin;
-                // Never lower than a lunge (the legs spread pull the root down).
-                let l = {
-                    let leg = c.proportions().leg(Side::Right);
-                    leg.thigh + leg.shank
-                };
-                let lowest = self.rest[dof::ROOT_Y] - LUNGE_KNEE_BEND * l - self.steps.root_dip;
                 placed
                     && pose[dof::ROOT_Y] >= lowest - 1e-9
                     && c.joint_limits_ok(&pose).is_ok()
