@@ -320,7 +320,10 @@ impl Stepping {
             for &(a, b) in self.windows.iter().flatten() {
                 if t > a && t < b {
                     let u = (t - a) / (b - a);
-                    p.y -= self.settings.root_dip * (std::f64::consts::PI * u).sin();
+                    // sin², not sin: it leaves and rejoins the root's path at rest (a sine
+                    // started the root down at 0.31 m/s within a frame, and the reaching hand
+                    // held to its world path showed it).
+                    p.y -= self.settings.root_dip * (std::f64::consts::PI * u).sin().powi(2);
                 }
             }
             p
@@ -407,15 +410,32 @@ pub(super) fn lower_root_for_legs_in(
         }
         let allowed = (reach * reach - h * h).sqrt();
         let vertical = hip_y - ankle.y;
-        if vertical > allowed {
-            lowered += vertical - allowed;
-        }
+        lowered += soft_excess(vertical - allowed);
     }
     if lowered > 0.0 {
         pose[dof::ROOT_Y] -= lowered;
         for f in frames.iter_mut() {
             f.translation.vector.y -= lowered;
         }
+    }
+}
+
+/// The root starts down this far, meters, before a leg would be stretched to its reach
+/// ([`soft_excess`]).
+const LOWER_BLEND: f64 = 0.02;
+
+/// How far a leg needs the root lowered when its hip is `x` meters higher than it can reach:
+/// `x` beyond [`LOWER_BLEND`], nothing below −[`LOWER_BLEND`], and between them the parabola
+/// that joins the two with its slope, (x + B)² / 4B — so the root starts down at rest rather
+/// than at the speed the stretching leg's hip then has (0.31 m/s within a frame, behind a
+/// stepping body, which the reaching hand held to its world path showed).
+fn soft_excess(x: f64) -> f64 {
+    if x <= -LOWER_BLEND {
+        0.0
+    } else if x >= LOWER_BLEND {
+        x
+    } else {
+        (x + LOWER_BLEND).powi(2) / (4.0 * LOWER_BLEND)
     }
 }
 

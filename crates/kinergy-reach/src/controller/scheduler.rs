@@ -40,6 +40,10 @@ struct FrameLimbs<'a> {
     plan: &'a Plan,
     /// The root's height on the planned path (lowered where the legs need it).
     height: f64,
+    /// The least the legs lower the root on this frame ([`RootRise`]).
+    lowered_at_least: f64,
+    /// How far the legs themselves needed the root lowered on the last pass, meters.
+    lowered_needed: f64,
     /// The profile and the seconds into it, when it drives the reaching arm.
     follow: Option<ProfileTime<'a>>,
     arm: &'a mut ArmFollower,
@@ -65,6 +69,14 @@ impl FrameLimbs<'_> {
         // girdle, solved with the arm): one FK serves all three.
         let mut above = c.world_frames(pose);
         lower_root_for_legs_in(c, pose, &mut above, self.feet);
+        self.lowered_needed = self.height - pose[dof::ROOT_Y];
+        let extra = self.lowered_at_least - self.lowered_needed;
+        if extra > 0.0 {
+            pose[dof::ROOT_Y] -= extra;
+            for f in above.iter_mut() {
+                f.translation.vector.y -= extra;
+            }
+        }
         solve_legs_in(c, pose, &above, self.leg_iks, self.feet);
         let base = c.limb_base_frame_in(self.plan.arm, &above);
         if let Some(now) = self.follow
@@ -89,6 +101,47 @@ impl FrameLimbs<'_> {
         let base = c.limb_base_frame(self.plan.arm, pose);
         self.arm_base = base;
         (self.arm.hand(c, &base, pose, self.plan.target) - self.plan.target).norm()
+    }
+}
+
+/// The fastest the root rises back, m/s, once the legs no longer need it lowered.
+const ROOT_RISE_SPEED: f64 = 0.3;
+
+/// How fast the root's rise gathers speed, m/s².
+const ROOT_RISE_ACCELERATION: f64 = 3.0;
+
+/// How far below its planned height the legs hold the root, carried from frame to frame: the
+/// root goes down at once where a leg needs it (a planted foot behind a stepping body), but
+/// rises back no faster than [`ROOT_RISE_SPEED`], gathering and losing speed at
+/// [`ROOT_RISE_ACCELERATION`] — slowing as it comes back to where the legs need it, so it
+/// rejoins their need at rest. (Released at once, the root rose 1.1 cm in three frames when
+/// the trailing foot left the ground — 1.3 m/s, which the reaching hand showed.)
+#[derive(Debug, Default, Clone, Copy)]
+struct RootRise {
+    /// The last frame's lowering, meters.
+    lowered: f64,
+    /// How far the legs themselves needed it lowered on the last frame, meters.
+    needed: f64,
+    /// How fast the root rose over the last frame, m/s.
+    speed: f64,
+}
+
+impl RootRise {
+    /// The least lowering for a frame of `dt` seconds.
+    fn at_least(&self, dt: f64) -> f64 {
+        let gap = (self.lowered - self.needed).max(0.0);
+        let speed = (self.speed + ROOT_RISE_ACCELERATION * dt)
+            .min(ROOT_RISE_SPEED)
+            .min((2.0 * ROOT_RISE_ACCELERATION * gap).sqrt());
+        (self.lowered - speed * dt).max(0.0)
+    }
+
+    /// The frame of `dt` seconds ended with the root `lowered` meters below its plan, the legs
+    /// needing `needed`.
+    fn ended(&mut self, lowered: f64, needed: f64, dt: f64) {
+        self.speed = ((self.lowered - lowered) / dt).max(0.0);
+        self.lowered = lowered.max(0.0);
+        self.needed = needed.max(0.0);
     }
 }
 
@@ -120,6 +173,7 @@ pub(super) fn animate(
     let mut synergy_limited_at_s = None;
     let mut synergy_tempo = None;
     let mut balance = BalanceCorrection::default();
+    let mut rise = RootRise::default();
     let mut poses = Vec::new();
     let mut min_margin = f64::INFINITY;
     let mut stop = ReachStop::Timeout;
@@ -152,6 +206,8 @@ pub(super) fn animate(
             feet: &feet,
             plan,
             height: planned.height,
+            lowered_at_least: rise.at_least(dt),
+            lowered_needed: 0.0,
             follow: phase.follow(&rules, t),
             arm: &mut arm,
             waiting: waiting.then_some(&mut hanging),
@@ -170,6 +226,7 @@ pub(super) fn animate(
             |pose, first_pass| limbs.solve(pose, first_pass),
         );
         let (arm_alpha, idle_alpha, arm_base) = (limbs.arm_alpha, limbs.idle_alpha, limbs.arm_base);
+        let needed = limbs.lowered_needed;
         min_margin = min_margin.min(balanced.margin);
 
         // The frame's end: the arms held to their speeds, the pose within the limits, then
@@ -188,6 +245,7 @@ pub(super) fn animate(
             synergy_limited_at_s = Some(t);
         }
         final_error = stepped.error;
+        rise.ended(planned.height - pose[dof::ROOT_Y], needed, dt);
         arm.settle(character, &pose, dt);
         idle.settle(&pose);
         hanging.settle(&pose);
