@@ -160,7 +160,6 @@ pub(super) fn animate(
     let body = Body::new(character, rest, plan, s)?;
     let timeline = body.timeline;
     let leg_iks = leg_iks(character)?;
-    let mut arm = ArmFollower::new(character, plan.arm, rest)?;
     let rules = ArmRules::new(character, rest, plan, s, drive, timeline, dt)?;
     let idle_limb = Limb::arm(plan.arm.side().opposite());
     let mut idle = IdleArm::new(character, idle_limb, rest)?;
@@ -168,6 +167,18 @@ pub(super) fn animate(
     // a little where a reach starts (a synergy starts from `RELAXED_ELBOW` at least, and
     // from the straight rest arm that would be a one-frame snap of the elbow).
     let mut hanging = IdleArm::new(character, plan.arm, rest)?;
+    // The profile's arm starts relaxed on the first frame too, where its reach starts at once:
+    // from the straight rest arm the analytic solution flexes the elbow like the square root of
+    // the hand's travel, and the hand could not take up the ease-out's speed within 0.1 s.
+    let mut start = *rest;
+    if matches!(drive, ArmDrive::Profile) {
+        let base = character.limb_base_frame(plan.arm, rest);
+        if hanging.hang(character, &mut start, &base).is_some() {
+            character.clamp_pose(&mut start);
+            hanging.settle(&start);
+        }
+    }
+    let mut arm = ArmFollower::new(character, plan.arm, &start)?;
     let mut head = Head::default();
     let mut phase = ArmPhase::Waiting;
     let mut synergy_limited_at_s = None;
