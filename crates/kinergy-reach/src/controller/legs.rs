@@ -386,16 +386,18 @@ pub(super) fn lower_root_for_legs(
     feet: &[IsometryMatrix3<f64>; 2],
 ) {
     let mut frames = character.world_frames(pose);
-    lower_root_for_legs_in(character, pose, &mut frames, feet);
+    lower_root_for_legs_in(character, pose, &mut frames, feet, 0.0);
 }
 
 /// [`lower_root_for_legs`] with the pose's world `frames` already computed; they are moved
-/// down with the root (lowering the root translates every joint).
+/// down with the root (lowering the root translates every joint); the legs' need blended over
+/// `blend` meters ([`soft_excess`]).
 pub(super) fn lower_root_for_legs_in(
     character: &Character,
     pose: &mut Pose,
     frames: &mut [IsometryMatrix3<f64>],
     feet: &[IsometryMatrix3<f64>; 2],
+    blend: f64,
 ) {
     let mut lowered = 0.0;
     for (i, leg) in [Limb::RightLeg, Limb::LeftLeg].into_iter().enumerate() {
@@ -410,7 +412,7 @@ pub(super) fn lower_root_for_legs_in(
         }
         let allowed = (reach * reach - h * h).sqrt();
         let vertical = hip_y - ankle.y;
-        lowered += soft_excess(vertical - allowed);
+        lowered += soft_excess(vertical - allowed, blend);
     }
     if lowered > 0.0 {
         pose[dof::ROOT_Y] -= lowered;
@@ -420,22 +422,23 @@ pub(super) fn lower_root_for_legs_in(
     }
 }
 
-/// The root starts down this far, meters, before a leg would be stretched to its reach
-/// ([`soft_excess`]).
-const LOWER_BLEND: f64 = 0.02;
+/// The root starts down this far, meters, before a leg would be stretched to its reach, where the
+/// scheduler lowers it smoothly ([`soft_excess`]).
+pub(super) const LOWER_BLEND: f64 = 0.02;
 
-/// How far a leg needs the root lowered when its hip is `x` meters higher than it can reach:
-/// `x` beyond [`LOWER_BLEND`], nothing below −[`LOWER_BLEND`], and between them the parabola
-/// that joins the two with its slope, (x + B)² / 4B — so the root starts down at rest rather
+/// How far a leg needs the root lowered when its hip is `x` meters higher than it can reach,
+/// blended over `b` meters: `x` beyond `b`, nothing below −`b`, and between them the parabola
+/// that joins the two with its slope, (x + b)² / 4b — so the root starts down at rest rather
 /// than at the speed the stretching leg's hip then has (0.31 m/s within a frame, behind a
-/// stepping body, which the reaching hand held to its world path showed).
-fn soft_excess(x: f64) -> f64 {
-    if x <= -LOWER_BLEND {
+/// stepping body, which the reaching hand held to its world path showed). `b` = 0: the hard
+/// `max(x, 0)` (the plan's searches, and where the scheduler does not smooth the root).
+fn soft_excess(x: f64, b: f64) -> f64 {
+    if x <= -b {
         0.0
-    } else if x >= LOWER_BLEND {
+    } else if x >= b {
         x
     } else {
-        (x + LOWER_BLEND).powi(2) / (4.0 * LOWER_BLEND)
+        (x + b).powi(2) / (4.0 * b)
     }
 }
 

@@ -21,7 +21,7 @@ use kinergy_solver::analytic::LimbIk;
 use super::arm::{ArmFollower, IdleArm, ProfileTime};
 use super::balance::BalanceCorrection;
 use super::head::Head;
-use super::legs::{leg_iks, lower_root_for_legs_in, solve_legs_in};
+use super::legs::{LOWER_BLEND, leg_iks, lower_root_for_legs_in, solve_legs_in};
 use super::phase::{ArmPhase, ArmRules};
 use super::plan::Plan;
 use super::report::{ReachMotion, ReachReport, ReachStop};
@@ -40,6 +40,8 @@ struct FrameLimbs<'a> {
     plan: &'a Plan,
     /// The root's height on the planned path (lowered where the legs need it).
     height: f64,
+    /// Whether the legs lower the root smoothly ([`RootRise`], [`LOWER_BLEND`]).
+    smooth_root: bool,
     /// The least the legs lower the root on this frame ([`RootRise`]).
     lowered_at_least: f64,
     /// How far the legs themselves needed the root lowered on the last pass, meters.
@@ -68,7 +70,8 @@ impl FrameLimbs<'_> {
         // The legs' bases do not depend on the limbs, the arms' on their own arm only (the
         // girdle, solved with the arm): one FK serves all three.
         let mut above = c.world_frames(pose);
-        lower_root_for_legs_in(c, pose, &mut above, self.feet);
+        let blend = if self.smooth_root { LOWER_BLEND } else { 0.0 };
+        lower_root_for_legs_in(c, pose, &mut above, self.feet, blend);
         self.lowered_needed = self.height - pose[dof::ROOT_Y];
         let extra = self.lowered_at_least - self.lowered_needed;
         if extra > 0.0 {
@@ -110,8 +113,9 @@ const ROOT_RISE_SPEED: f64 = 0.3;
 /// How fast the root's rise gathers speed, m/s².
 const ROOT_RISE_ACCELERATION: f64 = 3.0;
 
-/// How far below its planned height the legs hold the root, carried from frame to frame: the
-/// root goes down at once where a leg needs it (a planted foot behind a stepping body), but
+/// How far below its planned height the legs hold the root, carried from frame to frame where
+/// the scheduler smooths the root (`smooth_root` in [`animate`]): the root goes down at once
+/// where a leg needs it (a planted foot behind a stepping body), but
 /// rises back no faster than [`ROOT_RISE_SPEED`], gathering and losing speed at
 /// [`ROOT_RISE_ACCELERATION`] — slowing as it comes back to where the legs need it, so it
 /// rejoins their need at rest. (Released at once, the root rose 1.1 cm in three frames when
@@ -185,6 +189,11 @@ pub(super) fn animate(
     let mut synergy_tempo = None;
     let mut balance = BalanceCorrection::default();
     let mut rise = RootRise::default();
+    // The body moves its root smoothly where a step jolts it, and wherever the profile holds
+    // the hand to its world line, which shows every jolt of the shoulder one for one. A
+    // person's synergy arm rides the shoulder as the fit's replay does, and on a body that only
+    // bends its root moves as it always has (the synthetic sets that person retraces).
+    let smooth_root = plan.step.step.steps() || matches!(drive, ArmDrive::Profile);
     let mut poses = Vec::new();
     let mut min_margin = f64::INFINITY;
     let mut stop = ReachStop::Timeout;
@@ -217,7 +226,8 @@ pub(super) fn animate(
             feet: &feet,
             plan,
             height: planned.height,
-            lowered_at_least: rise.at_least(dt),
+            lowered_at_least: if smooth_root { rise.at_least(dt) } else { 0.0 },
+            smooth_root,
             lowered_needed: 0.0,
             follow: phase.follow(&rules, t),
             arm: &mut arm,

@@ -111,6 +111,8 @@ pub(crate) struct ArmFollower {
     /// How far the arm shown lagged behind its goal along the path at the last frame's end,
     /// meters (negative: ahead).
     path_lag: f64,
+    /// Whether the arm was taken over from another driver ([`ArmFollower::resume_from`]).
+    handed_over: bool,
     /// Upper arm + forearm + hand, meters.
     length: f64,
     /// The shoulder joint in the arm's base frame, and the least distance from it at which
@@ -151,6 +153,7 @@ impl ArmFollower {
             world_hand: None,
             frame_time: 0.0,
             path_lag: 0.0,
+            handed_over: false,
             dofs,
             ik,
             search: OrbitSearch::default(),
@@ -202,10 +205,15 @@ impl ArmFollower {
             }
             Some(_) => {}
             None => {
-                // The hand's speed along its path as it starts: a step carries it.
+                // The hand's speed along its path as it starts: a step carries it. (Not after a
+                // hand-over, where the approach starts from rest as the person's arm left it:
+                // a goal moving at once, from a stretched arm overhead, was solved through the
+                // swing's half turn.)
                 let along = (target - hand_now).try_normalize(1e-12);
                 let speed = match (self.world_hand, along) {
-                    (Some((before, _)), Some(along)) if self.frame_time > 0.0 => {
+                    (Some((before, _)), Some(along))
+                        if self.frame_time > 0.0 && !self.handed_over =>
+                    {
                         (hand_now - before).dot(&along) / self.frame_time
                     }
                     _ => 0.0,
@@ -683,6 +691,7 @@ impl ArmFollower {
     /// [`ArmFollower::follow`] starts a new straight path where the hand is then.
     pub(crate) fn resume_from(&mut self) {
         self.clock = None;
+        self.handed_over = true;
         self.goal = None;
         self.last = None;
         self.alpha = None;

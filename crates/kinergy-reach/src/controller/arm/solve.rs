@@ -140,12 +140,27 @@ pub(super) fn solve_arm_near(
             Near::Elbow(_) => Some(0.0),
             Near::Posture(q0) => closest_alpha(&ik, p, &q0),
             Near::PostureAround(q0, a) => {
-                // Centred on the last posture's own angle in this frame's reference: near a
-                // straight, hanging arm the reference (world down across the shoulder→wrist
-                // axis) turns fast with the trunk, and the last frame's angle can name a posture
-                // far from the last one (30° and 0.08 rad of twist in a frame, overhead).
-                let own = ik.position_alpha_of(&q0).filter(|a| a.is_finite());
-                closest_alpha_around(&ik, p, &q0, own.unwrap_or(a))
+                // Centred on the last frame's angle or the last posture's own angle in this
+                // frame's reference, whichever names the nearer posture: near a straight,
+                // hanging arm the reference (world down across the shoulder→wrist axis) turns
+                // fast with the trunk, and the last frame's angle can name a posture far from
+                // the last one (30° and 0.08 rad of twist in a frame, overhead); with the elbow
+                // quite straight the posture has no angle of its own (a handed-over arm
+                // stretched overhead was flipped through its swing's half turn, the hand thrown
+                // at 2.9 m/s).
+                let found = |c: f64| {
+                    let best = closest_alpha_around(&ik, p, &q0, c)?;
+                    Some((best, posture_distance(&ik, p, &q0, best)?))
+                };
+                let own = ik
+                    .position_alpha_of(&q0)
+                    .filter(|c| c.is_finite())
+                    .and_then(found);
+                match (found(a), own) {
+                    (Some(last), Some(own)) if own.1 < last.1 => Some(own.0),
+                    (Some(last), _) => Some(last.0),
+                    (None, own) => own.map(|o| o.0),
+                }
             }
         };
         match start {
