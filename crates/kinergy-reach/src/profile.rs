@@ -40,6 +40,17 @@
 //! bell-shaped, rising from and falling to zero, which the minimum-jerk and cubic options
 //! give (DESIGN §1.2, beyond the paper).
 //!
+//! These are the profiles' closed forms. The full-body character's arm reads them through a
+//! clock of its own ([`crate::controller`], "Arm") that starts where a physical hand can: the
+//! goal's speed along the line rises from the hand's own speed along it (0 from rest) to the
+//! profile's over a smoothstep ramp of 0.08 s, and the clock waits while the arm lags behind
+//! its goal, so the hand never catches up faster than the profile. The default ease-out's hand
+//! is then within 5 % of v_s 0.075 s after the arm's onset (120 Hz) and holds v_s within 1.5 %
+//! until the deceleration; the profile's time runs about 0.04 s behind the wall clock, and the
+//! reach lasts that much longer. Where a step carries the hand at the arm's onset, its speed
+//! comes down to within 5 % of v_s in 0.13–0.15 s. (`tests/profile_realtime.rs` measures
+//! these.)
+//!
 //! ```
 //! use kinergy_reach::profile::SpeedProfile;
 //!
@@ -312,6 +323,39 @@ impl SpeedProfile {
             SpeedProfile::MinimumJerk { .. } => distance * symmetric(t / total, minimum_jerk),
             SpeedProfile::Cubic { .. } => distance * symmetric(t / total, cubic),
         }
+    }
+
+    /// The inverse of [`progress`](Self::progress): the first time, seconds, at which the hand
+    /// has covered `covered` meters of `distance` — 0 for `covered` ≤ 0, T for `covered` ≥
+    /// `distance`. Closed form for the ease-out (t = s / v_s, then t_t − √(2 (|d_h| − s) / |a|)),
+    /// bisection to machine precision for the bells (their progress rises strictly).
+    pub fn time_at(&self, distance: f64, covered: f64) -> f64 {
+        let total = self.duration(distance);
+        if distance <= 0.0 || covered <= 0.0 || !covered.is_finite() {
+            return 0.0;
+        }
+        if covered >= distance {
+            return total;
+        }
+        if let SpeedProfile::EaseOut { v_s, r_s } = *self {
+            let cruise = v_s * r_s * total;
+            return if covered <= cruise {
+                (covered / v_s).min(total)
+            } else {
+                let left = 2.0 * (distance - covered) / ease_out_deceleration(v_s, r_s, total);
+                (total - left.max(0.0).sqrt()).clamp(0.0, total)
+            };
+        }
+        let (mut lo, mut hi) = (0.0, total);
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            if self.progress(distance, mid) < covered {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        hi
     }
 
     /// Hand speed t seconds after the start, m/s: the derivative of

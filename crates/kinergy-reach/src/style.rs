@@ -237,6 +237,13 @@ impl StyleCapture {
         &self.relative
     }
 
+    /// The capture's target: the hand point's last position of its main reach in the arm's
+    /// fitted base frame on the reach's first frame, meters (where
+    /// [`PersonArm::world_target`] puts it for the character).
+    pub fn target_in_base(&self) -> Point3<f64> {
+        self.local
+    }
+
     /// The capture's seconds per frame.
     pub fn frame_time(&self) -> f64 {
         self.frame_time

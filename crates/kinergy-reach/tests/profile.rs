@@ -382,6 +382,33 @@ fn bell_timings_follow_their_rules() {
     );
 }
 
+/// `time_at` inverts `progress`: the time at which the hand has covered s meters covers s,
+/// at both ends too, for every profile.
+#[test]
+fn time_at_is_the_inverse_of_progress() {
+    for profile in all_profiles() {
+        for distance in DISTANCES {
+            let total = profile.duration(distance);
+            assert_eq!(profile.time_at(distance, 0.0), 0.0, "{profile:?}");
+            assert_eq!(profile.time_at(distance, -1.0), 0.0, "{profile:?}");
+            assert_eq!(profile.time_at(distance, distance), total, "{profile:?}");
+            for k in 1..50 {
+                let s = distance * k as f64 / 50.0;
+                let t = profile.time_at(distance, s);
+                assert!(
+                    (0.0..=total).contains(&t),
+                    "{profile:?} {distance} {s}: {t}"
+                );
+                assert_relative_eq!(
+                    profile.progress(distance, t),
+                    s,
+                    epsilon = 1e-9 * distance.max(1.0)
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn a_zero_distance_reach_does_not_move() {
     let start = Point3::new(0.1, 1.2, 0.3);

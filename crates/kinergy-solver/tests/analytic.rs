@@ -597,6 +597,37 @@ fn an_axis_along_down_and_swings_of_pi_stay_exact() {
     }
 }
 
+/// `position_alpha_of` is position mode's own angle: solving a target again at the angle it
+/// reads off a posture of position mode gives the posture back, for either sense of the orbit
+/// (the reaching arm's orbit search starts there; `alpha_of`, about the wrist's axis, does
+/// not give it back where the end effector is off the forearm's line).
+#[test]
+fn solve_position_at_position_alpha_of_gives_back_the_configuration() {
+    for (name, chain, ik) in limbs() {
+        for sense in [OrbitSense::RightHanded, OrbitSense::LeftHanded] {
+            let ik = ik.clone().with_sense(sense);
+            let mut rng = Rng::seed_from_u64(17);
+            for case in 0..2000 {
+                let mut q = random_q(&mut rng, &ik);
+                q[4..].fill(0.0);
+                let target = joints(&chain, &q)[3];
+                let alpha = rng.random_range(-PI..PI);
+                let p = ik.solve_position_at(&target, alpha).expect("reachable");
+                let what = format!("{name} {sense:?} case {case}");
+                let read = ik.position_alpha_of(&p).expect("position mode");
+                let back = ik.solve_position_at(&target, read).expect("reachable");
+                for (a, b) in joints(&chain, &back).iter().zip(joints(&chain, &p)) {
+                    assert!((a - b).norm() <= EXACT, "{what}: joints differ");
+                }
+                // The angle itself, away from the straight limb where it has none.
+                if p[3].abs() > 1e-3 {
+                    assert!(angle_gap(read, alpha) < 1e-8, "{what}: {read} vs {alpha}");
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn position_mode_lands_on_the_target_within_limits() {
     for (name, chain, ik) in limbs() {

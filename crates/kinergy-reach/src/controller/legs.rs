@@ -566,7 +566,10 @@ impl Stepping {
             for &(a, b) in self.windows.iter().flatten() {
                 if t > a && t < b {
                     let u = (t - a) / (b - a);
-                    p.y -= self.settings.root_dip * (std::f64::consts::PI * u).sin();
+                    // sin², not sin: it leaves and rejoins the root's path at rest (a sine
+                    // started the root down at 0.31 m/s within a frame, and the reaching hand
+                    // held to its world path showed it).
+                    p.y -= self.settings.root_dip * (std::f64::consts::PI * u).sin().powi(2);
                 }
             }
             p
@@ -629,16 +632,18 @@ pub(super) fn lower_root_for_legs(
     feet: &[IsometryMatrix3<f64>; 2],
 ) {
     let mut frames = character.world_frames(pose);
-    lower_root_for_legs_in(character, pose, &mut frames, feet);
+    lower_root_for_legs_in(character, pose, &mut frames, feet, 0.0);
 }
 
 /// [`lower_root_for_legs`] with the pose's world `frames` already computed; they are moved
-/// down with the root (lowering the root translates every joint).
+/// down with the root (lowering the root translates every joint); the legs' need blended over
+/// `blend` meters ([`soft_excess`]).
 pub(super) fn lower_root_for_legs_in(
     character: &Character,
     pose: &mut Pose,
     frames: &mut [IsometryMatrix3<f64>],
     feet: &[IsometryMatrix3<f64>; 2],
+    blend: f64,
 ) {
     let mut lowered = 0.0;
     for (i, leg) in [Limb::RightLeg, Limb::LeftLeg].into_iter().enumerate() {
@@ -653,15 +658,33 @@ pub(super) fn lower_root_for_legs_in(
         }
         let allowed = (reach * reach - h * h).sqrt();
         let vertical = hip_y - ankle.y;
-        if vertical > allowed {
-            lowered += vertical - allowed;
-        }
+        lowered += soft_excess(vertical - allowed, blend);
     }
     if lowered > 0.0 {
         pose[dof::ROOT_Y] -= lowered;
         for f in frames.iter_mut() {
             f.translation.vector.y -= lowered;
         }
+    }
+}
+
+/// The root starts down this far, meters, before a leg would be stretched to its reach, where the
+/// scheduler lowers it smoothly ([`soft_excess`]).
+pub(super) const LOWER_BLEND: f64 = 0.02;
+
+/// How far a leg needs the root lowered when its hip is `x` meters higher than it can reach,
+/// blended over `b` meters: `x` beyond `b`, nothing below −`b`, and between them the parabola
+/// that joins the two with its slope, (x + b)² / 4b — so the root starts down at rest rather
+/// than at the speed the stretching leg's hip then has (0.31 m/s within a frame, behind a
+/// stepping body, which the reaching hand held to its world path showed). `b` = 0: the hard
+/// `max(x, 0)` (the plan's searches, and where the scheduler does not smooth the root).
+fn soft_excess(x: f64, b: f64) -> f64 {
+    if x <= -b {
+        0.0
+    } else if x >= b {
+        x
+    } else {
+        (x + b).powi(2) / (4.0 * b)
     }
 }
 

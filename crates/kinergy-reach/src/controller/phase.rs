@@ -189,8 +189,10 @@ impl ArmPhase {
         base: &IsometryMatrix3<f64>,
     ) -> Option<f64> {
         match self {
-            ArmPhase::Waiting => Analytic::from_state_1(rules).hold(rules, arm, pose, alpha, base),
-            ArmPhase::Analytic(a) => a.hold(rules, arm, pose, alpha, base),
+            ArmPhase::Waiting => {
+                Analytic::from_state_1(rules).hold(rules, arm, pose, alpha, base, false)
+            }
+            ArmPhase::Analytic(a) => a.hold(rules, arm, pose, alpha, base, true),
             ArmPhase::Synergy(_) | ArmPhase::PlainIk(_) => None,
         }
     }
@@ -207,7 +209,7 @@ impl ArmPhase {
     ) -> Result<Stepped> {
         match self {
             ArmPhase::Waiting => {
-                let hand_done = Analytic::from_state_1(rules).hand_done(rules, arm, t);
+                let hand_done = Analytic::from_state_1(rules).hand_done(arm);
                 Ok(Stepped {
                     phase: ArmPhase::Waiting,
                     error,
@@ -215,7 +217,7 @@ impl ArmPhase {
                     limited: false,
                 })
             }
-            ArmPhase::Analytic(a) => Ok(a.step(rules, arm, t, error)),
+            ArmPhase::Analytic(a) => Ok(a.step(arm, error)),
             ArmPhase::Synergy(s) => s.step(rules, pose, t, error),
             ArmPhase::PlainIk(p) => p.step(rules, arm, pose, t, error),
         }
@@ -257,7 +259,8 @@ impl Analytic {
         }
     }
 
-    /// [`ArmPhase::hold`].
+    /// [`ArmPhase::hold`]; `reaching` while the profile drives the arm (the hand held to its
+    /// world-frame path), not while it hangs before its reach.
     fn hold(
         &self,
         rules: &ArmRules<'_>,
@@ -265,12 +268,13 @@ impl Analytic {
         pose: &mut Pose,
         alpha: Option<f64>,
         base: &IsometryMatrix3<f64>,
+        reaching: bool,
     ) -> Option<f64> {
         let c = rules.character;
         let limb = rules.plan.arm;
         let start = c.limb_dofs(limb).start;
         let before: [f64; 7] = std::array::from_fn(|i| pose[start + i]);
-        let held = arm.end_frame(c, pose, alpha, rules.dt);
+        let held = arm.end_frame(c, pose, alpha, rules.dt, reaching.then_some(base));
         if !held {
             return None;
         }
@@ -281,16 +285,14 @@ impl Analytic {
         Some((arm.hand(c, &moved, pose, target) - target).norm())
     }
 
-    /// Whether the profile has run its course at `t` and the arm has caught up with it.
-    fn hand_done(&self, rules: &ArmRules<'_>, arm: &ArmFollower, t: f64) -> bool {
-        t >= self.from.max(rules.timeline.t_arm)
-            + self.profile.duration(arm.path_length(&rules.target()))
-            && arm.caught_up()
+    /// Whether the profile's clock has run its course and the arm has caught up with it.
+    fn hand_done(&self, arm: &ArmFollower) -> bool {
+        arm.profile_finished(&self.profile) && arm.caught_up()
     }
 
     /// Stays: the analytic IK finishes the reach.
-    fn step(self, rules: &ArmRules<'_>, arm: &ArmFollower, t: f64, error: f64) -> Stepped {
-        let hand_done = self.hand_done(rules, arm, t);
+    fn step(self, arm: &ArmFollower, error: f64) -> Stepped {
+        let hand_done = self.hand_done(arm);
         Stepped {
             phase: ArmPhase::Analytic(self),
             error,

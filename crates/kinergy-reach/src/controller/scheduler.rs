@@ -21,7 +21,7 @@ use kinergy_solver::analytic::LimbIk;
 use super::arm::{ArmFollower, IdleArm, ProfileTime};
 use super::balance::BalanceCorrection;
 use super::head::Head;
-use super::legs::{leg_iks, lower_root_for_legs_in, solve_legs_in};
+use super::legs::{LOWER_BLEND, leg_iks, lower_root_for_legs_in, solve_legs_in};
 use super::phase::{ArmPhase, ArmRules};
 use super::plan::Plan;
 use super::report::{ReachMotion, ReachReport, ReachStop};
@@ -40,6 +40,12 @@ struct FrameLimbs<'a> {
     plan: &'a Plan,
     /// The root's height on the planned path (lowered where the legs need it).
     height: f64,
+    /// Whether the legs lower the root smoothly ([`RootRise`], [`LOWER_BLEND`]).
+    smooth_root: bool,
+    /// The least the legs lower the root on this frame ([`RootRise`]).
+    lowered_at_least: f64,
+    /// How far the legs themselves needed the root lowered on the last pass, meters.
+    lowered_needed: f64,
     /// The profile and the seconds into it, when it drives the reaching arm.
     follow: Option<ProfileTime<'a>>,
     arm: &'a mut ArmFollower,
@@ -64,7 +70,16 @@ impl FrameLimbs<'_> {
         // The legs' bases do not depend on the limbs, the arms' on their own arm only (the
         // girdle, solved with the arm): one FK serves all three.
         let mut above = c.world_frames(pose);
-        lower_root_for_legs_in(c, pose, &mut above, self.feet);
+        let blend = if self.smooth_root { LOWER_BLEND } else { 0.0 };
+        lower_root_for_legs_in(c, pose, &mut above, self.feet, blend);
+        self.lowered_needed = self.height - pose[dof::ROOT_Y];
+        let extra = self.lowered_at_least - self.lowered_needed;
+        if extra > 0.0 {
+            pose[dof::ROOT_Y] -= extra;
+            for f in above.iter_mut() {
+                f.translation.vector.y -= extra;
+            }
+        }
         solve_legs_in(c, pose, &above, self.leg_iks, self.feet);
         let base = c.limb_base_frame_in(self.plan.arm, &above);
         if let Some(now) = self.follow
@@ -92,6 +107,48 @@ impl FrameLimbs<'_> {
     }
 }
 
+/// The fastest the root rises back, m/s, once the legs no longer need it lowered.
+const ROOT_RISE_SPEED: f64 = 0.3;
+
+/// How fast the root's rise gathers speed, m/s².
+const ROOT_RISE_ACCELERATION: f64 = 3.0;
+
+/// How far below its planned height the legs hold the root, carried from frame to frame where
+/// the scheduler smooths the root (`smooth_root` in [`animate`]): the root goes down at once
+/// where a leg needs it (a planted foot behind a stepping body), but
+/// rises back no faster than [`ROOT_RISE_SPEED`], gathering and losing speed at
+/// [`ROOT_RISE_ACCELERATION`] — slowing as it comes back to where the legs need it, so it
+/// rejoins their need at rest. (Released at once, the root rose 1.1 cm in three frames when
+/// the trailing foot left the ground — 1.3 m/s, which the reaching hand showed.)
+#[derive(Debug, Default, Clone, Copy)]
+struct RootRise {
+    /// The last frame's lowering, meters.
+    lowered: f64,
+    /// How far the legs themselves needed it lowered on the last frame, meters.
+    needed: f64,
+    /// How fast the root rose over the last frame, m/s.
+    speed: f64,
+}
+
+impl RootRise {
+    /// The least lowering for a frame of `dt` seconds.
+    fn at_least(&self, dt: f64) -> f64 {
+        let gap = (self.lowered - self.needed).max(0.0);
+        let speed = (self.speed + ROOT_RISE_ACCELERATION * dt)
+            .min(ROOT_RISE_SPEED)
+            .min((2.0 * ROOT_RISE_ACCELERATION * gap).sqrt());
+        (self.lowered - speed * dt).max(0.0)
+    }
+
+    /// The frame of `dt` seconds ended with the root `lowered` meters below its plan, the legs
+    /// needing `needed`.
+    fn ended(&mut self, lowered: f64, needed: f64, dt: f64) {
+        self.speed = ((self.lowered - lowered) / dt).max(0.0);
+        self.lowered = lowered.max(0.0);
+        self.needed = needed.max(0.0);
+    }
+}
+
 /// Runs the scheduler frame by frame, the reaching arm driven by `drive`.
 pub(super) fn animate(
     character: &Character,
@@ -107,7 +164,6 @@ pub(super) fn animate(
     let body = Body::new(character, rest, plan, s)?;
     let timeline = body.timeline;
     let leg_iks = leg_iks(character)?;
-    let mut arm = ArmFollower::new(character, plan.arm, rest)?;
     let rules = ArmRules::new(character, rest, plan, s, drive, timeline, dt)?;
     let idle_limb = Limb::arm(plan.arm.side().opposite());
     let mut idle = IdleArm::new(character, idle_limb, rest)?;
@@ -115,11 +171,29 @@ pub(super) fn animate(
     // a little where a reach starts (a synergy starts from `RELAXED_ELBOW` at least, and
     // from the straight rest arm that would be a one-frame snap of the elbow).
     let mut hanging = IdleArm::new(character, plan.arm, rest)?;
+    // The profile's arm starts relaxed on the first frame too, where its reach starts at once:
+    // from the straight rest arm the analytic solution flexes the elbow like the square root of
+    // the hand's travel, and the hand could not take up the ease-out's speed within 0.1 s.
+    let mut start = *rest;
+    if matches!(drive, ArmDrive::Profile) {
+        let base = character.limb_base_frame(plan.arm, rest);
+        if hanging.hang(character, &mut start, &base).is_some() {
+            character.clamp_pose(&mut start);
+            hanging.settle(&start);
+        }
+    }
+    let mut arm = ArmFollower::new(character, plan.arm, &start)?;
     let mut head = Head::default();
     let mut phase = ArmPhase::Waiting;
     let mut synergy_limited_at_s = None;
     let mut synergy_tempo = None;
     let mut balance = BalanceCorrection::default();
+    let mut rise = RootRise::default();
+    // The body moves its root smoothly where a step jolts it, and wherever the profile holds
+    // the hand to its world line, which shows every jolt of the shoulder one for one. A
+    // person's synergy arm rides the shoulder as the fit's replay does, and on a body that only
+    // bends its root moves as it always has (the synthetic sets that person retraces).
+    let smooth_root = plan.step.step.steps() || matches!(drive, ArmDrive::Profile);
     let mut poses = Vec::new();
     let mut min_margin = f64::INFINITY;
     let mut stop = ReachStop::Timeout;
@@ -152,6 +226,9 @@ pub(super) fn animate(
             feet: &feet,
             plan,
             height: planned.height,
+            lowered_at_least: if smooth_root { rise.at_least(dt) } else { 0.0 },
+            smooth_root,
+            lowered_needed: 0.0,
             follow: phase.follow(&rules, t),
             arm: &mut arm,
             waiting: waiting.then_some(&mut hanging),
@@ -170,6 +247,7 @@ pub(super) fn animate(
             |pose, first_pass| limbs.solve(pose, first_pass),
         );
         let (arm_alpha, idle_alpha, arm_base) = (limbs.arm_alpha, limbs.idle_alpha, limbs.arm_base);
+        let needed = limbs.lowered_needed;
         min_margin = min_margin.min(balanced.margin);
 
         // The frame's end: the arms held to their speeds, the pose within the limits, then
@@ -188,6 +266,7 @@ pub(super) fn animate(
             synergy_limited_at_s = Some(t);
         }
         final_error = stepped.error;
+        rise.ended(planned.height - pose[dof::ROOT_Y], needed, dt);
         arm.settle(character, &pose, dt);
         idle.settle(&pose);
         hanging.settle(&pose);

@@ -343,8 +343,26 @@ impl LimbIk {
     /// about the shoulder→wrist-center axis (with a straight elbow, the direction the elbow
     /// would move to when flexing by σ). `solve(FK(q), alpha_of(q))` gives `q` back.
     pub fn alpha_of(&self, q: &[f64; 7]) -> f64 {
+        self.alpha_about(&self.wrist_link, q)
+    }
+
+    /// The orbit angle of a configuration of position mode ([`LimbIk::solve_position_at`]:
+    /// the wrist straight, the elbow twist at its rest value), radians in [−π, π]: the direction
+    /// of its elbow about the shoulder→end-effector axis, the axis position mode turns the elbow
+    /// about. `solve_position_at(tip(q), position_alpha_of(q))` gives `q` back.
+    /// ([`LimbIk::alpha_of`] measures about the shoulder→wrist-center axis, which differs where
+    /// the hand is off the forearm's line: near a hanging arm, where the reference direction
+    /// `down` runs almost along the axis, the two angles can lie half a turn apart.) `None`
+    /// for a chain without position mode.
+    pub fn position_alpha_of(&self, q: &[f64; 7]) -> Option<f64> {
+        self.reach_link
+            .as_ref()
+            .map(|link| self.alpha_about(link, q))
+    }
+
+    /// The orbit angle of `q` about the axis of `link` (as [`LimbIk::alpha_of`] describes).
+    fn alpha_about(&self, link: &Link, q: &[f64; 7]) -> f64 {
         let rs = *(swing_rotation(q[0], q[1]) * axis_rotation(Axis::Z, q[2])).matrix();
-        let link = &self.wrist_link;
         let (sf, cf) = q[3].sin_cos();
         let p = tip(self.upper, &link.g, sf, cf);
         // The elbow's side of the axis: +1 when the forearm bends toward −y (p'_y < 0).

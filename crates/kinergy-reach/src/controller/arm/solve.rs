@@ -87,8 +87,14 @@ pub(super) enum Near {
     Alpha(f64),
     /// At the angle whose posture is closest to this one (in the shoulder and elbow DoFs).
     Posture([f64; 7]),
-    /// As [`Near::Posture`], among the angles within 30° of this one.
+    /// As [`Near::Posture`], among the angles within 30° of the posture's own angle (of this
+    /// one where it has none).
     PostureAround([f64; 7], f64),
+    /// At the angle whose elbow is nearest this direction from the shoulder (base frame): the
+    /// orbit measured from it rather than from the lowest elbow, which is undefined where the
+    /// shoulder→hand axis is vertical. The angle returned is still the one from the lowest
+    /// elbow.
+    Elbow(Vector3<f64>),
 }
 
 /// The `arm` (its analytic IK `ik`) for the hand at `goal` (world), the body as in `pose`,
@@ -120,15 +126,42 @@ pub(super) fn solve_arm_near(
     near: Near,
 ) -> Option<(f64, [f64; 7])> {
     let down = base.rotation.inverse() * -Vector3::y();
-    let ik = ik.clone().with_down(down).ok()?;
+    let lowest = ik.clone().with_down(down).ok()?;
+    let ik = match near {
+        Near::Elbow(elbow) => ik.clone().with_down(elbow).ok()?,
+        _ => lowest.clone(),
+    };
     let local = base.inverse() * goal;
     let r = local.coords.norm();
     let solve = |p: &Point3<f64>| {
         let start = match near {
             Near::Default => None,
             Near::Alpha(a) => Some(a),
+            Near::Elbow(_) => Some(0.0),
             Near::Posture(q0) => closest_alpha(&ik, p, &q0),
-            Near::PostureAround(q0, a) => closest_alpha_around(&ik, p, &q0, a),
+            Near::PostureAround(q0, a) => {
+                // Centred on the last frame's angle or the last posture's own angle in this
+                // frame's reference, whichever names the nearer posture: near a straight,
+                // hanging arm the reference (world down across the shoulder→wrist axis) turns
+                // fast with the trunk, and the last frame's angle can name a posture far from
+                // the last one (30° and 0.08 rad of twist in a frame, overhead); with the elbow
+                // quite straight the posture has no angle of its own (a handed-over arm
+                // stretched overhead was flipped through its swing's half turn, the hand thrown
+                // at 2.9 m/s).
+                let found = |c: f64| {
+                    let best = closest_alpha_around(&ik, p, &q0, c)?;
+                    Some((best, posture_distance(&ik, p, &q0, best)?))
+                };
+                let own = ik
+                    .position_alpha_of(&q0)
+                    .filter(|c| c.is_finite())
+                    .and_then(found);
+                match (found(a), own) {
+                    (Some(last), Some(own)) if own.1 < last.1 => Some(own.0),
+                    (Some(last), _) => Some(last.0),
+                    (None, own) => own.map(|o| o.0),
+                }
+            }
         };
         match start {
             None => ik.solve_position(p, search).ok(),
@@ -166,19 +199,75 @@ pub(super) fn solve_arm_near(
         } else {
             local
         };
-        if let Some(found) = solve(&p) {
-            return Some(found);
+        if let Some((a, q)) = solve(&p) {
+            return Some(match near {
+                Near::Elbow(_) => (lowest.position_alpha_of(&q).unwrap_or(a), q),
+                _ => (a, q),
+            });
         }
     }
     None
 }
 
-/// The orbit angle, on a 5° grid over the whole circle, whose posture within the limits is
-/// closest to `q0` in the shoulder and elbow DoFs.
+/// Bisection steps of [`solve_arm_outward`] (the scale to 1/256 of its bracket).
+const OUTWARD_BISECTIONS: usize = 8;
+
+/// [`solve_arm_near`] for a goal too close to the shoulder for the arm (the elbow cannot flex
+/// far enough within its limits): the nearest point on the shoulder→goal line, farther out, that
+/// the arm reaches — as a goal beyond reach is moved onto the reach sphere. The hand's path runs
+/// round the shoulder on the sphere the elbow's flexion leaves, where the straight line passes
+/// inside it, instead of the arm holding its last posture and then jumping onto the line where
+/// it comes out (a held-out overhead raise: 1.1 m/s at 4.1 s). `None` when no point on the
+/// line is reached.
+pub(super) fn solve_arm_outward(
+    ik: &LimbIk,
+    base: &IsometryMatrix3<f64>,
+    goal: &Point3<f64>,
+    search: &OrbitSearch,
+    near: Near,
+) -> Option<(f64, [f64; 7])> {
+    let shoulder = Point3::from(base.translation.vector);
+    let r = (goal - shoulder).norm();
+    let (_, outer) = ik.position_reach().unwrap_or_else(|| ik.wrist_reach());
+    if r <= 1e-9 || r >= outer {
+        return None;
+    }
+    let most = outer / r;
+    let at = |s: f64| Point3::from(shoulder.coords + (goal - shoulder) * s);
+    // The first of a few growing scales that is reached brackets the nearest reached point.
+    let mut low = 1.0;
+    let mut found = None;
+    for f in [0.01, 0.03, 0.1, 0.3, 0.6, 0.999] {
+        let s = 1.0 + f * (most - 1.0);
+        if let Some(q) = solve_arm_near(ik, base, &at(s), search, near) {
+            found = Some((s, q));
+            break;
+        }
+        low = s;
+    }
+    let (mut high, mut best) = found?;
+    for _ in 0..OUTWARD_BISECTIONS {
+        let mid = 0.5 * (low + high);
+        match solve_arm_near(ik, base, &at(mid), search, near) {
+            Some(q) => {
+                high = mid;
+                best = q;
+            }
+            None => low = mid,
+        }
+    }
+    Some(best)
+}
+
+/// The orbit angle, on a 5° grid over the whole circle and `q0`'s own angle, whose posture
+/// within the limits is closest to `q0` in the shoulder and elbow DoFs. (`q0`'s own angle
+/// takes up an arm where it is: the nearest grid angle alone turned the reaching arm's twist
+/// 0.02 rad in the first frame of a reach, which the tracking arm spent its acceleration on.)
 fn closest_alpha(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7]) -> Option<f64> {
     use std::f64::consts::PI;
     (0..72)
         .map(|k| -PI + (k as f64) * 5f64.to_radians())
+        .chain(ik.position_alpha_of(q0))
         .filter_map(|a| posture_distance(ik, p, q0, a).map(|d| (a, d)))
         .min_by(|x, y| x.1.total_cmp(&y.1))
         .map(|(a, _)| a)
@@ -195,8 +284,9 @@ fn posture_distance(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], a: f64) -> Opti
 /// The orbit angle within 30° of `center`, on a 5° grid, whose posture within the limits is
 /// closest to `q0` in the shoulder and elbow DoFs, found by walking downhill from `center`
 /// ([`closest_alpha`] searches all 72 angles; from one frame to the next the closest angle
-/// moves little, and a flip is caught by [`ARM_JUMP`](super::follower::ARM_JUMP)'s test).
-/// Three to five solves a frame where a scan of the 13 angles took 13.
+/// moves little, and a flip is caught by [`ARM_JUMP`](super::follower::ARM_JUMP)'s test), then
+/// refined between the grid's angles. Five to eight solves a frame where a scan of the 13
+/// angles took 13.
 fn closest_alpha_around(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], center: f64) -> Option<f64> {
     const STEP: f64 = 5.0 * std::f64::consts::PI / 180.0;
     const STEPS: i32 = 6;
@@ -227,7 +317,25 @@ fn closest_alpha_around(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], center: f64
             break;
         }
     }
-    Some(center + f64::from(at) * STEP)
+    // Between the grid's angles: the vertex of the parabola through the best and its two
+    // neighbours, where it is nearer still. (On the grid alone the angle moved in 5° steps, and
+    // near a straight arm each step turned the goal's twist by 0.02 rad within a frame.)
+    let refined = match (distance(at - 1), distance(at + 1)) {
+        (Some(left), Some(right)) => {
+            let curve = left - 2.0 * best + right;
+            if curve > 0.0 {
+                let offset = (0.5 * (left - right) / curve).clamp(-0.5, 0.5);
+                let k = f64::from(at) + offset;
+                posture_distance(ik, p, q0, center + k * STEP)
+                    .filter(|d| *d <= best)
+                    .map(|_| k)
+            } else {
+                None
+            }
+        }
+        _ => None,
+    };
+    Some(center + refined.unwrap_or(f64::from(at)) * STEP)
 }
 
 /// The shoulder: the arm chain's base, in world.

@@ -7,9 +7,16 @@
 pub(super) const ARM_MAX_SPEED: f64 = 8.0;
 
 /// The most a reaching arm DoF's speed changes, rad/s² (the whole change of the arm's joint
-/// velocity scaled alike): about the hand's 6 m/s² of a brisk 0.4 m reach in 0.6 s
-/// (minimum jerk: 5.77 D/T²) on the half-arm lever, 0.4 m.
-pub(super) const ARM_ACCELERATION: f64 = 16.0;
+/// velocity scaled alike; fast elbow movements reach several thousand degrees per second
+/// squared). The hand's own bounds ([`HAND_ACCELERATION`], [`REACH_HAND_ACCELERATION`]) are what
+/// keep the hand smooth; this one keeps a flip of the analytic solution from being followed at
+/// once. It has to leave room for the joints a smooth hand asks for: near the relaxed, nearly
+/// straight elbow a reach starts from, the elbow flexes like the square root of the hand's
+/// travel (55 rad/s² for the ease-out's ramp to v_s in 0.08 s), and a trunk twisting or a step
+/// braking under a hand held to its world line turns the shoulder as fast. With 40 and 60
+/// rad/s² the ease-out's hand still overshot v_s by up to 7.5 % and 8.5 % on the grid of
+/// `tests/profile_realtime.rs` (catching up where the arm had lagged).
+pub(super) const ARM_ACCELERATION: f64 = 100.0;
 
 /// How long the reaching arm takes to close on the posture it lags behind, seconds (the
 /// gain of [`track`] is its inverse).
@@ -19,6 +26,14 @@ pub(super) const ARM_TRACKING_TIME: f64 = 0.05;
 /// reach peaks near 6 m/s²; [`ARM_ACCELERATION`] alone lets all seven DoFs add up to more):
 /// 0.13 m/s a frame at 60 Hz, under a quarter of what a speed jump is at 30 Hz.
 pub(super) const HAND_ACCELERATION: f64 = 8.0;
+
+/// The most the reaching hand's velocity in the world changes, m/s²: what a fast human hand
+/// does (a 0.3 m minimum-jerk reach in 0.3 s peaks at 19 m/s²). Holding the hand on its
+/// world-frame path while a step carries the shoulder asks the arm for the body's own
+/// acceleration relative to the shoulder (the step's eased keyframes brake the shoulder at up to
+/// ~13 m/s²); where the arm's onset finds the hand carried across its path, the hand comes
+/// onto it within v⊥² / (2·A) (1.3 cm at 0.73 m/s).
+pub(super) const REACH_HAND_ACCELERATION: f64 = 20.0;
 
 /// The joint velocity with which an arm at `at` follows a `goal` posture moving at
 /// `goal_velocity`: the goal's velocity (at most [`ARM_MAX_SPEED`]) plus the gap closed in
@@ -34,10 +49,14 @@ pub(super) fn track(
     goal_velocity: &[f64; 7],
     at: &[f64; 7],
     hand_gap: Option<f64>,
+    dt: f64,
 ) -> [f64; 7] {
     let mut feed = *goal_velocity;
     scale_to(&mut feed, ARM_MAX_SPEED);
-    let gap: [f64; 7] = std::array::from_fn(|i| goal[i] - at[i]);
+    // The lag is behind where the goal was a frame ago: the feed carries the arm over the
+    // goal's own motion in this frame. (Closing on the goal from where the arm was, on top of the
+    // feed, ran the arm a frame's motion ahead of its goal.)
+    let gap: [f64; 7] = std::array::from_fn(|i| goal[i] - feed[i] * dt - at[i]);
     let largest = gap.iter().fold(0.0f64, |m, g| m.max(g.abs()));
     let closing = if largest > 0.0 {
         let joints =
