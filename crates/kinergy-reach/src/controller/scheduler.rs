@@ -167,6 +167,16 @@ pub(super) fn animate(
     let rules = ArmRules::new(character, rest, plan, s, drive, timeline, dt)?;
     let idle_limb = Limb::arm(plan.arm.side().opposite());
     let mut idle = IdleArm::new(character, idle_limb, rest)?;
+    // The other arm hangs relaxed from the first frame: held to its speed from the straight
+    // rest arm, its elbow snapped 0.2 rad in the first three frames of every reach (8 rad/s).
+    {
+        let mut relaxed = *rest;
+        let base = character.limb_base_frame(idle_limb, rest);
+        if idle.hang(character, &mut relaxed, &base).is_some() {
+            character.clamp_pose(&mut relaxed);
+            idle.settle(&relaxed);
+        }
+    }
     // Before its reach the reaching arm hangs relaxed like the other: its elbow already bent
     // a little where a reach starts (a synergy starts from `RELAXED_ELBOW` at least, and
     // from the straight rest arm that would be a one-frame snap of the elbow).

@@ -156,10 +156,27 @@ pub(super) fn solve_arm_near(
                     .position_alpha_of(&q0)
                     .filter(|c| c.is_finite())
                     .and_then(found);
-                match (found(a), own) {
-                    (Some(last), Some(own)) if own.1 < last.1 => Some(own.0),
-                    (Some(last), _) => Some(last.0),
-                    (None, own) => own.map(|o| o.0),
+                let near = match (found(a), own) {
+                    (Some(last), Some(own)) if own.1 < last.1 => Some(own),
+                    (Some(last), _) => Some(last),
+                    (None, own) => own,
+                };
+                // Neither window holds the last posture (the reference of a hanging arm turned
+                // more than the window in a frame: its orbit angle jumped 32° on a reach's
+                // first frame, and the arm twisted 0.08 rad with the hand at rest): the whole
+                // circle, as for a first frame.
+                match near {
+                    Some((angle, d)) if d <= SAME_POSTURE => Some(angle),
+                    _ => {
+                        let whole = closest_alpha(&ik, p, &q0)
+                            .and_then(|c| closest_alpha_around(&ik, p, &q0, c))
+                            .and_then(|c| Some((c, posture_distance(&ik, p, &q0, c)?)));
+                        match (near, whole) {
+                            (Some(n), Some(w)) if w.1 < n.1 => Some(w.0),
+                            (Some(n), _) => Some(n.0),
+                            (None, w) => w.map(|w| w.0),
+                        }
+                    }
                 }
             }
         };
@@ -208,6 +225,11 @@ pub(super) fn solve_arm_near(
     }
     None
 }
+
+/// The squared distance in the shoulder and elbow DoFs, radians², below which the posture
+/// [`Near::PostureAround`]'s window found is the last one carried on (a frame's motion moves it
+/// far less than 0.01 rad); above it the whole circle is searched too.
+const SAME_POSTURE: f64 = 1e-4;
 
 /// Bisection steps of [`solve_arm_outward`] (the scale to 1/256 of its bracket).
 const OUTWARD_BISECTIONS: usize = 8;

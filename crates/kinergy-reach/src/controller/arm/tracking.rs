@@ -7,16 +7,19 @@
 pub(super) const ARM_MAX_SPEED: f64 = 8.0;
 
 /// The most a reaching arm DoF's speed changes, rad/s² (the whole change of the arm's joint
-/// velocity scaled alike; fast elbow movements reach several thousand degrees per second
-/// squared). The hand's own bounds ([`HAND_ACCELERATION`], [`REACH_HAND_ACCELERATION`]) are what
-/// keep the hand smooth; this one keeps a flip of the analytic solution from being followed at
-/// once. It has to leave room for the joints a smooth hand asks for: near the relaxed, nearly
-/// straight elbow a reach starts from, the elbow flexes like the square root of the hand's
-/// travel (55 rad/s² for the ease-out's ramp to v_s in 0.08 s), and a trunk twisting or a step
-/// braking under a hand held to its world line turns the shoulder as fast. With 40 and 60
-/// rad/s² the ease-out's hand still overshot v_s by up to 7.5 % and 8.5 % on the grid of
-/// `tests/profile_realtime.rs` (catching up where the arm had lagged).
-pub(super) const ARM_ACCELERATION: f64 = 100.0;
+/// velocity scaled alike; ballistic elbow flexions peak above 10,000°/s², 175 rad/s²). The
+/// hand's own bounds ([`HAND_ACCELERATION`], [`REACH_HAND_ACCELERATION`]) are what keep the hand
+/// smooth; this one keeps a flip of the analytic solution from being followed at once. It has to
+/// leave room for the joints a smooth hand asks for: near the relaxed, nearly straight elbow a
+/// reach starts from, the elbow flexes like the square root of the hand's travel (55 rad/s² for
+/// the ease-out's ramp to v_s in 0.08 s), and a hand held to its world line while a step or a
+/// squat carries the shoulder turns the joints of an arm near its reach's edge faster still.
+/// With 40 and 60 rad/s² the ease-out's hand overshot v_s by up to 7.5 % and 8.5 % on the grid
+/// of `tests/profile_realtime.rs` (catching up where the arm had lagged); with 100 a full step
+/// of 0.425 m carried the hand 2.0–2.1 cm off its line (0.9 cm now), and toward a low target
+/// behind a step and a squat the hand, rejoining its line at the reach's edge, slowed to
+/// 0.158 m/s (21 % under v_s) as the root braked.
+pub(super) const ARM_ACCELERATION: f64 = 250.0;
 
 /// How long the reaching arm takes to close on the posture it lags behind, seconds (the
 /// gain of [`track`] is its inverse).
