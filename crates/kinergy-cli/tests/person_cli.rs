@@ -129,12 +129,13 @@ fn fit_takes_frames_and_arms_from_a_segments_file() {
 fn select_picks_the_segments_of_each_clip() {
     let dir = tempfile::tempdir().expect("tempdir");
     let out = dir.path().join("p.json");
-    // p04/r12 (a full step and a squat): a first reach 52..88 while the body steps, then the
-    // main reach 93..190.
+    // p04/r11 (a full step to a far target): the hand carried 0.33 m while the body steps,
+    // 53..84, a segment that is no reach ("other"), then the main reach 84..192. `main` and
+    // `all` (every segment labelled a reach) take the reach; an index takes any segment.
     let clip = repo()
-        .join("data-synthetic/p04/r12.bvh")
+        .join("data-synthetic/p04/r11.bvh")
         .canonicalize()
-        .expect("p04/r12");
+        .expect("p04/r11");
     let frames = |select: &str| {
         let o = fit(&[s(&clip), "--select", select, "-o", s(&out), "--json"]);
         assert_eq!(o.status.code(), Some(0), "{select}: {}", stderr(&o));
@@ -145,12 +146,10 @@ fn select_picks_the_segments_of_each_clip() {
             .map(|r| r["frames"].clone())
             .collect::<Vec<_>>()
     };
-    assert_eq!(frames("main"), [serde_json::json!([93, 190])]);
-    assert_eq!(
-        frames("all"),
-        [serde_json::json!([52, 88]), serde_json::json!([93, 190])]
-    );
-    assert_eq!(frames("0"), [serde_json::json!([52, 88])]);
+    assert_eq!(frames("main"), [serde_json::json!([84, 192])]);
+    assert_eq!(frames("all"), [serde_json::json!([84, 192])]);
+    assert_eq!(frames("0"), [serde_json::json!([53, 84])]);
+    assert_eq!(frames("1"), [serde_json::json!([84, 192])]);
     let out = dir.path().join("bad.json");
     assert_bad_input(
         &[

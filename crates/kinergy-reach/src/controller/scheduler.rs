@@ -193,6 +193,9 @@ pub(super) fn animate(
         }
     }
     let mut arm = ArmFollower::new(character, plan.arm, &start)?;
+    if matches!(drive, ArmDrive::Profile) {
+        arm = arm.driven_by_profile();
+    }
     let mut head = Head::default();
     let mut phase = ArmPhase::Waiting;
     let mut synergy_limited_at_s = None;

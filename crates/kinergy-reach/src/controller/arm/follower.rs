@@ -10,7 +10,8 @@ use kinergy_solver::analytic::{LimbIk, OrbitSearch};
 use super::clock::ProfileClock;
 use super::solve::{Near, arm_ik, on_girdle, solve_arm_near, solve_arm_outward};
 use super::tracking::{
-    ARM_ACCELERATION, HAND_ACCELERATION, REACH_HAND_ACCELERATION, accelerate, track,
+    ARM_ACCELERATION, HAND_ACCELERATION, PROFILE_ARM_ACCELERATION, REACH_HAND_ACCELERATION,
+    accelerate, track,
 };
 use crate::character::{Character, DofLimit, Limb, Pose, angle_difference};
 use crate::error::Result;
@@ -78,6 +79,9 @@ pub(crate) struct ProfileTime<'a> {
 /// and orbit angle, and the previous frame's posture.
 #[derive(Debug, Clone)]
 pub(crate) struct ArmFollower {
+    /// The most an arm DoF's speed changes, rad/s² ([`ARM_ACCELERATION`], or
+    /// [`PROFILE_ARM_ACCELERATION`] for the arm a speed profile drives).
+    acceleration: f64,
     limb: Limb,
     dofs: Range<usize>,
     ik: LimbIk,
@@ -142,6 +146,7 @@ impl ArmFollower {
             Err(_) => (Point3::origin(), 0.0),
         };
         Ok(ArmFollower {
+            acceleration: ARM_ACCELERATION,
             inner,
             limb,
             length: segments.upper_arm + segments.forearm + segments.hand,
@@ -161,6 +166,24 @@ impl ArmFollower {
             last: None,
             alpha: None,
         })
+    }
+
+    /// The most an arm DoF's speed changes on this frame, rad/s²: the follower's own while the
+    /// profile's goal runs along its line, [`ARM_ACCELERATION`] once it has arrived — the arm
+    /// then holds the hand as the person's arm does (at 30 Hz the faster arm threw a hand that
+    /// had stopped 1.6 cm off its target and back as the trunk settled).
+    fn acceleration(&self) -> f64 {
+        match &self.clock {
+            Some(c) if c.covered() < c.length() => self.acceleration,
+            _ => ARM_ACCELERATION,
+        }
+    }
+
+    /// The follower for an arm a speed profile drives: its joints take up the body's motion
+    /// at [`PROFILE_ARM_ACCELERATION`].
+    pub(crate) fn driven_by_profile(mut self) -> ArmFollower {
+        self.acceleration = PROFILE_ARM_ACCELERATION;
+        self
     }
 
     /// The hand (the chain's tip) in `pose` with the arm's base frame at `base`; `or` if the
@@ -413,17 +436,18 @@ impl ArmFollower {
                 .ok()?;
             Some((to - hand).norm())
         });
-        let mut wanted = track(&goal, &goal_velocity, &self.previous, hand_gap, dt);
-        self.brake_before_limits(&limits, &mut wanted, ARM_ACCELERATION);
+        let a = self.acceleration();
+        let mut wanted = track(&goal, &goal_velocity, &self.previous, hand_gap, a, dt);
+        self.brake_before_limits(&limits, &mut wanted, a);
         self.cap_hand_speed(character, &mut wanted, dt);
-        let mut velocity = accelerate(&self.velocity, &wanted, ARM_ACCELERATION * dt);
+        let mut velocity = accelerate(&self.velocity, &wanted, a * dt);
         match world {
             Some(base) => self.bound_world_acceleration(character, base, &goal, &mut velocity, dt),
             None => self.bound_hand_acceleration(character, &mut velocity, dt),
         }
         // The bounds above scale the whole change: a DoF braking for its limit while others
         // speed up could be held back from braking. Its own braking comes first.
-        self.brake_before_limits(&limits, &mut velocity, 2.0 * ARM_ACCELERATION);
+        self.brake_before_limits(&limits, &mut velocity, 2.0 * a);
         let values = &mut pose[self.dofs.clone()];
         for (i, value) in values.iter_mut().enumerate() {
             *value = self.previous[i] + velocity[i] * dt;
@@ -469,7 +493,7 @@ impl ArmFollower {
             return 1.0;
         }
         let time = (goal[ELBOW] - min).max(0.0) / closing;
-        (2.0 * ARM_ACCELERATION * time / fastest).min(1.0)
+        (2.0 * self.acceleration() * time / fastest).min(1.0)
     }
 
     /// Holds the change of the hand's motion to [`HAND_ACCELERATION`]: the hand's displacement
@@ -588,7 +612,7 @@ impl ArmFollower {
     }
 
     /// Slows the joint `velocity` where it heads for the character's limits (at `pose`): its
-    /// speed toward the limit at most √(`a`·gap) — with `a` = [`ARM_ACCELERATION`], the
+    /// speed toward the limit at most √(`a`·gap) — with `a` = the follower's acceleration ([`ARM_ACCELERATION`]), the
     /// margin of [`track`], half the deceleration it has; with 2A, the most it can brake — for
     /// a revolute DoF toward either end of its range, a swing radially toward its ellipse. The
     /// goal can stop dead on a limit — the elbow straightens onto the reach sphere's edge and

@@ -7,19 +7,26 @@
 pub(super) const ARM_MAX_SPEED: f64 = 8.0;
 
 /// The most a reaching arm DoF's speed changes, rad/s² (the whole change of the arm's joint
-/// velocity scaled alike; ballistic elbow flexions peak above 10,000°/s², 175 rad/s²). The
-/// hand's own bounds ([`HAND_ACCELERATION`], [`REACH_HAND_ACCELERATION`]) are what keep the hand
-/// smooth; this one keeps a flip of the analytic solution from being followed at once. It has to
-/// leave room for the joints a smooth hand asks for: near the relaxed, nearly straight elbow a
-/// reach starts from, the elbow flexes like the square root of the hand's travel (55 rad/s² for
-/// the ease-out's ramp to v_s in 0.08 s), and a hand held to its world line while a step or a
-/// squat carries the shoulder turns the joints of an arm near its reach's edge faster still.
-/// With 40 and 60 rad/s² the ease-out's hand overshot v_s by up to 7.5 % and 8.5 % on the grid
-/// of `tests/profile_realtime.rs` (catching up where the arm had lagged); with 100 a full step
-/// of 0.425 m carried the hand 2.0–2.1 cm off its line (0.9 cm now), and toward a low target
-/// behind a step and a squat the hand, rejoining its line at the reach's edge, slowed to
-/// 0.158 m/s (21 % under v_s) as the root braked.
-pub(super) const ARM_ACCELERATION: f64 = 250.0;
+/// velocity scaled alike; fast elbow movements reach several thousand degrees per second
+/// squared): the person's arm, its hand-overs and the arm before its reach, as the fits
+/// replayed them. The hand's own bounds ([`HAND_ACCELERATION`], [`REACH_HAND_ACCELERATION`]) are
+/// what keep the hand smooth; this one keeps a flip of the analytic solution from being
+/// followed at once. It has to leave room for the joints a smooth hand asks for: near the
+/// relaxed, nearly straight elbow a reach starts from, the elbow flexes like the square root of
+/// the hand's travel (55 rad/s² for the ease-out's ramp to v_s in 0.08 s). With 40 and 60
+/// rad/s² the ease-out's hand overshot v_s by up to 7.5 % and 8.5 % on the grid of
+/// `tests/profile_realtime.rs` (catching up where the arm had lagged).
+pub(super) const ARM_ACCELERATION: f64 = 100.0;
+
+/// [`ARM_ACCELERATION`] for the arm a speed profile drives (Huang's hand held to its world
+/// line), rad/s² (ballistic elbow flexions peak above 10,000°/s², 175 rad/s²): while a step or a
+/// squat carries the shoulder, the arm near its reach's edge turns its joints faster than the
+/// hand moves. With 100 a full step of 0.425 m carried the hand 2.0–2.1 cm off its line (0.9 cm
+/// with this), and toward a low target behind a step and a squat the hand, rejoining its line
+/// at the reach's edge, slowed to 0.158 m/s (21 % under v_s) as the root braked. (The person's
+/// arm keeps [`ARM_ACCELERATION`]: at 30 Hz its hand-over closed a 3 cm gap after the hand had
+/// stopped at 0.28 m/s, a second reach.)
+pub(super) const PROFILE_ARM_ACCELERATION: f64 = 250.0;
 
 /// How long the reaching arm takes to close on the posture it lags behind, seconds (the
 /// gain of [`track`] is its inverse).
@@ -41,7 +48,7 @@ pub(super) const REACH_HAND_ACCELERATION: f64 = 20.0;
 /// The joint velocity with which an arm at `at` follows a `goal` posture moving at
 /// `goal_velocity`: the goal's velocity (at most [`ARM_MAX_SPEED`]) plus the gap closed in
 /// [`ARM_TRACKING_TIME`], the closing speed no more than the arm can brake from within the gap
-/// at [`ARM_ACCELERATION`] (√(A·gap), half the distance a full brake needs: the goal moves
+/// at `acceleration` ([`ARM_ACCELERATION`] or [`PROFILE_ARM_ACCELERATION`]; √(A·gap), half the distance a full brake needs: the goal moves
 /// meanwhile), and the whole at most [`ARM_MAX_SPEED`] in every DoF (scaled alike). The hand
 /// closes on where the goal puts it, `hand_gap` meters away, no faster than it can brake at
 /// [`HAND_ACCELERATION`] either (√(H·gap); the closing motion moves the hand by about the
@@ -52,6 +59,7 @@ pub(super) fn track(
     goal_velocity: &[f64; 7],
     at: &[f64; 7],
     hand_gap: Option<f64>,
+    acceleration: f64,
     dt: f64,
 ) -> [f64; 7] {
     let mut feed = *goal_velocity;
@@ -62,8 +70,7 @@ pub(super) fn track(
     let gap: [f64; 7] = std::array::from_fn(|i| goal[i] - feed[i] * dt - at[i]);
     let largest = gap.iter().fold(0.0f64, |m, g| m.max(g.abs()));
     let closing = if largest > 0.0 {
-        let joints =
-            (largest / ARM_TRACKING_TIME).min((ARM_ACCELERATION * largest).sqrt()) / largest;
+        let joints = (largest / ARM_TRACKING_TIME).min((acceleration * largest).sqrt()) / largest;
         match hand_gap {
             Some(h) if h > 0.0 => joints.min((HAND_ACCELERATION / h).sqrt()),
             _ => joints,
