@@ -39,13 +39,14 @@ for controller in smooth paper; do
         for model in sa sc; do
             "$K" fit "$C" --model "$model" --optimizer svd --per clip --controller "$controller" \
                 -o "$D/$model.json" > /dev/null
+            # sa -> S_A.bvh: plot speed names each clip by its file.
             "$K" synthesize --from "$C" --params "$D/$model.json" --frames auto --stop-at-reach \
-                -o "$D/S_${model^^}.bvh" > /dev/null
+                -o "$D/S_$(printf %s "${model:1:1}" | tr a-z A-Z).bvh" > /dev/null
         done
         F=$("$K" synthesize --from "$C" --params "$D/sc.json" --frames auto -o "$D/x.bvh" --json \
             | python3 -c "import json, sys; a, b = json.load(sys.stdin)['capture_frames']; print(f'{a}..{b}')")
         "$K" convert "$C" --frames "$F" -o "$D/captured.bvh"
-        "$K" plot speed "$D/captured.bvh" "$D/S_SA.bvh" "$D/S_SC.bvh" --size 450x300 \
+        "$K" plot speed "$D/captured.bvh" "$D/S_A.bvh" "$D/S_C.bvh" --size 450x300 \
             --title "$clip, $controller controller" -o "docs/fig5-$controller-$i.png" > /dev/null
     done
 done

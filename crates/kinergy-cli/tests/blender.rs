@@ -6,7 +6,8 @@
 //! two of `bandai-raise-left/`, cut to 20 frames), `convert --up-out y` of a Z-up file,
 //! `synthesize` on a Bandai and a Character Creator capture, `reach` (one overhead, its
 //! clavicle turned by the girdle), `plan --task relocate`
-//! (the character with fingers) and `synth`. Blender is launched once for all of them
+//! (the character with fingers), `plan --target` low between the shelves (the planner moves the
+//! root, spine and legs) and `synth`. Blender is launched once for all of them
 //! (`tests/blender/import_bvh.py`). Skipped, saying so, where `blender` is not on PATH.
 
 mod common;
@@ -166,6 +167,18 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
         utf8(&out),
     ]);
     files.push(("plan --task relocate (fingers)".into(), out));
+    // A plan that moves the body (issue 43, item 5): the planner bends, twists and squats to a
+    // low target between the shelves, so the root translates and the spine and knees turn.
+    let out = dir.join("plan-body.bvh");
+    run(&[
+        "plan",
+        "--scene",
+        utf8(&scene),
+        "--target=-0.25,0.45,0.4",
+        "-o",
+        utf8(&out),
+    ]);
+    files.push(("plan --target low (the body moves)".into(), out));
 
     let synth = dir.join("synth");
     run(&[

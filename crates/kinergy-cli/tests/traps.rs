@@ -493,7 +493,7 @@ fn segment_writes_its_segments_file_to_standard_output() {
     // Only the file: no listing mixed in, and clips relative to the current folder, so the
     // printed file reads back from here.
     assert_eq!(lines.len(), 3, "{csv}");
-    assert!(lines[2].ends_with(",7,87,right,reach,p01"), "{csv}");
+    assert!(lines[2].ends_with(",5,89,right,reach,p01"), "{csv}");
     assert!(!dir.path().join("-").exists());
     let segments = dir.path().join("segments.csv");
     std::fs::write(&segments, &csv).unwrap();
