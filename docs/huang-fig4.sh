@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Huang, Kapadia & Terzopoulos' Fig. 4 as film strips: each situation of
 # examples/huang-fig4/gallery.csv reached by `kinergy reach` and drawn by `kinergy animate`
-# with its object at the target, into docs/huang-fig4-<panel>.png. Called by
+# with its object at the target, into docs/huang-fig4-<panel>.png (or $OUT/). Called by
 # docs/make-pictures.sh; `KINERGY` is the binary, `WORK` a scratch folder.
 set -euo pipefail
 REPO="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$REPO"
 K="${KINERGY:-$REPO/target/release/kinergy}"
 WORK="${WORK:-$(mktemp -d)}"
+# Where the strips go (docs/, or make-pictures --check's scratch copy).
+OUT="${OUT:-docs}"
 python3 - "$WORK" examples/huang-fig4/gallery.csv <<'PY' | while IFS='|' read -r panel name target flexibility seed p_max p_min view scene; do
 import csv, json, os, sys
 work, table = sys.argv[1], sys.argv[2]
@@ -38,6 +40,6 @@ PY
     "$K" reach --target "$target" --flexibility "$flexibility" --seed "$seed" \
         --p-max "$p_max" --p-min "$p_min" --timeout 30 -o "$WORK/$name.bvh" > /dev/null
     "$K" animate "$WORK/$name.bvh" --scene "$scene" --view "$view" --fps 10 \
-        --size 200x280 -o "$WORK/fig4-$panel.gif" --strip "docs/huang-fig4-$panel.png" \
+        --size 200x280 -o "$WORK/fig4-$panel.gif" --strip "$OUT/huang-fig4-$panel.png" \
         --strip-frames 5 > /dev/null
 done

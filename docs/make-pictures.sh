@@ -1,13 +1,29 @@
 #!/usr/bin/env bash
-# Regenerates the README's pictures in docs/ from the committed data (a few minutes).
-# Usage: docs/make-pictures.sh   (from anywhere; builds the CLI in release first)
+# Regenerates the README's pictures in docs/ from the committed data (a few minutes), and the
+# README's tables (docs/make-tables.sh).
+# Usage: docs/make-pictures.sh [--check]   (from anywhere; builds the CLI in release first)
+#   --check   draw everything into a scratch folder and compare it with docs/ byte for byte
+#             (summary*.md but for their wall-clock line), and the README's tables
+#             (make-tables --check); exit 1 naming every file that differs. docs/ is untouched.
 set -euo pipefail
 REPO="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$REPO"
+check=0
+case "${1:-}" in
+    --check) check=1 ;;
+    "") ;;
+    *) echo "make-pictures: unknown argument '$1' (usage: docs/make-pictures.sh [--check])" >&2; exit 2 ;;
+esac
 cargo build --release -q -p kinergy-cli
 K="$REPO/target/release/kinergy"
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
+# Where the pictures go: docs/, or a scratch copy to compare with it.
+OUT=docs
+if [ "$check" = 1 ]; then
+    OUT="$WORK/docs"
+    mkdir -p "$OUT"
+fi
 CLIP=data-synthetic/p01/r09.bvh
 
 # A capture, its fitted S_A and S_C parameters, and their syntheses of the same reach.
@@ -21,11 +37,11 @@ FRAMES=$("$K" synthesize --from "$CLIP" --params "$WORK/sc.json" --frames auto -
 "$K" convert "$CLIP" --frames "$FRAMES" -o "$WORK/captured.bvh"
 
 "$K" plot speed "$WORK/captured.bvh" "$WORK/S_A.bvh" "$WORK/S_C.bvh" \
-    --title "Hand speed: captured vs S_A vs S_C ($CLIP)" -o docs/speed.svg > /dev/null
+    --title "Hand speed: captured vs S_A vs S_C ($CLIP)" -o "$OUT/speed.svg" > /dev/null
 "$K" plot speed "$WORK/captured.bvh" "$WORK/S_A.bvh" "$WORK/S_C.bvh" \
-    --title "Hand speed: captured vs S_A vs S_C ($CLIP)" -o docs/speed.png > /dev/null
+    --title "Hand speed: captured vs S_A vs S_C ($CLIP)" -o "$OUT/speed.png" > /dev/null
 "$K" animate "$WORK/captured.bvh" "$WORK/S_A.bvh" "$WORK/S_C.bvh" --view side --fps 15 \
-    --size 480x360 -o docs/overlay.gif --strip docs/overlay-strip.png --strip-frames 6 > /dev/null
+    --size 480x360 -o "$OUT/overlay.gif" --strip "$OUT/overlay-strip.png" --strip-frames 6 > /dev/null
 
 # The paper's Fig. 5: the hand speed of four captured reaches (four targets) against S_A's and
 # S_C's, each fitted to its reach, under the default smooth controller and the paper's.
@@ -47,30 +63,62 @@ for controller in smooth paper; do
             | python3 -c "import json, sys; a, b = json.load(sys.stdin)['capture_frames']; print(f'{a}..{b}')")
         "$K" convert "$C" --frames "$F" -o "$D/captured.bvh"
         "$K" plot speed "$D/captured.bvh" "$D/S_A.bvh" "$D/S_C.bvh" --size 450x300 \
-            --title "$clip, $controller controller" -o "docs/fig5-$controller-$i.png" > /dev/null
+            --title "$clip, $controller controller" -o "$OUT/fig5-$controller-$i.png" > /dev/null
     done
 done
 
 # The paper's Fig. 3 (with S_E, beyond the paper) and Fig. 4 on the synthetic set, under both
 # controllers (docs/make-tables.sh puts their tables in the README).
 "$K" compare --models sa,sb,sc,sd,se -o "$WORK/compare" > /dev/null
-cp "$WORK/compare/fig3.png" "$WORK/compare/fig4.png" "$WORK/compare/summary.md" docs/
+cp "$WORK/compare/fig3.png" "$WORK/compare/fig4.png" "$WORK/compare/summary.md" "$OUT/"
 "$K" compare --models sa,sb,sc,sd,se --controller paper -o "$WORK/compare-paper" > /dev/null
-cp "$WORK/compare-paper/fig3.png" docs/fig3-paper.png
-cp "$WORK/compare-paper/fig4.png" docs/fig4-paper.png
-cp "$WORK/compare-paper/summary.md" docs/summary-paper.md
-docs/make-tables.sh --from "$WORK/compare" --from-paper "$WORK/compare-paper"
+cp "$WORK/compare-paper/fig3.png" "$OUT/fig3-paper.png"
+cp "$WORK/compare-paper/fig4.png" "$OUT/fig4-paper.png"
+cp "$WORK/compare-paper/summary.md" "$OUT/summary-paper.md"
+tables_differ=0
+if [ "$check" = 1 ]; then
+    KINERGY="$K" docs/make-tables.sh --check --from "$WORK/compare" \
+        --from-paper "$WORK/compare-paper" || tables_differ=1
+else
+    KINERGY="$K" docs/make-tables.sh --from "$WORK/compare" --from-paper "$WORK/compare-paper"
+fi
 
 # Huang, Kapadia & Terzopoulos' Fig. 4: the gallery of situations a–h.
-KINERGY="$K" WORK="$WORK" docs/huang-fig4.sh
+KINERGY="$K" WORK="$WORK" OUT="$OUT" docs/huang-fig4.sh
 
 # The bookshelf relocation (Kallmann's Fig. 5), and its planner's search trees (his Fig. 4).
 # Its JSON report holds the book's pose on every frame: animate draws the shelf and the book
 # moving with the hand.
 "$K" plan --scene examples/bookshelf/scene.json --task relocate --object blue_book \
     --to -0.22,1.49,0.50 -o "$WORK/relocate.bvh" --json \
-    --tree-svg docs/plan-trees.svg --tree-view front > "$WORK/relocate.json"
+    --tree-svg "$OUT/plan-trees.svg" --tree-view front > "$WORK/relocate.json"
 "$K" animate "$WORK/relocate.bvh" --scene examples/bookshelf/scene.json \
     --report "$WORK/relocate.json" --view side --fps 10 --size 360x360 \
-    -o docs/relocate.gif --strip docs/relocate-strip.png --strip-frames 6 > /dev/null
-ls -la docs
+    -o "$OUT/relocate.gif" --strip "$OUT/relocate-strip.png" --strip-frames 6 > /dev/null
+if [ "$check" = 0 ]; then
+    ls -la docs
+    exit 0
+fi
+# The wall-clock line of a compare's summary is the one thing a rerun changes.
+strip_wall() { sed -E 's/; [0-9.]+ s wall\./; … s wall./' "$1"; }
+differ=$tables_differ
+for made in "$OUT"/*; do
+    name="$(basename "$made")"
+    if [ ! -e "docs/$name" ]; then
+        echo "make-pictures: docs/$name is missing (drawn by this script)" >&2
+        differ=1
+    elif [[ "$name" == summary*.md ]]; then
+        if ! cmp -s <(strip_wall "$made") <(strip_wall "docs/$name"); then
+            echo "make-pictures: docs/$name differs from a fresh run" >&2
+            differ=1
+        fi
+    elif ! cmp -s "$made" "docs/$name"; then
+        echo "make-pictures: docs/$name differs from a fresh run" >&2
+        differ=1
+    fi
+done
+if [ "$differ" = 1 ]; then
+    echo "make-pictures: run docs/make-pictures.sh and commit docs/" >&2
+    exit 1
+fi
+echo "make-pictures: $(ls "$OUT" | wc -l) files in docs/ are what this script draws, byte for byte"
