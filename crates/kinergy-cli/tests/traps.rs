@@ -514,7 +514,7 @@ fn segment_writes_its_segments_file_to_standard_output() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert_eq!(
         common::json(&o)["reaches"][0]["frames"],
-        serde_json::json!([7, 87])
+        serde_json::json!([5, 89])
     );
 
     let out = dir.path().join("-");
