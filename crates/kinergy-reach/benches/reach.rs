@@ -8,7 +8,8 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kinergy_motion::nalgebra::Point3;
 use kinergy_reach::character::Character;
 use kinergy_reach::controller::{
-    ArmDrive, ReachSettings, arm_dof_names, reach_full_body, reach_full_body_driven,
+    ArmDrive, ReachSettings, animate_reach, arm_dof_names, plan_reach, reach_full_body,
+    reach_full_body_driven,
 };
 
 fn per_frame(c: &mut Criterion) {
@@ -32,6 +33,20 @@ fn per_frame(c: &mut Criterion) {
         group.sample_size(10);
         group.bench_function(name, |b| {
             b.iter(|| reach_full_body(black_box(&character), target, &settings).expect("reach"))
+        });
+        // The same reach in its two halves: the plan (posture search, step, balance checks,
+        // once per reach) and the frames (per frame: the issue's ≤ 10 µs).
+        let plan = plan_reach(&character, target, &settings).expect("plan");
+        group.throughput(Throughput::Elements(1));
+        group.bench_function(format!("{name}_plan"), |b| {
+            b.iter(|| plan_reach(black_box(&character), target, &settings).expect("plan"))
+        });
+        group.throughput(Throughput::Elements(frames as u64));
+        group.bench_function(format!("{name}_frames"), |b| {
+            b.iter(|| {
+                animate_reach(black_box(&character), &plan, &settings, &ArmDrive::Profile)
+                    .expect("reach")
+            })
         });
     }
     // The arm driven by a person's synergy (the synthetic character's own fit), no step and

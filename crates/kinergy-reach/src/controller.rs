@@ -136,6 +136,31 @@ pub fn reach_full_body_driven(
     settings: &ReachSettings,
     drive: &ArmDrive,
 ) -> Result<ReachMotion> {
+    let plan = plan_reach(character, target, settings)?;
+    animate_reach(character, &plan, settings, drive)
+}
+
+/// A reach's plan: every decision made once before the first frame — the arm, the step, the
+/// posture (twist, swing, squat, COM shift) and the timeline ([`plan_reach`]).
+#[derive(Debug, Clone)]
+pub struct ReachPlan {
+    plan: plan::Plan,
+}
+
+impl ReachPlan {
+    /// The target the plan reaches for, world meters.
+    pub fn target(&self) -> Point3<f64> {
+        self.plan.target
+    }
+}
+
+/// Plans a full-body reach of `character` toward `target` from the rest posture (the first
+/// half of [`reach_full_body_driven`]; [`animate_reach`] is the second).
+pub fn plan_reach(
+    character: &Character,
+    target: Point3<f64>,
+    settings: &ReachSettings,
+) -> Result<ReachPlan> {
     settings.validate()?;
     InvalidSetting::require(
         target.coords.iter().all(|v| v.is_finite()),
@@ -143,6 +168,21 @@ pub fn reach_full_body_driven(
         "finite coordinates",
     )?;
     let rest = character.rest_pose();
-    let plan = plan::plan(character, &rest, target, settings)?;
-    scheduler::animate(character, &rest, &plan, settings, drive)
+    Ok(ReachPlan {
+        plan: plan::plan(character, &rest, target, settings)?,
+    })
+}
+
+/// Animates a [`ReachPlan`] frame by frame from the rest posture, the reaching arm driven by
+/// `drive` (`settings` as the plan was made with: the frame rate, profile and timeout are
+/// read here).
+pub fn animate_reach(
+    character: &Character,
+    plan: &ReachPlan,
+    settings: &ReachSettings,
+    drive: &ArmDrive,
+) -> Result<ReachMotion> {
+    settings.validate()?;
+    let rest = character.rest_pose();
+    scheduler::animate(character, &rest, &plan.plan, settings, drive)
 }
