@@ -517,18 +517,7 @@ impl ArmFollower {
             return;
         }
         let from = self.velocity;
-        let at =
-            |s: f64| -> [f64; 7] { std::array::from_fn(|i| from[i] + s * (velocity[i] - from[i])) };
-        let (mut lo, mut hi) = (0.0, 1.0);
-        for _ in 0..HAND_BISECTIONS {
-            let mid = 0.5 * (lo + hi);
-            if change(&at(mid)).is_some_and(|c| c <= largest) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        *velocity = at(lo);
+        *velocity = scaled_back(&from, velocity, |v| change(v).is_some_and(|c| c <= largest));
     }
 
     /// The hand in the world with the arm at `q`, the arm's base frame `base` with the arm at
@@ -584,18 +573,7 @@ impl ArmFollower {
             None => return,
             Some(_) => {}
         }
-        let at =
-            |s: f64| -> [f64; 7] { std::array::from_fn(|i| from[i] + s * (velocity[i] - from[i])) };
-        let (mut lo, mut hi) = (0.0, 1.0);
-        for _ in 0..HAND_BISECTIONS {
-            let mid = 0.5 * (lo + hi);
-            if change(&at(mid)).is_some_and(|c| c <= largest) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        *velocity = at(lo);
+        *velocity = scaled_back(&from, velocity, |v| change(v).is_some_and(|c| c <= largest));
     }
 
     /// Whether the profile's clock has run its course on `profile` (false before the arm
@@ -720,4 +698,22 @@ impl ArmFollower {
         self.last = None;
         self.alpha = None;
     }
+}
+
+/// The joint velocity on the way from `from` to `to` (`from + s·(to − from)`) with the largest
+/// `s` in [0, 1] that `holds` — found by bisection to 1/2^[`HAND_BISECTIONS`], `from` itself
+/// when no step holds: the change of the arm's joint velocity scaled back where a bound on the
+/// hand's motion would break.
+fn scaled_back(from: &[f64; 7], to: &[f64; 7], holds: impl Fn(&[f64; 7]) -> bool) -> [f64; 7] {
+    let at = |s: f64| -> [f64; 7] { std::array::from_fn(|i| from[i] + s * (to[i] - from[i])) };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..HAND_BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        if holds(&at(mid)) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    at(lo)
 }
