@@ -113,17 +113,17 @@ print("%s reaches of `data-synthetic/`, one fit per reach, %s evaluations per fi
 print("joint-position motion distance in mm, under the default smooth controller and under the")
 print("paper's (`--controller paper`). The paper: 14 seated reaches of one subject.")
 print()
-print("| Fig. 3 (SVD) | smooth: mean (mm) | smooth: reduction | paper's controller: mean (mm) | paper's controller: reduction | paper: reduction |")
-print("|---|---|---|---|---|---|")
-for model, (mean, red, ref) in smooth[2].items():
-    pmean, pred, _ = paper[2][model]
-    print("| %s | %s | %s | %s | %s | %s |" % (model, mean, red, pmean, pred, ref))
+def side_by_side(title, value, smooth_rows, paper_rows):
+    """One figure's table: each row's value and reduction under both controllers, and the paper's."""
+    print("| %s | smooth: %s | smooth: reduction | paper's controller: %s | paper's controller: reduction | paper: reduction |" % (title, value, value))
+    print("|---|---|---|---|---|---|")
+    for key, (v, red, ref) in smooth_rows.items():
+        pv, pred, _ = paper_rows[key]
+        print("| %s | %s | %s | %s | %s | %s |" % (key, v, red, pv, pred, ref))
+
+side_by_side("Fig. 3 (SVD)", "mean (mm)", smooth[2], paper[2])
 print()
-print("| Fig. 4: S_C instead of S_A | smooth: S_A → S_C (mm) | smooth: reduction | paper's controller: S_A → S_C (mm) | paper's controller: reduction | paper: reduction |")
-print("|---|---|---|---|---|---|")
-for optimizer, (change, red, ref) in smooth[3].items():
-    pchange, pred, _ = paper[3][optimizer]
-    print("| %s | %s | %s | %s | %s | %s |" % (optimizer, change, red, pchange, pred, ref))
+side_by_side("Fig. 4: S_C instead of S_A", "S_A → S_C (mm)", smooth[3], paper[3])
 PY
 
 begin='<!-- tables:paper begin -->'

@@ -1221,13 +1221,22 @@ fn absurd_shard_counts_are_refused_naming_the_variable() {
     assert!(!out.exists());
 }
 
+/// The columns of a `library.csv` as `fit --out-dir` writes them.
+const LIBRARY_HEADER: &str = "clip,person,arm,onset,end,frames,model,optimizer,distance_sa_m,\
+    distance_sb_m,distance_sc_m,distance_sd_m,distance_se_m,evaluations,seconds,result,settings";
+
+/// Writes `dir/library.csv` with [`LIBRARY_HEADER`] and `rows`; returns its path.
+fn library_table(dir: &Path, rows: &[&str]) -> PathBuf {
+    let table = dir.join("library.csv");
+    std::fs::write(&table, format!("{LIBRARY_HEADER}\n{}\n", rows.join("\n"))).expect("write");
+    table
+}
+
 /// `compare --library` refuses a table with NaN, ±inf, negative or absurd (> 1 km) distances,
 /// or with every distance empty, naming the row and column; nothing is written.
 #[test]
 fn compare_library_refuses_distances_that_cannot_be_true() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let header = "clip,person,arm,onset,end,frames,model,optimizer,distance_sa_m,distance_sb_m,\
-                  distance_sc_m,distance_sd_m,distance_se_m,evaluations,seconds,result,settings";
     let good = "r01.bvh,p01,right,0,10,10,sb,svd,0.02,0.01,,,,16,,r01.bvh.json,abc";
     for (bad, said) in [
         (
@@ -1273,8 +1282,7 @@ fn compare_library_refuses_distances_that_cannot_be_true() {
             "row 3, column onset: `x` is not a whole number",
         ),
     ] {
-        let table = dir.path().join("library.csv");
-        std::fs::write(&table, format!("{header}\n{good}\n{bad}\n")).expect("write");
+        let table = library_table(dir.path(), &[good, bad]);
         let report = dir.path().join("report");
         let o = kinergy(&["compare", "--library", s(&table), "-o", s(&report)]);
         assert_eq!(o.status.code(), Some(2), "{said}: {}", stderr(&o));
@@ -1285,7 +1293,7 @@ fn compare_library_refuses_distances_that_cannot_be_true() {
     let table = dir.path().join("empty.csv");
     std::fs::write(
         &table,
-        format!("{header}\nr01.bvh,p01,right,0,10,10,sb,svd,,,,,,16,,r01.bvh.json,abc\n"),
+        format!("{LIBRARY_HEADER}\nr01.bvh,p01,right,0,10,10,sb,svd,,,,,,16,,r01.bvh.json,abc\n"),
     )
     .expect("write");
     let o = kinergy(&[
@@ -1309,17 +1317,13 @@ fn compare_library_refuses_distances_that_cannot_be_true() {
 #[test]
 fn compare_library_says_when_a_model_covers_fewer_reaches() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let header = "clip,person,arm,onset,end,frames,model,optimizer,distance_sa_m,distance_sb_m,\
-                  distance_sc_m,distance_sd_m,distance_se_m,evaluations,seconds,result,settings";
-    let table = dir.path().join("library.csv");
-    std::fs::write(
-        &table,
-        format!(
-            "{header}\nr01.bvh,p01,right,0,10,10,sc,svd,0.02,0.01,0.01,,,16,,r01.bvh.json,abc\n\
-             r02.bvh,p01,right,0,10,10,sc,svd,0.03,,0.02,,,16,,r02.bvh.json,abc\n"
-        ),
-    )
-    .expect("write");
+    let table = library_table(
+        dir.path(),
+        &[
+            "r01.bvh,p01,right,0,10,10,sc,svd,0.02,0.01,0.01,,,16,,r01.bvh.json,abc",
+            "r02.bvh,p01,right,0,10,10,sc,svd,0.03,,0.02,,,16,,r02.bvh.json,abc",
+        ],
+    );
     let report = dir.path().join("report");
     let o = kinergy(&["compare", "--library", s(&table), "-o", s(&report)]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
@@ -1332,17 +1336,13 @@ fn compare_library_says_when_a_model_covers_fewer_reaches() {
 #[test]
 fn compare_library_refuses_a_row_without_its_own_models_distance() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let header = "clip,person,arm,onset,end,frames,model,optimizer,distance_sa_m,distance_sb_m,\
-                  distance_sc_m,distance_sd_m,distance_se_m,evaluations,seconds,result,settings";
-    let table = dir.path().join("library.csv");
-    std::fs::write(
-        &table,
-        format!(
-            "{header}\nr01.bvh,p01,right,0,10,10,sc,svd,0.02,0.01,0.01,,,16,,r01.bvh.json,abc\n\
-             r02.bvh,p01,right,0,10,10,sc,svd,0.03,0.02,,,,16,,r02.bvh.json,abc\n"
-        ),
-    )
-    .expect("write");
+    let table = library_table(
+        dir.path(),
+        &[
+            "r01.bvh,p01,right,0,10,10,sc,svd,0.02,0.01,0.01,,,16,,r01.bvh.json,abc",
+            "r02.bvh,p01,right,0,10,10,sc,svd,0.03,0.02,,,,16,,r02.bvh.json,abc",
+        ],
+    );
     let report = dir.path().join("report");
     let o = kinergy(&["compare", "--library", s(&table), "-o", s(&report)]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));

@@ -169,14 +169,8 @@ pub(super) fn animate(
     let mut idle = IdleArm::new(character, idle_limb, rest)?;
     // The other arm hangs relaxed from the first frame: held to its speed from the straight
     // rest arm, its elbow snapped 0.2 rad in the first three frames of every reach (8 rad/s).
-    {
-        let mut relaxed = *rest;
-        let base = character.limb_base_frame(idle_limb, rest);
-        if idle.hang(character, &mut relaxed, &base).is_some() {
-            character.clamp_pose(&mut relaxed);
-            idle.settle(&relaxed);
-        }
-    }
+    let mut relaxed = *rest;
+    idle.relax(character, &mut relaxed);
     // Before its reach the reaching arm hangs relaxed like the other: its elbow already bent
     // a little where a reach starts (a synergy starts from `RELAXED_ELBOW` at least, and
     // from the straight rest arm that would be a one-frame snap of the elbow).
@@ -186,11 +180,7 @@ pub(super) fn animate(
     // the hand's travel, and the hand could not take up the ease-out's speed within 0.1 s.
     let mut start = *rest;
     if matches!(drive, ArmDrive::Profile) {
-        let base = character.limb_base_frame(plan.arm, rest);
-        if hanging.hang(character, &mut start, &base).is_some() {
-            character.clamp_pose(&mut start);
-            hanging.settle(&start);
-        }
+        hanging.relax(character, &mut start);
     }
     let mut arm = ArmFollower::new(character, plan.arm, &start)?;
     if matches!(drive, ArmDrive::Profile) {

@@ -105,6 +105,18 @@ impl IdleArm {
         Some(alpha)
     }
 
+    /// Puts the arm of `pose` where it hangs relaxed, its base where `pose` puts it, the pose
+    /// clamped to the limits, and keeps it as the previous posture: an arm that starts relaxed
+    /// on the first frame instead of bending there from the straight rest arm. The pose is
+    /// unchanged where no posture is found.
+    pub(crate) fn relax(&mut self, character: &Character, pose: &mut Pose) {
+        let base = character.limb_base_frame(self.limb, pose);
+        if self.hang(character, pose, &base).is_some() {
+            character.clamp_pose(pose);
+            self.settle(pose);
+        }
+    }
+
     /// Ends a frame of `dt` seconds as
     /// [`ArmFollower::end_frame`](super::ArmFollower::end_frame) does, and keeps the frame's
     /// posture as the previous one.
