@@ -42,6 +42,27 @@ impl Motion {
             Motion::Swing { .. } => 2,
         }
     }
+
+    /// `r ← r · M(q)` at DoF values `q` (its first one or two). A principal-axis rotation
+    /// changes only two columns of `r`: with (i, k) the axes after `a` cyclically,
+    /// col_i ← c·col_i + s·col_k and col_k ← −s·col_i + c·col_k (12 multiplications instead of
+    /// 27, the same values as the full product).
+    #[inline]
+    pub fn apply(&self, r: &mut Rotation3<f64>, q: &[f64]) {
+        match *self {
+            Motion::Revolute { axis, .. } => {
+                let (s, c) = q[0].sin_cos();
+                let a = axis.index();
+                let (i, k) = ((a + 1) % 3, (a + 2) % 3);
+                let m = r.matrix_mut_unchecked();
+                let ci = m.column(i).into_owned();
+                let ck = m.column(k).into_owned();
+                m.set_column(i, &(ci * c + ck * s));
+                m.set_column(k, &(ck * c - ci * s));
+            }
+            Motion::Swing { .. } => *r *= swing_rotation(q[0], q[1]),
+        }
+    }
 }
 
 /// One joint of a [`Chain`].
@@ -316,9 +337,20 @@ impl Chain {
         Ok(out)
     }
 
-    /// World position of the end effector.
+    /// World position of the end effector: [`Chain::fk`]'s `end`, without the joint frames
+    /// (no allocation; the same arithmetic, so the same bits).
     pub fn end_position(&self, base: &IsometryMatrix3<f64>, q: &[f64]) -> Result<Point3<f64>> {
-        Ok(self.fk(base, q)?.end)
+        self.check(q)?;
+        let mut frame = *base;
+        let mut k = 0;
+        for (j, &rest_identity) in self.joints.iter().zip(&self.rest_identity) {
+            self.enter_joint(&mut frame, j, rest_identity);
+            for m in &j.motions {
+                apply_motion(&mut frame.rotation, m, &q[k..]);
+                k += m.dof_count();
+            }
+        }
+        Ok(frame * Point3::from(self.end_effector))
     }
 
     /// The positional Jacobian (3 × DoFs) of the end effector at `q`, into `out`.
@@ -481,24 +513,10 @@ impl Chain {
     }
 }
 
-/// `r ← r · M(q)`. A principal-axis rotation changes only two columns of `r`:
-/// with (i, k) the axes after `a` cyclically, col_i ← c·col_i + s·col_k and
-/// col_k ← −s·col_i + c·col_k (12 multiplications instead of 27).
+/// `r ← r · M(q)` ([`Motion::apply`]).
 #[inline]
 fn apply_motion(r: &mut Rotation3<f64>, m: &Motion, q: &[f64]) {
-    match *m {
-        Motion::Revolute { axis, .. } => {
-            let (s, c) = q[0].sin_cos();
-            let a = axis.index();
-            let (i, k) = ((a + 1) % 3, (a + 2) % 3);
-            let m = r.matrix_mut_unchecked();
-            let ci = m.column(i).into_owned();
-            let ck = m.column(k).into_owned();
-            m.set_column(i, &(ci * c + ck * s));
-            m.set_column(k, &(ck * c - ci * s));
-        }
-        Motion::Swing { .. } => *r *= swing_rotation(q[0], q[1]),
-    }
+    m.apply(r, q);
 }
 
 #[cfg(test)]
@@ -561,6 +579,24 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn end_position_is_fks_end_and_a_principal_axis_motion_its_full_product(
+            q in proptest::collection::vec(-2.0f64..2.0, 7),
+            angle in -4.0f64..4.0,
+        ) {
+            let arm = Chain::arm(0.31, 0.27, 0.09).expect("arm");
+            let b = base();
+            // The same arithmetic, so the same bits.
+            assert_eq!(arm.end_position(&b, &q).expect("end"), arm.fk(&b, &q).expect("fk").end);
+            for axis in [Axis::X, Axis::Y, Axis::Z] {
+                let m = Motion::Revolute { axis, min: -4.0, max: 4.0 };
+                let mut r = b.rotation;
+                m.apply(&mut r, &[angle]);
+                let full = b.rotation * crate::rotation::axis_rotation(axis, angle);
+                assert_relative_eq!(r, full, epsilon = 1e-15);
+            }
+        }
+
         #[test]
         fn linearization_matches_fk_jacobian_and_finite_differences(q in proptest::collection::vec(-2.0f64..2.0, 7)) {
             let arm = Chain::arm(0.31, 0.27, 0.09).expect("arm");

@@ -137,8 +137,9 @@ impl BalanceCorrection {
     }
 
     /// Solves the frame's limbs with `solve` (the pose, whether it is the frame's first pass;
-    /// returns the hand's distance from the target) and balances it: `wanted_margin` meters
-    /// of margin, the correction at most `dt` seconds' worth of speed from the last frame's.
+    /// returns the hand's distance from the target and the solved pose's world frames) and
+    /// balances it: `wanted_margin` meters of margin, the correction at most `dt` seconds'
+    /// worth of speed from the last frame's.
     pub(super) fn balance(
         &mut self,
         character: &Character,
@@ -146,13 +147,14 @@ impl BalanceCorrection {
         dt: f64,
         planned: &PlannedRoot,
         pose: &mut Pose,
-        mut solve: impl FnMut(&mut Pose, bool) -> f64,
+        mut solve: impl FnMut(&mut Pose, bool) -> (f64, Vec<IsometryMatrix3<f64>>),
     ) -> Balanced {
         let mut error = f64::INFINITY;
         let mut margin = f64::INFINITY;
         for pass in 0..10 {
-            error = solve(pose, pass == 0);
-            let balance = rebalance(character, &character.world_frames(pose), wanted_margin, 1.5);
+            let (e, frames) = solve(pose, pass == 0);
+            error = e;
+            let balance = rebalance(character, &frames, wanted_margin, 1.5);
             match balance.shift {
                 Some(shift) if pass < 9 => {
                     pose[dof::ROOT_X] += shift.x;
@@ -177,8 +179,9 @@ impl BalanceCorrection {
                 };
                 pose[dof::ROOT_X] = planned.xz.x + self.correction.x;
                 pose[dof::ROOT_Z] = planned.xz.y + self.correction.y;
-                error = solve(pose, false);
-                margin = rebalance(character, &character.world_frames(pose), 0.0, 1.0).margin;
+                let (e, frames) = solve(pose, false);
+                error = e;
+                margin = rebalance(character, &frames, 0.0, 1.0).margin;
                 if margin >= 0.0 {
                     break;
                 }

@@ -668,6 +668,12 @@ pub(super) fn lower_root_for_legs_in(
     }
 }
 
+/// The most a leg's orbit search turns the knee out, radians: the default search's angles
+/// beyond it (57° to 130°) are not a person's knee, and no leg solved in the synthetic set
+/// (26,000 solves) or the bench's reaches found one there — each leg whose foot cannot lie flat
+/// tried all sixteen before its heel rose, ten now, the same postures found.
+pub(super) const KNEE_ORBIT_MAX: f64 = 47.0 * std::f64::consts::PI / 180.0;
+
 /// The root starts down this far, meters, before a leg would be stretched to its reach, where the
 /// scheduler lowers it smoothly ([`soft_excess`]).
 pub(super) const LOWER_BLEND: f64 = 0.02;
@@ -715,15 +721,19 @@ pub(super) fn solve_legs_in(
             (feet[i].translation.vector + feet[i].rotation * toe).into(),
             feet[i].rotation,
         );
+        // The knee's natural orbit (α = 0) first, then the default search's angles up to
+        // [`KNEE_ORBIT_MAX`].
+        let alphas = OrbitSearch::default().alphas().ok();
         let solve = |goal_world: &IsometryMatrix3<f64>| -> Option<[f64; 7]> {
             let goal = base.inverse() * goal_world;
-            match iks[i].solve(&goal, 0.0) {
-                Ok(q) if iks[i].within_limits(&q) => Some(q),
-                _ => iks[i]
-                    .search(&goal, &OrbitSearch::default())
-                    .ok()
-                    .map(|(_, q)| q),
-            }
+            let search = alphas
+                .clone()
+                .into_iter()
+                .flatten()
+                .filter(|a| *a <= KNEE_ORBIT_MAX);
+            iks[i]
+                .first_within_limits(&goal, std::iter::once(0.0).chain(search))
+                .map(|(_, q)| q)
         };
         // Flat foot first; if the ankle cannot take it, the heel rises about the planted toe
         // (toe-off): the first of 5° steps up to 60° that works, then halved five times

@@ -55,6 +55,8 @@ struct FrameLimbs<'a> {
     idle_limb: Limb,
     /// The reaching arm's base frame after the last pass (the girdle where the arm put it).
     arm_base: IsometryMatrix3<f64>,
+    /// The reaching arm's DoFs and the trunk's (root, spine, neck) `arm_base` is for.
+    arm_solved: ([f64; 7], [f64; TRUNK_DOFS]),
     /// The orbit angles solved at, for the frame's end.
     arm_alpha: Option<f64>,
     idle_alpha: Option<f64>,
@@ -62,14 +64,14 @@ struct FrameLimbs<'a> {
 
 impl FrameLimbs<'_> {
     /// Solves the limbs into `pose` with the root where it is horizontally; returns the
-    /// reaching hand's distance from the target.
-    fn solve(&mut self, pose: &mut Pose, first_pass: bool) -> f64 {
+    /// reaching hand's distance from the target and the pose's world frames.
+    fn solve(&mut self, pose: &mut Pose, first_pass: bool) -> (f64, Vec<IsometryMatrix3<f64>>) {
         let c = self.character;
         // The root as low as the legs need where it is now (not where a pass before put it).
         pose[dof::ROOT_Y] = self.height;
         // The legs' bases do not depend on the limbs, the arms' on their own arm only (the
-        // girdle, solved with the arm): one FK serves all three.
-        let mut above = c.world_frames(pose);
+        // girdle, solved with the arm): one FK of the trunk serves all three.
+        let mut above = c.frames_above_limbs(pose);
         let blend = if self.smooth_root { LOWER_BLEND } else { 0.0 };
         lower_root_for_legs_in(c, pose, &mut above, self.feet, blend);
         self.lowered_needed = self.height - pose[dof::ROOT_Y];
@@ -82,6 +84,8 @@ impl FrameLimbs<'_> {
         }
         solve_legs_in(c, pose, &above, self.leg_iks, self.feet);
         let base = c.limb_base_frame_in(self.plan.arm, &above);
+        let arm_dofs = c.limb_dofs(self.plan.arm);
+        let at: [f64; 7] = std::array::from_fn(|i| pose[arm_dofs.start + i]);
         if let Some(now) = self.follow
             && let Some(a) = self
                 .arm
@@ -100,12 +104,21 @@ impl FrameLimbs<'_> {
         {
             self.idle_alpha = Some(a);
         }
-        // The arm's base where the girdle puts it for the arm just solved.
-        let base = c.limb_base_frame(self.plan.arm, pose);
+        // The arm's base where the girdle puts it for the arm just solved (only the girdle
+        // moved it since `above`).
+        let solved: [f64; 7] = std::array::from_fn(|i| pose[arm_dofs.start + i]);
+        let base = c.arm_base_moved(self.plan.arm, &base, &at, &solved);
         self.arm_base = base;
-        (self.arm.hand(c, &base, pose, self.plan.target) - self.plan.target).norm()
+        self.arm_solved = (solved, std::array::from_fn(|i| pose[i]));
+        let error = (self.arm.hand(c, &base, pose, self.plan.target) - self.plan.target).norm();
+        // The trunk's frames still hold (the root lowered with them): the limbs' complete them.
+        c.complete_limb_frames(pose, &mut above);
+        (error, above)
     }
 }
+
+/// The trunk's DoFs (root, spine and neck): those before the limbs' in a [`Pose`].
+const TRUNK_DOFS: usize = dof::CERVICAL.end;
 
 /// The fastest the root rises back, m/s, once the legs no longer need it lowered.
 const ROOT_RISE_SPEED: f64 = 0.3;
@@ -238,6 +251,7 @@ pub(super) fn animate(
             idle: &mut idle,
             idle_limb,
             arm_base: IsometryMatrix3::identity(),
+            arm_solved: ([0.0; 7], [f64::NAN; TRUNK_DOFS]),
             arm_alpha: None,
             idle_alpha: None,
         };
@@ -250,6 +264,7 @@ pub(super) fn animate(
             |pose, first_pass| limbs.solve(pose, first_pass),
         );
         let (arm_alpha, idle_alpha, arm_base) = (limbs.arm_alpha, limbs.idle_alpha, limbs.arm_base);
+        let arm_solved = limbs.arm_solved;
         let needed = limbs.lowered_needed;
         min_margin = min_margin.min(balanced.margin);
 
@@ -270,7 +285,16 @@ pub(super) fn animate(
         }
         final_error = stepped.error;
         rise.ended(planned.height - pose[dof::ROOT_Y], needed, dt);
-        arm.settle(character, &pose, dt);
+        // The arm's base as the limbs' last pass left it, moved by the girdle for the arm shown,
+        // where only the arms changed since (the clamp can move the trunk).
+        let final_base = if pose[..TRUNK_DOFS] == arm_solved.1[..] {
+            let dofs = character.limb_dofs(plan.arm);
+            let shown: [f64; 7] = std::array::from_fn(|i| pose[dofs.start + i]);
+            character.arm_base_moved(plan.arm, &arm_base, &arm_solved.0, &shown)
+        } else {
+            character.limb_base_frame(plan.arm, &pose)
+        };
+        arm.settle(character, &pose, &final_base, dt);
         idle.settle(&pose);
         hanging.settle(&pose);
         poses.push(pose);

@@ -391,7 +391,14 @@ impl LimbIk {
     ///
     /// [`Chain::within_limits`]: kinergy_motion::Chain::within_limits
     pub fn within_limits(&self, q: &[f64; 7]) -> bool {
-        self.violation(q).is_none()
+        // [`LimbIk::violation`]'s test, stopping at the first DoF outside (each excess is zero
+        // exactly where its DoF is within, and they sum to zero only where all are).
+        let l = &self.limits;
+        swing_excess(q[0], q[1], l.shoulder_swing) == 0.0
+            && revolute_excess(q[2], l.shoulder_twist) == 0.0
+            && revolute_excess(q[3], l.elbow_flexion) == 0.0
+            && revolute_excess(q[4], l.elbow_twist) == 0.0
+            && swing_excess(q[5], q[6], l.wrist_swing) == 0.0
     }
 
     /// How far `q` lies outside the limits; `None` when within them.
@@ -537,6 +544,23 @@ impl LimbIk {
         settings: &OrbitSearch,
     ) -> Result<(f64, [f64; 7]), AnalyticError> {
         self.search_with(goal, settings, &|_| true)
+    }
+
+    /// The first orbit angle of `alphas` whose posture for `goal` lies within the limits, with
+    /// the posture: [`LimbIk::solve`] at each angle in turn, the goal prepared once, without
+    /// [`LimbIk::search`]'s diagnosis of a failure. `None` when the goal is out of reach or
+    /// no angle gives a posture within the limits.
+    pub fn first_within_limits(
+        &self,
+        goal: &IsometryMatrix3<f64>,
+        alphas: impl IntoIterator<Item = f64>,
+    ) -> Option<(f64, [f64; 7])> {
+        let prepared = self.prepare_goal(goal).ok()?;
+        alphas
+            .into_iter()
+            .filter(|a| a.is_finite())
+            .map(|a| (a, self.full_at(&prepared, a)))
+            .find(|(_, q)| self.within_limits(q))
     }
 
     /// [`LimbIk::search`] where a posture must also pass `accept` (e.g. no collision).

@@ -58,6 +58,41 @@ impl Character {
         out
     }
 
+    /// [`Character::world_frames`] of the trunk, head and clavicles only: what the limbs' base
+    /// frames need ([`Character::limb_base_frame_in`]) before the limbs are solved. The four
+    /// limbs' own joints ([`Limb::joints`]) are left NaN, so a read of one shows.
+    pub fn frames_above_limbs(&self, pose: &Pose) -> Vec<IsometryMatrix3<f64>> {
+        let nan = IsometryMatrix3::from_parts(
+            Vector3::repeat(f64::NAN).into(),
+            Rotation3::from_matrix_unchecked(nalgebra::Matrix3::repeat(f64::NAN)),
+        );
+        let in_limb = |i: usize| Limb::ALL.iter().any(|l| l.joints().contains(&i));
+        let mut out: Vec<IsometryMatrix3<f64>> = Vec::with_capacity(self.joints.len());
+        for (i, j) in self.joints.iter().enumerate() {
+            if in_limb(i) {
+                out.push(nan);
+                continue;
+            }
+            let parent = j.parent.map_or(IsometryMatrix3::identity(), |p| out[p]);
+            out.push(self.joint_frame_from(i, &parent, pose));
+        }
+        out
+    }
+
+    /// Completes [`Character::frames_above_limbs`]'s `frames` into [`Character::world_frames`]
+    /// once the limbs of `pose` are solved: the clavicles (which turn with their arms) and the
+    /// limbs' joints, each from its parent's frame; the trunk and head are kept.
+    pub fn complete_limb_frames(&self, pose: &Pose, frames: &mut [IsometryMatrix3<f64>]) {
+        for (i, j) in self.joints.iter().enumerate() {
+            let trunk = !(j.girdle.is_some() || Limb::ALL.iter().any(|l| l.joints().contains(&i)));
+            if trunk {
+                continue;
+            }
+            let parent = j.parent.map_or(IsometryMatrix3::identity(), |p| frames[p]);
+            frames[i] = self.joint_frame_from(i, &parent, pose);
+        }
+    }
+
     /// The world frame of `joint` (after its motions) at `pose`: forward kinematics of its
     /// ancestors only, the same values [`Character::world_frames`] gives it.
     pub fn joint_frame(&self, joint: usize, pose: &Pose) -> IsometryMatrix3<f64> {
@@ -105,10 +140,12 @@ impl Character {
             Some(GirdleRole::Shoulder(limb)) => {
                 frame.rotation *= self.girdle_rotation(limb, &pose[limb.dofs()]).inverse() * j.rest;
             }
+            // Most joints' rest is the identity (the spine's and limbs' frames are set up so).
+            None if j.rest == Rotation3::identity() => {}
             None => frame.rotation *= j.rest,
         }
         for m in &j.motions {
-            frame.rotation *= motion_rotation(m, &pose[k..]);
+            m.apply(&mut frame.rotation, &pose[k..]);
             k += m.dof_count();
         }
         frame

@@ -429,13 +429,12 @@ impl ArmFollower {
         let limits = character.limb_limits(self.limb, pose);
         let fade = self.edge_fade(&limits, &goal, &goal_velocity);
         let goal_velocity = goal_velocity.map(|v| v * fade);
-        let hand_gap = self.hand.and_then(|(hand, _)| {
-            let chain = character.limb_chain(self.limb);
-            let to = chain
-                .end_position(&IsometryMatrix3::identity(), &goal)
-                .ok()?;
-            Some((to - hand).norm())
-        });
+        // The goal's hand in the arm's base frame (the shoulder's), once.
+        let chain = character.limb_chain(self.limb);
+        let goal_hand = chain.end_position(&IsometryMatrix3::identity(), &goal).ok();
+        let hand_gap = self
+            .hand
+            .and_then(|(hand, _)| Some((goal_hand? - hand).norm()));
         let a = self.acceleration();
         let mut wanted = track(&goal, &goal_velocity, &self.previous, hand_gap, a, dt);
         self.brake_before_limits(&limits, &mut wanted, a);
@@ -460,7 +459,8 @@ impl ArmFollower {
         self.path_lag = match (world, &self.clock) {
             (Some(base), Some(clock)) => {
                 let at = |q: &[f64; 7]| self.world_position(character, base, &goal, q);
-                match (at(&goal), at(&shown)) {
+                // At the goal the girdle leaves the base where it is.
+                match (goal_hand.map(|h| base * h), at(&shown)) {
                     (Some(to), Some(hand)) => (to - hand).dot(&clock.direction()),
                     _ => 0.0,
                 }
@@ -662,15 +662,23 @@ impl ArmFollower {
 
     /// Keeps the frame's final arm posture (`pose`, clamped) as the previous one, and the
     /// arm's joint velocity over the frame of `dt` seconds that led to it (whoever drove it:
-    /// the analytic IK takes over from a person's arm at the speed it moved).
-    pub(crate) fn settle(&mut self, character: &Character, pose: &Pose, dt: f64) {
+    /// the analytic IK takes over from a person's arm at the speed it moved). `base` is the
+    /// arm's base frame in `pose` ([`Character::limb_base_frame`]).
+    pub(crate) fn settle(
+        &mut self,
+        character: &Character,
+        pose: &Pose,
+        base: &IsometryMatrix3<f64>,
+        dt: f64,
+    ) {
         let now: [f64; 7] = std::array::from_fn(|i| pose[self.dofs.start + i]);
         // A twist wrapped a turn by the clamp (`wrap_or_clamp`) did not move.
         self.velocity = std::array::from_fn(|i| angle_difference(now[i], self.previous[i]) / dt);
         self.previous = now;
         let chain = character.limb_chain(self.limb);
-        let base = character.limb_base_frame(self.limb, pose);
-        self.world_hand = chain.end_position(&base, &now).ok().map(|h| {
+        // The hand in the base frame, and in the world through the base.
+        let local = chain.end_position(&IsometryMatrix3::identity(), &now).ok();
+        self.world_hand = local.map(|h| base * h).map(|h| {
             (
                 h,
                 self.world_hand
@@ -678,15 +686,12 @@ impl ArmFollower {
             )
         });
         self.frame_time = dt;
-        self.hand = chain
-            .end_position(&IsometryMatrix3::identity(), &now)
-            .ok()
-            .map(|h| {
-                (
-                    h,
-                    self.hand.map_or(Vector3::zeros(), |(before, _)| h - before),
-                )
-            });
+        self.hand = local.map(|h| {
+            (
+                h,
+                self.hand.map_or(Vector3::zeros(), |(before, _)| h - before),
+            )
+        });
     }
 
     /// Takes the arm over as it is in `pose` (from another driver): the next

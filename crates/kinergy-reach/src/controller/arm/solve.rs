@@ -149,8 +149,8 @@ pub(super) fn solve_arm_near(
                 // stretched overhead was flipped through its swing's half turn, the hand thrown
                 // at 2.9 m/s).
                 let found = |c: f64| {
-                    let best = closest_alpha_around(&ik, p, &q0, c)?;
-                    Some((best, posture_distance(&ik, p, &q0, best)?))
+                    let (best, inside) = closest_alpha_around(&ik, p, &q0, c)?;
+                    Some((best, posture_distance(&ik, p, &q0, best)?, inside))
                 };
                 let own = ik
                     .position_alpha_of(&q0)
@@ -164,13 +164,14 @@ pub(super) fn solve_arm_near(
                 // Neither window holds the last posture (the reference of a hanging arm turned
                 // more than the window in a frame: its orbit angle jumped 32° on a reach's
                 // first frame, and the arm twisted 0.08 rad with the hand at rest): the whole
-                // circle, as for a first frame.
+                // circle, as for a first frame. A window holds it where its nearest posture
+                // lies inside it, not on its edge, and is within a frame's motion of the last.
                 match near {
-                    Some((angle, d)) if d <= SAME_POSTURE => Some(angle),
+                    Some((angle, d, true)) if d <= SAME_POSTURE => Some(angle),
                     _ => {
                         let whole = closest_alpha(&ik, p, &q0)
                             .and_then(|c| closest_alpha_around(&ik, p, &q0, c))
-                            .and_then(|c| Some((c, posture_distance(&ik, p, &q0, c)?)));
+                            .and_then(|(c, _)| Some((c, posture_distance(&ik, p, &q0, c)?)));
                         match (near, whole) {
                             (Some(n), Some(w)) if w.1 < n.1 => Some(w.0),
                             (Some(n), _) => Some(n.0),
@@ -227,9 +228,10 @@ pub(super) fn solve_arm_near(
 }
 
 /// The squared distance in the shoulder and elbow DoFs, radians², below which the posture
-/// [`Near::PostureAround`]'s window found is the last one carried on (a frame's motion moves it
-/// far less than 0.01 rad); above it the whole circle is searched too.
-const SAME_POSTURE: f64 = 1e-4;
+/// found inside [`Near::PostureAround`]'s window is the last one carried on (0.1 rad: a frame's
+/// motion moves it 0.01–0.02 rad in a fast squat at 30 Hz, where a bound of 0.01 rad sent 186
+/// of 235 frames round the whole circle); above it the whole circle is searched too.
+const SAME_POSTURE: f64 = 1e-2;
 
 /// Bisection steps of [`solve_arm_outward`] (the scale to 1/256 of its bracket).
 const OUTWARD_BISECTIONS: usize = 8;
@@ -308,8 +310,14 @@ fn posture_distance(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], a: f64) -> Opti
 /// ([`closest_alpha`] searches all 72 angles; from one frame to the next the closest angle
 /// moves little, and a flip is caught by [`ARM_JUMP`](super::follower::ARM_JUMP)'s test), then
 /// refined between the grid's angles. Five to eight solves a frame where a scan of the 13
-/// angles took 13.
-fn closest_alpha_around(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], center: f64) -> Option<f64> {
+/// angles took 13. With it, whether the angle lies inside the window (not on its edge, where
+/// the nearest posture may lie beyond it).
+fn closest_alpha_around(
+    ik: &LimbIk,
+    p: &Point3<f64>,
+    q0: &[f64; 7],
+    center: f64,
+) -> Option<(f64, bool)> {
     const STEP: f64 = 5.0 * std::f64::consts::PI / 180.0;
     const STEPS: i32 = 6;
     let distance = |k: i32| posture_distance(ik, p, q0, center + f64::from(k) * STEP);
@@ -318,7 +326,7 @@ fn closest_alpha_around(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], center: f64
         return (-STEPS..=STEPS)
             .filter_map(|k| distance(k).map(|d| (k, d)))
             .min_by(|x, y| x.1.total_cmp(&y.1))
-            .map(|(k, _)| center + f64::from(k) * STEP);
+            .map(|(k, _)| (center + f64::from(k) * STEP, k.abs() < STEPS));
     };
     let mut at: i32 = 0;
     for direction in [1, -1] {
@@ -357,7 +365,10 @@ fn closest_alpha_around(ik: &LimbIk, p: &Point3<f64>, q0: &[f64; 7], center: f64
         }
         _ => None,
     };
-    Some(center + refined.unwrap_or(f64::from(at)) * STEP)
+    Some((
+        center + refined.unwrap_or(f64::from(at)) * STEP,
+        at.abs() < STEPS,
+    ))
 }
 
 /// The shoulder: the arm chain's base, in world.
