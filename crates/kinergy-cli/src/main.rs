@@ -18,6 +18,7 @@ mod segment;
 mod style;
 mod synth;
 mod synthesize;
+mod view;
 
 /// Learn and synthesize human reaching motion from BVH captures.
 #[derive(Debug, Parser)]
@@ -112,6 +113,13 @@ enum Command {
         after_help = "Examples:\n  kinergy animate capture.bvh sa.bvh sc.bvh -o overlay.gif --view side\n  kinergy animate data-synthetic/p01/r01.bvh data-synthetic/p01/r02.bvh -o pair.gif --fps 12 --strip pair.svg --strip-frames 8 --json"
     )]
     Animate(animate::Args),
+    /// Show clips in a browser: one self-contained HTML page (three.js, offline), the clips
+    /// overlaid in 3-D with play, step, speed and a scrubber, and the hand-speed chart synced
+    /// to it.
+    #[command(
+        after_help = "Examples:\n  kinergy view capture.bvh sa.bvh sc.bvh -o view.html\n  kinergy view data-synthetic/p01/r09.bvh --target 0.2,1.0,0.5 -o r09.html\n  kinergy view plan.bvh --scene examples/bookshelf/scene.json -o plan.html"
+    )]
+    View(view::Args),
     /// Print the shell completion script for bash, zsh, fish, elvish or PowerShell.
     #[command(
         after_help = "Examples:\n  kinergy completions bash > ~/.local/share/bash-completion/completions/kinergy\n  kinergy completions zsh > ~/.zfunc/_kinergy\n  kinergy completions fish > ~/.config/fish/completions/kinergy.fish"
@@ -140,6 +148,7 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::run(&args),
         Command::Plot(args) => plot::run(&args),
         Command::Animate(args) => animate::run(&args),
+        Command::View(args) => view::run(&args),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "kinergy", &mut script);

@@ -42,9 +42,11 @@ pub struct Args {
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
-    /// Also write style.csv (one row per capture), summary.md, the pictures speed.svg|png
-    /// (the hand-speed profiles) and strip.svg|png (the first capture's reach, the character
-    /// over the capture), and each capture's two full-body reaches as BVH (NAME.params.bvh,
+    /// Also write style.csv (one row per capture), summary.md, view.html (the first capture
+    /// and its two reaches in a browser, `kinergy view`'s page, with the charts), the
+    /// pictures speed.svg|png (the hand-speed profiles) and strip.svg|png (the first capture's
+    /// reach, the character over the capture), and each capture's two full-body reaches as
+    /// BVH (NAME.params.bvh,
     /// NAME.profile.bvh) into this folder (made if missing).
     #[arg(short, long, value_name = "DIR")]
     pub output: Option<PathBuf>,
@@ -182,7 +184,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         inputs.push(&args.params);
         let mut files: Vec<PathBuf> = reach_files.iter().flatten().cloned().collect();
         files.extend(
-            ["style.csv", "summary.md"]
+            ["style.csv", "summary.md", kinergy_draw::style::VIEW]
                 .into_iter()
                 .chain(kinergy_draw::style::FILES)
                 .map(|name| dir.join(name)),
@@ -240,6 +242,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
                 arm: args.arm.side()?,
             };
             pictures.save_all(dir)?;
+            pictures.save_view(dir)?;
         }
     }
     if args.json {

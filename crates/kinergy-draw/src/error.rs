@@ -97,6 +97,15 @@ pub enum DrawError {
         /// Why.
         source: kinergy_motion::MotionError,
     },
+    /// A clip or page the viewer cannot show (no frames, positions not finite, too many
+    /// clips).
+    #[error("{clip}: {why}")]
+    View {
+        /// The clip's file or label (the page's title for the page).
+        clip: String,
+        /// Why, as people read it.
+        why: String,
+    },
     /// A style run's capture could not be carried onto the character, or the character's
     /// poses made into a clip.
     #[error("{name}: {source}")]
@@ -153,7 +162,8 @@ impl kinergy_io::Classify for DrawError {
             | DrawError::Scene { .. }
             | DrawError::ReportRead { .. }
             | DrawError::Report { .. }
-            | DrawError::NotInScene { .. } => ErrorKind::Input,
+            | DrawError::NotInScene { .. }
+            | DrawError::View { .. } => ErrorKind::Input,
         }
     }
 }

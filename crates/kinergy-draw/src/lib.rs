@@ -12,6 +12,8 @@
 //!   smoothing (Kallmann's Fig. 4);
 //! - [`style`]: the pictures of a style run (hand-speed profiles, the character over the
 //!   capture);
+//! - [`viewer`]: clips in a browser, one self-contained HTML page (three.js, inlined), the
+//!   hand-speed chart synced to the scrubber;
 //! - [`save`], [`stage`], [`stage_gif`], [`commit`]: SVG, PNG and GIF files written atomically,
 //!   in the embedded DejaVu font (no system fonts) and a colour-blind-safe [`PALETTE`].
 //!
@@ -49,6 +51,7 @@ pub mod search;
 pub mod shapes;
 pub mod strip;
 pub mod style;
+pub mod viewer;
 
 pub use chart::{Bar, BarChart, LineChart, Panels, Series};
 pub use error::DrawError;

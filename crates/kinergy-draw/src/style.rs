@@ -38,6 +38,9 @@ type Profile = fn(&StyleRun) -> &[f64];
 /// The fractions of the reach the film strip shows.
 pub const STRIP_AT: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
 
+/// The page [`StylePictures::save_view`] writes.
+pub const VIEW: &str = "view.html";
+
 /// The files [`StylePictures::save_all`] writes into its folder (for an output check).
 pub const FILES: [&str; 6] = [
     "speed.svg",
@@ -86,6 +89,107 @@ impl StylePictures<'_> {
     /// `realtime.svg|png`: each capture's hand speed in real time beside every predictor's.
     pub fn realtime_chart(&self, dir: &Path) -> Result<(), DrawError> {
         realtime_chart(dir, self.who, self.fidelity)
+    }
+
+    /// `view.html` ([`VIEW`]): the first capture's reach from its onset (carried onto the
+    /// character as the film strip carries it) and the character's two reaches of it — with
+    /// the person's parameters and with the default profile — overlaid in the browser
+    /// ([`crate::viewer`]), each hand's speed in the world on the chart, and the real-time and
+    /// speed charts [`StylePictures::save_all`] wrote into `dir` under it. Nothing without a
+    /// run.
+    pub fn save_view(&self, dir: &Path) -> Result<(), DrawError> {
+        use crate::viewer::{Hand, ViewerClip, ViewerPage, page_html};
+        let Some(run) = self.runs.first() else {
+            return Ok(());
+        };
+        let name = &run.row.clip;
+        let character_failed = |source| DrawError::Character {
+            name: name.clone(),
+            source,
+        };
+        let pose_failed = |source| DrawError::Pose {
+            name: name.clone(),
+            source,
+        };
+        let to = self
+            .capture
+            .to_character(self.arm)
+            .map_err(character_failed)?;
+        let (figure, world) = StickFigure::of(self.clip).map_err(pose_failed)?;
+        let joints = self.clip.skeleton().joint_count();
+        let frames = self.clip.frame_count();
+        let [onset, end] = self.capture.frames();
+        let (onset, end) = (onset.min(frames - 1), end.min(frames - 1).max(onset));
+        let positions: Vec<Point3<f64>> = world[onset * joints..(end + 1) * joints]
+            .iter()
+            .map(|p| to * p)
+            .collect();
+        let arm =
+            kinergy_motion::ArmJoints::find(self.clip.skeleton(), self.arm).map_err(pose_failed)?;
+        let speed = kinergy_motion::segment::hand_speed(
+            self.clip,
+            &arm,
+            &kinergy_motion::segment::SegmentSettings::default(),
+        )
+        .map_err(pose_failed)?;
+        let short = Path::new(name)
+            .file_stem()
+            .map_or_else(|| name.clone(), |s| s.to_string_lossy().into_owned());
+        let captured = ViewerClip::new(
+            format!("{short} (captured)"),
+            self.clip.frame_time(),
+            self.clip
+                .skeleton()
+                .joints()
+                .iter()
+                .map(|j| j.name.clone())
+                .collect(),
+            figure
+                .bones(&world[..joints])
+                .map(|(p, c, _)| (p, c))
+                .collect(),
+            &positions,
+            speed[onset..=end].to_vec(),
+        )?;
+        let mut clips = vec![captured];
+        for (label, motion) in [
+            ("the person's parameters", &run.params_motion),
+            ("the default profile", &run.profile_motion),
+        ] {
+            let clip = self
+                .capture
+                .character()
+                .to_clip(&motion.poses, motion.frame_time)
+                .map_err(character_failed)?;
+            clips.push(ViewerClip::of_clip(
+                &clip,
+                Path::new(name),
+                format!("{short} ({label})"),
+                Hand::Side(self.arm),
+            )?);
+        }
+        let figures = [
+            (
+                "realtime.svg",
+                "In real time, beside the person's own repeats",
+            ),
+            ("speed.svg", "Hand-speed profiles, time-normalized"),
+        ]
+        .iter()
+        .filter_map(|(file, caption)| {
+            let svg = std::fs::read_to_string(dir.join(file)).ok()?;
+            Some((caption.to_string(), svg))
+        })
+        .collect();
+        let page = ViewerPage {
+            title: format!("{}: {short}", self.who),
+            clips,
+            figures,
+            ..ViewerPage::default()
+        };
+        let html = page_html(&page)?;
+        let out = dir.join(VIEW);
+        kinergy_io::write_atomic(&out, html.as_bytes()).map_err(|e| DrawError::io(&out, e))
     }
 
     /// `strip.svg|png`: the first run's reach, the character over the capture (nothing
