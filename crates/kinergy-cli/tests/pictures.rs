@@ -310,6 +310,17 @@ fn style_draws_the_speed_chart_and_the_film_strip_overlaid_on_the_capture() {
             "{name} is not a PNG"
         );
     }
+    // The page: the first capture and its two reaches, with the charts under them.
+    let page = std::fs::read_to_string(out.join("view.html")).expect("view.html");
+    for label in [
+        "r09 (captured)",
+        "r09 (the person's parameters)",
+        "r09 (the default profile)",
+        "In real time, beside the person&#39;s own repeats",
+        "data:image/svg+xml,",
+    ] {
+        assert!(page.contains(label), "{label:?} missing from view.html");
+    }
     let speed = std::fs::read_to_string(out.join("speed.svg")).expect("speed.svg");
     well_formed(&speed).unwrap_or_else(|e| panic!("speed.svg: {e}"));
     let mean_r = format!(

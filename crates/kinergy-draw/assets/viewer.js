@@ -49,7 +49,7 @@
   }
   let renderer = null;
   try {
-    renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+    renderer = new THREE.WebGLRenderer({ canvas, antialias: false });
   } catch (e) {
     report.webgl = 'no';
     document.getElementById('nogl').hidden = false;
@@ -170,7 +170,31 @@
   const margin = { left: 52, right: 12, top: 10, bottom: 30 };
   const xOf = (t) => margin.left + (t / Math.max(duration, 1e-9)) * (chart.width - margin.left - margin.right);
   const yOf = (v) => chart.height - margin.bottom - (v / top) * (chart.height - margin.top - margin.bottom);
+  // The lines and axes are drawn once per size into a layer; each frame copies it and draws
+  // the cursor (redrawing 10,000-point lines every frame cost more than the 3-D view).
+  const layer = document.createElement('canvas');
+  let layerSize = '';
   function drawChart() {
+    const key = chart.width + 'x' + chart.height;
+    if (key !== layerSize) {
+      layer.width = chart.width;
+      layer.height = chart.height;
+      drawLines(layer.getContext('2d'));
+      layerSize = key;
+    }
+    if (layerSize !== drawnSize) {
+      pen.clearRect(0, 0, chart.width, chart.height);
+      pen.drawImage(layer, 0, 0);
+      drawnSize = layerSize;
+      cursor.style.top = chart.offsetTop + margin.top + 'px';
+      cursor.style.height = chart.height - margin.top - margin.bottom + 'px';
+    }
+    // The cursor is a line over the chart moved by a transform: the chart is not redrawn.
+    cursor.style.transform = 'translateX(' + ((xOf(time) * chart.clientWidth) / chart.width).toFixed(1) + 'px)';
+  }
+  let drawnSize = '';
+  const cursor = document.getElementById('cursor');
+  function drawLines(pen) {
     const w = chart.width;
     const h = chart.height;
     pen.clearRect(0, 0, w, h);
@@ -203,12 +227,6 @@
       });
       pen.stroke();
     }
-    pen.strokeStyle = '#000';
-    pen.lineWidth = 1;
-    pen.beginPath();
-    pen.moveTo(xOf(time), margin.top);
-    pen.lineTo(xOf(time), h - margin.bottom);
-    pen.stroke();
   }
   chart.addEventListener('click', (e) => {
     const r = chart.getBoundingClientRect();
@@ -251,24 +269,43 @@
   function resize() {
     const w = view.clientWidth;
     const h = view.clientHeight;
-    if (renderer) renderer.setSize(w, h, false);
-    canvas.width = w;
-    canvas.height = h;
+    if (renderer) {
+      renderer.setSize(w, h, false);
+    } else {
+      canvas.width = w;
+      canvas.height = h;
+    }
     camera.aspect = w / Math.max(h, 1);
     camera.updateProjectionMatrix();
-    chart.width = chart.clientWidth;
-    chart.height = chart.clientHeight;
+    if (chart.width !== chart.clientWidth || chart.height !== chart.clientHeight) {
+      chart.width = chart.clientWidth;
+      chart.height = chart.clientHeight;
+      drawnSize = '';
+    }
   }
+  let first = true;
+  let shownAt = -Infinity;
   function render() {
     figures.forEach(pose);
     if (renderer) renderer.render(scene, camera);
     drawChart();
-    scrubber.value = String(time);
-    playButton.textContent = playing ? 'pause' : 'play';
-    clock.textContent = time.toFixed(3) + ' s / ' + duration.toFixed(3) + ' s';
+    // The scrubber and the clock at most 10 times a second while playing: each change repaints
+    // them, which a software compositor pays for on every frame.
+    const now = performance.now();
+    if (!playing || now - shownAt > 100) {
+      shownAt = now;
+      scrubber.value = String(time);
+      playButton.textContent = playing ? 'pause' : 'play';
+      clock.textContent = time.toFixed(3) + ' s / ' + duration.toFixed(3) + ' s';
+    }
+    report.time = String(time);
+    report.shown = JSON.stringify(figures.map((f) => f.frame));
+    // While playing, the rest waits for a pause (it costs more than the drawing for many clips).
+    if (playing && !first) return;
+    first = false;
     camera.updateMatrixWorld();
-    const w = canvas.width;
-    const h = canvas.height;
+    const w = view.clientWidth;
+    const h = view.clientHeight;
     // Where each joint is on the screen, read back from the drawn geometry (CSS pixels, top left).
     const screen = figures.map((f) => {
       const a = f.joints.attributes.position.array;
@@ -280,8 +317,6 @@
       return out;
     });
     const viewProjection = new THREE.Matrix4().multiplyMatrices(camera.projectionMatrix, camera.matrixWorldInverse);
-    report.time = String(time);
-    report.shown = JSON.stringify(figures.map((f) => f.frame));
     report.screen = JSON.stringify(screen);
     report.camera = JSON.stringify(viewProjection.elements); // column-major, as three.js keeps it
     report.viewport = w + ',' + h;
@@ -290,6 +325,7 @@
   }
 
   const intervals = [];
+  const work = [];
   let last = null;
   function loop(now) {
     if (last !== null) {
@@ -302,13 +338,21 @@
       }
     }
     last = now;
-    if (playing || intervals.length < 2) render();
+    if (playing || intervals.length < 2) {
+      const start = performance.now();
+      render();
+      work.push(performance.now() - start);
+      if (work.length > 600) work.shift();
+    }
     if (intervals.length % 30 === 0 && intervals.length > 0) {
       const sorted = intervals.slice().sort((a, b) => a - b);
       const mean = intervals.reduce((s, v) => s + v, 0) / intervals.length;
       report.frameMs = (mean * 1000).toFixed(2);
       report.frameMsP95 = (sorted[Math.floor(0.95 * (sorted.length - 1))] * 1000).toFixed(2);
       report.renderedFrames = String(intervals.length);
+      // The page's own work per frame (posing, drawing calls, the chart), ms: what is left of
+      // a frame is the browser's (compositing; rasterizing, without a GPU).
+      report.renderMs = (work.reduce((s, v) => s + v, 0) / Math.max(work.length, 1)).toFixed(3);
     }
     requestAnimationFrame(loop);
   }
