@@ -11,6 +11,7 @@ The Rust toolkit behind the ``kinergy`` command, with numpy arrays in and out::
     p.save("me.json")                                    # the file `kinergy fit` writes
     motion = kinergy.synthesize(clip, p, frames="auto")  # the reach, in their style
     body = kinergy.reach([-0.3, 1.3, 0.45], params=p)    # the full-body character reaches
+    kinergy.view([clip, motion], "view.html")            # both in a browser, offline
 
 Every function does what the CLI command of the same name does, with the same defaults and
 the same results for the same seed. Errors are exceptions below :class:`KinergyError`.
@@ -37,6 +38,7 @@ from ._kinergy import (
     segment,
     style,
     synthesize,
+    view,
 )
 
 __version__: str = _kinergy.__version__
@@ -60,6 +62,7 @@ __all__ = [
     "segment",
     "style",
     "synthesize",
+    "view",
 ]
 
 

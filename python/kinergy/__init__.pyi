@@ -24,6 +24,7 @@ from ._kinergy import (
     segment as segment,
     style as style,
     synthesize as synthesize,
+    view as view,
 )
 
 __version__: str

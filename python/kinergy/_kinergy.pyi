@@ -324,6 +324,21 @@ def reach(
 ) -> Clip:
     """One full-body reach of the 43-DoF character, as `kinergy reach` makes it."""
 
+def view(
+    clips: ClipLike | Sequence[ClipLike],
+    output: PathLike,
+    *,
+    target: Sequence[float] | None = None,
+    scene: PathLike | None = None,
+    hand: Literal["right", "left", "auto", "none"] = "auto",
+    title: str | None = None,
+    labels: Sequence[str] | None = None,
+    unit: str = "auto",
+    up: str = "auto",
+    positions: str = "auto",
+) -> int:
+    """Writes `kinergy view`'s page of the clips (one self-contained HTML file); its size."""
+
 def hand_speed(
     clip: ClipLike,
     *,

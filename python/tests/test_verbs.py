@@ -378,3 +378,33 @@ def test_ctrl_c_stops_compare_promptly(at_root):
     finally:
         timer.cancel()
     assert time.monotonic() - start < 15
+
+
+def test_view_writes_the_cli_s_page(cli, at_root, tmp_path):
+    clips = [R09, "data-synthetic/p01/r03.bvh"]
+    ours = tmp_path / "ours.html"
+    size = kinergy.view(clips, ours, target=[0.2, 1.0, 0.5])
+    theirs = tmp_path / "theirs.html"
+    run(cli, "view", *clips, "--target", "0.2,1.0,0.5", "-o", str(theirs))
+    # The same page, byte for byte, and its size returned.
+    assert ours.read_bytes() == theirs.read_bytes()
+    assert size == len(ours.read_bytes())
+    # A Clip made in memory is labelled, and what was read is what the page holds.
+    clip = kinergy.read_bvh(R09)
+    page = tmp_path / "mem.html"
+    kinergy.view([clip], page, labels=["mine"], hand="right")
+    text = page.read_text()
+    assert '"label":"mine"' in text and f'"frames":{clip.frame_count}' in text
+
+
+def test_view_refuses_bad_arguments_before_writing(at_root, tmp_path):
+    out = tmp_path / "v.html"
+    with pytest.raises(kinergy.InputError, match=r"\.html"):
+        kinergy.view([R09], tmp_path / "v.png")
+    with pytest.raises(kinergy.InputError, match="labels"):
+        kinergy.view([R09], out, labels=["a", "b"])
+    with pytest.raises(kinergy.InputError, match="hand"):
+        kinergy.view([R09], out, hand="both")
+    with pytest.raises(kinergy.InputError, match="target"):
+        kinergy.view([R09], out, target=[0.0, float("nan"), 0.0])
+    assert not out.exists()

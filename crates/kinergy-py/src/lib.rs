@@ -4,7 +4,7 @@
 //!
 //! Each file is one Python verb — [`segment`], [`fit`], [`synthesize`], [`reach`],
 //! [`style`], [`plan`], [`compare`], [`library`] (`fit(..., out_dir=)` and `collect`),
-//! [`plot`] (`hand_speed`) — or one of the classes ([`clip::Clip`], [`params::Params`]),
+//! [`plot`] (`hand_speed`), [`view`] (the page of `kinergy view`) — or one of the classes ([`clip::Clip`], [`params::Params`]),
 //! plus [`args`] (Python's arguments into the library's types, and its reports back),
 //! [`errors`] (the exception classes, from the library errors' kinds) and [`progress`]
 //! (Ctrl-C and progress callbacks). Each verb is parse → the library's request → run →
@@ -33,6 +33,7 @@ pub mod reach;
 pub mod segment;
 pub mod style;
 pub mod synthesize;
+pub mod view;
 
 /// Fills the module `kinergy._kinergy`: classes, functions, exceptions and constants.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -46,6 +47,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(synthesize::synthesize, m)?)?;
     m.add_function(wrap_pyfunction!(reach::reach, m)?)?;
     m.add_function(wrap_pyfunction!(plot::hand_speed, m)?)?;
+    m.add_function(wrap_pyfunction!(view::view, m)?)?;
     m.add_function(wrap_pyfunction!(style::style, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
