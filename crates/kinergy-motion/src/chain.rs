@@ -304,6 +304,19 @@ impl Chain {
     ) -> Result<()> {
         self.check(q)?;
         out.frames.clear();
+        out.end = self.walk(base, q, |frame| out.frames.push(*frame));
+        Ok(())
+    }
+
+    /// Forward kinematics from `base` at `q` (checked): each joint's frame after its motions
+    /// to `each`, in order; the end effector's position.
+    #[inline]
+    fn walk(
+        &self,
+        base: &IsometryMatrix3<f64>,
+        q: &[f64],
+        mut each: impl FnMut(&IsometryMatrix3<f64>),
+    ) -> Point3<f64> {
         let mut frame = *base;
         let mut k = 0;
         for (j, &rest_identity) in self.joints.iter().zip(&self.rest_identity) {
@@ -312,10 +325,9 @@ impl Chain {
                 apply_motion(&mut frame.rotation, m, &q[k..]);
                 k += m.dof_count();
             }
-            out.frames.push(frame);
+            each(&frame);
         }
-        out.end = frame * Point3::from(self.end_effector);
-        Ok(())
+        frame * Point3::from(self.end_effector)
     }
 
     /// Moves `frame` from the previous joint to joint `j`, before its motions.
@@ -341,16 +353,7 @@ impl Chain {
     /// (no allocation; the same arithmetic, so the same bits).
     pub fn end_position(&self, base: &IsometryMatrix3<f64>, q: &[f64]) -> Result<Point3<f64>> {
         self.check(q)?;
-        let mut frame = *base;
-        let mut k = 0;
-        for (j, &rest_identity) in self.joints.iter().zip(&self.rest_identity) {
-            self.enter_joint(&mut frame, j, rest_identity);
-            for m in &j.motions {
-                apply_motion(&mut frame.rotation, m, &q[k..]);
-                k += m.dof_count();
-            }
-        }
-        Ok(frame * Point3::from(self.end_effector))
+        Ok(self.walk(base, q, |_| {}))
     }
 
     /// The positional Jacobian (3 × DoFs) of the end effector at `q`, into `out`.
