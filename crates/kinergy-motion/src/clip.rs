@@ -3,8 +3,10 @@
 use std::sync::Arc;
 
 mod arrays;
+mod positions;
 mod state;
 pub use arrays::{ClipArrays, RotationArrays};
+pub use positions::{FromPositions, PositionArrays};
 pub use state::{ClipState, JointState};
 
 use nalgebra::Point3;

@@ -1,0 +1,102 @@
+//! Joint positions → a clip ([`Clip::from_positions`]), round trip on every shared capture
+//! (all rigs: CMU, Bandai, Mixamo, Z-up, the bend-and-lift takes) and the committed fixtures:
+//! each capture's world positions, made into a clip, come back within 1 mm at every joint on
+//! every frame, and the clip has the capture's joints, frames and rate.
+
+use std::path::{Path, PathBuf};
+
+use kinergy_motion::{Clip, PositionArrays, read_clip};
+#[path = "../../../tests/support/require_shared.rs"]
+mod require_shared;
+
+fn bvh_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|d| d.flatten().map(|e| e.path()).collect())
+        .unwrap_or_default();
+    files.retain(|p| p.extension().is_some_and(|e| e == "bvh"));
+    files.sort();
+    files
+}
+
+/// Every capture: the fixtures, and each folder of `../shared/data` (skipping, saying so,
+/// where it is absent unless required).
+fn captures() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files = bvh_files(&root.join("tests/data"));
+    let shared = root.join("../shared/data");
+    match std::fs::read_dir(&shared) {
+        Ok(folders) => {
+            let mut folders: Vec<PathBuf> = folders.flatten().map(|e| e.path()).collect();
+            folders.sort();
+            for folder in folders.iter().filter(|p| p.is_dir()) {
+                files.extend(bvh_files(folder));
+            }
+        }
+        Err(_) => require_shared::shared_absent(&format!(
+            "skipping the shared captures: {} is absent (never committed)",
+            shared.display()
+        )),
+    }
+    files
+}
+
+#[test]
+fn every_captures_positions_come_back_within_a_millimetre() {
+    let mut worst = Vec::new();
+    let (mut rigid, mut stretchy) = (0, Vec::new());
+    let files = captures();
+    assert!(files.len() >= 2, "{files:?}");
+    for path in &files {
+        let (clip, _) = read_clip(path, &Default::default()).expect("read");
+        let skeleton = clip.skeleton();
+        let names: Vec<String> = skeleton.joints().iter().map(|j| j.name.clone()).collect();
+        let parents: Vec<i64> = skeleton
+            .joints()
+            .iter()
+            .map(|j| j.parent.map_or(-1, |p| p as i64))
+            .collect();
+        let positions: Vec<[f64; 3]> = clip
+            .world_positions()
+            .expect("fk")
+            .iter()
+            .map(|p| [p.x, p.y, p.z])
+            .collect();
+        let made = Clip::from_positions(PositionArrays {
+            joint_names: &names,
+            parents: &parents,
+            positions: &positions,
+            frame_time: clip.frame_time(),
+        })
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(made.clip.frame_count(), clip.frame_count());
+        assert_eq!(made.clip.skeleton().joint_count(), names.len());
+        assert_eq!(made.clip.frame_time(), clip.frame_time());
+        // Independently of the report: the new clip's own FK against the input.
+        let again = made.clip.world_positions().expect("fk");
+        let max = again
+            .iter()
+            .zip(&positions)
+            .map(|(a, p)| (a.coords - nalgebra::Vector3::from(*p)).norm())
+            .fold(0.0, f64::max);
+        assert!((max - made.max_error_m()).abs() < 1e-12);
+        worst.push((path.file_name().unwrap_or_default().to_owned(), max));
+        // A rigid skeleton's positions come back; bones that stretch over the take (reported)
+        // are held at their median lengths, and no joint is further off than all of their
+        // ranges together.
+        let stretch: f64 = made.stretched.iter().map(|s| s.1).sum();
+        assert!(
+            max < 1e-3 + stretch,
+            "{}: a joint {max} m from its position ({:?} stretch)",
+            path.display(),
+            made.stretched
+        );
+        if made.stretched.is_empty() {
+            rigid += 1;
+        } else {
+            stretchy.push((path.clone(), made.stretched.clone()));
+        }
+    }
+    eprintln!("{worst:?}");
+    eprintln!("{rigid} rigid; with stretching bones: {stretchy:?}");
+    assert!(rigid >= 2, "the fixtures are rigid");
+}
