@@ -17,6 +17,7 @@ from ._kinergy import (
     UnreachableError as UnreachableError,
     collect as collect,
     fit as fit,
+    from_positions as from_positions,
     hand_speed as hand_speed,
     plan as plan,
     reach as reach,

@@ -324,6 +324,15 @@ def reach(
 ) -> Clip:
     """One full-body reach of the 43-DoF character, as `kinergy reach` makes it."""
 
+def from_positions(
+    positions: npt.ArrayLike,
+    joint_names: Sequence[str],
+    parents: Sequence[int],
+    *,
+    frame_time: float = 1.0 / 30.0,
+) -> Clip:
+    """A clip whose joints are at `positions` (frames, joints, 3), the hierarchy by `parents`."""
+
 def view(
     clips: ClipLike | Sequence[ClipLike],
     output: PathLike,

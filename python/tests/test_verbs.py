@@ -408,3 +408,23 @@ def test_view_refuses_bad_arguments_before_writing(at_root, tmp_path):
     with pytest.raises(kinergy.InputError, match="target"):
         kinergy.view([R09], out, target=[0.0, float("nan"), 0.0])
     assert not out.exists()
+
+
+def test_from_positions_gives_the_positions_back(at_root):
+    clip = kinergy.read_bvh("tests/data/006_14.bvh")
+    parents = clip.parents
+    made = kinergy.from_positions(clip.positions, clip.joint_names, parents,
+                                  frame_time=clip.frame_time)
+    # Independent of the report: numpy's difference of the two clips' positions.
+    assert made.positions.shape == clip.positions.shape
+    # (A micrometre: the CMU rig's near-zero hip bones carry little direction.)
+    assert np.abs(made.positions - clip.positions).max() < 1e-5
+    assert made.report["max_error_m"] < 1e-5 and made.report["stretched"] == []
+    assert made.frame_time == clip.frame_time and made.joint_names == clip.joint_names
+    # A bone that stretches is reported, and its joint is off by no more than its range.
+    moved = clip.positions.copy()
+    moved[::2, 1:] += [0.0, 0.05, 0.0]  # every second frame the body floats off its root
+    odd = kinergy.from_positions(moved, clip.joint_names, parents)
+    assert [name for name, _ in odd.report["stretched"]] != []
+    with pytest.raises(kinergy.InputError, match=r"\(frames, 141, 3\)"):
+        kinergy.from_positions(clip.positions[:, :3], clip.joint_names, parents)

@@ -370,6 +370,82 @@ impl Clip {
     }
 }
 
+/// A clip whose joints are at `positions` (float (frames, joints, 3), meters, Y up: SMPL
+/// joints, a pose estimator's 3-D keypoints, C3D joint centres), the hierarchy given by
+/// `joint_names` and `parents` (-1 for the root, parents before children), `frame_time`
+/// seconds apart (`kinergy_motion::Clip::from_positions`): the first frame is the rest pose,
+/// each bone at its median length, each joint's rotation from where its children are. Its
+/// `report`: the largest distance of any joint from its position (`max_error_m`) and each
+/// joint's (`joint_max_error_m`), the joints whose twist the positions do not determine
+/// (`undetermined`, kept from frame to frame) and the bones whose length varies (`stretched`).
+#[pyfunction]
+#[pyo3(signature = (positions, joint_names, parents, *, frame_time = 1.0 / 30.0))]
+pub fn from_positions(
+    py: Python<'_>,
+    positions: PyReadonlyArray3<'_, f64>,
+    joint_names: Vec<String>,
+    parents: Vec<i64>,
+    frame_time: f64,
+) -> PyResult<Clip> {
+    let array = positions.as_array();
+    let n = joint_names.len();
+    if array.shape().len() != 3 || array.shape()[1] != n || array.shape()[2] != 3 {
+        return Err(errors::input(format!(
+            "from_positions: positions has shape {:?}, expected (frames, {n}, 3)",
+            array.shape()
+        )));
+    }
+    if !(frame_time.is_finite() && frame_time > 0.0) {
+        return Err(errors::input(format!(
+            "from_positions: frame_time {frame_time} is not a positive number of seconds"
+        )));
+    }
+    let flat: Vec<[f64; 3]> = array
+        .outer_iter()
+        .flat_map(|frame| {
+            frame
+                .outer_iter()
+                .map(|p| [p[0], p[1], p[2]])
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let made = py
+        .detach(|| {
+            kinergy_motion::Clip::from_positions(kinergy_motion::PositionArrays {
+                joint_names: &joint_names,
+                parents: &parents,
+                positions: &flat,
+                frame_time,
+            })
+        })
+        .map_err(|e| errors::input(format!("from_positions: {e}")))?;
+    let joint_max: serde_json::Map<String, serde_json::Value> = joint_names
+        .iter()
+        .enumerate()
+        .map(|(j, name)| {
+            let worst = made
+                .error_m
+                .iter()
+                .skip(j)
+                .step_by(n)
+                .copied()
+                .fold(0.0, f64::max);
+            (name.clone(), serde_json::json!(worst))
+        })
+        .collect();
+    let report = serde_json::json!({
+        "max_error_m": made.max_error_m(),
+        "joint_max_error_m": joint_max,
+        "undetermined": made.undetermined,
+        "stretched": made.stretched,
+    });
+    Ok(Clip {
+        inner: made.clip,
+        path: None,
+        report: Some(report.to_string()),
+    })
+}
+
 /// A clip as pickled ([`Clip::__reduce__`]): its state as JSON, path, report.
 type ClipState = (String, Option<PathBuf>, Option<String>);
 

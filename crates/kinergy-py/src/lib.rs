@@ -41,6 +41,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<clip::Clip>()?;
     m.add_class::<params::Params>()?;
     m.add_function(wrap_pyfunction!(clip::read_bvh, m)?)?;
+    m.add_function(wrap_pyfunction!(clip::from_positions, m)?)?;
     m.add_function(wrap_pyfunction!(clip::_clip_from_state, m)?)?;
     m.add_function(wrap_pyfunction!(segment::segment, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
