@@ -118,6 +118,23 @@ impl StickFigure {
         StickFigure { roles, bones, dots }
     }
 
+    /// [`StickFigure::of`] for a clip read from `path`: a clip with no frames or joints, and
+    /// one whose joints cannot be placed, are refused naming the file.
+    pub fn of_file(
+        clip: &Clip,
+        path: &std::path::Path,
+    ) -> Result<(StickFigure, Vec<Point3<f64>>), crate::DrawError> {
+        if clip.frame_count() == 0 || clip.skeleton().joint_count() == 0 {
+            return Err(crate::DrawError::NoFrames {
+                path: path.to_path_buf(),
+            });
+        }
+        StickFigure::of(clip).map_err(|source| crate::DrawError::Figure {
+            path: path.to_path_buf(),
+            source,
+        })
+    }
+
     /// Decides the figure of `clip` (runs forward kinematics on every frame); returns it with
     /// the world positions, frame after frame.
     pub fn of(clip: &Clip) -> Result<(StickFigure, Vec<Point3<f64>>), MotionError> {

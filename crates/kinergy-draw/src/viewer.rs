@@ -166,15 +166,7 @@ impl ViewerClip {
         label: String,
         hand: Hand,
     ) -> Result<ViewerClip, DrawError> {
-        if clip.frame_count() == 0 || clip.skeleton().joint_count() == 0 {
-            return Err(DrawError::NoFrames {
-                path: path.to_path_buf(),
-            });
-        }
-        let (figure, world) = StickFigure::of(clip).map_err(|source| DrawError::Figure {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let (figure, world) = StickFigure::of_file(clip, path)?;
         let joints: Vec<String> = clip
             .skeleton()
             .joints()

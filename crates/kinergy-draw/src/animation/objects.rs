@@ -40,15 +40,7 @@ impl Track {
     /// The track of `clip`, read from `path` (errors name it), labelled `label` in the legend.
     pub fn new(clip: &Clip, path: &Path, label: String) -> Result<Track, DrawError> {
         let joints = clip.skeleton().joint_count();
-        if clip.frame_count() == 0 || joints == 0 {
-            return Err(DrawError::NoFrames {
-                path: path.to_path_buf(),
-            });
-        }
-        let (figure, world) = StickFigure::of(clip).map_err(|source| DrawError::Figure {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let (figure, world) = StickFigure::of_file(clip, path)?;
         Ok(Track {
             label,
             frame_time: clip.frame_time(),
