@@ -10,6 +10,7 @@ mod common;
 mod compare;
 mod convert;
 mod fit;
+mod from_positions;
 mod inspect;
 mod plan;
 mod plot;
@@ -113,6 +114,13 @@ enum Command {
         after_help = "Examples:\n  kinergy animate capture.bvh sa.bvh sc.bvh -o overlay.gif --view side\n  kinergy animate data-synthetic/p01/r01.bvh data-synthetic/p01/r02.bvh -o pair.gif --fps 12 --strip pair.svg --strip-frames 8 --json"
     )]
     Animate(animate::Args),
+    /// Turn joint positions per frame (CSV; SMPL, Human3.6M, a JSON map or a BVH's skeleton)
+    /// into BVH: bones of the median length, rotations from the children's directions.
+    #[command(
+        name = "from-positions",
+        after_help = "Examples:\n  kinergy from-positions joints.csv --skeleton smpl24 -o out.bvh\n  kinergy from-positions keypoints.csv --skeleton h36m17 --unit mm --up z --frame-rate 50 -o out.bvh --json"
+    )]
+    FromPositions(from_positions::Args),
     /// Show clips in a browser: one self-contained HTML page (three.js, offline), the clips
     /// overlaid in 3-D with play, step, speed and a scrubber, and the hand-speed chart synced
     /// to it.
@@ -149,6 +157,7 @@ fn main() -> ExitCode {
         Command::Plot(args) => plot::run(&args),
         Command::Animate(args) => animate::run(&args),
         Command::View(args) => view::run(&args),
+        Command::FromPositions(args) => from_positions::run(&args),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "kinergy", &mut script);

@@ -4,9 +4,11 @@ use std::sync::Arc;
 
 mod arrays;
 mod positions;
+mod positions_file;
 mod state;
 pub use arrays::{ClipArrays, RotationArrays};
 pub use positions::{FromPositions, PositionArrays};
+pub use positions_file::{JointMap, PositionTable, read_positions_csv};
 pub use state::{ClipState, JointState};
 
 use nalgebra::Point3;

@@ -1,0 +1,155 @@
+//! `kinergy from-positions`: joint positions per frame (a CSV table) → BVH, the rotations from
+//! [`kinergy_motion::Clip::from_positions`], the hierarchy built in (SMPL's 24 joints,
+//! Human3.6M's 17), from a JSON map or from a BVH's skeleton. The command reads, calls and
+//! reports; the work is kinergy-motion's.
+
+use std::path::{Path, PathBuf};
+
+use kinergy_motion::units::LengthUnit;
+use kinergy_motion::up::UpAxis;
+use kinergy_motion::{Clip, JointMap, PositionArrays, read_positions_csv};
+use serde::Serialize;
+
+use crate::common::{Failure, emit, print_json, write_clip};
+
+/// Arguments of `kinergy from-positions`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The positions: CSV, long (`frame,joint,x,y,z`, a row per frame and joint) or wide
+    /// (`frame,<joint>_x,<joint>_y,<joint>_z,…`, a row per frame); frames numbered without gaps.
+    #[arg(value_name = "POSITIONS.csv")]
+    pub positions: PathBuf,
+    /// Where to write the BVH (atomically; `-` for standard output).
+    #[arg(short, long, value_name = "OUT.bvh")]
+    pub output: PathBuf,
+    /// The joints' hierarchy: a built-in one (smpl24, h36m17), a JSON map (`{"joints":
+    /// [{"name": …, "parent": … or null}, …]}`, parents first), or a BVH whose skeleton gives
+    /// the names and parents.
+    #[arg(long, value_name = "smpl24|h36m17|MAP.json|T.bvh")]
+    pub skeleton: String,
+    /// The positions' length unit: m, cm, mm, in or cmu.
+    #[arg(long, default_value = "m", value_name = "UNIT")]
+    pub unit: LengthUnit,
+    /// The positions' up axis: y, z, x, -y, -z or -x (the BVH is written Y up).
+    #[arg(long, default_value = "y", value_name = "AXIS")]
+    pub up: UpAxis,
+    /// Frames per second (0.1 to 10000).
+    #[arg(long, default_value_t = 30.0, value_name = "HZ")]
+    pub frame_rate: f64,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct Report {
+    output: String,
+    frames: usize,
+    joints: usize,
+    frame_rate_hz: f64,
+    /// The largest distance of any joint from its position, meters.
+    max_error_m: f64,
+    /// Each joint's largest distance from its positions, meters.
+    joint_max_error_m: Vec<(String, f64)>,
+    /// Joints whose twist the positions leave open (kept from frame to frame).
+    undetermined: Vec<String>,
+    /// Bones whose length varies over the frames, with the range, meters.
+    stretched: Vec<(String, f64)>,
+}
+
+/// The hierarchy `--skeleton` names.
+fn joint_map(text: &str) -> Result<JointMap, Failure> {
+    if let Some(map) = JointMap::built_in(text) {
+        return Ok(map);
+    }
+    let path = Path::new(text);
+    let extension = path.extension().map(|e| e.to_string_lossy().to_lowercase());
+    match extension.as_deref() {
+        Some("json") => {
+            let json = std::fs::read_to_string(path).map_err(|e| Failure::input(path, e))?;
+            JointMap::from_json(&json).map_err(|e| Failure::input(path, e))
+        }
+        Some("bvh") => {
+            let (clip, _) = kinergy_motion::read_clip(path, &Default::default())
+                .map_err(|e| Failure::input(path, e))?;
+            Ok(JointMap::of_skeleton(clip.skeleton()))
+        }
+        _ => Err(Failure::Input(format!(
+            "--skeleton {text}: a built-in hierarchy ({}), a .json map or a .bvh",
+            JointMap::built_in_names().join(", ")
+        ))),
+    }
+}
+
+/// Runs `kinergy from-positions`.
+pub fn run(args: &Args) -> Result<(), Failure> {
+    if !(args.frame_rate.is_finite() && (0.1..=10_000.0).contains(&args.frame_rate)) {
+        return Err(Failure::Input(format!(
+            "--frame-rate {}: 0.1 to 10000 frames per second",
+            args.frame_rate
+        )));
+    }
+    let map = joint_map(&args.skeleton)?;
+    {
+        use crate::common::{Output, check_outputs};
+        let mut inputs = vec![args.positions.as_path()];
+        inputs.push(Path::new(&args.skeleton));
+        check_outputs(&inputs, &[Output::File("-o", &args.output)])?;
+    }
+    let text =
+        std::fs::read_to_string(&args.positions).map_err(|e| Failure::input(&args.positions, e))?;
+    let table = read_positions_csv(&args.positions, &text, &map)
+        .map_err(|e| Failure::input(&args.positions, e))?;
+    let positions = table.to_world(args.unit, args.up);
+    let made = Clip::from_positions(PositionArrays {
+        joint_names: &map.names,
+        parents: &map.parents,
+        positions: &positions,
+        frame_time: 1.0 / args.frame_rate,
+    })
+    .map_err(|e| Failure::input(&args.positions, e))?;
+    write_clip(&args.output, &made.clip, &Default::default())?;
+    let n = map.names.len();
+    let report = Report {
+        output: args.output.display().to_string(),
+        frames: table.frames,
+        joints: n,
+        frame_rate_hz: args.frame_rate,
+        max_error_m: made.max_error_m(),
+        joint_max_error_m: map
+            .names
+            .iter()
+            .enumerate()
+            .map(|(j, name)| {
+                let worst = made.error_m.iter().skip(j).step_by(n).copied();
+                (name.clone(), worst.fold(0.0, f64::max))
+            })
+            .collect(),
+        undetermined: made.undetermined.clone(),
+        stretched: made.stretched.clone(),
+    };
+    if args.json {
+        return print_json(&report);
+    }
+    let mut text = format!(
+        "{}: {} frames of {} joints at {} Hz; every joint within {:.2} mm of its position\n",
+        report.output,
+        report.frames,
+        report.joints,
+        report.frame_rate_hz,
+        report.max_error_m * 1e3
+    );
+    if !report.undetermined.is_empty() {
+        text += &format!(
+            "  twist left open by the positions (kept from frame to frame): {}\n",
+            report.undetermined.join(", ")
+        );
+    }
+    for (name, range) in &report.stretched {
+        text += &format!(
+            "  the bone to {name} stretches by {:.1} mm over the take (held at its median)\n",
+            range * 1e3
+        );
+    }
+    emit(&text)
+}
