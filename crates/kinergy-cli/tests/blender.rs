@@ -86,6 +86,48 @@ fn convert(input: &Path, out: &Path, extra: &[&str]) {
 }
 
 /// Every kind of file Kinergy writes, in `dir`: (what made it, the file).
+/// `kinergy from-positions` on `input`'s world positions (Kinergy's FK, as a long CSV), the
+/// hierarchy from `input` itself: the BVH a position table becomes.
+fn from_positions(input: &Path, out: &Path) {
+    use std::fmt::Write as _;
+    let (clip, _) = kinergy_motion::read_clip(input, &Default::default()).expect("read");
+    let names: Vec<String> = clip
+        .skeleton()
+        .joints()
+        .iter()
+        .map(|j| j.name.clone())
+        .collect();
+    let world = clip.world_positions().expect("fk");
+    let mut csv = String::from("frame,joint,x,y,z\n");
+    for (k, p) in world.iter().enumerate() {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{}",
+            k / names.len(),
+            names[k % names.len()],
+            p.x,
+            p.y,
+            p.z
+        );
+    }
+    let table = out.with_extension("csv");
+    std::fs::write(&table, csv).expect("write the table");
+    let rate = format!("{}", 1.0 / clip.frame_time());
+    run_writing(
+        &[
+            "from-positions",
+            utf8(&table),
+            "--skeleton",
+            utf8(input),
+            "--frame-rate",
+            &rate,
+            "-o",
+            utf8(out),
+        ],
+        out,
+    );
+}
+
 fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
     let mut files = Vec::new();
     let shared = repo().join("../shared/data");
@@ -108,6 +150,11 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
                 convert(&input, &out, &["--up-out", "y"]);
                 files.push((format!("convert --up-out y {folder}/{stem}"), out));
             }
+            if folder != "bandai-raise-left" {
+                let out = dir.join(format!("positions-{folder}-{stem}.bvh"));
+                from_positions(&input, &out);
+                files.push((format!("from-positions {folder}/{stem}"), out));
+            }
             if folder == "real-bvh" && stem.starts_with("dataset-1") && bandai.is_none() {
                 bandai = Some(input.clone());
             }
@@ -115,6 +162,9 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
     }
 
     let cc = repo().join("tests/data/006_14.bvh");
+    let out = dir.join("positions-006_14.bvh");
+    from_positions(&cc, &out);
+    files.push(("from-positions tests/data/006_14".into(), out));
     let mut captures = vec![("character-creator", cc)];
     match bandai {
         Some(b) => captures.push(("bandai", b)),
