@@ -1,13 +1,16 @@
-//! Forward kinematics and Jacobians: the 7-DoF arm chain and a 31-joint CMU skeleton.
+//! Forward kinematics and Jacobians: the 7-DoF arm chain and a 31-joint CMU skeleton; and
+//! joint positions made into a clip (`kinergy from-positions`' work).
 //!
 //! `cargo bench -p kinergy-motion --bench kinematics`
 
 use std::hint::black_box;
 use std::path::Path;
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3xX, Translation3, UnitQuaternion};
-use kinergy_motion::{ArmJoints, Chain, ChainPose, ImportOptions, Side, read_clip};
+use kinergy_motion::{
+    ArmJoints, Chain, ChainPose, Clip, ImportOptions, PositionArrays, Side, read_clip,
+};
 
 fn arm_chain(c: &mut Criterion) {
     let arm = Chain::arm(0.30, 0.26, 0.09).expect("arm");
@@ -74,5 +77,52 @@ fn cmu_skeleton(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, arm_chain, cmu_skeleton);
+/// 10,000 frames of 24 joints (the synthetic r09 played back and forth) made into a clip:
+/// the floor is 10,000 frames per second on one core.
+fn from_positions(c: &mut Criterion) {
+    let path = Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data-synthetic/p01/r09.bvh"
+    ));
+    let (clip, _) = read_clip(path, &ImportOptions::default()).expect("r09");
+    let skeleton = clip.skeleton();
+    let n = skeleton.joint_count();
+    let names: Vec<String> = skeleton.joints().iter().map(|j| j.name.clone()).collect();
+    let parents: Vec<i64> = skeleton
+        .joints()
+        .iter()
+        .map(|j| j.parent.map_or(-1, |p| p as i64))
+        .collect();
+    let world: Vec<[f64; 3]> = clip
+        .world_positions()
+        .expect("fk")
+        .iter()
+        .map(|p| [p.x, p.y, p.z])
+        .collect();
+    let frames = world.len() / n;
+    let order: Vec<usize> = (0..frames).chain((0..frames).rev()).collect();
+    let positions: Vec<[f64; 3]> = (0..10_000)
+        .flat_map(|k| {
+            let f = order[k % order.len()];
+            world[f * n..(f + 1) * n].to_vec()
+        })
+        .collect();
+    let mut group = c.benchmark_group("positions");
+    group.throughput(Throughput::Elements(10_000));
+    group.sample_size(10);
+    group.bench_function("from_positions_24_joints_10000_frames", |b| {
+        b.iter(|| {
+            Clip::from_positions(PositionArrays {
+                joint_names: &names,
+                parents: &parents,
+                positions: black_box(&positions),
+                frame_time: clip.frame_time(),
+            })
+            .expect("clip")
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, arm_chain, cmu_skeleton, from_positions);
 criterion_main!(benches);

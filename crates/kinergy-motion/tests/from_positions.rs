@@ -23,6 +23,8 @@ fn bvh_files(dir: &Path) -> Vec<PathBuf> {
 fn captures() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut files = bvh_files(&root.join("tests/data"));
+    // The synthetic character: an idle hand hangs straight below its forearm.
+    files.push(root.join("data-synthetic/p01/r09.bvh"));
     let shared = root.join("../shared/data");
     match std::fs::read_dir(&shared) {
         Ok(folders) => {

@@ -162,11 +162,14 @@ impl Clip {
         let determined: Vec<bool> = (0..n).map(fixes_twist).collect();
         let leaf: Vec<bool> = children.iter().map(Vec::is_empty).collect();
 
-        let mut world = vec![Rotation3::identity(); n];
+        // World rotations as unit quaternions, renormalized as they are composed: a rotation
+        // matrix swung frame after frame drifts from orthonormal, and its quaternion near a half
+        // turn was NaN (an idle hand hanging below its forearm, frame 47 of a synthetic reach).
+        let mut world = vec![UnitQuaternion::identity(); n];
         let mut rotations = Vec::with_capacity(frames * n);
         let mut root_translation = Vec::with_capacity(frames);
         for f in 0..frames {
-            let mut now = vec![Rotation3::identity(); n];
+            let mut now = vec![UnitQuaternion::identity(); n];
             for j in 0..n {
                 if leaf[j] {
                     // An End Site turns with its parent.
@@ -185,14 +188,16 @@ impl Clip {
                 now[j] = if pairs.is_empty() {
                     world[j]
                 } else if determined[j] {
-                    kabsch(&pairs)
+                    UnitQuaternion::from_rotation_matrix(&kabsch(&pairs))
                 } else {
                     // The swing from where the last frame's rotation puts the bone.
                     let (rest, current) = pairs[0];
                     let was = world[j] * rest;
-                    let swing = Rotation3::rotation_between(&was, &current)
+                    let swing = UnitQuaternion::rotation_between(&was, &current)
                         .unwrap_or_else(|| half_turn_about_normal(&was));
-                    swing * world[j]
+                    let mut q = swing * world[j];
+                    q.renormalize();
+                    q
                 };
             }
             for j in 0..n {
@@ -201,7 +206,8 @@ impl Clip {
                 } else {
                     now[parent(j)].inverse() * now[j]
                 };
-                let q = UnitQuaternion::from_rotation_matrix(&local);
+                let mut q = local;
+                q.renormalize();
                 rotations.push([q.w, q.i, q.j, q.k]);
             }
             root_translation.push(arrays.positions[f * n]);
@@ -251,14 +257,14 @@ fn kabsch(pairs: &[(Vector3<f64>, Vector3<f64>)]) -> Rotation3<f64> {
 }
 
 /// A half turn about an axis normal to `v` (the turn that reverses a bone).
-fn half_turn_about_normal(v: &Vector3<f64>) -> Rotation3<f64> {
+fn half_turn_about_normal(v: &Vector3<f64>) -> UnitQuaternion<f64> {
     let other = if v.x.abs() < 0.9 {
         Vector3::x()
     } else {
         Vector3::y()
     };
     let axis = nalgebra::Unit::new_normalize(v.cross(&other));
-    Rotation3::from_axis_angle(&axis, std::f64::consts::PI)
+    UnitQuaternion::from_axis_angle(&axis, std::f64::consts::PI)
 }
 
 #[cfg(test)]
