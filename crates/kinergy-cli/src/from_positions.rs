@@ -116,15 +116,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         joints: n,
         frame_rate_hz: args.frame_rate,
         max_error_m: made.max_error_m(),
-        joint_max_error_m: map
-            .names
-            .iter()
-            .enumerate()
-            .map(|(j, name)| {
-                let worst = made.error_m.iter().skip(j).step_by(n).copied();
-                (name.clone(), worst.fold(0.0, f64::max))
-            })
-            .collect(),
+        joint_max_error_m: made.joint_max_error_m(),
         undetermined: made.undetermined.clone(),
         stretched: made.stretched.clone(),
     };

@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 
 use kinergy_draw::animation;
 use kinergy_draw::viewer::{self, Hand, ViewerClip, ViewerPage};
-use kinergy_motion::Side;
 use serde::Serialize;
 
 use crate::common::{Failure, ReadArgs, collect_clips, emit, parse_point, print_json};
@@ -34,23 +33,13 @@ pub struct Args {
     pub scene: Option<PathBuf>,
     /// Whose speed the chart shows: right, left, auto (the hand that travels farther in each
     /// clip) or none.
-    #[arg(long, default_value = "auto", value_name = "right|left|auto|none", value_parser = parse_hand)]
+    #[arg(long, default_value = "auto", value_name = "right|left|auto|none")]
     pub hand: Hand,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
     #[command(flatten)]
     pub read: ReadArgs,
-}
-
-fn parse_hand(text: &str) -> Result<Hand, String> {
-    match text {
-        "right" => Ok(Hand::Side(Side::Right)),
-        "left" => Ok(Hand::Side(Side::Left)),
-        "auto" => Ok(Hand::Auto),
-        "none" => Ok(Hand::None),
-        other => Err(format!("`{other}`: one of right, left, auto, none")),
-    }
 }
 
 #[derive(Serialize)]

@@ -211,6 +211,21 @@ pub enum Hand {
     None,
 }
 
+impl std::str::FromStr for Hand {
+    type Err = String;
+
+    /// `right`, `left`, `auto` or `none`.
+    fn from_str(text: &str) -> Result<Hand, String> {
+        match text {
+            "right" => Ok(Hand::Side(Side::Right)),
+            "left" => Ok(Hand::Side(Side::Left)),
+            "auto" => Ok(Hand::Auto),
+            "none" => Ok(Hand::None),
+            other => Err(format!("`{other}`: one of right, left, auto, none")),
+        }
+    }
+}
+
 impl Hand {
     /// The world speed per frame of the chosen hand of `clip` (read from `path`), m/s; empty
     /// for none.

@@ -9,7 +9,7 @@ use std::path::Path;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3xX, Translation3, UnitQuaternion};
 use kinergy_motion::{
-    ArmJoints, Chain, ChainPose, Clip, ImportOptions, PositionArrays, Side, read_clip,
+    ArmJoints, Chain, ChainPose, Clip, ImportOptions, JointMap, PositionArrays, Side, read_clip,
 };
 
 fn arm_chain(c: &mut Criterion) {
@@ -87,12 +87,7 @@ fn from_positions(c: &mut Criterion) {
     let (clip, _) = read_clip(path, &ImportOptions::default()).expect("r09");
     let skeleton = clip.skeleton();
     let n = skeleton.joint_count();
-    let names: Vec<String> = skeleton.joints().iter().map(|j| j.name.clone()).collect();
-    let parents: Vec<i64> = skeleton
-        .joints()
-        .iter()
-        .map(|j| j.parent.map_or(-1, |p| p as i64))
-        .collect();
+    let JointMap { names, parents } = JointMap::of_skeleton(skeleton);
     let world: Vec<[f64; 3]> = clip
         .world_positions()
         .expect("fk")

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use kinergy_motion::{Clip, PositionArrays, read_clip};
+use kinergy_motion::{Clip, JointMap, PositionArrays, read_clip};
 #[path = "../../../tests/support/require_shared.rs"]
 mod require_shared;
 
@@ -50,13 +50,7 @@ fn every_captures_positions_come_back_within_a_millimetre() {
     assert!(files.len() >= 2, "{files:?}");
     for path in &files {
         let (clip, _) = read_clip(path, &Default::default()).expect("read");
-        let skeleton = clip.skeleton();
-        let names: Vec<String> = skeleton.joints().iter().map(|j| j.name.clone()).collect();
-        let parents: Vec<i64> = skeleton
-            .joints()
-            .iter()
-            .map(|j| j.parent.map_or(-1, |p| p as i64))
-            .collect();
+        let JointMap { names, parents } = JointMap::of_skeleton(clip.skeleton());
         let positions: Vec<[f64; 3]> = clip
             .world_positions()
             .expect("fk")

@@ -419,19 +419,10 @@ pub fn from_positions(
             })
         })
         .map_err(|e| errors::input(format!("from_positions: {e}")))?;
-    let joint_max: serde_json::Map<String, serde_json::Value> = joint_names
-        .iter()
-        .enumerate()
-        .map(|(j, name)| {
-            let worst = made
-                .error_m
-                .iter()
-                .skip(j)
-                .step_by(n)
-                .copied()
-                .fold(0.0, f64::max);
-            (name.clone(), serde_json::json!(worst))
-        })
+    let joint_max: serde_json::Map<String, serde_json::Value> = made
+        .joint_max_error_m()
+        .into_iter()
+        .map(|(name, worst)| (name, serde_json::json!(worst)))
         .collect();
     let report = serde_json::json!({
         "max_error_m": made.max_error_m(),

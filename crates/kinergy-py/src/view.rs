@@ -3,12 +3,10 @@
 use std::path::{Path, PathBuf};
 
 use kinergy_draw::viewer::{self, Hand, ViewerClip, ViewerPage};
-use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
 use pyo3::prelude::*;
 
 use crate::args::{Arg, ClipsArg, Reading};
-use crate::convert::parse;
 use crate::errors;
 
 /// Writes `kinergy view`'s page of `clips` (Clips or BVH paths, 1 to 24) to `output` (a
@@ -44,11 +42,9 @@ pub fn view(
             output.display()
         )));
     }
-    let hand = match hand {
-        "auto" => Hand::Auto,
-        "none" => Hand::None,
-        side => Hand::Side(parse::<Side>("hand", side)?),
-    };
+    let hand: Hand = hand
+        .parse()
+        .map_err(|why: String| errors::input(format!("hand: {why}")))?;
     let target = match target {
         Some(t) if t.iter().all(|v| v.is_finite()) => Some(Point3::from(t)),
         Some(_) => return Err(errors::input("target: three finite numbers (meters)")),

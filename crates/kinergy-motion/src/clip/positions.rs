@@ -61,6 +61,21 @@ impl FromPositions {
     pub fn max_error_m(&self) -> f64 {
         self.error_m.iter().copied().fold(0.0, f64::max)
     }
+
+    /// Each joint's largest distance from its input positions over the frames, meters, with
+    /// its name, in the clip's joint order.
+    pub fn joint_max_error_m(&self) -> Vec<(String, f64)> {
+        let joints = self.clip.skeleton().joints();
+        let n = joints.len();
+        joints
+            .iter()
+            .enumerate()
+            .map(|(j, joint)| {
+                let worst = self.error_m.iter().skip(j).step_by(n).copied();
+                (joint.name.clone(), worst.fold(0.0, f64::max))
+            })
+            .collect()
+    }
 }
 
 /// A bone whose length varies by more than this over the frames (meters) is reported.
