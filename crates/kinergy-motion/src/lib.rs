@@ -47,6 +47,7 @@ pub mod fidelity;
 pub mod glitch;
 pub mod jumps;
 pub mod limbs;
+pub mod retarget;
 pub mod rotation;
 pub mod seed;
 pub mod segment;
@@ -65,7 +66,8 @@ pub use convert::{
 pub use convert::{ExportUp, RootReading, RootReadingBasis};
 pub use error::{MotionError, Result};
 pub use glitch::{Glitch, GlitchOptions, find_glitches};
-pub use limbs::{ArmJoints, ArmLengths, LegJoints};
+pub use limbs::{ArmJoints, ArmLengths, BodyJoints, LegJoints};
+pub use retarget::{RetargetReport, Retargeted, Retargeter};
 pub use rotation::Axis;
 pub use side::Side;
 pub use skeleton::{Dof, Joint, PositionReading, Skeleton};

@@ -1,0 +1,217 @@
+//! Retargeting ([`Retargeter`]) between the rigs Kinergy reads, against independent truths:
+//! a round trip (A → B → A) gives back A's hand path, planted feet stay put, the hands and
+//! feet reach their scaled goals, a skeleton retargeted onto itself is the identity, and the
+//! built-in role maps name the joints the finders find.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use kinergy_motion::retarget::joint_paths;
+use kinergy_motion::{BodyJoints, Clip, Retargeted, Retargeter, read_clip};
+#[path = "../../../tests/support/require_shared.rs"]
+mod require_shared;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn read(path: &Path) -> Clip {
+    read_clip(path, &Default::default())
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .0
+}
+
+/// A shared capture, or `None` (skipping, saying so, unless required).
+fn shared(rel: &str) -> Option<Clip> {
+    let path = root().join("../shared/data").join(rel);
+    if path.exists() {
+        Some(read(&path))
+    } else {
+        require_shared::shared_absent(&format!("skipping {}: absent", path.display()));
+        None
+    }
+}
+
+fn retarget(clip: &Clip, template: &Arc<kinergy_motion::Skeleton>) -> Retargeted {
+    let from = BodyJoints::find(clip.skeleton()).expect("source body");
+    let to = BodyJoints::find(template).expect("target body");
+    Retargeter::new(clip, from, template.clone(), to)
+        .expect("retargeter")
+        .run(clip)
+        .expect("run")
+}
+
+/// The largest distance between two clips' paths of the given joints (same skeleton).
+fn path_error(a: &Clip, b: &Clip, joints: &[usize]) -> f64 {
+    let (pa, pb) = (
+        joint_paths(a, joints).expect("fk"),
+        joint_paths(b, joints).expect("fk"),
+    );
+    pa.iter()
+        .zip(&pb)
+        .flat_map(|(x, y)| x.iter().zip(y).map(|(p, q)| (p - q).norm()))
+        .fold(0.0, f64::max)
+}
+
+/// A → B → A: the hands, shoulders, head and pelvis come back; the report holds its bounds.
+fn round_trip(a: &Clip, b: &Arc<kinergy_motion::Skeleton>, bound_m: f64) {
+    let there = retarget(a, b);
+    let back = retarget(&there.clip, a.skeleton());
+    assert_eq!(back.clip.frame_count(), a.frame_count());
+    assert_eq!(back.clip.frame_time(), a.frame_time());
+    let body = BodyJoints::find(a.skeleton()).expect("body");
+    let mut joints = vec![body.pelvis];
+    for arm in &body.arms {
+        joints.extend([arm.shoulder, arm.elbow, arm.wrist]);
+    }
+    joints.extend(body.head);
+    let error = path_error(a, &back.clip, &joints);
+    // Where a foot was beyond a leg's reach, the pelvis came down (reported): the body with it.
+    let drops = there.report.pelvis_drop_m + back.report.pelvis_drop_m;
+    let bound_m = bound_m + drops;
+    let (a_name, b_name) = (a.skeleton().joint(0).name.clone(), b.joint(0).name.clone());
+    assert!(
+        error <= bound_m,
+        "{a_name} → {b_name} → back: off by {error} m"
+    );
+    for r in [&there.report, &back.report] {
+        assert!(r.hand_error_m.iter().all(|e| *e < 1e-6), "{r:?}");
+    }
+}
+
+#[test]
+fn bandai_to_cmu_and_back_keeps_the_hand_path_within_a_centimetre() {
+    let cmu = read(&root().join("tests/data/cmu_12_01_walk.bvh"));
+    let mut takes = 0;
+    for style in ["active", "elderly", "normal"] {
+        for take in [1, 5] {
+            let Some(bandai) = shared(&format!("bandai-raise-left/{style}_{take:03}.bvh")) else {
+                return;
+            };
+            round_trip(&bandai, cmu.skeleton(), 0.01);
+            takes += 1;
+        }
+    }
+    assert_eq!(takes, 6);
+}
+
+#[test]
+fn every_rig_goes_round_trip_through_every_other() {
+    let mut clips = vec![
+        read(&root().join("tests/data/cmu_12_01_walk.bvh")),
+        read(&root().join("tests/data/006_14.bvh")),
+    ];
+    for rel in [
+        "formats/mixamo_walk.bvh",
+        "formats/zup_mixed_orders.bvh",
+        "real-bvh/dataset-1_bye_normal_001.bvh",
+        "cmu-lift/26_10.bvh",
+    ] {
+        clips.extend(shared(rel));
+    }
+    for a in &clips {
+        for b in &clips {
+            // The body of one rig and another's differ (spines of 2 to 4 joints, necks of 0
+            // to 2, pelvis and chest bones of other lengths): the round trip is exact where
+            // the chains correspond and within 1.5 cm where they resample each other.
+            round_trip(a, b.skeleton(), 0.015);
+        }
+    }
+}
+
+#[test]
+fn a_skeleton_retargeted_onto_itself_is_unchanged() {
+    for rel in ["tests/data/cmu_12_01_walk.bvh", "tests/data/006_14.bvh"] {
+        let clip = read(&root().join(rel));
+        let same = retarget(&clip, clip.skeleton());
+        let all: Vec<usize> = (0..clip.skeleton().joint_count()).collect();
+        let error = path_error(&clip, &same.clip, &all);
+        // The feet are held where planted: a capture's own slow drift (≤ 2 cm within a
+        // plant) is taken out, so only the upper body and the pelvis must match exactly.
+        let body = BodyJoints::find(clip.skeleton()).expect("body");
+        let mut upper = vec![body.pelvis, body.chest()];
+        for arm in &body.arms {
+            upper.extend([arm.shoulder, arm.elbow, arm.wrist]);
+        }
+        let upper_error = path_error(&clip, &same.clip, &upper);
+        let drop = same.report.pelvis_drop_m;
+        assert!(drop < 0.01, "{rel}: {drop}");
+        assert!(
+            upper_error < 1e-6 + drop,
+            "{rel}: upper body off by {upper_error} m (pelvis lowered {drop} m)"
+        );
+        // Within a plant the ankle is held at its mean (the capture drifts ≤ 2 cm), the knee
+        // and toes with it.
+        assert!(error < 0.05, "{rel}: off by {error} m");
+        assert_eq!(same.report.leg_scale, 1.0);
+    }
+}
+
+#[test]
+fn planted_feet_do_not_slide_and_reach_their_goals() {
+    let walk = read(&root().join("tests/data/cmu_12_01_walk.bvh"));
+    let cc = read(&root().join("tests/data/006_14.bvh"));
+    let mut pairs = vec![
+        (walk.clone(), cc.skeleton().clone()),
+        (cc.clone(), walk.skeleton().clone()),
+    ];
+    if let Some(b) = shared("bandai-raise-left/normal_003.bvh") {
+        pairs.push((walk.clone(), b.skeleton().clone()));
+        pairs.push((b.clone(), walk.skeleton().clone()));
+    }
+    for (clip, to) in &pairs {
+        let out = retarget(clip, to);
+        let r = &out.report;
+        assert!(
+            r.plants.iter().all(|p| !p.is_empty()),
+            "no plant found: {r:?}"
+        );
+        // The report's measure, and an independent one: the ankle's path on the plant's frames.
+        assert!(r.foot_slide_m <= 1e-3, "{r:?}");
+        let body = BodyJoints::find(to).expect("body");
+        let ankles = joint_paths(&out.clip, &[body.legs[0].ankle, body.legs[1].ankle]).expect("fk");
+        for (s, plants) in r.plants.iter().enumerate() {
+            for p in plants {
+                let first = ankles[s][p.first];
+                for f in p.first..=p.last {
+                    let moved = (ankles[s][f] - first).norm();
+                    assert!(moved <= 1e-3, "foot {s} slides {moved} m in {p:?}");
+                }
+            }
+        }
+        assert!(r.foot_error_m.iter().all(|e| *e < 0.01), "{r:?}");
+    }
+}
+
+#[test]
+fn built_in_maps_name_what_the_finders_find() {
+    let cases = [
+        ("cmu", "tests/data/cmu_12_01_walk.bvh", false),
+        ("cc", "tests/data/006_14.bvh", false),
+        (
+            "bandai",
+            "../shared/data/bandai-raise-left/active_001.bvh",
+            true,
+        ),
+        ("mixamo", "../shared/data/formats/mixamo_walk.bvh", true),
+    ];
+    for (name, rel, is_shared) in cases {
+        let path = root().join(rel);
+        if is_shared && !path.exists() {
+            require_shared::shared_absent(&format!("skipping the `{name}` map: {rel} absent"));
+            continue;
+        }
+        let clip = read(&path);
+        let found = BodyJoints::find(clip.skeleton()).expect("find");
+        let mapped = BodyJoints::built_in(clip.skeleton(), name)
+            .expect("a built-in map")
+            .expect("the rig has the map's joints");
+        assert_eq!(found, mapped, "{name}");
+    }
+    let cmu = read(&root().join("tests/data/cmu_12_01_walk.bvh"));
+    assert!(BodyJoints::built_in(cmu.skeleton(), "nope").is_none());
+    let wrong = BodyJoints::built_in(cmu.skeleton(), "bandai").expect("known");
+    assert!(wrong.is_err());
+    let bad = BodyJoints::from_json(cmu.skeleton(), r#"{"pelvis": "Hips", "tail": "X"}"#);
+    assert!(bad.unwrap_err().to_string().contains("unknown role `tail`"));
+}
