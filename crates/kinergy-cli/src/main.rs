@@ -15,6 +15,7 @@ mod inspect;
 mod plan;
 mod plot;
 mod reach;
+mod retarget;
 mod segment;
 mod style;
 mod synth;
@@ -121,6 +122,14 @@ enum Command {
         after_help = "Examples:\n  kinergy from-positions joints.csv --skeleton smpl24 -o out.bvh\n  kinergy from-positions keypoints.csv --skeleton h36m17 --unit mm --up z --frame-rate 50 -o out.bvh --json"
     )]
     FromPositions(from_positions::Args),
+    /// Move a motion onto another skeleton: joints matched by role, the root's path scaled by
+    /// leg length, hands and feet kept on their scaled paths by IK, planted feet held; with
+    /// --params, the reach driven by a person's synergy on the new body.
+    #[command(after_help = "Examples:
+  kinergy retarget take.bvh --to cmu_rig.bvh -o take_on_cmu.bvh
+  kinergy retarget take.bvh --to rig.bvh --to-map rig_roles.json -o out.bvh --json
+  kinergy retarget take.bvh --to rig.bvh --params person.json -o driven.bvh")]
+    Retarget(retarget::Args),
     /// Show clips in a browser: one self-contained HTML page (three.js, offline), the clips
     /// overlaid in 3-D with play, step, speed and a scrubber, and the hand-speed chart synced
     /// to it.
@@ -158,6 +167,7 @@ fn main() -> ExitCode {
         Command::Animate(args) => animate::run(&args),
         Command::View(args) => view::run(&args),
         Command::FromPositions(args) => from_positions::run(&args),
+        Command::Retarget(args) => retarget::run(&args),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "kinergy", &mut script);

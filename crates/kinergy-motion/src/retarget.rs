@@ -125,7 +125,7 @@ struct Limb {
 }
 
 /// A plant of one foot: its frames and where the target's ankle is held.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Plant {
     /// The plant's first frame.
     pub first: usize,
@@ -136,7 +136,7 @@ pub struct Plant {
 }
 
 /// What a retargeting did, and how well the target holds its goals.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct RetargetReport {
     /// The roles matched: (role, source joint, target joint).
     pub roles: Vec<(String, String, String)>,

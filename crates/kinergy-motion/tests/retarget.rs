@@ -173,8 +173,8 @@ fn planted_feet_do_not_slide_and_reach_their_goals() {
         for (s, plants) in r.plants.iter().enumerate() {
             for p in plants {
                 let first = ankles[s][p.first];
-                for f in p.first..=p.last {
-                    let moved = (ankles[s][f] - first).norm();
+                for ankle in &ankles[s][p.first..=p.last] {
+                    let moved = (ankle - first).norm();
                     assert!(moved <= 1e-3, "foot {s} slides {moved} m in {p:?}");
                 }
             }
