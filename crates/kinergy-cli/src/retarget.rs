@@ -68,6 +68,8 @@ struct Driven {
     frames: usize,
     final_error_m: f64,
     stop: &'static str,
+    /// The synthesized arm's motion distance from the retargeted capture's arm over the reach.
+    distance_to_capture_m: Option<f64>,
 }
 
 /// The roles `choice` names on `skeleton` (read from `path`).
@@ -162,6 +164,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             frames: r.frames,
             final_error_m: r.final_error_m,
             stop: r.stop,
+            distance_to_capture_m: r.distance_to_capture_m,
         });
         out = synthesized.clip;
     }

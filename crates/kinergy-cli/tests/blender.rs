@@ -165,6 +165,36 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
     let out = dir.join("positions-006_14.bvh");
     from_positions(&cc, &out);
     files.push(("from-positions tests/data/006_14".into(), out));
+    // `kinergy retarget` between the committed rigs and onto every shared rig (each output
+    // imported with Kinergy's joint positions, like every other file here).
+    let walk = repo().join("tests/data/cmu_12_01_walk.bvh");
+    let mut templates = vec![("cmu", walk.clone()), ("character-creator", cc.clone())];
+    for (folder, stem) in [
+        ("formats", "mixamo_walk"),
+        ("formats", "zup_mixed_orders"),
+        ("real-bvh", "dataset-1_bye_normal_001"),
+    ] {
+        let path = shared.join(folder).join(format!("{stem}.bvh"));
+        if path.exists() {
+            templates.push((stem, path));
+        }
+    }
+    for (name, template) in &templates {
+        let input = if *name == "cmu" { &cc } else { &walk };
+        let out = dir.join(format!("retarget-{name}.bvh"));
+        run_writing(
+            &[
+                "retarget",
+                utf8(input),
+                "--to",
+                utf8(template),
+                "-o",
+                utf8(&out),
+            ],
+            &out,
+        );
+        files.push((format!("retarget onto {name}"), out));
+    }
     let mut captures = vec![("character-creator", cc)];
     match bandai {
         Some(b) => captures.push(("bandai", b)),

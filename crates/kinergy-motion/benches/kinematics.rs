@@ -1,5 +1,6 @@
 //! Forward kinematics and Jacobians: the 7-DoF arm chain and a 31-joint CMU skeleton; and
-//! joint positions made into a clip (`kinergy from-positions`' work).
+//! joint positions made into a clip (`kinergy from-positions`' work); a walk retargeted onto
+//! another rig (`kinergy retarget`'s).
 //!
 //! `cargo bench -p kinergy-motion --bench kinematics`
 
@@ -9,7 +10,8 @@ use std::path::Path;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use kinergy_motion::nalgebra::{IsometryMatrix3, Matrix3xX, Translation3, UnitQuaternion};
 use kinergy_motion::{
-    ArmJoints, Chain, ChainPose, Clip, ImportOptions, JointMap, PositionArrays, Side, read_clip,
+    ArmJoints, BodyJoints, Chain, ChainPose, Clip, ImportOptions, JointMap, PositionArrays,
+    Retargeter, Side, read_clip,
 };
 
 fn arm_chain(c: &mut Criterion) {
@@ -119,5 +121,25 @@ fn from_positions(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, arm_chain, cmu_skeleton, from_positions);
+/// A CMU walk (31 joints, 524 frames at 120 Hz) retargeted onto the Character Creator rig
+/// (its 100 joints), the retargeter made once: the floor is 5,000 frames per second on
+/// one core.
+fn retarget(c: &mut Criterion) {
+    let data = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data"));
+    let (walk, _) =
+        read_clip(&data.join("cmu_12_01_walk.bvh"), &ImportOptions::default()).expect("walk");
+    let (cc, _) = read_clip(&data.join("006_14.bvh"), &ImportOptions::default()).expect("cc");
+    let from = BodyJoints::find(walk.skeleton()).expect("walk body");
+    let to = BodyJoints::find(cc.skeleton()).expect("cc body");
+    let retargeter = Retargeter::new(&walk, from, cc.skeleton().clone(), to).expect("retargeter");
+    let mut group = c.benchmark_group("retarget");
+    group.throughput(Throughput::Elements(walk.frame_count() as u64));
+    group.sample_size(20);
+    group.bench_function("cmu_walk_onto_character_creator", |b| {
+        b.iter(|| retargeter.run(black_box(&walk)).expect("run"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, arm_chain, cmu_skeleton, from_positions, retarget);
 criterion_main!(benches);
