@@ -81,8 +81,8 @@ fn there_and_back_keeps_the_hands_and_the_template_hierarchy() {
             })
             .fold(0.0, f64::max);
         assert!(
-            worst <= 0.01,
-            "{wrist} off by {worst} m after the round trip"
+            worst <= bound,
+            "{wrist} off by {worst} m after the round trip (bound {bound} m)"
         );
     }
 }
