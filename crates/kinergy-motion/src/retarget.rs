@@ -4,34 +4,41 @@
 //!
 //! **Rotations.** Each skeleton is first brought, in its zero pose, into one *canonical*
 //! posture: facing +Z, Y up, spine, neck and head up, arms out along ±X, legs down, feet
-//! forward. The pelvis and the chest are turned so their left–right and up axes (hips,
-//! shoulders, the spine above) match the canonical axes; every other role's bone is swung,
-//! after its parent's turn, by the shortest arc onto its canonical direction. Call `K_j` a
-//! joint's world rotation in that posture. On each frame a source role's change from its
-//! canonical posture, `D = R_source · K_sourceᵀ`, is given to the target's joint of that role:
-//! `R_target = D · K_target`. A bone of one role then points where the source's points, and its
-//! twist follows the source's, whatever the two skeletons' zero poses (a T-pose, an A-pose,
-//! Bandai Namco's body lying along +X) and however their joints' axes are set up. Target joints
-//! of no role (CMU's `LHipJoint`, twist and finger bones) take the source's rotation relative
-//! to their parent where the source has a joint of their name (rigs of one family), else keep
-//! their zero pose's. Spines and necks of different joint counts are matched by where
-//! each target bone's middle lies along the chain: it takes the turn of the source bone there.
+//! forward. The pelvis and the chest are turned so their left–right axes (hips, shoulders) and
+//! up axes (the chest above the pelvis, the neck above the chest) match the canonical axes;
+//! every other role's bone is swung, after its parent's turn, by the shortest arc onto its
+//! canonical direction. Call `K_j` a joint's world rotation in that posture. On each frame a
+//! source role's change from its canonical posture, `D = R_source · K_sourceᵀ`, is given to the
+//! target's joint of that role: `R_target = D · K_target`. A bone of one role then points where
+//! the source's points, and its twist follows the source's, whatever the two skeletons' zero
+//! poses (a T-pose, an A-pose, Bandai Namco's body lying along +X) and however their joints'
+//! axes are set up.
 //!
-//! **Positions.** Heights are taken above the source's floor (its lowest ankle over the clip,
-//! less the ankle's standing height). The pelvis goes where the source's goes, scaled by `s`,
-//! the ratio of the two bodies' standing pelvis heights (hip joints below the pelvis, thigh,
-//! shank and ankle height in the canonical posture): horizontally about the world origin,
-//! vertically above the floor. Each ankle's goal is the source ankle's scaled likewise (its
-//! height above its standing height × `s`); where the source foot is planted (its ankle slower
-//! than [`PLANT_SPEED`] for at least [`PLANT_MIN_S`], within [`PLANT_RADIUS`]) the goal is held
-//! at its mean over the plant, the offset easing back to the moving path over
-//! [`PLANT_BLEND_S`], so the target's planted foot does not slide. Each wrist's goal is
-//! the target's shoulder plus the source's shoulder-to-wrist vector × the ratio of arm lengths
-//! (upper arm + forearm): the hand's path relative to the body, scaled to the new arm. Where a
-//! foot's goal is beyond the straight leg (legs of other proportions), the pelvis comes down as
-//! far as it needs. Two-bone IK (hip–knee–ankle, shoulder–elbow–wrist) reaches the goals: the knee or elbow stays in the plane it was in
-//! (the source's), bends between straight and [`MAX_BEND_DEG`] (never backward), and the foot
-//! and hand keep their carried world orientation.
+//! Spines and necks of different joint counts are matched along their length (from the first
+//! spine joint to the chest, from the first neck joint to the head): each target bone takes
+//! the turn of the source bone under its middle, swung to point along the source chain's chord
+//! over the target bone's span, so the target's chest and head sit where the source's sit. The
+//! pelvis's own bone turns with the hips, the chest's with the shoulders. Target joints of no
+//! role (CMU's `LHipJoint`, twist and finger bones) take the source's rotation relative to
+//! their parent where the source has a joint of their name (rigs of one family), else keep
+//! their zero pose's.
+//!
+//! **Positions.** Everything is scaled by `s`, the ratio of the two bodies' standing pelvis
+//! heights (the hip joints' drop below the pelvis, thigh, shank and ankle height, in the
+//! canonical posture), about the point on the source's floor (its lowest ankle over the clip,
+//! less the ankle's standing height) below the pelvis's first position: the motion starts
+//! where the source's starts, with strides and heights × `s`. The pelvis goes there. Each
+//! ankle's goal is the source ankle's, scaled (its height above its standing height × `s`);
+//! where the source foot is planted (its ankle slower than [`PLANT_SPEED`] for at least
+//! [`PLANT_MIN_S`], within [`PLANT_RADIUS`]) the goal is held at its mean over the plant, the
+//! offset easing back to the moving path over [`PLANT_BLEND_S`], so the target's planted foot
+//! does not slide. Each wrist's goal is the target's shoulder plus the source's
+//! shoulder-to-wrist vector × the ratio of arm lengths (upper arm + forearm): the hand's path
+//! relative to the body, scaled to the new arm. Where a foot's goal is beyond the straight leg
+//! (legs of other proportions), the pelvis comes down as far as it needs (reported). Two-bone
+//! IK (hip–knee–ankle, shoulder–elbow–wrist) reaches the goals: the knee or elbow stays in the
+//! plane it was in (the source's), bends between straight and [`MAX_BEND_DEG`] (never
+//! backward), and the foot and hand keep their carried world orientation.
 
 use std::sync::Arc;
 
@@ -674,25 +681,30 @@ impl Retargeter {
         &self.target
     }
 
-    /// A source point carried to the target: horizontally × the leg scale about the origin,
-    /// vertically × the leg scale above the floor.
-    fn scaled(&self, p: &Vector3<f64>, floor: f64) -> Vector3<f64> {
-        let s = self.leg_scale;
-        Vector3::new(p.x * s, floor + (p.y - floor) * s, p.z * s)
+    /// A source point carried to the target: × the leg scale about `fixed` (on the floor below
+    /// the pelvis's first position).
+    fn scaled(&self, p: &Vector3<f64>, fixed: &Vector3<f64>) -> Vector3<f64> {
+        fixed + (p - fixed) * self.leg_scale
     }
 
-    /// The source's floor in `clip` (the lowest ankle less its standing height),
-    /// each foot's plants and its ankles' goals per frame (right, left).
+    /// The point the scaling keeps fixed in `clip`: on the source's floor (the lowest ankle
+    /// less its standing height) below the pelvis's first position; each foot's plants and
+    /// its ankles' goals per frame (right, left).
     #[allow(clippy::type_complexity)]
-    fn foot_goals(&self, clip: &Clip) -> Result<(f64, [Vec<Plant>; 2], [Vec<Vector3<f64>>; 2])> {
+    fn foot_goals(
+        &self,
+        clip: &Clip,
+    ) -> Result<(Vector3<f64>, [Vec<Plant>; 2], [Vec<Vector3<f64>>; 2])> {
         let frames = clip.frame_count();
         let dt = clip.frame_time();
         let mut world = Vec::new();
         let mut source: [Vec<Vector3<f64>>; 2] = [Vec::new(), Vec::new()];
         let [h_source, h_target] = self.ankle_heights;
         let mut floor = f64::INFINITY;
+        let mut first_pelvis = None;
         for pose in clip.frames() {
             self.source.fk_into(pose, &mut world)?;
+            first_pelvis.get_or_insert(world[self.source_body.pelvis].translation.vector);
             for (s, a) in source.iter_mut().enumerate() {
                 let leg = &self.source_body.legs[s];
                 let ankle = world[leg.ankle].translation.vector;
@@ -703,9 +715,11 @@ impl Retargeter {
         // The ankle above its standing height goes up × the scale; standing, it is at the
         // target's standing height.
         let lift = Vector3::new(0.0, h_target - h_source * self.leg_scale, 0.0);
+        let pelvis = first_pelvis.ok_or(MotionError::EmptyClip)?;
+        let fixed = Vector3::new(pelvis.x, floor, pelvis.z);
         let ankles = source.map(|a| {
             a.iter()
-                .map(|p| self.scaled(p, floor) + lift)
+                .map(|p| self.scaled(p, &fixed) + lift)
                 .collect::<Vec<_>>()
         });
         let min_frames = (PLANT_MIN_S / dt).ceil().max(2.0) as usize;
@@ -767,7 +781,7 @@ impl Retargeter {
                 }
             }
         }
-        Ok((floor, plants, goals))
+        Ok((fixed, plants, goals))
     }
 
     /// The target's world rotations of the joints of no role, from their parents (and the
@@ -922,7 +936,7 @@ impl Retargeter {
         if frames == 0 {
             return Err(MotionError::EmptyClip);
         }
-        let (floor, plants, foot_goals) = self.foot_goals(clip)?;
+        let (fixed, plants, foot_goals) = self.foot_goals(clip)?;
         let t = &self.target;
         let n = t.joint_count();
         let dofs = t.dof_count();
@@ -959,10 +973,8 @@ impl Retargeter {
                 }
             }
             self.fill_rest(&mut rotations, &source_world);
-            let mut pelvis = self.scaled(
-                &source_world[self.source_body.pelvis].translation.vector,
-                floor,
-            );
+            let mut pelvis =
+                self.scaled(&source_world[self.source_body.pelvis].translation.vector, &fixed);
             self.positions(&rotations, &pelvis, &mut p);
             // A foot beyond its leg's reach (legs of other proportions, nearly straight) lowers
             // the pelvis as far as it needs.
