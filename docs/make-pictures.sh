@@ -43,6 +43,12 @@ FRAMES=$("$K" synthesize --from "$CLIP" --params "$WORK/sc.json" --frames auto -
 "$K" animate "$WORK/captured.bvh" "$WORK/S_A.bvh" "$WORK/S_C.bvh" --view side --fps 15 \
     --size 480x360 -o "$OUT/overlay.gif" --strip "$OUT/overlay-strip.png" --strip-frames 6 > /dev/null
 
+# Retargeting: the committed CMU walk onto the committed Character Creator rig, overlaid.
+cp tests/data/cmu_12_01_walk.bvh "$WORK/cmu_walk.bvh"
+"$K" retarget "$WORK/cmu_walk.bvh" --to tests/data/006_14.bvh -o "$WORK/on_character_creator.bvh" > /dev/null
+"$K" animate "$WORK/cmu_walk.bvh" "$WORK/on_character_creator.bvh" --view side --fps 15 \
+    --size 480x360 -o "$WORK/retarget.gif" --strip "$OUT/retarget-strip.png" --strip-frames 6 > /dev/null
+
 # The paper's Fig. 5: the hand speed of four captured reaches (four targets) against S_A's and
 # S_C's, each fitted to its reach, under the default smooth controller and the paper's.
 for controller in smooth paper; do

@@ -222,7 +222,20 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         );
     }
     if !r.unmapped.is_empty() {
-        text += &format!("  joints of no role: {}\n", r.unmapped.join(", "));
+        let shown = r
+            .unmapped
+            .iter()
+            .take(8)
+            .cloned()
+            .collect::<Vec<_>>()
+            .join(", ");
+        let more = match r.unmapped.len() {
+            n if n > 8 => format!(", … ({n} in all; --json lists them)"),
+            _ => String::new(),
+        };
+        text += &format!(
+            "  joints of no role (their parent's turn, or the source's by name): {shown}{more}\n"
+        );
     }
     if let Some(d) = &report.driven {
         text += &format!(
