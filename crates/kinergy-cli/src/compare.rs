@@ -163,6 +163,27 @@ fn run_experiment(args: &Args, clips: &CaptureClips) -> Result<(), Failure> {
         args.optimizer,
         &args.output,
     )?;
+    // The first reach, captured and as each model moves it, in the browser.
+    let mut charts = charts;
+    if let Some(reach) = reaches.first()
+        && !results.first_reach_fits.is_empty()
+    {
+        let path = std::path::Path::new(reach.name());
+        let (clip, _) = args.reach.read.read(path)?;
+        let motions = experiment::fig3_clips(reach, &clip, &results.first_reach_fits, &settings)
+            .map_err(Failure::from)?;
+        let captured = clip
+            .slice(reach.frames())
+            .map_err(|e| Failure::task(path, e))?;
+        charts.push(kinergy_draw::experiment::save_view(
+            &args.output,
+            reach.name(),
+            &captured,
+            &motions,
+            reach.fitted_arm().side,
+            reach.target(),
+        )?);
+    }
     if args.json {
         return print_json(&report);
     }
@@ -192,6 +213,7 @@ fn output_files(dir: &std::path::Path, holdout: bool) -> Vec<PathBuf> {
             "fig3.png",
             "fig4.svg",
             "fig4.png",
+            kinergy_draw::experiment::VIEW,
         ]
     };
     names.iter().map(|name| dir.join(name)).collect()

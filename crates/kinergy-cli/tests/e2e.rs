@@ -290,7 +290,8 @@ fn compare_writes_results_and_both_figures() {
             "fig4.png",
             "fig4.svg",
             "results.csv",
-            "summary.md"
+            "summary.md",
+            "view.html"
         ]
     );
 

@@ -252,6 +252,41 @@ fn the_page_shows_every_clip_at_the_frame_asked_where_kinergys_fk_puts_it() {
     assert!(r > 240 && g > 240 && b > 240, "background ({r}, {g}, {b})");
 }
 
+/// `compare -o DIR` writes `DIR/view.html`: the first reach captured and as each model moves
+/// it, loaded in the browser with every clip's frames, Fig. 3 under it.
+#[test]
+fn compares_page_holds_the_capture_and_each_models_motion() {
+    let Some(browser) = chromium() else { return };
+    let dir = tempfile::tempdir().expect("tmp");
+    let out = dir.path().join("compare");
+    let o = kinergy(&[
+        "compare",
+        s(&synthetic("r09.bvh")),
+        "--models",
+        "sa,sc",
+        "--budget",
+        "40",
+        "--no-baselines",
+        "-o",
+        s(&out),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = out.join("view.html");
+    let html = std::fs::read_to_string(&page).expect("view.html");
+    assert!(html.contains("Fig. 3"), "the figure under the page");
+    let url = format!("file://{}#frame=10,view=900x450", page.display());
+    let dom = browse(&browser, &dir.path().join("profile"), &url, &["--dump-dom"]);
+    let data = body_data(&dom);
+    assert_eq!(data.get("ready").map(String::as_str), Some("1"), "{data:?}");
+    assert_eq!(data.get("clips").map(String::as_str), Some("3"));
+    let frames: Vec<usize> = parse(&data, "frames");
+    // The captured reach and the two syntheses of it: at least the reach's frames each.
+    assert!(frames.iter().all(|&f| f >= frames[0]), "{frames:?}");
+    let shown: Vec<usize> = parse(&data, "shown");
+    assert_eq!(shown, vec![10, 10, 10], "one rate, one clock");
+}
+
 #[test]
 fn a_bad_clip_is_refused_before_anything_is_written() {
     let dir = tempfile::tempdir().expect("tmp");

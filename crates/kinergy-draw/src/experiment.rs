@@ -137,3 +137,61 @@ mod tests {
         assert_eq!(model_label(Model::Sd), "S_D");
     }
 }
+
+/// The page `compare -o DIR` writes beside its charts: [`VIEW`].
+pub const VIEW: &str = "view.html";
+
+/// `DIR/view.html` ([`VIEW`]): the first reach of a run, captured (`captured`: the capture
+/// cut to the reach's frames), beside each model's motion of it (`motions`, from
+/// [`kinergy_train::experiment::fig3_clips`]), overlaid in the browser ([`crate::viewer`]) with
+/// the hand of `side` on the speed chart, the target, and Fig. 3 (`fig3.svg` in `dir`, where
+/// it was drawn) under it — the paper's Fig. 6, to turn around and play.
+pub fn save_view(
+    dir: &Path,
+    name: &str,
+    captured: &kinergy_motion::Clip,
+    motions: &[(Model, kinergy_motion::Clip)],
+    side: Option<kinergy_motion::Side>,
+    target: kinergy_motion::nalgebra::Point3<f64>,
+) -> Result<PathBuf, DrawError> {
+    use crate::viewer::{Hand, ViewerClip, ViewerPage, page_html};
+    let hand = side.map_or(Hand::Auto, Hand::Side);
+    let path = Path::new(name);
+    let short = path
+        .file_stem()
+        .map_or_else(|| name.to_string(), |s| s.to_string_lossy().into_owned());
+    let mut clips = vec![ViewerClip::of_clip(
+        captured,
+        path,
+        format!("{short} (captured)"),
+        hand,
+    )?];
+    for (model, motion) in motions {
+        clips.push(ViewerClip::of_clip(
+            motion,
+            path,
+            format!("{short} ({})", model.paper_name()),
+            hand,
+        )?);
+    }
+    let figures = std::fs::read_to_string(dir.join("fig3.svg"))
+        .ok()
+        .map(|svg| {
+            vec![(
+                "Fig. 3: each model's mean distance to the captures".to_string(),
+                svg,
+            )]
+        })
+        .unwrap_or_default();
+    let page = ViewerPage {
+        title: format!("{short}: captured and each model's synthesis"),
+        clips,
+        target: Some(target),
+        figures,
+        ..ViewerPage::default()
+    };
+    let html = page_html(&page)?;
+    let out = dir.join(VIEW);
+    kinergy_io::write_atomic(&out, html.as_bytes()).map_err(|e| DrawError::io(&out, e))?;
+    Ok(out)
+}

@@ -973,8 +973,10 @@ impl Retargeter {
                 }
             }
             self.fill_rest(&mut rotations, &source_world);
-            let mut pelvis =
-                self.scaled(&source_world[self.source_body.pelvis].translation.vector, &fixed);
+            let mut pelvis = self.scaled(
+                &source_world[self.source_body.pelvis].translation.vector,
+                &fixed,
+            );
             self.positions(&rotations, &pelvis, &mut p);
             // A foot beyond its leg's reach (legs of other proportions, nearly straight) lowers
             // the pelvis as far as it needs.

@@ -181,6 +181,9 @@ pub struct Results {
     pub rows: Vec<Row>,
     /// The Fig. 3 fits that ended worse than their poorer model, clip by clip.
     pub violations: Vec<Violation>,
+    /// The first reach's Fig. 3 fits: each model's parameter values (for
+    /// [`fig3_clips`], the page of its motions).
+    pub first_reach_fits: Vec<(Model, Vec<f64>)>,
 }
 
 impl Results {
@@ -262,13 +265,18 @@ pub fn run_until(
     let mut rows = Vec::new();
     let mut violations = Vec::new();
     let mut sc = Vec::with_capacity(per_clip.len());
+    let first_reach_fits = per_clip.first().map(|c| c.fig3.clone()).unwrap_or_default();
     for clip in per_clip {
         rows.extend(clip.rows);
         violations.extend(clip.violations);
         sc.push(clip.sc);
     }
     rows.extend(field_rows(reaches, &sc, settings)?);
-    Ok(Some(Results { rows, violations }))
+    Ok(Some(Results {
+        rows,
+        violations,
+        first_reach_fits,
+    }))
 }
 
 /// With the baselines, the budget they share must hold each one's first iteration (a
@@ -305,6 +313,8 @@ struct ClipResults {
     rows: Vec<Row>,
     violations: Vec<Violation>,
     sc: Option<Vec<f64>>,
+    /// Each Fig. 3 model's values.
+    fig3: Vec<(Model, Vec<f64>)>,
 }
 
 /// The rows of one clip: Fig. 3, Fig. 4, methods; `None` once `stop` is raised (every fit and
@@ -371,6 +381,11 @@ fn clip_results(
         })
         .collect();
     let sc = fig3.get(Model::Sc).map(|f| f.values.clone());
+    let fig3_values = fig3
+        .fits
+        .iter()
+        .map(|f| (f.model(), f.values.clone()))
+        .collect();
     // Fig. 4.
     for &optimizer in &settings.optimizers {
         if optimizer == settings.optimizer
@@ -450,7 +465,32 @@ fn clip_results(
         rows,
         violations,
         sc,
+        fig3: fig3_values,
     }))
+}
+
+/// The motions of `reach`'s Fig. 3 fits (`fits`, [`Results::first_reach_fits`]) as clips on
+/// the skeleton of `clip`, the capture the reach was taken from: each model's synthesis under
+/// the settings the fit scored it with, the rest of the body as captured
+/// ([`CapturedReach::to_clip`]).
+pub fn fig3_clips(
+    reach: &CapturedReach,
+    clip: &kinergy_motion::Clip,
+    fits: &[(Model, Vec<f64>)],
+    settings: &ExperimentSettings,
+) -> Result<Vec<(Model, kinergy_motion::Clip)>> {
+    let optimizer = settings.optimizer.default_optimizer();
+    fits.iter()
+        .map(|(model, values)| {
+            let objective =
+                settings
+                    .fit
+                    .objective(std::slice::from_ref(reach), *model, optimizer)?;
+            let synthesis = objective.syntheses(values)?.remove(0);
+            let motion = objective.reaches()[0].to_clip(clip, &synthesis)?;
+            Ok((*model, motion))
+        })
+        .collect()
 }
 
 /// The person a reach belongs to: the folder of its clip.

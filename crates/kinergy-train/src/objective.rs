@@ -166,6 +166,16 @@ impl Objective {
             .collect()
     }
 
+    /// Every reach's synthesis with `x`, in the order of the reaches: the motions
+    /// [`Objective::distances`] scores (for pictures and pages; not abandoned early).
+    pub fn syntheses(&self, x: &[f64]) -> Result<Vec<kinergy_solver::Synthesis>> {
+        let synergy = Synergy::new(&self.space, x)?;
+        self.reaches
+            .iter()
+            .map(|r| r.synthesize(self.optimizer, synergy.clone(), self.tolerance))
+            .collect()
+    }
+
     /// The mean distance over the reaches (summed in the reaches' order, so the same on any
     /// thread count).
     pub fn score(&self, x: &[f64]) -> Result<f64> {

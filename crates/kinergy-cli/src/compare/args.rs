@@ -25,7 +25,8 @@ pub struct Args {
     /// Skip the comparison with argmin's Nelder–Mead and particle swarm.
     #[arg(long)]
     pub no_baselines: bool,
-    /// Output folder for results.csv, summary.md and the charts fig3/fig4 (.svg and .png).
+    /// Output folder for results.csv, summary.md, the charts fig3/fig4 (.svg and .png) and
+    /// view.html (the first reach, captured and as each model moves it).
     #[arg(short, long, default_value = "compare-out", value_name = "DIR")]
     pub output: PathBuf,
     /// What one vector is fitted to: each clip (the paper's experiment), or each person's
