@@ -11,6 +11,7 @@ The Rust toolkit behind the ``kinergy`` command, with numpy arrays in and out::
     p.save("me.json")                                    # the file `kinergy fit` writes
     motion = kinergy.synthesize(clip, p, frames="auto")  # the reach, in their style
     body = kinergy.reach([-0.3, 1.3, 0.45], params=p)    # the full-body character reaches
+    moved, report = kinergy.retarget(clip, kinergy.read_bvh("rig.bvh"))  # onto another body
     kinergy.view([clip, motion], "view.html")            # both in a browser, offline
 
 Every function does what the CLI command of the same name does, with the same defaults and
@@ -36,6 +37,7 @@ from ._kinergy import (
     plan,
     reach,
     read_bvh,
+    retarget,
     segment,
     style,
     synthesize,
@@ -61,6 +63,7 @@ __all__ = [
     "plan",
     "reach",
     "read_bvh",
+    "retarget",
     "segment",
     "style",
     "synthesize",

@@ -22,6 +22,7 @@ from ._kinergy import (
     plan as plan,
     reach as reach,
     read_bvh as read_bvh,
+    retarget as retarget,
     segment as segment,
     style as style,
     synthesize as synthesize,

@@ -333,6 +333,16 @@ def from_positions(
 ) -> Clip:
     """A clip whose joints are at `positions` (frames, joints, 3), the hierarchy by `parents`."""
 
+def retarget(
+    clip: Clip,
+    template: Clip,
+    *,
+    map: str = "auto",
+    to_map: str = "auto",
+) -> tuple[Clip, dict[str, Any]]:
+    """`clip`'s motion on `template`'s skeleton, as `kinergy retarget` makes it (roles by
+    `map` / `to_map`: "auto", "cmu", "bandai", "mixamo", "cc" or a .json map); the report."""
+
 def view(
     clips: ClipLike | Sequence[ClipLike],
     output: PathLike,

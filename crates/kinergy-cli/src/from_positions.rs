@@ -1,13 +1,16 @@
-//! `kinergy from-positions`: joint positions per frame (a CSV table) → BVH, the rotations from
-//! [`kinergy_motion::Clip::from_positions`], the hierarchy built in (SMPL's 24 joints,
-//! Human3.6M's 17), from a JSON map or from a BVH's skeleton. The command reads, calls and
+//! `kinergy from-positions`: joint positions per frame (a CSV table or a NumPy `.npy` array) →
+//! BVH, the rotations from [`kinergy_motion::Clip::from_positions`], the hierarchy built in
+//! (SMPL's 24 joints, Human3.6M's 17, COCO's 17 keypoints), from a JSON map or from a BVH's
+//! skeleton. The command reads, calls and
 //! reports; the work is kinergy-motion's.
 
 use std::path::{Path, PathBuf};
 
 use kinergy_motion::units::LengthUnit;
 use kinergy_motion::up::UpAxis;
-use kinergy_motion::{Clip, JointMap, PositionArrays, read_positions_csv};
+use kinergy_motion::{
+    Clip, JointMap, PositionArrays, read_names, read_positions_csv, read_positions_npy,
+};
 use serde::Serialize;
 
 use crate::common::{Failure, emit, print_json, write_clip};
@@ -16,16 +19,22 @@ use crate::common::{Failure, emit, print_json, write_clip};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The positions: CSV, long (`frame,joint,x,y,z`, a row per frame and joint) or wide
-    /// (`frame,<joint>_x,<joint>_y,<joint>_z,…`, a row per frame); frames numbered without gaps.
-    #[arg(value_name = "POSITIONS.csv")]
+    /// (`frame,<joint>_x,<joint>_y,<joint>_z,…`, a row per frame), frames numbered without
+    /// gaps; or a NumPy `.npy` array `(frames, joints, 3)` (float64 or float32), its joints
+    /// named by --names or, for a built-in hierarchy, in its dataset's order.
+    #[arg(value_name = "POSITIONS.csv|.npy")]
     pub positions: PathBuf,
+    /// With a `.npy` array: a text file naming its joints in order, one per line.
+    #[arg(long, value_name = "NAMES.txt")]
+    pub names: Option<PathBuf>,
     /// Where to write the BVH (atomically; `-` for standard output).
     #[arg(short, long, value_name = "OUT.bvh")]
     pub output: PathBuf,
-    /// The joints' hierarchy: a built-in one (smpl24, h36m17), a JSON map (`{"joints":
-    /// [{"name": …, "parent": … or null}, …]}`, parents first), or a BVH whose skeleton gives
-    /// the names and parents.
-    #[arg(long, value_name = "smpl24|h36m17|MAP.json|T.bvh")]
+    /// The joints' hierarchy: a built-in one (smpl24, h36m17, coco17 — COCO's keypoints with
+    /// a root at the hips' midpoint and a neck at the shoulders'), a JSON map (`{"joints":
+    /// [{"name": …, "parent": … or null, "mean_of": [optional sources]}, …]}`, parents first),
+    /// or a BVH whose skeleton gives the names and parents.
+    #[arg(long, value_name = "smpl24|h36m17|coco17|MAP.json|T.bvh")]
     pub skeleton: String,
     /// The positions' length unit: m, cm, mm, in or cmu.
     #[arg(long, default_value = "m", value_name = "UNIT")]
@@ -94,12 +103,34 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         use crate::common::{Output, check_outputs};
         let mut inputs = vec![args.positions.as_path()];
         inputs.push(Path::new(&args.skeleton));
+        inputs.extend(args.names.as_deref());
         check_outputs(&inputs, &[Output::File("-o", &args.output)])?;
     }
-    let text =
-        std::fs::read_to_string(&args.positions).map_err(|e| Failure::input(&args.positions, e))?;
-    let table = read_positions_csv(&args.positions, &text, &map)
-        .map_err(|e| Failure::input(&args.positions, e))?;
+    let npy = args
+        .positions
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("npy"));
+    if args.names.is_some() && !npy {
+        return Err(Failure::Input(
+            "--names names the joints of a .npy array; a CSV table names its own".into(),
+        ));
+    }
+    let table = if npy {
+        let names = match &args.names {
+            Some(path) => Some(read_names(
+                &std::fs::read_to_string(path).map_err(|e| Failure::input(path, e))?,
+            )),
+            None => None,
+        };
+        let bytes =
+            std::fs::read(&args.positions).map_err(|e| Failure::input(&args.positions, e))?;
+        read_positions_npy(&args.positions, &bytes, &map, names.as_deref())
+    } else {
+        let text = std::fs::read_to_string(&args.positions)
+            .map_err(|e| Failure::input(&args.positions, e))?;
+        read_positions_csv(&args.positions, &text, &map)
+    }
+    .map_err(|e| Failure::input(&args.positions, e))?;
     let positions = table.to_world(args.unit, args.up);
     let made = Clip::from_positions(PositionArrays {
         joint_names: &map.names,

@@ -115,11 +115,12 @@ enum Command {
         after_help = "Examples:\n  kinergy animate capture.bvh sa.bvh sc.bvh -o overlay.gif --view side\n  kinergy animate data-synthetic/p01/r01.bvh data-synthetic/p01/r02.bvh -o pair.gif --fps 12 --strip pair.svg --strip-frames 8 --json"
     )]
     Animate(animate::Args),
-    /// Turn joint positions per frame (CSV; SMPL, Human3.6M, a JSON map or a BVH's skeleton)
-    /// into BVH: bones of the median length, rotations from the children's directions.
+    /// Turn joint positions per frame (CSV or .npy; SMPL, Human3.6M, COCO, a JSON map or a
+    /// BVH's skeleton) into BVH: bones of the median length, rotations from the children's
+    /// directions.
     #[command(
         name = "from-positions",
-        after_help = "Examples:\n  kinergy from-positions joints.csv --skeleton smpl24 -o out.bvh\n  kinergy from-positions keypoints.csv --skeleton h36m17 --unit mm --up z --frame-rate 50 -o out.bvh --json"
+        after_help = "Examples:\n  kinergy from-positions joints.csv --skeleton smpl24 -o out.bvh\n  kinergy from-positions keypoints.csv --skeleton h36m17 --unit mm --up z --frame-rate 50 -o out.bvh --json\n  kinergy from-positions lifted.npy --skeleton coco17 --frame-rate 30 -o out.bvh"
     )]
     FromPositions(from_positions::Args),
     /// Move a motion onto another skeleton: joints matched by role, the root's path scaled by

@@ -72,27 +72,10 @@ struct Driven {
     distance_to_capture_m: Option<f64>,
 }
 
-/// The roles `choice` names on `skeleton` (read from `path`).
+/// The roles `choice` names on `skeleton` (read from `path`; `flag` names the option).
 fn body(skeleton: &Skeleton, choice: &str, path: &Path, flag: &str) -> Result<BodyJoints, Failure> {
-    let found = match choice {
-        "auto" => BodyJoints::find(skeleton),
-        name if !name.ends_with(".json") => match BodyJoints::built_in(skeleton, name) {
-            Some(found) => found,
-            None => {
-                let names: Vec<&str> = BodyJoints::built_in_names().iter().map(|n| n.0).collect();
-                return Err(Failure::Input(format!(
-                    "{flag} {name}: auto, a built-in map ({}) or a .json map",
-                    names.join(", ")
-                )));
-            }
-        },
-        file => {
-            let map = Path::new(file);
-            let text = std::fs::read_to_string(map).map_err(|e| Failure::input(map, e))?;
-            return BodyJoints::from_json(skeleton, &text).map_err(|e| Failure::input(map, e));
-        }
-    };
-    found.map_err(|e| Failure::Input(format!("{}: {e} ({flag} names the roles)", path.display())))
+    BodyJoints::choose(skeleton, choice)
+        .map_err(|e| Failure::Input(format!("{}: {e} ({flag} {choice})", path.display())))
 }
 
 /// Runs `kinergy retarget`.

@@ -46,7 +46,7 @@ fn there_and_back_keeps_the_hands_and_the_template_hierarchy() {
             .next()
             .unwrap_or_default()
             .split_whitespace()
-            .filter(|w| !w.parse::<f64>().is_ok())
+            .filter(|w| w.parse::<f64>().is_err())
             .collect::<Vec<_>>()
             .join(" ")
     };

@@ -127,17 +127,6 @@ pub fn library_fig3(all: &PersonLine, persons: usize) -> BarChart {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn models_are_labelled_as_in_the_paper() {
-        assert_eq!(model_label(Model::Sa), "S_A");
-        assert_eq!(model_label(Model::Sd), "S_D");
-    }
-}
-
 /// The page `compare -o DIR` writes beside its charts: [`VIEW`].
 pub const VIEW: &str = "view.html";
 
@@ -194,4 +183,15 @@ pub fn save_view(
     let out = dir.join(VIEW);
     kinergy_io::write_atomic(&out, html.as_bytes()).map_err(|e| DrawError::io(&out, e))?;
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn models_are_labelled_as_in_the_paper() {
+        assert_eq!(model_label(Model::Sa), "S_A");
+        assert_eq!(model_label(Model::Sd), "S_D");
+    }
 }

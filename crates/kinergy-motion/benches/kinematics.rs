@@ -89,7 +89,7 @@ fn from_positions(c: &mut Criterion) {
     let (clip, _) = read_clip(path, &ImportOptions::default()).expect("r09");
     let skeleton = clip.skeleton();
     let n = skeleton.joint_count();
-    let JointMap { names, parents } = JointMap::of_skeleton(skeleton);
+    let JointMap { names, parents, .. } = JointMap::of_skeleton(skeleton);
     let world: Vec<[f64; 3]> = clip
         .world_positions()
         .expect("fk")

@@ -8,7 +8,9 @@ mod positions_file;
 mod state;
 pub use arrays::{ClipArrays, RotationArrays};
 pub use positions::{FromPositions, PositionArrays};
-pub use positions_file::{JointMap, PositionTable, read_positions_csv};
+pub use positions_file::{
+    JointMap, PositionTable, read_names, read_positions_csv, read_positions_npy,
+};
 pub use state::{ClipState, JointState};
 
 use nalgebra::Point3;

@@ -50,7 +50,7 @@ fn every_captures_positions_come_back_within_a_millimetre() {
     assert!(files.len() >= 2, "{files:?}");
     for path in &files {
         let (clip, _) = read_clip(path, &Default::default()).expect("read");
-        let JointMap { names, parents } = JointMap::of_skeleton(clip.skeleton());
+        let JointMap { names, parents, .. } = JointMap::of_skeleton(clip.skeleton());
         let positions: Vec<[f64; 3]> = clip
             .world_positions()
             .expect("fk")
@@ -95,4 +95,71 @@ fn every_captures_positions_come_back_within_a_millimetre() {
     eprintln!("{worst:?}");
     eprintln!("{rigid} rigid; with stretching bones: {stretchy:?}");
     assert!(rigid >= 2, "the fixtures are rigid");
+}
+
+/// Every built-in hierarchy (SMPL's order is not BVH's depth-first one; COCO's has derived
+/// joints): a rigid body's positions in the map's joints become a BVH that reads back with
+/// each joint, by name, where it was.
+#[test]
+fn every_built_in_hierarchy_writes_a_bvh_that_reads_back_by_name() {
+    for name in JointMap::built_in_names() {
+        let map = JointMap::built_in(name).expect("built in");
+        let n = map.names.len();
+        // Joint k at a fixed place, the body turned a little and moved each frame.
+        let rest: Vec<[f64; 3]> = (0..n)
+            .map(|k| {
+                let k = k as f64;
+                [0.1 * (k * 1.3).sin(), 1.0 + 0.05 * k, 0.1 * (k * 0.7).cos()]
+            })
+            .collect();
+        let mut positions = Vec::new();
+        for f in 0..10 {
+            let a = 0.03 * f as f64;
+            let (s, c) = a.sin_cos();
+            positions.extend(rest.iter().map(|p| {
+                [
+                    c * p[0] + s * p[2] + 0.01 * f as f64,
+                    p[1],
+                    -s * p[0] + c * p[2],
+                ]
+            }));
+        }
+        map.fill_derived(&mut positions);
+        let made = Clip::from_positions(PositionArrays {
+            joint_names: &map.names,
+            parents: &map.parents,
+            positions: &positions,
+            frame_time: 1.0 / 30.0,
+        })
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let dir = tempfile::tempdir().expect("tmp");
+        let path = dir.path().join(format!("{name}.bvh"));
+        kinergy_motion::write_clip(&path, &made.clip, &Default::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        // Written in centimetres (read so: this toy body, 0.8 m tall, would be guessed inches).
+        let options = kinergy_motion::ImportOptions {
+            unit: "cm".parse().expect("unit"),
+            ..Default::default()
+        };
+        let (back, _) = read_clip(&path, &options).expect("read back");
+        let world = back.world_positions().expect("fk");
+        let m = back.skeleton().joint_count();
+        for (j, joint) in map.names.iter().enumerate() {
+            // A leaf is an End Site, which BVH cannot name: it reads back as `<parent>_End`.
+            let leaf = || {
+                let parent = map.names[map.parents[j] as usize].clone();
+                back.skeleton().joint_index(&format!("{parent}_End"))
+            };
+            let k = back
+                .skeleton()
+                .joint_index(joint)
+                .or_else(leaf)
+                .unwrap_or_else(|| panic!("{name}: no {joint}"));
+            for f in 0..10 {
+                let (p, q) = (world[f * m + k], positions[f * n + j]);
+                let d = ((p.x - q[0]).powi(2) + (p.y - q[1]).powi(2) + (p.z - q[2]).powi(2)).sqrt();
+                assert!(d < 1e-3, "{name}: {joint} on frame {f} off by {d} m");
+            }
+        }
+    }
 }

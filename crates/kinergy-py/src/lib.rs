@@ -3,7 +3,8 @@
 //! [`register`], and that Rust code can reach.
 //!
 //! Each file is one Python verb — [`segment`], [`fit`], [`synthesize`], [`reach`],
-//! [`style`], [`plan`], [`compare`], [`library`] (`fit(..., out_dir=)` and `collect`),
+//! [`style`], [`plan`], [`compare`], [`retarget`], [`library`] (`fit(..., out_dir=)` and
+//! `collect`),
 //! [`plot`] (`hand_speed`), [`view`] (the page of `kinergy view`) — or one of the classes ([`clip::Clip`], [`params::Params`]),
 //! plus [`args`] (Python's arguments into the library's types, and its reports back),
 //! [`errors`] (the exception classes, from the library errors' kinds) and [`progress`]
@@ -30,6 +31,7 @@ pub mod plan;
 pub mod plot;
 pub mod progress;
 pub mod reach;
+pub mod retarget;
 pub mod segment;
 pub mod style;
 pub mod synthesize;
@@ -52,6 +54,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(style::style, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(retarget::retarget, m)?)?;
     m.add_function(wrap_pyfunction!(library::collect, m)?)?;
     errors::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

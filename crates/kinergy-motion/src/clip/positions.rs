@@ -42,9 +42,12 @@ pub struct PositionArrays<'a> {
 /// A clip made from positions, with how well it holds them.
 #[derive(Debug, Clone)]
 pub struct FromPositions {
-    /// The clip (rotation channels Z X Y on every joint but the leaves, which are End Sites).
+    /// The clip (rotation channels Z X Y on every joint but the leaves, which are End Sites),
+    /// its joints in depth-first order as BVH lists them (each joint's subtree before its next
+    /// sibling; the input's order where it already is).
     pub clip: Clip,
-    /// Each frame's distance of each joint from its input position, meters, joint after joint.
+    /// Each frame's distance of each joint from its input position, meters, joint after joint
+    /// in the clip's order.
     pub error_m: Vec<f64>,
     /// The joints whose twist about their bone the positions do not determine (one child, or
     /// children on one line): kept from the previous frame.
@@ -135,6 +138,36 @@ impl Clip {
                 k / n
             );
             return Err(invalid("positions", why));
+        }
+        // BVH lists a joint's whole subtree before its next sibling: joints given in another
+        // order (SMPL's lists the hips, then the spine, then the knees) are put in that order.
+        let order = depth_first(arrays.parents);
+        if order.iter().enumerate().any(|(k, &j)| k != j) {
+            let mut new_index = vec![0usize; n];
+            for (k, &j) in order.iter().enumerate() {
+                new_index[j] = k;
+            }
+            let names: Vec<String> = order
+                .iter()
+                .map(|&j| arrays.joint_names[j].clone())
+                .collect();
+            let parents: Vec<i64> = order
+                .iter()
+                .map(|&j| match arrays.parents[j] {
+                    -1 => -1,
+                    p => new_index[p as usize] as i64,
+                })
+                .collect();
+            let positions: Vec<[f64; 3]> = (0..frames)
+                .flat_map(|f| order.iter().map(move |&j| (f, j)))
+                .map(|(f, j)| arrays.positions[f * n + j])
+                .collect();
+            return Clip::from_positions(PositionArrays {
+                joint_names: &names,
+                parents: &parents,
+                positions: &positions,
+                frame_time: arrays.frame_time,
+            });
         }
         let at = |f: usize, j: usize| Vector3::from(arrays.positions[f * n + j]);
         let parent = |j: usize| arrays.parents[j] as usize;
@@ -254,6 +287,23 @@ impl Clip {
             stretched,
         })
     }
+}
+
+/// The joints in depth-first order (each joint's subtree before its next sibling, siblings in
+/// their given order): indices into `parents` (valid: the root first, parents before children).
+fn depth_first(parents: &[i64]) -> Vec<usize> {
+    let n = parents.len();
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (j, &p) in parents.iter().enumerate().skip(1) {
+        children[p as usize].push(j);
+    }
+    let mut order = Vec::with_capacity(n);
+    let mut stack = vec![0];
+    while let Some(j) = stack.pop() {
+        order.push(j);
+        stack.extend(children[j].iter().rev());
+    }
+    order
 }
 
 /// The rotation `R` minimizing Σ |R·rest − current|² over the pairs (Kabsch, by SVD of the

@@ -1,6 +1,8 @@
 //! Joint positions as files and hierarchies (what `kinergy from-positions` reads): a CSV table
-//! of positions per frame and joint, and the joints' hierarchy — a built-in one (SMPL's 24
-//! joints, Human3.6M's 17), a JSON map, or a BVH's skeleton.
+//! of positions per frame and joint or a NumPy `.npy` array `(frames, joints, 3)`, and the
+//! joints' hierarchy — a built-in one (SMPL's 24 joints, Human3.6M's 17, COCO's 17 keypoints),
+//! a JSON map, or a BVH's skeleton. A hierarchy may hold *derived* joints, the mean of others
+//! (COCO's keypoints have no pelvis: its map roots the body at the hips' midpoint).
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -15,10 +17,16 @@ pub struct JointMap {
     pub names: Vec<String>,
     /// Each joint's parent index, `-1` for the root.
     pub parents: Vec<i64>,
+    /// Each joint's sources where it is derived (the mean of their positions), empty for a
+    /// joint read from the input.
+    pub derived: Vec<Vec<usize>>,
+    /// The joints the input holds, in the order an array without names lists them (a
+    /// dataset's own keypoint order): indices into `names`, no derived joint.
+    pub input_order: Vec<usize>,
 }
 
 /// The built-in hierarchies: (name, joints with their parents' names).
-const BUILT_IN: [(&str, &[(&str, &str)]); 2] = [
+const BUILT_IN: [(&str, &[(&str, &str)]); 3] = [
     // SMPL's 24 joints in SMPL's order (the kinematic tree of the SMPL model).
     (
         "smpl24",
@@ -72,6 +80,60 @@ const BUILT_IN: [(&str, &[(&str, &str)]); 2] = [
             ("right_wrist", "right_elbow"),
         ],
     ),
+    // COCO's 17 keypoints (3-D lifts of them), with two derived joints: the root at the hips'
+    // midpoint and a neck at the shoulders' ([`COCO_DERIVED`]); arrays list COCO's order
+    // ([`COCO_ORDER`]).
+    (
+        "coco17",
+        &[
+            ("mid_hip", ""),
+            ("left_hip", "mid_hip"),
+            ("left_knee", "left_hip"),
+            ("left_ankle", "left_knee"),
+            ("right_hip", "mid_hip"),
+            ("right_knee", "right_hip"),
+            ("right_ankle", "right_knee"),
+            ("neck", "mid_hip"),
+            ("nose", "neck"),
+            ("left_eye", "nose"),
+            ("left_ear", "left_eye"),
+            ("right_eye", "nose"),
+            ("right_ear", "right_eye"),
+            ("left_shoulder", "neck"),
+            ("left_elbow", "left_shoulder"),
+            ("left_wrist", "left_elbow"),
+            ("right_shoulder", "neck"),
+            ("right_elbow", "right_shoulder"),
+            ("right_wrist", "right_elbow"),
+        ],
+    ),
+];
+
+/// COCO's derived joints: (joint, the joints it is the mean of).
+const COCO_DERIVED: [(&str, [&str; 2]); 2] = [
+    ("mid_hip", ["left_hip", "right_hip"]),
+    ("neck", ["left_shoulder", "right_shoulder"]),
+];
+
+/// COCO's keypoint order.
+const COCO_ORDER: [&str; 17] = [
+    "nose",
+    "left_eye",
+    "right_eye",
+    "left_ear",
+    "right_ear",
+    "left_shoulder",
+    "right_shoulder",
+    "left_elbow",
+    "right_elbow",
+    "left_wrist",
+    "right_wrist",
+    "left_hip",
+    "right_hip",
+    "left_knee",
+    "right_knee",
+    "left_ankle",
+    "right_ankle",
 ];
 
 impl JointMap {
@@ -80,14 +142,24 @@ impl JointMap {
         BUILT_IN.iter().map(|(n, _)| *n).collect()
     }
 
-    /// A built-in hierarchy by name (`smpl24`, `h36m17`).
+    /// A built-in hierarchy by name (`smpl24`, `h36m17`, `coco17`).
     pub fn built_in(name: &str) -> Option<JointMap> {
         let (_, joints) = BUILT_IN.iter().find(|(n, _)| *n == name)?;
-        JointMap::from_pairs(joints.iter().map(|(j, p)| (j.to_string(), p.to_string()))).ok()
+        let pairs = joints.iter().map(|(j, p)| (j.to_string(), p.to_string()));
+        if name != "coco17" {
+            return JointMap::from_pairs(pairs).ok();
+        }
+        let derived = COCO_DERIVED
+            .iter()
+            .map(|(j, from)| (j.to_string(), from.iter().map(|f| f.to_string()).collect()))
+            .collect();
+        let order: Vec<String> = COCO_ORDER.iter().map(|j| j.to_string()).collect();
+        JointMap::from_parts(pairs, derived, Some(&order)).ok()
     }
 
     /// The hierarchy of a BVH's skeleton.
     pub fn of_skeleton(skeleton: &Skeleton) -> JointMap {
+        let n = skeleton.joint_count();
         JointMap {
             names: skeleton.joints().iter().map(|j| j.name.clone()).collect(),
             parents: skeleton
@@ -95,6 +167,36 @@ impl JointMap {
                 .iter()
                 .map(|j| j.parent.map_or(-1, |p| p as i64))
                 .collect(),
+            derived: vec![Vec::new(); n],
+            input_order: (0..n).collect(),
+        }
+    }
+
+    /// The names of the joints the input holds, in [`JointMap::input_order`].
+    pub fn input_names(&self) -> Vec<&str> {
+        self.input_order
+            .iter()
+            .map(|&j| self.names[j].as_str())
+            .collect()
+    }
+
+    /// Fills each derived joint of `positions` (frames of the map's joints) with the mean of
+    /// its sources.
+    pub fn fill_derived(&self, positions: &mut [[f64; 3]]) {
+        let n = self.names.len();
+        for frame in positions.chunks_mut(n) {
+            for (j, from) in self.derived.iter().enumerate() {
+                if from.is_empty() {
+                    continue;
+                }
+                let mut sum = [0.0; 3];
+                for &k in from {
+                    for (s, v) in sum.iter_mut().zip(frame[k]) {
+                        *s += v;
+                    }
+                }
+                frame[j] = sum.map(|s| s / from.len() as f64);
+            }
         }
     }
 
@@ -111,16 +213,72 @@ impl JointMap {
         struct Entry {
             name: String,
             parent: Option<String>,
+            #[serde(default)]
+            mean_of: Vec<String>,
         }
         let file: File = serde_json::from_str(text).map_err(|e| MotionError::Invalid {
             what: "joint map",
             why: e.to_string(),
         })?;
-        JointMap::from_pairs(
+        let derived = file
+            .joints
+            .iter()
+            .filter(|e| !e.mean_of.is_empty())
+            .map(|e| (e.name.clone(), e.mean_of.clone()))
+            .collect();
+        JointMap::from_parts(
             file.joints
                 .into_iter()
                 .map(|e| (e.name, e.parent.unwrap_or_default())),
+            derived,
+            None,
         )
+    }
+
+    /// From (joint, parent) names (the root's parent empty), the derived joints with their
+    /// sources' names, and the input order by name (`None`: the map's order less the derived).
+    fn from_parts(
+        pairs: impl IntoIterator<Item = (String, String)>,
+        derived: Vec<(String, Vec<String>)>,
+        order: Option<&[String]>,
+    ) -> Result<JointMap> {
+        let mut map = JointMap::from_pairs(pairs)?;
+        let bad = |why: String| MotionError::Invalid {
+            what: "joint map",
+            why,
+        };
+        let index = |map: &JointMap, name: &str, of: &str| {
+            map.names
+                .iter()
+                .position(|n| n == name)
+                .ok_or_else(|| bad(format!("`{of}`: no joint `{name}` in the map")))
+        };
+        for (joint, from) in &derived {
+            let j = index(&map, joint, joint)?;
+            let sources = from
+                .iter()
+                .map(|f| index(&map, f, joint))
+                .collect::<Result<Vec<usize>>>()?;
+            map.derived[j] = sources;
+        }
+        for (j, from) in map.derived.iter().enumerate() {
+            if let Some(&k) = from.iter().find(|&&k| !map.derived[k].is_empty()) {
+                return Err(bad(format!(
+                    "`{}` is the mean of `{}`, itself derived: a derived joint's sources are read",
+                    map.names[j], map.names[k]
+                )));
+            }
+        }
+        map.input_order = match order {
+            Some(names) => names
+                .iter()
+                .map(|n| index(&map, n, "input order"))
+                .collect::<Result<_>>()?,
+            None => (0..map.names.len())
+                .filter(|&j| map.derived[j].is_empty())
+                .collect(),
+        };
+        Ok(map)
     }
 
     /// From (joint, parent) names, the root's parent empty.
@@ -158,7 +316,13 @@ impl JointMap {
         if names.is_empty() {
             return Err(bad("no joints".into()));
         }
-        Ok(JointMap { names, parents })
+        let n = names.len();
+        Ok(JointMap {
+            names,
+            parents,
+            derived: vec![Vec::new(); n],
+            input_order: (0..n).collect(),
+        })
     }
 }
 
@@ -231,6 +395,9 @@ pub fn read_positions_csv(path: &Path, text: &str, map: &JointMap) -> Result<Pos
             let Some(j) = map.names.iter().position(|n| n == joint) else {
                 continue;
             };
+            if !map.derived[j].is_empty() {
+                continue; // made from its sources, whatever the file says
+            }
             let p = [
                 number(record.get(2), line, "x")?,
                 number(record.get(3), line, "y")?,
@@ -255,9 +422,13 @@ pub fn read_positions_csv(path: &Path, text: &str, map: &JointMap) -> Result<Pos
             header.iter().position(|h| *h == want)
         };
         let mut columns = Vec::with_capacity(n);
-        for name in &map.names {
+        for (j, name) in map.names.iter().enumerate() {
+            if !map.derived[j].is_empty() {
+                columns.push(None);
+                continue;
+            }
             match (column(name, "x"), column(name, "y"), column(name, "z")) {
-                (Some(x), Some(y), Some(z)) => columns.push([x, y, z]),
+                (Some(x), Some(y), Some(z)) => columns.push(Some([x, y, z])),
                 _ => {
                     return Err(at(
                         1,
@@ -274,9 +445,12 @@ pub fn read_positions_csv(path: &Path, text: &str, map: &JointMap) -> Result<Pos
             if table.0[k].1.iter().any(Option::is_some) {
                 return Err(at(line, format!("frame {frame} twice")));
             }
-            for (j, [x, y, z]) in columns.iter().enumerate() {
+            for (j, column) in columns.iter().enumerate() {
                 let v = |c: usize, what: &str| number(record.get(c), line, what);
-                table.0[k].1[j] = Some([v(*x, "x")?, v(*y, "y")?, v(*z, "z")?]);
+                table.0[k].1[j] = match column {
+                    Some([x, y, z]) => Some([v(*x, "x")?, v(*y, "y")?, v(*z, "z")?]),
+                    None => Some([0.0; 3]), // derived, filled below
+                };
             }
         }
     }
@@ -300,6 +474,7 @@ pub fn read_positions_csv(path: &Path, text: &str, map: &JointMap) -> Result<Pos
         for (j, p) in joints.iter().enumerate() {
             match p {
                 Some(p) => positions.push(*p),
+                None if !map.derived[j].is_empty() => positions.push([0.0; 3]),
                 None => {
                     return Err(at(
                         1,
@@ -309,10 +484,188 @@ pub fn read_positions_csv(path: &Path, text: &str, map: &JointMap) -> Result<Pos
             }
         }
     }
+    map.fill_derived(&mut positions);
     Ok(PositionTable {
         frames: rows.len(),
         positions,
     })
+}
+
+/// Reads positions for the joints of `map` from the bytes of a NumPy `.npy` file (`path`,
+/// named in errors): a little-endian `float64` or `float32` array in C order, shaped `(frames,
+/// joints, 3)` or `(frames, joints × 3)`. `names` lists the array's joints in order (a names
+/// file); without it the array holds the map's [`JointMap::input_order`] (a built-in dataset's
+/// own keypoint order). Every joint the map reads must be named (other joints are ignored);
+/// derived joints are made from their sources.
+pub fn read_positions_npy(
+    path: &Path,
+    bytes: &[u8],
+    map: &JointMap,
+    names: Option<&[String]>,
+) -> Result<PositionTable> {
+    let bad = |why: String| MotionError::Invalid {
+        what: "positions",
+        why: format!("{}: {why}", path.display()),
+    };
+    let array = npy::parse(bytes).map_err(bad)?;
+    let default: Vec<String> = map.input_names().iter().map(|s| s.to_string()).collect();
+    let names = names.unwrap_or(&default);
+    let (frames, width) = match array.shape[..] {
+        [f, j, 3] => (f, j),
+        [f, k] if k % 3 == 0 => (f, k / 3),
+        _ => {
+            return Err(bad(format!(
+                "an array shaped {:?}: positions are (frames, joints, 3) or (frames, joints × 3)",
+                array.shape
+            )));
+        }
+    };
+    if width != names.len() {
+        return Err(bad(format!(
+            "{width} joints per frame, but {} names ({})",
+            names.len(),
+            names.join(", ")
+        )));
+    }
+    if frames == 0 {
+        return Err(bad("no frames".into()));
+    }
+    let n = map.names.len();
+    let mut column = vec![None; n];
+    for (j, name) in map.names.iter().enumerate() {
+        if map.derived[j].is_empty() {
+            let k = names.iter().position(|m| m == name).ok_or_else(|| {
+                bad(format!(
+                    "no joint `{name}` among the array's ({})",
+                    names.join(", ")
+                ))
+            })?;
+            column[j] = Some(k);
+        }
+    }
+    let mut positions = Vec::with_capacity(frames * n);
+    for f in 0..frames {
+        for (j, k) in column.iter().enumerate() {
+            let p = match k {
+                Some(k) => {
+                    let at = (f * width + k) * 3;
+                    [array.values[at], array.values[at + 1], array.values[at + 2]]
+                }
+                None => [0.0; 3],
+            };
+            if !p.iter().all(|v| v.is_finite()) {
+                return Err(bad(format!(
+                    "joint `{}` has no finite position on frame {f}",
+                    map.names[j]
+                )));
+            }
+            positions.push(p);
+        }
+    }
+    map.fill_derived(&mut positions);
+    Ok(PositionTable { frames, positions })
+}
+
+/// A names file: one joint name per line (blank lines and `#` comments skipped).
+pub fn read_names(text: &str) -> Vec<String> {
+    text.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .map(str::to_owned)
+        .collect()
+}
+
+/// The NumPy `.npy` format, version 1–3: the header's dictionary (`descr`, `fortran_order`,
+/// `shape`) and the data, read strictly (what this crate reads; no pickles, no objects).
+mod npy {
+    /// An array of numbers in C order.
+    pub struct Array {
+        pub shape: Vec<usize>,
+        pub values: Vec<f64>,
+    }
+
+    pub fn parse(bytes: &[u8]) -> Result<Array, String> {
+        const MAGIC: &[u8] = b"\x93NUMPY";
+        if bytes.len() < 10 || &bytes[..6] != MAGIC {
+            return Err("not a NumPy .npy file (no \\x93NUMPY magic)".into());
+        }
+        let major = bytes[6];
+        let (len, start) = match major {
+            1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
+            2 | 3 if bytes.len() >= 12 => (
+                u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
+                12,
+            ),
+            _ => return Err(format!("a .npy version {major} header, not read")),
+        };
+        let header = bytes
+            .get(start..start + len)
+            .ok_or("the .npy header runs past the end of the file")?;
+        let header = std::str::from_utf8(header).map_err(|_| "the .npy header is not text")?;
+        let field = |key: &str| -> Result<&str, String> {
+            let at = header
+                .find(&format!("'{key}'"))
+                .ok_or_else(|| format!("the .npy header has no '{key}'"))?;
+            let rest = &header[at + key.len() + 2..];
+            let colon = rest.find(':').ok_or("a malformed .npy header")?;
+            Ok(rest[colon + 1..].trim_start())
+        };
+        let descr = field("descr")?;
+        let descr = descr
+            .strip_prefix('\'')
+            .and_then(|d| d.split('\'').next())
+            .ok_or("a malformed 'descr' in the .npy header")?;
+        let width = match descr {
+            "<f8" | "=f8" => 8,
+            "<f4" | "=f4" => 4,
+            other => {
+                return Err(format!(
+                    "numbers of type '{other}': float64 or float32, little-endian, are read"
+                ));
+            }
+        };
+        if field("fortran_order")?.starts_with("True") {
+            return Err(
+                "a Fortran-ordered array: save it in C order (np.ascontiguousarray)".into(),
+            );
+        }
+        let shape = field("shape")?;
+        let shape = shape
+            .strip_prefix('(')
+            .and_then(|s| s.split(')').next())
+            .ok_or("a malformed 'shape' in the .npy header")?;
+        let shape: Vec<usize> = shape
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(|s| {
+                s.parse()
+                    .map_err(|_| format!("a shape entry `{s}` is not a size"))
+            })
+            .collect::<Result<_, String>>()?;
+        let count = shape
+            .iter()
+            .try_fold(1usize, |a, &d| a.checked_mul(d))
+            .ok_or("an array too large")?;
+        let data = &bytes[start + len..];
+        if data.len() != count * width {
+            return Err(format!(
+                "{} bytes of data for an array of shape {shape:?} ({} expected)",
+                data.len(),
+                count * width
+            ));
+        }
+        let values = if width == 8 {
+            data.chunks_exact(8)
+                .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+                .collect()
+        } else {
+            data.chunks_exact(4)
+                .map(|c| f32::from_le_bytes(c.try_into().unwrap_or([0; 4])) as f64)
+                .collect()
+        };
+        Ok(Array { shape, values })
+    }
 }
 
 /// Rows of positions by frame, in the order first met.
@@ -349,6 +702,105 @@ mod tests {
         assert_eq!(a.positions[3], [1.0, 2.0, 0.0]);
     }
 
+    /// The bytes of a `.npy` file of `values` shaped `shape` (float64, or float32).
+    pub(crate) fn npy_bytes(shape: &[usize], values: &[f64], float32: bool) -> Vec<u8> {
+        let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
+        let shape = match dims.len() {
+            1 => format!("({},)", dims[0]),
+            _ => format!("({})", dims.join(", ")),
+        };
+        let descr = if float32 { "<f4" } else { "<f8" };
+        let mut header =
+            format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
+        while (10 + header.len() + 1) % 64 != 0 {
+            header.push(' ');
+        }
+        header.push('\n');
+        let mut out = b"\x93NUMPY\x01\x00".to_vec();
+        out.extend((header.len() as u16).to_le_bytes());
+        out.extend(header.as_bytes());
+        for v in values {
+            if float32 {
+                out.extend((*v as f32).to_le_bytes());
+            } else {
+                out.extend(v.to_le_bytes());
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn npy_arrays_read_like_tables_in_either_width_and_named_order() {
+        let p = Path::new("p.npy");
+        // Two frames of (tip, root), the file's order, against the map's (root, tip).
+        let values = [0.0, 2.0, 0.0, 0.0, 1.0, 0.0, 1.0, 2.0, 0.0, 0.0, 1.0, 0.0];
+        let names = vec!["tip".to_string(), "root".to_string()];
+        let csv = "frame,joint,x,y,z\n0,root,0,1,0\n0,tip,0,2,0\n1,root,0,1,0\n1,tip,1,2,0\n";
+        let table = read_positions_csv(p, csv, &two()).expect("csv");
+        for (shape, f32) in [(&[2, 2, 3][..], false), (&[2, 6][..], true)] {
+            let bytes = npy_bytes(shape, &values, f32);
+            let read = read_positions_npy(p, &bytes, &two(), Some(&names)).expect("npy");
+            assert_eq!(read, table, "{shape:?}");
+        }
+        // Without names, the map's input order (root, tip).
+        let ordered = [0.0, 1.0, 0.0, 0.0, 2.0, 0.0, 0.0, 1.0, 0.0, 1.0, 2.0, 0.0];
+        let bytes = npy_bytes(&[2, 2, 3], &ordered, false);
+        assert_eq!(
+            read_positions_npy(p, &bytes, &two(), None).expect("npy"),
+            table
+        );
+        // Refusals name the file and what is wrong.
+        let e = read_positions_npy(p, b"PK\x03\x04", &two(), None).expect_err("zip");
+        assert!(
+            e.to_string().contains("p.npy") && e.to_string().contains("magic"),
+            "{e}"
+        );
+        let e = read_positions_npy(p, &npy_bytes(&[2, 3, 3], &[0.0; 18], false), &two(), None)
+            .expect_err("width");
+        assert!(e.to_string().contains("3 joints per frame"), "{e}");
+        let mut short = npy_bytes(&[2, 2, 3], &ordered, false);
+        short.truncate(short.len() - 8);
+        let e = read_positions_npy(p, &short, &two(), None).expect_err("short");
+        assert!(e.to_string().contains("bytes of data"), "{e}");
+        let wrong = vec!["a".to_string(), "b".to_string()];
+        let e = read_positions_npy(p, &bytes, &two(), Some(&wrong)).expect_err("names");
+        assert!(e.to_string().contains("no joint `root`"), "{e}");
+        assert_eq!(read_names("# joints\nroot\n\n tip \n"), ["root", "tip"]);
+    }
+
+    #[test]
+    fn coco_keypoints_get_a_root_at_the_hips_midpoint_and_a_neck() {
+        let map = JointMap::built_in("coco17").expect("coco");
+        assert_eq!(map.names.len(), 19);
+        assert_eq!(map.input_order.len(), 17);
+        assert_eq!(map.input_names()[0], "nose");
+        assert_eq!(map.input_names()[16], "right_ankle");
+        // Keypoint k of frame 0 at (k, 2k, 0): the root is the hips' mean, the neck the
+        // shoulders'.
+        let values: Vec<f64> = (0..17)
+            .flat_map(|k| [k as f64, 2.0 * k as f64, 0.0])
+            .collect();
+        let bytes = tests::npy_bytes(&[1, 17, 3], &values, false);
+        let table = read_positions_npy(Path::new("c.npy"), &bytes, &map, None).expect("npy");
+        let at =
+            |name: &str| table.positions[map.names.iter().position(|n| n == name).expect(name)];
+        assert_eq!(at("mid_hip"), [11.5, 23.0, 0.0]);
+        assert_eq!(at("neck"), [5.5, 11.0, 0.0]);
+        assert_eq!(at("nose"), [0.0, 0.0, 0.0]);
+        // A JSON map derives the same way; a derived source must itself be read.
+        let json = r#"{"joints": [{"name": "mid", "parent": null, "mean_of": ["a", "b"]},
+            {"name": "a", "parent": "mid"}, {"name": "b", "parent": "mid"}]}"#;
+        let m = JointMap::from_json(json).expect("map");
+        assert_eq!(m.derived[0], vec![1, 2]);
+        assert_eq!(m.input_names(), ["a", "b"]);
+        let csv = "frame,a_x,a_y,a_z,b_x,b_y,b_z\n0,0,0,0,2,4,6\n";
+        let t = read_positions_csv(Path::new("m.csv"), csv, &m).expect("csv");
+        assert_eq!(t.positions[0], [1.0, 2.0, 3.0]);
+        let json = r#"{"joints": [{"name": "mid", "parent": null, "mean_of": ["a", "mid"]},
+            {"name": "a", "parent": "mid"}]}"#;
+        assert!(JointMap::from_json(json).is_err());
+    }
+
     #[test]
     fn bad_tables_and_maps_say_where() {
         let p = Path::new("p.csv");
@@ -377,5 +829,6 @@ mod tests {
         }
         assert_eq!(JointMap::built_in("smpl24").expect("smpl").names.len(), 24);
         assert_eq!(JointMap::built_in("h36m17").expect("h36m").names.len(), 17);
+        assert!(JointMap::built_in_names().contains(&"coco17"));
     }
 }

@@ -203,6 +203,31 @@ impl BodyJoints {
         self.spine[self.spine.len() - 1]
     }
 
+    /// The body of `skeleton` by a user's choice, as `kinergy retarget --map` and Python's
+    /// `map=` take it: `auto` ([`BodyJoints::find`]), a built-in map's name
+    /// ([`BodyJoints::built_in`]), or the path of a JSON map ending in `.json`
+    /// ([`BodyJoints::from_json`], the file read here; errors name it).
+    pub fn choose(skeleton: &Skeleton, choice: &str) -> Result<BodyJoints> {
+        if choice == "auto" {
+            return Self::find(skeleton);
+        }
+        if !choice.to_ascii_lowercase().ends_with(".json") {
+            return Self::built_in(skeleton, choice).unwrap_or_else(|| {
+                let names: Vec<&str> = BUILT_IN.iter().map(|b| b.0).collect();
+                Err(invalid(format!(
+                    "`{choice}`: auto, a built-in map ({}) or a .json map's path",
+                    names.join(", ")
+                )))
+            });
+        }
+        let text =
+            std::fs::read_to_string(choice).map_err(|e| invalid(format!("{choice}: {e}")))?;
+        Self::from_json(skeleton, &text).map_err(|e| match e {
+            MotionError::Invalid { why, .. } => invalid(format!("{choice}: {why}")),
+            e => e,
+        })
+    }
+
     /// The names of the built-in maps ([`BodyJoints::built_in`]) with the rigs each is for.
     pub fn built_in_names() -> Vec<(&'static str, &'static str)> {
         BUILT_IN.iter().map(|(n, rigs, _)| (*n, *rigs)).collect()
