@@ -330,8 +330,10 @@ def from_positions(
     parents: Sequence[int],
     *,
     frame_time: float = 1.0 / 30.0,
+    stretch: Literal["hold", "keep"] = "hold",
 ) -> Clip:
-    """A clip whose joints are at `positions` (frames, joints, 3), the hierarchy by `parents`."""
+    """A clip whose joints are at `positions` (frames, joints, 3), the hierarchy by `parents`;
+    bones that stretch held at their median (`stretch="hold"`) or kept in position channels."""
 
 def retarget(
     clip: Clip,

@@ -429,5 +429,11 @@ def test_from_positions_gives_the_positions_back(at_root):
     moved[::2, 1:] += [0.0, 0.05, 0.0]  # every second frame the body floats off its root
     odd = kinergy.from_positions(moved, clip.joint_names, parents)
     assert [name for name, _ in odd.report["stretched"]] != []
+    # Kept in position channels, the stretching bone puts every joint back where it was.
+    kept = kinergy.from_positions(moved, clip.joint_names, parents, stretch="keep")
+    assert np.abs(kept.positions - moved).max() < 1e-6
+    assert kept.report["max_error_m"] < 1e-6
+    with pytest.raises(kinergy.InputError, match="hold or keep"):
+        kinergy.from_positions(moved, clip.joint_names, parents, stretch="loose")
     with pytest.raises(kinergy.InputError, match=r"\(frames, 141, 3\)"):
         kinergy.from_positions(clip.positions[:, :3], clip.joint_names, parents)

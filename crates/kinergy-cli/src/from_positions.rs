@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use kinergy_motion::units::LengthUnit;
 use kinergy_motion::up::UpAxis;
 use kinergy_motion::{
-    Clip, JointMap, PositionArrays, read_names, read_positions_csv, read_positions_npy,
+    Clip, JointMap, PositionArrays, Stretch, read_names, read_positions_csv, read_positions_npy,
 };
 use serde::Serialize;
 
@@ -42,6 +42,12 @@ pub struct Args {
     /// The positions' up axis: y, z, x, -y, -z or -x (the BVH is written Y up).
     #[arg(long, default_value = "y", value_name = "AXIS")]
     pub up: UpAxis,
+    /// A bone whose length varies over the frames: `hold` it at its median length (rotations
+    /// only; its joint is off by up to the variation, reported) or `keep` it, its child joint
+    /// given position channels that carry each frame's length (every joint where the input
+    /// puts it: a reference root the hips move away from, positions from video).
+    #[arg(long, default_value = "hold", value_name = "hold|keep")]
+    pub stretch: Stretch,
     /// Frames per second (0.1 to 10000).
     #[arg(long, default_value_t = 30.0, value_name = "HZ")]
     pub frame_rate: f64,
@@ -132,12 +138,15 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     }
     .map_err(|e| Failure::input(&args.positions, e))?;
     let positions = table.to_world(args.unit, args.up);
-    let made = Clip::from_positions(PositionArrays {
-        joint_names: &map.names,
-        parents: &map.parents,
-        positions: &positions,
-        frame_time: 1.0 / args.frame_rate,
-    })
+    let made = Clip::from_positions_with(
+        PositionArrays {
+            joint_names: &map.names,
+            parents: &map.parents,
+            positions: &positions,
+            frame_time: 1.0 / args.frame_rate,
+        },
+        args.stretch,
+    )
     .map_err(|e| Failure::input(&args.positions, e))?;
     write_clip(&args.output, &made.clip, &Default::default())?;
     let n = map.names.len();
@@ -168,9 +177,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             report.undetermined.join(", ")
         );
     }
+    let how = match args.stretch {
+        Stretch::Hold => "held at its median; --stretch keep keeps it",
+        Stretch::Keep => "kept in position channels",
+    };
     for (name, range) in &report.stretched {
         text += &format!(
-            "  the bone to {name} stretches by {:.1} mm over the take (held at its median)\n",
+            "  the bone to {name} stretches by {:.1} mm over the take ({how})\n",
             range * 1e3
         );
     }

@@ -88,7 +88,7 @@ fn convert(input: &Path, out: &Path, extra: &[&str]) {
 /// Every kind of file Kinergy writes, in `dir`: (what made it, the file).
 /// `kinergy from-positions` on `input`'s world positions (Kinergy's FK, as a long CSV), the
 /// hierarchy from `input` itself: the BVH a position table becomes.
-fn from_positions(input: &Path, out: &Path) {
+fn from_positions(input: &Path, out: &Path, extra: &[&str]) {
     use std::fmt::Write as _;
     let (clip, _) = kinergy_motion::read_clip(input, &Default::default()).expect("read");
     let names: Vec<String> = clip
@@ -113,19 +113,18 @@ fn from_positions(input: &Path, out: &Path) {
     let table = out.with_extension("csv");
     std::fs::write(&table, csv).expect("write the table");
     let rate = format!("{}", 1.0 / clip.frame_time());
-    run_writing(
-        &[
-            "from-positions",
-            utf8(&table),
-            "--skeleton",
-            utf8(input),
-            "--frame-rate",
-            &rate,
-            "-o",
-            utf8(out),
-        ],
-        out,
-    );
+    let mut args = vec![
+        "from-positions",
+        utf8(&table),
+        "--skeleton",
+        utf8(input),
+        "--frame-rate",
+        &rate,
+        "-o",
+        utf8(out),
+    ];
+    args.extend(extra);
+    run_writing(&args, out);
 }
 
 fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
@@ -150,10 +149,18 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
                 convert(&input, &out, &["--up-out", "y"]);
                 files.push((format!("convert --up-out y {folder}/{stem}"), out));
             }
+            let out = dir.join(format!("positions-{folder}-{stem}.bvh"));
             if folder != "bandai-raise-left" {
-                let out = dir.join(format!("positions-{folder}-{stem}.bvh"));
-                from_positions(&input, &out);
+                from_positions(&input, &out, &[]);
                 files.push((format!("from-positions {folder}/{stem}"), out));
+            } else {
+                // The Bandai takes' hips move away from their reference root: that bone kept
+                // in position channels, every joint where the capture has it.
+                from_positions(&input, &out, &["--stretch", "keep"]);
+                files.push((
+                    format!("from-positions --stretch keep {folder}/{stem}"),
+                    out,
+                ));
             }
             if folder == "real-bvh" && stem.starts_with("dataset-1") && bandai.is_none() {
                 bandai = Some(input.clone());
@@ -163,7 +170,7 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
 
     let cc = repo().join("tests/data/006_14.bvh");
     let out = dir.join("positions-006_14.bvh");
-    from_positions(&cc, &out);
+    from_positions(&cc, &out, &[]);
     files.push(("from-positions tests/data/006_14".into(), out));
     // `kinergy retarget` between the committed rigs and onto every shared rig (each output
     // imported with Kinergy's joint positions, like every other file here).

@@ -7,7 +7,7 @@ mod positions;
 mod positions_file;
 mod state;
 pub use arrays::{ClipArrays, RotationArrays};
-pub use positions::{FromPositions, PositionArrays};
+pub use positions::{FromPositions, PositionArrays, Stretch};
 pub use positions_file::{
     JointMap, PositionTable, read_names, read_positions_csv, read_positions_npy,
 };

@@ -378,15 +378,22 @@ impl Clip {
 /// `report`: the largest distance of any joint from its position (`max_error_m`) and each
 /// joint's (`joint_max_error_m`), the joints whose twist the positions do not determine
 /// (`undetermined`, kept from frame to frame) and the bones whose length varies (`stretched`).
+/// `stretch`: "hold" such a bone at its median length, or "keep" it, its child joint given
+/// position channels carrying each frame's length (as `kinergy from-positions --stretch`).
+/// The clip's joints are in BVH's depth-first order.
 #[pyfunction]
-#[pyo3(signature = (positions, joint_names, parents, *, frame_time = 1.0 / 30.0))]
+#[pyo3(signature = (positions, joint_names, parents, *, frame_time = 1.0 / 30.0, stretch = "hold"))]
 pub fn from_positions(
     py: Python<'_>,
     positions: PyReadonlyArray3<'_, f64>,
     joint_names: Vec<String>,
     parents: Vec<i64>,
     frame_time: f64,
+    stretch: &str,
 ) -> PyResult<Clip> {
+    let stretch: kinergy_motion::Stretch = stretch
+        .parse()
+        .map_err(|e| errors::input(format!("from_positions: stretch {e}")))?;
     let array = positions.as_array();
     let n = joint_names.len();
     if array.shape().len() != 3 || array.shape()[1] != n || array.shape()[2] != 3 {
@@ -411,12 +418,15 @@ pub fn from_positions(
         .collect();
     let made = py
         .detach(|| {
-            kinergy_motion::Clip::from_positions(kinergy_motion::PositionArrays {
-                joint_names: &joint_names,
-                parents: &parents,
-                positions: &flat,
-                frame_time,
-            })
+            kinergy_motion::Clip::from_positions_with(
+                kinergy_motion::PositionArrays {
+                    joint_names: &joint_names,
+                    parents: &parents,
+                    positions: &flat,
+                    frame_time,
+                },
+                stretch,
+            )
         })
         .map_err(|e| errors::input(format!("from_positions: {e}")))?;
     let joint_max: serde_json::Map<String, serde_json::Value> = made

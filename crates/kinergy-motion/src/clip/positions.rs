@@ -95,6 +95,16 @@ impl Clip {
     /// The clip whose joints are at `arrays`' positions (module docs): bones of the median
     /// length, the first frame the rest pose, rotations from the children's directions.
     pub fn from_positions(arrays: PositionArrays<'_>) -> Result<FromPositions> {
+        Clip::from_positions_with(arrays, Stretch::Hold)
+    }
+
+    /// [`Clip::from_positions`], bones that stretch over the frames held at their median
+    /// length ([`Stretch::Hold`]) or given position channels that carry each frame's length
+    /// ([`Stretch::Keep`]).
+    pub fn from_positions_with(
+        arrays: PositionArrays<'_>,
+        stretch: Stretch,
+    ) -> Result<FromPositions> {
         let n = arrays.joint_names.len();
         let invalid = |what: &'static str, why: String| MotionError::Invalid { what, why };
         if n == 0 {
@@ -162,12 +172,15 @@ impl Clip {
                 .flat_map(|f| order.iter().map(move |&j| (f, j)))
                 .map(|(f, j)| arrays.positions[f * n + j])
                 .collect();
-            return Clip::from_positions(PositionArrays {
-                joint_names: &names,
-                parents: &parents,
-                positions: &positions,
-                frame_time: arrays.frame_time,
-            });
+            return Clip::from_positions_with(
+                PositionArrays {
+                    joint_names: &names,
+                    parents: &parents,
+                    positions: &positions,
+                    frame_time: arrays.frame_time,
+                },
+                stretch,
+            );
         }
         let at = |f: usize, j: usize| Vector3::from(arrays.positions[f * n + j]);
         let parent = |j: usize| arrays.parents[j] as usize;
@@ -270,6 +283,20 @@ impl Clip {
             frame_time: arrays.frame_time,
             end_sites: Some(&leaf),
         })?;
+        let clip = match stretch {
+            Stretch::Hold => clip,
+            Stretch::Keep => {
+                let moving: Vec<usize> = (1..n)
+                    .filter(|&c| !leaf[c])
+                    .filter(|&c| {
+                        stretched
+                            .iter()
+                            .any(|(name, _)| *name == arrays.joint_names[c])
+                    })
+                    .collect();
+                with_stretching_bones(&clip, &moving, &offsets, arrays.positions)?
+            }
+        };
         let made = clip.world_positions()?;
         let error_m = made
             .iter()
@@ -287,6 +314,80 @@ impl Clip {
             stretched,
         })
     }
+}
+
+/// What [`Clip::from_positions_with`] does with a bone whose length varies over the frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Stretch {
+    /// Held at its median length (a skeleton of rotations alone; the joint is off by up to
+    /// the bone's range, reported).
+    #[default]
+    Hold,
+    /// Kept: the bone's child joint gets position channels carrying its offset on each frame,
+    /// so every joint but a stretching leaf (an End Site has no channels) is where the input
+    /// puts it — a reference root the hips move away from, positions estimated from video.
+    Keep,
+}
+
+impl std::str::FromStr for Stretch {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Stretch, String> {
+        match s {
+            "hold" => Ok(Stretch::Hold),
+            "keep" => Ok(Stretch::Keep),
+            other => Err(format!("`{other}`: hold or keep")),
+        }
+    }
+}
+
+/// `clip` with position channels on the joints `moving` (before their rotation channels),
+/// each frame's value putting the joint where `positions` (frames of the clip's joints) has it
+/// relative to its parent, in the parent's frame: offset + channel.
+fn with_stretching_bones(
+    clip: &Clip,
+    moving: &[usize],
+    offsets: &[[f64; 3]],
+    positions: &[[f64; 3]],
+) -> Result<Clip> {
+    use crate::rotation::Axis;
+    use crate::skeleton::{Dof, PositionReading, Skeleton};
+    if moving.is_empty() {
+        return Ok(clip.clone());
+    }
+    let old = clip.skeleton();
+    let n = old.joint_count();
+    let mut joints = old.joints().to_vec();
+    for &c in moving {
+        let mut dofs = vec![
+            Dof::Translation(Axis::X),
+            Dof::Translation(Axis::Y),
+            Dof::Translation(Axis::Z),
+        ];
+        dofs.extend(joints[c].dofs.iter().copied());
+        joints[c].dofs = dofs;
+        joints[c].position_reading = PositionReading::ReplaceOffset;
+    }
+    let skeleton =
+        std::sync::Arc::new(Skeleton::new(joints)?.with_world_from_file(old.world_from_file()));
+    let mut values = Vec::with_capacity(clip.frame_count() * skeleton.dof_count());
+    let mut world = Vec::new();
+    for (f, pose) in clip.frames().enumerate() {
+        old.fk_into(pose, &mut world)?;
+        for j in 0..n {
+            if moving.contains(&j) {
+                let p = old.joint(j).parent.unwrap_or(0);
+                let (a, b) = (
+                    Vector3::from(positions[f * n + p]),
+                    Vector3::from(positions[f * n + j]),
+                );
+                let local = world[p].rotation.inverse() * (b - a) - Vector3::from(offsets[j]);
+                values.extend(local.iter());
+            }
+            values.extend_from_slice(&pose[old.dof_range(j)]);
+        }
+    }
+    Clip::new(skeleton, clip.frame_time(), values)
 }
 
 /// The joints in depth-first order (each joint's subtree before its next sibling, siblings in
