@@ -16,7 +16,7 @@ pub use state::{ClipState, JointState};
 use nalgebra::Point3;
 
 use crate::error::{MotionError, Result};
-use crate::rotation::{Axis, euler_angles, euler_rotation, nearest_euler, slerp, unwrap_near};
+use crate::rotation::{euler_angles, euler_rotation, nearest_euler, slerp, unwrap_near};
 use crate::skeleton::{Dof, Skeleton};
 use crate::trajectory::Trajectory;
 
@@ -229,15 +229,6 @@ impl Clip {
     fn interpolate(&self, a: &[f64], b: &[f64], u: f64, out: &mut [f64]) {
         for (j, joint) in self.skeleton.joints().iter().enumerate() {
             let range = self.skeleton.dof_range(j);
-            let rot: Vec<(usize, Axis)> = joint
-                .dofs
-                .iter()
-                .enumerate()
-                .filter_map(|(k, d)| match d {
-                    Dof::Rotation(ax) => Some((range.start + k, *ax)),
-                    Dof::Translation(_) => None,
-                })
-                .collect();
             for (k, d) in joint.dofs.iter().enumerate() {
                 let i = range.start + k;
                 out[i] = match d {
@@ -245,9 +236,7 @@ impl Clip {
                     Dof::Rotation(_) => a[i] + (unwrap_near(b[i], a[i]) - a[i]) * u,
                 };
             }
-            if let [(i0, x0), (i1, x1), (i2, x2)] = rot[..]
-                && let Some(order) = distinct([x0, x1, x2])
-            {
+            if let Some(([i0, i1, i2], order)) = self.skeleton.euler_dofs(j) {
                 let ra = euler_rotation(&order, &[a[i0], a[i1], a[i2]]);
                 let rb = euler_rotation(&order, &[b[i0], b[i1], b[i2]]);
                 let r = slerp(&ra, &rb, u);
@@ -261,10 +250,6 @@ impl Clip {
             }
         }
     }
-}
-
-fn distinct(axes: [Axis; 3]) -> Option<[Axis; 3]> {
-    (axes[0] != axes[1] && axes[1] != axes[2] && axes[0] != axes[2]).then_some(axes)
 }
 
 #[cfg(test)]

@@ -196,8 +196,8 @@ pub struct Retargeter {
     /// pelvis (excluded).
     mover: usize,
     mover_path: Vec<usize>,
-    /// Each target joint's rotation DoFs (indices into the pose) and their axes.
-    rotation_dofs: Vec<Vec<(usize, Axis)>>,
+    /// Each target joint's Euler DoFs (pose indices and axes), where it has three.
+    euler: Vec<Option<([usize; 3], [Axis; 3])>>,
     leg_scale: f64,
     /// The ankle's height above the floor standing, source then target, meters.
     ankle_heights: [f64; 2],
@@ -515,26 +515,12 @@ impl Retargeter {
         // The source's role joints (`Some`), whose turns role joints of the target take.
         let source_roles: Vec<Option<Rotation3<f64>>> = k_source.clone();
         let mut rules = Vec::with_capacity(target.joint_count());
-        let mut rotation_dofs = Vec::with_capacity(target.joint_count());
+        let mut euler = Vec::with_capacity(target.joint_count());
         for (j, joint) in target.joints().iter().enumerate() {
-            let range = target.dof_range(j);
-            let rot: Vec<(usize, Axis)> = joint
-                .dofs
-                .iter()
-                .enumerate()
-                .filter_map(|(k, d)| match d {
-                    Dof::Rotation(a) => Some((range.start + k, *a)),
-                    Dof::Translation(_) => None,
-                })
-                .collect();
+            let dofs = target.euler_dofs(j);
             let rule = match (from[j], k_target[j]) {
                 (Some(source), Some(canonical)) => {
-                    let axes: Vec<Axis> = rot.iter().map(|r| r.1).collect();
-                    let distinct = axes.len() == 3
-                        && axes[0] != axes[1]
-                        && axes[1] != axes[2]
-                        && axes[0] != axes[2];
-                    if !distinct {
+                    if dofs.is_none() {
                         return Err(invalid(format!(
                             "the target's `{}` (role joint) needs three rotation channels about \
                              three axes to take any turn; it has {}",
@@ -564,25 +550,21 @@ impl Retargeter {
                         chord,
                     }
                 }
+                // A joint of no role the source has too takes its turn, where its channels
+                // can hold any turn; else it keeps its zero pose.
                 _ => match src.joint_index(&joint.name) {
-                    Some(s) if source_roles[s].is_none() && !src.joint(s).end_site => {
+                    Some(s)
+                        if source_roles[s].is_none()
+                            && !src.joint(s).end_site
+                            && dofs.is_some() =>
+                    {
                         Rule::Local(s)
                     }
                     _ => Rule::Rest,
                 },
             };
-            let distinct = rot.len() == 3
-                && rot[0].1 != rot[1].1
-                && rot[1].1 != rot[2].1
-                && rot[0].1 != rot[2].1;
-            if matches!(rule, Rule::Local(_)) && !distinct {
-                return Err(invalid(format!(
-                    "the target's `{}` needs three rotation channels to take the source's",
-                    joint.name
-                )));
-            }
             rules.push(rule);
-            rotation_dofs.push(rot);
+            euler.push(dofs);
         }
 
         // The joint whose position channels place the pelvis.
@@ -643,7 +625,7 @@ impl Retargeter {
             chains,
             mover,
             mover_path,
-            rotation_dofs,
+            euler,
             leg_scale,
             ankle_heights: [source_stance.ankle, target_stance.ankle],
             arm_scale,
@@ -1021,15 +1003,16 @@ impl Retargeter {
             // The pose: local rotations in each joint's channel order, the mover's translation.
             let mut out = vec![0.0; dofs];
             for (j, joint) in t.joints().iter().enumerate() {
-                if !matches!(self.rules[j], Rule::Rest) {
+                // Roles and turns taken from the source (checked to have Euler channels); a
+                // joint of no role keeps its zero pose's.
+                if let (false, Some((idx, axes))) =
+                    (matches!(self.rules[j], Rule::Rest), self.euler[j])
+                {
                     let parent = match joint.parent {
                         Some(q) => rotations[q].inverse(),
                         None => w_inverse,
                     };
                     let local = parent * rotations[j];
-                    let rot = &self.rotation_dofs[j];
-                    let axes = [rot[0].1, rot[1].1, rot[2].1];
-                    let idx = [rot[0].0, rot[1].0, rot[2].0];
                     let near = idx.map(|i| previous[i]);
                     if let Some(angles) = euler_angles(axes, &local) {
                         let chosen = nearest_euler(angles, near);

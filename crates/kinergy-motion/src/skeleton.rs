@@ -194,6 +194,32 @@ impl Skeleton {
         s..s + self.joints[joint].dofs.len()
     }
 
+    /// The pose indices and axes of joint `joint`'s rotation DoFs, in channel order.
+    pub fn rotation_dofs(&self, joint: usize) -> Vec<(usize, Axis)> {
+        let start = self.first_dof[joint];
+        self.joints[joint]
+            .dofs
+            .iter()
+            .enumerate()
+            .filter_map(|(k, d)| match d {
+                Dof::Rotation(a) => Some((start + k, *a)),
+                Dof::Translation(_) => None,
+            })
+            .collect()
+    }
+
+    /// Joint `joint`'s rotation as Euler angles: the pose indices and axes of its rotation
+    /// DoFs where it has exactly three, about three different axes (so any turn has angles);
+    /// `None` otherwise.
+    pub fn euler_dofs(&self, joint: usize) -> Option<([usize; 3], [Axis; 3])> {
+        match self.rotation_dofs(joint)[..] {
+            [(i0, a0), (i1, a1), (i2, a2)] if a0 != a1 && a1 != a2 && a0 != a2 => {
+                Some(([i0, i1, i2], [a0, a1, a2]))
+            }
+            _ => None,
+        }
+    }
+
     /// The joint named `name`.
     pub fn joint_index(&self, name: &str) -> Option<usize> {
         self.joints.iter().position(|j| j.name == name)
