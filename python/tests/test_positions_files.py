@@ -54,7 +54,9 @@ def test_coco_keypoints_in_their_own_order_get_a_root_at_the_hips(cli, tmp_path)
     path = tmp_path / "coco.npy"
     np.save(path, keypoints)
     out = tmp_path / "coco.bvh"
-    done = run(cli, "from-positions", path, "--skeleton", "coco17", "-o", out, "--json")
+    # A random body is no human shape: its unit and up axis are given, not detected.
+    done = run(cli, "from-positions", path, "--skeleton", "coco17", "--unit", "m", "--up", "y",
+               "-o", out, "--json")
     assert done.returncode == 0, done.stderr
     back = kinergy.read_bvh(out, unit="cm")  # written in cm; this small body reads as inches
     assert back.joint_names[0] == "mid_hip" and len(back.joint_names) == 19

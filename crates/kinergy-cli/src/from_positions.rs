@@ -6,8 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
-use kinergy_motion::units::LengthUnit;
-use kinergy_motion::up::UpAxis;
+use kinergy_motion::units::UnitChoice;
+use kinergy_motion::up::UpChoice;
 use kinergy_motion::{
     Clip, JointMap, PositionArrays, Stretch, read_names, read_positions_csv, read_positions_npy,
 };
@@ -36,12 +36,19 @@ pub struct Args {
     /// or a BVH whose skeleton gives the names and parents.
     #[arg(long, value_name = "smpl24|h36m17|coco17|MAP.json|T.bvh")]
     pub skeleton: String,
-    /// The positions' length unit: m, cm, mm, in or cmu.
-    #[arg(long, default_value = "m", value_name = "UNIT")]
-    pub unit: LengthUnit,
-    /// The positions' up axis: y, z, x, -y, -z or -x (the BVH is written Y up).
-    #[arg(long, default_value = "y", value_name = "AXIS")]
-    pub up: UpAxis,
+    /// The positions' length unit: m, cm, mm, in or cmu, or auto (guessed from the body's size
+    /// on the first frame, as for BVH).
+    #[arg(long, default_value = "auto", value_name = "UNIT")]
+    pub unit: UnitChoice,
+    /// The positions' up axis: y, z, x, -y, -z or -x, or auto (detected on the first frame from
+    /// the joints' names or the body's shape, as for BVH). The BVH is written Y up.
+    #[arg(
+        long,
+        default_value = "auto",
+        value_name = "AXIS",
+        allow_hyphen_values = true
+    )]
+    pub up: UpChoice,
     /// A bone whose length varies over the frames: `hold` it at its median length (rotations
     /// only; its joint is off by up to the variation, reported) or `keep` it, its child joint
     /// given position channels that carry each frame's length (every joint where the input
@@ -62,6 +69,12 @@ struct Report {
     frames: usize,
     joints: usize,
     frame_rate_hz: f64,
+    /// The table's unit, and whether it was guessed.
+    unit: &'static str,
+    unit_guessed: bool,
+    /// The table's up axis, and how it was found (given, joint names, body shape, assumed).
+    up: String,
+    up_detection: &'static str,
     /// The largest distance of any joint from its position, meters.
     max_error_m: f64,
     /// Each joint's largest distance from its positions, meters.
@@ -137,7 +150,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         read_positions_csv(&args.positions, &text, &map)
     }
     .map_err(|e| Failure::input(&args.positions, e))?;
-    let positions = table.to_world(args.unit, args.up);
+    let reading = table
+        .reading(&map, args.unit, args.up)
+        .map_err(|e| Failure::input(&args.positions, e))?;
+    let positions = table.to_world(reading.unit, reading.up);
     let made = Clip::from_positions_with(
         PositionArrays {
             joint_names: &map.names,
@@ -155,6 +171,10 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         frames: table.frames,
         joints: n,
         frame_rate_hz: args.frame_rate,
+        unit: reading.unit.name(),
+        unit_guessed: reading.unit_guessed,
+        up: reading.up.to_string(),
+        up_detection: reading.up_detection.name(),
         max_error_m: made.max_error_m(),
         joint_max_error_m: made.joint_max_error_m(),
         undetermined: made.undetermined.clone(),
@@ -170,6 +190,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         report.joints,
         report.frame_rate_hz,
         report.max_error_m * 1e3
+    );
+    text += &format!(
+        "  read in {}{}, {} up ({})\n",
+        report.unit,
+        if report.unit_guessed {
+            " (guessed from the body's size; --unit to choose)"
+        } else {
+            ""
+        },
+        report.up,
+        report.up_detection
     );
     if !report.undetermined.is_empty() {
         text += &format!(

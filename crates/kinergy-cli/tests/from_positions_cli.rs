@@ -71,7 +71,15 @@ fn a_captures_positions_come_back_long_and_wide_in_any_unit_and_up_axis() {
         wide.push('\n');
     }
     let template = fixture("006_14.bvh");
-    for (text, extra) in [(long, vec![]), (wide, vec!["--unit", "mm", "--up", "z"])] {
+    // The wide mm Z-up table twice: given, and detected (the body's size says mm, the names
+    // say Z up) — the report says which.
+    let cases = [
+        (long, vec![], ("m", "y")),
+        (wide.clone(), vec!["--unit", "mm", "--up", "z"], ("mm", "z")),
+        (wide, vec![], ("mm", "z")),
+    ];
+    for (text, extra, (unit, up)) in cases {
+        let guessed = extra.is_empty();
         let input = dir.path().join("p.csv");
         std::fs::write(&input, text).expect("write");
         let out = dir.path().join("out.bvh");
@@ -96,6 +104,11 @@ fn a_captures_positions_come_back_long_and_wide_in_any_unit_and_up_axis() {
         let e = worst(&back, &truth);
         assert!(e < 1e-3, "{args:?}: a joint {e} m off");
         assert!(report["max_error_m"].as_f64().expect("error") < 1e-3);
+        assert_eq!(
+            (report["unit"].as_str(), report["up"].as_str()),
+            (Some(unit), Some(up))
+        );
+        assert_eq!(report["unit_guessed"], guessed, "{report}");
     }
 }
 

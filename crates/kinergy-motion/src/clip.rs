@@ -9,7 +9,7 @@ mod state;
 pub use arrays::{ClipArrays, RotationArrays};
 pub use positions::{FromPositions, PositionArrays, Stretch};
 pub use positions_file::{
-    JointMap, PositionTable, read_names, read_positions_csv, read_positions_npy,
+    JointMap, PositionTable, TableReading, read_names, read_positions_csv, read_positions_npy,
 };
 pub use state::{ClipState, JointState};
 

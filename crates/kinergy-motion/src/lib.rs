@@ -59,8 +59,8 @@ pub mod up;
 
 pub use chain::{Chain, ChainJoint, ChainPose, Linearization, Motion};
 pub use clip::{
-    Clip, FromPositions, JointMap, PositionArrays, PositionTable, Stretch, read_names,
-    read_positions_csv, read_positions_npy,
+    Clip, FromPositions, JointMap, PositionArrays, PositionTable, Stretch, TableReading,
+    read_names, read_positions_csv, read_positions_npy,
 };
 pub use convert::{
     ExportOptions, ImportOptions, ImportReport, PositionReadingChoice, clip_from_bvh, clip_to_bvh,

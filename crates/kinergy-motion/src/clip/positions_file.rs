@@ -335,7 +335,98 @@ pub struct PositionTable {
     pub positions: Vec<[f64; 3]>,
 }
 
+/// How a table's unit and up axis were read ([`PositionTable::reading`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TableReading {
+    /// The table's length unit.
+    pub unit: crate::units::LengthUnit,
+    /// Whether the unit was guessed (from the body's size) rather than given.
+    pub unit_guessed: bool,
+    /// The table's up axis.
+    pub up: crate::up::UpAxis,
+    /// How the up axis was found: given, by joint names, by the body's shape, or assumed.
+    pub up_detection: crate::up::UpDetection,
+}
+
 impl PositionTable {
+    /// The table's unit and up axis (its frames hold `map`'s joints): as given, or detected
+    /// from the first frame as a BVH's are — the unit from the body's largest extent along an
+    /// axis, the reference joints above the hips left out ([`LengthUnit::guess_from_extent`],
+    /// [`Skeleton::reference_joints`]), the up axis from the joints' names or the body's shape
+    /// ([`crate::up::detect_up`]).
+    ///
+    /// [`LengthUnit::guess_from_extent`]: crate::units::LengthUnit::guess_from_extent
+    pub fn reading(
+        &self,
+        map: &JointMap,
+        unit: crate::units::UnitChoice,
+        up: crate::up::UpChoice,
+    ) -> Result<TableReading> {
+        use crate::skeleton::{Joint, PositionReading};
+        use crate::units::UnitChoice;
+        use crate::up::{UpChoice, UpDetection, detect_up};
+        use nalgebra::{Point3, Vector3};
+        let n = map.names.len();
+        let first: Vec<Point3<f64>> = self
+            .positions
+            .iter()
+            .take(n)
+            .map(|p| Point3::from(*p))
+            .collect();
+        if first.len() < n {
+            return Err(MotionError::EmptyClip);
+        }
+        // The joints as a skeleton of the first frame, for the names and the shape.
+        let joints = (0..n)
+            .map(|j| {
+                let parent = usize::try_from(map.parents[j]).ok();
+                Joint {
+                    name: map.names[j].clone(),
+                    parent,
+                    offset: parent.map_or(first[j].coords, |p| first[j] - first[p]),
+                    dofs: Vec::new(),
+                    end_site: false,
+                    position_reading: PositionReading::default(),
+                }
+            })
+            .collect();
+        let skeleton = Skeleton::new(joints)?;
+        let (unit, unit_guessed) = match unit {
+            UnitChoice::Fixed(u) => (u, false),
+            UnitChoice::Auto => {
+                let skip = skeleton.reference_joints();
+                let mut lo = Vector3::repeat(f64::INFINITY);
+                let mut hi = Vector3::repeat(f64::NEG_INFINITY);
+                for p in &first[skip.min(n - 1)..] {
+                    lo = lo.inf(&p.coords);
+                    hi = hi.sup(&p.coords);
+                }
+                let extent = (hi - lo).max();
+                let guess =
+                    crate::units::LengthUnit::guess_from_extent(extent).ok_or_else(|| {
+                        MotionError::Invalid {
+                            what: "positions",
+                            why: format!(
+                                "the first frame's joints span {extent} units: no unit to guess \
+                             (give one)"
+                            ),
+                        }
+                    })?;
+                (guess, true)
+            }
+        };
+        let (up, up_detection) = match up {
+            UpChoice::Fixed(a) => (a, UpDetection::Given),
+            UpChoice::Auto => detect_up(&skeleton, &first),
+        };
+        Ok(TableReading {
+            unit,
+            unit_guessed,
+            up,
+            up_detection,
+        })
+    }
+
     /// The positions in meters, Y up: each read in `unit`, with `up` the file's up axis.
     pub fn to_world(&self, unit: crate::units::LengthUnit, up: crate::up::UpAxis) -> Vec<[f64; 3]> {
         let (scale, turn) = (unit.meters(), up.world_from_file());
