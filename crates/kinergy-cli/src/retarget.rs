@@ -114,21 +114,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     let mut out: Clip = done.clip;
     let mut driven = None;
     if let (Some(person), Some(path)) = (person, &args.params) {
-        let request = SynthesizeRequest {
-            frames: kinergy_train::source::FrameChoice::Main,
-            arm: args.arm,
-            chain: None,
-            base: kinergy_solver::BaseMode::Replay,
-            controller: None,
-            target: None,
-            drive: Drive::Person {
+        let request = SynthesizeRequest::main_reach(
+            Drive::Person {
                 params: Box::new(person),
                 path: Some(path.clone()),
             },
-            tolerance: 0.005,
-            max_seconds: 10.0,
-            stop_at_reach: false,
-        };
+            args.arm,
+        );
         let synthesized = request.run(&out, &args.input).map_err(|e| {
             Failure::Task(format!(
                 "{}: the retargeted reach driven by {}: {}",

@@ -42,7 +42,7 @@
 
 use std::sync::Arc;
 
-use nalgebra::{Point3, Rotation3, Unit, Vector3};
+use nalgebra::{Rotation3, Unit, Vector3};
 
 use crate::clip::Clip;
 use crate::error::{MotionError, Result};
@@ -512,8 +512,6 @@ impl Retargeter {
             from[tl.ankle] = Some(sl.ankle);
         }
         let zero_frames = target.fk(&target.rest_pose())?;
-        // The source's role joints (`Some`), whose turns role joints of the target take.
-        let source_roles: Vec<Option<Rotation3<f64>>> = k_source.clone();
         let mut rules = Vec::with_capacity(target.joint_count());
         let mut euler = Vec::with_capacity(target.joint_count());
         for (j, joint) in target.joints().iter().enumerate() {
@@ -554,9 +552,7 @@ impl Retargeter {
                 // can hold any turn; else it keeps its zero pose.
                 _ => match src.joint_index(&joint.name) {
                     Some(s)
-                        if source_roles[s].is_none()
-                            && !src.joint(s).end_site
-                            && dofs.is_some() =>
+                        if k_source[s].is_none() && !src.joint(s).end_site && dofs.is_some() =>
                     {
                         Rule::Local(s)
                     }
@@ -1055,17 +1051,4 @@ impl Retargeter {
             },
         })
     }
-}
-
-/// The world position of each of `joints` in every frame of `clip` (for checks and reports).
-pub fn joint_paths(clip: &Clip, joints: &[usize]) -> Result<Vec<Vec<Point3<f64>>>> {
-    let mut out = vec![Vec::with_capacity(clip.frame_count()); joints.len()];
-    let mut world = Vec::new();
-    for pose in clip.frames() {
-        clip.skeleton().fk_into(pose, &mut world)?;
-        for (path, &j) in out.iter_mut().zip(joints) {
-            path.push(Point3::from(world[j].translation.vector));
-        }
-    }
-    Ok(out)
 }

@@ -6,7 +6,6 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use kinergy_motion::retarget::joint_paths;
 use kinergy_motion::{BodyJoints, Clip, Retargeted, Retargeter, read_clip};
 #[path = "../../../tests/support/require_shared.rs"]
 mod require_shared;
@@ -44,11 +43,11 @@ fn retarget(clip: &Clip, template: &Arc<kinergy_motion::Skeleton>) -> Retargeted
 /// The largest distance between two clips' paths of the given joints (same skeleton).
 fn path_error(a: &Clip, b: &Clip, joints: &[usize]) -> f64 {
     let (pa, pb) = (
-        joint_paths(a, joints).expect("fk"),
-        joint_paths(b, joints).expect("fk"),
+        a.trajectory(joints).expect("fk"),
+        b.trajectory(joints).expect("fk"),
     );
-    pa.iter()
-        .zip(&pb)
+    pa.frames()
+        .zip(pb.frames())
         .flat_map(|(x, y)| x.iter().zip(y).map(|(p, q)| (p - q).norm()))
         .fold(0.0, f64::max)
 }
@@ -169,7 +168,11 @@ fn planted_feet_do_not_slide_and_reach_their_goals() {
         // The report's measure, and an independent one: the ankle's path on the plant's frames.
         assert!(r.foot_slide_m <= 1e-3, "{r:?}");
         let body = BodyJoints::find(to).expect("body");
-        let ankles = joint_paths(&out.clip, &[body.legs[0].ankle, body.legs[1].ankle]).expect("fk");
+        let feet = out
+            .clip
+            .trajectory(&[body.legs[0].ankle, body.legs[1].ankle])
+            .expect("fk");
+        let ankles = [feet.path(0), feet.path(1)];
         for (s, plants) in r.plants.iter().enumerate() {
             for p in plants {
                 let first = ankles[s][p.first];

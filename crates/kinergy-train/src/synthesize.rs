@@ -205,6 +205,26 @@ impl SynthesisReport {
 }
 
 impl SynthesizeRequest {
+    /// The main reach of a capture replayed by `drive` on its captured torso, everything else
+    /// at `kinergy synthesize`'s defaults (the arm `arm`, else the one the parameters were
+    /// fitted on; the capture's final hand position as the target; ε
+    /// [`DEFAULT_TOLERANCE`](crate::captured::DEFAULT_TOLERANCE), at most 10 s): what
+    /// `kinergy retarget --params` runs on the retargeted motion.
+    pub fn main_reach(drive: Drive, arm: Option<Side>) -> SynthesizeRequest {
+        SynthesizeRequest {
+            frames: FrameChoice::Main,
+            arm,
+            chain: None,
+            base: BaseMode::Replay,
+            controller: None,
+            target: None,
+            drive,
+            tolerance: crate::captured::DEFAULT_TOLERANCE,
+            max_seconds: 10.0,
+            stop_at_reach: false,
+        }
+    }
+
     /// Checks the request before any work: ε and the longest motion within their ranges
     /// ([`limits::TOLERANCE_M`], [`limits::SYNTHESIZE_SECONDS`]), and one reach asked for.
     pub fn validate(&self) -> Result<(), InvalidSetting> {
