@@ -6,15 +6,16 @@
 # person's own repeats), as tools/fidelity-takes.sh does, for both bodies.
 # Usage: tools/fidelity-retarget.sh OUT TEMPLATE.bvh [KINERGY]   (from the repository root)
 #   e.g. tools/fidelity-retarget.sh /tmp/fid tests/data/006_14.bvh
+# ARMS=source retargets with the performer's arm proportions (`retarget --arms source`).
 set -euo pipefail
 OUT="$1"; T="$2"; K="${3:-target/release/kinergy}"; mkdir -p "$OUT"
 D="${SHARED:-../shared/data}/bandai-raise-left"
-N="$(basename "$T" .bvh)"
+N="$(basename "$T" .bvh)"; ARMS="${ARMS:-template}"; [ "$ARMS" = template ] || N="$N-arms-$ARMS"
 for s in active elderly normal; do
   [ -f "$OUT/$s.params" ] || "$K" fit "$D/${s}_00"{1,2,3,4}.bvh --arm left --model sc --per person --seed 1 -o "$OUT/$s.params" -q
   [ -d "$OUT/style-$s" ] || "$K" style "$D/${s}_00"{5,6,7,8}.bvh --arm left --params "$OUT/$s.params" -o "$OUT/style-$s" -q
   mkdir -p "$OUT/$N-$s"
-  for t in 5 6 7 8; do "$K" retarget "$D/${s}_00$t.bvh" --to "$T" -o "$OUT/$N-$s/${s}_00$t.bvh" -q; done
+  for t in 5 6 7 8; do "$K" retarget "$D/${s}_00$t.bvh" --to "$T" -o "$OUT/$N-$s/${s}_00$t.bvh" --arms "$ARMS" -q; done
   "$K" style "$OUT/$N-$s/${s}_00"{5,6,7,8}.bvh --arm left --params "$OUT/$s.params" -o "$OUT/style-$N-$s" -q 2>/dev/null
 done
 python3 - "$OUT" "$N" <<'PY'

@@ -6,7 +6,9 @@
 
 use std::path::{Path, PathBuf};
 
-use kinergy_motion::{BodyJoints, Clip, ExportOptions, RetargetReport, Retargeter, Side, Skeleton};
+use kinergy_motion::{
+    BodyJoints, Clip, ExportOptions, RetargetReport, Retargeter, Side, Skeleton, TargetArms,
+};
 use kinergy_train::synthesize::{Drive, SynthesizeRequest};
 use serde::Serialize;
 
@@ -41,11 +43,34 @@ pub struct Args {
     /// With --params, which arm reaches (default: the one the parameters were fitted on).
     #[arg(long, value_name = "SIDE", requires = "params")]
     pub arm: Option<Side>,
+    /// Whose arms the output has: the template's (`template`), or the source performer's
+    /// upper arms and forearms scaled with the body (`source`: the template's skeleton with
+    /// the performer's arm proportions, so a person's synergy replays on it as fitted).
+    #[arg(long, value_enum, default_value = "template")]
+    pub arms: Arms,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
     #[command(flatten)]
     pub read: ReadArgs,
+}
+
+/// Whose arms the retargeted body has (`--arms`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Arms {
+    /// The template's.
+    Template,
+    /// The source performer's, scaled with the body.
+    Source,
+}
+
+impl From<Arms> for TargetArms {
+    fn from(a: Arms) -> TargetArms {
+        match a {
+            Arms::Template => TargetArms::Template,
+            Arms::Source => TargetArms::Source,
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -55,6 +80,8 @@ struct Report {
     output: String,
     frames: usize,
     frame_rate_hz: f64,
+    /// Whose arms the output has.
+    arms: TargetArms,
     #[serde(flatten)]
     retarget: RetargetReport,
     /// With --params: the synthesized reach's frames and its final distance from the target.
@@ -102,14 +129,17 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         .map_err(|e| Failure::input(&args.to, e))?;
     let from = body(clip.skeleton(), &args.map, &args.input, "--map")?;
     let to = body(template.skeleton(), &args.to_map, &args.to, "--to-map")?;
-    let retargeter =
-        Retargeter::new(&clip, from, template.skeleton().clone(), to).map_err(|e| {
-            Failure::Input(format!(
-                "{} → {}: {e}",
-                args.input.display(),
-                args.to.display()
-            ))
-        })?;
+    let onto = |e: kinergy_motion::MotionError| {
+        Failure::Input(format!(
+            "{} → {}: {e}",
+            args.input.display(),
+            args.to.display()
+        ))
+    };
+    let target = TargetArms::from(args.arms)
+        .skeleton(&clip, &from, template.skeleton().clone(), &to)
+        .map_err(onto)?;
+    let retargeter = Retargeter::new(&clip, from, target, to).map_err(onto)?;
     let done = retargeter.run(&clip)?;
     let mut out: Clip = done.clip;
     let mut driven = None;
@@ -154,6 +184,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         output: args.output.display().to_string(),
         frames: out.frame_count(),
         frame_rate_hz: out.frame_rate(),
+        arms: args.arms.into(),
         retarget: done.report,
         driven,
     };
@@ -183,6 +214,9 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         mm(r.hand_error_m[0]),
         mm(r.hand_error_m[1]),
     );
+    if args.arms == Arms::Source {
+        text += "  arms: the source performer's upper arms and forearms, scaled with the body\n";
+    }
     if r.pelvis_drop_m > 0.0 {
         text += &format!(
             "  the pelvis came down up to {:.1} mm where a foot was beyond the leg's reach\n",

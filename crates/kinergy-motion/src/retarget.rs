@@ -371,6 +371,54 @@ fn canonical(
     Ok((k, stance))
 }
 
+/// A body's canonical posture (module docs): every joint's world rotation with the body
+/// brought, from its zero pose, to face +Z with Y up, spine and head up, arms out along ±X
+/// (X is the body's left), legs down. Role joints are placed as retargeting places them (`K_j`);
+/// a joint of no role turns with its nearest role ancestor (the pelvis's turn for joints above
+/// the pelvis), keeping its zero pose relative to it.
+///
+/// Two captures retargeted onto each other have every role's world rotation equal relative
+/// to this posture, so a frame fixed in a joint's canonical posture (the arm's base frame of
+/// `kinergy_solver::CaptureArm`) is the same on both bodies, whatever their zero poses.
+#[derive(Debug, Clone)]
+pub struct CanonicalPosture {
+    rotations: Vec<Rotation3<f64>>,
+}
+
+impl CanonicalPosture {
+    /// The canonical posture of `body` on `skeleton`. Errors: a zero pose whose hips and
+    /// chest, or shoulders and neck, are on one line.
+    pub fn of(skeleton: &Skeleton, body: &BodyJoints) -> Result<CanonicalPosture> {
+        let (roles, _) = canonical(skeleton, body)?;
+        let rest = skeleton.fk(&skeleton.rest_pose())?;
+        let mut rotations: Vec<Rotation3<f64>> = Vec::with_capacity(skeleton.joint_count());
+        for j in 0..skeleton.joint_count() {
+            let k = match roles[j] {
+                Some(k) => k,
+                None => {
+                    // The turn of the nearest role ancestor (parents come before children),
+                    // else the pelvis's.
+                    let anchor = std::iter::successors(skeleton.joint(j).parent, |&a| {
+                        skeleton.joint(a).parent
+                    })
+                    .find(|&a| roles[a].is_some())
+                    .unwrap_or(body.pelvis);
+                    let turn = roles[anchor].unwrap_or_else(Rotation3::identity)
+                        * rest[anchor].rotation.inverse();
+                    turn * rest[j].rotation
+                }
+            };
+            rotations.push(k);
+        }
+        Ok(CanonicalPosture { rotations })
+    }
+
+    /// Joint `joint`'s world rotation in the canonical posture (`None` past the skeleton).
+    pub fn rotation(&self, joint: usize) -> Option<&Rotation3<f64>> {
+        self.rotations.get(joint)
+    }
+}
+
 /// Where along the chain `joints` (each a bone from it to the next, the last ending at `end`)
 /// each bone starts, as fractions of the chain's length in the zero pose.
 fn chain_fractions(skeleton: &Skeleton, joints: &[usize], end: usize) -> Result<Vec<f64>> {
@@ -427,6 +475,90 @@ fn match_chains(
 fn limb_length(skeleton: &Skeleton, pose: &[f64], a: usize, b: usize, c: usize) -> Result<f64> {
     let p = skeleton.world_positions(pose)?;
     Ok((p[b] - p[a]).norm() + (p[c] - p[b]).norm())
+}
+
+/// Which arms a retargeted body has: the template's own, or the source performer's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TargetArms {
+    /// The template's bones as they are: the hands' paths about the shoulders are scaled by
+    /// each arm's length ratio ([`RetargetReport::arm_scale`]).
+    #[default]
+    Template,
+    /// The source's upper arms and forearms, scaled with the body (by the ratio of standing
+    /// pelvis heights): the target keeps the performer's proportions
+    /// ([`with_source_arms`]). A person's synergy, learned in joint angles on their own arm,
+    /// then replays on the new body as it was fitted; on an arm of other proportions the same
+    /// joint motion draws another hand path.
+    Source,
+}
+
+impl TargetArms {
+    /// The skeleton to retarget onto: `target` itself, or with the source's arms
+    /// ([`with_source_arms`]).
+    pub fn skeleton(
+        self,
+        source: &Clip,
+        source_body: &BodyJoints,
+        target: Arc<Skeleton>,
+        target_body: &BodyJoints,
+    ) -> Result<Arc<Skeleton>> {
+        Ok(match self {
+            TargetArms::Template => target,
+            TargetArms::Source => {
+                Arc::new(with_source_arms(source, source_body, &target, target_body)?)
+            }
+        })
+    }
+}
+
+/// `target` with each arm's upper arm and forearm set to the source's on `source`'s first
+/// frame, times the bodies' size ratio (standing pelvis heights, as [`Retargeter`] scales the
+/// root's path): the template with the performer's arm proportions. Every joint offset from
+/// the shoulder to the elbow (twist bones along the upper arm included) is scaled by one
+/// factor, from the elbow to the wrist by another; the hands keep the template's. Errors: as
+/// [`Retargeter::new`]'s for degenerate bodies, or an arm bone of zero length.
+pub fn with_source_arms(
+    source: &Clip,
+    source_body: &BodyJoints,
+    target: &Skeleton,
+    target_body: &BodyJoints,
+) -> Result<Skeleton> {
+    let first = source.frame(0).ok_or(MotionError::EmptyClip)?;
+    let (_, source_stance) = canonical(source.skeleton(), source_body)?;
+    let (_, target_stance) = canonical(target, target_body)?;
+    let size = target_stance.pelvis / source_stance.pelvis;
+    let sp = source.skeleton().world_positions(first)?;
+    let tp = target.world_positions(&target.rest_pose())?;
+    let mut joints = target.joints().to_vec();
+    for s in 0..2 {
+        let (a, b) = (&source_body.arms[s], &target_body.arms[s]);
+        for (from, to, source_bone) in [
+            (b.shoulder, b.elbow, (sp[a.elbow] - sp[a.shoulder]).norm()),
+            (b.elbow, b.wrist, (sp[a.wrist] - sp[a.elbow]).norm()),
+        ] {
+            let here = (tp[to] - tp[from]).norm();
+            let factor = size * source_bone / here;
+            if !(factor.is_finite() && factor > 0.0) {
+                return Err(invalid(format!(
+                    "an arm bone of zero length (`{}` → `{}`)",
+                    target.joint(from).name,
+                    target.joint(to).name
+                )));
+            }
+            // Every joint hanging in this bone: below `from`, not below `to` (but `to`
+            // itself).
+            for (j, joint) in joints.iter_mut().enumerate() {
+                let inside = j != from
+                    && target.is_ancestor_or_self(from, j)
+                    && (j == to || !target.is_ancestor_or_self(to, j));
+                if inside {
+                    joint.offset *= factor;
+                }
+            }
+        }
+    }
+    Ok(Skeleton::new(joints)?.with_world_from_file(target.world_from_file()))
 }
 
 impl Retargeter {

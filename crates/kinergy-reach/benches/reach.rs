@@ -73,6 +73,7 @@ fn per_frame(c: &mut Criterion) {
             duration_s: 0.8,
             exponent: 1.0,
             shape: 1.875,
+            arm_m: None,
         }),
         controller: None,
     };

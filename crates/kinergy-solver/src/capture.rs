@@ -279,6 +279,36 @@ impl CaptureArm {
     }
 }
 
+/// The alignment A of a whole body's arm: the base frame fixed where the body's canonical
+/// posture ([`kinergy_motion::CanonicalPosture`]: upright, facing +Z, arms out along ±X) puts
+/// it — z along the arm's outward axis, y up — and carried by the shoulder's parent from
+/// there. It depends on no rig's zero pose and on no take's first frame: the same arm motion
+/// on two skeletons (a capture and its retargeting) has the same base on both, so a
+/// person's parameters mean the same motion on either. `None` where the skeleton is no whole
+/// body ([`kinergy_motion::BodyJoints::find`]: arms, legs, a spine) or `joints` is not one
+/// of its arms: then [`alignment`]'s zero-pose or first-frame rule.
+fn canonical_alignment(
+    skeleton: &kinergy_motion::Skeleton,
+    joints: &ArmJoints,
+) -> Option<Rotation3<f64>> {
+    let body = kinergy_motion::BodyJoints::find(skeleton).ok()?;
+    // Right arm out along -X, left along +X (X is the body's left).
+    let outward = match body
+        .arms
+        .iter()
+        .position(|a| a.shoulder == joints.shoulder)?
+    {
+        0 => -Vector3::x(),
+        _ => Vector3::x(),
+    };
+    let posture = kinergy_motion::CanonicalPosture::of(skeleton, &body).ok()?;
+    let parent = posture.rotation(skeleton.joint(joints.shoulder).parent?)?;
+    let y = Vector3::y();
+    let x = y.cross(&outward);
+    let base = Matrix3::from_columns(&[x, y, outward]);
+    Some(parent.inverse() * Rotation3::from_matrix_unchecked(base))
+}
+
 /// The alignment A in the shoulder's parent's frame (module docs): z out of the shoulder
 /// sideways, y up, x = y × z. Where the rest pose is a body standing (its spine within 30° of
 /// the vertical, its shoulders' line within 30° of the root → shoulder direction, or the
@@ -290,6 +320,9 @@ impl CaptureArm {
 /// performer's first frame can be mid-motion, shoulders turned: a Reallusion capture's
 /// turned the frame so far that a straight arm toward a far target left its limits.)
 fn alignment(clip: &Clip, joints: &ArmJoints) -> Result<Rotation3<f64>> {
+    if let Some(a) = canonical_alignment(clip.skeleton(), joints) {
+        return Ok(a);
+    }
     let skeleton = clip.skeleton();
     let parent = skeleton.joint(joints.shoulder).parent;
     let horizontal = |mut v: Vector3<f64>| {

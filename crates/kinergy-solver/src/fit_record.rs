@@ -351,6 +351,18 @@ impl FitRecord {
         hidden.unwrap_or_default()
     }
 
+    /// Whether every reach of this record was fitted on an arm that ends at its wrist
+    /// (`hand_m` 0: captures without a hand bone, Bandai Namco's). Such a synergy never saw a
+    /// hand: what it drives on a capture is driven to the wrist too, whatever hand that body
+    /// has ([`crate::PersonStyle::arm_as_fitted`]). False when a reach does not record its arm.
+    pub fn ends_at_wrist(&self) -> bool {
+        !self.reaches.is_empty()
+            && self
+                .reaches
+                .iter()
+                .all(|r| r.arm.as_ref().is_some_and(|a| a.hand_m == 0.0))
+    }
+
     /// The person's tempo: the law the fit recorded (`tempo_law`), else (files written before
     /// it) the medians of the reaches that record their tempo with the duration proportional
     /// to the distance ([`PersonTempo`]); `None` when neither is there.
@@ -373,6 +385,7 @@ impl FitRecord {
             duration_s: 1.0 / mean_speed,
             exponent: 1.0,
             shape: law.shape,
+            arm_m: None,
         })
     }
 }
@@ -754,6 +767,13 @@ mod tests {
                 "duration_s",
             ),
             (PersonTempo { shape: -1.0, ..law }, "shape"),
+            (
+                PersonTempo {
+                    arm_m: Some(0.0),
+                    ..law
+                },
+                "arm_m",
+            ),
             (
                 PersonTempo {
                     exponent: 1.5,

@@ -20,8 +20,8 @@
 //! assert!(at.field.is_none());
 //! ```
 
-use kinergy_motion::Side;
 use kinergy_motion::nalgebra::Point3;
+use kinergy_motion::{ArmJoints, Side};
 
 use crate::params::ParamsFile;
 
@@ -66,6 +66,25 @@ pub trait PersonStyle: Send + Sync {
     /// vector.
     fn field_kernel(&self) -> Option<(f64, usize)>;
 
+    /// Whether the person was fitted on arms that end at the wrist
+    /// ([`crate::FitRecord::ends_at_wrist`]); false when the file does not say.
+    fn ends_at_wrist(&self) -> bool {
+        false
+    }
+
+    /// A capture's arm `joints` as the person's fit saw arms: for a person fitted on arms that
+    /// end at the wrist, the wrist is the end effector here too (the hand point dropped), so
+    /// the synergy steers and is measured where it was learned; otherwise `joints` unchanged.
+    /// A body with a hand bone would otherwise have its wrist driven by parameters the
+    /// captures never decided, and its speed measured a hand's length farther out.
+    fn arm_as_fitted(&self, joints: &ArmJoints) -> ArmJoints {
+        let mut joints = joints.clone();
+        if self.ends_at_wrist() {
+            joints.hand = None;
+        }
+        joints
+    }
+
     /// The parameters for a reach by the arm on `side` toward `target` (meters in that arm's
     /// base frame): across arms a field's frame is mirrored (x negated).
     fn params_for_arm(&self, target: &Point3<f64>, side: Side) -> Result<StyleAt, StyleError> {
@@ -95,6 +114,12 @@ impl PersonStyle for ParamsFile {
 
     fn fitted_side(&self) -> Option<Side> {
         None
+    }
+
+    fn ends_at_wrist(&self) -> bool {
+        self.fit
+            .as_ref()
+            .is_some_and(crate::FitRecord::ends_at_wrist)
     }
 
     fn field_kernel(&self) -> Option<(f64, usize)> {

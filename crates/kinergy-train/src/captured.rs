@@ -277,7 +277,9 @@ impl CapturedReach {
     pub fn smoothing_under(&self, law: Option<&PersonTempo>) -> Option<Smoothing> {
         match (self.smoothing, law) {
             (Some(_), Some(law)) if self.known_tempo.is_none() => {
-                let (peak, duration) = law.for_distance(self.tempo().travel_m);
+                let f = &self.fitted_arm;
+                let (peak, duration) =
+                    law.for_reach_by(self.tempo().travel_m, f.upper_arm_m + f.forearm_m);
                 Some(self.smoothing_for(peak, duration))
             }
             (own, _) => own,
@@ -701,12 +703,17 @@ pub fn person_tempo(reaches: &[CapturedReach]) -> Option<PersonTempo> {
     if reaches.iter().any(|r| r.smoothing.is_none()) {
         return None;
     }
-    PersonTempo::of(
+    let arms: Vec<f64> = reaches
+        .iter()
+        .map(|r| r.fitted_arm.upper_arm_m + r.fitted_arm.forearm_m)
+        .collect();
+    let law = PersonTempo::of(
         &reaches
             .iter()
             .map(CapturedReach::bound_tempo)
             .collect::<Vec<_>>(),
-    )
+    )?;
+    Some(law.with_arm(kinergy_motion::jumps::median(&arms)))
 }
 
 /// `reaches` as a fit of them runs them: two or more under their person's tempo law

@@ -143,4 +143,8 @@ impl PersonStyle for PersonParams {
         self.field()
             .map(|f| (f.field().bandwidth(), f.field().len()))
     }
+
+    fn ends_at_wrist(&self) -> bool {
+        self.record().is_some_and(|r| r.ends_at_wrist())
+    }
 }

@@ -42,6 +42,9 @@ impl StyleTake {
         person: &dyn PersonStyle,
         side: Side,
     ) -> Result<StyleTake> {
+        // The arm ends where the person's fit ended it (the wrist, for captures without a
+        // hand): the capture, its replay and the body are measured at that point.
+        let joints = &person.arm_as_fitted(joints);
         let capture = StyleCapture::new(clip, joints, name)?;
         let [onset, end] = capture.frames();
         let reach = CapturedReach::new(name, clip, joints, onset..end, BaseMode::Replay)?;

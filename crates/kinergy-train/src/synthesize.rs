@@ -280,6 +280,12 @@ impl SynthesizeRequest {
             Drive::Person { params, .. } => params.record(),
             Drive::Neutral { .. } => None,
         };
+        // The arm ends where the person's fit ended it (the wrist, for captures without a
+        // hand).
+        let joints = match &self.drive {
+            Drive::Person { params, .. } => params.arm_as_fitted(&joints),
+            Drive::Neutral { .. } => joints,
+        };
         let frames = self
             .frames
             .resolve(whole, from, &joints, record.as_ref())

@@ -338,7 +338,9 @@ impl Synergy {
         let hand = rules.character.joint_frame(plan.arm.joints()[3], pose);
         let distance = (Point3::from(hand.translation.vector) - plan.target).norm();
         let least = rules.profile.peak_speed(distance).max(SYNERGY_PEAK_SPEED);
-        let (peak, duration) = match tempo.map(|t| t.for_distance(distance)) {
+        let segments = rules.character.proportions().arm(plan.arm.side());
+        let arm_m = segments.upper_arm + segments.forearm;
+        let (peak, duration) = match tempo.map(|t| t.for_reach_by(distance, arm_m)) {
             Some((peak, duration)) if peak > least && duration > 0.0 => (peak, duration),
             _ => (least, 1.875 * distance / least),
         };

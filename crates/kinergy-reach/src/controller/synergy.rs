@@ -76,6 +76,10 @@ pub const RELAXED_ELBOW: f64 = 0.17;
 
 /// What drives the reaching arm.
 #[derive(Debug, Clone, Default, PartialEq)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one per reach, never held in bulk: a box would only add an indirection"
+)]
 pub enum ArmDrive {
     /// The speed profile of [`super::ReachSettings::profile`] along the straight line to the
     /// target, the arm solved by analytic IK every frame (Huang et al.).

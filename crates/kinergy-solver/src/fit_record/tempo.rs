@@ -36,6 +36,12 @@ pub struct PersonTempo {
     pub exponent: f64,
     /// Peak speed × duration ÷ travel (median over the reaches).
     pub shape: f64,
+    /// The arm the law was fitted on (upper arm + forearm, median over the fitted reaches),
+    /// meters: an arm of another length reads the law's distances in its own lengths
+    /// ([`PersonTempo::for_reach_by`]). Absent in files written before it: distances in
+    /// meters on any arm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arm_m: Option<f64>,
 }
 
 /// The exponent of [`PersonTempo`] when the reaches' distances are too alike to tell it
@@ -60,8 +66,8 @@ impl ReachTempo {
 }
 
 impl PersonTempo {
-    /// Checks what a damaged or hand-edited law could get wrong: `reference_m`, `duration_s`
-    /// and `shape` finite and > 0, `exponent` in [0, 1]. Returns the first field that is wrong
+    /// Checks what a damaged or hand-edited law could get wrong: `reference_m`, `duration_s`,
+    /// `shape` and `arm_m` (if given) finite and > 0, `exponent` in [0, 1]. Returns the first field that is wrong
     /// and why.
     pub fn check(&self) -> Result<(), (String, String)> {
         for (name, v) in [
@@ -72,6 +78,14 @@ impl PersonTempo {
             if !(v.is_finite() && v > 0.0) {
                 return Err((name.into(), format!("is {v}: expected a finite number > 0")));
             }
+        }
+        if let Some(arm) = self.arm_m
+            && !(arm.is_finite() && arm > 0.0)
+        {
+            return Err((
+                "arm_m".into(),
+                format!("is {arm}: expected a finite number > 0"),
+            ));
         }
         if !(0.0..=1.0).contains(&self.exponent) {
             return Err((
@@ -86,6 +100,33 @@ impl PersonTempo {
     pub fn for_distance(&self, distance: f64) -> (f64, f64) {
         let duration = self.duration_s * (distance / self.reference_m).powf(self.exponent);
         (self.shape * distance / duration, duration)
+    }
+
+    /// The peak speed (m/s) and duration (s) of the person's reach over `distance` meters by an
+    /// arm of `arm_m` (upper arm + forearm): the law read in arm lengths. A body `k` times the
+    /// fitted arm reaching `k` times as far takes as long and peaks `k` times as fast — the
+    /// timing a retargeted capture keeps (its paths scaled, its clock not), and what makes a
+    /// person's tempo carry to bodies of other sizes. The law's own [`for_distance`] where it
+    /// records no arm or `arm_m` is no length.
+    ///
+    /// [`for_distance`]: PersonTempo::for_distance
+    pub fn for_reach_by(&self, distance: f64, arm_m: f64) -> (f64, f64) {
+        match self.arm_m {
+            Some(fitted) if arm_m.is_finite() && arm_m > 0.0 => {
+                let k = arm_m / fitted;
+                let (peak, duration) = self.for_distance(distance / k);
+                (peak * k, duration)
+            }
+            _ => self.for_distance(distance),
+        }
+    }
+
+    /// The law with the arm it was fitted on (`arm_m`, meters: upper arm + forearm).
+    pub fn with_arm(self, arm_m: f64) -> PersonTempo {
+        PersonTempo {
+            arm_m: (arm_m.is_finite() && arm_m > 0.0).then_some(arm_m),
+            ..self
+        }
     }
 
     /// The law of `reaches`' tempos (each: the peak speed the smooth controller is bounded by,
@@ -129,6 +170,7 @@ impl PersonTempo {
                     .map(|t| t.peak_speed_m_s * t.duration_s / t.travel_m)
                     .collect(),
             ),
+            arm_m: None,
         })
     }
 }
