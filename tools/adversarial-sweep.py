@@ -218,7 +218,13 @@ def scan_paths(paths):
                 continue
             if b"\0" in data[:8192]:
                 continue
-            out.append((c, data.decode("utf-8", errors="replace")))
+            text = data.decode("utf-8", errors="replace")
+            if c.endswith(".html"):
+                # A page's own numbers are its data block; the inlined three.js spells NaN
+                # in its code.
+                m = re.search(r'<script id="kinergy-data"[^>]*>(.*?)</script>', text, re.S)
+                text = m.group(1) if m else text
+            out.append((c, text))
     return out
 
 

@@ -336,13 +336,18 @@ fn synthesize_target_reachable_and_unreachable() {
     );
     std::fs::remove_file(&out).expect("remove");
 
-    // Three times as far as the capture's final hand position, along the line from the
-    // shoulder (fixed on its first-frame place) through it: the arm straightens toward it.
+    // 1.5 m straight ahead of the shoulder (fixed on its first-frame place) at its height,
+    // ahead being up × the line from the left shoulder to the right: beyond the arm's reach,
+    // inside its limits (the arm swung forward). The arm straightens toward it.
     let captured = read_clip(&fixture("006_14.bvh"));
     let shoulder = position(&captured, arm[1].as_str().expect("name"), 0);
-    let hand = last_position(&captured, end);
+    let other = position(&captured, "CC_Base_L_Upperarm", 0);
+    let (lx, lz) = (shoulder[0] - other[0], shoulder[2] - other[2]);
+    let across = (lx * lx + lz * lz).sqrt();
+    // up × (lx, 0, lz) = (lz, 0, -lx).
+    let ahead = [lz / across, 0.0, -lx / across];
     let far: Vec<String> = (0..3)
-        .map(|i| (shoulder[i] + 3.0 * (hand[i] - shoulder[i])).to_string())
+        .map(|i| (shoulder[i] + 1.5 * ahead[i]).to_string())
         .collect();
     let far = far.join(",");
     let o = kinergy(&[

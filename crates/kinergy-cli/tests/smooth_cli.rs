@@ -10,7 +10,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{json, kinergy, s, shared, stderr};
+use common::{fit_person_seeded, json, kinergy, s, shared, stderr, style_report};
 use kinergy_motion::fidelity::{Speeds, largest_change, realtime_error};
 use kinergy_motion::jumps::speed_jumps;
 
@@ -303,64 +303,6 @@ fn fit_person_with(
     params: &Path,
 ) {
     fit_person_seeded(folder, person, takes, model, optimizer, 1, params);
-}
-
-/// [`fit_person_with`] with the annealer's seed `seed`.
-fn fit_person_seeded(
-    folder: &Path,
-    person: &str,
-    takes: &[usize],
-    model: &str,
-    optimizer: &str,
-    seed: u64,
-    params: &Path,
-) {
-    let seed = seed.to_string();
-    let takes: Vec<String> = takes
-        .iter()
-        .map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string())
-        .collect();
-    let mut args = vec!["fit"];
-    args.extend(takes.iter().map(String::as_str));
-    args.extend([
-        "--arm",
-        "left",
-        "--model",
-        model,
-        "--optimizer",
-        optimizer,
-        "--per",
-        "person",
-        "--seed",
-        &seed,
-        "-o",
-        s(params),
-        "-q",
-    ]);
-    let o = kinergy(&args);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-}
-
-/// `style`'s whole JSON report (the real-time `fidelity`, the time-normalized `summary` and
-/// `rows`) of `params` toward the targets of `takes` of the shared `person` (left arm).
-fn style_report(
-    folder: &Path,
-    person: &str,
-    takes: &[usize],
-    params: &Path,
-    out: &Path,
-) -> serde_json::Value {
-    let mut args: Vec<String> = vec!["style".into()];
-    args.extend(
-        takes
-            .iter()
-            .map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string()),
-    );
-    args.extend(["--arm", "left", "--params"].map(String::from));
-    args.extend([s(params), "-o", s(out), "--json"].map(String::from));
-    let o = kinergy(&args.iter().map(String::as_str).collect::<Vec<_>>());
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
-    json(&o)
 }
 
 /// S_E and S_D fitted per person on takes 1–4, every held-out take 5–8

@@ -70,9 +70,7 @@ pub use convert::{ExportUp, RootReading, RootReadingBasis};
 pub use error::{MotionError, Result};
 pub use glitch::{Glitch, GlitchOptions, find_glitches};
 pub use limbs::{ArmJoints, ArmLengths, BodyJoints, LegJoints};
-pub use retarget::{
-    CanonicalPosture, RetargetReport, Retargeted, Retargeter, TargetArms, with_source_arms,
-};
+pub use retarget::{RetargetReport, Retargeted, Retargeter, TargetArms, with_source_arms};
 pub use rotation::Axis;
 pub use side::Side;
 pub use skeleton::{Dof, Joint, PositionReading, Skeleton};

@@ -371,54 +371,6 @@ fn canonical(
     Ok((k, stance))
 }
 
-/// A body's canonical posture (module docs): every joint's world rotation with the body
-/// brought, from its zero pose, to face +Z with Y up, spine and head up, arms out along ±X
-/// (X is the body's left), legs down. Role joints are placed as retargeting places them (`K_j`);
-/// a joint of no role turns with its nearest role ancestor (the pelvis's turn for joints above
-/// the pelvis), keeping its zero pose relative to it.
-///
-/// Two captures retargeted onto each other have every role's world rotation equal relative
-/// to this posture, so a frame fixed in a joint's canonical posture (the arm's base frame of
-/// `kinergy_solver::CaptureArm`) is the same on both bodies, whatever their zero poses.
-#[derive(Debug, Clone)]
-pub struct CanonicalPosture {
-    rotations: Vec<Rotation3<f64>>,
-}
-
-impl CanonicalPosture {
-    /// The canonical posture of `body` on `skeleton`. Errors: a zero pose whose hips and
-    /// chest, or shoulders and neck, are on one line.
-    pub fn of(skeleton: &Skeleton, body: &BodyJoints) -> Result<CanonicalPosture> {
-        let (roles, _) = canonical(skeleton, body)?;
-        let rest = skeleton.fk(&skeleton.rest_pose())?;
-        let mut rotations: Vec<Rotation3<f64>> = Vec::with_capacity(skeleton.joint_count());
-        for j in 0..skeleton.joint_count() {
-            let k = match roles[j] {
-                Some(k) => k,
-                None => {
-                    // The turn of the nearest role ancestor (parents come before children),
-                    // else the pelvis's.
-                    let anchor = std::iter::successors(skeleton.joint(j).parent, |&a| {
-                        skeleton.joint(a).parent
-                    })
-                    .find(|&a| roles[a].is_some())
-                    .unwrap_or(body.pelvis);
-                    let turn = roles[anchor].unwrap_or_else(Rotation3::identity)
-                        * rest[anchor].rotation.inverse();
-                    turn * rest[j].rotation
-                }
-            };
-            rotations.push(k);
-        }
-        Ok(CanonicalPosture { rotations })
-    }
-
-    /// Joint `joint`'s world rotation in the canonical posture (`None` past the skeleton).
-    pub fn rotation(&self, joint: usize) -> Option<&Rotation3<f64>> {
-        self.rotations.get(joint)
-    }
-}
-
 /// Where along the chain `joints` (each a bone from it to the next, the last ending at `end`)
 /// each bone starts, as fractions of the chain's length in the zero pose.
 fn chain_fractions(skeleton: &Skeleton, joints: &[usize], end: usize) -> Result<Vec<f64>> {

@@ -117,3 +117,62 @@ pub fn held_out_per_person(
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     json(&o)
 }
+
+/// `fit` of the shared `person`'s `takes` (`PERSON_00T.bvh` in `folder`, left arm) with
+/// `model` and `optimizer`, one vector per person, the annealer's seed `seed`, into `params`.
+pub fn fit_person_seeded(
+    folder: &Path,
+    person: &str,
+    takes: &[usize],
+    model: &str,
+    optimizer: &str,
+    seed: u64,
+    params: &Path,
+) {
+    let seed = seed.to_string();
+    let takes: Vec<String> = takes
+        .iter()
+        .map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string())
+        .collect();
+    let mut args = vec!["fit"];
+    args.extend(takes.iter().map(String::as_str));
+    args.extend([
+        "--arm",
+        "left",
+        "--model",
+        model,
+        "--optimizer",
+        optimizer,
+        "--per",
+        "person",
+        "--seed",
+        &seed,
+        "-o",
+        s(params),
+        "-q",
+    ]);
+    let o = kinergy(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
+/// `style`'s whole JSON report (the real-time `fidelity`, the time-normalized `summary` and
+/// `rows`) of `params` toward the targets of `takes` of the shared `person` (left arm).
+pub fn style_report(
+    folder: &Path,
+    person: &str,
+    takes: &[usize],
+    params: &Path,
+    out: &Path,
+) -> serde_json::Value {
+    let mut args: Vec<String> = vec!["style".into()];
+    args.extend(
+        takes
+            .iter()
+            .map(|t| s(&folder.join(format!("{person}_00{t}.bvh"))).to_string()),
+    );
+    args.extend(["--arm", "left", "--params"].map(String::from));
+    args.extend([s(params), "-o", s(out), "--json"].map(String::from));
+    let o = kinergy(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    json(&o)
+}
