@@ -341,9 +341,11 @@ def retarget(
     *,
     map: str = "auto",
     to_map: str = "auto",
+    arms: Literal["template", "source"] = "template",
 ) -> tuple[Clip, dict[str, Any]]:
     """`clip`'s motion on `template`'s skeleton, as `kinergy retarget` makes it (roles by
-    `map` / `to_map`: "auto", "cmu", "bandai", "mixamo", "cc" or a .json map); the report."""
+    `map` / `to_map`: "auto", "cmu", "bandai", "mixamo", "cc" or a .json map; `arms`: the
+    template's or the source performer's, scaled with the body); the report."""
 
 def view(
     clips: ClipLike | Sequence[ClipLike],

@@ -99,3 +99,32 @@ def test_unknown_maps_and_missing_joints_raise_input_error(clips):
         kinergy.retarget(cmu, cc, to_map="bandai")
     with pytest.raises(TypeError):
         kinergy.retarget(CC, cmu)
+
+
+def test_the_performers_arms_as_the_cli_gives_them(clips, cli, tmp_path):
+    """arms="source": the template's skeleton with the clip performer's upper arms and
+    forearms times the bodies' size ratio (the report's leg scale), as `--arms source` writes
+    it; another value raises InputError naming it."""
+    cc, cmu = clips
+    moved, report = kinergy.retarget(cc, cmu, arms="source")
+    scale = report["leg_scale"]
+    assert report["arm_scale"] == pytest.approx([scale, scale], rel=1e-9)
+
+    def bones(clip, names):
+        p = clip.positions[0, [clip.joint_names.index(n) for n in names]]
+        return np.linalg.norm(np.diff(p, axis=0), axis=-1)
+
+    for cc_arm, cmu_arm in [
+        (["CC_Base_R_Upperarm", "CC_Base_R_Forearm", "CC_Base_R_Hand"],
+         ["RightArm", "RightForeArm", "RightHand"]),
+        (["CC_Base_L_Upperarm", "CC_Base_L_Forearm", "CC_Base_L_Hand"],
+         ["LeftArm", "LeftForeArm", "LeftHand"]),
+    ]:
+        assert bones(moved, cmu_arm) == pytest.approx(bones(cc, cc_arm) * scale, rel=1e-9)
+        # The template's own arms differ: the option changed something.
+        assert not np.allclose(bones(cmu, cmu_arm), bones(moved, cmu_arm), rtol=0.02)
+    out = tmp_path / "moved.bvh"
+    run(cli, "retarget", str(CC), "--to", str(CMU), "-o", str(out), "--arms", "source")
+    assert np.abs(kinergy.read_bvh(out).positions - moved.positions).max() <= 1e-9
+    with pytest.raises(kinergy.InputError, match="performer"):
+        kinergy.retarget(cc, cmu, arms="performer")

@@ -46,8 +46,8 @@ pub struct Args {
     /// Whose arms the output has: the template's (`template`), or the source performer's
     /// upper arms and forearms scaled with the body (`source`: the template's skeleton with
     /// the performer's arm proportions, so a person's synergy replays on it as fitted).
-    #[arg(long, value_enum, default_value = "template")]
-    pub arms: Arms,
+    #[arg(long, default_value = "template", value_name = "template|source", value_parser = arms)]
+    pub arms: TargetArms,
     /// Print the report as JSON.
     #[arg(long)]
     pub json: bool,
@@ -55,22 +55,10 @@ pub struct Args {
     pub read: ReadArgs,
 }
 
-/// Whose arms the retargeted body has (`--arms`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Arms {
-    /// The template's.
-    Template,
-    /// The source performer's, scaled with the body.
-    Source,
-}
-
-impl From<Arms> for TargetArms {
-    fn from(a: Arms) -> TargetArms {
-        match a {
-            Arms::Template => TargetArms::Template,
-            Arms::Source => TargetArms::Source,
-        }
-    }
+/// `--arms`: [`TargetArms`]'s own parsing.
+fn arms(s: &str) -> Result<TargetArms, String> {
+    s.parse()
+        .map_err(|e: kinergy_motion::MotionError| e.to_string())
 }
 
 #[derive(Serialize)]
@@ -136,7 +124,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
             args.to.display()
         ))
     };
-    let target = TargetArms::from(args.arms)
+    let target = args
+        .arms
         .skeleton(&clip, &from, template.skeleton().clone(), &to)
         .map_err(onto)?;
     let retargeter = Retargeter::new(&clip, from, target, to).map_err(onto)?;
@@ -184,7 +173,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         output: args.output.display().to_string(),
         frames: out.frame_count(),
         frame_rate_hz: out.frame_rate(),
-        arms: args.arms.into(),
+        arms: args.arms,
         retarget: done.report,
         driven,
     };
@@ -214,7 +203,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         mm(r.hand_error_m[0]),
         mm(r.hand_error_m[1]),
     );
-    if args.arms == Arms::Source {
+    if args.arms == TargetArms::Source {
         text += "  arms: the source performer's upper arms and forearms, scaled with the body\n";
     }
     if r.pelvis_drop_m > 0.0 {

@@ -445,6 +445,22 @@ pub enum TargetArms {
     Source,
 }
 
+impl std::str::FromStr for TargetArms {
+    type Err = MotionError;
+
+    /// `template` or `source` (the CLI's `--arms`, Python's `arms=`).
+    fn from_str(s: &str) -> Result<TargetArms> {
+        match s {
+            "template" => Ok(TargetArms::Template),
+            "source" => Ok(TargetArms::Source),
+            other => Err(invalid(format!(
+                "arms {other:?}: expected \"template\" (the template's arms) or \"source\" (the \
+                 source performer's, scaled with the body)"
+            ))),
+        }
+    }
+}
+
 impl TargetArms {
     /// The skeleton to retarget onto: `target` itself, or with the source's arms
     /// ([`with_source_arms`]).

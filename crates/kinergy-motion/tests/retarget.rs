@@ -218,3 +218,87 @@ fn built_in_maps_name_what_the_finders_find() {
     let bad = BodyJoints::from_json(cmu.skeleton(), r#"{"pelvis": "Hips", "tail": "X"}"#);
     assert!(bad.unwrap_err().to_string().contains("unknown role `tail`"));
 }
+
+/// `TargetArms::Source`: a Bandai Namco take onto the Character Creator rig gets the performer's
+/// upper arms and forearms times the bodies' size ratio (every bone of the template between
+/// shoulder and elbow, elbow and wrist, scaled by one factor), the hands keep the template's,
+/// and the wrists then follow the performer's own shoulder-relative paths × that ratio.
+#[test]
+fn the_performers_arms_scale_the_templates_arm_bones_and_carry_the_wrists() {
+    use kinergy_motion::TargetArms;
+    let Some(take) = shared("bandai-raise-left/active_005.bvh") else {
+        return;
+    };
+    let cc = read(&root().join("tests/data/006_14.bvh"));
+    let (from, to) = (
+        BodyJoints::find(take.skeleton()).expect("source"),
+        BodyJoints::find(cc.skeleton()).expect("target"),
+    );
+    let template = cc.skeleton().clone();
+    let own = TargetArms::Template
+        .skeleton(&take, &from, template.clone(), &to)
+        .expect("template");
+    assert!(
+        Arc::ptr_eq(&own, &template),
+        "the template's arms: the template itself"
+    );
+    let body = TargetArms::Source
+        .skeleton(&take, &from, template.clone(), &to)
+        .expect("source arms");
+    let done = Retargeter::new(&take, from.clone(), body.clone(), to.clone())
+        .expect("retargeter")
+        .run(&take)
+        .expect("run");
+    let size = done.report.leg_scale;
+    assert!(
+        (done.report.arm_scale[0] - size).abs() < 1e-9,
+        "{:?}",
+        done.report
+    );
+    let bone = |clip: &Clip, a: usize, b: usize| {
+        let p = clip
+            .skeleton()
+            .world_positions(clip.frame(0).expect("frame"))
+            .expect("fk");
+        (p[b] - p[a]).norm()
+    };
+    let rest = |skeleton: &kinergy_motion::Skeleton, a: usize, b: usize| {
+        let p = skeleton.world_positions(&skeleton.rest_pose()).expect("fk");
+        (p[b] - p[a]).norm()
+    };
+    // How far the template's own arm bones are from the performer's: the option changes them.
+    let mut changed = 0.0;
+    for s in 0..2 {
+        let (a, b) = (&from.arms[s], &to.arms[s]);
+        for ((sa, sb), (ta, tb)) in [
+            ((a.shoulder, a.elbow), (b.shoulder, b.elbow)),
+            ((a.elbow, a.wrist), (b.elbow, b.wrist)),
+        ] {
+            let want = bone(&take, sa, sb) * size;
+            assert!((rest(&body, ta, tb) - want).abs() < 1e-9, "arm {s}");
+            changed += (rest(&template, ta, tb) - want).abs();
+        }
+        if let Some(h) = b.hand {
+            assert_eq!(
+                rest(&body, b.wrist, h),
+                rest(&template, b.wrist, h),
+                "the hand kept"
+            );
+        }
+        // The wrist's path about the shoulder is the performer's × the size ratio.
+        let (sp, tp) = (
+            take.trajectory(&[a.shoulder, a.wrist]).expect("source"),
+            done.clip
+                .trajectory(&[b.shoulder, b.wrist])
+                .expect("target"),
+        );
+        for (x, y) in sp.frames().zip(tp.frames()) {
+            let off = ((y[1] - y[0]) - (x[1] - x[0]) * size).norm();
+            assert!(off < 1e-3, "arm {s}: the wrist {off} m off its path");
+        }
+    }
+    assert!(
+        changed > 0.02,
+        "the template's arms are already the performer's ({changed} m)"
+    );
+}

@@ -2,7 +2,7 @@
 //! from Python's arguments, the roles chosen as `kinergy retarget` chooses them
 //! ([`BodyJoints`]: found, a built-in map or a JSON map).
 
-use kinergy_motion::{BodyJoints, Retargeter};
+use kinergy_motion::{BodyJoints, Retargeter, TargetArms};
 use pyo3::prelude::*;
 
 use crate::args::to_python;
@@ -24,21 +24,31 @@ use crate::errors;
 /// joint names), a built-in map ("cmu", "bandai", "mixamo", "cc") or the path of a JSON map
 /// of roles to joint names (ending in .json). Raises InputError for an unknown map name, a
 /// skeleton lacking a joint its map names, or a body whose roles are not found.
+///
+/// arms: "template" (the template's skeleton as it is) or "source" (its upper arms and
+/// forearms scaled to the clip performer's, times the bodies' size ratio: the performer's arm
+/// proportions, on which a person's synergy replays as fitted), as `kinergy retarget --arms`.
+/// Raises InputError for another value.
 #[pyfunction]
-#[pyo3(signature = (clip, template, *, map = "auto", to_map = "auto"))]
+#[pyo3(signature = (clip, template, *, map = "auto", to_map = "auto", arms = "template"))]
 pub fn retarget<'py>(
     py: Python<'py>,
     clip: &Bound<'py, Clip>,
     template: &Bound<'py, Clip>,
     map: &str,
     to_map: &str,
+    arms: &str,
 ) -> PyResult<(Clip, Bound<'py, PyAny>)> {
     let (clip, template) = (clip.get(), template.get());
+    let arms: TargetArms = arms.parse().map_err(|e| errors::input(format!("{e}")))?;
     let from = body(clip, map, "map", "clip")?;
     let to = body(template, to_map, "to_map", "template")?;
     let target = template.inner.skeleton().clone();
     let done = py
-        .detach(|| Retargeter::new(&clip.inner, from, target, to).and_then(|r| r.run(&clip.inner)))
+        .detach(|| {
+            let target = arms.skeleton(&clip.inner, &from, target, &to)?;
+            Retargeter::new(&clip.inner, from, target, to)?.run(&clip.inner)
+        })
         .map_err(|e| errors::input(format!("retarget: {e}")))?;
     let report = to_python(py, &done.report)?;
     Ok((Clip::made(done.clip), report))

@@ -731,11 +731,15 @@ fn known_se_parameters_are_recovered_where_s_d_cannot_follow() {
         OptimizerKind::Svd.default_optimizer(),
     )
     .expect("objective");
+    // The made capture is fitted toward where its motion ended, which is up to its final
+    // error (the controller's tolerance, 0.5 mm) from where the truth aimed: the truth's
+    // replay is that much off its own motion (0.55 mm at a 0.50 mm final error).
     let own = objective.score(&truth).expect("score");
     assert!(
-        own < 2e-4,
-        "the truth scores {own} m on its own motion ({} frames)",
-        made.clip.frame_count()
+        own < 2e-4 + 1.5 * made.final_error,
+        "the truth scores {own} m on its own motion ({} frames, ending {} m from its aim)",
+        made.clip.frame_count(),
+        made.final_error
     );
     let settings = annealing(20000, 7);
     let refine = RefineSettings {
