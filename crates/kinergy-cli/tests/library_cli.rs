@@ -992,7 +992,7 @@ fn stray_absurd_and_damaged_records_are_refused_in_a_few_lines() {
         (
             "an extra field",
             text.replacen("\ntake,", "\ntake,x,", 1).into_bytes(),
-            "1-of-1.csv: line 3: 11 fields where the header has 10",
+            "1-of-1.csv: line 3: 12 fields where the header has 11",
         ),
         (
             "a 40-digit onset",
@@ -1014,12 +1014,16 @@ fn stray_absurd_and_damaged_records_are_refused_in_a_few_lines() {
 /// "frame `999…`", naming no file or line).
 fn huge_onset(record: &str) -> String {
     let mut lines: Vec<String> = record.lines().map(str::to_string).collect();
+    let onset = lines[0]
+        .split(',')
+        .position(|c| c == "onset")
+        .expect("an onset column");
     let reach = lines
         .iter_mut()
         .find(|l| l.starts_with("reach,"))
         .expect("a reach row");
     let mut fields: Vec<String> = reach.split(',').map(str::to_string).collect();
-    fields[4] = "9".repeat(40);
+    fields[onset] = "9".repeat(40);
     *reach = fields.join(",");
     lines.join("\n") + "\n"
 }
