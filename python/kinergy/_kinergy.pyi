@@ -199,6 +199,7 @@ def fit(
     out_dir: None = None,
     shard: None = None,
     resume: Literal[False] = False,
+    person: None = None,
     unit: str = "auto",
     up: str = "auto",
     positions: str = "auto",
@@ -233,6 +234,7 @@ def fit(
     out_dir: None = None,
     shard: None = None,
     resume: Literal[False] = False,
+    person: None = None,
     unit: str = "auto",
     up: str = "auto",
     positions: str = "auto",
@@ -267,15 +269,18 @@ def fit(
     out_dir: PathLike,
     shard: str | tuple[int, int] | None = None,
     resume: bool = False,
+    person: str | None = None,
     unit: str = "auto",
     up: str = "auto",
     positions: str = "auto",
 ) -> dict[str, Any]:
     """A library into `out_dir` (`kinergy fit --per clip --out-dir`): this shard of the takes,
-    one result file per reach, the shard's record; with one shard, collected (`rows`)."""
+    one result file per reach, the shard's record; with one shard, collected (`rows`).
+    `person`: the library's person rule, as `--person` spells it (default "auto")."""
     ...
-def collect(dir: PathLike) -> list[dict[str, Any]]:
-    """Tables a library folder as `kinergy collect` does; returns library.csv's rows."""
+def collect(dir: PathLike, *, person: str | None = None) -> list[dict[str, Any]]:
+    """Tables a library folder as `kinergy collect` does; returns library.csv's rows.
+    `person`: name the persons by this rule instead (`kinergy collect --person`)."""
     ...
 def synthesize(
     clip: ClipLike,

@@ -191,3 +191,31 @@ def test_resume_finds_the_results_from_another_folder_and_spelling(at_root, tmp_
         again = kinergy.fit(spelled, model="sa", per="clip", budget=20, out_dir="fits", resume=True)
         assert all(r["seconds"] is None for r in again["rows"]), spelled
         assert [r["result"] for r in again["rows"]] == [r["result"] for r in first["rows"]]
+
+
+# ---- Issue 45: who, in the table ----
+
+
+def test_a_library_s_person_rule_is_the_cli_s(cli, at_root, tmp_path):
+    """`person=` is `--person`: the same table; `collect(person=)` names the persons anew;
+    a rule that cannot name a take is the CLI's bad input."""
+    takes = tmp_path / "styles"
+    takes.mkdir()
+    for person, take, name in [("p01", "r01", "active_001"), ("p01", "r02", "active_002"),
+                               ("p02", "r01", "elderly_001")]:
+        (takes / f"{name}.bvh").write_bytes((at_root / f"data-synthetic/{person}/{take}.bvh").read_bytes())
+    run(cli, "fit", str(takes), "--model", "sa", "--per", "clip", "--budget", "20",
+        "--person", "file", "--out-dir", str(tmp_path / "cli"))
+    out = kinergy.fit(takes, model="sa", per="clip", budget=20, person="file",
+                      out_dir=tmp_path / "py")
+    assert [r["person"] for r in out["rows"]] == ["active", "active", "elderly"]
+    assert table(tmp_path / "py/library.csv") == table(tmp_path / "cli/library.csv")
+    rows = kinergy.collect(tmp_path / "py", person="folder")
+    assert [r["person"] for r in rows] == ["styles"] * 3
+    with pytest.raises(kinergy.InputError, match="elderly_001.bvh"):
+        kinergy.collect(tmp_path / "py", person="regex:^(active)_")
+    with pytest.raises(kinergy.InputError, match="not a person rule"):
+        kinergy.fit(takes, per="clip", person="nobody", out_dir=tmp_path / "x")
+    with pytest.raises(kinergy.InputError, match="person="):
+        kinergy.fit(takes, person="file")
+    assert not (tmp_path / "x").exists()

@@ -19,7 +19,7 @@
 //! [`kinergy_train::experiment`]; this command reads the options and renders its results.
 //!
 //! With `--per person --holdout K` it runs the held-out experiment instead ([`holdout`]):
-//! per person (`--person folder|prefix`), `--models` fitted on all but the last K takes in
+//! per person (`--person RULE`, [`kinergy_train::who`]), `--models` fitted on all but the last K takes in
 //! name order, scored on those K against neutral parameters and every other person's vector,
 //! and the person's parameter field of the training takes (each fitted on its own) against
 //! their single vector; `DIR/holdout.csv` (`person,clip,arm,onset,end,fitted_on,model,optimizer,distance_m,

@@ -201,6 +201,11 @@ fn check_not_library(args: &Args) -> Result<(), Failure> {
             "--shard shares a library: fit --per clip --out-dir DIR".into(),
         ));
     }
+    if args.person.is_some() {
+        return Err(Failure::Input(
+            "--person names a library's persons: fit --per clip --out-dir DIR".into(),
+        ));
+    }
     if args.resume && args.checkpoint.is_none() {
         return Err(Failure::Input(
             "--resume continues a --checkpoint, or a library (fit --per clip --out-dir DIR)".into(),

@@ -71,13 +71,15 @@ enum Command {
     /// DIR/library.csv and DIR/skipped.csv. Idempotent; exit 1 naming what is missing.
     #[command(after_help = "Examples:
   kinergy collect fits/
+  kinergy collect fits/ --person file          # active_001.bvh → active, without refitting
+  kinergy collect fits/ --person 'regex:^(?P<person>[^/]+)/'
   sbatch --dependency=afterany:$ARRAY_JOB --wrap 'kinergy collect fits/'")]
     Collect(collect::Args),
     /// Run the paper's experiments on captures (default: data-synthetic/): S_A–S_D per clip
     /// (Fig. 3), optimizers with S_A and S_C (Fig. 4), and annealing vs argmin's optimizers;
     /// writes results.csv, summary.md and the Fig. 3 / Fig. 4 charts.
     #[command(
-        after_help = "Examples:\n  kinergy compare\n  kinergy compare me/ --models sa,sc --optimizers jt,svd -o out/ --budget 2000"
+        after_help = "Examples:\n  kinergy compare\n  kinergy compare me/ --models sa,sc --optimizers jt,svd -o out/ --budget 2000\n  kinergy compare takes/ --per person --holdout 1 --person file -o report/\n  kinergy compare --library fits/ -o report/"
     )]
     Compare(compare::Args),
     /// Synthesize one reach with the synergy controller from a capture's first frame to its

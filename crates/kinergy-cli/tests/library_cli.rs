@@ -992,7 +992,7 @@ fn stray_absurd_and_damaged_records_are_refused_in_a_few_lines() {
         (
             "an extra field",
             text.replacen("\ntake,", "\ntake,x,", 1).into_bytes(),
-            "1-of-1.csv: line 3: 11 fields where the header has 10",
+            "1-of-1.csv: line 3: 12 fields where the header has 11",
         ),
         (
             "a 40-digit onset",
@@ -1014,12 +1014,16 @@ fn stray_absurd_and_damaged_records_are_refused_in_a_few_lines() {
 /// "frame `999…`", naming no file or line).
 fn huge_onset(record: &str) -> String {
     let mut lines: Vec<String> = record.lines().map(str::to_string).collect();
+    let onset = lines[0]
+        .split(',')
+        .position(|c| c == "onset")
+        .expect("an onset column");
     let reach = lines
         .iter_mut()
         .find(|l| l.starts_with("reach,"))
         .expect("a reach row");
     let mut fields: Vec<String> = reach.split(',').map(str::to_string).collect();
-    fields[4] = "9".repeat(40);
+    fields[onset] = "9".repeat(40);
     *reach = fields.join(",");
     lines.join("\n") + "\n"
 }
@@ -1352,4 +1356,356 @@ fn compare_library_refuses_a_row_without_its_own_models_distance() {
         stderr(&o)
     );
     assert!(!report.exists());
+}
+
+// ---- Issue 45: who, in the table ----
+
+/// A folder `dir/name` of copies of the synthetic set's takes, each `(person, take)` of
+/// `data-synthetic` under the new name given: several people in one folder, named as
+/// datasets name them.
+fn named_takes(dir: &Path, name: &str, takes: &[(&str, &str, &str)]) -> PathBuf {
+    let folder = dir.join(name);
+    for (person, take, to) in takes {
+        let to = folder.join(to);
+        std::fs::create_dir_all(to.parent().unwrap()).expect("folder");
+        std::fs::copy(repo().join("data-synthetic").join(person).join(take), to).expect("copy");
+    }
+    folder
+}
+
+/// Each row's (clip, person, motion) in `library.csv`, by clip.
+fn persons_of(library: &Path) -> Vec<(String, String, String)> {
+    let mut out: Vec<_> = rows(&library.join("library.csv"))
+        .into_iter()
+        .map(|r| (r["clip"].clone(), r["person"].clone(), r["motion"].clone()))
+        .collect();
+    out.sort();
+    out
+}
+
+/// Two people in one folder (`active_001.bvh`, `elderly_001.bvh`, …): `--person file` puts
+/// each in library.csv's `person` column and `compare --library` gives a line to each; the
+/// default (`auto`) trusts no numbered name and gives the folder. The rule is a recorded
+/// setting — another shard's rule is refused — that changes no result: `collect --person`
+/// and `--resume --person` name the persons anew without fitting anything again.
+#[test]
+fn persons_named_in_file_names_reach_the_table_and_its_summary() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = named_takes(
+        dir.path(),
+        "styles",
+        &[
+            ("p01", "r01.bvh", "active_001.bvh"),
+            ("p01", "r02.bvh", "active_002.bvh"),
+            ("p02", "r01.bvh", "elderly_001.bvh"),
+            ("p02", "r02.bvh", "elderly_002.bvh"),
+        ],
+    );
+    let by_file = dir.path().join("by-file");
+    let o = fit_library(&lib, &by_file, &["--person", "file"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let expected = |people: [&str; 4]| -> Vec<(String, String, String)> {
+        [
+            "active_001.bvh",
+            "active_002.bvh",
+            "elderly_001.bvh",
+            "elderly_002.bvh",
+        ]
+        .iter()
+        .zip(people)
+        .map(|(clip, person)| (clip.to_string(), person.to_string(), String::new()))
+        .collect()
+    };
+    assert_eq!(
+        persons_of(&by_file),
+        expected(["active", "active", "elderly", "elderly"])
+    );
+    let report = dir.path().join("report");
+    let o = kinergy(&["compare", "--library", s(&by_file), "-o", s(&report)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(report.join("summary.md")).expect("summary");
+    for line in [
+        "| `active` | 2 |",
+        "| `elderly` | 2 |",
+        "| **all** | 4 |",
+        "4 takes, 2 persons",
+    ] {
+        assert!(summary.contains(line), "no `{line}` in {summary}");
+    }
+    assert!(!summary.contains("## Per motion"), "{summary}");
+    // The old spelling of `file` still works, in compare --per person too.
+    let old = dir.path().join("by-prefix");
+    let o = fit_library(&lib, &old, &["--person", "prefix"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(persons_of(&old), persons_of(&by_file));
+
+    // The default: numbered names say no one, the folder does.
+    let by_default = dir.path().join("by-default");
+    let o = fit_library(&lib, &by_default, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        persons_of(&by_default),
+        expected(["styles", "styles", "styles", "styles"])
+    );
+    // The same results whatever the rule; the tables differ by their persons and settings.
+    assert_eq!(result_files(&by_default), result_files(&by_file));
+
+    // A recorded setting: a shard of another rule is refused, naming it.
+    let sharded = dir.path().join("sharded");
+    let o = fit_library(&lib, &sharded, &["--shard", "1/2", "--person", "file"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = fit_library(&lib, &sharded, &["--shard", "2/2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("person file (this run: auto)"),
+        "{}",
+        stderr(&o)
+    );
+
+    // collect --person names them anew, records untouched; a pattern that misses takes is
+    // refused naming them, no table written over.
+    let records = files(&by_default.join("shards"));
+    let o = kinergy(&["collect", s(&by_default), "--person", "regex:^([a-z]+)_"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        persons_of(&by_default),
+        expected(["active", "active", "elderly", "elderly"])
+    );
+    assert_eq!(files(&by_default.join("shards")), records);
+    let table = std::fs::read(by_default.join("library.csv")).expect("table");
+    let o = kinergy(&["collect", s(&by_default), "--person", "regex:^(active)_"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "regex:^(active)_: 2 takes not matched (or with an empty person group): \
+             elderly_001.bvh, elderly_002.bvh"
+        ),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(
+        std::fs::read(by_default.join("library.csv")).expect("table"),
+        table
+    );
+    let o = kinergy(&["collect", s(&by_default), "--person", "regex:(unclosed"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("unclosed group"), "{}", stderr(&o));
+
+    // --resume with a mapping file: nothing fitted again (no reach has seconds), the persons
+    // and motions the map says, in the record too; a map missing a take is refused before
+    // any work, naming it.
+    let map = dir.path().join("who.csv");
+    std::fs::write(
+        &map,
+        "take,person,motion\nactive_001.bvh,ann,raise\nactive_002.bvh,ann,raise\n",
+    )
+    .expect("map");
+    let rule = format!("map:{}", s(&map));
+    let before = files(&by_default);
+    let o = fit_library(&lib, &by_default, &["--resume", "--person", &rule]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("2 takes are not listed: elderly_001.bvh, elderly_002.bvh"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(files(&by_default), before);
+    std::fs::write(
+        &map,
+        "take,person,motion\nactive_001.bvh,ann,raise\nactive_002.bvh,ann,raise\n\
+         elderly_001.bvh,bea,raise\nelderly_002.bvh,bea,bow\n",
+    )
+    .expect("map");
+    let o = fit_library(&lib, &by_default, &["--resume", "--person", &rule]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = rows(&by_default.join("library.csv"));
+    assert!(table.iter().all(|r| r["seconds"].is_empty()), "{table:?}");
+    assert_eq!(result_files(&by_default), result_files(&by_file));
+    let people: Vec<(String, String)> = persons_of(&by_default)
+        .into_iter()
+        .map(|(_, p, m)| (p, m))
+        .collect();
+    let pair = |p: &str, m: &str| (p.to_string(), m.to_string());
+    assert_eq!(
+        people,
+        [
+            pair("ann", "raise"),
+            pair("ann", "raise"),
+            pair("bea", "raise"),
+            pair("bea", "bow")
+        ]
+    );
+    let record = rows(&by_default.join("shards/1-of-1.csv"));
+    assert!(
+        record
+            .iter()
+            .any(|r| r["person"] == "bea" && r["motion"] == "bow"),
+        "{record:?}"
+    );
+    // Per motion, where motions are known.
+    let o = kinergy(&["compare", "--library", s(&by_default), "-o", s(&report)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(report.join("summary.md")).expect("summary");
+    for line in [
+        "| `ann` | 2 |",
+        "| `bea` | 2 |",
+        "## Per motion",
+        "| `raise` | 2 | 3 |",
+        "| `bow` | 1 | 1 |",
+    ] {
+        assert!(summary.contains(line), "no `{line}` in {summary}");
+    }
+}
+
+/// Bandai Namco's and CMU's file names say who performs: `auto` takes the person from them
+/// (and Bandai's motion), the folder for the others; `compare --library --json` gives each
+/// person's line its motions, and the `all` line the library's.
+#[test]
+fn auto_takes_bandai_and_cmu_performers_and_bandai_motions() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = named_takes(
+        dir.path(),
+        "mixed",
+        &[
+            (
+                "p01",
+                "r01.bvh",
+                "dataset-2_raise-up-left-hand_active_001.bvh",
+            ),
+            ("p01", "r02.bvh", "dataset-2_bow_active_002.bvh"),
+            (
+                "p02",
+                "r01.bvh",
+                "dataset-2_raise-up-left-hand_elderly_001.bvh",
+            ),
+            ("p03", "r01.bvh", "64_26.bvh"),
+            ("p04", "r01.bvh", "p04/r01.bvh"),
+        ],
+    );
+    let out = dir.path().join("fits");
+    let o = fit_library(&lib, &out, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let t = |c: &str, p: &str, m: &str| (c.to_string(), p.to_string(), m.to_string());
+    assert_eq!(
+        persons_of(&out),
+        [
+            t("64_26.bvh", "64", ""),
+            t("dataset-2_bow_active_002.bvh", "active", "bow"),
+            t(
+                "dataset-2_raise-up-left-hand_active_001.bvh",
+                "active",
+                "raise-up-left-hand"
+            ),
+            t(
+                "dataset-2_raise-up-left-hand_elderly_001.bvh",
+                "elderly",
+                "raise-up-left-hand"
+            ),
+            t("p04/r01.bvh", "p04", ""),
+        ]
+    );
+    let report = dir.path().join("report");
+    let o = kinergy(&["compare", "--library", s(&out), "-o", s(&report), "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let lines: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    let all = lines
+        .as_array()
+        .expect("lines")
+        .last()
+        .expect("all")
+        .clone();
+    assert_eq!(all["person"], "all");
+    let motions: Vec<(String, u64, u64)> = all["motions"]
+        .as_array()
+        .expect("motions")
+        .iter()
+        .map(|m| {
+            (
+                m["motion"].as_str().expect("name").to_string(),
+                m["persons"].as_u64().expect("persons"),
+                m["reaches"].as_u64().expect("reaches"),
+            )
+        })
+        .collect();
+    assert_eq!(
+        motions,
+        [
+            ("bow".to_string(), 1, 1),
+            ("raise-up-left-hand".to_string(), 2, 2),
+            (String::new(), 2, 2)
+        ]
+    );
+    let active = lines
+        .as_array()
+        .expect("lines")
+        .iter()
+        .find(|l| l["person"] == "active")
+        .expect("active's line");
+    assert_eq!(active["motions"].as_array().expect("motions").len(), 2);
+    // compare --library names no persons itself: collect does.
+    let o = kinergy(&[
+        "compare",
+        "--library",
+        s(&out),
+        "--person",
+        "file",
+        "-o",
+        s(&report),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("collect"), "{}", stderr(&o));
+}
+
+/// `compare --per person --person RULE` reads the library's rule: a take a pattern misses,
+/// or a map lacks, is refused before any fit, naming it; `--person` outside `--per person`
+/// still says what it needs.
+#[test]
+fn compare_per_person_refuses_takes_its_rule_cannot_name() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = named_takes(
+        dir.path(),
+        "set",
+        &[
+            ("p01", "r01.bvh", "ann_001.bvh"),
+            ("p01", "r02.bvh", "ann_002.bvh"),
+            ("p02", "r01.bvh", "bea_001.bvh"),
+        ],
+    );
+    let out = dir.path().join("out");
+    let compare = |person: &str| {
+        kinergy(&[
+            "compare",
+            s(&lib),
+            "--per",
+            "person",
+            "--holdout",
+            "1",
+            "--person",
+            person,
+            "--budget",
+            "20",
+            "-o",
+            s(&out),
+        ])
+    };
+    let o = compare("regex:^(ann)_");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("1 take not matched (or with an empty person group): bea_001.bvh"),
+        "{}",
+        stderr(&o)
+    );
+    let map = dir.path().join("who.csv");
+    std::fs::write(&map, "take,person\nann_001.bvh,ann\n").expect("map");
+    let o = compare(&format!("map:{}", s(&map)));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("2 takes are not listed: ann_002.bvh, bea_001.bvh"),
+        "{}",
+        stderr(&o)
+    );
+    let o = compare("nobody");
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("not a person rule"), "{}", stderr(&o));
+    assert!(!out.exists());
 }

@@ -38,11 +38,13 @@ use crate::progress::{Watch, watched};
 /// threads: worker threads (default: all cores; the result does not depend on it).
 /// progress: called after every annealing iteration with a dict (model, stage, stages,
 /// iteration, evaluations, max_evaluations, best_m, mean_m, temperature); an exception it
-/// raises stops the fit and is raised here. out_dir, shard, resume: a library
-/// (`per="clip"`), as `kinergy fit --out-dir` fits it ([`crate::library`]). The GIL is
-/// released while fitting; Ctrl-C raises KeyboardInterrupt.
+/// raises stops the fit and is raised here. out_dir, shard, resume, person: a library
+/// (`per="clip"`), as `kinergy fit --out-dir` fits it ([`crate::library`]); person is its
+/// person rule, as `--person` spells it ("auto" by default, "folder", "file", "segments",
+/// "regex:PATTERN", "map:FILE.csv"). The GIL is released while fitting; Ctrl-C raises
+/// KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, field = false, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, objective = "positions", speed_weight = None, refine = None, threads = None, progress = None, out_dir = None, shard = None, resume = false, unit = "auto", up = "auto", positions = "auto"))]
+#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, field = false, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, objective = "positions", speed_weight = None, refine = None, threads = None, progress = None, out_dir = None, shard = None, resume = false, person = None, unit = "auto", up = "auto", positions = "auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,
@@ -73,6 +75,7 @@ pub fn fit<'py>(
     out_dir: Option<PathBuf>,
     shard: Option<Arg<ShardArg>>,
     resume: bool,
+    person: Option<&str>,
     unit: &str,
     up: &str,
     positions: &str,
@@ -129,13 +132,14 @@ pub fn fit<'py>(
             job,
             dir,
             resume,
+            person: crate::library::person_rule(person)?,
             pool: thread_pool(threads)?,
         };
         return crate::library::fit_library(py, library).map(Bound::into_any);
     }
-    if shard.is_some() || resume {
+    if shard.is_some() || resume || person.is_some() {
         return Err(errors::input(
-            "shard= and resume= belong to a library: fit(..., per=\"clip\", out_dir=DIR)",
+            "shard=, resume= and person= belong to a library: fit(..., per=\"clip\", out_dir=DIR)",
         ));
     }
     if field && grouping == FitGrouping::Clip {

@@ -11,6 +11,7 @@ use kinergy_train::fit::FitJob;
 use kinergy_train::library::{Shard, ShardEvent, ShardRun, Takes};
 use kinergy_train::segments_file::SegmentsFile;
 use kinergy_train::source::{ReachQuery, nothing_found, segment_clips};
+use kinergy_train::who::PersonRule;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -35,6 +36,8 @@ pub struct LibraryFit {
     pub shard: Shard,
     /// Keep the results already complete.
     pub resume: bool,
+    /// Who moves in each take.
+    pub person: PersonRule,
     /// The worker threads (None: rayon's global pool).
     pub pool: Option<rayon::ThreadPool>,
 }
@@ -51,6 +54,7 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
         dir,
         shard,
         resume,
+        person,
         pool,
     } = fit;
     let dir = dir.as_path();
@@ -83,6 +87,7 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
         takes: &takes,
         query: &query,
         job: &job,
+        person: &person,
         shard,
         resume,
         inputs: &inputs,
@@ -118,7 +123,7 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
     out.set_item("record", outcome.record.display().to_string())?;
     // One shard is collected at its end, as the CLI does, before saying nothing was fitted.
     if shard.count == 1 {
-        out.set_item("rows", collect_rows(py, dir)?)?;
+        out.set_item("rows", collect_rows(py, dir, None)?)?;
     }
     if outcome.fitted == 0 && outcome.dealt > 0 {
         return Err(errors::raise(nothing_found(&outcome.skipped)));
@@ -131,17 +136,37 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
 /// fitted or skipped and every result is there and complete, writes `library.csv` and
 /// `skipped.csv`, and returns library.csv's rows as dicts (clip, person, arm, onset, end,
 /// frames, model, optimizer, distance_sa_m … distance_se_m, evaluations, seconds, result).
-/// An incomplete library raises KinergyError naming what is missing (the tables are written
-/// all the same); a folder that is no library raises InputError.
+/// person: name each reach's person (and motion) by this rule instead of the library's own,
+/// as `kinergy collect --person` does. An incomplete library raises KinergyError naming what
+/// is missing (the tables are written all the same); a folder that is no library, or a rule
+/// that cannot name every take, raises InputError.
 #[pyfunction]
-pub fn collect<'py>(py: Python<'py>, dir: PathBuf) -> PyResult<Bound<'py, PyList>> {
-    collect_rows(py, &dir)
+#[pyo3(signature = (dir, *, person = None))]
+pub fn collect<'py>(
+    py: Python<'py>,
+    dir: PathBuf,
+    person: Option<&str>,
+) -> PyResult<Bound<'py, PyList>> {
+    let person = person.map(|p| person_rule(Some(p))).transpose()?;
+    collect_rows(py, &dir, person.as_ref())
 }
 
-/// library.csv's rows after [`kinergy_train::library::collect`], as dicts.
-fn collect_rows<'py>(py: Python<'py>, dir: &Path) -> PyResult<Bound<'py, PyList>> {
+/// The person rule `person=` spells ("auto" when not given), as `--person` reads it.
+pub fn person_rule(person: Option<&str>) -> PyResult<PersonRule> {
+    person
+        .unwrap_or("auto")
+        .parse::<PersonRule>()
+        .map_err(|e| errors::input(format!("person={e}")))
+}
+
+/// library.csv's rows after [`kinergy_train::library::collect_with`], as dicts.
+fn collect_rows<'py>(
+    py: Python<'py>,
+    dir: &Path,
+    person: Option<&PersonRule>,
+) -> PyResult<Bound<'py, PyList>> {
     let collected = py
-        .detach(|| kinergy_train::library::collect(dir))
+        .detach(|| kinergy_train::library::collect_with(dir, person))
         .map_err(errors::raise)?;
     Ok(to_python(py, &collected.table.rows)?.cast_into::<PyList>()?)
 }

@@ -21,7 +21,9 @@
 //! - [`field`]: parameters as a smooth function of the target, per person, and the field
 //!   file that carries them;
 //! - [`person`]: a person's parameters from a parameters file or a field file, for a target;
-//! - [`synthetic`]: reaches made by the controller itself from known parameters.
+//! - [`synthetic`]: reaches made by the controller itself from known parameters;
+//! - [`who`]: who moves in a take and which motion it is — the person rule of a library and
+//!   of `compare --per person` (folder, file-name patterns, a pattern, a mapping file).
 #![warn(clippy::print_stdout, clippy::print_stderr)]
 
 pub mod anneal;
@@ -42,6 +44,7 @@ pub mod source;
 pub mod style;
 pub mod synthesize;
 pub mod synthetic;
+pub mod who;
 
 pub use captured::{
     CapturedReach, MAX_TARGET_DISTANCE, ReachDrive, Replay, measured_arm, person_tempo,

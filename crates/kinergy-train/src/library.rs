@@ -7,7 +7,8 @@
 //! library's takes ([`TakeIdentity`]: path from the root, size, hash, frames), its
 //! [`Settings`] and each result's hash ([`ShardHeader`], [`RecordRow`]); [`collect`] checks the shards' records against each
 //! other, the takes and the result files, and writes the library's tables ([`LibraryRow`]:
-//! `library.csv`, written and read by one type).
+//! `library.csv`, written and read by one type). Each reach's person and motion are named by
+//! the library's person rule ([`crate::who`]), one of its settings.
 
 mod collect;
 mod identity;
@@ -16,19 +17,19 @@ mod record;
 mod shard;
 mod table;
 
-pub use collect::{Collected, collect};
+pub use collect::{Collected, collect, collect_with};
 pub use identity::{Settings, TakeIdentity, hash_bytes, hash_file, takes_changes};
 pub use names::{
     Takes, common_folder, names_of, relative_name, result_names, take_names, unique_takes,
 };
 pub use record::{
-    COLUMNS, FORMAT, RecordFile, RecordRow, ShardHeader, TakesList, header_path, parse_record_name,
-    read_header, read_record, record_path,
+    COLUMNS, COLUMNS_WITHOUT_MOTION, FORMAT, RecordFile, RecordRow, ShardHeader, TakesList,
+    header_path, parse_record_name, read_header, read_record, record_path,
 };
 pub use shard::{ShardEvent, ShardOutcome, ShardPlan, ShardRun};
 pub use table::{
-    LIBRARY, LibraryError, LibraryRow, LibraryTable, PersonLine, SHARDS, SKIPPED, SkippedRow,
-    write_csv,
+    LIBRARY, LibraryError, LibraryRow, LibraryTable, MotionLine, PersonLine, SHARDS, SKIPPED,
+    SkippedRow, write_csv,
 };
 
 /// Which share of a library's takes this run fits: shard `index` (1-based) of `count`.

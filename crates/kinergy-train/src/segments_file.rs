@@ -10,7 +10,7 @@
 //! | `onset`, `end` | yes | the frames `onset..end`: numbered from 0, end excluded — the convention of "Frames" in [`kinergy_motion::segment`], the `A..B` of `--frames` |
 //! | `arm` | yes | `right` or `left` |
 //! | `label` | no (`reach`) | `reach`, `return` or `other` |
-//! | `person` | no (the clip's folder name) | who moves |
+//! | `person` | no (the performer the clip's file name gives — Bandai's STYLE, CMU's subject — else its folder's name: [`default_person`]) | who moves |
 //! | `target_x`, `target_y`, `target_z` | no (all three or none) | the reach's target, world meters in the clip's frame (as imported, Y up): where the hand was aimed, when it is known and is not where the segment's last frame has it (a reach handed over before it arrived, a target a lab recorded); empty cells for a row without one. A fit aims there instead of at the hand's last position |
 //! | `peak_speed_m_s`, `duration_s` | no (both or none) | the tempo the motion's smooth controller was bounded by (the peak hand speed relative to the shoulder, m/s, and the duration, s, of [`kinergy_solver::Smoothing::for_reach`]), when the segment was made by a known controller (`kinergy synth --params` writes them); empty cells for a row without one. A fit then bounds the synthesis by exactly this tempo instead of the capture's own or the person's law |
 //!
@@ -66,7 +66,7 @@ pub struct SegmentRow {
 }
 
 impl SegmentRow {
-    /// A row for `clip` whose person is the clip's folder name ([`default_person`]).
+    /// A row for `clip` whose person is the one its name or folder gives ([`default_person`]).
     pub fn new(clip: impl Into<PathBuf>, frames: Range<usize>, arm: Side, label: Label) -> Self {
         let clip = clip.into();
         SegmentRow {
@@ -567,15 +567,11 @@ fn quote(cell: &str) -> std::borrow::Cow<'_, str> {
     kinergy_io::clip_text(cell, kinergy_io::MAX_QUOTED_CHARS)
 }
 
-/// Who moves in `clip` when nobody says: the name of the folder holding it (empty when there
-/// is none).
+/// Who moves in `clip` when nobody says: the performer its file name gives (Bandai's
+/// `dataset-N_MOTION_STYLE_NNN` → STYLE, CMU's `SS_TT` → SS), else the name of the folder
+/// holding it (empty when there is none) — [`crate::who::guess_person`].
 pub fn default_person(clip: &Path) -> String {
-    let absolute = std::path::absolute(clip).unwrap_or_else(|_| clip.to_path_buf());
-    absolute
-        .parent()
-        .and_then(Path::file_name)
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default()
+    crate::who::guess_person(clip)
 }
 
 /// The file `path` names, for comparing paths: canonical when it exists, absolute otherwise.

@@ -20,6 +20,7 @@ use kinergy_train::library::{
     LibraryError, Shard, ShardEvent, ShardRun, Takes, collect, hash_file,
 };
 use kinergy_train::source::{ReachFrames, ReachQuery, capture_files};
+use kinergy_train::who::PersonRule;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 
@@ -212,6 +213,7 @@ fn run_shard(
         takes: &takes,
         query,
         job,
+        person: &PersonRule::Auto,
         shard,
         resume,
         inputs: &paths,
@@ -544,6 +546,7 @@ fn a_file_where_a_folder_of_the_library_goes_is_refused_by_the_plan() {
             takes: &takes,
             query: &query,
             job: &job,
+            person: &PersonRule::Auto,
             shard: Shard::ALL,
             resume: false,
             inputs: &paths,
@@ -575,4 +578,145 @@ fn a_file_where_a_folder_of_the_library_goes_is_refused_by_the_plan() {
     assert!(out.join("shards@/b.bvh.json").is_file());
     let collected = collect(&out).expect("whole");
     assert_eq!(collected.table.rows.len(), 2);
+}
+
+/// Issue 45: the person rule names each reach in the record and the table, is one of the
+/// recorded settings, and `collect_with` names the persons anew by another rule — from the
+/// takes' paths, or from the records where the rule reads a segments file's persons (which
+/// only a library fitted by such a rule holds: otherwise refused, saying how to mend it).
+#[test]
+fn the_person_rule_names_the_reaches_and_collect_names_them_anew() {
+    use kinergy_train::library::collect_with;
+    use kinergy_train::segments_file::SegmentsFile;
+    use kinergy_train::who::WhoError;
+
+    let sources = sources();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let takes_dir = dir.path().join("takes");
+    std::fs::create_dir(&takes_dir).expect("folder");
+    let names = ["active_001.bvh", "active_002.bvh", "elderly_001.bvh"];
+    for (i, name) in names.iter().enumerate() {
+        // p01's r01 and r02, then p02's r01.
+        let source = &sources[if i < 2 { i } else { 14 }];
+        std::fs::copy(source, takes_dir.join(name)).expect("take");
+    }
+    let segments_path = dir.path().join("segments.csv");
+    std::fs::write(
+        &segments_path,
+        "clip,onset,end,arm,person\ntakes/active_001.bvh,0,16,right,ann\n\
+         takes/active_002.bvh,0,16,right,ann\ntakes/elderly_001.bvh,0,16,right,bea\n",
+    )
+    .expect("segments");
+    let segments = SegmentsFile::read(&segments_path).expect("segments file");
+    let (job, query) = tiny(5);
+    let paths = capture_files(std::slice::from_ref(&takes_dir)).expect("takes");
+    let interrupt = AtomicBool::new(false);
+    let observer = || -> Box<dyn Observer> { Box::new(()) };
+    let fit = |out: &Path, person: &PersonRule, with_segments: bool| {
+        let takes = Takes::of(&paths, with_segments.then_some(&segments));
+        let run = ShardRun {
+            dir: out,
+            takes: &takes,
+            query: &query,
+            job: &job,
+            person,
+            shard: Shard::ALL,
+            resume: false,
+            inputs: &paths,
+            interrupt: &interrupt,
+            observer: &observer,
+        };
+        let plan = run.plan()?;
+        let outcome = run.run(&plan, &|_| {})?;
+        assert!(outcome.failed.is_none(), "{:?}", outcome.failed);
+        Ok::<_, LibraryError>(())
+    };
+    let persons = |table: &kinergy_train::library::LibraryTable| -> Vec<String> {
+        table.rows.iter().map(|r| r.person.clone()).collect()
+    };
+
+    // By file name, without a segments file.
+    let by_file = dir.path().join("by-file");
+    fit(&by_file, &PersonRule::File, false).expect("fitted");
+    let collected = collect(&by_file).expect("whole");
+    assert_eq!(persons(&collected.table), ["active", "active", "elderly"]);
+    // Named anew by folder: the root's own takes get the root's name; the fingerprint is
+    // a fit's with that rule, not the records'.
+    let by_folder = collect_with(&by_file, Some(&PersonRule::Folder)).expect("whole");
+    assert_eq!(persons(&by_folder.table), ["takes", "takes", "takes"]);
+    assert_ne!(
+        by_folder.table.rows[0].settings,
+        collected.table.rows[0].settings
+    );
+    // Resumed with another rule and stopped before any take is reached: the record carries
+    // every reach found fitted, already named by the new rule.
+    {
+        let takes = Takes::of(&paths, None);
+        let stop = AtomicBool::new(false);
+        let run = ShardRun {
+            dir: &by_file,
+            takes: &takes,
+            query: &query,
+            job: &job,
+            person: &PersonRule::Folder,
+            shard: Shard::ALL,
+            resume: true,
+            inputs: &paths,
+            interrupt: &stop,
+            observer: &observer,
+        };
+        let plan = run.plan().expect("plan");
+        stop.store(true, Ordering::SeqCst);
+        let outcome = run.run(&plan, &|_| {}).expect("run");
+        assert!(outcome.interrupted);
+        let record = kinergy_train::library::read_record(&by_file.join("shards/1-of-1.csv"))
+            .expect("record");
+        let reaches: Vec<&str> = record
+            .iter()
+            .filter(|r| r.kind == "reach")
+            .map(|r| r.person.as_str())
+            .collect();
+        assert_eq!(reaches, ["takes", "takes", "takes"]);
+        assert_eq!(
+            persons(&collect(&by_file).expect("whole").table),
+            ["takes", "takes", "takes"]
+        );
+    }
+    fit(&by_file, &PersonRule::File, false).expect("fitted");
+
+    // `segments` without a segments file: refused, naming the takes.
+    let e = collect_with(&by_file, Some(&PersonRule::Segments)).unwrap_err();
+    assert!(
+        matches!(e, LibraryError::Person(WhoError::NoSegments { ref takes }) if takes.len() == 3),
+        "{e}"
+    );
+    let e = fit(&dir.path().join("none"), &PersonRule::Segments, false).unwrap_err();
+    assert!(matches!(e, LibraryError::Person(_)), "{e}");
+    assert!(!dir.path().join("none").exists());
+
+    // With a segments file, auto takes its persons; collect under `segments` finds them in
+    // the records.
+    let by_auto = dir.path().join("by-auto");
+    fit(&by_auto, &PersonRule::Auto, true).expect("fitted");
+    assert_eq!(
+        persons(&collect(&by_auto).expect("whole").table),
+        ["ann", "ann", "bea"]
+    );
+    let by_segments = collect_with(&by_auto, Some(&PersonRule::Segments)).expect("whole");
+    assert_eq!(persons(&by_segments.table), ["ann", "ann", "bea"]);
+    // A library fitted by folder with the same segments file does not hold them.
+    let by_folder = dir.path().join("by-folder");
+    fit(&by_folder, &PersonRule::Folder, true).expect("fitted");
+    assert_eq!(
+        persons(&collect(&by_folder).expect("whole").table),
+        ["takes", "takes", "takes"]
+    );
+    let e = collect_with(&by_folder, Some(&PersonRule::Segments)).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("fit it again with --resume --person segments"),
+        "{e}"
+    );
+    let by_name = collect_with(&by_folder, Some(&PersonRule::File)).expect("whole");
+    assert_eq!(persons(&by_name.table), ["active", "active", "elderly"]);
 }

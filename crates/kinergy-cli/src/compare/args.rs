@@ -1,11 +1,12 @@
 //! The arguments of `kinergy compare`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+use std::str::FromStr;
 
 use kinergy_solver::{Model, OptimizerKind};
-use kinergy_train::{CapturedReach, experiment};
+use kinergy_train::who::PersonRule;
 
-use crate::common::{CaptureArgs, Failure, SearchArgs};
+use crate::common::{CaptureArgs, SearchArgs};
 
 /// Arguments of `kinergy compare`.
 #[derive(Debug, clap::Args)]
@@ -48,14 +49,19 @@ pub struct Args {
         requires = "holdout"
     )]
     pub held_out_tempo: HeldOutTempoArg,
-    /// With `--per person`: who a take belongs to — its folder, its file name up to the
-    /// last `_` (`active_003.bvh` → `active`), or the `person` column of `--segments`.
-    /// Default: `segments` when a segments file is given, else `folder`.
-    #[arg(long, value_name = "folder|prefix|segments")]
-    pub person: Option<PersonBy>,
+    /// With `--per person`: who a take belongs to, by the library's person rule — `auto`
+    /// (default: the `person` column of `--segments`; else the performer a Bandai
+    /// `dataset-N_MOTION_STYLE_NNN` or CMU `SS_TT` file name gives; else the folder), `folder`
+    /// (the take's folder from the takes' common folder), `file` (the file name: Bandai's
+    /// STYLE, CMU's subject, `STYLE_NNN` → STYLE, else the name; `prefix` is its old
+    /// spelling), `segments`, `regex:PATTERN` (its group `person`, or its first group, in the
+    /// take's path from the common folder) or `map:FILE.csv` (rows `take,person`).
+    #[arg(long, value_name = "RULE", value_parser = PersonRule::from_str)]
+    pub person: Option<PersonRule>,
     /// A fitted library (`fit --per clip --out-dir DIR`, or `collect DIR`): summarise its
-    /// `library.csv` per person and per model and draw Fig. 3 from it, without refitting
-    /// (writes summary.md and fig3.svg/png to -o).
+    /// `library.csv` per person, per motion (where the takes' motions are known) and per
+    /// model and draw Fig. 3 from it, without refitting (writes summary.md and fig3.svg/png
+    /// to -o). Its persons are named when it is tabled: `collect DIR --person RULE`.
     #[arg(long, value_name = "DIR", conflicts_with_all = ["clips", "segments", "holdout"])]
     pub library: Option<PathBuf>,
     /// Print the summary as JSON too.
@@ -93,47 +99,5 @@ impl From<HeldOutTempoArg> for kinergy_train::experiment::HeldOutTempo {
             HeldOutTempoArg::Person => Self::Person,
             HeldOutTempoArg::Capture => Self::Capture,
         }
-    }
-}
-
-/// Who a take belongs to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum PersonBy {
-    /// The clip's folder (`data-synthetic/p01/r03.bvh` → `data-synthetic/p01`).
-    Folder,
-    /// The clip's file name up to its last `_` (`active_003.bvh` → `active`).
-    Prefix,
-    /// The `person` column of the segments file (`--segments`).
-    Segments,
-}
-
-impl PersonBy {
-    /// The person of `reach` (named by its clip's path); `listed` is the person its
-    /// segments-file row names, if any.
-    pub fn person(self, reach: &CapturedReach, listed: Option<&str>) -> Result<String, Failure> {
-        let path = Path::new(reach.name());
-        Ok(match self {
-            PersonBy::Segments => listed
-                .ok_or_else(|| Failure::Input("--person segments needs --segments FILE".into()))?
-                .to_string(),
-            PersonBy::Folder => {
-                let folder = experiment::person_of(reach);
-                if folder.as_os_str().is_empty() {
-                    ".".into()
-                } else {
-                    folder.display().to_string()
-                }
-            }
-            PersonBy::Prefix => {
-                let stem = path
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                match stem.rsplit_once('_') {
-                    Some((prefix, _)) if !prefix.is_empty() => prefix.to_string(),
-                    _ => stem,
-                }
-            }
-        })
     }
 }

@@ -2,10 +2,11 @@
 //! last K takes (in name order) and scored on those K, against neutral parameters, against
 //! every other person's vector, and — the person's parameter field of the training takes
 //! (each fitted on its own) predicting each held-out take at its own target — against the
-//! single vector. The experiment is [`kinergy_train::experiment::run_holdout`]; this module
-//! says who each take belongs to and renders `DIR/holdout.csv`, `DIR/summary.md` and
-//! `--json`.
+//! single vector. The experiment is [`kinergy_train::experiment::run_holdout`]; who each
+//! take belongs to is the library's person rule ([`kinergy_train::who`]); this module
+//! renders `DIR/holdout.csv`, `DIR/summary.md` and `--json`.
 
+use std::path::PathBuf;
 use std::time::Instant;
 
 use kinergy_solver::Model;
@@ -14,9 +15,11 @@ use kinergy_train::experiment::{
     self, HeldOutTempo, HoldoutResults, HoldoutSettings, HoldoutSummary, Stats, Take,
 };
 use kinergy_train::field::FieldSettings;
+use kinergy_train::library::{common_folder, relative_name};
+use kinergy_train::who::{PersonRule, TakeAt};
 use serde::Serialize;
 
-use super::args::{Args, PersonBy, model_label};
+use super::args::{Args, model_label};
 use crate::common::{Bar, Failure, emit, print_json};
 
 /// One held-out take's row of holdout.csv.
@@ -45,20 +48,7 @@ pub fn run(
     reaches: Vec<(CapturedReach, Option<String>)>,
     holdout: usize,
 ) -> Result<(), Failure> {
-    let by = args.person.unwrap_or(if args.reach.segments.is_some() {
-        PersonBy::Segments
-    } else {
-        PersonBy::Folder
-    });
-    let takes = reaches
-        .into_iter()
-        .map(|(reach, listed)| {
-            Ok(Take {
-                person: by.person(&reach, listed.as_deref())?,
-                reach,
-            })
-        })
-        .collect::<Result<Vec<Take>, Failure>>()?;
+    let takes = persons(args.person.as_ref().unwrap_or(&PersonRule::Auto), reaches)?;
     let cross_model = HoldoutSettings::default_cross_model(&args.models)
         .ok_or_else(|| Failure::Input("--models needs at least one model".into()))?;
     let settings = HoldoutSettings {
@@ -115,6 +105,37 @@ pub fn run(
         csv_path.display(),
         md_path.display()
     ))
+}
+
+/// Each reach with its person by `rule`, the takes seen from their common folder as a
+/// library's are from its root (every take the rule cannot name is named at once).
+fn persons(
+    rule: &PersonRule,
+    reaches: Vec<(CapturedReach, Option<String>)>,
+) -> Result<Vec<Take>, Failure> {
+    let canonical: Vec<PathBuf> = reaches
+        .iter()
+        .map(|(r, _)| std::fs::canonicalize(r.name()).unwrap_or_else(|_| r.name().into()))
+        .collect();
+    let root = common_folder(&canonical);
+    let relative: Vec<PathBuf> = canonical
+        .iter()
+        .map(|take| relative_name(&root, take))
+        .collect();
+    let whos = rule.who_all(
+        relative
+            .iter()
+            .zip(&reaches)
+            .map(|(path, (_, listed))| (TakeAt::new(&root, path), listed.as_deref())),
+    )?;
+    Ok(reaches
+        .into_iter()
+        .zip(whos)
+        .map(|((reach, _), who)| Take {
+            person: who.person,
+            reach,
+        })
+        .collect())
 }
 
 /// A setting error's reason without the field name (the flag is named instead).

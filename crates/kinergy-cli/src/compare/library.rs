@@ -1,6 +1,7 @@
 //! `compare --library DIR`: a fitted library's results as a whole, from its `library.csv`
-//! (`fit --per clip --out-dir DIR`, or `collect`), without refitting: per person and per
-//! model, the reaches' motion distances, and the Fig. 3 chart.
+//! (`fit --per clip --out-dir DIR`, or `collect`), without refitting: per person, per motion
+//! (where the takes' motions are known) and per model, the reaches' motion distances, and
+//! the Fig. 3 chart.
 
 use std::path::{Path, PathBuf};
 
@@ -13,13 +14,34 @@ use super::Args;
 use super::args::model_label;
 use crate::common::{Failure, emit, print_json};
 
-/// One person's (or everyone's) line as `--json` prints it: each model's distances in mm.
+/// One person's (or everyone's) line as `--json` prints it: each model's distances in mm,
+/// and per motion where motions are known.
 #[derive(Debug, Serialize)]
 struct Line {
     person: String,
     reaches: usize,
     takes: usize,
     models: Vec<(String, Stats)>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    motions: Vec<Motion>,
+}
+
+/// One motion's line (of a person, or of everyone) as `--json` prints it.
+#[derive(Debug, Serialize)]
+struct Motion {
+    /// Empty: reaches of no known motion.
+    motion: String,
+    persons: usize,
+    reaches: usize,
+    takes: usize,
+    models: Vec<(String, Stats)>,
+}
+
+fn labelled(models: Vec<(Model, Stats)>) -> Vec<(String, Stats)> {
+    models
+        .into_iter()
+        .map(|(m, s)| (model_label(m), s))
+        .collect()
 }
 
 impl From<PersonLine> for Line {
@@ -28,10 +50,17 @@ impl From<PersonLine> for Line {
             person: l.person,
             reaches: l.reaches,
             takes: l.takes,
-            models: l
-                .models
+            models: labelled(l.models),
+            motions: l
+                .motions
                 .into_iter()
-                .map(|(m, s)| (model_label(m), s))
+                .map(|m| Motion {
+                    motion: m.motion,
+                    persons: m.persons,
+                    reaches: m.reaches,
+                    takes: m.takes,
+                    models: labelled(m.models),
+                })
                 .collect(),
         }
     }
@@ -42,6 +71,13 @@ pub const FILES: [&str; 3] = ["summary.md", "fig3.svg", "fig3.png"];
 
 /// Runs `compare --library DIR`.
 pub fn run(args: &Args, library: &Path) -> Result<(), Failure> {
+    if args.person.is_some() {
+        return Err(Failure::Input(format!(
+            "--person with --library: a library's persons are named as it is tabled: \
+             `kinergy collect {} --person RULE`, then compare --library",
+            library.display()
+        )));
+    }
     let table = if library.is_dir() {
         library.join(LIBRARY)
     } else {
@@ -81,8 +117,8 @@ pub fn run(args: &Args, library: &Path) -> Result<(), Failure> {
     ))
 }
 
-/// The summary: per person, each model's mean (min–max) distance, and the richest model's
-/// reduction against S_A.
+/// The summary: per person, then per motion where motions are known, each model's mean
+/// (min–max) distance, and the richest model's reduction against S_A.
 fn markdown(table: &Path, lines: &[Line], models: &[Model]) -> String {
     let all = &lines[lines.len() - 1];
     let mut md = format!(
@@ -94,12 +130,7 @@ fn markdown(table: &Path, lines: &[Line], models: &[Model]) -> String {
         lines.len() - 1,
         table.display()
     );
-    for m in models {
-        md.push_str(&format!(" {} |", model_label(*m)));
-    }
-    md.push_str(" richest vs S_A |\n|---|---|");
-    md.push_str(&"---|".repeat(models.len() + 1));
-    md.push('\n');
+    md.push_str(&model_header(models, 2));
     for l in lines {
         let name = if std::ptr::eq(l, all) {
             "**all**".to_string()
@@ -107,28 +138,67 @@ fn markdown(table: &Path, lines: &[Line], models: &[Model]) -> String {
             super::holdout::md_code(&l.person)
         };
         md.push_str(&format!("| {name} | {} |", l.reaches));
-        for m in models {
-            let label = model_label(*m);
-            match l.models.iter().find(|(x, _)| *x == label) {
-                Some((_, s)) => {
-                    // A model some reaches lack is said, not averaged silently over fewer.
-                    let of = if s.count < l.reaches {
-                        format!(", {} of {} reaches", s.count, l.reaches)
-                    } else {
-                        String::new()
-                    };
-                    md.push_str(&format!(" {:.2} ({:.2}–{:.2}{of}) |", s.mean, s.min, s.max))
-                }
-                None => md.push_str(" — |"),
-            }
-        }
-        let reduction = match (l.models.first(), l.models.last()) {
-            (Some((_, first)), Some((_, last))) if l.models.len() > 1 && first.mean > 0.0 => {
-                format!("{:+.0} %", (last.mean / first.mean - 1.0) * 100.0)
-            }
-            _ => "—".into(),
-        };
-        md.push_str(&format!(" {reduction} |\n"));
+        md.push_str(&model_cells(&l.models, l.reaches, models));
     }
+    if !all.motions.is_empty() {
+        let known = all.motions.iter().filter(|m| !m.motion.is_empty()).count();
+        md.push_str(&format!(
+            "\n## Per motion\n\n{known} motion{} (as the person rule or the takes' names say \
+             them), every person's reaches of each.\n\n| motion | persons | reaches |",
+            if known == 1 { "" } else { "s" }
+        ));
+        md.push_str(&model_header(models, 3));
+        for m in &all.motions {
+            let name = if m.motion.is_empty() {
+                "*no known motion*".to_string()
+            } else {
+                super::holdout::md_code(&m.motion)
+            };
+            md.push_str(&format!("| {name} | {} | {} |", m.persons, m.reaches));
+            md.push_str(&model_cells(&m.models, m.reaches, models));
+        }
+    }
+    md
+}
+
+/// The model columns' headers, after the `leading` first columns' headers, and the
+/// table's rule.
+fn model_header(models: &[Model], leading: usize) -> String {
+    let mut md = String::new();
+    for m in models {
+        md.push_str(&format!(" {} |", model_label(*m)));
+    }
+    md.push_str(" richest vs S_A |\n|");
+    md.push_str(&"---|".repeat(leading + models.len() + 1));
+    md.push('\n');
+    md
+}
+
+/// A line's model cells — each model's mean (min–max) over its `reaches` — and the richest
+/// model's reduction against S_A, ending the row.
+fn model_cells(line: &[(String, Stats)], reaches: usize, models: &[Model]) -> String {
+    let mut md = String::new();
+    for m in models {
+        let label = model_label(*m);
+        match line.iter().find(|(x, _)| *x == label) {
+            Some((_, s)) => {
+                // A model some reaches lack is said, not averaged silently over fewer.
+                let of = if s.count < reaches {
+                    format!(", {} of {reaches} reaches", s.count)
+                } else {
+                    String::new()
+                };
+                md.push_str(&format!(" {:.2} ({:.2}–{:.2}{of}) |", s.mean, s.min, s.max))
+            }
+            None => md.push_str(" — |"),
+        }
+    }
+    let reduction = match (line.first(), line.last()) {
+        (Some((_, first)), Some((_, last))) if line.len() > 1 && first.mean > 0.0 => {
+            format!("{:+.0} %", (last.mean / first.mean - 1.0) * 100.0)
+        }
+        _ => "—".into(),
+    };
+    md.push_str(&format!(" {reduction} |\n"));
     md
 }

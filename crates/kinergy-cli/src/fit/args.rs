@@ -1,8 +1,10 @@
 //! The arguments of `kinergy fit`.
 
 use std::path::PathBuf;
+use std::str::FromStr;
 
 use kinergy_solver::{FitGrouping, Model, OptimizerKind};
+use kinergy_train::who::PersonRule;
 
 use crate::common::{CaptureArgs, SearchArgs};
 
@@ -71,6 +73,17 @@ pub struct Args {
     /// those are set, else the whole library.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
+    /// For a library (`--per clip --out-dir DIR`): who moves in each take, library.csv's
+    /// `person` (and `motion`) — `auto` (default: the `person` column of `--segments`; else
+    /// the performer a Bandai `dataset-N_MOTION_STYLE_NNN` or CMU `SS_TT` file name gives;
+    /// else the folder), `folder` (the take's folder from the library's root; the root's own
+    /// takes: the root's name), `file` (the file name: Bandai's STYLE, CMU's subject,
+    /// `STYLE_NNN` → STYLE, else the name; alias `prefix`), `segments`, `regex:PATTERN` (its
+    /// group `person`, or its first group, in the take's path from the root; an optional
+    /// group `motion`) or `map:FILE.csv` (rows `take,person`, optionally `motion`). Recorded
+    /// among the library's settings; a motion is Bandai's MOTION unless the rule says one.
+    #[arg(long, value_name = "RULE", value_parser = PersonRule::from_str)]
+    pub person: Option<PersonRule>,
     /// Write the score of every iteration to this CSV file.
     #[arg(long, value_name = "F.csv")]
     pub log: Option<PathBuf>,

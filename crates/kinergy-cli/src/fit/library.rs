@@ -12,6 +12,7 @@ use kinergy_train::TrainError;
 use kinergy_train::anneal::Observer;
 use kinergy_train::fit::FitJob;
 use kinergy_train::library::{Shard, ShardEvent, ShardOutcome, ShardRun, Takes, collect};
+use kinergy_train::who::PersonRule;
 
 use super::{Args, FitReport, INTERRUPTED, InterruptAfter, report, report_text};
 use crate::common::{Bar, CaptureClips, Failure, emit, report_skipped};
@@ -53,6 +54,7 @@ pub fn run(
         takes: &takes,
         query: &query,
         job: &job,
+        person: args.person.as_ref().unwrap_or(&PersonRule::Auto),
         shard,
         resume: args.resume,
         inputs: &inputs,

@@ -15,6 +15,7 @@ use super::record::{
 use super::table::{
     LIBRARY, LibraryError, LibraryRow, LibraryTable, SHARDS, SKIPPED, SkippedRow, write_csv,
 };
+use crate::who::{PersonRule, TakeAt};
 
 /// What [`collect`] found and wrote.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,6 +43,19 @@ const NAMED: usize = 8;
 /// reach, results missing, and takes added to the library's folders since the shards walked
 /// them.
 pub fn collect(dir: &Path) -> Result<Collected, LibraryError> {
+    collect_with(dir, None)
+}
+
+/// [`collect`], each reach's person and motion named by `person` where given
+/// (`collect --person RULE`) instead of as the records say: the records stay as they are,
+/// and `library.csv`'s settings fingerprint is that of the records' settings with this
+/// rule — the table a fit with `--person RULE` writes. A rule that reads a segments file's
+/// persons (`auto` or `segments`, for a library fitted with a segments file) takes them from
+/// the records, which hold them only where the library was fitted with such a rule (or by a
+/// version before the rule was recorded); otherwise it is refused (fit again with `--resume
+/// --person RULE`: nothing is fitted again). Takes the rule cannot name are refused
+/// ([`LibraryError::Person`]), no table written.
+pub fn collect_with(dir: &Path, person: Option<&PersonRule>) -> Result<Collected, LibraryError> {
     let shards = dir.join(SHARDS);
     let entries = std::fs::read_dir(&shards).map_err(|e| LibraryError::Input {
         path: shards.clone(),
@@ -146,12 +160,16 @@ pub fn collect(dir: &Path) -> Result<Collected, LibraryError> {
         check_deal(&records, count, &mut wrong);
         check_added(&records, &mut missing);
     }
-    let (mut library, mut skipped) = tabled(dir, &records, takes_agree, &mut wrong, &mut missing);
+    let (mut library, roots, mut skipped) =
+        tabled(dir, &records, takes_agree, person, &mut wrong, &mut missing);
     if !wrong.is_empty() {
         return Err(LibraryError::Refused {
             dir: dir.to_path_buf(),
             problems: wrong,
         });
+    }
+    if let Some(rule) = person {
+        relabel(dir, &mut library, &roots, &records, rule)?;
     }
     library.sort_by(|a, b| {
         (&a.clip, a.onset, &a.arm)
@@ -411,20 +429,27 @@ fn listed_takes(record: &ShardRecord) -> BTreeSet<&str> {
 
 /// The rows of `library.csv` and `skipped.csv` the records give, each result checked
 /// against the hash recorded for it (and, where the shards saw the same takes, recorded
-/// once).
-fn tabled(
+/// once), with the root of each reach's record; fingerprinted with the person rule
+/// `person` where given.
+fn tabled<'r>(
     dir: &Path,
-    records: &[ShardRecord],
+    records: &'r [ShardRecord],
     takes_agree: bool,
+    person: Option<&PersonRule>,
     wrong: &mut Vec<String>,
     missing: &mut Vec<String>,
-) -> (Vec<LibraryRow>, Vec<SkippedRow>) {
+) -> (Vec<LibraryRow>, Vec<&'r str>, Vec<SkippedRow>) {
     let mut library = Vec::new();
+    let mut roots = Vec::new();
     let mut skipped = Vec::new();
     let mut results: HashSet<&str> = HashSet::new();
     for record in records {
         let shard = shard_name(record);
-        let settings = record.header.settings.fingerprint();
+        let settings = match person {
+            Some(rule) => record.header.settings.clone().with_person(rule),
+            None => record.header.settings.clone(),
+        }
+        .fingerprint();
         let dealt = listed_takes(record);
         let mut done: BTreeSet<&str> = BTreeSet::new();
         for row in &record.rows {
@@ -454,7 +479,10 @@ fn tabled(
                         continue;
                     }
                     match reach_row(dir, row, &settings, &shard) {
-                        Ok(r) => library.push(r),
+                        Ok(r) => {
+                            library.push(r);
+                            roots.push(record.header.root.as_str());
+                        }
                         Err(Problem::Missing(why)) => missing.push(why),
                         Err(Problem::Wrong(why)) => wrong.push(why),
                     }
@@ -471,7 +499,52 @@ fn tabled(
             ));
         }
     }
-    (library, skipped)
+    (library, roots, skipped)
+}
+
+/// Names the person and motion of each of `rows` (of the records `records`, each row's
+/// under `roots`) by `rule` instead of as the records say (see [`collect_with`]).
+fn relabel(
+    dir: &Path,
+    rows: &mut [LibraryRow],
+    roots: &[&str],
+    records: &[ShardRecord],
+    rule: &PersonRule,
+) -> Result<(), LibraryError> {
+    let Some(first) = records.first() else {
+        return Ok(());
+    };
+    let settings = &first.header.settings;
+    let recorded = settings.person();
+    if recorded == Some(rule.to_string().as_str()) {
+        return Ok(());
+    }
+    // A segments file's persons are in the records where the library was fitted by a rule
+    // that reads them (or before the rule was recorded, when the records always took them).
+    let segments = settings.get("segments").is_some_and(|v| !v.is_null());
+    let listed = segments && rule.uses_segments();
+    if listed && !matches!(recorded, None | Some("auto" | "segments")) {
+        return Err(LibraryError::Input {
+            path: dir.join(SHARDS),
+            why: format!(
+                "--person {rule}: the segments file's persons are not in this library's \
+                 records (it was fitted with --person {}): fit it again with --resume \
+                 --person {rule} (nothing is fitted again)",
+                recorded.unwrap_or("auto")
+            ),
+        });
+    }
+    let whos = rule.who_all(rows.iter().zip(roots).map(|(row, root)| {
+        (
+            TakeAt::new(Path::new(root), Path::new(&row.clip)),
+            listed.then_some(row.person.as_str()),
+        )
+    }))?;
+    for (row, who) in rows.iter_mut().zip(whos) {
+        row.person = who.person;
+        row.motion = who.motion.unwrap_or_default();
+    }
+    Ok(())
 }
 
 enum Problem {

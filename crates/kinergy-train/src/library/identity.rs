@@ -16,6 +16,10 @@ use serde_json::{Map, Value};
 use super::table::LibraryError;
 use crate::fit::FitJob;
 use crate::source::{ArmRequest, ReachFrames, ReachQuery};
+use crate::who::PersonRule;
+
+/// The person rule's setting.
+const PERSON: &str = "person";
 
 /// A take as a library knows it: two takes with the same identity are the same capture.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -121,8 +125,9 @@ pub fn hash_bytes(bytes: &[u8]) -> String {
 /// is one): the seed, the models, the optimizer, the controller, the objective, the budget
 /// and the other search settings, the refinement, and the query's arm, frames, selection,
 /// base, reading options (`unit`, `up` and `positions`, as `--from-unit`, `--up` and
-/// `--positions` spell them) and segments file (its hash). Shards of one library must have the
-/// same; [`Settings::differences`] names the ones that differ.
+/// `--positions` spell them) and segments file (its hash), and the person rule
+/// ([`Settings::with_person`]: it names the reaches' persons and changes no result). Shards
+/// of one library must have the same; [`Settings::differences`] names the ones that differ.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(transparent)]
 pub struct Settings(Map<String, Value>);
@@ -205,6 +210,32 @@ impl Settings {
         };
         set("segments", segments);
         Ok(Settings(map))
+    }
+
+    /// These settings with the person rule `rule`, the `person` setting as the rule's
+    /// `Display` spells it (`auto`, `folder`, `file`, `regex:PATTERN`, `segments`,
+    /// `map:HASH`). Records of older versions have none.
+    pub fn with_person(mut self, rule: &PersonRule) -> Settings {
+        self.0.insert(PERSON.to_string(), rule.to_string().into());
+        self
+    }
+
+    /// The person rule recorded, if any (`None`: a record of an older version, whose
+    /// persons are the takes' folder names or a segments file's `person` column).
+    pub fn person(&self) -> Option<&str> {
+        self.0.get(PERSON).and_then(Value::as_str)
+    }
+
+    /// Whether `other` fits every reach as these settings do: the same settings but for
+    /// the person rule, which changes no result (a resume with another rule names the
+    /// persons anew and fits nothing again).
+    pub fn same_fits(&self, other: &Settings) -> bool {
+        let fits = |s: &Settings| {
+            let mut map = s.0.clone();
+            map.remove(PERSON);
+            map
+        };
+        fits(self) == fits(other)
     }
 
     /// The settings in which `other` differs from these, each as `name VALUE (here: VALUE)`,
@@ -353,6 +384,21 @@ mod tests {
             ..ReachQuery::default()
         };
         assert_eq!(Settings::of(&job, &big, None).unwrap(), a);
+        // The person rule: a setting of its own, named where it differs, but no fit's.
+        let by_file = a.clone().with_person(&PersonRule::File);
+        let by_folder = a.clone().with_person(&PersonRule::Folder);
+        assert_eq!(
+            by_file.differences(&by_folder, "this run"),
+            ["person folder (this run: file)"]
+        );
+        assert_eq!(
+            by_file.differences(&a, "this run"),
+            ["person (not recorded) (this run: file)"]
+        );
+        assert_ne!(by_file.fingerprint(), by_folder.fingerprint());
+        assert!(by_file.same_fits(&by_folder) && by_file.same_fits(&a));
+        assert!(!by_file.same_fits(&b.with_person(&PersonRule::File)));
+        assert_eq!((by_file.person(), a.person()), (Some("file"), None));
     }
 
     #[test]

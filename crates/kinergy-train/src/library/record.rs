@@ -25,12 +25,19 @@ use serde::{Deserialize, Serialize};
 use super::identity::{Settings, TakeIdentity, hash_bytes};
 use super::table::{LibraryError, SHARDS, write_csv};
 use crate::CapturedReach;
+use crate::who::Who;
 
 /// The version of the record's files this library writes (`kinergy_library`).
 pub const FORMAT: u32 = 1;
 
 /// A record's columns, in order.
-pub const COLUMNS: [&str; 10] = [
+pub const COLUMNS: [&str; 11] = [
+    "kind", "clip", "person", "motion", "arm", "onset", "end", "result", "blake3", "seconds", "why",
+];
+
+/// The columns of records written before a reach's motion was recorded: read, their
+/// motions empty.
+pub const COLUMNS_WITHOUT_MOTION: [&str; 10] = [
     "kind", "clip", "person", "arm", "onset", "end", "result", "blake3", "seconds", "why",
 ];
 
@@ -45,8 +52,11 @@ pub struct RecordRow {
     pub kind: String,
     /// The take: its path from the library's root (as its [`TakeIdentity`] names it).
     pub clip: String,
-    /// The reach's person.
+    /// The reach's person (by the library's person rule).
     pub person: String,
+    /// The reach's motion, where known (empty in records of older versions).
+    #[serde(default)]
+    pub motion: String,
     /// The reach's arm side.
     pub arm: String,
     /// The reach's first frame.
@@ -69,6 +79,7 @@ impl RecordRow {
             kind: kind.into(),
             clip: clip.into(),
             person: String::new(),
+            motion: String::new(),
             arm: String::new(),
             onset: String::new(),
             end: String::new(),
@@ -101,19 +112,20 @@ impl RecordRow {
         }
     }
 
-    /// The row of `reach` of take `clip`, by `person`, its result under `result` (relative
-    /// to the library folder) of hash `blake3`; `seconds` empty when it was found already
-    /// fitted.
+    /// The row of `reach` of take `clip`, by `who` (its person and motion), its result
+    /// under `result` (relative to the library folder) of hash `blake3`; `seconds` empty
+    /// when it was found already fitted.
     pub fn reach(
         clip: &str,
         reach: &CapturedReach,
-        person: String,
+        who: Who,
         result: &Path,
         blake3: String,
         seconds: String,
     ) -> RecordRow {
         RecordRow {
-            person,
+            person: who.person,
+            motion: who.motion.unwrap_or_default(),
             arm: reach
                 .fitted_arm()
                 .side
@@ -228,8 +240,9 @@ pub fn is_takes_file_name(name: &str) -> bool {
 }
 
 /// Reads a shard's record `I-of-N.csv`, strictly: UTF-8 without a byte-order mark, the
-/// header line [`COLUMNS`] exactly, every line of as many fields, a `shard` row first, and
-/// only the kinds a record has. Errors name the file and the line.
+/// header line [`COLUMNS`] exactly (or an older record's [`COLUMNS_WITHOUT_MOTION`]), every
+/// line of as many fields, a `shard` row first, and only the kinds a record has. Errors
+/// name the file and the line.
 pub fn read_record(path: &Path) -> Result<Vec<RecordRow>, LibraryError> {
     let refuse = |why: String| LibraryError::Input {
         path: path.to_path_buf(),
@@ -264,7 +277,7 @@ pub fn read_record(path: &Path) -> Result<Vec<RecordRow>, LibraryError> {
         .headers()
         .map_err(|e| refuse(format!("line 1: {e}")))?
         .clone();
-    if header.iter().ne(COLUMNS) {
+    if header.iter().ne(COLUMNS) && header.iter().ne(COLUMNS_WITHOUT_MOTION) {
         return Err(refuse(format!(
             "line 1: the columns are `{}`, where a shard record has `{}`",
             kinergy_io::clip_text(&header.iter().collect::<Vec<_>>().join(","), 200),
@@ -570,7 +583,8 @@ mod tests {
     #[test]
     fn records_that_cannot_be_true_are_refused_naming_the_file_and_line() {
         let dir = tempfile::tempdir().unwrap();
-        let header = COLUMNS.join(",");
+        // In the older layout, without `motion`: such records are read as they are.
+        let header = COLUMNS_WITHOUT_MOTION.join(",");
         let good = format!("{header}\nshard,,,,,,1-of-1.json,abc,,\ntake,a.bvh,,,,,,,,\n");
         let path = write(dir.path(), "good.csv", good.as_bytes());
         assert_eq!(read_record(&path).unwrap().len(), 2);
@@ -625,5 +639,39 @@ mod tests {
             let e = read_record(&path).unwrap_err().to_string();
             assert!(e.contains(name) && e.contains(expected), "{name}: {e}");
         }
+    }
+
+    /// A record of this version keeps each reach's motion; one written before motions were
+    /// recorded reads with the motions empty.
+    #[test]
+    fn records_keep_motions_and_older_records_read_without() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("1-of-1.csv");
+        let reach = RecordRow {
+            person: "elderly".into(),
+            motion: "raise-up-right-hand".into(),
+            arm: "right".into(),
+            onset: "3".into(),
+            end: "40".into(),
+            result: "a.bvh.json".into(),
+            blake3: "h".into(),
+            ..RecordRow::empty("reach", "a.bvh")
+        };
+        let rows = vec![RecordRow::shard("1-of-1.json", "abc"), reach];
+        write_record(&path, &rows).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.starts_with(&COLUMNS.join(",")), "{text}");
+        assert_eq!(read_record(&path).unwrap(), rows);
+        let old = format!(
+            "{}\nshard,,,,,,1-of-1.json,abc,,\nreach,a.bvh,p01,right,3,40,a.bvh.json,h,,\n",
+            COLUMNS_WITHOUT_MOTION.join(",")
+        );
+        std::fs::write(&path, old).unwrap();
+        let read = read_record(&path).unwrap();
+        assert_eq!(
+            (read[1].person.as_str(), read[1].motion.as_str()),
+            ("p01", "")
+        );
+        assert_eq!((read[1].onset.as_str(), read[1].end.as_str()), ("3", "40"));
     }
 }

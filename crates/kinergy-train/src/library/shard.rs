@@ -6,9 +6,9 @@
 //! settings only, so every number in it is the same whichever shard fitted it.
 //!
 //! Resuming trusts the records, not the files' names: a reach is found fitted when a
-//! record of the same settings, whose take had the same content as now, lists its result
-//! with the hash the file has now — however the takes' paths are spelled, from whichever
-//! folder the run starts.
+//! record of the same settings (the person rule aside: it changes no result), whose take
+//! had the same content as now, lists its result with the hash the file has now — however
+//! the takes' paths are spelled, from whichever folder the run starts.
 
 use std::collections::HashMap;
 use std::collections::HashSet;
@@ -33,8 +33,8 @@ use crate::CapturedReach;
 use crate::anneal::Observer;
 use crate::error::TrainError;
 use crate::fit::{FitJob, NestedFit};
-use crate::segments_file::default_person;
 use crate::source::{ReachQuery, Skipped};
+use crate::who::{PersonRule, TakeAt};
 
 /// A shard's run: where, which takes, how each is found and fitted.
 pub struct ShardRun<'a> {
@@ -46,6 +46,9 @@ pub struct ShardRun<'a> {
     pub query: &'a ReachQuery,
     /// How each reach is fitted.
     pub job: &'a FitJob,
+    /// Who moves in each take ([`crate::who`]): each reach's person and motion in the
+    /// record and `library.csv`; recorded among the settings.
+    pub person: &'a PersonRule,
     /// Which share of the takes this run fits.
     pub shard: Shard,
     /// Keep the results already complete (recorded, with the same settings, for the take as
@@ -250,7 +253,8 @@ impl ShardRun<'_> {
             self.job,
             self.query,
             self.takes.segments().map(|s| s.path()),
-        )?;
+        )?
+        .with_person(self.person);
         let mut plan = ShardPlan {
             identities: Vec::with_capacity(identities.len()),
             settings,
@@ -268,6 +272,7 @@ impl ShardRun<'_> {
                 }
             }
         }
+        self.check_persons(&plan.identities)?;
         let weights: Vec<u64> = plan.identities.iter().map(TakeIdentity::weight).collect();
         plan.mine = deal(&weights, self.shard.count)
             .into_iter()
@@ -282,6 +287,24 @@ impl ShardRun<'_> {
             self.found_fitted(&mut plan, &records);
         }
         Ok(plan)
+    }
+
+    /// Refuses, before any work, takes the person rule cannot name — a pattern that does
+    /// not match them, a mapping file that does not list them, `segments` without a
+    /// segments file — all of them in one error. (`auto` names every take; `segments` names
+    /// every row of a segments file.)
+    fn check_persons(&self, identities: &[TakeIdentity]) -> Result<(), LibraryError> {
+        let listed = self.takes.segments().is_some();
+        if matches!(self.person, PersonRule::Auto) || (listed && self.person.uses_segments()) {
+            return Ok(());
+        }
+        let root = &self.takes.common;
+        self.person.who_all(
+            identities
+                .iter()
+                .map(|t| (TakeAt::new(root, Path::new(&t.path)), None)),
+        )?;
+        Ok(())
     }
 
     /// Refuses, before any work, a library folder where something is in the way of what the
@@ -401,10 +424,17 @@ impl ShardRun<'_> {
         let mut hashes: HashMap<String, Option<String>> = HashMap::new();
         // Each record's rows of each take, when every one of them holds.
         let mut whole: HashMap<&str, Vec<RecordRow>> = HashMap::new();
+        // The person rule changes no result: a resume with another one fits nothing again
+        // and names the persons anew — each take's as it is reached; those carried into the
+        // record from its start now, where the takes' paths say them (a rule that reads a
+        // segments file's persons says them only as each take is reached: until then they
+        // are not carried).
+        let from_paths = self.takes.segments().is_none() || !self.person.uses_segments();
         for record in records
             .iter()
-            .filter(|r| r.header.settings == plan.settings)
+            .filter(|r| r.header.settings.same_fits(&plan.settings))
         {
+            let same_rule = record.header.settings.person() == plan.settings.person();
             let then: HashMap<&str, &TakeIdentity> =
                 record.takes.iter().map(|t| (t.path.as_str(), t)).collect();
             let mut by_take: HashMap<&str, (bool, Vec<RecordRow>)> = HashMap::new();
@@ -422,10 +452,20 @@ impl ShardRun<'_> {
                     .entry(row.clip.as_str())
                     .or_insert((true, Vec::new()));
                 entry.0 &= holds;
-                let found = RecordRow {
+                let mut found = RecordRow {
                     seconds: String::new(),
                     ..row.clone()
                 };
+                if !same_rule {
+                    let at = TakeAt::new(&self.takes.common, Path::new(&row.clip));
+                    match self.person.who(at, None) {
+                        Ok(who) if from_paths => {
+                            found.person = who.person;
+                            found.motion = who.motion.unwrap_or_default();
+                        }
+                        _ => entry.0 = false,
+                    }
+                }
                 if holds {
                     plan.fitted
                         .insert((row.clip.clone(), row.result.clone()), found.clone());
@@ -623,12 +663,16 @@ impl ShardRun<'_> {
             .into());
         }
         let mut rows = Vec::with_capacity(found.len());
-        for ((reach, person), name) in found.into_iter().zip(names) {
+        let at = TakeAt::new(&self.takes.common, Path::new(clip));
+        for ((reach, listed), name) in found.into_iter().zip(names) {
             let output = self.dir.join(&name);
-            let person = person.unwrap_or_else(|| default_person(take));
+            let who = self
+                .person
+                .who(at, listed.as_deref())
+                .map_err(LibraryError::from)?;
             let key = (clip.to_string(), slash_path(&name));
             let row = |blake3: String, seconds: String| {
-                RecordRow::reach(clip, &reach, person.clone(), &name, blake3, seconds)
+                RecordRow::reach(clip, &reach, who.clone(), &name, blake3, seconds)
             };
             if self.resume
                 && let Some(done) = plan.fitted.get(&key)

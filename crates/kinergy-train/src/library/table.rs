@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use super::record::RecordRow;
 use crate::experiment::Stats;
+use crate::who::WhoError;
 
 /// The folder, inside a library folder, of the shards' records.
 pub const SHARDS: &str = "shards";
@@ -64,6 +65,10 @@ pub enum LibraryError {
         /// What went wrong.
         why: String,
     },
+    /// The person rule could not say who moves in some takes (a pattern that does not
+    /// match them, a mapping file that does not list them): bad input.
+    #[error(transparent)]
+    Person(#[from] WhoError),
 }
 
 impl kinergy_io::Classify for LibraryError {
@@ -71,7 +76,7 @@ impl kinergy_io::Classify for LibraryError {
     /// not done; a table not written a failed write.
     fn kind(&self) -> kinergy_io::ErrorKind {
         match self {
-            LibraryError::Input { .. } | LibraryError::Refused { .. } => {
+            LibraryError::Input { .. } | LibraryError::Refused { .. } | LibraryError::Person(_) => {
                 kinergy_io::ErrorKind::Input
             }
             LibraryError::Incomplete { .. } => kinergy_io::ErrorKind::Task,
@@ -131,8 +136,12 @@ pub fn write_csv<T: Serialize>(
 pub struct LibraryRow {
     /// The take.
     pub clip: String,
-    /// The reach's person.
+    /// The reach's person (by the library's person rule, [`crate::who`]).
     pub person: String,
+    /// The reach's motion, where the person rule or the take's name says it (empty
+    /// otherwise, and in tables of older versions).
+    #[serde(default)]
+    pub motion: String,
     /// The reach's arm side.
     #[serde(default)]
     pub arm: String,
@@ -234,6 +243,7 @@ impl LibraryRow {
         let mut out = LibraryRow {
             clip: row.clip.clone(),
             person: row.person.clone(),
+            motion: row.motion.clone(),
             arm: row.arm.clone(),
             onset,
             end,
@@ -291,6 +301,24 @@ pub struct PersonLine {
     /// Their takes.
     pub takes: usize,
     /// Each model fitted on any of their reaches: its distances, millimeters.
+    pub models: Vec<(Model, Stats)>,
+    /// Their reaches per motion, by name (empty when no reach's motion is known; reaches of
+    /// no known motion, where others have one, under an empty name, last).
+    pub motions: Vec<MotionLine>,
+}
+
+/// One motion's line of a library's summary: its reaches, of one person or of everyone.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MotionLine {
+    /// The motion (empty: reaches whose motion is not known).
+    pub motion: String,
+    /// The persons whose reaches these are.
+    pub persons: usize,
+    /// The reaches.
+    pub reaches: usize,
+    /// Their takes.
+    pub takes: usize,
+    /// Each model fitted on any of them: its distances, millimeters.
     pub models: Vec<(Model, Stats)>,
 }
 
@@ -409,7 +437,8 @@ impl LibraryTable {
             .collect()
     }
 
-    /// One line per person (by name), then `all`.
+    /// One line per person (by name), then `all`; each with its reaches per motion where
+    /// motions are known (`all`'s: the library per motion).
     pub fn by_person(&self) -> Vec<PersonLine> {
         let mut persons: BTreeMap<&str, Vec<&LibraryRow>> = BTreeMap::new();
         for row in &self.rows {
@@ -470,18 +499,46 @@ fn cell_error(
 
 fn person_line(person: &str, rows: &[&LibraryRow]) -> PersonLine {
     let takes: BTreeSet<&str> = rows.iter().map(|r| r.clip.as_str()).collect();
+    let mut motions: BTreeMap<&str, Vec<&LibraryRow>> = BTreeMap::new();
+    if rows.iter().any(|r| !r.motion.is_empty()) {
+        for row in rows {
+            motions.entry(&row.motion).or_default().push(row);
+        }
+    }
+    // The reaches of no known motion after the known ones.
+    let (unknown, known): (Vec<_>, Vec<_>) = motions.into_iter().partition(|(m, _)| m.is_empty());
     PersonLine {
         person: person.to_string(),
         reaches: rows.len(),
         takes: takes.len(),
-        models: Model::ALL
+        models: model_stats(rows),
+        motions: known
             .into_iter()
-            .filter_map(|m| {
-                let stats = Stats::of(rows.iter().filter_map(|r| r.distance(m)).map(|d| d * 1e3))?;
-                Some((m, stats))
+            .chain(unknown)
+            .map(|(motion, rows)| MotionLine {
+                motion: motion.to_string(),
+                persons: rows
+                    .iter()
+                    .map(|r| &r.person)
+                    .collect::<BTreeSet<_>>()
+                    .len(),
+                reaches: rows.len(),
+                takes: rows.iter().map(|r| &r.clip).collect::<BTreeSet<_>>().len(),
+                models: model_stats(&rows),
             })
             .collect(),
     }
+}
+
+/// Each model fitted on any of `rows`: its distances, millimeters.
+fn model_stats(rows: &[&LibraryRow]) -> Vec<(Model, Stats)> {
+    Model::ALL
+        .into_iter()
+        .filter_map(|m| {
+            let stats = Stats::of(rows.iter().filter_map(|r| r.distance(m)).map(|d| d * 1e3))?;
+            Some((m, stats))
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -492,6 +549,7 @@ mod tests {
         LibraryRow {
             clip: clip.into(),
             person: person.into(),
+            motion: String::new(),
             arm: "right".into(),
             onset: 0,
             end: 10,
@@ -563,6 +621,42 @@ mod tests {
         assert_eq!(*model, Model::Sa);
         approx::assert_abs_diff_eq!(sa.mean, 30.0, epsilon = 1e-9);
         assert_eq!(lines[0].models[1].1.count, 1);
+    }
+
+    #[test]
+    fn the_summary_is_per_motion_where_motions_are_known() {
+        let with = |motion: &str, r: LibraryRow| LibraryRow {
+            motion: motion.into(),
+            ..r
+        };
+        let table = LibraryTable {
+            rows: vec![
+                with("bow", row("active", "a", 0.02, None)),
+                with("bow", row("elderly", "b", 0.04, None)),
+                with("raise", row("elderly", "c", 0.03, None)),
+                row("elderly", "d", 0.05, None),
+            ],
+            skipped: vec![],
+        };
+        let lines = table.by_person();
+        let all = lines.last().unwrap();
+        let motions: Vec<(&str, usize, usize)> = all
+            .motions
+            .iter()
+            .map(|m| (m.motion.as_str(), m.persons, m.reaches))
+            .collect();
+        // Known motions by name, then the reaches of none.
+        assert_eq!(motions, [("bow", 2, 2), ("raise", 1, 1), ("", 1, 1)]);
+        approx::assert_abs_diff_eq!(all.motions[0].models[0].1.mean, 30.0, epsilon = 1e-9);
+        let active = &lines[0];
+        assert_eq!(active.person, "active");
+        assert_eq!(active.motions.len(), 1);
+        // No motion known anywhere: no motion lines.
+        let plain = LibraryTable {
+            rows: vec![row("p1", "a", 0.02, None)],
+            skipped: vec![],
+        };
+        assert!(plain.by_person().iter().all(|l| l.motions.is_empty()));
     }
 
     /// The sweep's tables that cannot be true, each refused naming its row and column.
