@@ -1055,6 +1055,8 @@ def apply_edit(ctx, edit, rng, LIB, D, N, takes, base):
         return [name, "shards"], [os.path.join(shards, name)], False
     data = rb(recp)
     lines = data.split(b"\n")
+    header = lines[0].decode("utf-8", "replace").split(",")
+    rcol = header.index("result") if "result" in header else 6
     if edit == "empty-record":
         w(recp, b"")
     elif edit == "header-only-record":
@@ -1071,7 +1073,7 @@ def apply_edit(ctx, edit, rng, LIB, D, N, takes, base):
             return [], [], True
         w(recp, data + rows[0] + b"\n")
         cells = rows[0].decode("utf-8", "replace").split(",")
-        return [rec, rec[:-4], "shards"] + shard_words + [cells[1], cells[6]], pair, False
+        return [rec, rec[:-4], "shards"] + shard_words + [cells[1], cells[rcol]], pair, False
     elif edit in ("drop-take-row", "drop-reach-row"):
         pref = b"take," if edit == "drop-take-row" else b"reach,"
         rows = [i for i, l in enumerate(lines) if l.startswith(pref)]
@@ -1081,7 +1083,7 @@ def apply_edit(ctx, edit, rng, LIB, D, N, takes, base):
         cells = lines[k_].decode("utf-8", "replace").split(",")
         del lines[k_]
         w(recp, b"\n".join(lines))
-        return [rec, rec[:-4], "shards"] + shard_words + [x for x in (cells[1], cells[6] if len(cells) > 6 else "") if x], pair, False
+        return [rec, rec[:-4], "shards"] + shard_words + [x for x in (cells[1], cells[rcol] if len(cells) > rcol else "") if x], pair, False
     elif edit == "header-seed-edited":
         hp = recp[:-4] + ".json"
         txt = rb(hp)
@@ -2178,7 +2180,7 @@ TABLE_EDITS = ["all-empty-row", "all-empty-table", "mixed-model", "mixed-optimiz
                "library-missing", "huge-row-count"]
 COLLECT_EDITS = ["result-dotdot", "result-absolute", "blake3-other", "unknown-kind", "shard-hash", "header-unknown-field",
                  "header-format-2", "header-truncated", "takes-truncated", "record-folder", "header-root-elsewhere",
-                 "nul-in-record", "invalid-utf8-record", "reach-of-unknown-take", "huge-onset"]
+                 "nul-in-record", "invalid-utf8-record", "reach-of-unknown-take", "huge-onset", "unknown-arm"]
 
 
 def md_table_problems(text):
@@ -2230,26 +2232,32 @@ def fam_tables(rng, n):
                 reach_i = [i for i, l in enumerate(lines) if l.startswith(b"reach,")]
                 ri = rng.choice(reach_i)
                 cells = lines[ri].split(b",")
+                # The record's columns by name, from its header (a column added moves the rest).
+                col = {name: j for j, name in enumerate(lines[0].decode().split(","))}
+                ONSET, RESULT, BLAKE3, ARM = col["onset"], col["result"], col["blake3"], col["arm"]
                 hints = ["1-of-1", "shards", "record"]
                 if what == "result-dotdot":
-                    cells[6] = b"../../../../etc/hostname"
+                    cells[RESULT] = b"../../../../etc/hostname"
                 elif what == "result-absolute":
-                    cells[6] = os.path.join(D, "library.csv").encode()
+                    cells[RESULT] = os.path.join(D, "library.csv").encode()
                 elif what == "blake3-other":
                     other = lines[rng.choice([i for i in reach_i if i != ri] or [ri])].split(b",")
-                    cells[7] = other[7]
+                    cells[BLAKE3] = other[BLAKE3]
                 elif what == "unknown-kind":
                     cells[0] = b"reech"
                 elif what == "huge-onset":
-                    cells[4] = b"9" * 40
+                    cells[ONSET] = b"9" * 40
                 elif what == "reach-of-unknown-take":
                     cells[1] = b"p07/r99.bvh"
+                elif what == "unknown-arm":
+                    cells[ARM] = b"9" * 40
                 if what in ("result-dotdot", "result-absolute", "blake3-other", "unknown-kind", "huge-onset",
-                            "reach-of-unknown-take"):
+                            "reach-of-unknown-take", "unknown-arm"):
                     lines[ri] = b",".join(cells)
                     w(rec, b"\n".join(lines))
                 elif what == "shard-hash":
-                    w(rec, re.sub(rb"(shard,,,,,,1-of-1\.json,)([0-9a-f])", lambda m: m.group(1) + (b"0" if m.group(2) != b"0" else b"1"), data))
+                    shard = rb"(shard" + b"," * RESULT + rb"1-of-1\.json,)([0-9a-f])"
+                    w(rec, re.sub(shard, lambda m: m.group(1) + (b"0" if m.group(2) != b"0" else b"1"), data))
                 elif what == "header-unknown-field":
                     w(head, rb(head).replace(b"{", b'{\n  "zz": 1,', 1))
                 elif what == "header-format-2":

@@ -424,6 +424,9 @@ def test_from_positions_gives_the_positions_back(at_root):
     assert np.abs(made.positions - clip.positions).max() < 1e-5
     assert made.report["max_error_m"] < 1e-5 and made.report["stretched"] == []
     assert made.frame_time == clip.frame_time and made.joint_names == clip.joint_names
+    # The capture's right shoulder twists past the arm's ±90°: the made rotations say so.
+    beyond = dict(made.report["arms_beyond_limits"])
+    assert "shoulder_twist" in beyond["right"], made.report["arms_beyond_limits"]
     # A bone that stretches is reported, and its joint is off by no more than its range.
     moved = clip.positions.copy()
     moved[::2, 1:] += [0.0, 0.05, 0.0]  # every second frame the body floats off its root

@@ -83,6 +83,9 @@ struct Report {
     undetermined: Vec<String>,
     /// Bones whose length varies over the frames, with the range, meters.
     stretched: Vec<(String, f64)>,
+    /// The arms whose rotations leave the human limits of Kinergy's arm, with the DoFs past
+    /// them ([`kinergy_solver::arms_beyond_limits`]).
+    arms_beyond_limits: Vec<(kinergy_motion::Side, Vec<String>)>,
 }
 
 /// The hierarchy `--skeleton` names.
@@ -164,6 +167,8 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         args.stretch,
     )
     .map_err(|e| Failure::input(&args.positions, e))?;
+    let arms_beyond_limits = kinergy_solver::arms_beyond_limits(&made.clip)
+        .map_err(|e| Failure::input(&args.positions, e))?;
     write_clip(&args.output, &made.clip, &Default::default())?;
     let n = map.names.len();
     let report = Report {
@@ -179,6 +184,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         joint_max_error_m: made.joint_max_error_m(),
         undetermined: made.undetermined.clone(),
         stretched: made.stretched.clone(),
+        arms_beyond_limits,
     };
     if args.json {
         return print_json(&report);
@@ -206,6 +212,13 @@ pub fn run(args: &Args) -> Result<(), Failure> {
         text += &format!(
             "  twist left open by the positions (kept from frame to frame): {}\n",
             report.undetermined.join(", ")
+        );
+    }
+    for (side, dofs) in &report.arms_beyond_limits {
+        text += &format!(
+            "  the {side} arm turns past a human range: {} (a pose estimate's error, or a \
+             joint bent backward)\n",
+            dofs.join(", ")
         );
     }
     let how = match args.stretch {

@@ -1,6 +1,7 @@
 //! `kinergy from-positions`: a capture's joint positions, written as CSV the ways the command
 //! reads them (long and wide, meters Y up and millimeters Z up), come back as BVH whose own
-//! forward kinematics puts every joint within 1 mm of the input; bad tables name the line.
+//! forward kinematics puts every joint within 1 mm of the input, its arms past the human limits
+//! as the capture's are; bad tables name the line.
 
 mod common;
 use common::{fixture, json, kinergy, s, stderr};
@@ -109,6 +110,18 @@ fn a_captures_positions_come_back_long_and_wide_in_any_unit_and_up_axis() {
             (Some(unit), Some(up))
         );
         assert_eq!(report["unit_guessed"], guessed, "{report}");
+        // The rotations made read as the capture's own do against the arm's human limits:
+        // the same arms past them, by the same DoFs (the capture's right shoulder twists past
+        // its ±90°).
+        let (original, _) =
+            kinergy_motion::read_clip(&fixture("006_14.bvh"), &Default::default()).expect("read");
+        let expected = kinergy_solver::arms_beyond_limits(&original).expect("limits");
+        assert!(!expected.is_empty());
+        assert_eq!(
+            report["arms_beyond_limits"],
+            serde_json::to_value(&expected).expect("json"),
+            "{report}"
+        );
     }
 }
 

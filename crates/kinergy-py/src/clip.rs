@@ -377,7 +377,9 @@ impl Clip {
 /// each bone at its median length, each joint's rotation from where its children are. Its
 /// `report`: the largest distance of any joint from its position (`max_error_m`) and each
 /// joint's (`joint_max_error_m`), the joints whose twist the positions do not determine
-/// (`undetermined`, kept from frame to frame) and the bones whose length varies (`stretched`).
+/// (`undetermined`, kept from frame to frame), the bones whose length varies (`stretched`),
+/// and the arms whose rotations leave Kinergy's human arm limits with the DoFs past them
+/// (`arms_beyond_limits`: [side, [dof, ...]] pairs, as `kinergy from-positions` reports).
 /// `stretch`: "hold" such a bone at its median length, or "keep" it, its child joint given
 /// position channels carrying each frame's length (as `kinergy from-positions --stretch`).
 /// The clip's joints are in BVH's depth-first order.
@@ -429,6 +431,8 @@ pub fn from_positions(
             )
         })
         .map_err(|e| errors::input(format!("from_positions: {e}")))?;
+    let arms_beyond_limits = kinergy_solver::arms_beyond_limits(&made.clip)
+        .map_err(|e| errors::input(format!("from_positions: {e}")))?;
     let joint_max: serde_json::Map<String, serde_json::Value> = made
         .joint_max_error_m()
         .into_iter()
@@ -439,6 +443,7 @@ pub fn from_positions(
         "joint_max_error_m": joint_max,
         "undetermined": made.undetermined,
         "stretched": made.stretched,
+        "arms_beyond_limits": arms_beyond_limits,
     });
     Ok(Clip {
         inner: made.clip,

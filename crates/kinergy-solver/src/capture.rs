@@ -279,6 +279,26 @@ impl CaptureArm {
     }
 }
 
+/// The arms of `clip` (right, then left, those the finders find) whose motion leaves the
+/// human limits of [`Chain::arm`], read as a capture is read ([`CaptureArm::new`]: the base on
+/// the first frame): each with the DoFs it takes past them ([`CaptureArm::widened_limits`]).
+/// An arm within its limits is left out. What `from-positions` reports of the rotations it
+/// made: joints bent past a human range, an elbow bent backward. Errors: an arm with a bone of
+/// zero length.
+pub fn arms_beyond_limits(clip: &Clip) -> Result<Vec<(Side, Vec<String>)>> {
+    let mut out = Vec::new();
+    for side in [Side::Right, Side::Left] {
+        let Ok(joints) = ArmJoints::find(clip.skeleton(), side) else {
+            continue;
+        };
+        let arm = CaptureArm::new(clip, &joints)?;
+        if !arm.widened_limits().is_empty() {
+            out.push((side, arm.widened_limits().to_vec()));
+        }
+    }
+    Ok(out)
+}
+
 /// The alignment A in the shoulder's parent's frame (module docs): z out of the shoulder
 /// sideways, y up, x = y × z, as the body stands on the clip's first frame. Where the skeleton
 /// has the other arm, z is the horizontal line from the other arm's shoulder to this one on

@@ -48,7 +48,7 @@ pub mod smoothing;
 pub mod synergy;
 pub mod task;
 
-pub use capture::{BaseMode, CaptureArm, widen_to_include};
+pub use capture::{BaseMode, CaptureArm, arms_beyond_limits, widen_to_include};
 pub use controller::{
     ArmStepper, ArmTask, Base, Controller, ControllerSettings, LimitHandling, Observation,
     StallRule, StopReason, Synthesis,

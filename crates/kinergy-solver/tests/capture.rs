@@ -323,3 +323,95 @@ fn the_base_frame_of_the_synthetic_character_is_the_worlds_axes() {
         assert!(lateral < 1e-9 && up < 1e-9, "{side}: {lateral}° {up}°");
     }
 }
+
+/// `arms_beyond_limits` on a body made from positions (as `from-positions` makes one): both
+/// arms hang, the left elbow bent 40° (a human range), the right folded to 170° (past the
+/// arm's 150°). Only the right arm is reported, its elbow's flexion among its DoFs, and the
+/// same body with the right elbow at 30° reports none. (An elbow bent backward is no such
+/// case: the arm's shoulder twist turns the bend's plane round within its ±90°.)
+#[test]
+fn an_elbow_folded_past_its_range_is_reported_beyond_the_arms_limits() {
+    use kinergy_motion::PositionArrays;
+    let names: Vec<String> = [
+        "Hips",
+        "Spine",
+        "Neck",
+        "Head",
+        "RightShoulder",
+        "RightArm",
+        "RightForeArm",
+        "RightHand",
+        "LeftShoulder",
+        "LeftArm",
+        "LeftForeArm",
+        "LeftHand",
+        "RightUpLeg",
+        "RightLeg",
+        "RightFoot",
+        "LeftUpLeg",
+        "LeftLeg",
+        "LeftFoot",
+        "RightFinger",
+        "LeftFinger",
+    ]
+    .map(String::from)
+    .to_vec();
+    let parents: Vec<i64> = vec![
+        -1, 0, 1, 2, 1, 4, 5, 6, 1, 8, 9, 10, 0, 12, 13, 0, 15, 16, 7, 11,
+    ];
+    // Facing +Z, X to the body's left; each forearm's bend from straight down, radians (positive:
+    // the hand forward).
+    let body = |right_bend: f64, left_bend: f64| -> Vec<[f64; 3]> {
+        let forearm = |bend: f64, x: f64| [x, 1.18 - 0.25 * bend.cos(), 0.25 * bend.sin()];
+        let finger = |bend: f64, x: f64| [x, 1.18 - 0.33 * bend.cos(), 0.33 * bend.sin()];
+        vec![
+            [0.0, 1.0, 0.0],
+            [0.0, 1.45, 0.0],
+            [0.0, 1.55, 0.0],
+            [0.0, 1.7, 0.0],
+            [-0.05, 1.45, 0.0],
+            [-0.2, 1.45, 0.0],
+            [-0.2, 1.18, 0.0],
+            forearm(right_bend, -0.2),
+            [0.05, 1.45, 0.0],
+            [0.2, 1.45, 0.0],
+            [0.2, 1.18, 0.0],
+            forearm(left_bend, 0.2),
+            [-0.1, 0.95, 0.0],
+            [-0.1, 0.5, 0.0],
+            [-0.1, 0.08, 0.0],
+            [0.1, 0.95, 0.0],
+            [0.1, 0.5, 0.0],
+            [0.1, 0.08, 0.0],
+            finger(right_bend, -0.2),
+            finger(left_bend, 0.2),
+        ]
+    };
+    let clip = |right: f64, left: f64| {
+        // A few frames from slightly bent (the rest pose) to the posture.
+        let positions: Vec<[f64; 3]> = (0..5)
+            .flat_map(|k| {
+                let t = k as f64 / 4.0;
+                body(0.2 + t * (right - 0.2), 0.2 + t * (left - 0.2))
+            })
+            .collect();
+        Clip::from_positions(PositionArrays {
+            joint_names: &names,
+            parents: &parents,
+            positions: &positions,
+            frame_time: 1.0 / 30.0,
+        })
+        .expect("from positions")
+        .clip
+    };
+    let d = f64::to_radians;
+    let beyond = kinergy_solver::arms_beyond_limits(&clip(d(170.0), d(40.0))).expect("arms");
+    assert_eq!(beyond.len(), 1, "{beyond:?}");
+    assert_eq!(beyond[0].0, Side::Right, "{beyond:?}");
+    assert!(
+        beyond[0].1.iter().any(|d| d == "elbow_flexion"),
+        "{beyond:?}"
+    );
+    let within = kinergy_solver::arms_beyond_limits(&clip(d(30.0), d(40.0))).expect("arms");
+    assert!(within.is_empty(), "{within:?}");
+}

@@ -322,8 +322,8 @@ pub fn read_record(path: &Path) -> Result<Vec<RecordRow>, LibraryError> {
     Ok(rows)
 }
 
-/// Checks a `reach` row's frames: `onset` and `end` whole numbers (a `usize`), the end
-/// after the onset. Says which column is wrong otherwise.
+/// Checks a `reach` row's arm (right, left or empty) and frames: `onset` and `end` whole
+/// numbers (a `usize`), the end after the onset. Says which column is wrong otherwise.
 fn check_frames(row: &RecordRow) -> Result<(), String> {
     let frame =
         |column: &str, text: &str| {
@@ -336,6 +336,14 @@ fn check_frames(row: &RecordRow) -> Result<(), String> {
             )
         })
         };
+    // The arm: a side, or empty for an arm named by its joints whose side is unclear.
+    if !matches!(row.arm.as_str(), "" | "right" | "left") {
+        return Err(format!(
+            "column arm: `{}` is no arm (right, left, or empty): not a record Kinergy wrote \
+             (edited by hand?)",
+            kinergy_io::clip_text(&row.arm, 24)
+        ));
+    }
     let (onset, end) = (frame("onset", &row.onset)?, frame("end", &row.end)?);
     if end <= onset {
         return Err(format!(
@@ -595,7 +603,16 @@ mod tests {
         let backwards = format!(
             "{header}\nshard,,,,,,1-of-1.json,abc,,\nreach,a.bvh,p,right,9,3,a.bvh.json,h,,\n"
         );
-        let cases: [(&str, Vec<u8>, &str); 8] = [
+        let no_arm = format!(
+            "{header}\nshard,,,,,,1-of-1.json,abc,,\nreach,a.bvh,p,{},3,9,a.bvh.json,h,,\n",
+            "9".repeat(40)
+        );
+        let cases: [(&str, Vec<u8>, &str); 9] = [
+            (
+                "no-arm.csv",
+                no_arm.into_bytes(),
+                "line 3, column arm: `999999999999999999999999…",
+            ),
             (
                 "huge-onset.csv",
                 huge.into_bytes(),

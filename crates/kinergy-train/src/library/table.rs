@@ -342,6 +342,20 @@ impl LibraryTable {
             .headers()
             .map_err(|e| input(format!("line 1: {e}")))?
             .clone();
+        // Every table Kinergy wrote has the four papers' models' columns (S_E's came later):
+        // one missing is a table edited by hand, whose rows would lose that model unsaid.
+        for column in [
+            "distance_sa_m",
+            "distance_sb_m",
+            "distance_sc_m",
+            "distance_sd_m",
+        ] {
+            if !header.iter().any(|h| h == column) {
+                return Err(input(format!(
+                    "line 1: no column `{column}`: not a table Kinergy wrote (edited by hand?)"
+                )));
+            }
+        }
         let mut rows = Vec::new();
         for (i, record) in reader.records().enumerate() {
             let record = record.map_err(|e| input(csv_error(&e, i + 2)))?;
@@ -593,7 +607,11 @@ mod tests {
         assert_eq!(read.rows[0].distance(Model::Sa), Some(0.02));
         assert_eq!(read.rows[0].distance(Model::Se), None);
         let bad = dir.join("bad.csv");
-        std::fs::write(&bad, "clip,person,distance_sa_m\na,p1,x\n").unwrap();
+        std::fs::write(
+            &bad,
+            "clip,person,distance_sa_m,distance_sb_m,distance_sc_m,distance_sd_m\na,p1,x,,,\n",
+        )
+        .unwrap();
         let e = LibraryTable::read(&bad).unwrap_err();
         assert!(
             kinergy_io::Classify::kind(&e).is_input() && e.to_string().contains("row 2"),
@@ -740,6 +758,16 @@ mod tests {
             let e = LibraryTable::read(&path).unwrap_err();
             assert!(kinergy_io::Classify::kind(&e).is_input(), "{e}");
             assert!(e.to_string().contains(expected), "{expected}: {e}");
+        }
+        // A paper's model's column missing (the sweep's `missing-column`): refused by name.
+        for column in ["distance_sa_m", "distance_sd_m"] {
+            let short = header.replace(&format!(",{column}"), "");
+            let body = "a,p1,0.02,0.02,0.02";
+            std::fs::write(&path, format!("{short}\n{body}\n")).unwrap();
+            let expected = format!("line 1: no column `{column}`");
+            let e = LibraryTable::read(&path).unwrap_err();
+            assert!(kinergy_io::Classify::kind(&e).is_input(), "{e}");
+            assert!(e.to_string().contains(&expected), "{expected}: {e}");
         }
     }
 }
