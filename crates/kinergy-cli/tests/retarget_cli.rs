@@ -195,15 +195,7 @@ fn bad_maps_and_outputs_are_refused_naming_them() {
 /// A person's real-time figures in a `style` report: (arm, body, minimum jerk) in multiples of
 /// the person's own repeats (the noise ceiling), means over the takes.
 fn figures(report: &serde_json::Value) -> [f64; 3] {
-    let e = |name: &str| {
-        report["fidelity"]["summaries"]
-            .as_array()
-            .expect("summaries")
-            .iter()
-            .find(|s| s["predictor"] == name)
-            .and_then(|s| s["error"].as_f64())
-            .unwrap_or_else(|| panic!("no {name} in {report}"))
-    };
+    let e = |name: &str| common::fidelity_error(report, name);
     let ceiling = e("ceiling");
     ["arm", "body", "minimum_jerk"].map(|p| e(p) / ceiling)
 }

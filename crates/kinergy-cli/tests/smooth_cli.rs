@@ -420,15 +420,7 @@ fn at_30_hz(values: &[f64]) -> Speeds<'_> {
 /// The body's real-time figures in a `style` report: (e of the body, e of the person's own
 /// repeats, e of minimum jerk), means over the takes.
 fn body_ceiling_jerk(report: &serde_json::Value) -> (f64, f64, f64) {
-    let e = |name: &str| {
-        report["fidelity"]["summaries"]
-            .as_array()
-            .expect("summaries")
-            .iter()
-            .find(|s| s["predictor"] == name)
-            .and_then(|s| s["error"].as_f64())
-            .unwrap_or_else(|| panic!("no {name} in {report}"))
-    };
+    let e = |name: &str| common::fidelity_error(report, name);
     (e("body"), e("ceiling"), e("minimum_jerk"))
 }
 

@@ -176,3 +176,15 @@ pub fn style_report(
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     json(&o)
 }
+
+/// `predictor`'s real-time error in a `style` report (`fidelity.summaries`: "arm", "body",
+/// "ceiling", "minimum_jerk", "profile"), mean over the takes, meters.
+pub fn fidelity_error(report: &serde_json::Value, predictor: &str) -> f64 {
+    report["fidelity"]["summaries"]
+        .as_array()
+        .expect("summaries")
+        .iter()
+        .find(|s| s["predictor"] == predictor)
+        .and_then(|s| s["error"].as_f64())
+        .unwrap_or_else(|| panic!("no {predictor} in {report}"))
+}
