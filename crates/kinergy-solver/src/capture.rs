@@ -283,8 +283,8 @@ impl CaptureArm {
 /// human limits of [`Chain::arm`], read as a capture is read ([`CaptureArm::new`]: the base on
 /// the first frame): each with the DoFs it takes past them ([`CaptureArm::widened_limits`]).
 /// An arm within its limits is left out. What `from-positions` reports of the rotations it
-/// made: joints bent past a human range, an elbow bent backward. Errors: an arm with a bone of
-/// zero length.
+/// made: an elbow folded past 150°, a shoulder twisted past ±90° (an elbow bent backward reads
+/// as a shoulder twist within range). Errors: an arm with a bone of zero length.
 pub fn arms_beyond_limits(clip: &Clip) -> Result<Vec<(Side, Vec<String>)>> {
     let mut out = Vec::new();
     for side in [Side::Right, Side::Left] {

@@ -728,12 +728,82 @@ mod tests {
             reach.arm = Some(arm(0.0));
         }
         assert_eq!(record.unobserved_dofs(), vec![4, 5, 6]);
+        // Every reach at the wrist: the person's arm ends there, and a capture's arm with a
+        // hand point is driven without it (`PersonStyle::arm_as_fitted`).
+        assert!(record.ends_at_wrist());
+        let dofs = vec!["elbow".to_string()];
+        let space = crate::ParamSpace::new(crate::Model::Sa, &dofs, crate::Bounds::default())
+            .expect("space");
+        let mut file = crate::ParamsFile::new(
+            &space,
+            crate::OptimizerKind::Svd.default_optimizer(),
+            &[1.5],
+        )
+        .expect("parameters file");
+        let with_hand = kinergy_motion::ArmJoints {
+            side: Some(kinergy_motion::Side::Left),
+            clavicle: Some(0),
+            shoulder: 1,
+            elbow: 2,
+            wrist: 3,
+            hand: Some(4),
+        };
+        use crate::PersonStyle;
+        assert_eq!(
+            file.arm_as_fitted(&with_hand),
+            with_hand,
+            "no record: as given"
+        );
+        file.fit = Some(record.clone());
+        let driven = file.arm_as_fitted(&with_hand);
+        assert_eq!(driven.hand, None);
+        assert_eq!((driven.shoulder, driven.wrist), (1, 3));
         record.reaches[0].arm = Some(arm(0.08));
         assert_eq!(
             record.unobserved_dofs(),
             Vec::<usize>::new(),
             "one reach saw them"
         );
+        assert!(!record.ends_at_wrist(), "one reach had a hand");
+        file.fit = Some(record.clone());
+        assert_eq!(file.arm_as_fitted(&with_hand), with_hand);
+        record.reaches[0].arm = None;
+        assert!(
+            !record.ends_at_wrist(),
+            "a reach without its arm may have had a hand"
+        );
+    }
+
+    /// The law read in arm lengths: a body `k` times the fitted arm, reaching `k` times as far,
+    /// takes as long and peaks `k` times as fast (the law's exponent whatever it is); on the
+    /// fitted arm, or a law without its arm, it is the law in meters.
+    #[test]
+    fn a_law_read_in_arm_lengths_scales_with_the_body() {
+        let reach = |d: f64, t: f64| ReachTempo {
+            peak_speed_m_s: 1.875 * d / t,
+            duration_s: t,
+            travel_m: d,
+        };
+        let law =
+            PersonTempo::of(&[reach(0.2, 0.5), reach(0.4, 0.7), reach(0.6, 0.85)]).expect("law");
+        assert!(law.exponent > 0.0 && law.exponent < 1.0, "{law:?}");
+        let fitted = law.with_arm(0.55);
+        assert_eq!(fitted.check(), Ok(()));
+        for d in [0.15, 0.3, 0.5] {
+            assert_eq!(fitted.for_reach_by(d, 0.55), law.for_distance(d));
+            assert_eq!(
+                law.for_reach_by(d, 0.8),
+                law.for_distance(d),
+                "no arm recorded"
+            );
+            for k in [0.8, 1.13, 1.5] {
+                let (peak, duration) = fitted.for_reach_by(k * d, k * 0.55);
+                let (peak_own, duration_own) = law.for_distance(d);
+                approx::assert_relative_eq!(duration, duration_own, max_relative = 1e-12);
+                approx::assert_relative_eq!(peak, k * peak_own, max_relative = 1e-12);
+            }
+        }
+        assert_eq!(law.with_arm(f64::NAN).arm_m, None);
     }
 
     /// A law's check names the field a damaged file got wrong, and a good law passes: the
