@@ -12,7 +12,7 @@
 
 mod collect;
 mod identity;
-mod names;
+pub(crate) mod names;
 mod record;
 mod shard;
 mod table;

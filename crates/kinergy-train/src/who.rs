@@ -647,6 +647,31 @@ impl PersonRule {
         }
     }
 
+    /// [`who_all`](Self::who_all) for captures named by their paths as given (a
+    /// `compare`'s clips, not a library's takes): each seen from the deepest folder they
+    /// share, as a library's takes are from its root.
+    pub fn who_of_paths<'t>(
+        &self,
+        takes: impl IntoIterator<Item = (&'t Path, Option<&'t str>)>,
+    ) -> Result<Vec<Who>, WhoError> {
+        let takes: Vec<(PathBuf, Option<&str>)> = takes
+            .into_iter()
+            .map(|(path, listed)| (crate::library::names::canonical(path), listed))
+            .collect();
+        let canonical: Vec<PathBuf> = takes.iter().map(|(p, _)| p.clone()).collect();
+        let root = crate::library::common_folder(&canonical);
+        let relative: Vec<PathBuf> = canonical
+            .iter()
+            .map(|take| crate::library::relative_name(&root, take))
+            .collect();
+        self.who_all(
+            relative
+                .iter()
+                .zip(&takes)
+                .map(|(path, (_, listed))| (TakeAt::new(&root, path), *listed)),
+        )
+    }
+
     fn try_who(&self, take: TakeAt<'_>, listed: Option<&str>) -> Result<Who, Miss> {
         let name = FileName::of(take.path);
         let motion = name.motion().map(str::to_string);

@@ -6,7 +6,6 @@
 //! take belongs to is the library's person rule ([`kinergy_train::who`]); this module
 //! renders `DIR/holdout.csv`, `DIR/summary.md` and `--json`.
 
-use std::path::PathBuf;
 use std::time::Instant;
 
 use kinergy_solver::Model;
@@ -15,8 +14,7 @@ use kinergy_train::experiment::{
     self, HeldOutTempo, HoldoutResults, HoldoutSettings, HoldoutSummary, Stats, Take,
 };
 use kinergy_train::field::FieldSettings;
-use kinergy_train::library::{common_folder, relative_name};
-use kinergy_train::who::{PersonRule, TakeAt};
+use kinergy_train::who::PersonRule;
 use serde::Serialize;
 
 use super::args::{Args, model_label};
@@ -107,26 +105,16 @@ pub fn run(
     ))
 }
 
-/// Each reach with its person by `rule`, the takes seen from their common folder as a
-/// library's are from its root (every take the rule cannot name is named at once).
+/// Each reach with its person by `rule` ([`PersonRule::who_of_paths`]: every take the rule
+/// cannot name is named at once).
 fn persons(
     rule: &PersonRule,
     reaches: Vec<(CapturedReach, Option<String>)>,
 ) -> Result<Vec<Take>, Failure> {
-    let canonical: Vec<PathBuf> = reaches
-        .iter()
-        .map(|(r, _)| std::fs::canonicalize(r.name()).unwrap_or_else(|_| r.name().into()))
-        .collect();
-    let root = common_folder(&canonical);
-    let relative: Vec<PathBuf> = canonical
-        .iter()
-        .map(|take| relative_name(&root, take))
-        .collect();
-    let whos = rule.who_all(
-        relative
+    let whos = rule.who_of_paths(
+        reaches
             .iter()
-            .zip(&reaches)
-            .map(|(path, (_, listed))| (TakeAt::new(&root, path), listed.as_deref())),
+            .map(|(r, listed)| (std::path::Path::new(r.name()), listed.as_deref())),
     )?;
     Ok(reaches
         .into_iter()
