@@ -202,6 +202,22 @@ fn make_files(dir: &Path) -> Vec<(String, PathBuf)> {
         );
         files.push((format!("retarget onto {name}"), out));
     }
+    // With the performer's arms: the template's hierarchy, its arm bones' offsets rescaled.
+    let out = dir.join("retarget-character-creator-source-arms.bvh");
+    run_writing(
+        &[
+            "retarget",
+            utf8(&walk),
+            "--to",
+            utf8(&cc),
+            "--arms",
+            "source",
+            "-o",
+            utf8(&out),
+        ],
+        &out,
+    );
+    files.push(("retarget onto character-creator --arms source".into(), out));
     let mut captures = vec![("character-creator", cc)];
     match bandai {
         Some(b) => captures.push(("bandai", b)),
