@@ -57,7 +57,7 @@ enum Command {
     Segment(segment::Args),
     /// Make the synthetic motion-capture set: persons × reaches, with manifest.csv.
     #[command(
-        after_help = "Examples:\n  kinergy synth\n  kinergy synth -o my-set --persons 2 --reaches 5 --seed 7"
+        after_help = "Examples:\n  kinergy synth\n  kinergy synth -o my-set --persons 2 --reaches 5 --seed 7\n  kinergy synth -o lib --persons 40 --reaches 40 --frame-rate 30 --both-hands 0.3"
     )]
     Synth(synth::Args),
     /// Fit synergy parameters to captured reaches by simulated annealing, per clip or per

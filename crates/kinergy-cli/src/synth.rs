@@ -42,6 +42,12 @@ pub struct Args {
     /// (their file records it), else smooth.
     #[arg(long, value_parser = crate::common::named::<ControllerKind>(ControllerKind::ALL.map(ControllerKind::name)), requires = "params")]
     pub controller: Option<ControllerKind>,
+    /// The share of each person's takes that reach with both hands, 0 to 1, spread evenly
+    /// over the takes: the right hand reaches and returns, then the left hand reaches toward
+    /// the mirrored target (two reaches in one take, one per arm for `fit --arm auto`; the
+    /// manifest has a row per reach, with its arm and first frame).
+    #[arg(long, default_value_t = SynthSettings::default().both_hands, value_name = "SHARE")]
+    pub both_hands: f64,
 }
 
 /// Runs `kinergy synth`.
@@ -49,6 +55,7 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     check_range("--persons", args.persons, limits::SYNTH_PERSONS)?;
     check_range("--reaches", args.reaches, limits::SYNTH_REACHES)?;
     check_range("--frame-rate", args.frame_rate, limits::SYNTH_FRAME_RATE)?;
+    check_range("--both-hands", args.both_hands, limits::SYNTH_BOTH_HANDS)?;
     let inputs: Vec<&Path> = args.params.iter().map(PathBuf::as_path).collect();
     let mut names = set_files(&settings(args));
     if args.params.is_some() {
@@ -73,11 +80,19 @@ pub fn run(args: &Args) -> Result<(), Failure> {
     if result.is_err() {
         before.undo(&args.output);
     }
-    let rows = result?;
+    let reaches = result?;
+    let clips = args.persons * args.reaches;
     let manifest = args.output.join(MANIFEST);
     emit(&format!(
-        "{} clips of {} persons in {} (seed {}), manifest {}\n",
-        rows,
+        "{clips} clips{} of {} persons in {} (seed {}), manifest {}\n",
+        if reaches > clips {
+            format!(
+                " ({reaches} reaches: {} takes with both hands)",
+                reaches - clips
+            )
+        } else {
+            String::new()
+        },
         args.persons,
         args.output.display(),
         args.seed,
@@ -93,11 +108,12 @@ fn settings(args: &Args) -> SynthSettings {
         seed: args.seed,
         frame_rate: args.frame_rate,
         synergy_controller: args.controller,
+        both_hands: args.both_hands,
     }
 }
 
 /// Writes the set (the clips and the manifest, by the library) and, with --params, the
-/// segments file; the number of clips.
+/// segments file; the number of reaches.
 fn write(args: &Args, drive: Driver<'_>) -> Result<usize, Failure> {
     let made =
         write_set(&args.output, &settings(args), drive).map_err(|e| match (e, &args.params) {

@@ -55,6 +55,16 @@ fn absurd_rates_durations_sizes_and_counts_are_refused_before_any_work() {
             &set,
         ),
         (
+            vec!["synth", "-o", s(&set), "--both-hands", "1.5"],
+            "--both-hands",
+            &set,
+        ),
+        (
+            vec!["synth", "-o", s(&set), "--both-hands", "NaN"],
+            "--both-hands",
+            &set,
+        ),
+        (
             vec![
                 "synthesize",
                 "--from",

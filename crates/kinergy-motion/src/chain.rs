@@ -9,7 +9,7 @@
 use nalgebra::{IsometryMatrix3, Matrix3, Matrix3xX, Point3, Rotation3, Vector3};
 
 use crate::error::{MotionError, Result};
-use crate::rotation::{Axis, left_jacobian, swing_rotation, swing_with_jacobian};
+use crate::rotation::{Axis, left_jacobian, swing_rotation_with, swing_with_jacobian_with};
 
 /// One elementary motion of a chain joint.
 #[derive(Debug, Clone, PartialEq)]
@@ -49,9 +49,22 @@ impl Motion {
     /// 27, the same values as the full product).
     #[inline]
     pub fn apply(&self, r: &mut Rotation3<f64>, q: &[f64]) {
+        self.apply_with(r, q, f64::sin_cos);
+    }
+
+    /// [`Motion::apply`] with the motion's angle's sine and cosine from `sin_cos(angle)` (a
+    /// revolute's q, a swing's |v|; not called for a swing near zero): a memo of them gives
+    /// the same bits.
+    #[inline]
+    pub fn apply_with(
+        &self,
+        r: &mut Rotation3<f64>,
+        q: &[f64],
+        sin_cos: impl FnOnce(f64) -> (f64, f64),
+    ) {
         match *self {
             Motion::Revolute { axis, .. } => {
-                let (s, c) = q[0].sin_cos();
+                let (s, c) = sin_cos(q[0]);
                 let a = axis.index();
                 let (i, k) = ((a + 1) % 3, (a + 2) % 3);
                 let m = r.matrix_mut_unchecked();
@@ -60,8 +73,69 @@ impl Motion {
                 m.set_column(i, &(ci * c + ck * s));
                 m.set_column(k, &(ck * c - ci * s));
             }
-            Motion::Swing { .. } => *r *= swing_rotation(q[0], q[1]),
+            Motion::Swing { .. } => *r *= swing_rotation_with(q[0], q[1], sin_cos),
         }
+    }
+
+    /// The bits of the DoF values that decide this motion's angle (a [`TrigMemo`]'s key).
+    #[inline]
+    fn key(&self, q: &[f64]) -> [u64; 2] {
+        match self {
+            Motion::Revolute { .. } => [q[0].to_bits(), 0],
+            Motion::Swing { .. } => [q[0].to_bits(), q[1].to_bits()],
+        }
+    }
+}
+
+/// The sines and cosines of a chain's motions at the last configuration forward kinematics
+/// walked, one per motion, keyed by the bits of its DoF values: a walk at a configuration
+/// whose motion has bit-for-bit the same values takes them from here instead of calling
+/// `sin_cos` again, so its results are the same to the bit. The synergy controller's frame
+/// linearizes the chain at the configuration its smooth controller has just placed the hand
+/// at ([`Chain::end_position_memo`], then [`Chain::linearize_memo_into`]): every `sin_cos`
+/// of the linearization is found here.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TrigMemo {
+    entries: Vec<Option<([u64; 2], (f64, f64))>>,
+}
+
+impl TrigMemo {
+    /// The sine and cosine of motion `m`'s `angle`, whose DoF values have the bits `key`.
+    #[inline]
+    fn sin_cos(&mut self, m: usize, key: [u64; 2], angle: f64) -> (f64, f64) {
+        if m >= self.entries.len() {
+            self.entries.resize(m + 1, None);
+        }
+        match self.entries[m] {
+            Some((k, sc)) if k == key => sc,
+            _ => {
+                let sc = angle.sin_cos();
+                self.entries[m] = Some((key, sc));
+                sc
+            }
+        }
+    }
+}
+
+/// Where a walk of the chain takes its sines and cosines: `sin_cos` itself, or a [`TrigMemo`].
+trait Trig {
+    fn sin_cos(&mut self, m: usize, key: [u64; 2], angle: f64) -> (f64, f64);
+}
+
+/// `sin_cos` itself.
+struct Plain;
+
+impl Trig for Plain {
+    #[inline]
+    fn sin_cos(&mut self, _: usize, _: [u64; 2], angle: f64) -> (f64, f64) {
+        angle.sin_cos()
+    }
+}
+
+impl Trig for TrigMemo {
+    #[inline]
+    fn sin_cos(&mut self, m: usize, key: [u64; 2], angle: f64) -> (f64, f64) {
+        TrigMemo::sin_cos(self, m, key, angle)
     }
 }
 
@@ -315,15 +389,31 @@ impl Chain {
         &self,
         base: &IsometryMatrix3<f64>,
         q: &[f64],
+        each: impl FnMut(&IsometryMatrix3<f64>),
+    ) -> Point3<f64> {
+        self.walk_with(base, q, each, &mut Plain)
+    }
+
+    /// [`Chain::walk`] with the sines and cosines from `trig`.
+    #[inline]
+    fn walk_with(
+        &self,
+        base: &IsometryMatrix3<f64>,
+        q: &[f64],
         mut each: impl FnMut(&IsometryMatrix3<f64>),
+        trig: &mut impl Trig,
     ) -> Point3<f64> {
         let mut frame = *base;
-        let mut k = 0;
+        let (mut k, mut index) = (0, 0);
         for (j, &rest_identity) in self.joints.iter().zip(&self.rest_identity) {
             self.enter_joint(&mut frame, j, rest_identity);
             for m in &j.motions {
-                apply_motion(&mut frame.rotation, m, &q[k..]);
+                let key = m.key(&q[k..]);
+                m.apply_with(&mut frame.rotation, &q[k..], |angle| {
+                    trig.sin_cos(index, key, angle)
+                });
                 k += m.dof_count();
+                index += 1;
             }
             each(&frame);
         }
@@ -354,6 +444,18 @@ impl Chain {
     pub fn end_position(&self, base: &IsometryMatrix3<f64>, q: &[f64]) -> Result<Point3<f64>> {
         self.check(q)?;
         Ok(self.walk(base, q, |_| {}))
+    }
+
+    /// [`Chain::end_position`] with the sines and cosines kept in `memo` (and taken from it
+    /// where a motion's DoF values are the last walk's, bit for bit): the same bits.
+    pub fn end_position_memo(
+        &self,
+        base: &IsometryMatrix3<f64>,
+        q: &[f64],
+        memo: &mut TrigMemo,
+    ) -> Result<Point3<f64>> {
+        self.check(q)?;
+        Ok(self.walk_with(base, q, |_| {}, memo))
     }
 
     /// The positional Jacobian (3 × DoFs) of the end effector at `q`, into `out`.
@@ -410,6 +512,29 @@ impl Chain {
         q: &[f64],
         out: &mut Linearization,
     ) -> Result<()> {
+        self.linearize_with(base, q, out, &mut Plain)
+    }
+
+    /// [`Chain::linearize_into`] with the sines and cosines kept in `memo` (and taken from
+    /// it where a motion's DoF values are the last walk's, bit for bit): the same bits.
+    pub fn linearize_memo_into(
+        &self,
+        base: &IsometryMatrix3<f64>,
+        q: &[f64],
+        out: &mut Linearization,
+        memo: &mut TrigMemo,
+    ) -> Result<()> {
+        self.linearize_with(base, q, out, memo)
+    }
+
+    /// [`Chain::linearize_into`] with the sines and cosines from `trig`.
+    fn linearize_with(
+        &self,
+        base: &IsometryMatrix3<f64>,
+        q: &[f64],
+        out: &mut Linearization,
+        trig: &mut impl Trig,
+    ) -> Result<()> {
         self.check(q)?;
         if out.linear.ncols() != self.dof_count {
             out.linear = Matrix3xX::zeros(self.dof_count);
@@ -417,19 +542,21 @@ impl Chain {
         }
         out.joints.clear();
         let mut frame = *base;
-        let mut k = 0;
+        let (mut k, mut index) = (0, 0);
         for (j, &rest_identity) in self.joints.iter().zip(&self.rest_identity) {
             self.enter_joint(&mut frame, j, rest_identity);
             out.joints.push(Point3::from(frame.translation.vector));
             for m in &j.motions {
+                let key = m.key(&q[k..]);
+                let sin_cos = |angle: f64| trig.sin_cos(index, key, angle);
                 match *m {
                     Motion::Revolute { axis, .. } => {
                         let rot = frame.rotation.matrix();
                         out.angular.set_column(k, &rot.column(axis.index()));
-                        apply_motion(&mut frame.rotation, m, &q[k..]);
+                        m.apply_with(&mut frame.rotation, &q[k..], sin_cos);
                     }
                     Motion::Swing { .. } => {
-                        let (s, jx, jy) = swing_with_jacobian(q[k], q[k + 1]);
+                        let (s, jx, jy) = swing_with_jacobian_with(q[k], q[k + 1], sin_cos);
                         let rot = *frame.rotation.matrix();
                         out.angular.set_column(k, &(rot * jx));
                         out.angular.set_column(k + 1, &(rot * jy));
@@ -437,6 +564,7 @@ impl Chain {
                     }
                 }
                 k += m.dof_count();
+                index += 1;
             }
         }
         out.end = frame * Point3::from(self.end_effector);
@@ -582,6 +710,53 @@ mod tests {
     }
 
     proptest! {
+        /// A memo of the sines and cosines changes no bit: walks at new configurations, at
+        /// the same one again, at one differing in a single DoF (the other motions' entries
+        /// reused), with the swings near zero (the series, no `sin_cos`) and exactly zero.
+        #[test]
+        fn a_trig_memo_gives_the_plain_walks_bits(
+            walks in proptest::collection::vec(
+                (proptest::collection::vec(-2.0f64..2.0, 7), 0usize..7, -2.0f64..2.0, 0u8..4),
+                1..12,
+            ),
+        ) {
+            let arm = Chain::arm(0.31, 0.27, 0.09).expect("arm");
+            let b = base();
+            let mut memo = TrigMemo::default();
+            let (mut plain, mut memoized) = (Linearization::default(), Linearization::default());
+            let mut previous: Option<Vec<f64>> = None;
+            for (fresh, dof, value, how) in walks {
+                let mut q = match (how, &previous) {
+                    // The last configuration again, or with one DoF moved.
+                    (0, Some(p)) => p.clone(),
+                    (1, Some(p)) => {
+                        let mut q = p.clone();
+                        q[dof] = value;
+                        q
+                    }
+                    _ => fresh,
+                };
+                if how == 2 {
+                    // Swings near zero, and at zero.
+                    (q[0], q[1], q[5], q[6]) = (1e-7 * value, 0.0, 0.0, -0.0);
+                }
+                let end = arm.end_position(&b, &q).expect("end");
+                let memo_end = arm.end_position_memo(&b, &q, &mut memo).expect("end");
+                prop_assert_eq!(end.coords.map(f64::to_bits), memo_end.coords.map(f64::to_bits));
+                arm.linearize_into(&b, &q, &mut plain).expect("linearize");
+                arm.linearize_memo_into(&b, &q, &mut memoized, &mut memo).expect("linearize");
+                let bits = |l: &Linearization| {
+                    let mut v: Vec<u64> = l.linear.iter().chain(l.angular.iter()).map(|x| x.to_bits()).collect();
+                    v.extend(l.end.coords.iter().map(|x| x.to_bits()));
+                    v.extend(l.end_rotation.matrix().iter().map(|x| x.to_bits()));
+                    v.extend(l.joints.iter().flat_map(|p| p.coords.iter().map(|x| x.to_bits())));
+                    v
+                };
+                prop_assert_eq!(bits(&plain), bits(&memoized));
+                previous = Some(q);
+            }
+        }
+
         #[test]
         fn end_position_is_fks_end_and_a_principal_axis_motion_its_full_product(
             q in proptest::collection::vec(-2.0f64..2.0, 7),

@@ -57,7 +57,7 @@ pub mod trajectory;
 pub mod units;
 pub mod up;
 
-pub use chain::{Chain, ChainJoint, ChainPose, Linearization, Motion};
+pub use chain::{Chain, ChainJoint, ChainPose, Linearization, Motion, TrigMemo};
 pub use clip::{
     Clip, FromPositions, JointMap, PositionArrays, PositionTable, Stretch, TableReading,
     read_names, read_positions_csv, read_positions_npy,

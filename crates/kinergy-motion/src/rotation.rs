@@ -112,13 +112,24 @@ pub const GIMBAL_LOCK: f64 = 1e-8;
 /// `R = I + sin θ [u]× + (1 − cos θ)(u uᵀ − I)`, written out (no general axis–angle code).
 #[inline]
 pub fn swing_rotation(sx: f64, sy: f64) -> Rotation3<f64> {
+    swing_rotation_with(sx, sy, f64::sin_cos)
+}
+
+/// [`swing_rotation`] with θ's sine and cosine from `sin_cos(θ)` (a memo of them: the same
+/// values, the same bits); not called near zero, where the series needs neither.
+#[inline]
+pub fn swing_rotation_with(
+    sx: f64,
+    sy: f64,
+    sin_cos: impl FnOnce(f64) -> (f64, f64),
+) -> Rotation3<f64> {
     let t2 = sx * sx + sy * sy;
     // sin θ / θ and (1 − cos θ) / θ², with their series near zero.
     let (a, b, c) = if t2 < 1e-12 {
         (1.0 - t2 / 6.0, 0.5 - t2 / 24.0, 1.0 - t2 / 2.0)
     } else {
         let t = t2.sqrt();
-        let (s, c) = t.sin_cos();
+        let (s, c) = sin_cos(t);
         (s / t, (1.0 - c) / t2, c)
     };
     let m = Matrix3::new(
@@ -143,6 +154,17 @@ pub fn swing_rotation(sx: f64, sy: f64) -> Rotation3<f64> {
 /// the columns of [`left_jacobian`] written out. Used by the fused FK + Jacobian pass.
 #[inline]
 pub fn swing_with_jacobian(sx: f64, sy: f64) -> (Matrix3<f64>, Vector3<f64>, Vector3<f64>) {
+    swing_with_jacobian_with(sx, sy, f64::sin_cos)
+}
+
+/// [`swing_with_jacobian`] with θ's sine and cosine from `sin_cos(θ)` (a memo of them: the
+/// same values, the same bits); not called near zero, where the series needs neither.
+#[inline]
+pub fn swing_with_jacobian_with(
+    sx: f64,
+    sy: f64,
+    sin_cos: impl FnOnce(f64) -> (f64, f64),
+) -> (Matrix3<f64>, Vector3<f64>, Vector3<f64>) {
     let t2 = sx * sx + sy * sy;
     // sin θ / θ, (1 − cos θ)/θ², cos θ, (θ − sin θ)/θ³.
     let (s, a, c, b) = if t2 < 1e-4 {
@@ -154,7 +176,7 @@ pub fn swing_with_jacobian(sx: f64, sy: f64) -> (Matrix3<f64>, Vector3<f64>, Vec
         )
     } else {
         let t = t2.sqrt();
-        let (sn, cs) = t.sin_cos();
+        let (sn, cs) = sin_cos(t);
         (sn / t, (1.0 - cs) / t2, cs, (t - sn) / (t2 * t))
     };
     let r = Matrix3::new(

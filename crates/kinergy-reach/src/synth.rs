@@ -8,8 +8,11 @@
 //! drawn around one of fourteen kinds, scaled by the person's height and cycled through:
 //! near and far in front, low (near the floor), high, to the left and to the right, across
 //! the body, and combinations. A target the controller does not reach within 1 cm is drawn
-//! again (up to 20 times), so every clip ends at its target. All reaches use the right arm,
-//! so one `--arm` setting reads the whole set.
+//! again (up to 20 times), so every clip ends at its target. Reaches use the right arm, so
+//! one `--arm` setting reads a set of one-hand takes; a [share](SynthSettings::both_hands) of
+//! the takes may reach with both hands one after the other (the right hand reaches and
+//! returns, then the left reaches toward the mirrored target), as a library's both-hands
+//! raises do: two reaches in one take, which `--arm auto` reads as one reach per arm.
 //!
 //! The set is made in memory ([`SynthSet::make`]: each clip with its manifest row and the
 //! frames its arm was driven) and written in one place ([`SynthSet::write`], or
@@ -51,6 +54,11 @@ pub struct SynthSettings {
     /// A person's synergy arm's controller; `None` (the default): the one their parameters
     /// were fitted under ([`ReachSettings::synergy_controller`]).
     pub synergy_controller: Option<kinergy_solver::ControllerKind>,
+    /// The share of each person's takes that reach with both hands (0 to 1, default 0),
+    /// spread evenly over the takes ([`is_both_hands`]): the right hand reaches its target
+    /// and returns the way it came, then the left hand reaches toward the target mirrored
+    /// across the body (a redrawn one where the person does not reach it).
+    pub both_hands: f64,
 }
 
 impl Default for SynthSettings {
@@ -61,6 +69,7 @@ impl Default for SynthSettings {
             seed: 2026,
             frame_rate: 60.0,
             synergy_controller: None,
+            both_hands: 0.0,
         }
     }
 }
@@ -68,7 +77,8 @@ impl Default for SynthSettings {
 /// The manifest's file name in the set's folder.
 pub const MANIFEST: &str = "manifest.csv";
 
-/// One row of `manifest.csv`.
+/// One row of `manifest.csv`: one reach (a one-hand take has one, a both-hands take two, the
+/// right hand's first).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ManifestRow {
     /// The clip's path relative to the set's folder.
@@ -109,10 +119,16 @@ pub struct ManifestRow {
     pub squat_m: f64,
     /// Hand–target distance at the end, meters.
     pub final_error_m: f64,
-    /// Frames.
+    /// The reach's frames (a one-hand take's whole clip).
     pub frames: usize,
     /// The reach's own seed.
     pub seed: u64,
+    /// The arm that reaches.
+    pub arm: Side,
+    /// The clip's frame the reach starts on (0 but for a both-hands take's left reach, which
+    /// starts where the right hand is back): the reach is frames `first_frame..first_frame +
+    /// frames` of the clip.
+    pub first_frame: usize,
 }
 
 /// Draws of a reach's target before they are pulled toward the first kind's (see
@@ -156,16 +172,14 @@ struct Person {
 /// aimed at the last hand position, retraced them to only 0.5–1 mm.)
 pub const SYNERGY_TOLERANCE: f64 = 0.0001;
 
-/// One clip of a synthetic set, made in memory.
-#[derive(Debug, Clone)]
-pub struct SynthClip {
-    /// Its row of `manifest.csv`; [`ManifestRow::clip`] is where it is written in the set's
-    /// folder.
+/// One reach of a synthetic set's clip: its manifest row and what a fit of it needs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SynthReach {
+    /// Its row of `manifest.csv`; [`ManifestRow::clip`] is where its clip is written in the
+    /// set's folder.
     pub row: ManifestRow,
-    /// The motion, at [`SynthSettings::frame_rate`].
-    pub clip: Clip,
-    /// The frames its arm was driven by a person's synergy: from the arm controller's start
-    /// to the end, or to the hand-over (the arm controller's frames with
+    /// The clip's frames its arm was driven by a person's synergy: from the arm controller's
+    /// start to the end, or to the hand-over (the arm controller's frames with
     /// [`Driver::Profile`]).
     pub driven: Range<usize>,
     /// The tempo the person's synergy's smooth controller was bounded by
@@ -173,15 +187,20 @@ pub struct SynthClip {
     pub tempo: Option<SynergyTempo>,
 }
 
-/// What [`write_set`] wrote of one clip: its manifest row and what a fit of it needs.
-#[derive(Debug, Clone, PartialEq)]
-pub struct WrittenClip {
-    /// Its row of `manifest.csv`.
-    pub row: ManifestRow,
-    /// The frames its arm was driven ([`SynthClip::driven`]).
-    pub driven: Range<usize>,
-    /// The tempo its synergy was bounded by ([`SynthClip::tempo`]).
-    pub tempo: Option<SynergyTempo>,
+/// One clip of a synthetic set, made in memory.
+#[derive(Debug, Clone)]
+pub struct SynthClip {
+    /// Its reaches in time order: one, or a both-hands take's right then left.
+    pub reaches: Vec<SynthReach>,
+    /// The motion, at [`SynthSettings::frame_rate`].
+    pub clip: Clip,
+}
+
+impl SynthClip {
+    /// Where it is written in the set's folder (`pNN/rNN.bvh`).
+    pub fn path(&self) -> &str {
+        self.reaches.first().map_or("", |r| r.row.clip.as_str())
+    }
 }
 
 /// A synthetic set made in memory: its clips in the manifest's order (person by person).
@@ -206,7 +225,9 @@ impl SynthSet {
 
     /// Its manifest rows, in order.
     pub fn rows(&self) -> impl Iterator<Item = &ManifestRow> {
-        self.clips.iter().map(|c| &c.row)
+        self.clips
+            .iter()
+            .flat_map(|c| c.reaches.iter().map(|r| &r.row))
     }
 
     /// Writes the set into `dir` (created if needed): the clips and `manifest.csv`.
@@ -240,23 +261,19 @@ pub fn set_files(settings: &SynthSettings) -> Vec<PathBuf> {
 
 /// Makes the set ([`SynthSet::make`]) and writes it into `dir` ([`SynthSet::write`]) one
 /// person at a time, so that only one person's clips are in memory at once (a large set at a
-/// high frame rate need not fit). Returns what it wrote of each clip.
+/// high frame rate need not fit). Returns what it wrote of each reach.
 pub fn write_set(
     dir: &Path,
     settings: &SynthSettings,
     drive: Driver<'_>,
-) -> Result<Vec<WrittenClip>> {
+) -> Result<Vec<SynthReach>> {
     check(settings)?;
     create_dir(dir)?;
     let mut made = Vec::new();
     for p in 0..settings.persons {
         for clip in make_person(settings, drive, p)? {
             write_clip(dir, &clip)?;
-            made.push(WrittenClip {
-                row: clip.row,
-                driven: clip.driven,
-                tempo: clip.tempo,
-            });
+            made.extend(clip.reaches);
         }
     }
     write_manifest(dir, made.iter().map(|c| &c.row))?;
@@ -272,7 +289,19 @@ fn check(settings: &SynthSettings) -> Result<()> {
         "frame_rate",
         "a positive number of frames per second",
     )?;
+    InvalidSetting::require(
+        (0.0..=1.0).contains(&settings.both_hands),
+        "both_hands",
+        "a share from 0 to 1",
+    )?;
     Ok(())
+}
+
+/// Whether take `r` (0-based) of a person is a both-hands take when a `share` of the takes
+/// are: the takes where ⌊(r + 1)·share⌋ passes ⌊r·share⌋, spread evenly (every take for 1,
+/// every second for 0.5, none for 0).
+pub fn is_both_hands(r: usize, share: f64) -> bool {
+    ((r + 1) as f64 * share).floor() > (r as f64 * share).floor()
 }
 
 /// Person `p`'s clips (`pNN/rNN.bvh`), in memory.
@@ -293,12 +322,80 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
         p_max: person.p_max,
         ..StepSettings::for_arm_length(arm.upper_arm + arm.forearm + arm.hand)?
     };
+    let maker = ReachMaker {
+        settings,
+        drive,
+        character: &character,
+        person,
+        steps,
+        id: &id,
+        p,
+    };
     let mut clips = Vec::with_capacity(settings.reaches);
     for r in 0..settings.reaches {
+        let (right, motion) = maker.reach(r, Side::Right, 0)?;
+        if !is_both_hands(r, settings.both_hands) {
+            let clip = character.to_clip(&motion.poses, motion.frame_time)?;
+            clips.push(SynthClip {
+                reaches: vec![right],
+                clip,
+            });
+            continue;
+        }
+        // The right hand reaches and comes back the way it went (its first frame is the rest
+        // posture every reach starts from), then the left hand reaches.
+        let back = motion.poses.len() - 1;
+        let first_frame = 2 * back;
+        let (left, left_motion) = maker.reach(r, Side::Left, first_frame)?;
+        let mut poses = motion.poses.clone();
+        poses.extend(motion.poses.iter().rev().skip(1).cloned());
+        poses.extend(left_motion.poses.iter().skip(1).cloned());
+        let clip = character.to_clip(&poses, motion.frame_time)?;
+        clips.push(SynthClip {
+            reaches: vec![right, left],
+            clip,
+        });
+    }
+    Ok(clips)
+}
+
+/// What one person's reaches are made with.
+struct ReachMaker<'a> {
+    settings: &'a SynthSettings,
+    drive: Driver<'a>,
+    character: &'a Character,
+    person: Person,
+    steps: StepSettings,
+    id: &'a str,
+    p: usize,
+}
+
+/// The seed tag of a both-hands take's left reach (its right reach draws as a one-hand take's).
+const LEFT_TAG: u64 = 1 << 40;
+
+impl ReachMaker<'_> {
+    /// Take `r`'s reach of the arm `side` (the left arm's target is the right's kind mirrored
+    /// across the body), starting on the clip's frame `first_frame`: its manifest row and
+    /// motion.
+    fn reach(
+        &self,
+        r: usize,
+        side: Side,
+        first_frame: usize,
+    ) -> Result<(SynthReach, crate::controller::ReachMotion)> {
+        let (settings, person, p) = (self.settings, self.person, self.p);
         let (kind, kx, ky, kz) = KINDS[r % KINDS.len()];
+        let mirror = match side {
+            Side::Right => 1.0,
+            Side::Left => -1.0,
+        };
+        let tag = match side {
+            Side::Right => 0,
+            Side::Left => LEFT_TAG,
+        };
         let mut made = None;
         for attempt in 0..2 * DRAWS {
-            let seed = mix(settings.seed, p as u64, (r as u64) << 8 | attempt);
+            let seed = mix(settings.seed, p as u64, ((r as u64) << 8 | attempt) | tag);
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let h = person.height;
             let jitter = |rng: &mut ChaCha8Rng| rng.random_range(-0.04..0.04);
@@ -310,7 +407,7 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
             let (_, nx, ny, nz) = KINDS[0];
             let toward = |k: f64, n: f64| k + pull * (n - k);
             let target = Point3::new(
-                toward(kx, nx) * h + jitter(&mut rng),
+                mirror * toward(kx, nx) * h + jitter(&mut rng),
                 (toward(ky, ny) * h + jitter(&mut rng)).max(0.03),
                 toward(kz, nz) * h + jitter(&mut rng),
             );
@@ -322,24 +419,24 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
                         speed: person.mean_speed,
                     },
                 },
-                steps: Some(steps),
+                steps: Some(self.steps),
                 flexibility: person.flexibility,
                 r_st: person.r_st,
                 r_tw: person.r_tw,
-                arm: Some(Side::Right),
+                arm: Some(side),
                 seed,
                 // A synergy closes in asymptotically and stops within half the tolerance:
                 // 0.05 mm here, so that the clip ends where its target is (a fit takes the
                 // hand's last position for the target).
-                tolerance: if drive.is_person() {
+                tolerance: if self.drive.is_person() {
                     SYNERGY_TOLERANCE
                 } else {
                     ReachSettings::default().tolerance
                 },
                 ..ReachSettings::default()
             };
-            let arm = drive.toward(&character, &target, Some(Side::Right))?;
-            let motion = reach_full_body_driven(&character, target, &reach_settings, &arm)?;
+            let arm = self.drive.toward(self.character, &target, Some(side))?;
+            let motion = reach_full_body_driven(self.character, target, &reach_settings, &arm)?;
             if motion.report.stop == ReachStop::Reached {
                 made = Some((motion, target, seed));
                 break;
@@ -349,13 +446,14 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
             ReachError::Setting(InvalidSetting::new(
                 "synth",
                 format!(
-                    "{id}: no `{kind}` target drawn in {} tries was reached, even pulled to `{}`",
+                    "{}: no `{kind}` target of the {side} hand drawn in {} tries was reached, \
+                     even pulled to `{}`",
+                    self.id,
                     2 * DRAWS,
                     KINDS[0].0
                 ),
             ))
         })?;
-        let clip = character.to_clip(&motion.poses, motion.frame_time)?;
         let rep = &motion.report;
         // The frames the person's synergy drove alone: to a hand-over, or to the first frame
         // the character's limits held the arm off the synergy's step (a fit of later frames
@@ -366,11 +464,11 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
             .flatten()
             .map(frame_at)
             .fold(rep.frames, usize::min);
-        let driven = rep.arm_onset_frame.min(driven_end)..driven_end;
-        clips.push(SynthClip {
+        let driven = first_frame + rep.arm_onset_frame.min(driven_end)..first_frame + driven_end;
+        let reach = SynthReach {
             row: ManifestRow {
                 clip: clip_name(p, r),
-                person: id.clone(),
+                person: self.id.to_string(),
                 height_m: person.height,
                 flexibility: person.flexibility,
                 mean_speed_m_s: person.mean_speed,
@@ -389,13 +487,14 @@ fn make_person(settings: &SynthSettings, drive: Driver<'_>, p: usize) -> Result<
                 final_error_m: rep.final_error,
                 frames: rep.frames,
                 seed,
+                arm: side,
+                first_frame,
             },
-            clip,
             driven,
             tempo: rep.synergy_tempo,
-        });
+        };
+        Ok((reach, motion))
     }
-    Ok(clips)
 }
 
 /// A file or folder that could not be written.
@@ -414,7 +513,7 @@ fn create_dir(dir: &Path) -> Result<()> {
 /// Writes `clip` into the set's folder `dir` (its person's folder created if needed), in
 /// centimeters with the channel values rounded to 4 decimals (0.001 mm, 0.0001°).
 fn write_clip(dir: &Path, clip: &SynthClip) -> Result<()> {
-    let path = dir.join(&clip.row.clip);
+    let path = dir.join(clip.path());
     if let Some(folder) = path.parent() {
         create_dir(folder)?;
     }

@@ -32,8 +32,11 @@ fn the_set_in_memory_writes_what_write_set_writes() {
     let set = SynthSet::make(&settings, Driver::Profile).expect("set");
     assert_eq!(set.clips.len(), 4);
     for c in &set.clips {
-        assert_eq!(c.clip.frame_count(), c.row.frames);
-        assert!(c.driven.end <= c.row.frames && !c.driven.is_empty());
+        let [reach] = &c.reaches[..] else {
+            panic!("one reach a take without both hands")
+        };
+        assert_eq!(c.clip.frame_count(), reach.row.frames);
+        assert!(reach.driven.end <= reach.row.frames && !reach.driven.is_empty());
     }
     let (a, b) = (
         tempfile::tempdir().expect("dir"),
@@ -41,7 +44,7 @@ fn the_set_in_memory_writes_what_write_set_writes() {
     );
     set.write(a.path()).expect("write");
     let made = write_set(b.path(), &settings, Driver::Profile).expect("write_set");
-    let rows: Vec<_> = made.iter().map(|c| &c.row).collect();
+    let rows: Vec<_> = made.iter().map(|r| &r.row).collect();
     assert_eq!(rows, set.rows().collect::<Vec<_>>());
     let (ours, theirs) = (files(a.path()), files(b.path()));
     assert_eq!(ours.len(), 5, "four clips and the manifest");
@@ -66,27 +69,25 @@ fn every_person_reaches_their_floor_targets_as_drawn() {
     };
     let set = SynthSet::make(&settings, Driver::Profile).expect("a set of any size is made");
     assert_eq!(set.clips.len(), 43 * 4);
-    let row = &set
-        .clips
-        .iter()
-        .find(|c| c.row.clip == "p43/r04.bvh")
-        .expect("p43/r04")
-        .row;
+    let row = set
+        .rows()
+        .find(|row| row.clip == "p43/r04.bvh")
+        .expect("p43/r04");
     assert_eq!(row.kind, "floor_far");
     let mut floor = 0;
-    for c in set.clips.iter().filter(|c| c.row.kind == "floor_far") {
-        let drawn_at_most = (0.08 * c.row.height_m + 0.04).max(0.03);
+    for row in set.rows().filter(|row| row.kind == "floor_far") {
+        let drawn_at_most = (0.08 * row.height_m + 0.04).max(0.03);
         assert!(
-            c.row.target_y <= drawn_at_most + 1e-12,
+            row.target_y <= drawn_at_most + 1e-12,
             "{}: pulled up from the floor to {} m",
-            c.row.clip,
-            c.row.target_y
+            row.clip,
+            row.target_y
         );
         assert!(
-            c.row.final_error_m < 0.01,
+            row.final_error_m < 0.01,
             "{}: {} m short",
-            c.row.clip,
-            c.row.final_error_m
+            row.clip,
+            row.final_error_m
         );
         floor += 1;
     }

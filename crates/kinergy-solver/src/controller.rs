@@ -580,7 +580,15 @@ impl ArmStepper<'_> {
     /// The task error of the current configuration with the chain's base at `base`; keeps
     /// what the next [`ArmStepper::advance`] needs.
     pub fn observe(&mut self, base: &IsometryMatrix3<f64>, task: &Task) -> Result<Observation> {
-        self.chain.linearize_into(base, &self.q, &mut self.lin)?;
+        // The smooth controller placed the hand at this configuration on the last frame: its
+        // sines and cosines are known (the same bits).
+        match &mut self.smoother {
+            Some(state) => {
+                self.chain
+                    .linearize_memo_into(base, &self.q, &mut self.lin, &mut state.trig)?
+            }
+            None => self.chain.linearize_into(base, &self.q, &mut self.lin)?,
+        }
         let error = task.error(&self.lin);
         let e = error.norm();
         // Near the reach sphere's edge the controller guides the step (see `reachability`),

@@ -63,7 +63,7 @@
 
 use kinergy_io::InvalidSetting;
 use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
-use kinergy_motion::{Chain, ChainPose, Motion};
+use kinergy_motion::{Chain, Motion, TrigMemo};
 
 use crate::error::Result;
 
@@ -238,9 +238,12 @@ pub(crate) struct Smoother {
     trial: Vec<f64>,
     /// A zero step (no allocation on the frames where the hand bound binds).
     zero: Vec<f64>,
-    pose: ChainPose,
     /// The hand at the configurations forward kinematics last saw (see [`Known`]).
     known: Known,
+    /// The sines and cosines of the last configuration forward kinematics walked: the
+    /// frame's record places the hand at the configuration the next frame linearizes at
+    /// (`ArmStepper::observe`), which takes them from here.
+    pub(crate) trig: TrigMemo,
 }
 
 /// The hand at the last two configurations forward kinematics was run on. A frame asks for
@@ -291,11 +294,8 @@ impl Smoother {
             started: false,
             trial: vec![0.0; n],
             zero: vec![0.0; n],
-            pose: ChainPose {
-                frames: Vec::new(),
-                end: Point3::origin(),
-            },
             known: Known::new(n),
+            trig: TrigMemo::default(),
         }
     }
 
@@ -380,10 +380,12 @@ impl Smoother {
         if let Some(hand) = self.known.get(q) {
             return hand;
         }
-        match chain.fk_into(&IsometryMatrix3::identity(), q, &mut self.pose) {
-            Ok(()) => {
-                self.known.put(q, self.pose.end);
-                self.pose.end
+        // The end alone: the joints' frames are not kept (the same arithmetic as `fk_into`'s
+        // end, so the same bits).
+        match chain.end_position_memo(&IsometryMatrix3::identity(), q, &mut self.trig) {
+            Ok(end) => {
+                self.known.put(q, end);
+                end
             }
             Err(_) => self.hand,
         }

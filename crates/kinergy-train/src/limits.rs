@@ -15,6 +15,8 @@ pub const SYNTH_PERSONS: (usize, usize) = (1, 100);
 pub const SYNTH_REACHES: (usize, usize) = (1, 100);
 /// `synth --frame-rate`, Hz.
 pub const SYNTH_FRAME_RATE: (f64, f64) = (1.0, 1000.0);
+/// `synth --both-hands`: the share of each person's takes that reach with both hands.
+pub const SYNTH_BOTH_HANDS: (f64, f64) = (0.0, 1.0);
 
 /// `synthesize --max-seconds`.
 pub const SYNTHESIZE_SECONDS: (f64, f64) = (0.01, 60.0);

@@ -159,14 +159,14 @@ pub fn made_set(
 
 /// The segments file of a set the full body made with a person's synergy
 /// ([`kinergy_reach::synth::write_set`] with [`kinergy_reach::drive::Driver::Person`], what
-/// `kinergy synth --params` writes beside the set in `dir`): one reach row per clip, the
+/// `kinergy synth --params` writes beside the set in `dir`): one reach row per reach, the
 /// frames the synergy drove alone, its target (where a fit must aim, also for a clip the
 /// synergy handed over before it arrived) and the tempo its smooth controller was bounded
 /// by, so that a fit of the set runs the controller that made it
 /// ([`CapturedReach::with_known_tempo`]). The file is named `segments.csv` in `dir`.
 pub fn set_segments(
     dir: &std::path::Path,
-    made: &[kinergy_reach::synth::WrittenClip],
+    made: &[kinergy_reach::synth::SynthReach],
 ) -> crate::segments_file::SegmentsFile {
     use crate::segments_file::{RowTempo, SegmentRow, SegmentsFile};
     let rows = made
@@ -178,7 +178,7 @@ pub fn set_segments(
                 ..SegmentRow::new(
                     dir.join(&row.clip),
                     clip.driven.clone(),
-                    kinergy_motion::Side::Right,
+                    row.arm,
                     kinergy_motion::segment::Label::Reach,
                 )
             }
