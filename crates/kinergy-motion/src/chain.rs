@@ -96,8 +96,12 @@ impl Motion {
 /// of the linearization is found here.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct TrigMemo {
-    entries: Vec<Option<([u64; 2], (f64, f64))>>,
+    entries: Vec<Option<TrigEntry>>,
 }
+
+/// One motion's entry of a [`TrigMemo`]: the bits of its DoF values, its angle's sine and
+/// cosine.
+type TrigEntry = ([u64; 2], (f64, f64));
 
 impl TrigMemo {
     /// The sine and cosine of motion `m`'s `angle`, whose DoF values have the bits `key`.
