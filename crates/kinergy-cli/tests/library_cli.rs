@@ -260,6 +260,89 @@ fn run(args: &[String]) -> std::process::Output {
     kinergy(&args)
 }
 
+/// Issue 45: a library with both-hands takes (`synth --both-hands`) gives one reach per arm
+/// of such a take, and the same bytes on 1, 2 and 7 threads and split into shards.
+#[test]
+fn a_library_with_both_hands_takes_is_the_same_on_any_thread_count_and_in_shards() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = dir.path().join("lib");
+    let o = kinergy(&[
+        "synth",
+        "-o",
+        s(&lib),
+        "--persons",
+        "2",
+        "--reaches",
+        "3",
+        "--frame-rate",
+        "30",
+        "--both-hands",
+        "0.5",
+        "--seed",
+        "45",
+        "-q",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let fit = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "fit",
+            s(&lib),
+            "--arm",
+            "auto",
+            "--per",
+            "clip",
+            "--model",
+            "sd",
+            "--budget",
+            "48",
+            "-q",
+            "--out-dir",
+            s(out),
+        ];
+        args.extend(extra);
+        let o = kinergy(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    };
+    let on = |threads: &str| {
+        let out = dir.path().join(format!("threads-{threads}"));
+        fit(&out, &["--threads", threads]);
+        out
+    };
+    let one = on("1");
+    let results = result_files(&one);
+    // Takes 2 of each person reach with both hands: two results each, right arm then left.
+    for person in ["p01", "p02"] {
+        let take: Vec<&PathBuf> = results
+            .keys()
+            .filter(|p| p.starts_with(person) && p.to_string_lossy().contains("r02.bvh"))
+            .collect();
+        assert_eq!(take.len(), 2, "{person}/r02: {take:?}");
+    }
+    let table = without_seconds(&one.join("library.csv"));
+    let arms: Vec<&str> = table.iter().map(|r| r["arm"].as_str()).collect();
+    assert_eq!(arms.iter().filter(|a| **a == "left").count(), 2, "{arms:?}");
+    for threads in ["2", "7"] {
+        let other = on(threads);
+        assert!(
+            result_files(&other) == results,
+            "{threads} threads: other results"
+        );
+        assert_eq!(
+            without_seconds(&other.join("library.csv")),
+            table,
+            "{threads} threads"
+        );
+    }
+    let sharded = dir.path().join("sharded");
+    for i in 1..=2 {
+        fit(&sharded, &["--shard", &format!("{i}/2")]);
+    }
+    let o = kinergy(&["collect", s(&sharded)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(result_files(&sharded) == results, "shards: other results");
+    assert_eq!(without_seconds(&sharded.join("library.csv")), table);
+}
+
 #[test]
 fn shards_give_what_one_machine_gives_and_collect_names_a_missing_shard() {
     let dir = tempfile::tempdir().expect("tempdir");
