@@ -246,32 +246,36 @@ pub(crate) struct Smoother {
     pub(crate) trig: TrigMemo,
 }
 
-/// The hand at the last two configurations forward kinematics was run on. A frame asks for
-/// the hand at the same configuration more than once (the approach brake and the record of
-/// the frame's motion both at the step taken; the hand bound's scan of the previous step at
-/// its ends): an exact match (every DoF `==`) answers without recomputing, so the answer is
-/// the one forward kinematics gives.
+/// The hand at the last [`KNOWN`] configurations forward kinematics was run on. A frame asks
+/// for the hand at the same configuration more than once: the hand bound's search at the step
+/// it settles on, then the approach brake and the record of the frame's motion at that same
+/// step. An exact match (every DoF `==`) answers without recomputing, so the answer is the one
+/// forward kinematics gives.
 #[derive(Debug, Clone)]
 struct Known {
-    configurations: [Vec<f64>; 2],
-    hands: [Point3<f64>; 2],
-    valid: [bool; 2],
+    configurations: [Vec<f64>; KNOWN],
+    hands: [Point3<f64>; KNOWN],
+    valid: [bool; KNOWN],
     /// The entry the next new configuration replaces.
     next: usize,
 }
 
+/// How many configurations [`Known`] keeps: the hand bound's search ends on its bracket's
+/// lower end, evaluated up to two searches' rounds before the approach brake asks for it.
+const KNOWN: usize = 4;
+
 impl Known {
     fn new(n: usize) -> Known {
         Known {
-            configurations: [vec![0.0; n], vec![0.0; n]],
-            hands: [Point3::origin(); 2],
-            valid: [false; 2],
+            configurations: std::array::from_fn(|_| vec![0.0; n]),
+            hands: [Point3::origin(); KNOWN],
+            valid: [false; KNOWN],
             next: 0,
         }
     }
 
     fn get(&self, q: &[f64]) -> Option<Point3<f64>> {
-        (0..2)
+        (0..KNOWN)
             .find(|&i| self.valid[i] && self.configurations[i].as_slice() == q)
             .map(|i| self.hands[i])
     }
@@ -281,8 +285,17 @@ impl Known {
         self.configurations[i].copy_from_slice(q);
         self.hands[i] = hand;
         self.valid[i] = true;
-        self.next = 1 - i;
+        self.next = (i + 1) % KNOWN;
     }
+}
+
+/// The step `a + k (b − a)` between two steps, `a` itself at k = 0 and `b` itself at k = 1: the
+/// step a scale of the hand bound's search stands for, computed alike where the search tries it
+/// and where the frame takes it, so the configuration the frame moves to is the one the search
+/// measured, to the bit.
+#[inline]
+fn between(a: f64, b: f64, k: f64) -> f64 {
+    if k == 1.0 { b } else { a + k * (b - a) }
 }
 
 impl Smoother {
@@ -392,11 +405,11 @@ impl Smoother {
     }
 
     /// How the hand's displacement in the base frame changes from the previous frame's when
-    /// the configuration moves from `q` by `a + k (b − a)`.
+    /// the configuration moves from `q` by the step `a + k (b − a)` ([`between`]).
     fn change(&mut self, chain: &Chain, q: &[f64], a: &[f64], b: &[f64], k: f64) -> Vector3<f64> {
         let mut trial = std::mem::take(&mut self.trial);
         for (i, t) in trial.iter_mut().enumerate() {
-            *t = q[i] + a[i] + k * (b[i] - a[i]);
+            *t = q[i] + between(a[i], b[i], k);
         }
         let h = self.hand_at(chain, &trial);
         self.trial = trial;
@@ -425,7 +438,7 @@ impl Smoother {
                     }
                 }
                 for (s, p) in step.iter_mut().zip(&previous) {
-                    *s = best.1 * p;
+                    *s = between(0.0, *p, best.1);
                 }
                 self.zero = zero;
             } else {
@@ -433,7 +446,7 @@ impl Smoother {
                     self.change(chain, q, &previous, step, k)
                 });
                 for (s, p) in step.iter_mut().zip(&previous) {
-                    *s = p + lo * (*s - p);
+                    *s = between(*p, *s, lo);
                 }
             }
         }
