@@ -62,7 +62,7 @@
 //! under the hand: `kinergy_train::captured`) or from the planned profile.
 
 use kinergy_io::InvalidSetting;
-use kinergy_motion::nalgebra::{IsometryMatrix3, Point3, Vector3};
+use kinergy_motion::nalgebra::{Point3, Vector3};
 use kinergy_motion::{Chain, Motion, TrigMemo};
 
 use crate::error::Result;
@@ -393,9 +393,8 @@ impl Smoother {
         if let Some(hand) = self.known.get(q) {
             return hand;
         }
-        // The end alone: the joints' frames are not kept (the same arithmetic as `fk_into`'s
-        // end, so the same bits).
-        match chain.end_position_memo(&IsometryMatrix3::identity(), q, &mut self.trig) {
+        // The end alone, from the hand inward (the joints' frames are not needed).
+        match chain.end_in_base_memo(q, &mut self.trig) {
             Ok(end) => {
                 self.known.put(q, end);
                 end
