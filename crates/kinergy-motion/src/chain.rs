@@ -92,7 +92,7 @@ impl Motion {
 /// whose motion has bit-for-bit the same values takes them from here instead of calling
 /// `sin_cos` again, so its results are the same to the bit. The synergy controller's frame
 /// linearizes the chain at the configuration its smooth controller has just placed the hand
-/// at ([`Chain::end_position_memo`], then [`Chain::linearize_memo_into`]): every `sin_cos`
+/// at ([`Chain::end_in_base_memo`], then [`Chain::linearize_memo_into`]): every `sin_cos`
 /// of the linearization is found here.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct TrigMemo {
@@ -393,31 +393,15 @@ impl Chain {
         &self,
         base: &IsometryMatrix3<f64>,
         q: &[f64],
-        each: impl FnMut(&IsometryMatrix3<f64>),
-    ) -> Point3<f64> {
-        self.walk_with(base, q, each, &mut Plain)
-    }
-
-    /// [`Chain::walk`] with the sines and cosines from `trig`.
-    #[inline]
-    fn walk_with(
-        &self,
-        base: &IsometryMatrix3<f64>,
-        q: &[f64],
         mut each: impl FnMut(&IsometryMatrix3<f64>),
-        trig: &mut impl Trig,
     ) -> Point3<f64> {
         let mut frame = *base;
-        let (mut k, mut index) = (0, 0);
+        let mut k = 0;
         for (j, &rest_identity) in self.joints.iter().zip(&self.rest_identity) {
             self.enter_joint(&mut frame, j, rest_identity);
             for m in &j.motions {
-                let key = m.key(&q[k..]);
-                m.apply_with(&mut frame.rotation, &q[k..], |angle| {
-                    trig.sin_cos(index, key, angle)
-                });
+                apply_motion(&mut frame.rotation, m, &q[k..]);
                 k += m.dof_count();
-                index += 1;
             }
             each(&frame);
         }
@@ -448,18 +432,6 @@ impl Chain {
     pub fn end_position(&self, base: &IsometryMatrix3<f64>, q: &[f64]) -> Result<Point3<f64>> {
         self.check(q)?;
         Ok(self.walk(base, q, |_| {}))
-    }
-
-    /// [`Chain::end_position`] with the sines and cosines kept in `memo` (and taken from it
-    /// where a motion's DoF values are the last walk's, bit for bit): the same bits.
-    pub fn end_position_memo(
-        &self,
-        base: &IsometryMatrix3<f64>,
-        q: &[f64],
-        memo: &mut TrigMemo,
-    ) -> Result<Point3<f64>> {
-        self.check(q)?;
-        Ok(self.walk_with(base, q, |_| {}, memo))
     }
 
     /// The end effector's position in the chain's base frame at `q` (checked), computed from
@@ -787,9 +759,10 @@ mod tests {
                     // Swings near zero, and at zero.
                     (q[0], q[1], q[5], q[6]) = (1e-7 * value, 0.0, 0.0, -0.0);
                 }
-                let end = arm.end_position(&b, &q).expect("end");
-                let memo_end = arm.end_position_memo(&b, &q, &mut memo).expect("end");
-                prop_assert_eq!(end.coords.map(f64::to_bits), memo_end.coords.map(f64::to_bits));
+                // The smooth controller's order: the hand, then the linearization.
+                let inward = arm.end_in_base_memo(&q, &mut memo).expect("end");
+                let alone = arm.end_in_base_memo(&q, &mut TrigMemo::default()).expect("end");
+                prop_assert_eq!(inward.coords.map(f64::to_bits), alone.coords.map(f64::to_bits));
                 arm.linearize_into(&b, &q, &mut plain).expect("linearize");
                 arm.linearize_memo_into(&b, &q, &mut memoized, &mut memo).expect("linearize");
                 let bits = |l: &Linearization| {
