@@ -56,7 +56,7 @@ impl Motion {
     /// revolute's q, a swing's |v|; not called for a swing near zero): a memo of them gives
     /// the same bits.
     #[inline]
-    pub fn apply_with(
+    pub(crate) fn apply_with(
         &self,
         r: &mut Rotation3<f64>,
         q: &[f64],

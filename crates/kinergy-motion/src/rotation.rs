@@ -118,7 +118,7 @@ pub fn swing_rotation(sx: f64, sy: f64) -> Rotation3<f64> {
 /// [`swing_rotation`] with θ's sine and cosine from `sin_cos(θ)` (a memo of them: the same
 /// values, the same bits); not called near zero, where the series needs neither.
 #[inline]
-pub fn swing_rotation_with(
+pub(crate) fn swing_rotation_with(
     sx: f64,
     sy: f64,
     sin_cos: impl FnOnce(f64) -> (f64, f64),
@@ -160,7 +160,7 @@ pub fn swing_with_jacobian(sx: f64, sy: f64) -> (Matrix3<f64>, Vector3<f64>, Vec
 /// [`swing_with_jacobian`] with θ's sine and cosine from `sin_cos(θ)` (a memo of them: the
 /// same values, the same bits); not called near zero, where the series needs neither.
 #[inline]
-pub fn swing_with_jacobian_with(
+pub(crate) fn swing_with_jacobian_with(
     sx: f64,
     sy: f64,
     sin_cos: impl FnOnce(f64) -> (f64, f64),
