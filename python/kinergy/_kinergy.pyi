@@ -200,6 +200,7 @@ def fit(
     shard: None = None,
     resume: Literal[False] = False,
     person: None = None,
+    warm_start: Literal[False] = False,
     unit: str = "auto",
     up: str = "auto",
     positions: str = "auto",
@@ -235,6 +236,7 @@ def fit(
     shard: None = None,
     resume: Literal[False] = False,
     person: None = None,
+    warm_start: Literal[False] = False,
     unit: str = "auto",
     up: str = "auto",
     positions: str = "auto",
@@ -270,13 +272,16 @@ def fit(
     shard: str | tuple[int, int] | None = None,
     resume: bool = False,
     person: str | None = None,
+    warm_start: bool = False,
     unit: str = "auto",
     up: str = "auto",
     positions: str = "auto",
 ) -> dict[str, Any]:
     """A library into `out_dir` (`kinergy fit --per clip --out-dir`): this shard of the takes,
     one result file per reach, the shard's record; with one shard, collected (`rows`).
-    `person`: the library's person rule, as `--person` spells it (default "auto")."""
+    `person`: the library's person rule, as `--person` spells it (default "auto");
+    `warm_start`: each person's, motion's and arm's reaches fitted from the first one's fit
+    (`--warm-start`)."""
     ...
 def collect(dir: PathLike, *, person: str | None = None) -> list[dict[str, Any]]:
     """Tables a library folder as `kinergy collect` does; returns library.csv's rows.

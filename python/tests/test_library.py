@@ -60,6 +60,19 @@ def test_shards_from_python_make_the_one_machine_library(at_root, tmp_path):
     assert all(r["seconds"] is None for r in again["rows"])
 
 
+def test_warm_starts_from_python_are_the_cli_s(cli, at_root, tmp_path):
+    run(cli, "fit", LIB, "--model", "sb", "--per", "clip", "--budget", "200", "--warm-start",
+        "--out-dir", str(tmp_path / "cli"))
+    out = kinergy.fit(LIB, model="sb", per="clip", budget=200, warm_start=True,
+                      out_dir=tmp_path / "py")
+    assert results(tmp_path / "py") == results(tmp_path / "cli")
+    # The first take fits both models; the others S_B alone, from its vector.
+    first, *others = out["rows"]
+    assert first["distance_sa_m"] is not None
+    assert others and all(r["distance_sa_m"] is None and r["distance_sb_m"] > 0
+                          for r in others)
+
+
 def _half(tmp_path):
     """A library of which only shard 1 of 2 ran."""
     kinergy.fit(LIB, model="sa", per="clip", budget=200, out_dir=tmp_path / "half",
@@ -74,6 +87,8 @@ def test_library_arguments_are_checked_as_the_cli_checks_them(at_root, tmp_path)
         kinergy.fit(LIB, per="person", out_dir=tmp_path / "x")
     with pytest.raises(kinergy.InputError, match="out_dir"):
         kinergy.fit(LIB, shard="1/2")
+    with pytest.raises(kinergy.InputError, match="warm_start"):
+        kinergy.fit(LIB, warm_start=True)
     with pytest.raises(kinergy.InputError):
         kinergy.collect(tmp_path / "not-a-library")
     assert not (tmp_path / "x").exists()

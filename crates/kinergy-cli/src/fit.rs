@@ -206,6 +206,13 @@ fn check_not_library(args: &Args) -> Result<(), Failure> {
             "--person names a library's persons: fit --per clip --out-dir DIR".into(),
         ));
     }
+    if args.warm_start {
+        return Err(Failure::Input(
+            "--warm-start fits a library's repeats from their first: fit --per clip --out-dir \
+             DIR"
+            .into(),
+        ));
+    }
     if args.resume && args.checkpoint.is_none() {
         return Err(Failure::Input(
             "--resume continues a --checkpoint, or a library (fit --per clip --out-dir DIR)".into(),

@@ -1792,3 +1792,69 @@ fn compare_per_person_refuses_takes_its_rule_cannot_name() {
     assert!(stderr(&o).contains("not a person rule"), "{}", stderr(&o));
     assert!(!out.exists());
 }
+
+/// `--warm-start`: each person's first take fitted as usual, the others from its vector (the
+/// result says which); a recorded setting — a resume with it fits nothing again, a shard
+/// without it is refused — that only a library takes.
+#[test]
+fn warm_starts_fit_a_persons_takes_from_the_first_and_are_a_library_setting() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = named_takes(
+        dir.path(),
+        "takes",
+        &[
+            ("p01", "r01.bvh", "ann/r01.bvh"),
+            ("p01", "r02.bvh", "ann/r02.bvh"),
+            ("p02", "r01.bvh", "bea/r01.bvh"),
+            ("p02", "r02.bvh", "bea/r02.bvh"),
+        ],
+    );
+    let plain = dir.path().join("plain");
+    let o = fit_library(&lib, &plain, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let warm = dir.path().join("warm");
+    let o = fit_library(&lib, &warm, &["--warm-start"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (plain, fitted) = (result_files(&plain), result_files(&warm));
+    let started_from = |bytes: &[u8]| -> Option<String> {
+        let json: serde_json::Value = serde_json::from_slice(bytes).expect("json");
+        json["fit"]["started_from"].as_str().map(String::from)
+    };
+    for (name, bytes) in &fitted {
+        let name = name.to_string_lossy().replace('\\', "/");
+        let person = name.split('/').next().expect("person");
+        if name.ends_with("r01.bvh.json") {
+            assert_eq!(Some(bytes), plain.get(Path::new(&name)), "{name}");
+            assert_eq!(started_from(bytes), None, "{name}");
+        } else {
+            assert_eq!(
+                started_from(bytes),
+                Some(format!("{person}/r01.bvh.json")),
+                "{name}"
+            );
+        }
+    }
+    assert_eq!(fitted.len(), 4);
+    // A resume with it finds everything fitted; a shard without it is refused, naming it.
+    let o = fit_library(&lib, &warm, &["--warm-start", "--resume"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        rows(&warm.join("library.csv"))
+            .iter()
+            .all(|r| r["seconds"].is_empty())
+    );
+    assert_eq!(result_files(&warm), fitted);
+    let sharded = dir.path().join("sharded");
+    let o = fit_library(&lib, &sharded, &["--shard", "1/2", "--warm-start"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = fit_library(&lib, &sharded, &["--shard", "2/2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("warm_start"), "{}", stderr(&o));
+    // Only a library takes it.
+    let take = lib.join("ann/r01.bvh");
+    let out = dir.path().join("one.json");
+    let o = kinergy(&["fit", s(&take), "--warm-start", "-o", s(&out)]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--warm-start"), "{}", stderr(&o));
+    assert!(!out.exists());
+}

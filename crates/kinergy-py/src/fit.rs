@@ -41,10 +41,11 @@ use crate::progress::{Watch, watched};
 /// raises stops the fit and is raised here. out_dir, shard, resume, person: a library
 /// (`per="clip"`), as `kinergy fit --out-dir` fits it ([`crate::library`]); person is its
 /// person rule, as `--person` spells it ("auto" by default, "folder", "file", "segments",
-/// "regex:PATTERN", "map:FILE.csv"). The GIL is released while fitting; Ctrl-C raises
+/// "regex:PATTERN", "map:FILE.csv"); warm_start fits each person's, motion's and arm's
+/// reaches from the first one's fit (`fit --warm-start`). The GIL is released while fitting; Ctrl-C raises
 /// KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, field = false, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, objective = "positions", speed_weight = None, refine = None, threads = None, progress = None, out_dir = None, shard = None, resume = false, person = None, unit = "auto", up = "auto", positions = "auto"))]
+#[pyo3(signature = (clips = None, *, model = "sc", optimizer = "svd", per = "person", nested = true, field = false, arm = "right", chain = None, select = None, frames = None, segments = None, fixed_base = false, controller = "smooth", seed = 1, budget = None, population = None, temperature = None, stable_change = None, stable_window = None, objective = "positions", speed_weight = None, refine = None, threads = None, progress = None, out_dir = None, shard = None, resume = false, person = None, warm_start = false, unit = "auto", up = "auto", positions = "auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit<'py>(
     py: Python<'py>,
@@ -76,6 +77,7 @@ pub fn fit<'py>(
     shard: Option<Arg<ShardArg>>,
     resume: bool,
     person: Option<&str>,
+    warm_start: bool,
     unit: &str,
     up: &str,
     positions: &str,
@@ -133,13 +135,14 @@ pub fn fit<'py>(
             dir,
             resume,
             person: crate::library::person_rule(person)?,
+            warm_start,
             pool: thread_pool(threads)?,
         };
         return crate::library::fit_library(py, library).map(Bound::into_any);
     }
-    if shard.is_some() || resume || person.is_some() {
+    if shard.is_some() || resume || person.is_some() || warm_start {
         return Err(errors::input(
-            "shard=, resume= and person= belong to a library: fit(..., per=\"clip\", out_dir=DIR)",
+            "shard=, resume=, person= and warm_start= belong to a library: fit(..., per=\"clip\", out_dir=DIR)",
         ));
     }
     if field && grouping == FitGrouping::Clip {

@@ -38,6 +38,8 @@ pub struct LibraryFit {
     pub resume: bool,
     /// Who moves in each take.
     pub person: PersonRule,
+    /// Each person's, motion's and arm's reaches fitted from the first one's fit.
+    pub warm_start: bool,
     /// The worker threads (None: rayon's global pool).
     pub pool: Option<rayon::ThreadPool>,
 }
@@ -55,6 +57,7 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
         shard,
         resume,
         person,
+        warm_start,
         pool,
     } = fit;
     let dir = dir.as_path();
@@ -89,6 +92,7 @@ pub fn fit_library<'py>(py: Python<'py>, fit: LibraryFit) -> PyResult<Bound<'py,
         job: &job,
         person: &person,
         shard,
+        warm_start,
         resume,
         inputs: &inputs,
         interrupt: &interrupt,

@@ -86,6 +86,12 @@ pub struct FitRecord {
     /// recorded (they were fitted under the smooth controller, or say nothing).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub controller: Option<ControllerKind>,
+    /// The result whose vector this fit's search started from, as its library names it: a
+    /// library's warm start (`kinergy fit --warm-start`), the first reach of the same
+    /// person, motion and arm. Absent for a fit from the neutral vector or from a poorer
+    /// model's solution.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub started_from: Option<String>,
 }
 
 /// What a fit minimizes (`kinergy fit --objective`).

@@ -84,6 +84,14 @@ pub struct Args {
     /// among the library's settings; a motion is Bandai's MOTION unless the rule says one.
     #[arg(long, value_name = "RULE", value_parser = PersonRule::from_str)]
     pub person: Option<PersonRule>,
+    /// For a library (`--per clip --out-dir DIR`) of a person's repeats: the first reach of
+    /// each person, motion (by `--person`) and arm is fitted as usual, every model nested;
+    /// the group's other reaches anneal the model asked for alone, from its vector (about a
+    /// third of the evaluations on the shared people's raises, at a like distance; worse
+    /// fits where a person's reaches differ). Each result records its start
+    /// (`fit.started_from`); recorded among the library's settings.
+    #[arg(long)]
+    pub warm_start: bool,
     /// Write the score of every iteration to this CSV file.
     #[arg(long, value_name = "F.csv")]
     pub log: Option<PathBuf>,

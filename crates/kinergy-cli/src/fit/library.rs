@@ -56,6 +56,7 @@ pub fn run(
         job: &job,
         person: args.person.as_ref().unwrap_or(&PersonRule::Auto),
         shard,
+        warm_start: args.warm_start,
         resume: args.resume,
         inputs: &inputs,
         interrupt: &INTERRUPTED,

@@ -383,6 +383,7 @@ impl FieldFile {
             unobserved: None,
             tempo_law: self.tempo_law,
             controller: self.controller,
+            started_from: None,
         }
     }
 

@@ -6,9 +6,9 @@ use std::sync::atomic::AtomicBool;
 
 use kinergy_solver::{Model, Optimizer};
 
-use super::{FitSettings, NestedFit, NestedRun, RefineSettings};
+use super::{FitSettings, ModelRun, NestedFit, NestedRun, RefineSettings};
 use crate::CapturedReach;
-use crate::anneal::{Control, Observer};
+use crate::anneal::{Control, Observer, Status};
 use crate::error::{Result, TrainError};
 
 /// A nested fit of a group of reaches, then its refinement.
@@ -81,7 +81,52 @@ impl FitJob {
                 during: Interrupted::Annealing,
             });
         }
-        let mut fits = outcome.fits;
+        self.refine_last(group, outcome.fits, control)
+    }
+
+    /// The model asked for alone ([`FitJob::models`]' last), annealed from `start` — a
+    /// vector of that model, such as a fit of another reach of the same person (a library's
+    /// warm start, [`crate::library`]) — then the refinement, as [`run`](Self::run) does;
+    /// stopped by `interrupt`, without checkpoints. The start stays the fit's best so far: a
+    /// search that ends worse keeps it.
+    pub fn run_from(
+        &self,
+        group: &[CapturedReach],
+        start: &[f64],
+        observer: &mut dyn Observer,
+        interrupt: Option<&AtomicBool>,
+    ) -> Result<NestedFit> {
+        let Some(&model) = self.models.last() else {
+            return Err(kinergy_io::InvalidSetting::new("models", "at least one model").into());
+        };
+        let control = Control {
+            checkpoint: None,
+            checkpoint_every: 0,
+            interrupt,
+        };
+        let run = ModelRun {
+            reaches: group,
+            model,
+            optimizer: self.optimizer,
+            start: Some(start),
+            settings: &self.settings,
+        };
+        let fit = run.run(observer, &control, None)?;
+        if fit.status == Status::Interrupted {
+            return Err(TrainError::Interrupted {
+                during: Interrupted::Annealing,
+            });
+        }
+        self.refine_last(group, NestedFit { fits: vec![fit] }, &control)
+    }
+
+    /// `fits` with its last fit refined, where the job asks for a refinement.
+    fn refine_last(
+        &self,
+        group: &[CapturedReach],
+        mut fits: NestedFit,
+        control: &Control<'_>,
+    ) -> Result<NestedFit> {
         let Some(max_evaluations) = self.refine else {
             return Ok(fits);
         };

@@ -194,6 +194,7 @@ impl Fit {
             unobserved: None,
             tempo_law: None,
             controller: reaches.first().map(CapturedReach::controller),
+            started_from: None,
         }
     }
 

@@ -20,6 +20,9 @@ use crate::who::PersonRule;
 
 /// The person rule's setting.
 const PERSON: &str = "person";
+/// The warm starts' setting (present only when they are on, so that the settings of a
+/// library fitted without them read as before they existed).
+const WARM_START: &str = "warm_start";
 
 /// A take as a library knows it: two takes with the same identity are the same capture.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -226,13 +229,32 @@ impl Settings {
         self.0.get(PERSON).and_then(Value::as_str)
     }
 
+    /// These settings with warm starts (`fit --warm-start`: the setting `warm_start`, which
+    /// is `person`, the reaches grouped by person, motion and arm), or without (no setting).
+    pub fn with_warm_start(mut self, on: bool) -> Settings {
+        if on {
+            self.0.insert(WARM_START.to_string(), "person".into());
+        } else {
+            self.0.remove(WARM_START);
+        }
+        self
+    }
+
+    /// Whether these settings fit with warm starts.
+    pub fn warm_start(&self) -> bool {
+        self.0.contains_key(WARM_START)
+    }
+
     /// Whether `other` fits every reach as these settings do: the same settings but for
     /// the person rule, which changes no result (a resume with another rule names the
-    /// persons anew and fits nothing again).
+    /// persons anew and fits nothing again) — unless warm starts are on: they group the
+    /// reaches by person, so the rule is one of the fits' settings then.
     pub fn same_fits(&self, other: &Settings) -> bool {
         let fits = |s: &Settings| {
             let mut map = s.0.clone();
-            map.remove(PERSON);
+            if !s.warm_start() {
+                map.remove(PERSON);
+            }
             map
         };
         fits(self) == fits(other)
@@ -399,6 +421,19 @@ mod tests {
         assert!(by_file.same_fits(&by_folder) && by_file.same_fits(&a));
         assert!(!by_file.same_fits(&b.with_person(&PersonRule::File)));
         assert_eq!((by_file.person(), a.person()), (Some("file"), None));
+        // Warm starts: a setting of the fits, absent when off (the settings read as before
+        // they existed); with them, the person rule groups the reaches, so it is one too.
+        assert_eq!(a.clone().with_warm_start(false), a);
+        let warm_file = by_file.clone().with_warm_start(true);
+        let warm_folder = by_folder.clone().with_warm_start(true);
+        assert!(warm_file.warm_start() && !by_file.warm_start());
+        assert_eq!(
+            warm_file.differences(&by_file, "this run"),
+            ["warm_start (not recorded) (this run: person)"]
+        );
+        assert!(!warm_file.same_fits(&by_file) && !by_file.same_fits(&warm_file));
+        assert!(!warm_file.same_fits(&warm_folder));
+        assert!(warm_file.same_fits(&warm_file.clone()));
     }
 
     #[test]

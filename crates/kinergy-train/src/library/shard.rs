@@ -3,7 +3,8 @@
 //! ([`record`](super::record): the header `I-of-N.json` with the run's settings and the
 //! library's takes, and `I-of-N.csv`, the takes it was dealt, then each reach fitted, with
 //! its result's hash, and each take skipped). A result depends on its reach and the
-//! settings only, so every number in it is the same whichever shard fitted it.
+//! settings only (with warm starts, on its group's first reach too: [`warm`]), so every
+//! number in it is the same whichever shard fitted it.
 //!
 //! Resuming trusts the records, not the files' names: a reach is found fitted when a
 //! record of the same settings (the person rule aside: it changes no result), whose take
@@ -34,7 +35,10 @@ use crate::anneal::Observer;
 use crate::error::TrainError;
 use crate::fit::{FitJob, NestedFit};
 use crate::source::{ReachQuery, Skipped};
-use crate::who::{PersonRule, TakeAt};
+use crate::who::{PersonRule, TakeAt, Who};
+
+mod warm;
+use warm::{Group, ReadTake, ReadTakes, WarmError, WarmStarts};
 
 /// A shard's run: where, which takes, how each is found and fitted.
 pub struct ShardRun<'a> {
@@ -51,6 +55,10 @@ pub struct ShardRun<'a> {
     pub person: &'a PersonRule,
     /// Which share of the takes this run fits.
     pub shard: Shard,
+    /// Warm starts ([`warm`]): each group of reaches of one person, motion
+    /// and arm is fitted from its first reach's fit, the model asked for alone; recorded
+    /// among the settings.
+    pub warm_start: bool,
     /// Keep the results already complete (recorded, with the same settings, for the take as
     /// it is now, the file as recorded) and fit only the rest.
     pub resume: bool,
@@ -254,7 +262,8 @@ impl ShardRun<'_> {
             self.query,
             self.takes.segments().map(|s| s.path()),
         )?
-        .with_person(self.person);
+        .with_person(self.person)
+        .with_warm_start(self.warm_start);
         let mut plan = ShardPlan {
             identities: Vec::with_capacity(identities.len()),
             settings,
@@ -562,6 +571,21 @@ impl ShardRun<'_> {
             .filter_map(|p| std::fs::canonicalize(p).ok())
             .collect();
         let failed = AtomicBool::new(false);
+        // With warm starts, the takes read and the groups' anchors fitted first; where that
+        // fails, no take is fitted.
+        let mut warm_failed = None;
+        let (read, warm) = if self.warm_start {
+            match self.warm_starts(plan) {
+                Ok((read, warm)) => (read, Some(warm)),
+                Err(e) => {
+                    failed.store(true, Ordering::SeqCst);
+                    warm_failed = Some(e);
+                    (ReadTakes::new(), None)
+                }
+            }
+        } else {
+            (ReadTakes::new(), None)
+        };
         let outcomes: Vec<Result<TakeOutcome, TakeError>> = plan
             .mine
             .par_iter()
@@ -569,7 +593,8 @@ impl ShardRun<'_> {
                 if failed.load(Ordering::SeqCst) || self.interrupt.load(Ordering::SeqCst) {
                     return Ok(TakeOutcome::Stopped);
                 }
-                let outcome = self.take(i, plan, &record, &inputs, on_event);
+                let read = read.get(&i).and_then(|r| r.lock().ok()?.take());
+                let outcome = self.take(i, plan, &record, &inputs, on_event, read, warm.as_ref());
                 if outcome.is_err() {
                     failed.store(true, Ordering::SeqCst);
                 }
@@ -602,6 +627,15 @@ impl ShardRun<'_> {
                 }
             }
         }
+        match warm_failed {
+            Some(WarmError::Take(failure))
+                if !matches!(failure.1, TrainError::Interrupted { .. }) =>
+            {
+                outcome.failed = Some(*failure);
+            }
+            Some(WarmError::Library(e)) => library_error = Some(e),
+            Some(WarmError::Take(_)) | None => {}
+        }
         outcome.interrupted = self.interrupt.load(Ordering::SeqCst);
         record.write()?;
         if let Some(e) = library_error {
@@ -624,7 +658,54 @@ impl ShardRun<'_> {
         Ok(outcome)
     }
 
-    /// Fits the reaches of take `index` (or finds them fitted, resuming) and records them.
+    /// The record row of a reach found fitted (resuming: recorded with these settings, its
+    /// result as recorded, the same frames and arm), named anew by `who`.
+    fn found_fitted_reach(
+        &self,
+        plan: &ShardPlan,
+        clip: &str,
+        reach: &CapturedReach,
+        who: &Who,
+        name: &Path,
+    ) -> Option<RecordRow> {
+        if !self.resume {
+            return None;
+        }
+        let done = plan.fitted.get(&(clip.to_string(), slash_path(name)))?;
+        let fresh = RecordRow::reach(
+            clip,
+            reach,
+            who.clone(),
+            name,
+            done.blake3.clone(),
+            String::new(),
+        );
+        ((&fresh.onset, &fresh.end, &fresh.arm) == (&done.onset, &done.end, &done.arm))
+            .then_some(fresh)
+    }
+
+    /// The reaches of take `index`, each with the person a segments file lists for it (the
+    /// takes with segments-file rows use their rows), or why it has none to fit.
+    fn read_take(&self, index: usize) -> ReadTake {
+        let take = self.takes.paths[index].as_path();
+        Ok(match self.takes.rows_of(take) {
+            Some((segments, rows)) => Ok(self
+                .query
+                .rows(segments, rows, take)?
+                .into_iter()
+                .map(|f| (f.reach, f.person))
+                .collect()),
+            None => self
+                .query
+                .take_at(take)?
+                .map(|reaches| reaches.into_iter().map(|r| (r, None)).collect()),
+        })
+    }
+
+    /// Fits the reaches of take `index` (or finds them fitted, resuming) and records them;
+    /// `read` is the take already read ([`read_take`](Self::read_take)), if it was, and
+    /// `warm` the warm starts, with them.
+    #[allow(clippy::too_many_arguments)]
     fn take(
         &self,
         index: usize,
@@ -632,23 +713,21 @@ impl ShardRun<'_> {
         record: &Record,
         inputs: &HashSet<PathBuf>,
         on_event: &(dyn Fn(ShardEvent<'_>) + Sync),
+        read: Option<ReadTake>,
+        warm: Option<&WarmStarts>,
     ) -> Result<TakeOutcome, TakeError> {
         let take = self.takes.paths[index].as_path();
         let clip = plan.identities[index].path.as_str();
-        let found: Vec<(CapturedReach, Option<String>)> = match self.takes.rows_of(take) {
-            Some((segments, rows)) => self
-                .query
-                .rows(segments, rows, take)?
-                .into_iter()
-                .map(|f| (f.reach, f.person))
-                .collect(),
-            None => match self.query.take_at(take)? {
-                Ok(reaches) => reaches.into_iter().map(|r| (r, None)).collect(),
-                Err(skip) => {
-                    record.push(vec![RecordRow::skipped(clip, &skip.why)])?;
-                    return Ok(TakeOutcome::Skipped(skip));
-                }
-            },
+        let read = match read {
+            Some(read) => read,
+            None => self.read_take(index),
+        };
+        let found = match read? {
+            Ok(found) => found,
+            Err(skip) => {
+                record.push(vec![RecordRow::skipped(clip, &skip.why)])?;
+                return Ok(TakeOutcome::Skipped(skip));
+            }
         };
         let reaches: Vec<CapturedReach> = found.iter().map(|(r, _)| r.clone()).collect();
         let names = take_names(&self.takes.common, take, &reaches);
@@ -664,24 +743,15 @@ impl ShardRun<'_> {
         }
         let mut rows = Vec::with_capacity(found.len());
         let at = TakeAt::new(&self.takes.common, Path::new(clip));
-        for ((reach, listed), name) in found.into_iter().zip(names) {
+        for (j, ((reach, listed), name)) in found.into_iter().zip(names).enumerate() {
             let output = self.dir.join(&name);
             let who = self
                 .person
                 .who(at, listed.as_deref())
                 .map_err(LibraryError::from)?;
-            let key = (clip.to_string(), slash_path(&name));
-            let row = |blake3: String, seconds: String| {
-                RecordRow::reach(clip, &reach, who.clone(), &name, blake3, seconds)
-            };
-            if self.resume
-                && let Some(done) = plan.fitted.get(&key)
-            {
-                let fresh = row(done.blake3.clone(), String::new());
-                if (&fresh.onset, &fresh.end, &fresh.arm) == (&done.onset, &done.end, &done.arm) {
-                    rows.push(fresh);
-                    continue;
-                }
+            if let Some(done) = self.found_fitted_reach(plan, clip, &reach, &who, &name) {
+                rows.push(done);
+                continue;
             }
             if self.interrupt.load(Ordering::SeqCst) {
                 return Ok(TakeOutcome::Stopped);
@@ -689,9 +759,27 @@ impl ShardRun<'_> {
             let clock = Instant::now();
             let group = std::slice::from_ref(&reach);
             let mut observer = (self.observer)();
-            let fits = self
-                .job
-                .run_stoppable(group, &mut *observer, Some(self.interrupt))?;
+            let anchor = warm.and_then(|w| w.anchor(&Group::of(&who, &reach)));
+            let (fits, started_from) = match anchor {
+                // The group's first reach: its fit, made before the takes.
+                Some(anchor) if (anchor.take, anchor.reach) == (index, j) => {
+                    (anchor.fit.clone(), None)
+                }
+                Some(anchor) => (
+                    self.job.run_from(
+                        group,
+                        anchor.start(),
+                        &mut *observer,
+                        Some(self.interrupt),
+                    )?,
+                    Some(anchor.result.clone()),
+                ),
+                None => (
+                    self.job
+                        .run_stoppable(group, &mut *observer, Some(self.interrupt))?,
+                    None,
+                ),
+            };
             if let Some(parent) = output.parent() {
                 kinergy_io::create_folder(parent).map_err(|e| LibraryError::Write {
                     path: parent.to_path_buf(),
@@ -699,9 +787,11 @@ impl ShardRun<'_> {
                 })?;
             }
             self.check_not_input(&output, inputs)?;
-            fits.params_file(group, FitGrouping::Clip)?
-                .write(&output)
-                .map_err(TrainError::from)?;
+            let mut file = fits.params_file(group, FitGrouping::Clip)?;
+            if let Some(record) = file.fit.as_mut() {
+                record.started_from = started_from;
+            }
+            file.write(&output).map_err(TrainError::from)?;
             let (_, blake3) = hash_file(&output).map_err(|e| LibraryError::Write {
                 path: output.clone(),
                 why: format!("cannot read the result back to record it: {e}"),
@@ -712,7 +802,14 @@ impl ShardRun<'_> {
                 reach: &reach,
                 fits: &fits,
             });
-            rows.push(row(blake3, format!("{seconds:.3}")));
+            rows.push(RecordRow::reach(
+                clip,
+                &reach,
+                who,
+                &name,
+                blake3,
+                format!("{seconds:.3}"),
+            ));
         }
         record.push(rows.clone())?;
         Ok(TakeOutcome::Fitted(rows))

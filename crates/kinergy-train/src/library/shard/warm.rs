@@ -1,0 +1,244 @@
+//! Warm starts (`fit --warm-start`): a library of a person's repeats fitted from each
+//! gesture's first take.
+//!
+//! The reaches of one *group* — one person and motion as the library's person rule names
+//! them ([`crate::who`]), one arm with the same DoFs — are fitted from the fit of the group's
+//! first reach in the library's order (its *anchor*, fitted as without warm starts: every
+//! model, nested). Each other reach of the group anneals the model asked for alone, from the
+//! anchor's vector of that model; its parameters file records the anchor's result
+//! (`fit.started_from`). Where a person repeats a gesture, the anchor's vector is near each
+//! repeat's own and the poorer models' stages are not needed: on the shared people's raises
+//! the library takes about a third of the evaluations at a like distance (BENCHMARKS.md,
+//! "Warm starts"). Where a person's reaches go to different targets in different ways, it
+//! is a poorer start than the nested models' and the fits are worse: warm starts are off by
+//! default.
+//!
+//! **Shards.** Every shard that holds a reach of a group finds the group's anchor among all
+//! the library's takes and fits it itself (the anchor's fit depends on its reach and the
+//! settings only, so it is the same in every shard); it writes the anchor's result only where
+//! the anchor is one of its own takes. A result so depends on its reach, its anchor and the
+//! settings — never on the shards or the threads. A group's anchor is looked for among the
+//! takes whose paths can be its person's and motion's, in order, until one holds a reach of
+//! the group: an unreadable take on the way fails the shard, as it would fail its own.
+
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::Ordering;
+
+use rayon::prelude::*;
+
+use super::{ShardPlan, ShardRun, TakeError};
+use crate::CapturedReach;
+use crate::error::TrainError;
+use crate::fit::NestedFit;
+use crate::library::identity::slash_path;
+use crate::library::names::take_names;
+use crate::library::table::LibraryError;
+use crate::source::Skipped;
+use crate::who::{TakeAt, Who};
+
+/// A take read: its reaches, each with the person a segments file lists for it, or why it has
+/// none to fit.
+pub(super) type ReadTake = Result<Result<Vec<(CapturedReach, Option<String>)>, Skipped>, TakeError>;
+
+/// The reaches fitted from one anchor: one person and motion, one arm with the same DoFs.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub(super) struct Group {
+    person: String,
+    motion: Option<String>,
+    arm: String,
+    dofs: Vec<String>,
+}
+
+impl Group {
+    /// The group of `reach`, moved by `who`.
+    pub(super) fn of(who: &Who, reach: &CapturedReach) -> Group {
+        Group {
+            person: who.person.clone(),
+            motion: who.motion.clone(),
+            arm: reach
+                .fitted_arm()
+                .side
+                .map_or_else(String::new, |s| s.to_string()),
+            dofs: reach.dof_names(),
+        }
+    }
+
+    /// Whether a take moved by `who` can hold reaches of this group.
+    fn may_hold(&self, who: &Who) -> bool {
+        self.person == who.person && self.motion == who.motion
+    }
+}
+
+/// A group's first reach in the library's order, and its fit.
+pub(super) struct Anchor {
+    /// Its take (an index into the library's takes).
+    pub(super) take: usize,
+    /// Its place among the take's reaches.
+    pub(super) reach: usize,
+    /// Its result's name in the library folder.
+    pub(super) result: String,
+    /// Its fit, every model nested.
+    pub(super) fit: NestedFit,
+}
+
+impl Anchor {
+    /// The vector the group's other reaches start from: the anchor's of the model asked for.
+    pub(super) fn start(&self) -> &[f64] {
+        self.fit.fits.last().map_or(&[], |f| f.values.as_slice())
+    }
+}
+
+/// The anchors of the groups of a shard's reaches.
+pub(super) struct WarmStarts {
+    anchors: HashMap<Group, Anchor>,
+}
+
+impl WarmStarts {
+    /// The anchor of `group`, if the shard has reaches of it to fit.
+    pub(super) fn anchor(&self, group: &Group) -> Option<&Anchor> {
+        self.anchors.get(group)
+    }
+}
+
+/// Why the warm starts could not be made: the library's own files, or a take (its reading,
+/// its person, or its anchor's fit).
+pub(super) enum WarmError {
+    Library(LibraryError),
+    Take(Box<(PathBuf, TrainError)>),
+}
+
+/// The shard's takes read, by their index in the library, each taken once by its fit.
+pub(super) type ReadTakes = HashMap<usize, Mutex<Option<ReadTake>>>;
+
+impl ShardRun<'_> {
+    /// Reads the shard's takes, finds the anchors of the groups of their reaches still to be
+    /// fitted, and fits them (in parallel).
+    pub(super) fn warm_starts(
+        &self,
+        plan: &ShardPlan,
+    ) -> Result<(ReadTakes, WarmStarts), WarmError> {
+        let read: Vec<(usize, ReadTake)> = plan
+            .mine
+            .par_iter()
+            .map(|&i| (i, self.read_take(i)))
+            .collect();
+        // The groups with a reach still to fit (the others' reaches fail in their take).
+        let mut left: HashSet<Group> = HashSet::new();
+        for (i, taken) in &read {
+            let Ok(Ok(found)) = taken else { continue };
+            let (at, clip) = self.at(plan, *i);
+            for ((reach, listed), name) in found.iter().zip(self.names(*i, found)) {
+                let Ok(who) = self.person.who(at, listed.as_deref()) else {
+                    continue;
+                };
+                if self
+                    .found_fitted_reach(plan, clip, reach, &who, &name)
+                    .is_none()
+                {
+                    left.insert(Group::of(&who, reach));
+                }
+            }
+        }
+        // Each group's first reach in the library's order.
+        let mine: HashMap<usize, &ReadTake> = read.iter().map(|(i, r)| (*i, r)).collect();
+        let mut anchors: Vec<(Group, usize, usize, CapturedReach, String)> = Vec::new();
+        for i in 0..self.takes.paths.len() {
+            if left.is_empty() || self.interrupt.load(Ordering::SeqCst) {
+                break;
+            }
+            let take = self.takes.paths[i].as_path();
+            let (at, _) = self.at(plan, i);
+            if self.takes.rows_of(take).is_none()
+                && let Ok(who) = self.person.who(at, None)
+                && !left.iter().any(|g| g.may_hold(&who))
+            {
+                continue;
+            }
+            let own;
+            let taken = match mine.get(&i) {
+                Some(taken) => *taken,
+                None => {
+                    own = self.read_take(i);
+                    &own
+                }
+            };
+            let found = match taken {
+                Ok(Ok(found)) => found,
+                Ok(Err(_)) => continue,
+                Err(e) => return Err(self.take_failed(i, e)),
+            };
+            for (j, ((reach, listed), name)) in found.iter().zip(self.names(i, found)).enumerate() {
+                let who = self
+                    .person
+                    .who(at, listed.as_deref())
+                    .map_err(|e| WarmError::Library(e.into()))?;
+                let group = Group::of(&who, reach);
+                if left.remove(&group) {
+                    anchors.push((group, i, j, reach.clone(), slash_path(&name)));
+                }
+            }
+        }
+        let fits: Vec<Result<NestedFit, TrainError>> = anchors
+            .par_iter()
+            .map(|(_, _, _, reach, _)| {
+                let mut observer = (self.observer)();
+                self.job.run_stoppable(
+                    std::slice::from_ref(reach),
+                    &mut *observer,
+                    Some(self.interrupt),
+                )
+            })
+            .collect();
+        let mut made = HashMap::with_capacity(anchors.len());
+        for ((group, take, reach, _, result), fit) in anchors.into_iter().zip(fits) {
+            let fit =
+                fit.map_err(|e| WarmError::Take(Box::new((self.takes.paths[take].clone(), e))))?;
+            made.insert(
+                group,
+                Anchor {
+                    take,
+                    reach,
+                    result,
+                    fit,
+                },
+            );
+        }
+        let read = read
+            .into_iter()
+            .map(|(i, taken)| (i, Mutex::new(Some(taken))))
+            .collect();
+        Ok((read, WarmStarts { anchors: made }))
+    }
+
+    /// Take `i` as the person rule sees it, and its name in the library.
+    fn at<'s>(&'s self, plan: &'s ShardPlan, i: usize) -> (TakeAt<'s>, &'s str) {
+        let clip = plan.identities[i].path.as_str();
+        (TakeAt::new(&self.takes.common, Path::new(clip)), clip)
+    }
+
+    /// The result names of the reaches `found` in take `i`.
+    fn names(&self, i: usize, found: &[(CapturedReach, Option<String>)]) -> Vec<PathBuf> {
+        let reaches: Vec<CapturedReach> = found.iter().map(|(r, _)| r.clone()).collect();
+        take_names(&self.takes.common, &self.takes.paths[i], &reaches)
+    }
+
+    /// Take `i` could not be read: its error, for the shard.
+    fn take_failed(&self, i: usize, e: &TakeError) -> WarmError {
+        let take = self.takes.paths[i].clone();
+        match e {
+            TakeError::Library(e) => WarmError::Library(LibraryError::Input {
+                path: take,
+                why: format!("cannot be read to find a warm start: {e}"),
+            }),
+            TakeError::Take(e) => WarmError::Take(Box::new((
+                take.clone(),
+                TrainError::Reach {
+                    clip: take.display().to_string(),
+                    why: format!("cannot be read to find a warm start: {e}"),
+                },
+            ))),
+        }
+    }
+}
