@@ -3,7 +3,7 @@
 //! ([`record`](super::record): the header `I-of-N.json` with the run's settings and the
 //! library's takes, and `I-of-N.csv`, the takes it was dealt, then each reach fitted, with
 //! its result's hash, and each take skipped). A result depends on its reach and the
-//! settings only (with warm starts, on its group's first reach too: [`warm`]), so every
+//! settings only (with warm starts, on its group's first reach too: [warm starts](super#warm-starts)), so every
 //! number in it is the same whichever shard fitted it.
 //!
 //! Resuming trusts the records, not the files' names: a reach is found fitted when a
@@ -55,7 +55,7 @@ pub struct ShardRun<'a> {
     pub person: &'a PersonRule,
     /// Which share of the takes this run fits.
     pub shard: Shard,
-    /// Warm starts ([`warm`]): each group of reaches of one person, motion
+    /// [Warm starts](crate::library#warm-starts): each group of reaches of one person, motion
     /// and arm is fitted from its first reach's fit, the model asked for alone; recorded
     /// among the settings.
     pub warm_start: bool,

@@ -1,25 +1,5 @@
-//! Warm starts (`fit --warm-start`): a library of a person's repeats fitted from each
-//! gesture's first take.
-//!
-//! The reaches of one *group* — one person and motion as the library's person rule names
-//! them ([`crate::who`]), one arm with the same DoFs — are fitted from the fit of the group's
-//! first reach in the library's order (its *anchor*, fitted as without warm starts: every
-//! model, nested). Each other reach of the group anneals the model asked for alone, from the
-//! anchor's vector of that model; its parameters file records the anchor's result
-//! (`fit.started_from`). Where a person repeats a gesture, the anchor's vector is near each
-//! repeat's own and the poorer models' stages are not needed: on the shared people's raises
-//! the library takes about a third of the evaluations at a like distance (BENCHMARKS.md,
-//! "Warm starts"). Where a person's reaches go to different targets in different ways, it
-//! is a poorer start than the nested models' and the fits are worse: warm starts are off by
-//! default.
-//!
-//! **Shards.** Every shard that holds a reach of a group finds the group's anchor among all
-//! the library's takes and fits it itself (the anchor's fit depends on its reach and the
-//! settings only, so it is the same in every shard); it writes the anchor's result only where
-//! the anchor is one of its own takes. A result so depends on its reach, its anchor and the
-//! settings — never on the shards or the threads. A group's anchor is looked for among the
-//! takes whose paths can be its person's and motion's, in order, until one holds a reach of
-//! the group: an unreadable take on the way fails the shard, as it would fail its own.
+//! Warm starts (`fit --warm-start`): the groups of a shard's reaches, their anchors found and
+//! fitted (see the [library's documentation](crate::library#warm-starts)).
 
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
