@@ -1215,6 +1215,7 @@ SETTING_VARIANTS = [
     (["--no-nested"], ["nested", "model"], True),
     (["--chain", "RightShoulder,RightArm,RightForeArm,RightHand"], ["chain", "arm"], True),
     (["SEGMENTS"], ["segments"], True),
+    (["--warm-start"], ["warm_start", "warm-start", "warm start"], True),
     # the same settings, other spellings or other run options: must be accepted
     (["--threads", "2"], [], False), (["--json"], [], False), (["--seed", "1"], [], False),
     (["--seed", "01"], [], False), (["--stable-change", "0.001"], [], False), (["--stable-window", "15"], [], False),
@@ -1365,6 +1366,10 @@ def py_kwargs_of(cli):
             continue
         if a == "--no-nested":
             kw["nested"] = False
+            i += 1
+            continue
+        if a == "--warm-start":
+            kw["warm_start"] = True
             i += 1
             continue
         if a == "--frames":

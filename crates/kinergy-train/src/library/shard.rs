@@ -760,9 +760,12 @@ impl ShardRun<'_> {
             let group = std::slice::from_ref(&reach);
             let mut observer = (self.observer)();
             let anchor = warm.and_then(|w| w.anchor(&Group::of(&who, &reach)));
+            // Seconds spent on this reach's fit before this take (its group's first reach's).
+            let mut before = 0.0;
             let (fits, started_from) = match anchor {
                 // The group's first reach: its fit, made before the takes.
                 Some(anchor) if (anchor.take, anchor.reach) == (index, j) => {
+                    before = anchor.seconds;
                     (anchor.fit.clone(), None)
                 }
                 Some(anchor) => (
@@ -796,7 +799,7 @@ impl ShardRun<'_> {
                 path: output.clone(),
                 why: format!("cannot read the result back to record it: {e}"),
             })?;
-            let seconds = clock.elapsed().as_secs_f64();
+            let seconds = before + clock.elapsed().as_secs_f64();
             on_event(ShardEvent::Fitted {
                 output: &output,
                 reach: &reach,

@@ -5,6 +5,7 @@ use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::Ordering;
+use std::time::Instant;
 
 use rayon::prelude::*;
 
@@ -61,6 +62,8 @@ pub(super) struct Anchor {
     pub(super) result: String,
     /// Its fit, every model nested.
     pub(super) fit: NestedFit,
+    /// The seconds its fit took.
+    pub(super) seconds: f64,
 }
 
 impl Anchor {
@@ -160,19 +163,21 @@ impl ShardRun<'_> {
                 }
             }
         }
-        let fits: Vec<Result<NestedFit, TrainError>> = anchors
+        let fits: Vec<(Result<NestedFit, TrainError>, f64)> = anchors
             .par_iter()
             .map(|(_, _, _, reach, _)| {
+                let clock = Instant::now();
                 let mut observer = (self.observer)();
-                self.job.run_stoppable(
+                let fit = self.job.run_stoppable(
                     std::slice::from_ref(reach),
                     &mut *observer,
                     Some(self.interrupt),
-                )
+                );
+                (fit, clock.elapsed().as_secs_f64())
             })
             .collect();
         let mut made = HashMap::with_capacity(anchors.len());
-        for ((group, take, reach, _, result), fit) in anchors.into_iter().zip(fits) {
+        for ((group, take, reach, _, result), (fit, seconds)) in anchors.into_iter().zip(fits) {
             let fit =
                 fit.map_err(|e| WarmError::Take(Box::new((self.takes.paths[take].clone(), e))))?;
             made.insert(
@@ -182,6 +187,7 @@ impl ShardRun<'_> {
                     reach,
                     result,
                     fit,
+                    seconds,
                 },
             );
         }
