@@ -3,8 +3,8 @@
 //! ([`record`](super::record): the header `I-of-N.json` with the run's settings and the
 //! library's takes, and `I-of-N.csv`, the takes it was dealt, then each reach fitted, with
 //! its result's hash, and each take skipped). A result depends on its reach and the
-//! settings only (with warm starts, on its group's first reach too: [warm starts](super#warm-starts)), so every
-//! number in it is the same whichever shard fitted it.
+//! settings only (with [warm starts](super#warm-starts), on its group's first reach too), so
+//! every number in it is the same whichever shard fitted it.
 //!
 //! Resuming trusts the records, not the files' names: a reach is found fitted when a
 //! record of the same settings (the person rule aside: it changes no result), whose take
@@ -208,6 +208,17 @@ fn poisoned(path: &Path) -> LibraryError {
         path: path.to_path_buf(),
         why: "a worker of the library run failed".into(),
     }
+}
+
+/// What every take of a running shard shares: the plan, the record, the files no result may
+/// be written over, where events go, and the warm starts (with them).
+#[derive(Clone, Copy)]
+struct Running<'r> {
+    plan: &'r ShardPlan,
+    record: &'r Record,
+    inputs: &'r HashSet<PathBuf>,
+    on_event: &'r (dyn Fn(ShardEvent<'_>) + Sync),
+    warm: Option<&'r WarmStarts>,
 }
 
 /// What a take came to.
@@ -586,6 +597,13 @@ impl ShardRun<'_> {
         } else {
             (ReadTakes::new(), None)
         };
+        let running = Running {
+            plan,
+            record: &record,
+            inputs: &inputs,
+            on_event,
+            warm: warm.as_ref(),
+        };
         let outcomes: Vec<Result<TakeOutcome, TakeError>> = plan
             .mine
             .par_iter()
@@ -594,7 +612,7 @@ impl ShardRun<'_> {
                     return Ok(TakeOutcome::Stopped);
                 }
                 let read = read.get(&i).and_then(|r| r.lock().ok()?.take());
-                let outcome = self.take(i, plan, &record, &inputs, on_event, read, warm.as_ref());
+                let outcome = self.take(i, &running, read);
                 if outcome.is_err() {
                     failed.store(true, Ordering::SeqCst);
                 }
@@ -703,19 +721,20 @@ impl ShardRun<'_> {
     }
 
     /// Fits the reaches of take `index` (or finds them fitted, resuming) and records them;
-    /// `read` is the take already read ([`read_take`](Self::read_take)), if it was, and
-    /// `warm` the warm starts, with them.
-    #[allow(clippy::too_many_arguments)]
+    /// `read` is the take already read ([`read_take`](Self::read_take)), if it was.
     fn take(
         &self,
         index: usize,
-        plan: &ShardPlan,
-        record: &Record,
-        inputs: &HashSet<PathBuf>,
-        on_event: &(dyn Fn(ShardEvent<'_>) + Sync),
+        run: &Running<'_>,
         read: Option<ReadTake>,
-        warm: Option<&WarmStarts>,
     ) -> Result<TakeOutcome, TakeError> {
+        let Running {
+            plan,
+            record,
+            inputs,
+            on_event,
+            warm,
+        } = *run;
         let take = self.takes.paths[index].as_path();
         let clip = plan.identities[index].path.as_str();
         let read = match read {
