@@ -1858,3 +1858,43 @@ fn warm_starts_fit_a_persons_takes_from_the_first_and_are_a_library_setting() {
     assert!(stderr(&o).contains("--warm-start"), "{}", stderr(&o));
     assert!(!out.exists());
 }
+
+/// With `--warm-start` an unreadable take before a group's first readable one fails every
+/// shard that needs that group (a fix of the take would change the group's anchor): its own
+/// shard with the take's error as without warm starts, another shard saying why it read it.
+/// Nothing is written.
+#[test]
+fn warm_starts_fail_on_an_unreadable_take_before_the_anchor_naming_it() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let lib = named_takes(
+        dir.path(),
+        "takes",
+        &[
+            ("p01", "r01.bvh", "ann/r01.bvh"),
+            ("p01", "r02.bvh", "ann/r02.bvh"),
+            ("p01", "r03.bvh", "ann/r03.bvh"),
+        ],
+    );
+    let first = lib.join("ann/r01.bvh");
+    let text = std::fs::read(&first).expect("take");
+    std::fs::write(&first, &text[..3000]).expect("truncate");
+    let plain = dir.path().join("plain");
+    let o = fit_library(&lib, &plain, &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let own = stderr(&o);
+    let (mut said_own, mut said_other) = (false, false);
+    for shard in ["1/2", "2/2"] {
+        let out = dir.path().join(format!("warm-{}", &shard[..1]));
+        let o = fit_library(&lib, &out, &["--warm-start", "--shard", shard]);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("ann/r01.bvh") && e.contains("header declares"),
+            "{e}"
+        );
+        said_other |= e.contains("read to find the warm start");
+        said_own |= e == own.replace("plain", &format!("warm-{}", &shard[..1]));
+        assert!(!out.exists() || result_files(&out).is_empty(), "{e}");
+    }
+    assert!(said_own && said_other, "{own}");
+}

@@ -125,7 +125,7 @@ impl ShardRun<'_> {
             }
         }
         // Each group's first reach in the library's order.
-        let mine: HashMap<usize, &ReadTake> = read.iter().map(|(i, r)| (*i, r)).collect();
+        let mut read: HashMap<usize, ReadTake> = read.into_iter().collect();
         let mut anchors: Vec<(Group, usize, usize, CapturedReach, String)> = Vec::new();
         for i in 0..self.takes.paths.len() {
             if left.is_empty() || self.interrupt.load(Ordering::SeqCst) {
@@ -139,18 +139,27 @@ impl ShardRun<'_> {
             {
                 continue;
             }
-            let own;
-            let taken = match mine.get(&i) {
-                Some(taken) => *taken,
-                None => {
-                    own = self.read_take(i);
-                    &own
+            // Another shard's take is read here; this shard's were read above.
+            let other = (!read.contains_key(&i)).then(|| self.read_take(i));
+            if matches!(other.as_ref().or_else(|| read.get(&i)), Some(Err(_))) {
+                // An unreadable take before the anchor: the shard fails on it, as its own
+                // shard does (a later fix of the take would change the anchor).
+                let own = other.is_none();
+                if let Some(Err(e)) = other.or_else(|| read.remove(&i)) {
+                    return Err(self.take_failed(i, e, own));
                 }
+                continue;
+            }
+            let taken = match &other {
+                Some(taken) => taken,
+                None => match read.get(&i) {
+                    Some(taken) => taken,
+                    None => continue,
+                },
             };
             let found = match taken {
                 Ok(Ok(found)) => found,
-                Ok(Err(_)) => continue,
-                Err(e) => return Err(self.take_failed(i, e)),
+                _ => continue,
             };
             for (j, ((reach, listed), name)) in found.iter().zip(self.names(i, found)).enumerate() {
                 let who = self
@@ -210,19 +219,23 @@ impl ShardRun<'_> {
         take_names(&self.takes.common, &self.takes.paths[i], &reaches)
     }
 
-    /// Take `i` could not be read: its error, for the shard.
-    fn take_failed(&self, i: usize, e: &TakeError) -> WarmError {
+    /// Take `i` could not be read: its error, as is where it is the shard's `own` take (its
+    /// fit would fail on it the same way), else naming why another shard's take was read.
+    fn take_failed(&self, i: usize, e: TakeError, own: bool) -> WarmError {
         let take = self.takes.paths[i].clone();
+        let why = "read to find the warm start of this shard's reaches of its person";
         match e {
+            TakeError::Library(e) if own => WarmError::Library(e),
+            TakeError::Take(e) if own => WarmError::Take(Box::new((take, e))),
             TakeError::Library(e) => WarmError::Library(LibraryError::Input {
                 path: take,
-                why: format!("cannot be read to find a warm start: {e}"),
+                why: format!("{why}: {e}"),
             }),
             TakeError::Take(e) => WarmError::Take(Box::new((
                 take.clone(),
                 TrainError::Reach {
                     clip: take.display().to_string(),
-                    why: format!("cannot be read to find a warm start: {e}"),
+                    why: format!("{why}: {e}"),
                 },
             ))),
         }
