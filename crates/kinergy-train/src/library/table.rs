@@ -171,7 +171,8 @@ pub struct LibraryRow {
     /// S_E's (absent from libraries written before S_E).
     #[serde(default)]
     pub distance_se_m: Option<f64>,
-    /// The fit's evaluations.
+    /// The fit's evaluations: every nested model's, summed (what the reach cost; a warm
+    /// start's reach has one model).
     #[serde(default)]
     pub evaluations: usize,
     /// Seconds the fit took (empty when it was found already fitted).
@@ -255,7 +256,9 @@ impl LibraryRow {
             distance_sc_m: None,
             distance_sd_m: None,
             distance_se_m: None,
-            evaluations: record.evaluations,
+            evaluations: record.nested.as_ref().map_or(record.evaluations, |stages| {
+                stages.iter().map(|s| s.evaluations).sum()
+            }),
             seconds: row.seconds.parse().ok(),
             result: row.result.clone(),
             settings: settings.to_string(),
