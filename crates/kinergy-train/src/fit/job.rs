@@ -100,9 +100,8 @@ impl FitJob {
             return Err(kinergy_io::InvalidSetting::new("models", "at least one model").into());
         };
         let control = Control {
-            checkpoint: None,
-            checkpoint_every: 0,
             interrupt,
+            ..Control::default()
         };
         let run = ModelRun {
             reaches: group,
@@ -160,9 +159,8 @@ impl FitJob {
         interrupt: Option<&AtomicBool>,
     ) -> Result<NestedFit> {
         let control = Control {
-            checkpoint: None,
-            checkpoint_every: 0,
             interrupt,
+            ..Control::default()
         };
         self.run(group, observer, &control, false)
     }

@@ -144,9 +144,13 @@ pub fn relative_name(common: &Path, take: &Path) -> PathBuf {
 
 /// The result names of the reaches of the capture `take` (in order), relative to the
 /// output folder (see [`Takes`] and the library folder layout).
-pub fn take_names(common: &Path, take: &Path, reaches: &[CapturedReach]) -> Vec<PathBuf> {
+pub fn take_names<'r>(
+    common: &Path,
+    take: &Path,
+    reaches: impl IntoIterator<Item = &'r CapturedReach>,
+) -> Vec<PathBuf> {
     let keys: Vec<(Range<usize>, String)> = reaches
-        .iter()
+        .into_iter()
         .map(|r| (r.frames().clone(), arm_label(r)))
         .collect();
     names_of(common, take, &keys)

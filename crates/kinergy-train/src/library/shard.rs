@@ -702,6 +702,15 @@ impl ShardRun<'_> {
             .then_some(fresh)
     }
 
+    /// The result names of the reaches `found` in take `i`.
+    fn names(&self, i: usize, found: &[(CapturedReach, Option<String>)]) -> Vec<PathBuf> {
+        take_names(
+            &self.takes.common,
+            &self.takes.paths[i],
+            found.iter().map(|(r, _)| r),
+        )
+    }
+
     /// The reaches of take `index`, each with the person a segments file lists for it (the
     /// takes with segments-file rows use their rows), or why it has none to fit.
     fn read_take(&self, index: usize) -> ReadTake {
@@ -748,8 +757,7 @@ impl ShardRun<'_> {
                 return Ok(TakeOutcome::Skipped(skip));
             }
         };
-        let reaches: Vec<CapturedReach> = found.iter().map(|(r, _)| r.clone()).collect();
-        let names = take_names(&self.takes.common, take, &reaches);
+        let names = self.names(index, &found);
         if let Some(twice) = repeated(&names) {
             return Err(LibraryError::Input {
                 path: take.to_path_buf(),

@@ -14,7 +14,6 @@ use crate::CapturedReach;
 use crate::error::TrainError;
 use crate::fit::NestedFit;
 use crate::library::identity::slash_path;
-use crate::library::names::take_names;
 use crate::library::table::LibraryError;
 use crate::source::Skipped;
 use crate::who::{TakeAt, Who};
@@ -211,12 +210,6 @@ impl ShardRun<'_> {
     fn at<'s>(&'s self, plan: &'s ShardPlan, i: usize) -> (TakeAt<'s>, &'s str) {
         let clip = plan.identities[i].path.as_str();
         (TakeAt::new(&self.takes.common, Path::new(clip)), clip)
-    }
-
-    /// The result names of the reaches `found` in take `i`.
-    fn names(&self, i: usize, found: &[(CapturedReach, Option<String>)]) -> Vec<PathBuf> {
-        let reaches: Vec<CapturedReach> = found.iter().map(|(r, _)| r.clone()).collect();
-        take_names(&self.takes.common, &self.takes.paths[i], &reaches)
     }
 
     /// Take `i` could not be read: its error, as is where it is the shard's `own` take (its
