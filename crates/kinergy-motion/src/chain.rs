@@ -49,7 +49,7 @@ impl Motion {
     /// 27, the same values as the full product).
     #[inline]
     pub fn apply(&self, r: &mut Rotation3<f64>, q: &[f64]) {
-        self.apply_with(r, q, f64::sin_cos);
+        self.apply_with(r, q, crate::trig::sin_cos);
     }
 
     /// [`Motion::apply`] with the motion's angle's sine and cosine from `sin_cos(angle)` (a
@@ -85,6 +85,16 @@ impl Motion {
             Motion::Swing { .. } => [q[0].to_bits(), q[1].to_bits()],
         }
     }
+
+    /// The angle whose sine and cosine this motion's rotation takes at DoF values `q`: a
+    /// revolute's q, a swing's |v| (computed as the swing's rotation computes it).
+    #[inline]
+    fn angle(&self, q: &[f64]) -> f64 {
+        match self {
+            Motion::Revolute { .. } => q[0],
+            Motion::Swing { .. } => (q[0] * q[0] + q[1] * q[1]).sqrt(),
+        }
+    }
 }
 
 /// The sines and cosines of a chain's motions at the last configuration forward kinematics
@@ -103,7 +113,52 @@ pub struct TrigMemo {
 /// cosine.
 type TrigEntry = ([u64; 2], (f64, f64));
 
+/// How many angles [`TrigMemo::fill`] computes at once.
+const LANES: usize = 8;
+
 impl TrigMemo {
+    /// Enters every motion of `chain` at `q` (checked), their sines and cosines computed
+    /// [`LANES`] at a time ([`crate::trig::sin_cos_lanes`]: the bits [`crate::trig::sin_cos`]
+    /// gives one at a time, so a walk finds what it would have computed itself). All of
+    /// them, found or not: a configuration whose hand is not known yet has moved every DoF
+    /// the step moves, and a comparison costs about what a lane does.
+    fn fill(&mut self, chain: &Chain, q: &[f64]) {
+        let mut angles = [0.0; LANES];
+        let mut keys = [[0; 2]; LANES];
+        let (mut n, mut first, mut k) = (0, 0, 0);
+        for m in chain.joints.iter().flat_map(|j| &j.motions) {
+            let values = &q[k..];
+            k += m.dof_count();
+            (angles[n], keys[n]) = (m.angle(values), m.key(values));
+            n += 1;
+            if n == LANES {
+                self.enter(first, &angles, &keys[..n]);
+                (first, n) = (first + n, 0);
+            }
+        }
+        if n > 0 {
+            self.enter(first, &angles, &keys[..n]);
+        }
+    }
+
+    /// The sine and cosine [`TrigMemo::fill`] entered for motion `m`.
+    #[inline]
+    fn filled(&self, m: usize) -> (f64, f64) {
+        self.entries[m].map_or((0.0, 1.0), |(_, sc)| sc)
+    }
+
+    /// Enters the sines and cosines of `angles` as the entries of motions `first…`, one per
+    /// key of `keys` (the lanes beyond are not entered).
+    fn enter(&mut self, first: usize, angles: &[f64; LANES], keys: &[[u64; 2]]) {
+        let (s, c) = crate::trig::sin_cos_lanes(angles);
+        if self.entries.len() < first + keys.len() {
+            self.entries.resize(first + keys.len(), None);
+        }
+        for (i, (entry, &key)) in self.entries[first..].iter_mut().zip(keys).enumerate() {
+            *entry = Some((key, (s[i], c[i])));
+        }
+    }
+
     /// The sine and cosine of motion `m`'s `angle`, whose DoF values have the bits `key`.
     #[inline]
     fn sin_cos(&mut self, m: usize, key: [u64; 2], angle: f64) -> (f64, f64) {
@@ -113,7 +168,7 @@ impl TrigMemo {
         match self.entries[m] {
             Some((k, sc)) if k == key => sc,
             _ => {
-                let sc = angle.sin_cos();
+                let sc = crate::trig::sin_cos(angle);
                 self.entries[m] = Some((key, sc));
                 sc
             }
@@ -132,7 +187,7 @@ struct Plain;
 impl Trig for Plain {
     #[inline]
     fn sin_cos(&mut self, _: usize, _: [u64; 2], angle: f64) -> (f64, f64) {
-        angle.sin_cos()
+        crate::trig::sin_cos(angle)
     }
 }
 
@@ -439,10 +494,12 @@ impl Chain {
     /// the joint's rest rotation and offset carry it into the parent's. A rotation applied to
     /// a point instead of a product of rotations: about a third of [`Chain::end_position`]'s
     /// multiplications, the same position within rounding (not the same bits: the products
-    /// associate otherwise). The sines and cosines are kept in `memo` (and taken from it where
-    /// a motion's DoF values are the last walk's, bit for bit).
+    /// associate otherwise). The sines and cosines of all the motions are computed at once,
+    /// in lanes ([`crate::trig::sin_cos_lanes`]), and kept in `memo` for a linearization at
+    /// the same configuration ([`Chain::linearize_memo_into`]).
     pub fn end_in_base_memo(&self, q: &[f64], memo: &mut TrigMemo) -> Result<Point3<f64>> {
         self.check(q)?;
+        memo.fill(self, q);
         let mut v = self.end_effector;
         let mut k = self.dof_count;
         let mut index = self.joints.iter().map(|j| j.motions.len()).sum::<usize>();
@@ -451,10 +508,9 @@ impl Chain {
                 k -= m.dof_count();
                 index -= 1;
                 let q = &q[k..];
-                let key = m.key(q);
                 match *m {
                     Motion::Revolute { axis, .. } => {
-                        let (s, c) = memo.sin_cos(index, key, q[0]);
+                        let (s, c) = memo.filled(index);
                         let a = axis.index();
                         let (i, l) = ((a + 1) % 3, (a + 2) % 3);
                         let (vi, vl) = (v[i], v[l]);
@@ -462,9 +518,7 @@ impl Chain {
                         v[l] = s * vi + c * vl;
                     }
                     Motion::Swing { .. } => {
-                        let r = swing_rotation_with(q[0], q[1], |angle| {
-                            memo.sin_cos(index, key, angle)
-                        });
+                        let r = swing_rotation_with(q[0], q[1], |_| memo.filled(index));
                         v = r * v;
                     }
                 }

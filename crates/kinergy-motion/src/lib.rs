@@ -54,6 +54,7 @@ pub mod segment;
 pub mod side;
 pub mod skeleton;
 pub mod trajectory;
+pub mod trig;
 pub mod units;
 pub mod up;
 

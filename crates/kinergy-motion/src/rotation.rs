@@ -51,7 +51,7 @@ impl Axis {
 /// The rotation by `angle` radians about a principal axis, built from one `sin_cos`.
 #[inline]
 pub fn axis_rotation(axis: Axis, angle: f64) -> Rotation3<f64> {
-    let (s, c) = angle.sin_cos();
+    let (s, c) = crate::trig::sin_cos(angle);
     let m = match axis {
         Axis::X => Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c),
         Axis::Y => Matrix3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c),
@@ -112,7 +112,7 @@ pub const GIMBAL_LOCK: f64 = 1e-8;
 /// `R = I + sin θ [u]× + (1 − cos θ)(u uᵀ − I)`, written out (no general axis–angle code).
 #[inline]
 pub fn swing_rotation(sx: f64, sy: f64) -> Rotation3<f64> {
-    swing_rotation_with(sx, sy, f64::sin_cos)
+    swing_rotation_with(sx, sy, crate::trig::sin_cos)
 }
 
 /// [`swing_rotation`] with θ's sine and cosine from `sin_cos(θ)` (a memo of them: the same
@@ -154,7 +154,7 @@ pub(crate) fn swing_rotation_with(
 /// the columns of [`left_jacobian`] written out. Used by the fused FK + Jacobian pass.
 #[inline]
 pub fn swing_with_jacobian(sx: f64, sy: f64) -> (Matrix3<f64>, Vector3<f64>, Vector3<f64>) {
-    swing_with_jacobian_with(sx, sy, f64::sin_cos)
+    swing_with_jacobian_with(sx, sy, crate::trig::sin_cos)
 }
 
 /// [`swing_with_jacobian`] with θ's sine and cosine from `sin_cos(θ)` (a memo of them: the
