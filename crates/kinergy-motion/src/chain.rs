@@ -786,6 +786,8 @@ mod tests {
         /// A memo of the sines and cosines changes no bit: walks at new configurations, at
         /// the same one again, at one differing in a single DoF (the other motions' entries
         /// reused), with the swings near zero (the series, no `sin_cos`) and exactly zero.
+        /// The memo's entries are the hand's sines and cosines computed in lanes, the plain
+        /// walk's one at a time: the lanes' bits are the scalar bits.
         #[test]
         fn a_trig_memo_gives_the_plain_walks_bits(
             walks in proptest::collection::vec(
