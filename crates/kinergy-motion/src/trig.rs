@@ -28,36 +28,33 @@
 /// Beyond it, and for non-finite x, [`sin_cos`] is the platform's.
 pub const REDUCED_UP_TO: f64 = 1_048_576.0;
 
-/// π/2's first two parts of 33 significant bits (fdlibm's `pio2_1`, `pio2_2`).
-const PIO2_1: f64 = 1.570_796_326_734_125_614_17e0;
-const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
+/// π/2's first two parts of 33 significant bits (fdlibm's `pio2_1`, `pio2_2`). Every constant
+/// here is fdlibm's, by its bits (its decimal beside).
+const PIO2_1: f64 = f64::from_bits(0x3ff921fb54400000); // 1.57079632673412561417e0
+const PIO2_2: f64 = f64::from_bits(0x3dd0b4611a600000); // 6.0771005063039659766e-11
 /// What π/2 − `PIO2_1` − `PIO2_2` leaves (fdlibm's `pio2_2t`).
-const PIO2_2T: f64 = 2.022_266_248_795_950_631_54e-21;
+const PIO2_2T: f64 = f64::from_bits(0x3ba3198a2e037073); // 2.02226624879595063154e-21
 /// 1.5·2⁵²: x + this rounds x to an integer held in the low bits of the sum.
 const ROUND: f64 = 6_755_399_441_055_744.0;
 /// sin r ≈ r + r³ (S1 + r² S2 + … + r¹⁰ S6) on |r| ≤ π/4 (fdlibm's `__kernel_sin`).
-const S1: f64 = -1.666_666_666_666_663_243_48e-1;
-const S2: f64 = 8.333_333_333_322_489_461_24e-3;
-const S3: f64 = -1.984_126_982_985_794_931_34e-4;
-const S4: f64 = 2.755_731_370_707_006_767_89e-6;
-const S5: f64 = -2.505_076_025_340_686_341_95e-8;
-const S6: f64 = 1.589_690_995_211_550_102_21e-10;
+const S1: f64 = f64::from_bits(0xbfc5555555555549); // -1.66666666666666324348e-1
+const S2: f64 = f64::from_bits(0x3f8111111110f8a6); // 8.33333333332248946124e-3
+const S3: f64 = f64::from_bits(0xbf2a01a019c161d5); // -1.98412698298579493134e-4
+const S4: f64 = f64::from_bits(0x3ec71de357b1fe7d); // 2.75573137070700676789e-6
+const S5: f64 = f64::from_bits(0xbe5ae5e68a2b9ceb); // -2.50507602534068634195e-8
+const S6: f64 = f64::from_bits(0x3de5d93a5acfd57c); // 1.58969099521155010221e-10
 /// cos r ≈ 1 − r²/2 + r⁴ (C1 + r² C2 + … + r¹⁰ C6) on |r| ≤ π/4 (fdlibm's `__kernel_cos`).
-const C1: f64 = 4.166_666_666_666_660_190_37e-2;
-const C2: f64 = -1.388_888_888_887_410_957_49e-3;
-const C3: f64 = 2.480_158_728_947_672_941_78e-5;
-const C4: f64 = -2.755_731_435_139_066_330_35e-7;
-const C5: f64 = 2.087_572_321_298_174_827_9e-9;
-const C6: f64 = -1.135_964_755_778_819_482_65e-11;
+const C1: f64 = f64::from_bits(0x3fa555555555554c); // 4.16666666666666019037e-2
+const C2: f64 = f64::from_bits(0xbf56c16c16c15177); // -1.38888888888741095749e-3
+const C3: f64 = f64::from_bits(0x3efa01a019cb1590); // 2.48015872894767294178e-5
+const C4: f64 = f64::from_bits(0xbe927e4f809c52ad); // -2.75573143513906633035e-7
+const C5: f64 = f64::from_bits(0x3e21ee9ebdb4b1c4); // 2.0875723212981748279e-9
+const C6: f64 = f64::from_bits(0xbda8fae9be8838d4); // -1.13596475577881948265e-11
 
 /// `(sin x, cos x)`: the same bits as [`sin_cos_lanes`] gives in any lane.
 #[inline]
 pub fn sin_cos(x: f64) -> (f64, f64) {
-    if x.abs() <= REDUCED_UP_TO {
-        reduced(x)
-    } else {
-        x.sin_cos()
-    }
+    if reduces(x) { reduced(x) } else { x.sin_cos() }
 }
 
 /// `(sin xᵢ, cos xᵢ)` of `N` angles at once, each lane the bits [`sin_cos`] gives. On an
@@ -71,11 +68,17 @@ pub fn sin_cos_lanes<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
         (s[i], c[i]) = reduced(x[i]);
     }
     for i in 0..N {
-        if !(x[i].abs() <= REDUCED_UP_TO) {
+        if !reduces(x[i]) {
             (s[i], c[i]) = x[i].sin_cos();
         }
     }
     (s, c)
+}
+
+/// True when [`reduced`] computes x's sine and cosine: |x| ≤ [`REDUCED_UP_TO`] (false for NaN).
+#[inline(always)]
+fn reduces(x: f64) -> bool {
+    x.abs() <= REDUCED_UP_TO
 }
 
 /// The reduction and the kernels, branch-free, for |x| ≤ [`REDUCED_UP_TO`].
