@@ -117,11 +117,12 @@ type TrigEntry = ([u64; 2], (f64, f64));
 const LANES: usize = 8;
 
 impl TrigMemo {
-    /// Enters every motion of `chain` at `q` (checked), their sines and cosines computed
-    /// [`LANES`] at a time ([`crate::trig::sin_cos_lanes`]: the bits [`crate::trig::sin_cos`]
-    /// gives one at a time, so a walk finds what it would have computed itself). All of
-    /// them, found or not: a configuration whose hand is not known yet has moved every DoF
-    /// the step moves, and a comparison costs about what a lane does.
+    /// Enters every motion of `chain` at `q` (checked by the caller), their sines and cosines
+    /// computed [`LANES`] at a time ([`crate::trig::sin_cos_lanes`]: the bits
+    /// [`crate::trig::sin_cos`] gives one at a time, so a walk finds what it would have
+    /// computed itself). All of them, entered already or not: a configuration whose hand is
+    /// not known yet has moved every DoF the step moves, and looking the entries up first
+    /// measured slower.
     fn fill(&mut self, chain: &Chain, q: &[f64]) {
         let mut angles = [0.0; LANES];
         let mut keys = [[0; 2]; LANES];
