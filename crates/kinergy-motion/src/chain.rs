@@ -182,13 +182,39 @@ trait Trig {
     fn sin_cos(&mut self, m: usize, key: [u64; 2], angle: f64) -> (f64, f64);
 }
 
-/// `sin_cos` itself.
-struct Plain;
+/// The sines and cosines of one configuration's motions, computed at once in lanes before a
+/// walk: the same bits as [`Plain`] (a chain of more than [`LANES`] motions computes the
+/// others one at a time).
+struct Batch {
+    sin_cos: [(f64, f64); LANES],
+    count: usize,
+}
 
-impl Trig for Plain {
+impl Batch {
+    fn of(chain: &Chain, q: &[f64]) -> Batch {
+        let mut angles = [0.0; LANES];
+        let (mut count, mut k) = (0, 0);
+        for m in chain.joints.iter().flat_map(|j| &j.motions).take(LANES) {
+            angles[count] = m.angle(&q[k..]);
+            k += m.dof_count();
+            count += 1;
+        }
+        let (s, c) = crate::trig::sin_cos_lanes(&angles);
+        Batch {
+            sin_cos: std::array::from_fn(|i| (s[i], c[i])),
+            count,
+        }
+    }
+}
+
+impl Trig for Batch {
     #[inline]
-    fn sin_cos(&mut self, _: usize, _: [u64; 2], angle: f64) -> (f64, f64) {
-        crate::trig::sin_cos(angle)
+    fn sin_cos(&mut self, m: usize, _: [u64; 2], angle: f64) -> (f64, f64) {
+        if m < self.count {
+            self.sin_cos[m]
+        } else {
+            crate::trig::sin_cos(angle)
+        }
     }
 }
 
@@ -586,7 +612,8 @@ impl Chain {
         q: &[f64],
         out: &mut Linearization,
     ) -> Result<()> {
-        self.linearize_with(base, q, out, &mut Plain)
+        self.check(q)?;
+        self.linearize_with(base, q, out, &mut Batch::of(self, q))
     }
 
     /// [`Chain::linearize_into`] with the sines and cosines kept in `memo` (and taken from
