@@ -183,8 +183,8 @@ trait Trig {
 }
 
 /// The sines and cosines of one configuration's motions, computed at once in lanes before a
-/// walk: the same bits as [`Plain`] (a chain of more than [`LANES`] motions computes the
-/// others one at a time).
+/// walk: the bits [`crate::trig::sin_cos`] gives one at a time (a chain of more than
+/// [`LANES`] motions computes the others one at a time).
 struct Batch {
     sin_cos: [(f64, f64); LANES],
     count: usize,
@@ -814,8 +814,8 @@ mod tests {
         /// A memo of the sines and cosines changes no bit: walks at new configurations, at
         /// the same one again, at one differing in a single DoF (the other motions' entries
         /// reused), with the swings near zero (the series, no `sin_cos`) and exactly zero.
-        /// The memo's entries are the hand's sines and cosines computed in lanes, the plain
-        /// walk's one at a time: the lanes' bits are the scalar bits.
+        /// The memo's entries are the hand's sines and cosines computed in lanes, and a
+        /// missing one is computed alone; the plain walk's are all in lanes.
         #[test]
         fn a_trig_memo_gives_the_plain_walks_bits(
             walks in proptest::collection::vec(
