@@ -7,11 +7,12 @@
 //! several angles at once. These are:
 //! - **the same bits on every CPU and platform** for |x| ≤ [`REDUCED_UP_TO`]: only IEEE
 //!   additions, multiplications and bit operations, in a fixed order (no fused
-//!   multiply-add, no tables, no branch that depends on the angle), so a fit is reproduced
-//!   to the bit wherever it runs;
+//!   multiply-add, no tables, no branch that depends on the angle), so the chain's
+//!   kinematics are the same bits wherever they run (a fit's other elementary functions,
+//!   such as the sigmoid's `exp`, are still the platform's);
 //! - **the same bits in lanes**: [`sin_cos_lanes`] runs the same operations on up to `N`
 //!   angles in plain loops that the compiler turns into SIMD (two f64 a register on the
-//!   x86-64 baseline, four with AVX). A configuration's seven angles cost about half of
+//!   x86-64 baseline, four with AVX2). A configuration's seven angles cost about half of
 //!   seven calls of libm's `sincos`;
 //! - **accurate**: within one unit in the last place of glibc's result, and the same bits
 //!   for about 94 % of angles (this module's tests: 4 million angles up to ±10⁶ rad).
