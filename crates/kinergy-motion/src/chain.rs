@@ -92,7 +92,7 @@ impl Motion {
     fn angle(&self, q: &[f64]) -> f64 {
         match self {
             Motion::Revolute { .. } => q[0],
-            Motion::Swing { .. } => (q[0] * q[0] + q[1] * q[1]).sqrt(),
+            Motion::Swing { .. } => crate::rotation::swing_angle_squared(q[0], q[1]).sqrt(),
         }
     }
 }
@@ -625,10 +625,12 @@ impl Chain {
         out: &mut Linearization,
         memo: &mut TrigMemo,
     ) -> Result<()> {
+        self.check(q)?;
         self.linearize_with(base, q, out, memo)
     }
 
-    /// [`Chain::linearize_into`] with the sines and cosines from `trig`.
+    /// [`Chain::linearize_into`] with the sines and cosines from `trig` (`q` checked by the
+    /// caller).
     fn linearize_with(
         &self,
         base: &IsometryMatrix3<f64>,
@@ -636,7 +638,6 @@ impl Chain {
         out: &mut Linearization,
         trig: &mut impl Trig,
     ) -> Result<()> {
-        self.check(q)?;
         if out.linear.ncols() != self.dof_count {
             out.linear = Matrix3xX::zeros(self.dof_count);
             out.angular = Matrix3xX::zeros(self.dof_count);

@@ -115,6 +115,14 @@ pub fn swing_rotation(sx: f64, sy: f64) -> Rotation3<f64> {
     swing_rotation_with(sx, sy, crate::trig::sin_cos)
 }
 
+/// θ² = sx² + sy² of the swing `(sx, sy)`, computed once for every use: θ = its square root is
+/// the angle whose sine and cosine a chain's memo keeps for the swing's rotation, so every
+/// place that forms θ must form it alike, to the bit.
+#[inline]
+pub(crate) fn swing_angle_squared(sx: f64, sy: f64) -> f64 {
+    sx * sx + sy * sy
+}
+
 /// [`swing_rotation`] with θ's sine and cosine from `sin_cos(θ)` (a memo of them: the same
 /// values, the same bits); not called near zero, where the series needs neither.
 #[inline]
@@ -123,7 +131,7 @@ pub(crate) fn swing_rotation_with(
     sy: f64,
     sin_cos: impl FnOnce(f64) -> (f64, f64),
 ) -> Rotation3<f64> {
-    let t2 = sx * sx + sy * sy;
+    let t2 = swing_angle_squared(sx, sy);
     // sin θ / θ and (1 − cos θ) / θ², with their series near zero.
     let (a, b, c) = if t2 < 1e-12 {
         (1.0 - t2 / 6.0, 0.5 - t2 / 24.0, 1.0 - t2 / 2.0)
@@ -165,7 +173,7 @@ pub(crate) fn swing_with_jacobian_with(
     sy: f64,
     sin_cos: impl FnOnce(f64) -> (f64, f64),
 ) -> (Matrix3<f64>, Vector3<f64>, Vector3<f64>) {
-    let t2 = sx * sx + sy * sy;
+    let t2 = swing_angle_squared(sx, sy);
     // sin θ / θ, (1 − cos θ)/θ², cos θ, (θ − sin θ)/θ³.
     let (s, a, c, b) = if t2 < 1e-4 {
         (
