@@ -125,6 +125,93 @@ fn a_captures_positions_come_back_long_and_wide_in_any_unit_and_up_axis() {
     }
 }
 
+/// Keypoints without hands: the capture's joints as Human3.6M's 17, whose wrists are leaves
+/// (End Sites of the forearms in the BVH written). Each arm ends at that End Site, so `inspect`
+/// names both arms, the report reads the arms past the human limits as the capture's own rig
+/// reads them, and `fit --arm auto` fits the take's reach of each arm.
+#[test]
+fn keypoints_whose_wrists_are_leaves_have_arms_to_fit() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let (names, frames) = capture();
+    let h36m = [
+        ("hip", "CC_Base_Hip"),
+        ("right_hip", "CC_Base_R_Thigh"),
+        ("right_knee", "CC_Base_R_Calf"),
+        ("right_foot", "CC_Base_R_Foot"),
+        ("left_hip", "CC_Base_L_Thigh"),
+        ("left_knee", "CC_Base_L_Calf"),
+        ("left_foot", "CC_Base_L_Foot"),
+        ("spine", "CC_Base_Spine01"),
+        ("thorax", "CC_Base_Spine02"),
+        ("neck", "CC_Base_NeckTwist01"),
+        ("head", "CC_Base_Head"),
+        ("left_shoulder", "CC_Base_L_Upperarm"),
+        ("left_elbow", "CC_Base_L_Forearm"),
+        ("left_wrist", "CC_Base_L_Hand"),
+        ("right_shoulder", "CC_Base_R_Upperarm"),
+        ("right_elbow", "CC_Base_R_Forearm"),
+        ("right_wrist", "CC_Base_R_Hand"),
+    ];
+    let mut long = String::from("frame,joint,x,y,z\n");
+    for (f, frame) in frames.iter().enumerate() {
+        for (keypoint, joint) in h36m {
+            let p = frame[names.iter().position(|n| n == joint).expect(joint)];
+            let _ = writeln!(long, "{f},{keypoint},{},{},{}", p[0], p[1], p[2]);
+        }
+    }
+    let input = dir.path().join("keypoints.csv");
+    std::fs::write(&input, long).expect("write");
+    let out = dir.path().join("keypoints.bvh");
+    let o = kinergy(&[
+        "from-positions",
+        s(&input),
+        "--skeleton",
+        "h36m17",
+        "--frame-rate",
+        "60",
+        "-o",
+        s(&out),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let (original, _) =
+        kinergy_motion::read_clip(&fixture("006_14.bvh"), &Default::default()).expect("read");
+    let expected = kinergy_solver::arms_beyond_limits(&original).expect("limits");
+    assert_eq!(
+        json(&o)["arms_beyond_limits"],
+        serde_json::to_value(&expected).expect("json")
+    );
+    let o = kinergy(&["inspect", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let report = common::stdout(&o);
+    for side in ["left", "right"] {
+        let chain = format!("{side}_shoulder → {side}_elbow → {side}_elbow_End");
+        assert!(report.contains(&chain), "{report}");
+    }
+    let fits = dir.path().join("fits");
+    let o = kinergy(&[
+        "fit",
+        s(&out),
+        "--arm",
+        "auto",
+        "--per",
+        "clip",
+        "--model",
+        "sa",
+        "--out-dir",
+        s(&fits),
+        "-q",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = std::fs::read_to_string(fits.join("library.csv")).expect("library.csv");
+    let arms: Vec<&str> = table
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(3).expect("arm"))
+        .collect();
+    assert_eq!(arms, ["right", "left"], "{table}");
+}
+
 #[test]
 fn bad_tables_and_skeletons_are_refused_naming_the_place() {
     let dir = tempfile::tempdir().expect("tmp");

@@ -24,8 +24,9 @@
 //!
 //! **Output.** A chain frame and the captured joint frame differ by a constant rotation
 //! (measured on the first frame), so each synthesized frame gives the captured shoulder,
-//! elbow and wrist world rotations, converted to each joint's own Euler channels. Joints
-//! between them keep their first-frame values, so bone lengths stay those of the chain.
+//! elbow and wrist world rotations, converted to each joint's own Euler channels (a leaf
+//! wrist, an End Site, has none: its position follows the elbow's). Joints between them keep
+//! their first-frame values, so bone lengths stay those of the chain.
 
 use std::sync::Arc;
 
@@ -211,9 +212,14 @@ impl CaptureArm {
         }
         let base = self.base(mode);
         let keys = [self.joints.shoulder, self.joints.elbow, self.joints.wrist];
+        // A leaf wrist (an End Site: keypoints without hands) has no rotation to write.
         let mut key_axes = Vec::with_capacity(3);
         for &j in &keys {
-            key_axes.push(rotation_channels(clip, j)?);
+            key_axes.push(if skeleton.joint(j).end_site {
+                None
+            } else {
+                Some(rotation_channels(clip, j)?)
+            });
         }
         // Joints on the path below the shoulder that are not keys keep their first-frame
         // values, as do the keys' translation channels.
@@ -250,6 +256,9 @@ impl CaptureArm {
                 .fk(base.at(k), synthesis.configuration(k))?
                 .frames;
             for (i, &j) in keys.iter().enumerate() {
+                let Some((axes, idx)) = &key_axes[i] else {
+                    continue;
+                };
                 skeleton.fk_into(&pose, &mut world)?;
                 let parent_rot = skeleton
                     .joint(j)
@@ -257,7 +266,6 @@ impl CaptureArm {
                     .map_or(Rotation3::identity(), |p| world[p].rotation);
                 let target = chain_frames[i].rotation * self.align[i];
                 let local = parent_rot.inverse() * target;
-                let (axes, idx) = &key_axes[i];
                 let angles = euler_angles(*axes, &local).ok_or_else(|| {
                     SolverError::Capture("rotation channels with repeated axes".into())
                 })?;

@@ -1,8 +1,9 @@
 //! Integration tests of `CaptureArm` on the committed real captures (`tests/data/` at the
 //! workspace root): a CMU walk (CMU length unit, 120 Hz, 31 joints) and a Character Creator
-//! rig (100 joints, 60 Hz, twist bones between the arm's joints). The synthesis chain must
-//! start exactly where the capture is, and a synthesis must go back into the capture's
-//! skeleton, and through BVH, without moving anything it should not.
+//! rig (100 joints, 60 Hz, twist bones between the arm's joints), and the Character Creator
+//! take as Human3.6M's 17 keypoints (its wrists leaves, as `from-positions` makes them). The
+//! synthesis chain must start exactly where the capture is, and a synthesis must go back into
+//! the capture's skeleton, and through BVH, without moving anything it should not.
 
 use std::path::{Path, PathBuf};
 
@@ -33,11 +34,65 @@ fn read(name: &str) -> Clip {
         .0
 }
 
+/// The Character Creator take as Human3.6M's 17 keypoints, made into a clip as
+/// `from-positions` makes one: its wrists are End Sites of the forearms.
+const KEYPOINTS: &str = "006_14.bvh as h36m17";
+
+fn keypoints() -> Clip {
+    use kinergy_motion::{JointMap, PositionArrays};
+    let clip = read("006_14.bvh");
+    let map = JointMap::built_in("h36m17").expect("h36m17");
+    let source = |name: &str| -> &str {
+        match name {
+            "hip" => "CC_Base_Hip",
+            "right_hip" => "CC_Base_R_Thigh",
+            "right_knee" => "CC_Base_R_Calf",
+            "right_foot" => "CC_Base_R_Foot",
+            "left_hip" => "CC_Base_L_Thigh",
+            "left_knee" => "CC_Base_L_Calf",
+            "left_foot" => "CC_Base_L_Foot",
+            "spine" => "CC_Base_Spine01",
+            "thorax" => "CC_Base_Spine02",
+            "neck" => "CC_Base_NeckTwist01",
+            "head" => "CC_Base_Head",
+            "left_shoulder" => "CC_Base_L_Upperarm",
+            "left_elbow" => "CC_Base_L_Forearm",
+            "left_wrist" => "CC_Base_L_Hand",
+            "right_shoulder" => "CC_Base_R_Upperarm",
+            "right_elbow" => "CC_Base_R_Forearm",
+            "right_wrist" => "CC_Base_R_Hand",
+            other => panic!("no source for {other}"),
+        }
+    };
+    let skeleton = clip.skeleton();
+    let index: Vec<usize> = map
+        .names
+        .iter()
+        .map(|n| skeleton.joint_index(source(n)).expect("joint"))
+        .collect();
+    let world = clip.world_positions().expect("fk");
+    let positions: Vec<[f64; 3]> = world
+        .chunks(skeleton.joint_count())
+        .flat_map(|frame| index.iter().map(|&j| [frame[j].x, frame[j].y, frame[j].z]))
+        .collect();
+    Clip::from_positions(PositionArrays {
+        joint_names: &map.names,
+        parents: &map.parents,
+        positions: &positions,
+        frame_time: clip.frame_time(),
+    })
+    .expect("from positions")
+    .clip
+}
+
 /// Every arm of every file: (file, side, clip, joints, capture arm).
 fn arms() -> Vec<(&'static str, Side, Clip, ArmJoints, CaptureArm)> {
     let mut out = Vec::new();
-    for name in FILES {
-        let clip = read(name);
+    let clips = FILES
+        .map(|name| (name, read(name)))
+        .into_iter()
+        .chain([(KEYPOINTS, keypoints())]);
+    for (name, clip) in clips {
         for side in [Side::Right, Side::Left] {
             let joints = ArmJoints::find(clip.skeleton(), side).expect("arm");
             let arm = CaptureArm::new(&clip, &joints).expect("capture arm");
@@ -61,7 +116,19 @@ fn the_chain_starts_exactly_on_the_captured_arm() {
         let captured = clip
             .trajectory(&joints.metric_joints())
             .expect("trajectory");
-        assert_eq!(captured.joint_count(), 4, "{name} {side}: a hand point");
+        // A hand point, but for the keypoints' leaf wrists (an End Site, the end effector).
+        let leaf = name == KEYPOINTS;
+        assert_eq!(joints.hand.is_none(), leaf, "{name} {side}");
+        assert_eq!(
+            clip.skeleton().joint(joints.wrist).end_site,
+            leaf,
+            "{name} {side}"
+        );
+        assert_eq!(
+            captured.joint_count(),
+            4 - usize::from(leaf),
+            "{name} {side}"
+        );
         let base = arm.base(BaseMode::Replay);
         let pose = arm.chain().fk(base.at(0), arm.start()).expect("fk");
         let chain_points = [

@@ -10,6 +10,11 @@
 //! | Bandai Namco | `Shoulder_R` | `UpperArm_R` | `LowerArm_R` | `Hand_R` |
 //! | Character Creator | `CC_Base_R_Clavicle` | `CC_Base_R_Upperarm` | `CC_Base_R_Forearm` | `CC_Base_R_Hand` |
 //! | Collar style | `RightCollar` | `RightShoulder` | `RightElbow` | `RightWrist` |
+//! | Human3.6M, COCO (`from-positions`) | — | `right_shoulder` | `right_elbow` | its End Site |
+//!
+//! A wrist that is a leaf, as in keypoint sets without hands (Human3.6M's 17 joints, COCO's
+//! keypoints), is the forearm's End Site in the BVH `from-positions` writes: without a wrist
+//! by name, a forearm whose only children are an End Site (and helpers) ends the arm there.
 
 use crate::clip::Clip;
 use crate::error::{MotionError, Result};
@@ -29,7 +34,8 @@ pub struct ArmJoints {
     pub shoulder: usize,
     /// The elbow (the forearm bone starts here).
     pub elbow: usize,
-    /// The wrist (the hand bone starts here).
+    /// The wrist (the hand bone starts here); an End Site where the wrist is a leaf (keypoints
+    /// without hands), which has no rotation of its own.
     pub wrist: usize,
     /// A point on the hand beyond the wrist, used as the end effector: the middle finger's
     /// base, an End Site, the index finger's base or a finger-base joint, in that order of
@@ -164,8 +170,33 @@ impl ArmJoints {
             })
             .collect();
         hands.sort_by_key(|&j| depth(skeleton, j));
-        for wrist in hands {
-            let Some(elbow) = non_helper_parent(wrist).filter(|&e| is_forearm(&info[e].1)) else {
+        // Then, without a wrist by name, forearms ending in an End Site of some length, their
+        // only other children helpers: leaf wrists.
+        let mut leaves: Vec<usize> = (0..skeleton.joint_count())
+            .filter(|&e| {
+                !skeleton.joint(e).end_site
+                    && info[e].0 == Some(side)
+                    && is_forearm(&info[e].1)
+                    && skeleton
+                        .children(e)
+                        .all(|c| skeleton.joint(c).end_site || is_helper(&info[c].1))
+            })
+            .filter_map(|e| {
+                skeleton
+                    .children(e)
+                    .find(|&c| skeleton.joint(c).end_site && skeleton.joint(c).offset.norm() > 0.0)
+            })
+            .collect();
+        leaves.sort_by_key(|&j| depth(skeleton, j));
+        let named = hands.len();
+        for (k, wrist) in hands.into_iter().chain(leaves).enumerate() {
+            // A leaf wrist's forearm is its parent, found above.
+            let elbow = if k < named {
+                non_helper_parent(wrist)
+            } else {
+                skeleton.joint(wrist).parent
+            };
+            let Some(elbow) = elbow.filter(|&e| is_forearm(&info[e].1)) else {
                 continue;
             };
             let Some(shoulder) = non_helper_parent(elbow) else {
@@ -367,6 +398,67 @@ mod tests {
                 "CC_Base_R_Upperarm",
                 "CC_Base_R_Forearm",
                 "CC_Base_R_Hand"
+            ]
+        );
+    }
+
+    /// `chain_skeleton(names)` with an End Site of `length` below its last joint, and a joint
+    /// `extra` beside it when given.
+    fn with_end_site(names: &[&str], length: f64, extra: Option<&str>) -> Skeleton {
+        let mut joints = chain_skeleton(names).joints().to_vec();
+        let last = joints.len() - 1;
+        let mut leaf = |name: String, end_site: bool| Joint {
+            name,
+            parent: Some(last),
+            offset: Vector3::new(-length, 0.0, 0.0),
+            dofs: vec![],
+            end_site,
+            position_reading: PositionReading::AddToOffset,
+        };
+        let end = leaf(format!("{}_End", names[names.len() - 1]), true);
+        let extra = extra.map(|n| leaf(n.into(), false));
+        joints.push(end);
+        joints.extend(extra);
+        Skeleton::new(joints).expect("valid")
+    }
+
+    #[test]
+    fn a_leaf_wrist_is_the_forearms_end_site() {
+        // Human3.6M's keypoints as `from-positions` writes them: no wrist joint.
+        let h36m = ["thorax", "left_shoulder", "left_elbow"];
+        let s = with_end_site(&h36m, 0.25, None);
+        let arm = ArmJoints::find(&s, Side::Left).expect("arm");
+        assert_eq!(
+            arm.names(&s),
+            ["left_shoulder", "left_elbow", "left_elbow_End"]
+        );
+        assert_eq!((arm.clavicle, arm.hand), (None, None));
+        assert!(s.joint(arm.wrist).end_site);
+        assert_eq!(arm.end_effector(), arm.wrist);
+        assert_eq!(arm.metric_joints(), [2, 3, 4]);
+        // A twist helper beside the End Site changes nothing.
+        let s = with_end_site(&h36m, 0.25, Some("left_elbow_twist"));
+        assert_eq!(ArmJoints::find(&s, Side::Left).expect("arm").wrist, 4);
+        // Not from an End Site of no length, nor from a forearm with a joint below it that
+        // is not a helper (an unknown hand), nor on the other side.
+        for s in [
+            with_end_site(&h36m, 0.0, None),
+            with_end_site(&h36m, 0.25, Some("left_palm")),
+        ] {
+            assert!(ArmJoints::find(&s, Side::Left).is_err());
+        }
+        assert!(ArmJoints::find(&with_end_site(&h36m, 0.25, None), Side::Right).is_err());
+        // A wrist by name comes first, its End Site below it the hand point.
+        let named = ["thorax", "left_shoulder", "left_elbow", "left_wrist"];
+        let s = with_end_site(&named, 0.08, None);
+        let arm = ArmJoints::find(&s, Side::Left).expect("arm");
+        assert_eq!(
+            arm.names(&s),
+            [
+                "left_shoulder",
+                "left_elbow",
+                "left_wrist",
+                "left_wrist_End"
             ]
         );
     }
