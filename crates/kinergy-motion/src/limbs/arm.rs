@@ -407,7 +407,7 @@ mod tests {
     fn with_end_site(names: &[&str], length: f64, extra: Option<&str>) -> Skeleton {
         let mut joints = chain_skeleton(names).joints().to_vec();
         let last = joints.len() - 1;
-        let mut leaf = |name: String, end_site: bool| Joint {
+        let leaf = |name: String, end_site: bool| Joint {
             name,
             parent: Some(last),
             offset: Vector3::new(-length, 0.0, 0.0),
