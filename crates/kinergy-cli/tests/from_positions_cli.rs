@@ -4,6 +4,8 @@
 //! as the capture's are; bad tables name the line.
 
 mod common;
+#[path = "../../../tests/support/keypoints.rs"]
+mod keypoints;
 use common::{fixture, json, kinergy, s, stderr};
 
 use std::fmt::Write as _;
@@ -133,28 +135,9 @@ fn a_captures_positions_come_back_long_and_wide_in_any_unit_and_up_axis() {
 fn keypoints_whose_wrists_are_leaves_have_arms_to_fit() {
     let dir = tempfile::tempdir().expect("tmp");
     let (names, frames) = capture();
-    let h36m = [
-        ("hip", "CC_Base_Hip"),
-        ("right_hip", "CC_Base_R_Thigh"),
-        ("right_knee", "CC_Base_R_Calf"),
-        ("right_foot", "CC_Base_R_Foot"),
-        ("left_hip", "CC_Base_L_Thigh"),
-        ("left_knee", "CC_Base_L_Calf"),
-        ("left_foot", "CC_Base_L_Foot"),
-        ("spine", "CC_Base_Spine01"),
-        ("thorax", "CC_Base_Spine02"),
-        ("neck", "CC_Base_NeckTwist01"),
-        ("head", "CC_Base_Head"),
-        ("left_shoulder", "CC_Base_L_Upperarm"),
-        ("left_elbow", "CC_Base_L_Forearm"),
-        ("left_wrist", "CC_Base_L_Hand"),
-        ("right_shoulder", "CC_Base_R_Upperarm"),
-        ("right_elbow", "CC_Base_R_Forearm"),
-        ("right_wrist", "CC_Base_R_Hand"),
-    ];
     let mut long = String::from("frame,joint,x,y,z\n");
     for (f, frame) in frames.iter().enumerate() {
-        for (keypoint, joint) in h36m {
+        for (keypoint, joint) in keypoints::H36M_FROM_CC {
             let p = frame[names.iter().position(|n| n == joint).expect(joint)];
             let _ = writeln!(long, "{f},{keypoint},{},{},{}", p[0], p[1], p[2]);
         }

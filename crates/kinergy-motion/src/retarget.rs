@@ -50,6 +50,11 @@ use crate::limbs::BodyJoints;
 use crate::rotation::{Axis, euler_angles, nearest_euler};
 use crate::skeleton::{Dof, Skeleton};
 
+/// The height of a leaf ankle (keypoints without feet) above the sole, per unit of shank
+/// length: Drillis & Contini's ankle height 0.039 H over their shank, knee height 0.285 H less
+/// it (Winter, *Biomechanics and Motor Control of Human Movement*, Fig. 4.1).
+pub const LEAF_ANKLE_PER_SHANK: f64 = 0.039 / (0.285 - 0.039);
+
 /// A foot whose ankle moves slower than this (meters per second, in the source) is planted.
 pub const PLANT_SPEED: f64 = 0.1;
 /// A planted ankle stays within this distance of where its plant began (meters, in the
@@ -290,7 +295,11 @@ fn canonical(
     };
     for leg in &body.legs {
         let drop = -(pelvis * (p(leg.hip) - p(body.pelvis))).y;
-        let ankle = (-(pelvis * (p(leg.toe) - p(leg.ankle))).y).max(0.0);
+        let ankle = match leg.toe {
+            Some(toe) => (-(pelvis * (p(toe) - p(leg.ankle))).y).max(0.0),
+            // A leaf ankle (keypoints without feet): its height above the sole, from the shank.
+            None => LEAF_ANKLE_PER_SHANK * (p(leg.ankle) - p(leg.knee)).norm(),
+        };
         let straight = (p(leg.knee) - p(leg.hip)).norm() + (p(leg.ankle) - p(leg.knee)).norm();
         stance.pelvis += 0.5 * (drop + straight + ankle);
         stance.ankle += 0.5 * ankle;
@@ -354,12 +363,13 @@ fn canonical(
         }
         let leg = &body.legs[s];
         let mut previous = pelvis;
+        // A leaf ankle has no foot: it turns with the shank.
         for (j, to, direction) in [
-            (leg.hip, leg.knee, -up),
-            (leg.knee, leg.ankle, -up),
+            (leg.hip, Some(leg.knee), -up),
+            (leg.knee, Some(leg.ankle), -up),
             (leg.ankle, leg.toe, Vector3::z()),
         ] {
-            previous = swung(previous, j, Some(to), direction);
+            previous = swung(previous, j, to, direction);
             align[j] = Some(previous);
         }
     }

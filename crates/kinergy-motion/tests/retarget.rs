@@ -1,12 +1,15 @@
 //! Retargeting ([`Retargeter`]) between the rigs Kinergy reads, against independent truths:
 //! a round trip (A → B → A) gives back A's hand path, planted feet stay put, the hands and
-//! feet reach their scaled goals, a skeleton retargeted onto itself is the identity, and the
-//! built-in role maps name the joints the finders find.
+//! feet reach their scaled goals, a skeleton retargeted onto itself is the identity, the
+//! built-in role maps name the joints the finders find, and keypoints without hands or feet
+//! move a body as the full rig they were taken from does.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use kinergy_motion::{BodyJoints, Clip, Retargeted, Retargeter, read_clip};
+#[path = "../../../tests/support/keypoints.rs"]
+mod keypoints;
 #[path = "../../../tests/support/require_shared.rs"]
 mod require_shared;
 
@@ -301,4 +304,61 @@ fn the_performers_arms_scale_the_templates_arm_bones_and_carry_the_wrists() {
         changed > 0.02,
         "the template's arms are already the performer's ({changed} m)"
     );
+}
+
+/// The largest distance, over frames, between `joint` relative to `hips` in two clips of one
+/// skeleton.
+fn relative_error(a: &Clip, b: &Clip, joint: usize, hips: usize) -> f64 {
+    let (pa, pb) = (
+        a.trajectory(&[joint, hips]).expect("fk"),
+        b.trajectory(&[joint, hips]).expect("fk"),
+    );
+    pa.frames()
+        .zip(pb.frames())
+        .map(|(x, y)| ((x[0] - x[1]) - (y[0] - y[1])).norm())
+        .fold(0.0, f64::max)
+}
+
+// Keypoints without hands or feet (the Character Creator take as Human3.6M's 17: wrists,
+// ankles and head are End Sites) retarget onto the CMU rig: the feet plant and stay put, and
+// relative to the hips the target's ankles come within 5 cm and its wrists within 7 cm of
+// where the full rig's own retarget puts them (measured 3.8 and 5.7 cm: the keypoints' trunk
+// has fewer joints, no clavicles and no feet, whose ankles hold their rest angle to the shank).
+#[test]
+fn keypoints_without_hands_or_feet_move_a_body_as_their_full_rig_does() {
+    let walk = read(&root().join("tests/data/cmu_12_01_walk.bvh"));
+    let cc = read(&root().join("tests/data/006_14.bvh"));
+    let points = keypoints::h36m_keypoints(&cc);
+    let body = BodyJoints::find(points.skeleton()).expect("keypoints' body");
+    for (arm, leg) in body.arms.iter().zip(&body.legs) {
+        assert!(points.skeleton().joint(arm.wrist).end_site && arm.hand.is_none());
+        assert!(points.skeleton().joint(leg.ankle).end_site && leg.toe.is_none());
+    }
+    let from_points = retarget(&points, walk.skeleton());
+    let from_rig = retarget(&cc, walk.skeleton());
+    let r = &from_points.report;
+    assert!(r.plants.iter().all(|p| !p.is_empty()), "{r:?}");
+    assert!(r.foot_slide_m <= 1e-3, "{r:?}");
+    assert!(r.foot_error_m.iter().all(|e| *e < 0.01), "{r:?}");
+    let target = BodyJoints::find(walk.skeleton()).expect("target body");
+    let hips = target.pelvis;
+    for s in 0..2 {
+        let ankle = relative_error(
+            &from_points.clip,
+            &from_rig.clip,
+            target.legs[s].ankle,
+            hips,
+        );
+        let wrist = relative_error(
+            &from_points.clip,
+            &from_rig.clip,
+            target.arms[s].wrist,
+            hips,
+        );
+        eprintln!("leg and arm {s}: ankle {ankle:.3} m, wrist {wrist:.3} m from the full rig's");
+        assert!(
+            ankle < 0.05 && wrist < 0.07,
+            "{s}: ankle {ankle} m, wrist {wrist} m"
+        );
+    }
 }

@@ -1,6 +1,6 @@
 //! The 21-bone, 43-DoF character: counts, the rest pose, DoF directions, BVH round trips,
 //! limb chains against the character's own FK, centre of mass and support, proportions
-//! measured on a CMU capture, and bad input.
+//! measured on a CMU capture and on keypoints without hands or feet, and bad input.
 
 use std::f64::consts::TAU;
 use std::path::PathBuf;
@@ -18,6 +18,9 @@ use kinergy_reach::character::{
 use proptest::prelude::*;
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
+
+#[path = "../../../tests/support/keypoints.rs"]
+mod keypoints;
 
 fn body() -> Character {
     Character::from_height(1.75).expect("a 1.75 m character")
@@ -685,4 +688,47 @@ proptest! {
             prop_assert!((end - tip).norm() < 1e-12);
         }
     }
+}
+
+// Keypoints without hands or feet (the Character Creator take as Human3.6M's 17: wrists,
+// ankles and the head are End Sites) measure as the full rig does where they hold the same
+// joints: upper arm, forearm, thigh and shank within 2 mm (the keypoints' bones are held at
+// their median lengths). The hand and the foot come from Drillis & Contini, and the height
+// from the head's keypoint (the fixture's `CC_Base_Head`, below the crown) within 10 %.
+#[test]
+fn keypoints_without_hands_or_feet_measure_as_their_full_rig() {
+    let path = workspace_file("tests/data/006_14.bvh");
+    let cc = read_clip(&path, &ImportOptions::default()).expect("read").0;
+    let rig = Proportions::from_clip(&cc).expect("the full rig");
+    let points = Proportions::from_clip(&keypoints::h36m_keypoints(&cc)).expect("keypoints");
+    let close = |a: f64, b: f64, what: &str| assert!((a - b).abs() < 2e-3, "{what}: {a} vs {b}");
+    for (p, r) in [
+        (points.right_arm, rig.right_arm),
+        (points.left_arm, rig.left_arm),
+    ] {
+        close(p.upper_arm, r.upper_arm, "upper arm");
+        close(p.forearm, r.forearm, "forearm");
+        assert_relative_eq!(
+            p.hand,
+            p.forearm * kinergy_motion::limbs::arm::HAND_PER_FOREARM
+        );
+    }
+    for (p, r) in [
+        (points.right_leg, rig.right_leg),
+        (points.left_leg, rig.left_leg),
+    ] {
+        close(p.thigh, r.thigh, "thigh");
+        close(p.shank, r.shank, "shank");
+        assert_relative_eq!(
+            p.toe,
+            Ratios::DRILLIS_CONTINI.toe * points.height(),
+            epsilon = 1e-12
+        );
+    }
+    let (h, hr) = (points.height(), rig.height());
+    eprintln!("height {h:.3} m, the full rig's {hr:.3} m");
+    assert!(
+        (h / hr - 1.0).abs() < 0.1,
+        "height {h} m, the full rig's {hr} m"
+    );
 }

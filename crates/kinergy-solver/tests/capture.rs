@@ -7,6 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
+#[path = "../../../tests/support/keypoints.rs"]
+mod keypoints;
 #[path = "../../../tests/support/require_shared.rs"]
 mod require_shared;
 
@@ -39,50 +41,7 @@ fn read(name: &str) -> Clip {
 const KEYPOINTS: &str = "006_14.bvh as h36m17";
 
 fn keypoints() -> Clip {
-    use kinergy_motion::{JointMap, PositionArrays};
-    let clip = read("006_14.bvh");
-    let map = JointMap::built_in("h36m17").expect("h36m17");
-    let source = |name: &str| -> &str {
-        match name {
-            "hip" => "CC_Base_Hip",
-            "right_hip" => "CC_Base_R_Thigh",
-            "right_knee" => "CC_Base_R_Calf",
-            "right_foot" => "CC_Base_R_Foot",
-            "left_hip" => "CC_Base_L_Thigh",
-            "left_knee" => "CC_Base_L_Calf",
-            "left_foot" => "CC_Base_L_Foot",
-            "spine" => "CC_Base_Spine01",
-            "thorax" => "CC_Base_Spine02",
-            "neck" => "CC_Base_NeckTwist01",
-            "head" => "CC_Base_Head",
-            "left_shoulder" => "CC_Base_L_Upperarm",
-            "left_elbow" => "CC_Base_L_Forearm",
-            "left_wrist" => "CC_Base_L_Hand",
-            "right_shoulder" => "CC_Base_R_Upperarm",
-            "right_elbow" => "CC_Base_R_Forearm",
-            "right_wrist" => "CC_Base_R_Hand",
-            other => panic!("no source for {other}"),
-        }
-    };
-    let skeleton = clip.skeleton();
-    let index: Vec<usize> = map
-        .names
-        .iter()
-        .map(|n| skeleton.joint_index(source(n)).expect("joint"))
-        .collect();
-    let world = clip.world_positions().expect("fk");
-    let positions: Vec<[f64; 3]> = world
-        .chunks(skeleton.joint_count())
-        .flat_map(|frame| index.iter().map(|&j| [frame[j].x, frame[j].y, frame[j].z]))
-        .collect();
-    Clip::from_positions(PositionArrays {
-        joint_names: &map.names,
-        parents: &map.parents,
-        positions: &positions,
-        frame_time: clip.frame_time(),
-    })
-    .expect("from positions")
-    .clip
+    keypoints::h36m_keypoints(&read("006_14.bvh"))
 }
 
 /// Every arm of every file: (file, side, clip, joints, capture arm).

@@ -342,7 +342,7 @@ impl BodyJoints {
                 hip,
                 knee,
                 ankle,
-                toe,
+                toe: Some(toe),
             })
         };
         let arms = [arm("right")?, arm("left")?];

@@ -6,6 +6,10 @@
 //! (so CMU's `RHipJoint`, role `hipjoint`, is not one). The toe tip is the ankle's farthest
 //! descendant in the zero pose. CMU's and Mixamo's `RightUpLeg` → `RightLeg` → `RightFoot`
 //! → `RightToeBase` is one such leg.
+//!
+//! Keypoints without feet (Human3.6M's 17, COCO's 17, as `from-positions` writes them) have
+//! leaf ankles: the knee's End Site. Without an ankle by name, a knee whose only children are
+//! an End Site of some length (and helpers) ends the leg there, with no toe.
 
 use crate::error::{MotionError, Result};
 use crate::side::Side;
@@ -20,10 +24,12 @@ pub struct LegJoints {
     pub hip: usize,
     /// The knee (the shank bone starts here).
     pub knee: usize,
-    /// The ankle (the foot bone starts here).
+    /// The ankle (the foot bone starts here); the knee's End Site where the ankle is a leaf
+    /// (keypoints without feet).
     pub ankle: usize,
-    /// The toe tip: the ankle's farthest descendant in the zero pose (a joint or End Site).
-    pub toe: usize,
+    /// The toe tip: the ankle's farthest descendant in the zero pose (a joint or End Site);
+    /// `None` for a leaf ankle, whose foot the skeleton does not have.
+    pub toe: Option<usize>,
 }
 
 /// The side a name's tokens give (the last side token), and its role: the other tokens
@@ -59,7 +65,8 @@ fn is_helper_role(role: &str) -> bool {
 
 impl LegJoints {
     /// Finds the `side` leg by joint names (see the [module docs](self)): the first ankle of
-    /// that side, in joint order, with a knee and a hip above it. Errors:
+    /// that side, in joint order, with a knee and a hip above it; else a leaf ankle (the
+    /// [module docs](self)). Errors:
     /// [`MotionError::LegNotFound`] listing the leg-like joints seen, and
     /// [`MotionError::NoToe`] when the ankle has nothing below it.
     pub fn find(skeleton: &Skeleton, side: Side) -> Result<LegJoints> {
@@ -77,17 +84,47 @@ impl LegJoints {
             }
         };
         let zero = skeleton.world_positions(&skeleton.rest_pose())?;
-        for ankle in (0..skeleton.joint_count()).filter(|&j| {
+        let named = (0..skeleton.joint_count()).filter(|&j| {
             !skeleton.joint(j).end_site && info[j].0 == Some(side) && is_ankle_role(&info[j].1)
-        }) {
-            let Some(knee) = parent_skipping_helpers(ankle).filter(|&k| is_knee_role(&info[k].1))
-            else {
+        });
+        // Then, without an ankle by name, knees ending in an End Site of some length, their
+        // only other children helpers: leaf ankles.
+        let leaves = (0..skeleton.joint_count())
+            .filter(|&k| {
+                !skeleton.joint(k).end_site
+                    && info[k].0 == Some(side)
+                    && is_knee_role(&info[k].1)
+                    && skeleton
+                        .children(k)
+                        .all(|c| skeleton.joint(c).end_site || is_helper_role(&info[c].1))
+            })
+            .filter_map(|k| {
+                skeleton
+                    .children(k)
+                    .find(|&c| skeleton.joint(c).end_site && skeleton.joint(c).offset.norm() > 0.0)
+            });
+        for ankle in named.chain(leaves) {
+            let leaf = skeleton.joint(ankle).end_site;
+            let knee = if leaf {
+                skeleton.joint(ankle).parent
+            } else {
+                parent_skipping_helpers(ankle)
+            };
+            let Some(knee) = knee.filter(|&k| is_knee_role(&info[k].1)) else {
                 continue;
             };
             let Some(hip) = parent_skipping_helpers(knee).filter(|&h| is_hip_role(&info[h].1))
             else {
                 continue;
             };
+            if leaf {
+                return Ok(LegJoints {
+                    hip,
+                    knee,
+                    ankle,
+                    toe: None,
+                });
+            }
             let toe = (ankle + 1..skeleton.joint_count())
                 .filter(|&d| skeleton.is_ancestor_or_self(ankle, d))
                 .max_by(|&a, &b| {
@@ -105,7 +142,7 @@ impl LegJoints {
                 hip,
                 knee,
                 ankle,
-                toe,
+                toe: Some(toe),
             });
         }
         Err(MotionError::LegNotFound {
@@ -126,6 +163,45 @@ impl LegJoints {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use crate::skeleton::{Joint, PositionReading};
+    use nalgebra::Vector3;
+
+    /// A chain of joints below `Hips`, each 0.4 m below the last, ending in an End Site
+    /// `foot` m below its last joint.
+    fn leg(names: &[&str], foot: f64) -> Skeleton {
+        let joint = |name: &str, parent: Option<usize>, drop: f64, end_site: bool| Joint {
+            name: name.into(),
+            parent,
+            offset: Vector3::new(0.0, -drop, 0.0),
+            dofs: vec![],
+            end_site,
+            position_reading: PositionReading::AddToOffset,
+        };
+        let mut joints = vec![joint("Hips", None, 0.0, false)];
+        for (i, n) in names.iter().enumerate() {
+            joints.push(joint(n, Some(i), 0.4, false));
+        }
+        let last = format!("{}_End", names[names.len() - 1]);
+        joints.push(joint(&last, Some(names.len()), foot, true));
+        Skeleton::new(joints).expect("valid")
+    }
+
+    #[test]
+    fn a_leaf_ankle_is_the_knees_end_site_and_has_no_toe() {
+        // Human3.6M's keypoints as `from-positions` writes them: no ankle joint.
+        let s = leg(&["right_hip", "right_knee"], 0.4);
+        let l = LegJoints::find(&s, Side::Right).expect("leg");
+        assert_eq!((l.hip, l.knee, l.ankle, l.toe), (1, 2, 3, None));
+        assert!(s.joint(l.ankle).end_site);
+        // Not from an End Site of no length, nor on the other side.
+        assert!(LegJoints::find(&leg(&["right_hip", "right_knee"], 0.0), Side::Right).is_err());
+        assert!(LegJoints::find(&s, Side::Left).is_err());
+        // An ankle by name keeps its toe (here its End Site).
+        let s = leg(&["RightUpLeg", "RightLeg", "RightFoot"], 0.15);
+        let l = LegJoints::find(&s, Side::Right).expect("leg");
+        assert_eq!((l.ankle, l.toe), (3, Some(4)));
+    }
 
     #[test]
     fn tokens_and_roles_of_common_leg_names() {

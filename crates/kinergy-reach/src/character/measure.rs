@@ -44,7 +44,10 @@ impl Proportions {
     /// wrist→hand point); legs by [`LegJoints::find`] (`UpLeg`/`UpperLeg`/`Thigh`/`Hip` →
     /// `Leg`/`LowerLeg`/`Knee`/`Shin`/`Calf` → `Foot`/`Ankle`, the toe tip being the ankle's
     /// farthest descendant); the top of the head as the highest point of the `Head` joint
-    /// and its descendants. The standing height H is the head's top above the hips plus the
+    /// and its descendants. Keypoints without hands or feet (leaf wrists and ankles, End
+    /// Sites) get Drillis & Contini's hand and foot, and without a `Head` joint the top of the
+    /// head is the highest joint above the chest outside the arms (Human3.6M's head keypoint,
+    /// COCO's eyes and ears). The standing height H is the head's top above the hips plus the
     /// mean leg (thigh + shank + ankle height 0.039 H); ankle height and heel come from
     /// [`Ratios::DRILLIS_CONTINI`], the toe keeps the measured ankle→toe-tip distance, the
     /// spine segments are Drillis & Contini's scaled to the measured hips→head-top distance,
@@ -71,6 +74,7 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
 
     let mut arms = Vec::with_capacity(2);
     let mut shoulders = Vec::with_capacity(2);
+    let mut tops = Vec::with_capacity(2);
     for side in [Side::Right, Side::Left] {
         let a = ArmJoints::find(skeleton, side)?;
         let measured = ArmLengths {
@@ -85,29 +89,45 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
             hand: measured.hand_or_default(),
         });
         shoulders.push(a.shoulder);
+        tops.push(a.clavicle.unwrap_or(a.shoulder));
     }
     let legs = [
         find_leg(skeleton, Side::Right)?,
         find_leg(skeleton, Side::Left)?,
     ];
-    let head = (0..skeleton.joint_count())
-        .find(|&j| {
-            let joint = skeleton.joint(j);
-            let tokens = name_tokens(&joint.name);
-            !joint.end_site && tokens.iter().any(|t| t == "head") && side_of(&tokens).is_none()
-        })
-        .ok_or_else(|| {
-            setting(
-                "skeleton",
-                "no head joint (named like `Head`) to measure the height to",
-            )
-        })?;
+    let head = (0..skeleton.joint_count()).find(|&j| {
+        let joint = skeleton.joint(j);
+        let tokens = name_tokens(&joint.name);
+        !joint.end_site && tokens.iter().any(|t| t == "head") && side_of(&tokens).is_none()
+    });
+    // The head and what hangs from it; without a head joint (keypoints, whose head is a leaf:
+    // Human3.6M's head, COCO's eyes and ears), whatever hangs from the chest outside the arms.
+    let crown: Vec<usize> = match head {
+        Some(head) => (head..skeleton.joint_count())
+            .filter(|&j| skeleton.is_ancestor_or_self(head, j))
+            .collect(),
+        None => {
+            let chest = common_ancestor(skeleton, tops[0], tops[1]);
+            (chest + 1..skeleton.joint_count())
+                .filter(|&j| {
+                    skeleton.is_ancestor_or_self(chest, j)
+                        && !tops.iter().any(|&t| skeleton.is_ancestor_or_self(t, j))
+                })
+                .collect()
+        }
+    };
+    InvalidSetting::require(
+        !crown.is_empty(),
+        "skeleton",
+        "no head joint (named like `Head`) or joint above the shoulders to measure the height to",
+    )?;
+    let crown_name = skeleton.joint(head.unwrap_or(crown[0])).name.clone();
     // Skeletons whose zero pose is not upright (Bandai Namco's lies along +X) are measured
     // upright in the clip's first frame instead.
     let above_hips = |q: &[Point3<f64>]| {
-        let top = (head..skeleton.joint_count())
-            .filter(|&j| skeleton.is_ancestor_or_self(head, j))
-            .map(|j| q[j].y)
+        let top = crown
+            .iter()
+            .map(|&j| q[j].y)
             .fold(f64::NEG_INFINITY, f64::max);
         top - 0.5 * (q[legs[0].hip].y + q[legs[1].hip].y)
     };
@@ -116,19 +136,16 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
     } else {
         p.clone()
     };
-    let top = (head..skeleton.joint_count())
-        .filter(|&j| skeleton.is_ancestor_or_self(head, j))
-        .map(|j| zero[j].y)
+    let top = crown
+        .iter()
+        .map(|&j| zero[j].y)
         .fold(f64::NEG_INFINITY, f64::max);
     let hips_y = 0.5 * (zero[legs[0].hip].y + zero[legs[1].hip].y);
     let upper = top - hips_y;
     InvalidSetting::require(
         upper.is_finite() && upper > 0.0,
         "skeleton",
-        format!(
-            "the top of the head (`{}`) is not above the hips in the zero pose",
-            skeleton.joint(head).name
-        ),
+        format!("the top of the head (`{crown_name}`) is not above the hips in the zero pose"),
     )?;
     let mean_thigh_shank = 0.5
         * legs
@@ -140,21 +157,28 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
     let ankle_height = ratios.ankle_height * height;
     let mut leg_segments = Vec::with_capacity(2);
     for (l, side) in legs.iter().zip(["right", "left"]) {
-        let foot = d(l.ankle, l.toe);
-        InvalidSetting::require(
-            foot > ankle_height,
-            "skeleton",
-            format!(
-                "the {side} foot (`{}` to `{}`, {foot} m) is shorter than the ankle height {ankle_height} m",
-                skeleton.joint(l.ankle).name,
-                skeleton.joint(l.toe).name
-            ),
-        )?;
+        let toe = match l.toe {
+            Some(toe) => {
+                let foot = d(l.ankle, toe);
+                InvalidSetting::require(
+                    foot > ankle_height,
+                    "skeleton",
+                    format!(
+                        "the {side} foot (`{}` to `{}`, {foot} m) is shorter than the ankle height {ankle_height} m",
+                        skeleton.joint(l.ankle).name,
+                        skeleton.joint(toe).name
+                    ),
+                )?;
+                (foot * foot - ankle_height * ankle_height).sqrt()
+            }
+            // A leaf ankle (keypoints without feet): Drillis & Contini's foot.
+            None => ratios.toe * height,
+        };
         leg_segments.push(LegSegments {
             thigh: d(l.hip, l.knee),
             shank: d(l.knee, l.ankle),
             ankle_height,
-            toe: (foot * foot - ankle_height * ankle_height).sqrt(),
+            toe,
             heel: ratios.heel * height,
         });
     }
@@ -185,4 +209,16 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
     };
     proportions.validate()?;
     Ok(proportions)
+}
+
+/// The deepest joint that is an ancestor of both `a` and `b` (or one of them).
+fn common_ancestor(skeleton: &Skeleton, a: usize, b: usize) -> usize {
+    let mut j = a;
+    while !skeleton.is_ancestor_or_self(j, b) {
+        match skeleton.joint(j).parent {
+            Some(p) => j = p,
+            None => break,
+        }
+    }
+    j
 }
