@@ -127,12 +127,13 @@ fn a_captures_positions_come_back_long_and_wide_in_any_unit_and_up_axis() {
     }
 }
 
-/// Keypoints without hands: the capture's joints as Human3.6M's 17, whose wrists are leaves
-/// (End Sites of the forearms in the BVH written). Each arm ends at that End Site, so `inspect`
-/// names both arms, the report reads the arms past the human limits as the capture's own rig
-/// reads them, and `fit --arm auto` fits the take's reach of each arm.
+/// Keypoints without hands or feet: the capture's joints as Human3.6M's 17, whose wrists,
+/// ankles and head are leaves (End Sites in the BVH written). Each arm ends at its End Site,
+/// so `inspect` names both arms, the report reads the arms past the human limits as the
+/// capture's own rig reads them, and `fit --arm auto` fits the take's reach of each arm; the
+/// body is retargeted and measured for a character.
 #[test]
-fn keypoints_whose_wrists_are_leaves_have_arms_to_fit() {
+fn keypoints_without_hands_or_feet_are_fitted_retargeted_and_measured() {
     let dir = tempfile::tempdir().expect("tmp");
     let (names, frames) = capture();
     let mut long = String::from("frame,joint,x,y,z\n");
@@ -193,6 +194,24 @@ fn keypoints_whose_wrists_are_leaves_have_arms_to_fit() {
         .map(|l| l.split(',').nth(3).expect("arm"))
         .collect();
     assert_eq!(arms, ["right", "left"], "{table}");
+    // Its leaf ankles and head too: it is retargeted onto the CMU rig, and a character
+    // measured on it reaches.
+    let moved = dir.path().join("on-cmu.bvh");
+    let walk = fixture("cmu_12_01_walk.bvh");
+    let o = kinergy(&["retarget", s(&out), "--to", s(&walk), "-o", s(&moved), "-q"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let reach = dir.path().join("reach.bvh");
+    let o = kinergy(&[
+        "reach",
+        "--person",
+        s(&out),
+        "--target",
+        "0.3,1.1,0.4",
+        "-o",
+        s(&reach),
+        "-q",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
 }
 
 #[test]
