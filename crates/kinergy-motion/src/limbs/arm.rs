@@ -174,18 +174,9 @@ impl ArmJoints {
         // only other children helpers: leaf wrists.
         let mut leaves: Vec<usize> = (0..skeleton.joint_count())
             .filter(|&e| {
-                !skeleton.joint(e).end_site
-                    && info[e].0 == Some(side)
-                    && is_forearm(&info[e].1)
-                    && skeleton
-                        .children(e)
-                        .all(|c| skeleton.joint(c).end_site || is_helper(&info[c].1))
+                !skeleton.joint(e).end_site && info[e].0 == Some(side) && is_forearm(&info[e].1)
             })
-            .filter_map(|e| {
-                skeleton
-                    .children(e)
-                    .find(|&c| skeleton.joint(c).end_site && skeleton.joint(c).offset.norm() > 0.0)
-            })
+            .filter_map(|e| super::leaf_end(skeleton, e, |c| is_helper(&info[c].1)))
             .collect();
         leaves.sort_by_key(|&j| depth(skeleton, j));
         let named = hands.len();

@@ -91,18 +91,9 @@ impl LegJoints {
         // only other children helpers: leaf ankles.
         let leaves = (0..skeleton.joint_count())
             .filter(|&k| {
-                !skeleton.joint(k).end_site
-                    && info[k].0 == Some(side)
-                    && is_knee_role(&info[k].1)
-                    && skeleton
-                        .children(k)
-                        .all(|c| skeleton.joint(c).end_site || is_helper_role(&info[c].1))
+                !skeleton.joint(k).end_site && info[k].0 == Some(side) && is_knee_role(&info[k].1)
             })
-            .filter_map(|k| {
-                skeleton
-                    .children(k)
-                    .find(|&c| skeleton.joint(c).end_site && skeleton.joint(c).offset.norm() > 0.0)
-            });
+            .filter_map(|k| super::leaf_end(skeleton, k, |c| is_helper_role(&info[c].1)));
         for ankle in named.chain(leaves) {
             let leaf = skeleton.joint(ankle).end_site;
             let knee = if leaf {
