@@ -7,8 +7,7 @@
 //! remaining tokens, joined, give the role (`Shoulder_R` → `shoulder`, `CC_Base_L_Calf` →
 //! `calf`). Each limb is found from its far end upward, skipping helper bones; [`arm`] and
 //! [`leg`] list the names each role accepts; [`body`] puts the limbs, spine and head
-//! together. Keypoints without hands or feet end a limb one joint early, in an End Site
-//! ([`leaf_end`]).
+//! together. Keypoints without hands or feet end a limb one joint early, in an End Site.
 
 pub mod arm;
 pub mod body;
