@@ -267,6 +267,19 @@ impl Skeleton {
         false
     }
 
+    /// The lowest common ancestor of joints `a` and `b` (one of them when it is above the
+    /// other; parents come before children, and the root is every joint's ancestor).
+    pub fn common_ancestor(&self, mut a: usize, mut b: usize) -> usize {
+        while a != b {
+            if a > b {
+                a = self.joints[a].parent.unwrap_or(0);
+            } else {
+                b = self.joints[b].parent.unwrap_or(0);
+            }
+        }
+        a
+    }
+
     /// The joints from `from` down to `to`, both included; `None` if `from` is not an
     /// ancestor of (or equal to) `to`.
     pub fn path(&self, from: usize, to: usize) -> Option<Vec<usize>> {

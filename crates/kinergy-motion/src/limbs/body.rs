@@ -114,18 +114,6 @@ fn invalid(why: String) -> MotionError {
     }
 }
 
-/// The lowest common ancestor of `a` and `b` (parents come before children).
-fn common_ancestor(skeleton: &Skeleton, mut a: usize, mut b: usize) -> usize {
-    while a != b {
-        if a > b {
-            a = skeleton.joint(a).parent.unwrap_or(0);
-        } else {
-            b = skeleton.joint(b).parent.unwrap_or(0);
-        }
-    }
-    a
-}
-
 /// The joints strictly between `from` and `to` (an ancestor of it), top first, then `to`.
 fn path_below(skeleton: &Skeleton, from: usize, to: usize) -> Vec<usize> {
     skeleton
@@ -148,9 +136,9 @@ impl BodyJoints {
             LegJoints::find(skeleton, Side::Left)?,
         ];
         let top = |a: &ArmJoints| a.clavicle.unwrap_or(a.shoulder);
-        let chest = common_ancestor(skeleton, top(&arms[0]), top(&arms[1]));
-        let hips = common_ancestor(skeleton, legs[0].hip, legs[1].hip);
-        let pelvis = common_ancestor(skeleton, hips, chest);
+        let chest = skeleton.common_ancestor(top(&arms[0]), top(&arms[1]));
+        let hips = skeleton.common_ancestor(legs[0].hip, legs[1].hip);
+        let pelvis = skeleton.common_ancestor(hips, chest);
         let head = (chest + 1..skeleton.joint_count()).find(|&j| {
             let joint = skeleton.joint(j);
             let tokens = name_tokens(&joint.name);

@@ -107,7 +107,7 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
             .filter(|&j| skeleton.is_ancestor_or_self(head, j))
             .collect(),
         None => {
-            let chest = common_ancestor(skeleton, tops[0], tops[1]);
+            let chest = skeleton.common_ancestor(tops[0], tops[1]);
             (chest + 1..skeleton.joint_count())
                 .filter(|&j| {
                     skeleton.is_ancestor_or_self(chest, j)
@@ -209,16 +209,4 @@ fn measure(skeleton: &Skeleton, pose: &[f64]) -> Result<Proportions> {
     };
     proportions.validate()?;
     Ok(proportions)
-}
-
-/// The deepest joint that is an ancestor of both `a` and `b` (or one of them).
-fn common_ancestor(skeleton: &Skeleton, a: usize, b: usize) -> usize {
-    let mut j = a;
-    while !skeleton.is_ancestor_or_self(j, b) {
-        match skeleton.joint(j).parent {
-            Some(p) => j = p,
-            None => break,
-        }
-    }
-    j
 }
